@@ -1,0 +1,177 @@
+"""Δv, propellant, lifetime, transfer and detumble budgets (paper, Section II.E).
+
+Every figure comes with a one-line "how" so the table says how it was computed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from casadi_debris.config import AXIS_NAMES, Problem
+from casadi_debris.geometry import Geometry, build_geometry, torque_authority
+
+SECONDS_PER_HOUR = 3600.0
+MN_PER_N = 1e3
+M_PER_KM = 1e3
+
+
+def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_kg: float) -> float:
+    """Tsiolkovsky Δv [m/s] of burning ``propellant_kg`` out of ``initial_mass_kg``."""
+    return isp_s * g0_m_s2 * math.log(initial_mass_kg / (initial_mass_kg - propellant_kg))
+
+
+def stage_propellant_kg(problem: Problem) -> float:
+    """Propellant of one iESE stage: thrust × life / (Isp g0) [kg]."""
+    engine = problem.engine
+    thrust_N = engine.thrust_per_stage_mN / MN_PER_N
+    return (
+        thrust_N
+        * engine.stage_life_h
+        * SECONDS_PER_HOUR
+        / (engine.isp_s * problem.constants.standard_gravity_m_s2)
+    )
+
+
+def edelbaum_dv(
+    mu_km3_s2: float, radius_from_km: float, radius_to_km: float, inclination_change_rad: float
+) -> float:
+    """Edelbaum low-thrust Δv [m/s] between circular orbits with a plane change.
+
+    dv = sqrt(V0^2 - 2 V0 V1 cos(pi/2 di) + V1^2) (Edelbaum 1961; Kechichian 1997).
+    """
+    v0 = math.sqrt(mu_km3_s2 / radius_from_km)
+    v1 = math.sqrt(mu_km3_s2 / radius_to_km)
+    dv_km_s = math.sqrt(
+        v0**2 - 2.0 * v0 * v1 * math.cos(math.pi / 2.0 * inclination_change_rad) + v1**2
+    )
+    return dv_km_s * M_PER_KM
+
+
+def detumble_time_s(inertia_kgm2: np.ndarray, rate_rad_s: np.ndarray, authority: dict) -> float:
+    """Time to null a body rate at full torque, each axis braked on its own [s].
+
+    The slowest axis decides: max_i I_ii |omega_i| / tau_i, with tau_i the
+    authority about the axis opposite to omega_i. Gyroscopic coupling is left
+    out, as in the paper.
+    """
+    times = []
+    for axis, name in enumerate(AXIS_NAMES):
+        rate = float(rate_rad_s[axis])
+        brake = authority[("-" if rate > 0 else "+") + name]
+        if rate != 0.0:
+            times.append(inertia_kgm2[axis, axis] * abs(rate) / brake if brake > 0 else math.inf)
+    return max(times, default=0.0)
+
+
+@dataclass(frozen=True)
+class BudgetItem:
+    """One budget figure with its unit-carrying key and how it was computed."""
+
+    key: str
+    value: float
+    how: str
+
+
+def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[BudgetItem]:
+    """The paper's Δv and lifetime budget for a problem.
+
+    Parameters
+    ----------
+    problem : Problem
+    geometry : Geometry, optional
+        Reused if already built.
+
+    Returns
+    -------
+    list of BudgetItem
+        Keys ``dv_one_stage_one_face_m_s``, ``dv_three_stages_one_face_m_s``
+        (all stages), ``dv_one_stage_all_faces_m_s``, ``dv_all_stages_all_faces_m_s``,
+        ``dv_cubesat_one_stage_m_s``, ``dv_transfer_m_s``, ``detumble_time_h``,
+        ``detumble_time_full_rigid_h``, ``detumble_dv_m_s``, ``stage_propellant_kg``,
+        ``stage_life_h``.
+    """
+    geometry = geometry or build_geometry(problem)
+    engine, constants = problem.engine, problem.constants
+    g0 = constants.standard_gravity_m_s2
+    propellant = stage_propellant_kg(problem)
+    per_face = problem.cubesats.per_face
+    n_cubesats = len(geometry.cubesats)
+    mass = geometry.mass_kg
+
+    def dv(n_stages: int) -> float:
+        return rocket_dv(engine.isp_s, g0, mass, n_stages * propellant)
+
+    dv_face = dv(per_face)
+    transfer = problem.transfer
+    authority = torque_authority(geometry)
+    rate = problem.detumble.initial_rate_rad_s
+    detumble_s = detumble_time_s(geometry.inertia_hub_cubesats_kgm2, rate, authority)
+    detumble_full_s = detumble_time_s(geometry.inertia_total_kgm2, rate, authority)
+    life_s = engine.stage_life_h * SECONDS_PER_HOUR
+    return [
+        BudgetItem(
+            "stage_propellant_kg",
+            propellant,
+            f"thrust {engine.thrust_per_stage_mN} mN x {engine.stage_life_h:g} h / (Isp {engine.isp_s:g} s g0)",
+        ),
+        BudgetItem("stage_life_h", engine.stage_life_h, "problem file (engine.stage_life_h)"),
+        BudgetItem(
+            "dv_one_stage_one_face_m_s",
+            dv_face,
+            f"rocket equation, {per_face} CubeSats x 1 stage, {mass:.1f} kg combined body",
+        ),
+        BudgetItem(
+            "dv_three_stages_one_face_m_s",
+            dv(per_face * engine.stages),
+            f"rocket equation, {per_face} CubeSats x {engine.stages} stages",
+        ),
+        BudgetItem(
+            "dv_one_stage_all_faces_m_s",
+            dv(n_cubesats),
+            f"rocket equation, all {n_cubesats} CubeSats x 1 stage (body turned face by face)",
+        ),
+        BudgetItem(
+            "dv_all_stages_all_faces_m_s",
+            dv(n_cubesats * engine.stages),
+            f"rocket equation, {n_cubesats} CubeSats x {engine.stages} stages",
+        ),
+        BudgetItem(
+            "dv_cubesat_one_stage_m_s",
+            rocket_dv(engine.isp_s, g0, problem.cubesats.mass_kg, propellant),
+            f"rocket equation, one {problem.cubesats.mass_kg:g} kg CubeSat alone, 1 stage",
+        ),
+        BudgetItem(
+            "dv_transfer_m_s",
+            edelbaum_dv(
+                constants.earth_mu_km3_s2,
+                constants.earth_radius_km + transfer.from_altitude_km,
+                constants.earth_radius_km + transfer.to_altitude_km,
+                math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
+            ),
+            f"Edelbaum, circular {transfer.from_altitude_km:g} km / {transfer.from_inclination_deg:g} deg"
+            f" -> {transfer.to_altitude_km:g} km / {transfer.to_inclination_deg:g} deg",
+        ),
+        BudgetItem(
+            "detumble_time_h",
+            detumble_s / SECONDS_PER_HOUR,
+            "slowest axis of I_ii |w_i| / tau_max,i, hub + CubeSats inertia (paper's I_tot)",
+        ),
+        BudgetItem(
+            "detumble_time_full_rigid_h",
+            detumble_full_s / SECONDS_PER_HOUR,
+            "same with the full rigid inertia (arrays included)",
+        ),
+        BudgetItem(
+            "detumble_dv_m_s",
+            dv_face * detumble_s / life_s,
+            "share of the one-face stage dv that the detumble firing time uses (paper's accounting)",
+        ),
+    ]
+
+
+def budgets_as_dict(items: list[BudgetItem]) -> dict[str, float]:
+    """``{key: value}`` of a budget list."""
+    return {item.key: item.value for item in items}

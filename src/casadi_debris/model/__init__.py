@@ -1,0 +1,26 @@
+"""One symbolic CasADi model of the combined body, compiled and linearised.
+
+See :mod:`casadi_debris.model.flexible_body` for the equations.
+"""
+
+from casadi_debris.model.compiled import Model, build_model, select_modes
+from casadi_debris.model.flexible_body import INPUT_NAMES, PARAMETER_NAMES, StateLayout
+from casadi_debris.model.linearize import (
+    flexible_frequencies,
+    linearization_function,
+    linearize,
+    state_names,
+)
+
+__all__ = [
+    "INPUT_NAMES",
+    "PARAMETER_NAMES",
+    "Model",
+    "StateLayout",
+    "build_model",
+    "flexible_frequencies",
+    "linearization_function",
+    "linearize",
+    "select_modes",
+    "state_names",
+]

@@ -1,0 +1,203 @@
+"""The combined-body model as named ``casadi.Function``s.
+
+Everything downstream (linearisation, simulation, slews) calls these
+Functions, never the raw expressions: one model, one set of equations.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.model import build_model
+>>> model = build_model(load_problem())
+>>> x0 = model.initial_state()
+>>> xdot = model.dynamics(x0, [0.001, 0, 0] + [0] * 6, model.nominal_parameters)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import InputShapeError, ModelError
+from casadi_debris.geometry import Geometry, build_geometry
+from casadi_debris.model.flexible_body import (
+    INPUT_NAMES,
+    PARAMETER_NAMES,
+    FlexibleBodyEquations,
+    StateLayout,
+    attitude_error_vector,
+)
+
+SECONDS_PER_MINUTE = 60.0
+NM_PER_MNM = 1e-3
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """Compiled model of the combined body.
+
+    Attributes
+    ----------
+    problem : Problem
+    geometry : Geometry
+    layout : StateLayout
+        Slices of the state vector x.
+    dynamics : casadi.Function
+        ``dynamics(x, u, p) -> xdot``; u = [torque (3) N m, disturbance torque
+        (3) N m, force (3) N] in B; p ordered as ``PARAMETER_NAMES``.
+    measured_attitude : casadi.Function
+        ``measured_attitude(x) -> y``: star-tracker attitude as the doubled
+        vector part of q_ST (rad, ~[Phi, Theta, Psi]).
+    attitude_error : casadi.Function
+        ``attitude_error(q_ref, q) -> e`` (rad), short way round.
+    energy : casadi.Function
+        ``energy(x, p) -> E`` kinetic + modal strain energy (J).
+    momenta : casadi.Function
+        ``momenta(x, p) -> (p_N, h_N)`` linear (kg m/s) and angular (N m s)
+        momentum in inertial components.
+    mass_matrix : casadi.Function
+        ``mass_matrix(p) -> M`` for nu = [v, omega, eta_dot].
+    rigid_inertia : casadi.Function
+        ``rigid_inertia(p) -> J`` (kg m^2) about the CoG.
+    disturbance : casadi.Function
+        ``disturbance(t) -> tau_d`` (N m): the problem's sine disturbance.
+    nominal_parameters : ndarray, shape (6,)
+    """
+
+    problem: Problem
+    geometry: Geometry
+    layout: StateLayout
+    dynamics: ca.Function
+    measured_attitude: ca.Function
+    attitude_error: ca.Function
+    energy: ca.Function
+    momenta: ca.Function
+    mass_matrix: ca.Function
+    rigid_inertia: ca.Function
+    disturbance: ca.Function
+    nominal_parameters: np.ndarray
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        return PARAMETER_NAMES
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return INPUT_NAMES
+
+    def parameters(self, **values: float) -> np.ndarray:
+        """Parameter vector: nominal, with the named entries replaced.
+
+        Example: ``model.parameters(array_angle_rad=0.5, inertia_scale_x=1.17)``.
+        """
+        p = self.nominal_parameters.copy()
+        for name, value in values.items():
+            if name not in PARAMETER_NAMES:
+                raise ModelError(f"unknown parameter {name!r}; known: {', '.join(PARAMETER_NAMES)}")
+            if not math.isfinite(value):
+                raise ModelError(f"parameter {name} must be finite, got {value}")
+            p[PARAMETER_NAMES.index(name)] = value
+        return p
+
+    def initial_state(
+        self,
+        quaternion: Sequence[float] = (1.0, 0.0, 0.0, 0.0),
+        rate_rad_s: Sequence[float] = (0.0, 0.0, 0.0),
+    ) -> np.ndarray:
+        """State at rest (arrays undeformed) with the given attitude and body rate.
+
+        The star tracker starts at the true attitude.
+        """
+        q = _vector(quaternion, 4, "quaternion")
+        norm = float(np.linalg.norm(q))
+        if norm == 0.0:
+            raise InputShapeError("quaternion: must not be zero")
+        x = np.zeros(self.layout.size)
+        x[self.layout.q] = q / norm
+        x[self.layout.q_st] = q / norm
+        x[self.layout.omega] = _vector(rate_rad_s, 3, "rate_rad_s")
+        return x
+
+
+def _vector(values: Sequence[float], size: int, name: str) -> np.ndarray:
+    array = np.asarray(values, dtype=float)
+    if array.shape != (size,):
+        raise InputShapeError(f"{name}: expected {size} numbers, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputShapeError(f"{name}: must be finite")
+    return array
+
+
+def select_modes(problem: Problem, modes: str | Sequence[str] = "all") -> tuple:
+    """The problem's modes kept in a model: ``"all"``, ``"first"`` or a list of names."""
+    available = problem.arrays.modes
+    if modes == "all":
+        return available
+    if modes == "first":
+        return tuple(m for m in available if (m.kind, m.order) == ("bending", 1))
+    names = [m.name for m in available]
+    unknown = [n for n in modes if n not in names]
+    if unknown:
+        raise ModelError(f"unknown modes {unknown}; the problem has {names}")
+    return tuple(m for m in available if m.name in modes)
+
+
+def build_model(problem: Problem, modes: str | Sequence[str] = "all") -> Model:
+    """Compile the combined-body model of a problem.
+
+    Parameters
+    ----------
+    problem : Problem
+    modes : "all", "first" or sequence of str
+        Cantilever modes kept per array. ``"first"`` keeps the first bending
+        mode only (the paper's truncation, a 10-state attitude plant).
+
+    Returns
+    -------
+    Model
+    """
+    geometry = build_geometry(problem)
+    equations = FlexibleBodyEquations(problem, geometry, select_modes(problem, modes))
+    layout = equations.layout
+    x = ca.SX.sym("x", layout.size)
+    u = ca.SX.sym("u", len(INPUT_NAMES))
+    p = ca.SX.sym("p", len(PARAMETER_NAMES))
+    q_ref = ca.SX.sym("q_ref", 4)
+    q = ca.SX.sym("q", 4)
+    t = ca.SX.sym("t")
+
+    disturbance = problem.disturbance
+    omega_orbit = 2.0 * math.pi / (disturbance.period_min * SECONDS_PER_MINUTE)
+    tau_d = ca.DM(disturbance.amplitude_mNm * NM_PER_MNM) * ca.sin(
+        omega_orbit * t + ca.DM(np.radians(disturbance.phase_deg))
+    )
+    linear, angular = equations.momenta(x, p)
+    q_st = x[layout.q_st]
+    return Model(
+        problem=problem,
+        geometry=geometry,
+        layout=layout,
+        dynamics=ca.Function(
+            "dynamics", [x, u, p], [equations.derivatives(x, u, p)], ["x", "u", "p"], ["xdot"]
+        ),
+        measured_attitude=ca.Function(
+            "measured_attitude",
+            [x],
+            [attitude_error_vector(ca.DM([1, 0, 0, 0]), q_st)],
+            ["x"],
+            ["y"],
+        ),
+        attitude_error=ca.Function(
+            "attitude_error", [q_ref, q], [attitude_error_vector(q_ref, q)], ["q_ref", "q"], ["e"]
+        ),
+        energy=ca.Function("energy", [x, p], [equations.energy(x, p)], ["x", "p"], ["E"]),
+        momenta=ca.Function("momenta", [x, p], [linear, angular], ["x", "p"], ["p_N", "h_N"]),
+        mass_matrix=ca.Function("mass_matrix", [p], [equations.mass_matrix(p)], ["p"], ["M"]),
+        rigid_inertia=ca.Function("rigid_inertia", [p], [equations.rigid_inertia(p)], ["p"], ["J"]),
+        disturbance=ca.Function("disturbance", [t], [tau_d], ["t"], ["tau_d"]),
+        nominal_parameters=equations.nominal_parameters(),
+    )

@@ -1,0 +1,285 @@
+"""Symbolic equations of motion of the combined body (hub + CubeSats + flexible arrays).
+
+Hybrid coordinates (Likins; see also the paper's eq. for a single array)
+-----------------------------------------------------------------------
+Generalised velocities nu = [v_B, omega_BN_B, eta_dot]: velocity of the
+reference point (the undeformed combined CoG, origin of B), body rate, and
+the rates of the arrays' cantilever modal coordinates eta (mass-normalised,
+array-major order). With the undeformed CoG as reference there is no rigid
+translation/rotation coupling, and the mass matrix is
+
+    M = [[m I3,  0,   Pt^T],
+         [0,     J,   Hr^T],
+         [Pt,    Hr,  I   ]]
+
+with J the full rigid inertia (hub + CubeSats, scaled per axis by the
+uncertain factors, plus both arrays as rigid bodies at angle theta_SA) and
+Pt, Hr (n_eta x 3) the translational and rotational modal participation
+about the CoG. Linear momentum p = m v + Pt^T eta_dot and angular momentum
+h = J omega + Hr^T eta_dot obey, in B,
+
+    p_dot + omega x p = F
+    h_dot + omega x h + v x p = tau + tau_d
+    eta_ddot + Pt v_dot + Hr omega_dot + 2 zeta Omega eta_dot + Omega^2 eta = 0
+
+which conserve kinetic plus strain energy exactly when F = tau = 0 and zeta = 0.
+Attitude: q_BN (scalar first), q_dot = 1/2 q (x) [0, omega]. The star tracker
+is a first-order low pass on the attitude, written on the quaternion so that
+it stays valid for large angles: q_ST_dot = 1/2 q_ST (x) [0, b e], with e the
+doubled short-way vector part of q_ST^-1 (x) q_BN and b its bandwidth.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from casadi_debris.config import Mode, Problem
+from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
+from casadi_debris.model.cantilever import shape_integrals
+
+PARAMETER_NAMES = (
+    "inertia_scale_x",
+    "inertia_scale_y",
+    "inertia_scale_z",
+    "mass_kg",
+    "array_angle_rad",
+    "omega_bending1_rad_s",
+)
+INPUT_NAMES = (
+    "torque_x_Nm",
+    "torque_y_Nm",
+    "torque_z_Nm",
+    "disturbance_x_Nm",
+    "disturbance_y_Nm",
+    "disturbance_z_Nm",
+    "force_x_N",
+    "force_y_N",
+    "force_z_N",
+)
+
+
+def quaternion_product(a: ca.SX, b: ca.SX) -> ca.SX:
+    """Hamilton product a (x) b of scalar-first quaternions, shape (4, 1)."""
+    a0, av = a[0], a[1:4]
+    b0, bv = b[0], b[1:4]
+    return ca.vertcat(a0 * b0 - ca.dot(av, bv), a0 * bv + b0 * av + ca.cross(av, bv))
+
+
+def quaternion_conjugate(q: ca.SX) -> ca.SX:
+    """Inverse of a unit quaternion."""
+    return ca.vertcat(q[0], -q[1:4])
+
+
+def attitude_error_vector(q_reference: ca.SX, q: ca.SX) -> ca.SX:
+    """Doubled vector part of q_ref^-1 (x) q, short way round, shape (3, 1).
+
+    Equals the small rotation angles [Phi, Theta, Psi] (rad) from the
+    reference to the attitude for small errors; well defined for 180 deg.
+    """
+    error = quaternion_product(quaternion_conjugate(q_reference), q)
+    return 2.0 * ca.if_else(error[0] >= 0, 1.0, -1.0) * error[1:4]
+
+
+def rotation_matrix(q: ca.SX) -> ca.SX:
+    """Direction cosine matrix taking B components to N components, shape (3, 3)."""
+    q0, qv = q[0], q[1:4]
+    skew = ca.skew(qv)
+    return (q0**2 - ca.dot(qv, qv)) * ca.SX.eye(3) + 2 * (qv @ qv.T) + 2 * q0 * skew
+
+
+@dataclass(frozen=True)
+class StateLayout:
+    """Where each part of the state vector lives.
+
+    Attributes
+    ----------
+    n_eta : int
+        Number of modal coordinates (arrays x modes).
+    mode_labels : tuple of (int, str)
+        (array number from 1, mode name) of each modal coordinate.
+    """
+
+    n_eta: int
+    mode_labels: tuple[tuple[int, str], ...]
+
+    @property
+    def q(self) -> slice:
+        return slice(0, 4)
+
+    @property
+    def omega(self) -> slice:
+        return slice(4, 7)
+
+    @property
+    def v(self) -> slice:
+        return slice(7, 10)
+
+    @property
+    def eta(self) -> slice:
+        return slice(10, 10 + self.n_eta)
+
+    @property
+    def eta_dot(self) -> slice:
+        return slice(10 + self.n_eta, 10 + 2 * self.n_eta)
+
+    @property
+    def q_st(self) -> slice:
+        return slice(10 + 2 * self.n_eta, 14 + 2 * self.n_eta)
+
+    @property
+    def size(self) -> int:
+        return 14 + 2 * self.n_eta
+
+    def names(self) -> list[str]:
+        """One name per state, in order."""
+        modal = [f"array{a}_{m}" for a, m in self.mode_labels]
+        return (
+            ["q0_BN", "q1_BN", "q2_BN", "q3_BN"]
+            + ["omega_x", "omega_y", "omega_z", "v_x", "v_y", "v_z"]
+            + [f"eta_{n}" for n in modal]
+            + [f"eta_dot_{n}" for n in modal]
+            + ["q0_ST", "q1_ST", "q2_ST", "q3_ST"]
+        )
+
+
+class FlexibleBodyEquations:
+    """Symbolic mass properties and equations of motion for one mode selection.
+
+    Parameters
+    ----------
+    problem : Problem
+    geometry : Geometry
+    modes : tuple of Mode
+        The cantilever modes kept per array (all of the problem's by default).
+    """
+
+    def __init__(self, problem: Problem, geometry: Geometry, modes: tuple[Mode, ...]) -> None:
+        self.problem = problem
+        self.geometry = geometry
+        self.modes = modes
+        n_arrays = problem.arrays.count
+        self.layout = StateLayout(
+            n_eta=n_arrays * len(modes),
+            mode_labels=tuple((a + 1, m.name) for a in range(n_arrays) for m in modes),
+        )
+
+    def nominal_parameters(self) -> np.ndarray:
+        """Parameter vector at the problem's nominal values, ordered as PARAMETER_NAMES."""
+        first_bending = next(m for m in self.problem.arrays.modes if (m.kind, m.order) == ("bending", 1))
+        return np.array(
+            [
+                1.0,
+                1.0,
+                1.0,
+                self.geometry.mass_kg,
+                math.radians(self.problem.arrays.angle_deg),
+                first_bending.omega_rad_s,
+            ]
+        )
+
+    def rigid_inertia(self, p: ca.SX) -> ca.SX:
+        """Full rigid inertia about the CoG: scaled hub + CubeSats plus arrays, (3, 3)."""
+        scale = ca.sqrt(p[0:3])
+        hub_cubesats = ca.DM(self.geometry.inertia_hub_cubesats_kgm2) * (scale @ scale.T)
+        arrays = sum(
+            array_rigid_inertia(self.problem, hinge, direction, p[4])
+            for hinge, direction in zip(
+                self.geometry.hinges_m, self.geometry.array_directions, strict=True
+            )
+        )
+        return hub_cubesats + arrays
+
+    def participation(self, angle: ca.SX) -> tuple[ca.SX, ca.SX]:
+        """Translational and rotational (about the CoG) modal participation, (n_eta, 3) each."""
+        arrays = self.problem.arrays
+        sqrt_mass = math.sqrt(arrays.mass_kg)
+        rows_t, rows_r = [], []
+        for hinge, direction in zip(self.geometry.hinges_m, self.geometry.array_directions, strict=True):
+            e_length, _, normal = array_axes(direction, angle)
+            for mode in self.modes:
+                integrals = shape_integrals(mode.kind, mode.order)
+                if mode.kind == "bending":
+                    translation = sqrt_mass * integrals.first * normal
+                    rotation = ca.cross(ca.DM(hinge), translation) + (
+                        sqrt_mass * arrays.length_m * integrals.moment * ca.cross(e_length, normal)
+                    )
+                else:  # torsion: twist about the length axis, no net translation
+                    translation = ca.DM.zeros(3)
+                    rotation = math.sqrt(arrays.inertia_kgm2[0]) * integrals.first * e_length
+                rows_t.append(translation.T)
+                rows_r.append(rotation.T)
+        return ca.vertcat(*rows_t), ca.vertcat(*rows_r)
+
+    def modal_frequencies(self, p: ca.SX) -> ca.SX:
+        """Cantilever frequency of each modal coordinate [rad/s], (n_eta, 1)."""
+        per_array = [
+            p[5] if (m.kind, m.order) == ("bending", 1) else ca.SX(m.omega_rad_s) for m in self.modes
+        ]
+        return ca.vertcat(*(per_array * self.problem.arrays.count))
+
+    def mass_matrix(self, p: ca.SX) -> ca.SX:
+        """Generalised mass matrix for nu = [v, omega, eta_dot], (6 + n_eta) square."""
+        pt, hr = self.participation(p[4])
+        n = self.layout.n_eta
+        top = ca.horzcat(p[3] * ca.SX.eye(3), ca.SX.zeros(3, 3), pt.T)
+        middle = ca.horzcat(ca.SX.zeros(3, 3), self.rigid_inertia(p), hr.T)
+        bottom = ca.horzcat(pt, hr, ca.SX.eye(n))
+        return ca.vertcat(top, middle, bottom)
+
+    def derivatives(self, x: ca.SX, u: ca.SX, p: ca.SX) -> ca.SX:
+        """State derivative x_dot(x, u, p), shape (layout.size, 1)."""
+        lay = self.layout
+        q, omega, v = x[lay.q], x[lay.omega], x[lay.v]
+        eta, eta_dot, q_st = x[lay.eta], x[lay.eta_dot], x[lay.q_st]
+        torque, disturbance, force = u[0:3], u[3:6], u[6:9]
+
+        pt, hr = self.participation(p[4])
+        inertia = self.rigid_inertia(p)
+        mass = p[3]
+        frequencies = self.modal_frequencies(p)
+        zeta = self.problem.arrays.damping_ratio
+
+        linear_momentum = mass * v + pt.T @ eta_dot
+        angular_momentum = inertia @ omega + hr.T @ eta_dot
+        rhs_v = force - ca.cross(omega, linear_momentum)
+        rhs_omega = (
+            torque
+            + disturbance
+            - ca.cross(omega, angular_momentum)
+            - ca.cross(v, linear_momentum)
+        )
+        rhs_eta = -2.0 * zeta * frequencies * eta_dot - frequencies**2 * eta
+
+        # Block elimination of eta_ddot = rhs_eta - Pt v_dot - Hr omega_dot leaves a
+        # 6 x 6 system for the rigid accelerations (the Schur complement of M).
+        coupling = ca.horzcat(pt, hr)
+        rigid_mass = ca.diagcat(mass * ca.SX.eye(3), inertia) - coupling.T @ coupling
+        rigid_rhs = ca.vertcat(rhs_v, rhs_omega) - coupling.T @ rhs_eta
+        rigid_acceleration = ca.solve(rigid_mass, rigid_rhs)
+        eta_ddot = rhs_eta - coupling @ rigid_acceleration
+
+        q_dot = 0.5 * quaternion_product(q, ca.vertcat(0, omega))
+        sensor_rate = self.problem.sensor.star_tracker_bandwidth_rad_s * attitude_error_vector(q_st, q)
+        q_st_dot = 0.5 * quaternion_product(q_st, ca.vertcat(0, sensor_rate))
+        return ca.vertcat(q_dot, rigid_acceleration[3:6], rigid_acceleration[0:3], eta_dot, eta_ddot, q_st_dot)
+
+    def energy(self, x: ca.SX, p: ca.SX) -> ca.SX:
+        """Kinetic plus modal strain energy [J]."""
+        lay = self.layout
+        nu = ca.vertcat(x[lay.v], x[lay.omega], x[lay.eta_dot])
+        frequencies = self.modal_frequencies(p)
+        return 0.5 * nu.T @ self.mass_matrix(p) @ nu + 0.5 * ca.sumsqr(frequencies * x[lay.eta])
+
+    def momenta(self, x: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
+        """Linear and angular momentum (about the CoG), both in inertial components."""
+        lay = self.layout
+        pt, hr = self.participation(p[4])
+        eta_dot = x[lay.eta_dot]
+        rotation = rotation_matrix(x[lay.q])
+        linear = p[3] * x[lay.v] + pt.T @ eta_dot
+        angular = self.rigid_inertia(p) @ x[lay.omega] + hr.T @ eta_dot
+        return rotation @ linear, rotation @ angular
