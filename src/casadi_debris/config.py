@@ -652,13 +652,13 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
     try:
         raw = path.read_bytes()
     except FileNotFoundError:
-        raise ProblemFileError("<file>", "no such problem file", source) from None
+        raise ProblemFileError("", "no such problem file", source) from None
     except OSError as exc:
-        raise ProblemFileError("<file>", f"cannot be read ({exc.strerror})", source) from None
+        raise ProblemFileError("", f"cannot be read ({exc.strerror})", source) from None
     try:
         data = tomllib.loads(raw.decode("utf-8"))
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ProblemFileError("<file>", f"not valid TOML ({exc})", source) from None
+        raise ProblemFileError("", f"not valid TOML ({exc})", source) from None
     parent = data.get("extends")
     if parent is None:
         return data, raw

@@ -17,7 +17,8 @@ class ProblemFileError(CasadiDebrisError):
     Parameters
     ----------
     field : str
-        Dotted path of the offending key, e.g. ``"hub.inertia_kgm2"``.
+        Dotted path of the offending key, e.g. ``"hub.inertia_kgm2"``; empty
+        when the file as a whole is at fault.
     message : str
         What is wrong with it.
     source : str, optional
@@ -28,7 +29,8 @@ class ProblemFileError(CasadiDebrisError):
         self.field = field
         self.source = source
         where = f"{source}: " if source else ""
-        super().__init__(f"{where}{field}: {message}")
+        key = f"{field}: " if field else ""
+        super().__init__(f"{where}{key}{message}")
 
 
 class ModelError(CasadiDebrisError):

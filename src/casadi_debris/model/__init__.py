@@ -6,6 +6,7 @@ See :mod:`casadi_debris.model.flexible_body` for the equations.
 from casadi_debris.model.compiled import Model, build_model, select_modes
 from casadi_debris.model.flexible_body import INPUT_NAMES, PARAMETER_NAMES, StateLayout
 from casadi_debris.model.linearize import (
+    assembled_modes,
     flexible_frequencies,
     linearization_function,
     linearize,
@@ -17,6 +18,7 @@ __all__ = [
     "PARAMETER_NAMES",
     "Model",
     "StateLayout",
+    "assembled_modes",
     "build_model",
     "flexible_frequencies",
     "linearization_function",

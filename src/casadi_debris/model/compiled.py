@@ -57,8 +57,8 @@ class Model:
     energy : casadi.Function
         ``energy(x, p) -> E`` kinetic + modal strain energy (J).
     momenta : casadi.Function
-        ``momenta(x, p) -> (p_N, h_N)`` linear (kg m/s) and angular (N m s)
-        momentum in inertial components.
+        ``momenta(x, p) -> (p_N, h_N)`` linear (kg m/s) and angular (N m s,
+        about the undeformed CoG) momentum in inertial components.
     mass_matrix : casadi.Function
         ``mass_matrix(p) -> M`` for nu = [v, omega, eta_dot].
     rigid_inertia : casadi.Function

@@ -23,6 +23,21 @@ h = J omega + Hr^T eta_dot obey, in B,
     eta_ddot + Pt v_dot + Hr omega_dot + 2 zeta Omega eta_dot + Omega^2 eta = 0
 
 which conserve kinetic plus strain energy exactly when F = tau = 0 and zeta = 0.
+
+Modelling choices and limits (kept explicit):
+
+- Participation comes from uniform-beam mode shapes with the array's mass and
+  length, while the rigid inertia uses the problem's array inertia (the
+  paper's 62 kg m^2 about the width axis exceeds a uniform 2.5 m beam's
+  21.9): the difference is rigid, non-participating mass. With an inertia
+  consistent with a uniform beam the anti-phase bending mode would sit at
+  about 11 rad/s instead of 9.0.
+- Damping zeta acts on the cantilever coordinates, as the paper states it;
+  the assembled modes' damping ratios therefore differ (0.005 to 0.008).
+- M is constant (first-order hybrid coordinates): no centrifugal forcing or
+  stiffening of the modes and no inertia change with deflection. Valid for
+  body rates well below the first mode (|omega| << 5.6 rad/s), i.e. for the
+  slews and pointing of the paper, not for a fast tumble.
 Attitude: q_BN (scalar first), q_dot = 1/2 q (x) [0, omega]. The star tracker
 is a first-order low pass on the attitude, written on the quaternion so that
 it stays valid for large angles: q_ST_dot = 1/2 q_ST (x) [0, b e], with e the
@@ -212,6 +227,8 @@ class FlexibleBodyEquations:
                     rotation = math.sqrt(arrays.inertia_kgm2[0]) * integrals.first * e_length
                 rows_t.append(translation.T)
                 rows_r.append(rotation.T)
+        if not rows_t:  # rigid model: no modes kept
+            return ca.SX(0, 3), ca.SX(0, 3)
         return ca.vertcat(*rows_t), ca.vertcat(*rows_r)
 
     def modal_frequencies(self, p: ca.SX) -> ca.SX:
@@ -219,7 +236,7 @@ class FlexibleBodyEquations:
         per_array = [
             p[5] if (m.kind, m.order) == ("bending", 1) else ca.SX(m.omega_rad_s) for m in self.modes
         ]
-        return ca.vertcat(*(per_array * self.problem.arrays.count))
+        return ca.vertcat(*(per_array * self.problem.arrays.count)) if per_array else ca.SX(0, 1)
 
     def mass_matrix(self, p: ca.SX) -> ca.SX:
         """Generalised mass matrix for nu = [v, omega, eta_dot], (6 + n_eta) square."""
@@ -275,7 +292,12 @@ class FlexibleBodyEquations:
         return 0.5 * nu.T @ self.mass_matrix(p) @ nu + 0.5 * ca.sumsqr(frequencies * x[lay.eta])
 
     def momenta(self, x: ca.SX, p: ca.SX) -> tuple[ca.SX, ca.SX]:
-        """Linear and angular momentum (about the CoG), both in inertial components."""
+        """Linear momentum and angular momentum about the reference point, inertial components.
+
+        The reference point is the undeformed combined CoG (origin of B). The
+        angular momentum is conserved without torque while the linear momentum
+        is zero (a free body started with p = 0 keeps p = 0).
+        """
         lay = self.layout
         pt, hr = self.participation(p[4])
         eta_dot = x[lay.eta_dot]

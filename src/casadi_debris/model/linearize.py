@@ -149,3 +149,56 @@ def flexible_frequencies(plant: control.StateSpace) -> np.ndarray:
     poles = np.linalg.eigvals(plant.A)
     oscillatory = poles[poles.imag > 1e-9]
     return np.sort(np.abs(oscillatory))
+
+
+def assembled_modes(model: Model, parameters: Sequence[float] | None = None) -> list[dict]:
+    """Flexible modes of the free-floating assembly, from the linear plant's eigenvectors.
+
+    Parameters
+    ----------
+    model : Model
+    parameters : sequence of float, optional
+        Default nominal.
+
+    Returns
+    -------
+    list of dict
+        Ascending in frequency, one per oscillatory pole pair, with
+        ``omega_rad_s`` (undamped natural frequency), ``zeta``,
+        ``dominant_mode`` (name of the cantilever mode carrying most of the
+        eigenvector's modal part), ``array_share`` (fraction of the modal part
+        on each array) and ``in_phase`` (both arrays deflect the same way;
+        None when one array carries it alone).
+    """
+    plant = linearize(model, parameters)
+    poles, vectors = np.linalg.eig(plant.A)
+    lay = model.layout
+    eta = slice(6, 6 + lay.n_eta)
+    modes = []
+    for index in np.flatnonzero(poles.imag > 1e-9):
+        pole, shape = poles[index], vectors[eta, index]
+        weight = np.abs(shape) ** 2
+        by_mode: dict[str, float] = {}
+        for (_, name), w in zip(lay.mode_labels, weight, strict=True):
+            by_mode[name] = by_mode.get(name, 0.0) + w
+        dominant = max(by_mode, key=by_mode.get)
+        arrays = sorted({a for a, _ in lay.mode_labels})
+        share = [
+            float(sum(w for (a, _), w in zip(lay.mode_labels, weight, strict=True) if a == k))
+            / float(weight.sum())
+            for k in arrays
+        ]
+        pair = [shape[i] for i, (_, name) in enumerate(lay.mode_labels) if name == dominant]
+        in_phase = None
+        if len(pair) == 2 and min(share) > 0.1:
+            in_phase = bool((pair[0] * np.conj(pair[1])).real > 0)
+        modes.append(
+            {
+                "omega_rad_s": float(abs(pole)),
+                "zeta": float(-pole.real / abs(pole)),
+                "dominant_mode": dominant,
+                "array_share": share,
+                "in_phase": in_phase,
+            }
+        )
+    return sorted(modes, key=lambda m: m["omega_rad_s"])

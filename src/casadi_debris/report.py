@@ -1,0 +1,260 @@
+"""Summaries in display units, paper-vs-toolkit comparisons, and plain-text tables.
+
+This is an edge module: it turns SI results into fields whose names carry
+their display unit (``torque_max_mNm``) and holds the paper's published
+figures (``PAPER``) that results are compared with.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.budgets import BudgetItem, compute_budgets
+from casadi_debris.config import Problem
+from casadi_debris.geometry import build_geometry, torque_authority
+from casadi_debris.model import assembled_modes, build_model
+from casadi_debris.model.cantilever import shape_integrals
+
+MN_PER_N = 1e3
+
+# Figures the paper publishes, with the tolerance DESIGN.md accepts. A figure
+# with a (low, high) range is accepted inside that range.
+PAPER: dict[str, dict[str, Any]] = {
+    "mass_kg": {"value": 668.0, "abs": 0.5},
+    "inertia_hub_cubesats_diag_kgm2": {"value": [246.0, 66.0, 242.0], "rel": 0.06},
+    "torque_max_mNm": {"value": [4.61, 1.96, 4.26], "rel": 0.04},
+    "dv_one_stage_one_face_m_s": {"value": 6.8, "rel": 0.05},
+    "dv_three_stages_one_face_m_s": {"value": 20.0, "rel": 0.05},
+    "dv_one_stage_all_faces_m_s": {"value": 41.0, "rel": 0.05},
+    "dv_all_stages_all_faces_m_s": {"value": 125.0, "rel": 0.05},
+    "dv_cubesat_one_stage_m_s": {"value": 300.0, "range": (290.0, 340.0)},
+    "dv_transfer_m_s": {"value": 150.0, "range": (135.0, 160.0)},
+    "detumble_time_h": {"value": 15.9, "rel": 0.06},
+    "detumble_dv_m_s": {"value": 0.22},
+    "stage_life_h": {"value": 500.0},
+}
+
+
+def within_tolerance(key: str, value: float | Sequence[float]) -> bool | None:
+    """Whether ``value`` reproduces the paper's ``key`` (None if no tolerance is set)."""
+    reference = PAPER[key]
+    ours = np.atleast_1d(np.asarray(value, dtype=float))
+    paper = np.atleast_1d(np.asarray(reference["value"], dtype=float))
+    if "abs" in reference:
+        return bool(np.all(np.abs(ours - paper) <= reference["abs"]))
+    if "rel" in reference:
+        return bool(np.all(np.abs(ours - paper) <= reference["rel"] * np.abs(paper)))
+    if "range" in reference:
+        low, high = reference["range"]
+        return bool(np.all((low <= ours) & (ours <= high)))
+    return None
+
+
+def _rounded(matrix: np.ndarray, digits: int = 6) -> list:
+    # + 0.0 turns -0.0 into 0.0 so directions print without a stray sign.
+    return (np.round(np.asarray(matrix, dtype=float), digits) + 0.0).tolist()
+
+
+def describe_model(problem: Problem) -> dict[str, Any]:
+    """The combined system in display units (the ``casadi-debris model`` output).
+
+    Returns
+    -------
+    dict
+        ``mass_kg``, ``cog_m`` (hub-corner frame), ``inertia_hub_cubesats_kgm2``,
+        ``inertia_total_kgm2`` (3x3 about the CoG), ``torque_max_mNm`` and
+        ``torque_max_zero_force_mNm`` ({"+x": ...}), ``modes`` (assembled
+        free-free modes with their cantilever origin), ``thrusters``.
+    """
+    geometry = build_geometry(problem)
+    model = build_model(problem)
+    modes = []
+    by_name = {m.name: m for m in problem.arrays.modes}
+    for assembled in assembled_modes(model):
+        cantilever = by_name[assembled["dominant_mode"]]
+        integrals = shape_integrals(cantilever.kind, cantilever.order)
+        share = assembled["array_share"]
+        carrying = [str(i + 1) for i, s in enumerate(share) if s > 0.1]
+        phase = assembled["in_phase"]
+        modes.append(
+            {
+                "array": "+".join(carrying),
+                "name": cantilever.name,
+                "kind": cantilever.kind,
+                "symmetry": "-" if phase is None else ("in-phase" if phase else "anti-phase"),
+                "omega_rad_s": cantilever.omega_rad_s,
+                "omega_free_rad_s": assembled["omega_rad_s"],
+                "zeta": problem.arrays.damping_ratio,
+                "zeta_free": assembled["zeta"],
+                "mass_fraction": integrals.mass_fraction if cantilever.kind == "bending" else 0.0,
+                "root_inertia_fraction": (
+                    integrals.root_inertia_fraction
+                    if cantilever.kind == "bending"
+                    else integrals.mass_fraction
+                ),
+            }
+        )
+    thrusters = [
+        {
+            "cubesat": mount.index + 1,
+            "face": mount.face,
+            "position_m": _rounded(mount.position_m),
+            "direction": _rounded(mount.direction),
+            "max_thrust_mN": mount.max_thrust_N * MN_PER_N,
+        }
+        for mount in geometry.cubesats
+    ]
+    return {
+        "problem": problem.name,
+        "problem_path": problem.source,
+        "problem_sha256": problem.sha256,
+        "mass_kg": geometry.mass_kg,
+        "cog_m": _rounded(geometry.cog_corner_m),
+        "inertia_hub_cubesats_kgm2": _rounded(geometry.inertia_hub_cubesats_kgm2),
+        "inertia_total_kgm2": _rounded(geometry.inertia_total_kgm2),
+        "array_angle_deg": problem.arrays.angle_deg,
+        "torque_max_mNm": {k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
+        "torque_max_zero_force_mNm": {
+            k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
+        },
+        "modes": modes,
+        "thrusters": thrusters,
+    }
+
+
+def describe_budgets(problem: Problem) -> list[BudgetItem]:
+    """The budget items of a problem (the ``casadi-debris budget`` output)."""
+    return compute_budgets(problem)
+
+
+# ----------------------------------------------------------------------------- text
+
+
+def format_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """Left-aligned plain-text table with a rule under the header."""
+    cells = [[str(h) for h in headers]] + [[_cell(c) for c in row] for row in rows]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(headers))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in cells]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def _cell(value: Any) -> str:
+    if isinstance(value, float):
+        if value == 0:
+            return "0"
+        return f"{value:.4g}" if 1e-3 <= abs(value) < 1e5 else f"{value:.3e}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_cell(v) for v in value) + "]"
+    return "" if value is None else str(value)
+
+
+def _paper_cells(key: str, ours: Any, show_paper: bool) -> list[str]:
+    if not show_paper or key not in PAPER:
+        return ["", ""]
+    verdict = within_tolerance(key, ours)
+    mark = {True: "ok", False: "OUTSIDE", None: ""}[verdict]
+    return [_cell(PAPER[key]["value"]), mark]
+
+
+def model_text(summary: dict[str, Any], show_paper: bool) -> str:
+    """Readable tables of :func:`describe_model`'s output."""
+    torque = summary["torque_max_mNm"]
+    torque_pos = [torque["+x"], torque["+y"], torque["+z"]]
+    inertia_hc = np.array(summary["inertia_hub_cubesats_kgm2"])
+    rows = [
+        ["total mass [kg]", summary["mass_kg"], *_paper_cells("mass_kg", summary["mass_kg"], show_paper)],
+        ["CoG, hub-corner frame [m]", summary["cog_m"], "", ""],
+        [
+            "hub + CubeSats inertia diag [kg m^2]",
+            np.diag(inertia_hc).tolist(),
+            *_paper_cells("inertia_hub_cubesats_diag_kgm2", np.diag(inertia_hc), show_paper),
+        ],
+        ["hub + CubeSats inertia off-diag xy,xz,yz", _offdiag(inertia_hc), "", ""],
+        [
+            "full rigid inertia diag (arrays incl.)",
+            np.diag(summary["inertia_total_kgm2"]).tolist(),
+            "",
+            "",
+        ],
+        [
+            "max torque +x,+y,+z [mNm]",
+            torque_pos,
+            *_paper_cells("torque_max_mNm", torque_pos, show_paper),
+        ],
+        [
+            "max torque -x,-y,-z [mNm]",
+            [torque["-x"], torque["-y"], torque["-z"]],
+            *_paper_cells("torque_max_mNm", [torque["-x"], torque["-y"], torque["-z"]], show_paper),
+        ],
+        [
+            "  same with zero net force",
+            [summary["torque_max_zero_force_mNm"][k] for k in ("+x", "+y", "+z")],
+            "",
+            "",
+        ],
+    ]
+    parts = [
+        f"Problem {summary['problem']} ({summary['problem_path']})",
+        "",
+        format_table(["quantity", "toolkit", "paper", "check"] if show_paper else ["quantity", "value", "", ""], rows),
+        "",
+        f"Flexible modes (array angle {summary['array_angle_deg']:g} deg; "
+        "omega = cantilever, omega_free = assembled free-floating body)",
+        format_table(
+            ["array", "mode", "symmetry", "omega [rad/s]", "omega_free [rad/s]", "zeta", "mass frac", "root inertia frac"],
+            [
+                [
+                    m["array"],
+                    m["name"],
+                    m["symmetry"],
+                    m["omega_rad_s"],
+                    m["omega_free_rad_s"],
+                    m["zeta"],
+                    m["mass_fraction"],
+                    m["root_inertia_fraction"],
+                ]
+                for m in summary["modes"]
+            ],
+        ),
+        "",
+        "Engines (body frame B, origin at the CoG; direction = unit force on the body)",
+        format_table(
+            ["cubesat", "face", "position [m]", "direction", "max thrust [mN]"],
+            [
+                [t["cubesat"], t["face"], t["position_m"], t["direction"], t["max_thrust_mN"]]
+                for t in summary["thrusters"]
+            ],
+        ),
+    ]
+    return "\n".join(parts)
+
+
+def _offdiag(matrix: np.ndarray) -> list[float]:
+    return [float(matrix[0, 1]), float(matrix[0, 2]), float(matrix[1, 2])]
+
+
+def budget_text(items: Sequence[BudgetItem], problem_label: str, show_paper: bool) -> str:
+    """Readable table of the budget items, with how each was computed."""
+    rows = [[item.key, item.value, *_paper_cells(item.key, item.value, show_paper), item.how] for item in items]
+    headers = ["figure", "toolkit", "paper", "check", "how"]
+    return f"Budgets for {problem_label}\n\n" + format_table(headers, rows)
+
+
+def json_ready(value: Any) -> Any:
+    """Convert numpy scalars/arrays (recursively) for ``json.dumps``; non-finite -> None."""
+    if isinstance(value, dict):
+        return {k: json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return json_ready(value.tolist())
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value

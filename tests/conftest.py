@@ -1,0 +1,49 @@
+"""Shared fixtures: the paper's problem, its geometry and model, built once per session."""
+
+from __future__ import annotations
+
+import copy
+import tomllib
+from typing import Any
+
+import pytest
+
+from casadi_debris import load_problem
+from casadi_debris.config import Problem, default_problem_path, problem_from_dict
+from casadi_debris.geometry import Geometry, build_geometry
+from casadi_debris.model import Model, build_model
+
+
+@pytest.fixture(scope="session")
+def paper_data() -> dict[str, Any]:
+    """The paper's problem file as parsed TOML (copy before changing it)."""
+    with default_problem_path().open("rb") as handle:
+        return tomllib.load(handle)
+
+
+@pytest.fixture
+def fresh_data(paper_data: dict[str, Any]) -> dict[str, Any]:
+    """A private, mutable copy of the paper's problem data."""
+    return copy.deepcopy(paper_data)
+
+
+@pytest.fixture(scope="session")
+def problem() -> Problem:
+    return load_problem()
+
+
+@pytest.fixture(scope="session")
+def geometry(problem: Problem) -> Geometry:
+    return build_geometry(problem)
+
+
+@pytest.fixture(scope="session")
+def model(problem: Problem) -> Model:
+    return build_model(problem)
+
+
+@pytest.fixture(scope="session")
+def undamped_problem(paper_data: dict[str, Any]) -> Problem:
+    data = copy.deepcopy(paper_data)
+    data["arrays"]["damping_ratio"] = 0.0
+    return problem_from_dict(data, "undamped")

@@ -1,0 +1,173 @@
+"""Placement, mass properties and torque authority against the paper and independent checks."""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES
+from casadi_debris.geometry import max_thrust_N, signed_axis_vector, torque_authority
+
+# DESIGN.md: what must reproduce (paper -> tolerance)
+PAPER_MASS_KG, MASS_TOL_KG = 668.0, 0.5
+PAPER_INERTIA_DIAG, INERTIA_REL = np.array([246.0, 66.0, 242.0]), 0.06
+PAPER_TORQUE_MNM, TORQUE_REL = np.array([4.61, 1.96, 4.26]), 0.04
+
+
+def test_total_mass(geometry):
+    assert abs(geometry.mass_kg - PAPER_MASS_KG) <= MASS_TOL_KG
+
+
+def test_hub_cubesats_inertia_against_paper(geometry):
+    diag = np.diag(geometry.inertia_hub_cubesats_kgm2)
+    np.testing.assert_allclose(diag, PAPER_INERTIA_DIAG, rtol=INERTIA_REL)
+    # The CubeSats sit symmetrically about the hub centre: off-diagonals stay the hub's,
+    # but for the small parallel-axis term of the combined-CoG shift.
+    np.testing.assert_allclose(
+        geometry.inertia_hub_cubesats_kgm2[[0, 0, 1], [1, 2, 2]], [1.0, 2.0, -1.0], atol=0.05
+    )
+
+
+def test_torque_authority_against_paper(geometry):
+    authority = torque_authority(geometry)
+    for axis, paper in zip(AXIS_NAMES, PAPER_TORQUE_MNM, strict=True):
+        for sign in "+-":
+            assert authority[sign + axis] * 1e3 == pytest.approx(paper, rel=TORQUE_REL)
+
+
+def test_cog_by_hand(problem, geometry):
+    # Hub and CubeSats centred on the hub centre; arrays' CoGs at (0.4, 1.4) and
+    # symmetric in z: only 84 kg of arrays pull the CoG off the hub centre.
+    arrays_kg = 2 * problem.arrays.mass_kg
+    expected = np.array(
+        [0.375 + arrays_kg * (0.4 - 0.375) / 668.0, 1.5 + arrays_kg * (1.4 - 1.5) / 668.0, 0.5]
+    )
+    np.testing.assert_allclose(geometry.cog_corner_m, expected, atol=1e-12)
+
+
+def test_cubesats_on_faces_thrusting_inward(problem, geometry):
+    size = problem.hub.size_m
+    assert len(geometry.cubesats) == 24
+    for face in SIGNED_AXES:
+        mounts = [m for m in geometry.cubesats if m.face == face]
+        assert len(mounts) == 4
+        normal = signed_axis_vector(face)
+        axis = AXIS_NAMES.index(face[1])
+        for mount in mounts:
+            corner = mount.position_m + geometry.cog_corner_m
+            assert corner[axis] == pytest.approx(size[axis] if face[0] == "+" else 0.0)
+            np.testing.assert_array_equal(mount.direction, -normal)
+            others = [a for a in range(3) if a != axis]
+            # 10 % of the half edge in from the edges
+            inset = np.minimum(corner[others], size[others] - corner[others])
+            np.testing.assert_allclose(inset, 0.1 * size[others] / 2)
+
+
+def test_torque_map_is_lever_cross_force(geometry):
+    for i, mount in enumerate(geometry.cubesats):
+        np.testing.assert_allclose(
+            geometry.torque_map[:, i], np.cross(mount.position_m, mount.direction)
+        )
+
+
+def _dual_authority(torque_map, force_map, limits, axis, sign, zero_force):
+    """Authority by the dual LP: min u^T s, s >= c - A^T y, s >= 0 (strong duality)."""
+    from scipy.optimize import linprog
+
+    others = [a for a in range(3) if a != axis]
+    a_eq = torque_map[others]
+    if zero_force:
+        a_eq = np.vstack([a_eq, force_map])
+    c = sign * torque_map[axis]
+    n, m = len(limits), len(a_eq)
+    # variables [s (n), y (m)]; constraint -s - A^T y <= -c
+    result = linprog(
+        np.concatenate([limits, np.zeros(m)]),
+        A_ub=np.hstack([-np.eye(n), -a_eq.T]),
+        b_ub=-c,
+        bounds=[(0, None)] * n + [(None, None)] * m,
+        method="highs",
+    )
+    return result.fun
+
+
+@pytest.mark.parametrize("zero_force", [False, True])
+def test_lp_authority_equals_dual_lp(geometry, zero_force):
+    authority = torque_authority(geometry, zero_net_force=zero_force)
+    limits = max_thrust_N(geometry)
+    for name in SIGNED_AXES:
+        dual = _dual_authority(
+            geometry.torque_map,
+            geometry.force_map,
+            limits,
+            AXIS_NAMES.index(name[1]),
+            1.0 if name[0] == "+" else -1.0,
+            zero_force,
+        )
+        assert authority[name] == pytest.approx(dual, rel=1e-9)
+
+
+def _vertex_enumeration(torque_map, limits, axis, sign):
+    """Max pure torque by enumerating every vertex of {0 <= f <= u, A f = 0}."""
+    others = [a for a in range(3) if a != axis]
+    a_eq = torque_map[others]
+    n = len(limits)
+    best = 0.0
+    # A vertex has at most rank(A) = 2 entries strictly inside their bounds.
+    for free in itertools.chain(
+        [()], itertools.combinations(range(n), 1), itertools.combinations(range(n), 2)
+    ):
+        fixed = [i for i in range(n) if i not in free]
+        for pattern in itertools.product((0.0, 1.0), repeat=len(fixed)):
+            f = np.zeros(n)
+            f[fixed] = np.array(pattern) * limits[fixed]
+            if free:
+                residual = -a_eq[:, fixed] @ f[fixed]
+                solution, *_ = np.linalg.lstsq(a_eq[:, list(free)], residual, rcond=None)
+                f[list(free)] = solution
+            if np.any(f < -1e-12) or np.any(f > limits + 1e-12):
+                continue
+            if np.linalg.norm(a_eq @ f) > 1e-12:
+                continue
+            best = max(best, sign * float(torque_map[axis] @ f))
+    return best
+
+
+def test_lp_authority_equals_vertex_enumeration_with_failures(geometry):
+    # Ten working engines keep the enumeration small (2^10 patterns x 56 free sets).
+    rng = np.random.default_rng(7)
+    available = np.zeros(24, dtype=bool)
+    available[rng.choice(24, size=10, replace=False)] = True
+    authority = torque_authority(geometry, available=available)
+    limits = max_thrust_N(geometry)[available]
+    for name in SIGNED_AXES:
+        brute = _vertex_enumeration(
+            geometry.torque_map[:, available],
+            limits,
+            AXIS_NAMES.index(name[1]),
+            1.0 if name[0] == "+" else -1.0,
+        )
+        assert authority[name] == pytest.approx(brute, rel=1e-9, abs=1e-15)
+
+
+def test_zero_net_force_never_raises_authority(geometry):
+    free = torque_authority(geometry)
+    balanced = torque_authority(geometry, zero_net_force=True)
+    for name in SIGNED_AXES:
+        assert balanced[name] <= free[name] + 1e-15
+
+
+def test_full_rigid_inertia_adds_arrays(problem, geometry):
+    # Each array: principal inertia rotated into B plus the parallel-axis term of its CoG.
+    assert np.all(np.linalg.eigvalsh(geometry.inertia_arrays_kgm2) > 0)
+    np.testing.assert_allclose(
+        geometry.inertia_total_kgm2,
+        geometry.inertia_hub_cubesats_kgm2 + geometry.inertia_arrays_kgm2,
+    )
+    # About z (the hinge axis) each array adds its length-axis inertia plus m d^2 for its
+    # CoG's distance d from the combined CoG in the x-y plane.
+    dx, dy = 0.4 - geometry.cog_corner_m[0], 1.4 - geometry.cog_corner_m[1]
+    expected = 2 * (17.0 + problem.arrays.mass_kg * (dx**2 + dy**2))
+    assert geometry.inertia_arrays_kgm2[2, 2] == pytest.approx(expected, rel=1e-12)
