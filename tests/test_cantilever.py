@@ -37,7 +37,9 @@ def test_bending_fractions_textbook_values():
 def test_torsion_fraction_closed_form():
     # chi = sin(pi xi / 2): (int chi)^2 / int chi^2 = (2/pi)^2 / (1/2) = 8 / pi^2
     assert shape_integrals("torsion", 1).mass_fraction == pytest.approx(8 / math.pi**2, rel=1e-9)
-    assert shape_integrals("torsion", 2).mass_fraction == pytest.approx(8 / (9 * math.pi**2), rel=1e-9)
+    assert shape_integrals("torsion", 2).mass_fraction == pytest.approx(
+        8 / (9 * math.pi**2), rel=1e-9
+    )
 
 
 def test_bad_order_rejected():

@@ -87,7 +87,9 @@ BAD_VALUES = [
 ]
 
 
-@pytest.mark.parametrize(("key", "value", "words"), BAD_VALUES, ids=[f"{k}={v}" for k, v, _ in BAD_VALUES])
+@pytest.mark.parametrize(
+    ("key", "value", "words"), BAD_VALUES, ids=[f"{k}={v}" for k, v, _ in BAD_VALUES]
+)
 def test_bad_value_names_the_key(fresh_data, key, value, words):
     _set(fresh_data, key, value)
     with pytest.raises(ProblemFileError) as caught:
@@ -126,7 +128,7 @@ def test_bad_mode_kind_is_named(fresh_data):
 
 def test_duplicate_mode_names_rejected(fresh_data):
     fresh_data["arrays"]["modes"][1]["name"] = "bending1"
-    with pytest.raises(ProblemFileError, match="arrays.modes: mode names must be unique"):
+    with pytest.raises(ProblemFileError, match=r"arrays\.modes: mode names must be unique"):
         problem_from_dict(fresh_data)
 
 

@@ -115,7 +115,8 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
         BudgetItem(
             "stage_propellant_kg",
             propellant,
-            f"thrust {engine.thrust_per_stage_mN} mN x {engine.stage_life_h:g} h / (Isp {engine.isp_s:g} s g0)",
+            f"thrust {engine.thrust_per_stage_mN} mN x {engine.stage_life_h:g} h"
+            f" / (Isp {engine.isp_s:g} s g0)",
         ),
         BudgetItem("stage_life_h", engine.stage_life_h, "problem file (engine.stage_life_h)"),
         BudgetItem(
@@ -151,8 +152,9 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
                 constants.earth_radius_km + transfer.to_altitude_km,
                 math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
             ),
-            f"Edelbaum, circular {transfer.from_altitude_km:g} km / {transfer.from_inclination_deg:g} deg"
-            f" -> {transfer.to_altitude_km:g} km / {transfer.to_inclination_deg:g} deg",
+            f"Edelbaum, circular {transfer.from_altitude_km:g} km /"
+            f" {transfer.from_inclination_deg:g} deg -> {transfer.to_altitude_km:g} km /"
+            f" {transfer.to_inclination_deg:g} deg",
         ),
         BudgetItem(
             "detumble_time_h",
@@ -167,7 +169,7 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
         BudgetItem(
             "detumble_dv_m_s",
             dv_face * detumble_s / life_s,
-            "share of the one-face stage dv that the detumble firing time uses (paper's accounting)",
+            "share of the one-face stage dv the detumble firing time uses (paper's accounting)",
         ),
     ]
 

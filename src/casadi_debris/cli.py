@@ -117,7 +117,9 @@ def budget(problem_file: Path | None, as_json: bool) -> None:
         _echo_json(payload)
     else:
         click.echo(
-            budget_text(items, f"{problem.name} ({problem.source})", problem.name == PAPER_PROBLEM_NAME)
+            budget_text(
+                items, f"{problem.name} ({problem.source})", problem.name == PAPER_PROBLEM_NAME
+            )
         )
 
 

@@ -543,7 +543,9 @@ def _read_uncertainty(t: _Table) -> Uncertainty:
         inertia_fraction=t.number("inertia_fraction", nonnegative=True, below=1.0),
         mass_fraction=t.number("mass_fraction", nonnegative=True, below=1.0),
         array_angle_deg=t.number("array_angle_deg", nonnegative=True, at_most=180.0),
-        bending_frequency_fraction=t.number("bending_frequency_fraction", nonnegative=True, below=1.0),
+        bending_frequency_fraction=t.number(
+            "bending_frequency_fraction", nonnegative=True, below=1.0
+        ),
         samples=t.integer("samples", minimum=1),
         seed=t.integer("seed", minimum=0),
     )

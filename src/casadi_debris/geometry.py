@@ -234,7 +234,8 @@ def build_geometry(problem: Problem) -> Geometry:
     hinges = arrays.hinges_corner_m - cog
     angle = math.radians(arrays.angle_deg)
     inertia_arrays = sum(
-        np.array(array_rigid_inertia(problem, h, d, angle)) for h, d in zip(hinges, directions, strict=True)
+        np.array(array_rigid_inertia(problem, h, d, angle))
+        for h, d in zip(hinges, directions, strict=True)
     )
     force_map = np.array([m.direction for m in mounts]).T
     torque_map = np.cross(np.array([m.position_m for m in mounts]), force_map.T).T

@@ -138,7 +138,9 @@ def format_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
     """Left-aligned plain-text table with a rule under the header."""
     cells = [[str(h) for h in headers]] + [[_cell(c) for c in row] for row in rows]
     widths = [max(len(row[i]) for row in cells) for i in range(len(headers))]
-    lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in cells]
+    lines = [
+        "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in cells
+    ]
     lines.insert(1, "  ".join("-" * w for w in widths))
     return "\n".join(lines)
 
@@ -167,7 +169,11 @@ def model_text(summary: dict[str, Any], show_paper: bool) -> str:
     torque_pos = [torque["+x"], torque["+y"], torque["+z"]]
     inertia_hc = np.array(summary["inertia_hub_cubesats_kgm2"])
     rows = [
-        ["total mass [kg]", summary["mass_kg"], *_paper_cells("mass_kg", summary["mass_kg"], show_paper)],
+        [
+            "total mass [kg]",
+            summary["mass_kg"],
+            *_paper_cells("mass_kg", summary["mass_kg"], show_paper),
+        ],
         ["CoG, hub-corner frame [m]", summary["cog_m"], "", ""],
         [
             "hub + CubeSats inertia diag [kg m^2]",
@@ -201,12 +207,26 @@ def model_text(summary: dict[str, Any], show_paper: bool) -> str:
     parts = [
         f"Problem {summary['problem']} ({summary['problem_path']})",
         "",
-        format_table(["quantity", "toolkit", "paper", "check"] if show_paper else ["quantity", "value", "", ""], rows),
+        format_table(
+            ["quantity", "toolkit", "paper", "check"]
+            if show_paper
+            else ["quantity", "value", "", ""],
+            rows,
+        ),
         "",
         f"Flexible modes (array angle {summary['array_angle_deg']:g} deg; "
         "omega = cantilever, omega_free = assembled free-floating body)",
         format_table(
-            ["array", "mode", "symmetry", "omega [rad/s]", "omega_free [rad/s]", "zeta", "mass frac", "root inertia frac"],
+            [
+                "array",
+                "mode",
+                "symmetry",
+                "omega [rad/s]",
+                "omega_free [rad/s]",
+                "zeta",
+                "mass frac",
+                "root inertia frac",
+            ],
             [
                 [
                     m["array"],
@@ -240,7 +260,10 @@ def _offdiag(matrix: np.ndarray) -> list[float]:
 
 def budget_text(items: Sequence[BudgetItem], problem_label: str, show_paper: bool) -> str:
     """Readable table of the budget items, with how each was computed."""
-    rows = [[item.key, item.value, *_paper_cells(item.key, item.value, show_paper), item.how] for item in items]
+    rows = [
+        [item.key, item.value, *_paper_cells(item.key, item.value, show_paper), item.how]
+        for item in items
+    ]
     headers = ["figure", "toolkit", "paper", "check", "how"]
     return f"Budgets for {problem_label}\n\n" + format_table(headers, rows)
 

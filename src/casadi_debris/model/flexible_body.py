@@ -184,7 +184,9 @@ class FlexibleBodyEquations:
 
     def nominal_parameters(self) -> np.ndarray:
         """Parameter vector at the problem's nominal values, ordered as PARAMETER_NAMES."""
-        first_bending = next(m for m in self.problem.arrays.modes if (m.kind, m.order) == ("bending", 1))
+        first_bending = next(
+            m for m in self.problem.arrays.modes if (m.kind, m.order) == ("bending", 1)
+        )
         return np.array(
             [
                 1.0,
@@ -213,7 +215,9 @@ class FlexibleBodyEquations:
         arrays = self.problem.arrays
         sqrt_mass = math.sqrt(arrays.mass_kg)
         rows_t, rows_r = [], []
-        for hinge, direction in zip(self.geometry.hinges_m, self.geometry.array_directions, strict=True):
+        for hinge, direction in zip(
+            self.geometry.hinges_m, self.geometry.array_directions, strict=True
+        ):
             e_length, _, normal = array_axes(direction, angle)
             for mode in self.modes:
                 integrals = shape_integrals(mode.kind, mode.order)
@@ -234,7 +238,8 @@ class FlexibleBodyEquations:
     def modal_frequencies(self, p: ca.SX) -> ca.SX:
         """Cantilever frequency of each modal coordinate [rad/s], (n_eta, 1)."""
         per_array = [
-            p[5] if (m.kind, m.order) == ("bending", 1) else ca.SX(m.omega_rad_s) for m in self.modes
+            p[5] if (m.kind, m.order) == ("bending", 1) else ca.SX(m.omega_rad_s)
+            for m in self.modes
         ]
         return ca.vertcat(*(per_array * self.problem.arrays.count)) if per_array else ca.SX(0, 1)
 
@@ -264,10 +269,7 @@ class FlexibleBodyEquations:
         angular_momentum = inertia @ omega + hr.T @ eta_dot
         rhs_v = force - ca.cross(omega, linear_momentum)
         rhs_omega = (
-            torque
-            + disturbance
-            - ca.cross(omega, angular_momentum)
-            - ca.cross(v, linear_momentum)
+            torque + disturbance - ca.cross(omega, angular_momentum) - ca.cross(v, linear_momentum)
         )
         rhs_eta = -2.0 * zeta * frequencies * eta_dot - frequencies**2 * eta
 
@@ -280,9 +282,13 @@ class FlexibleBodyEquations:
         eta_ddot = rhs_eta - coupling @ rigid_acceleration
 
         q_dot = 0.5 * quaternion_product(q, ca.vertcat(0, omega))
-        sensor_rate = self.problem.sensor.star_tracker_bandwidth_rad_s * attitude_error_vector(q_st, q)
+        sensor_rate = self.problem.sensor.star_tracker_bandwidth_rad_s * attitude_error_vector(
+            q_st, q
+        )
         q_st_dot = 0.5 * quaternion_product(q_st, ca.vertcat(0, sensor_rate))
-        return ca.vertcat(q_dot, rigid_acceleration[3:6], rigid_acceleration[0:3], eta_dot, eta_ddot, q_st_dot)
+        return ca.vertcat(
+            q_dot, rigid_acceleration[3:6], rigid_acceleration[0:3], eta_dot, eta_ddot, q_st_dot
+        )
 
     def energy(self, x: ca.SX, p: ca.SX) -> ca.SX:
         """Kinetic plus modal strain energy [J]."""

@@ -131,7 +131,9 @@ def linearize(
     if units == "deg_mNm":
         b = b * 1e-3
         c = c * (180.0 / math.pi)
-    inputs = [f"tau_{a}" for a in AXES] + ([f"tau_d_{a}" for a in AXES] if disturbance_input else [])
+    inputs = [f"tau_{a}" for a in AXES] + (
+        [f"tau_d_{a}" for a in AXES] if disturbance_input else []
+    )
     return control.ss(
         a,
         b,
