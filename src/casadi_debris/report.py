@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.budgets import BudgetItem, compute_budgets
+from casadi_debris.budgets import BudgetItem
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry, torque_authority
 from casadi_debris.model import assembled_modes, build_model
@@ -124,11 +124,6 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         "modes": modes,
         "thrusters": thrusters,
     }
-
-
-def describe_budgets(problem: Problem) -> list[BudgetItem]:
-    """The budget items of a problem (the ``casadi-debris budget`` output)."""
-    return compute_budgets(problem)
 
 
 # ----------------------------------------------------------------------------- text

@@ -1,0 +1,15 @@
+"""The ``casadi-debris`` command.
+
+Every subcommand takes an optional problem file (default: the shipped paper
+setup) and ``--json`` for scripts. Bad input ends with one line on stderr
+naming the problem and exit status 2; never a traceback.
+
+One module per group of subcommands; each registers itself on :data:`main`.
+"""
+
+from __future__ import annotations
+
+from casadi_debris.cli import describe  # noqa: F401  (registers model, budget)
+from casadi_debris.cli.common import main
+
+__all__ = ["main"]

@@ -1,0 +1,5 @@
+"""``python -m casadi_debris.cli``."""
+
+from casadi_debris.cli import main
+
+main()

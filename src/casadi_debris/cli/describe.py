@@ -1,0 +1,51 @@
+"""``casadi-debris model`` and ``casadi-debris budget``: describe the combined system."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from casadi_debris.budgets import budgets_as_dict, compute_budgets
+from casadi_debris.cli.common import (
+    PAPER_PROBLEM_NAME,
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    problem_argument,
+)
+from casadi_debris.config import load_problem
+from casadi_debris.report import budget_text, describe_model, model_text
+
+
+@main.command()
+@problem_argument
+@json_option
+@friendly_errors
+def model(problem_file: Path | None, as_json: bool) -> None:
+    """Describe the combined system: mass, inertia, CoG, torque authority, modes, engines."""
+    problem = load_problem(problem_file)
+    summary = describe_model(problem)
+    if as_json:
+        echo_json(summary)
+    else:
+        click.echo(model_text(summary, show_paper=problem.name == PAPER_PROBLEM_NAME))
+
+
+@main.command()
+@problem_argument
+@json_option
+@friendly_errors
+def budget(problem_file: Path | None, as_json: bool) -> None:
+    """Δv, propellant, lifetime, transfer and detumble budgets."""
+    problem = load_problem(problem_file)
+    items = compute_budgets(problem)
+    if as_json:
+        payload = {"problem": problem.name, "problem_sha256": problem.sha256}
+        payload.update(budgets_as_dict(items))
+        payload["how"] = {item.key: item.how for item in items}
+        echo_json(payload)
+    else:
+        label = f"{problem.name} ({problem.source})"
+        click.echo(budget_text(items, label, problem.name == PAPER_PROBLEM_NAME))
