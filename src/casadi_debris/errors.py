@@ -39,3 +39,15 @@ class ModelError(CasadiDebrisError):
 
 class InputShapeError(CasadiDebrisError):
     """An array argument has the wrong shape or non-finite entries."""
+
+
+class SynthesisError(CasadiDebrisError):
+    """Robust controller synthesis or analysis failed."""
+
+
+class AllocationError(CasadiDebrisError):
+    """A thrust allocation cannot be set up or solved (bad demand, no engines, unknown solver)."""
+
+
+class SlewInfeasibleError(CasadiDebrisError):
+    """A slew cannot be done as asked (e.g. a duration below the time-optimal minimum)."""

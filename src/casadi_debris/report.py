@@ -7,8 +7,12 @@ figures (``PAPER``) that results are compared with.
 
 from __future__ import annotations
 
+import contextlib
 import math
-from collections.abc import Sequence
+import shutil
+import tempfile
+from collections.abc import Iterator, Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -276,3 +280,29 @@ def json_ready(value: Any) -> Any:
     if isinstance(value, np.integer):
         return int(value)
     return value
+
+
+@contextlib.contextmanager
+def atomic_run_folder(path: str | Path) -> Iterator[Path]:
+    """Write a results folder all-or-nothing.
+
+    Yields a temporary folder beside ``path``; when the block ends without an
+    error it replaces ``path`` (an existing folder of that name is removed
+    first); on an error it is deleted and ``path`` is left as it was.
+
+    Example
+    -------
+    >>> with atomic_run_folder("runs/slew") as folder:  # doctest: +SKIP
+    ...     (folder / "summary.json").write_text("{}")
+    """
+    target = Path(path).resolve()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        yield staging
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    if target.exists():
+        shutil.rmtree(target)
+    staging.rename(target)
