@@ -1,0 +1,114 @@
+"""A designed controller as data: what the controller file holds.
+
+Sign convention: input e = reference - measured attitude [deg] (Phi, Theta,
+Psi), output torque demand [mNm] (x, y, z); u = K e, continuous time.
+Reading and writing the JSON file is the edges' job (CLI, report); this module
+only converts to and from plain dicts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import control
+import numpy as np
+
+from casadi_debris.errors import ProblemFileError
+
+FORMAT_VERSION = 1
+REQUIRED_KEYS = ("A", "B", "C", "D", "mu_peak", "mu_peak_reduced", "order_full", "order_reduced")
+
+
+@dataclass(frozen=True, eq=False)
+class ControllerRecord:
+    """Reduced controller plus how it was obtained.
+
+    Attributes
+    ----------
+    reduced : control.StateSpace
+        The controller to fly (attitude error [deg] -> torque [mNm]).
+    full : control.StateSpace or None
+        The full-order mu-synthesis controller.
+    mu_peak, mu_peak_reduced : float
+        Peak robust-performance mu of the full and reduced controllers.
+    problem_sha256 : str
+    seed : int
+        Seed of the uncertainty samples the weight was fitted on.
+    details : dict
+        Everything else worth keeping (weights, mu per iteration, timings).
+    """
+
+    reduced: control.StateSpace
+    full: control.StateSpace | None
+    mu_peak: float
+    mu_peak_reduced: float
+    problem_sha256: str
+    seed: int
+    details: dict[str, Any] = field(default_factory=dict)
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready dict: the reduced A, B, C, D at the top level, as rows."""
+        payload: dict[str, Any] = {
+            "format_version": FORMAT_VERSION,
+            "input": "attitude error e = reference - measured [deg] (phi, theta, psi)",
+            "output": "torque demand [mNm] (x, y, z), u = K e",
+            **_matrices(self.reduced),
+            "mu_peak": self.mu_peak,
+            "mu_peak_reduced": self.mu_peak_reduced,
+            "order_full": None if self.full is None else self.full.nstates,
+            "order_reduced": self.reduced.nstates,
+            "problem_sha256": self.problem_sha256,
+            "seed": self.seed,
+        }
+        if self.full is not None:
+            payload["full"] = _matrices(self.full)
+        payload.update(self.details)
+        return payload
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any], source: str | None = None) -> ControllerRecord:
+        """Rebuild from :meth:`to_dict` output; names the missing or bad key."""
+        for key in REQUIRED_KEYS:
+            if key not in data:
+                raise ProblemFileError(key, "missing from the controller file", source)
+        reduced = _system(data, "", source)
+        full = _system(data["full"], "full.", source) if "full" in data else None
+        known = {"format_version", "input", "output", "full", "problem_sha256", "seed"}
+        details = {k: v for k, v in data.items() if k not in known and k not in REQUIRED_KEYS}
+        return cls(
+            reduced=reduced,
+            full=full,
+            mu_peak=float(data["mu_peak"]),
+            mu_peak_reduced=float(data["mu_peak_reduced"]),
+            problem_sha256=str(data.get("problem_sha256", "")),
+            seed=int(data.get("seed", 0)),
+            details=details,
+        )
+
+
+def _matrices(system: control.StateSpace) -> dict[str, list]:
+    return {
+        name: np.asarray(m, dtype=float).tolist()
+        for name, m in zip("ABCD", control.ssdata(system), strict=True)
+    }
+
+
+def _system(data: dict[str, Any], prefix: str, source: str | None) -> control.StateSpace:
+    try:
+        a, b, c, d = (np.array(data[k], dtype=float) for k in "ABCD")
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ProblemFileError(
+            f"{prefix}A/B/C/D", f"not numeric matrices ({exc})", source
+        ) from None
+    n = a.shape[0] if a.size else 0
+    a = a.reshape(n, n)
+    b = b.reshape(n, -1) if n else np.zeros((0, d.shape[1]))
+    c = c.reshape(-1, n) if n else np.zeros((d.shape[0], 0))
+    if d.shape != (3, 3) or b.shape != (n, 3) or c.shape != (3, n):
+        raise ProblemFileError(
+            f"{prefix}A/B/C/D", "must describe a 3-input, 3-output system", source
+        )
+    if not all(np.all(np.isfinite(m)) for m in (a, b, c, d)):
+        raise ProblemFileError(f"{prefix}A/B/C/D", "must be finite", source)
+    return control.ss(a, b, c, d)

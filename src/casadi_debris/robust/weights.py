@@ -1,0 +1,168 @@
+"""Weights of the four-block mixed-sensitivity design (paper, Section III.C) and the
+uncertainty weight W fitted to the sampled relative errors (the ``ucover`` equivalent).
+
+All in the paper's design units: attitude in deg, torque in mNm.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import control
+import numpy as np
+from scipy.optimize import minimize
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import SynthesisError
+
+W_ORDER = 2
+
+
+@dataclass(frozen=True, eq=False)
+class PerformanceWeights:
+    """Dynamic weights and static scalings, each 3 x 3 diagonal.
+
+    Attributes
+    ----------
+    error : control.StateSpace
+        We = (s + w_cl sqrt3) / (2 s + eps w_cl sqrt3) I3: integral action up to
+        the closed-loop bandwidth, sensitivity peak limited to 2 beyond.
+    control_effort : control.StateSpace
+        Wu = (s + w_u) / (h s + w_u) I3: unit gain to w_u, then roll-off.
+    error_scaling, control_scaling, disturbance_scaling : ndarray, shape (3, 3)
+        Ve [deg], Vu [mNm], Vd [mNm].
+    """
+
+    error: control.StateSpace
+    control_effort: control.StateSpace
+    error_scaling: np.ndarray
+    control_scaling: np.ndarray
+    disturbance_scaling: np.ndarray
+
+
+def _diagonal(transfer: control.TransferFunction, gains: np.ndarray) -> control.StateSpace:
+    return control.append(*[control.ss(transfer * float(g)) for g in gains])
+
+
+def performance_weights(problem: Problem) -> PerformanceWeights:
+    """The paper's We, Wu, Ve, Vu, Vd from the problem file."""
+    w = problem.weights
+    crossover = w.closed_loop_bandwidth_rad_s * math.sqrt(3.0)
+    error = control.tf([1.0, crossover], [2.0, w.epsilon * crossover])
+    effort = control.tf(
+        [1.0, w.control_rolloff_rad_s],
+        [w.control_rolloff_high_frequency_gain, w.control_rolloff_rad_s],
+    )
+    return PerformanceWeights(
+        error=_diagonal(error, np.ones(3)),
+        control_effort=_diagonal(effort, np.ones(3)),
+        error_scaling=np.diag(w.error_scaling_deg),
+        control_scaling=np.diag(w.control_scaling_mNm),
+        disturbance_scaling=np.diag(w.disturbance_scaling_mNm),
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class UncertaintyWeight:
+    """Fitted diagonal input-multiplicative uncertainty weight.
+
+    Attributes
+    ----------
+    system : control.StateSpace
+        W(s) = diag(W_1, W_2, W_3), 2 states per channel.
+    coefficients : ndarray, shape (3, 5)
+        Per channel [k, w_z, zeta_z, w_p, zeta_p] of
+        W_i = k (s^2 + 2 zeta_z w_z s + w_z^2) / (s^2 + 2 zeta_p w_p s + w_p^2);
+        all positive, so W_i is stable and minimum phase.
+    margin : ndarray, shape (3,)
+        min over the grid of |W_i| / d_i (>= 1: every sample is covered).
+    mean_excess : ndarray, shape (3,)
+        Mean of |W_i| / d_i over the grid (how conservative the fit is).
+    """
+
+    system: control.StateSpace
+    coefficients: np.ndarray
+    margin: np.ndarray
+    mean_excess: np.ndarray
+
+
+def second_order_magnitude(coefficients: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """|W(jw)| of one channel, shape (n_omega,)."""
+    k, wz, zz, wp, zp = coefficients
+    s = 1j * omega
+    # Optimiser trial points may overflow; they are rejected by their infinite cost.
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return np.abs(k * (s**2 + 2 * zz * wz * s + wz**2) / (s**2 + 2 * zp * wp * s + wp**2))
+
+
+def _fit_channel(omega: np.ndarray, bound: np.ndarray) -> np.ndarray:
+    """Tightest second-order cover of one channel, in the log-magnitude sense.
+
+    Minimises the mean of log(|W| / d) subject to |W| >= d on the grid
+    (SLSQP from several starts: the pole's frequency and damping decide which
+    resonance band the weight can cover).
+    """
+    log_bound = np.log(bound)
+    low, high = bound[0], bound[-1]
+    peak_at = omega[np.argmax(bound)]
+
+    def log_magnitude(theta: np.ndarray) -> np.ndarray:
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            return np.log(second_order_magnitude(np.exp(theta), omega))
+
+    best = None
+    for pole in (0.5 * peak_at, peak_at, 2.0 * peak_at):
+        for damping in (0.01, 0.1, 0.5):
+            gain = max(bound.max() * 2 * damping, high)
+            zero = pole * math.sqrt(low / gain)
+            start = np.log([gain, zero, 0.7, pole, damping])
+            result = minimize(
+                lambda t: float(np.mean(log_magnitude(t) - log_bound)),
+                start,
+                method="SLSQP",
+                constraints=[{"type": "ineq", "fun": lambda t: log_magnitude(t) - log_bound}],
+                options={"maxiter": 400, "ftol": 1e-10},
+            )
+            theta = result.x
+            # Lift the gain until every point is covered (SLSQP stops within tolerance).
+            theta[0] += max(0.0, -float(np.min(log_magnitude(theta) - log_bound)))
+            cost = float(np.mean(log_magnitude(theta) - log_bound))
+            if np.all(np.isfinite(theta)) and (best is None or cost < best[0]):
+                best = (cost, theta)
+    if best is None:
+        raise SynthesisError("the uncertainty weight fit failed on every start")
+    return np.exp(best[1])
+
+
+def fit_uncertainty_weight(omega: np.ndarray, bound: np.ndarray) -> UncertaintyWeight:
+    """Fit a diagonal, stable, minimum-phase second-order W over per-channel bounds.
+
+    Parameters
+    ----------
+    omega : ndarray, shape (n_omega,)
+        Ascending frequencies [rad/s].
+    bound : ndarray, shape (n_omega, 3)
+        What |W_i(jw)| must reach, e.g. :func:`diagonal_cover` of the samples.
+
+    Returns
+    -------
+    UncertaintyWeight
+    """
+    if bound.shape != (len(omega), 3) or not np.all(np.isfinite(bound)) or np.any(bound <= 0):
+        raise SynthesisError("uncertainty bound must be positive and finite, shape (n_omega, 3)")
+    coefficients = np.array([_fit_channel(omega, bound[:, i]) for i in range(3)])
+    channels = []
+    for k, wz, zz, wp, zp in coefficients:
+        channels.append(
+            control.ss(control.tf([k, 2 * zz * wz * k, k * wz**2], [1.0, 2 * zp * wp, wp**2]))
+        )
+    ratios = np.array(
+        [second_order_magnitude(c, omega) / bound[:, i] for i, c in enumerate(coefficients)]
+    )
+    return UncertaintyWeight(
+        system=control.append(*channels),
+        coefficients=coefficients,
+        margin=ratios.min(axis=1),
+        mean_excess=ratios.mean(axis=1),
+    )
