@@ -675,6 +675,11 @@ def default_problem_path() -> Path:
     return Path(str(resources.files("casadi_debris") / "problems" / "paper.toml"))
 
 
+def default_controller_path() -> Path:
+    """Path of the shipped controller designed for the default problem."""
+    return Path(str(resources.files("casadi_debris") / "data" / "paper_controller.json"))
+
+
 def load_problem(path: str | Path | None = None) -> Problem:
     """Load and validate a problem file.
 

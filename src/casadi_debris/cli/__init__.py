@@ -9,7 +9,10 @@ One module per group of subcommands; each registers itself on :data:`main`.
 
 from __future__ import annotations
 
-from casadi_debris.cli import describe  # noqa: F401  (registers model, budget)
+from casadi_debris.cli import (
+    describe,  # noqa: F401  (registers model, budget)
+    robust,  # noqa: F401  (registers synthesize, margins)
+)
 from casadi_debris.cli.common import main
 
 __all__ = ["main"]

@@ -14,7 +14,7 @@ import click
 
 from casadi_debris import __version__
 from casadi_debris.errors import CasadiDebrisError
-from casadi_debris.report import json_ready
+from casadi_debris.report.common import json_ready
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 3

@@ -16,7 +16,7 @@ from casadi_debris.cli.common import (
     problem_argument,
 )
 from casadi_debris.config import load_problem
-from casadi_debris.report import budget_text, describe_model, model_text
+from casadi_debris.report.describe import budget_text, describe_model, model_text
 
 
 @main.command()

@@ -96,6 +96,15 @@ def second_order_magnitude(coefficients: np.ndarray, omega: np.ndarray) -> np.nd
         return np.abs(k * (s**2 + 2 * zz * wz * s + wz**2) / (s**2 + 2 * zp * wp * s + wp**2))
 
 
+def weight_system(coefficients: np.ndarray) -> control.StateSpace:
+    """Diagonal W(s) from per-channel [k, w_z, zeta_z, w_p, zeta_p], shape (3, 5)."""
+    channels = [
+        control.ss(control.tf([k, 2 * zz * wz * k, k * wz**2], [1.0, 2 * zp * wp, wp**2]))
+        for k, wz, zz, wp, zp in np.asarray(coefficients, dtype=float)
+    ]
+    return control.append(*channels)
+
+
 def _fit_channel(omega: np.ndarray, bound: np.ndarray) -> np.ndarray:
     """Tightest second-order cover of one channel, in the log-magnitude sense.
 
@@ -152,16 +161,11 @@ def fit_uncertainty_weight(omega: np.ndarray, bound: np.ndarray) -> UncertaintyW
     if bound.shape != (len(omega), 3) or not np.all(np.isfinite(bound)) or np.any(bound <= 0):
         raise SynthesisError("uncertainty bound must be positive and finite, shape (n_omega, 3)")
     coefficients = np.array([_fit_channel(omega, bound[:, i]) for i in range(3)])
-    channels = []
-    for k, wz, zz, wp, zp in coefficients:
-        channels.append(
-            control.ss(control.tf([k, 2 * zz * wz * k, k * wz**2], [1.0, 2 * zp * wp, wp**2]))
-        )
     ratios = np.array(
         [second_order_magnitude(c, omega) / bound[:, i] for i, c in enumerate(coefficients)]
     )
     return UncertaintyWeight(
-        system=control.append(*channels),
+        system=weight_system(coefficients),
         coefficients=coefficients,
         margin=ratios.min(axis=1),
         mean_excess=ratios.mean(axis=1),

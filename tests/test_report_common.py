@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from casadi_debris.report import atomic_run_folder, format_table, within_tolerance
+from casadi_debris.report.common import atomic_run_folder, format_table, within_tolerance
 
 
 def test_within_tolerance_uses_design_table():

@@ -1,0 +1,175 @@
+"""``casadi-debris synthesize`` and ``casadi-debris margins``: the robust controller."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    problem_argument,
+)
+from casadi_debris.config import default_controller_path, load_problem
+from casadi_debris.errors import ProblemFileError
+from casadi_debris.report.common import format_table, write_json_atomic
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.design import SynthesisSettings, design_controller
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--out",
+    "out_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    default=Path("controller.json"),
+    show_default=True,
+    help="Controller file to write (JSON).",
+)
+@click.option("--mu-points", default=150, show_default=True, help="Frequencies of the mu grid.")
+@click.option("--max-iterations", default=8, show_default=True, help="D-K iterations at most.")
+@click.option("--samples", type=int, default=None, help="Models for the W fit [problem's].")
+@click.option("--seed", type=int, default=None, help="Seed of those models [problem's].")
+@json_option
+@friendly_errors
+def synthesize(
+    problem_file: Path | None,
+    out_path: Path,
+    mu_points: int,
+    max_iterations: int,
+    samples: int | None,
+    seed: int | None,
+    as_json: bool,
+) -> None:
+    """mu-synthesis of the attitude controller (the paper's Section III), reduced and checked."""
+    problem = load_problem(problem_file)
+    settings = SynthesisSettings(
+        samples=samples, seed=seed, mu_points=mu_points, max_iterations=max_iterations
+    )
+
+    def progress(stage: str, iteration) -> None:
+        if iteration is None:
+            click.echo(f"  {stage} done", err=True)
+            return
+        what = (
+            "H-inf"
+            if iteration.index == 0
+            else f"D-K {iteration.index} (D order {iteration.d_order})"
+        )
+        click.echo(
+            f"  {what}: gamma {iteration.gamma:.4f}, mu {iteration.mu_peak:.4f}, "
+            f"{iteration.controller_order} states, {iteration.time_s:.1f} s",
+            err=True,
+        )
+
+    click.echo(f"Synthesising for {problem.name} ...", err=True)
+    design = design_controller(problem, settings, progress)
+    written = write_json_atomic(out_path, design.record.to_dict())
+    summary = design.summary() | {"controller_path": str(written)}
+    if as_json:
+        echo_json(summary)
+        return
+    rows = [[key, value] for key, value in summary.items()]
+    click.echo(format_table(["figure", "value"], rows))
+
+
+def load_controller(path: Path | None) -> tuple[ControllerRecord, Path]:
+    """Read a controller file (default: the one shipped for the paper's problem)."""
+    resolved = (path or default_controller_path()).resolve()
+    try:
+        data = json.loads(resolved.read_text())
+    except FileNotFoundError:
+        raise ProblemFileError("", "no such controller file", str(resolved)) from None
+    except (OSError, json.JSONDecodeError) as exc:
+        raise ProblemFileError(
+            "", f"not a readable JSON controller file ({exc})", str(resolved)
+        ) from None
+    if not isinstance(data, dict):
+        raise ProblemFileError("", "a controller file holds a JSON object", str(resolved))
+    return ControllerRecord.from_dict(data, str(resolved)), resolved
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--controller",
+    "controller_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    default=None,
+    help="Controller file [the shipped paper controller].",
+)
+@click.option("--samples", default=3000, show_default=True, help="Sampled uncertain plants.")
+@click.option("--seed", type=int, default=None, help="Seed of the samples [problem's].")
+@click.option(
+    "--out",
+    "out_dir",
+    type=click.Path(path_type=Path, file_okay=False),
+    default=None,
+    help="Folder for summary.json and the plots [runs/margins-<problem>].",
+)
+@click.option("--no-plots", is_flag=True, help="Skip the figures.")
+@json_option
+@friendly_errors
+def margins(
+    problem_file: Path | None,
+    controller_path: Path | None,
+    samples: int,
+    seed: int | None,
+    out_dir: Path | None,
+    no_plots: bool,
+    as_json: bool,
+) -> None:
+    """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
+    from casadi_debris.report.robust import margin_report  # loads matplotlib: only when needed
+
+    problem = load_problem(problem_file)
+    record, path = load_controller(controller_path)
+    if samples < 1:
+        raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
+    folder = out_dir or Path("runs") / f"margins-{problem.name}"
+
+    def progress(done: int, total: int) -> None:
+        click.echo(f"  {done}/{total} sampled plants", err=True)
+
+    summary = margin_report(problem, record, path, samples, seed, folder, not no_plots, progress)
+    if as_json:
+        echo_json(summary)
+        return
+    rows = []
+    for label in ("nominal", "sampled_min"):
+        m = summary[label]
+        rows.append([label, m["gain_margin_db"], m["phase_margin_deg"], m["delay_margin_s"]])
+    click.echo(f"Controller {path} ({record.reduced.nstates} states) on {problem.name}")
+    click.echo(
+        format_table(["", "gain margin [dB]", "phase margin [deg]", "delay margin [s]"], rows)
+    )
+    per = summary["per_channel"]
+    click.echo(
+        format_table(
+            ["channel", "GM [dB]", "upper", "lower", "PM [deg]", "delay [s]", "crossover [rad/s]"],
+            [
+                [
+                    a,
+                    v["gain_margin_db"],
+                    v["upper_gain_margin_db"],
+                    v["lower_gain_margin_db"],
+                    v["phase_margin_deg"],
+                    v["delay_margin_s"],
+                    v["crossover_rad_s"],
+                ]
+                for a, v in per.items()
+            ],
+        )
+    )
+    disk = summary["disk_margin"]
+    click.echo(
+        f"disk margin alpha {disk['alpha']:.3f} ({disk['gain_margin_db']:.2f} dB, "
+        f"{disk['phase_margin_deg']:.1f} deg); {summary['unstable_samples']} of "
+        f"{summary['samples']} sampled loops unstable; seed {summary['seed']}"
+    )
+    click.echo(f"written: {summary['out_dir']}")

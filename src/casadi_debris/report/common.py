@@ -1,0 +1,130 @@
+"""Shared pieces of the reports: the paper's figures and tolerances, tables, JSON, atomic writes."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+MN_PER_N = 1e3
+
+# Figures the paper publishes, with the tolerance DESIGN.md accepts. A figure
+# with a (low, high) range is accepted inside that range.
+PAPER: dict[str, dict[str, Any]] = {
+    "mass_kg": {"value": 668.0, "abs": 0.5},
+    "inertia_hub_cubesats_diag_kgm2": {"value": [246.0, 66.0, 242.0], "rel": 0.06},
+    "torque_max_mNm": {"value": [4.61, 1.96, 4.26], "rel": 0.04},
+    "dv_one_stage_one_face_m_s": {"value": 6.8, "rel": 0.05},
+    "dv_three_stages_one_face_m_s": {"value": 20.0, "rel": 0.05},
+    "dv_one_stage_all_faces_m_s": {"value": 41.0, "rel": 0.05},
+    "dv_all_stages_all_faces_m_s": {"value": 125.0, "rel": 0.05},
+    "dv_cubesat_one_stage_m_s": {"value": 300.0, "range": (290.0, 340.0)},
+    "dv_transfer_m_s": {"value": 150.0, "range": (135.0, 160.0)},
+    "detumble_time_h": {"value": 15.9, "rel": 0.06},
+    "detumble_dv_m_s": {"value": 0.22},
+    "stage_life_h": {"value": 500.0},
+}
+
+
+def within_tolerance(key: str, value: float | Sequence[float]) -> bool | None:
+    """Whether ``value`` reproduces the paper's ``key`` (None if no tolerance is set)."""
+    reference = PAPER[key]
+    ours = np.atleast_1d(np.asarray(value, dtype=float))
+    paper = np.atleast_1d(np.asarray(reference["value"], dtype=float))
+    if "abs" in reference:
+        return bool(np.all(np.abs(ours - paper) <= reference["abs"]))
+    if "rel" in reference:
+        return bool(np.all(np.abs(ours - paper) <= reference["rel"] * np.abs(paper)))
+    if "range" in reference:
+        low, high = reference["range"]
+        return bool(np.all((low <= ours) & (ours <= high)))
+    return None
+
+
+# ----------------------------------------------------------------------------- text
+
+
+def format_table(headers: Sequence[str], rows: Sequence[Sequence[Any]]) -> str:
+    """Left-aligned plain-text table with a rule under the header."""
+    cells = [[str(h) for h in headers]] + [[format_cell(c) for c in row] for row in rows]
+    widths = [max(len(row[i]) for row in cells) for i in range(len(headers))]
+    lines = [
+        "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip() for row in cells
+    ]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def format_cell(value: Any) -> str:
+    if isinstance(value, float):
+        if value == 0:
+            return "0"
+        return f"{value:.4g}" if 1e-3 <= abs(value) < 1e5 else f"{value:.3e}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(format_cell(v) for v in value) + "]"
+    return "" if value is None else str(value)
+
+
+def json_ready(value: Any) -> Any:
+    """Convert numpy scalars/arrays (recursively) for ``json.dumps``; non-finite -> None."""
+    if isinstance(value, dict):
+        return {k: json_ready(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [json_ready(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return json_ready(value.tolist())
+    if isinstance(value, (np.floating, float)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+@contextlib.contextmanager
+def atomic_run_folder(path: str | Path) -> Iterator[Path]:
+    """Write a results folder all-or-nothing.
+
+    Yields a temporary folder beside ``path``; when the block ends without an
+    error it replaces ``path`` (an existing folder of that name is removed
+    first); on an error it is deleted and ``path`` is left as it was.
+
+    Example
+    -------
+    >>> with atomic_run_folder("runs/slew") as folder:  # doctest: +SKIP
+    ...     (folder / "summary.json").write_text("{}")
+    """
+    target = Path(path).resolve()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
+    try:
+        yield staging
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    if target.exists():
+        shutil.rmtree(target)
+    staging.rename(target)
+
+
+def write_json_atomic(path: str | Path, payload: dict[str, Any]) -> Path:
+    """Write JSON so that ``path`` holds either the old file or the whole new one."""
+    target = Path(path).resolve()
+    target.parent.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    try:
+        with os.fdopen(handle, "w") as stream:
+            json.dump(json_ready(payload), stream, indent=1)
+            stream.write("\n")
+        os.replace(temporary, target)
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    return target

@@ -1,0 +1,150 @@
+"""Margins of a controller as a run folder (``casadi-debris margins``)."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.model import build_model, linearize
+from casadi_debris.plots import robust as robust_plots
+from casadi_debris.report.common import atomic_run_folder, json_ready
+from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margin_study, margins_table
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.design import weight_fit_grid
+from casadi_debris.robust.interconnect import generalized_plant
+from casadi_debris.robust.musyn import closed_loop_mu
+from casadi_debris.robust.uncertainty import (
+    diagonal_cover,
+    frequency_response,
+    relative_errors,
+    sample_uncertainty,
+)
+from casadi_debris.robust.weights import performance_weights, weight_system
+
+PAPER_MARGINS = {
+    "nominal_gain_margin_db": 15.22,
+    "nominal_phase_margin_deg": 54.8,
+    "sampled_min_gain_margin_db": 13.0,
+    "sampled_min_phase_margin_deg": 45.0,
+    "sampled_min_delay_margin_s": 9.0,
+}
+REQUIRED_MARGINS = {"gain_margin_db": 13.0, "phase_margin_deg": 45.0, "delay_margin_s": 5.0}
+
+
+def _worst(margins: dict[str, dict[str, float]]) -> dict[str, float]:
+    return {
+        key: min(channel[key] for channel in margins.values())
+        for key in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
+    }
+
+
+def margin_report(
+    problem: Problem,
+    record: ControllerRecord,
+    controller_path: Path,
+    samples: int,
+    seed: int | None,
+    folder: Path,
+    with_plots: bool = True,
+    progress: Any = None,
+) -> dict[str, Any]:
+    """Margins of a controller record, written as a run folder (summary.json, CSV, PNGs).
+
+    Returns the summary (``nominal`` and ``sampled_min`` each with
+    ``gain_margin_db``, ``phase_margin_deg``, ``delay_margin_s``; ``per_channel``,
+    ``disk_margin``, ``samples``, ``seed``, ``controller_path``, ...).
+    """
+    study = margin_study(problem, record.reduced, samples, seed, progress=progress)
+    per_channel = margins_table(study.nominal)
+    alpha, disk_gain_db, disk_phase_deg = study.nominal_disk
+    summary: dict[str, Any] = {
+        "problem": problem.name,
+        "problem_sha256": problem.sha256,
+        "controller_path": str(controller_path),
+        "controller_order": record.reduced.nstates,
+        "controller_problem_sha256": record.problem_sha256,
+        "analysis_plant_modes": study.modes,
+        "nominal": _worst(per_channel),
+        "sampled_min": study.sampled_min(),
+        "per_channel": per_channel,
+        "disk_margin": {
+            "alpha": alpha,
+            "gain_margin_db": disk_gain_db,
+            "phase_margin_deg": disk_phase_deg,
+        },
+        "samples": len(study.samples.parameters),
+        "corner_samples": study.samples.n_corners,
+        "unstable_samples": int(study.unstable.sum()),
+        "seed": study.samples.seed,
+        "time_s": study.time_s,
+        "required": REQUIRED_MARGINS,
+        "paper": PAPER_MARGINS,
+        "out_dir": str(Path(folder).resolve()),
+    }
+    with atomic_run_folder(folder) as staging:
+        (staging / "summary.json").write_text(json.dumps(json_ready(summary), indent=1) + "\n")
+        header = "sample," + ",".join(
+            f"{q}_{a}"
+            for a in "xyz"
+            for q in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
+        )
+        rows = np.column_stack(
+            [np.arange(len(study.sampled)), study.sampled.reshape(len(study.sampled), 9)]
+        )
+        np.savetxt(staging / "sampled_margins.csv", rows, delimiter=",", header=header, comments="")
+        if with_plots:
+            _margin_figures(problem, record, study, staging)
+    return summary
+
+
+def _margin_figures(
+    problem: Problem, record: ControllerRecord, study: MarginStudy, folder: Path
+) -> None:
+    weight_info = record.details.get("uncertainty_weight", {})
+    coefficients = np.array(weight_info.get("coefficients_k_wz_zetaz_wp_zetap", []))
+    design_model = build_model(problem, modes=record.details.get("design_plant_modes", "first"))
+    design_plant = linearize(design_model, sensor=True, units="deg_mNm")
+    omega = np.logspace(-4, 2, 300)
+    if coefficients.shape == (3, 5):
+        weight = weight_system(coefficients)
+        plant = generalized_plant(design_plant, weight, performance_weights(problem))
+        curves = {}
+        if record.full is not None:
+            curves[f"full order ({record.full.nstates})"] = closed_loop_mu(
+                plant, record.full, omega
+            )[1].mu
+        curves[f"reduced ({record.reduced.nstates})"] = closed_loop_mu(
+            plant, record.reduced, omega
+        )[1].mu
+        robust_plots.plot_mu(folder / "mu.png", omega, curves)
+        count = int(weight_info.get("samples", problem.uncertainty.samples))
+        samples = sample_uncertainty(problem, design_model, count, record.seed)
+        grid = weight_fit_grid(problem)
+        bound = diagonal_cover(relative_errors(design_model, samples.parameters, grid))
+        response = np.abs(np.diagonal(frequency_response(weight, grid), axis1=1, axis2=2))
+        robust_plots.plot_uncertainty_weight(
+            folder / "uncertainty_weight.png", grid, bound, response, count
+        )
+        performance = performance_weights(problem)
+        we = np.abs(frequency_response(performance.error, omega)[:, 0, 0])
+        w_max = np.max(
+            np.abs(np.diagonal(frequency_response(weight, omega), axis1=1, axis2=2)), axis=1
+        )
+        s_values, t_values = loop_shapes(design_plant, record.reduced, omega)
+        robust_plots.plot_loop_shapes(
+            folder / "loop_shapes.png", omega, s_values, t_values, 1 / we, 1 / w_max
+        )
+    nominal = np.array(
+        [[m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s] for m in study.nominal]
+    )
+    stable = study.sampled[~study.unstable]
+    robust_plots.plot_margin_scatter(
+        folder / "margins.png",
+        stable,
+        nominal,
+        (REQUIRED_MARGINS["gain_margin_db"], REQUIRED_MARGINS["phase_margin_deg"]),
+    )
