@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from casadi_debris.allocation import stage_propellant_kg
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
 
@@ -23,15 +24,14 @@ def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_k
     return isp_s * g0_m_s2 * math.log(initial_mass_kg / (initial_mass_kg - propellant_kg))
 
 
-def stage_propellant_kg(problem: Problem) -> float:
-    """Propellant of one iESE stage: thrust × life / (Isp g0) [kg]."""
+def problem_stage_propellant_kg(problem: Problem) -> float:
+    """Propellant of one iESE stage of the problem's engine: thrust x life / (Isp g0) [kg]."""
     engine = problem.engine
-    thrust_N = engine.thrust_per_stage_mN / MN_PER_N
-    return (
-        thrust_N
-        * engine.stage_life_h
-        * SECONDS_PER_HOUR
-        / (engine.isp_s * problem.constants.standard_gravity_m_s2)
+    return stage_propellant_kg(
+        engine.thrust_per_stage_mN / MN_PER_N,
+        engine.stage_life_h * SECONDS_PER_HOUR,
+        engine.isp_s,
+        problem.constants.standard_gravity_m_s2,
     )
 
 
@@ -96,7 +96,7 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
     geometry = geometry or build_geometry(problem)
     engine, constants = problem.engine, problem.constants
     g0 = constants.standard_gravity_m_s2
-    propellant = stage_propellant_kg(problem)
+    propellant = problem_stage_propellant_kg(problem)
     per_face = problem.cubesats.per_face
     n_cubesats = len(geometry.cubesats)
     mass = geometry.mass_kg

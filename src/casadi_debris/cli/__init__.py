@@ -9,9 +9,11 @@ One module per group of subcommands; each registers itself on :data:`main`.
 
 from __future__ import annotations
 
-from casadi_debris.cli import (
-    describe,  # noqa: F401  (registers model, budget)
-    robust,  # noqa: F401  (registers synthesize, margins)
+# Importing a command module registers its commands on `main`.
+from casadi_debris.cli import (  # noqa: F401
+    allocate,  # allocate
+    describe,  # model, budget
+    robust,  # synthesize, margins
 )
 from casadi_debris.cli.common import main
 

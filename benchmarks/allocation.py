@@ -1,0 +1,160 @@
+"""Allocation benchmark: time per call per back-end, batch throughput, saturation quality.
+
+Prints JSON. Not a test: numbers depend on the machine and its load.
+
+- ``per_call``: median and p99 wall time of one ``Allocator.allocate`` call
+  (Python included, as a user sees it) and of the back-end alone, for
+  feasible demands and for saturating ones, per installed back-end; and the
+  ratio of the median to the clipped pseudo-inverse.
+- ``batch``: solves per second of ``allocate_batch`` over a mixed sequence.
+- ``saturation``: on saturating demands, the fraction of the LP maximum
+  torque (HiGHS, largest alpha along the demand) each method reaches, and
+  the largest angle between achieved and demanded torque.
+
+Usage: python benchmarks/allocation.py [--calls N] [--solvers daqp,osqp]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+from scipy.optimize import linprog
+
+from casadi_debris import load_problem
+from casadi_debris.allocation import Allocator, PseudoInverseAllocator, available_solvers
+from casadi_debris.geometry import build_geometry
+
+US_PER_S = 1e6
+MN_PER_N = 1e3
+SEED = 20240404
+
+
+def percentiles_us(samples_s: list[float]) -> dict[str, float]:
+    values = np.array(samples_s) * US_PER_S
+    return {
+        "median_us": float(np.median(values)),
+        "p99_us": float(np.percentile(values, 99)),
+    }
+
+
+def demands(rng: np.random.Generator, count: int, authority_Nm: float, factor: float) -> np.ndarray:
+    """Random torque demands: direction uniform on the sphere, size factor x authority scale."""
+    directions = rng.normal(size=(count, 3))
+    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
+    return directions * authority_Nm * factor * rng.uniform(0.2, 1.0, size=(count, 1))
+
+
+def time_calls(allocate, torques: np.ndarray) -> tuple[list[float], list[float]]:
+    wall, backend = [], []
+    for torque in torques:
+        start = time.perf_counter()
+        result = allocate(torque)
+        wall.append(time.perf_counter() - start)
+        backend.append(result.solve_time_s)
+    return wall, backend
+
+
+def lp_largest_torque(geometry, limits_N: np.ndarray, torque_Nm: np.ndarray) -> float:
+    """|alpha_max * demand| [N m] along the demand, zero net force (HiGHS, in mN)."""
+    rows = np.vstack([geometry.torque_map, geometry.force_map])
+    target = np.concatenate([torque_Nm, np.zeros(3)]) * MN_PER_N
+    n = len(limits_N)
+    result = linprog(
+        np.append(np.zeros(n), -1.0),
+        A_eq=np.hstack([rows, -target[:, None]]),
+        b_eq=np.zeros(6),
+        bounds=[*zip(np.zeros(n), limits_N * MN_PER_N, strict=True), (0.0, 1.0)],
+        method="highs",
+    )
+    return float(result.x[-1]) * float(np.linalg.norm(torque_Nm))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--calls", type=int, default=2000, help="demands per back-end and case")
+    parser.add_argument("--solvers", default=None, help="comma-separated (default: all)")
+    args = parser.parse_args()
+
+    problem = load_problem()
+    geometry = build_geometry(problem)
+    rng = np.random.default_rng(SEED)
+    reference = Allocator.from_problem(problem, geometry)
+    authority = reference.torque_authority()
+    scale_Nm = min(authority.values())
+    feasible = demands(rng, args.calls, scale_Nm, 0.9)
+    saturating = demands(rng, args.calls, scale_Nm, 20.0)
+    solvers = args.solvers.split(",") if args.solvers else list(available_solvers())
+
+    baseline = PseudoInverseAllocator(reference)
+    base_wall, _ = time_calls(baseline.allocate, feasible)
+    base_median = float(np.median(base_wall))
+    per_call: dict[str, dict] = {
+        "pseudo_inverse": {"feasible": percentiles_us(base_wall), "ratio_to_pseudo_inverse": 1.0}
+    }
+
+    for solver in solvers:
+        allocator = Allocator.from_problem(problem, geometry, solver=solver)
+        calls = args.calls if solver in ("daqp", "osqp") else max(50, args.calls // 20)
+        allocator.allocate(feasible[0])  # first call sets up lazily built workspaces
+        entry: dict = {}
+        for case, torques in (("feasible", feasible[:calls]), ("saturating", saturating[:calls])):
+            wall, backend = time_calls(allocator.allocate, torques)
+            entry[case] = {
+                **percentiles_us(wall),
+                "backend_" + "median_us": float(np.median(backend) * US_PER_S),
+            }
+        entry["ratio_to_pseudo_inverse"] = entry["feasible"]["median_us"] / (base_median * US_PER_S)
+        entry["calls"] = calls
+        per_call[solver] = entry
+
+    mixed = np.concatenate([feasible[: args.calls // 2], saturating[: args.calls // 2]])
+    rng.shuffle(mixed)
+    batch = Allocator.from_problem(problem, geometry).allocate_batch(mixed)
+    limits = reference.max_thrust_N
+
+    n_quality = min(200, args.calls)
+    lp_max = np.array([lp_largest_torque(geometry, limits, t) for t in saturating[:n_quality]])
+    saturation: dict[str, dict] = {}
+    methods = {"pseudo_inverse": baseline.allocate}
+    for solver in ("daqp", "osqp"):
+        if solver in solvers:
+            methods[solver] = Allocator.from_problem(problem, geometry, solver=solver).allocate
+    for name, allocate in methods.items():
+        fractions, angles = [], []
+        for torque, best in zip(saturating[:n_quality], lp_max, strict=True):
+            result = allocate(torque)
+            along = float(result.torque_Nm @ torque / np.linalg.norm(torque))
+            fractions.append(along / best)
+            cross = float(np.linalg.norm(np.cross(result.torque_Nm, torque)))
+            angles.append(math.atan2(cross, float(result.torque_Nm @ torque)))
+        saturation[name] = {
+            "fraction_of_lp_max_median": float(np.median(fractions)),
+            "fraction_of_lp_max_min": float(np.min(fractions)),
+            "angle_error_max_rad": float(np.max(angles)),
+        }
+
+    print(
+        json.dumps(
+            {
+                "problem": problem.name,
+                "engines": reference.n_engines,
+                "seed": SEED,
+                "per_call": per_call,
+                "batch": {
+                    "demands": len(mixed),
+                    "solves_per_s": len(mixed) / batch.wall_time_s,
+                    "wall_time_s": batch.wall_time_s,
+                },
+                "saturation": saturation,
+            },
+            indent=2,
+        )
+    )
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,47 @@
+"""Thruster-level allocation, staged engines and fuel tracking.
+
+- :class:`Allocator`: torque (and force) demand -> thrust of every CubeSat
+  engine; exact and least fuel when reachable, direction-preserving
+  saturation (or least squares) when not; set up once, solved per call.
+- :class:`PropulsionState`: propellant, firing time, active stage and
+  failures per CubeSat and stage; advances with the applied thrust.
+- :class:`PseudoInverseAllocator`: the clipped pseudo-inverse, for comparison only.
+- :func:`available_solvers`: the QP back-ends that can be named.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.allocation import Allocator, PropulsionState
+>>> problem = load_problem()
+>>> state = PropulsionState.from_problem(problem)
+>>> allocator = Allocator.from_problem(problem, state=state)
+>>> result = allocator.allocate([0.0, 0.0, 2e-3])
+>>> events = state.advance(result.thrust_N, 60.0)
+"""
+
+from casadi_debris.allocation.allocator import (
+    DEFAULT_SOLVER,
+    SATURATION_MODES,
+    AllocationResult,
+    Allocator,
+    BatchAllocation,
+    NoEngineError,
+)
+from casadi_debris.allocation.backends import UnknownSolverError, available_solvers
+from casadi_debris.allocation.baseline import PseudoInverseAllocator
+from casadi_debris.allocation.propulsion import PropulsionState, StageEvent, stage_propellant_kg
+
+__all__ = [
+    "DEFAULT_SOLVER",
+    "SATURATION_MODES",
+    "AllocationResult",
+    "Allocator",
+    "BatchAllocation",
+    "NoEngineError",
+    "PropulsionState",
+    "PseudoInverseAllocator",
+    "StageEvent",
+    "UnknownSolverError",
+    "available_solvers",
+    "stage_propellant_kg",
+]

@@ -1,0 +1,420 @@
+"""QP back-ends behind one small interface, each set up once and updated per call.
+
+Every allocation stage is a QP of fixed structure
+
+    minimise    1/2 x' H x + c' x
+    subject to  A_eq x = b_eq,   lb <= x <= ub
+
+whose data change between calls only in ``c``, ``A_eq``, ``b_eq``, ``lb`` and
+``ub``. A back-end keeps the solver's workspace between calls so that the
+per-call cost is the solve itself, not the conversion of the problem:
+
+- ``"daqp"``: DAQP's own ``daqp.Model`` (dense dual active set). Default: it
+  is the fastest at this size (24 engines, 6 equalities), see
+  ``benchmarks/allocation.py``.
+- ``"osqp"``: OSQP's own ``osqp.OSQP`` with warm start and solution polishing
+  (ADMM alone does not meet the torque to 1e-9; the polished active-set
+  solution does). Kept for large sparse problems.
+- any other solver that :mod:`qpsolvers` finds installed, called through
+  :func:`qpsolvers.solve_problem` (the problem is converted on every call).
+  ``"qpsolvers:daqp"``, ``"qpsolvers:osqp"`` force that path for a solver that
+  also has a native back-end (for measurement).
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+
+from casadi_debris.errors import AllocationError
+
+NATIVE_SOLVERS = ("daqp", "osqp")
+QPSOLVERS_PREFIX = "qpsolvers:"
+
+# DAQP's default primal tolerance (1e-6) lets inactive bounds be crossed by
+# one part in a million of the thrust limit; 1e-10 keeps limits exact without
+# costing iterations at this size.
+DAQP_PRIMAL_TOLERANCE = 1e-10
+OSQP_TOLERANCE = 1e-10
+DAQP_EQUALITY_SENSE = 5
+# Settings passed through qpsolvers: full accuracy where the solver allows, and
+# a time limit where it could otherwise stall.
+GENERIC_SETTINGS: dict[str, dict[str, float | bool]] = {
+    "osqp": {"eps_abs": OSQP_TOLERANCE, "eps_rel": OSQP_TOLERANCE, "polishing": True},
+    "highs": {"time_limit": 1.0},
+    "daqp": {"primal_tol": DAQP_PRIMAL_TOLERANCE},
+}
+DAQP_INFEASIBLE_FLAGS = (-1,)
+
+
+class UnknownSolverError(AllocationError):
+    """A QP back-end was asked for by a name that is not installed."""
+
+
+@dataclass(frozen=True)
+class QpSolution:
+    """What a back-end returns from one solve.
+
+    Attributes
+    ----------
+    x : ndarray, shape (n,) or None
+        Solution; None when no solution was found.
+    status : {"optimal", "infeasible", "failed"}
+    iterations : int
+    solve_time_s : float
+        Wall time of the back-end call (update + solve) [s].
+    """
+
+    x: np.ndarray | None
+    status: str
+    iterations: int
+    solve_time_s: float
+
+
+class QpBackend(Protocol):
+    """A QP workspace of fixed structure."""
+
+    name: str
+
+    def update(
+        self,
+        *,
+        c: np.ndarray | None = None,
+        a_eq: np.ndarray | None = None,
+        b_eq: np.ndarray | None = None,
+        lb: np.ndarray | None = None,
+        ub: np.ndarray | None = None,
+    ) -> None:
+        """Replace some of the problem data (same shapes as at set-up)."""
+
+    def solve(self) -> QpSolution:
+        """Solve the current problem, warm-started from the last solution where possible."""
+
+
+def available_solvers() -> tuple[str, ...]:
+    """Names accepted by :func:`make_backend`: native back-ends, then the rest of qpsolvers.
+
+    Returns
+    -------
+    tuple of str
+        e.g. ``("daqp", "osqp", "qpsolvers:daqp", "qpsolvers:osqp", "quadprog")``.
+    """
+    import qpsolvers
+
+    installed = tuple(qpsolvers.available_solvers)
+    native = tuple(name for name in NATIVE_SOLVERS if name in installed)
+    forced = tuple(QPSOLVERS_PREFIX + name for name in native)
+    others = tuple(sorted(name for name in installed if name not in NATIVE_SOLVERS))
+    return native + forced + others
+
+
+def make_backend(
+    name: str,
+    h: np.ndarray,
+    c: np.ndarray,
+    a_eq: np.ndarray,
+    b_eq: np.ndarray,
+    lb: np.ndarray,
+    ub: np.ndarray,
+) -> QpBackend:
+    """Set up a QP workspace on the named back-end.
+
+    Parameters
+    ----------
+    name : str
+        One of :func:`available_solvers`.
+    h : ndarray, shape (n, n)
+        Positive definite Hessian.
+    c : ndarray, shape (n,)
+    a_eq : ndarray, shape (m, n)
+    b_eq : ndarray, shape (m,)
+    lb, ub : ndarray, shape (n,)
+
+    Raises
+    ------
+    UnknownSolverError
+        ``name`` is not installed; the message lists what is.
+    """
+    names = available_solvers()
+    if name not in names:
+        raise UnknownSolverError(
+            f"unknown QP solver {name!r}; installed: {', '.join(names)} "
+            "(others: pip install qpsolvers[<solver>])"
+        )
+    if name == "daqp":
+        return DaqpBackend(h, c, a_eq, b_eq, lb, ub)
+    if name == "osqp":
+        return OsqpBackend(h, c, a_eq, b_eq, lb, ub)
+    return QpsolversBackend(name.removeprefix(QPSOLVERS_PREFIX), h, c, a_eq, b_eq, lb, ub)
+
+
+class DaqpBackend:
+    """DAQP workspace (``daqp.Model``): set up once, bounds and data updated in place."""
+
+    name = "daqp"
+
+    def __init__(
+        self,
+        h: np.ndarray,
+        c: np.ndarray,
+        a_eq: np.ndarray,
+        b_eq: np.ndarray,
+        lb: np.ndarray,
+        ub: np.ndarray,
+    ) -> None:
+        import daqp
+
+        n = len(c)
+        self._n = n
+        self._a = np.ascontiguousarray(a_eq, dtype=float)
+        # DAQP takes simple bounds first, then the rows of A, in one pair of vectors.
+        self._upper = np.concatenate([ub, b_eq]).astype(float)
+        self._lower = np.concatenate([lb, b_eq]).astype(float)
+        self._c = np.array(c, dtype=float)
+        sense = np.zeros(n + len(b_eq), dtype=np.int32)
+        sense[n:] = DAQP_EQUALITY_SENSE
+        self._model = daqp.Model()
+        flag, _ = self._model.setup(
+            np.array(h, dtype=float), self._c, self._a, self._upper, self._lower, sense
+        )
+        if flag < 0:
+            raise AllocationError(f"DAQP could not set up the allocation QP (exit flag {flag})")
+        self._model.settings = {"primal_tol": DAQP_PRIMAL_TOLERANCE}
+
+    def update(
+        self,
+        *,
+        c: np.ndarray | None = None,
+        a_eq: np.ndarray | None = None,
+        b_eq: np.ndarray | None = None,
+        lb: np.ndarray | None = None,
+        ub: np.ndarray | None = None,
+    ) -> None:
+        n = self._n
+        bounds_changed = False
+        if b_eq is not None:
+            self._upper[n:] = b_eq
+            self._lower[n:] = b_eq
+            bounds_changed = True
+        if lb is not None:
+            self._lower[:n] = lb
+            bounds_changed = True
+        if ub is not None:
+            self._upper[:n] = ub
+            bounds_changed = True
+        if c is not None:
+            self._c[:] = c
+        if a_eq is not None:
+            self._a[:] = a_eq
+        self._model.update(
+            f=self._c if c is not None else None,
+            A=self._a if a_eq is not None else None,
+            bupper=self._upper if bounds_changed else None,
+            blower=self._lower if bounds_changed else None,
+        )
+
+    def solve(self) -> QpSolution:
+        start = time.perf_counter()
+        x, _, flag, info = self._model.solve()
+        elapsed = time.perf_counter() - start
+        if flag > 0:
+            status = "optimal"
+        elif flag in DAQP_INFEASIBLE_FLAGS:
+            status = "infeasible"
+        else:
+            status = "failed"
+        return QpSolution(
+            np.array(x) if flag > 0 else None, status, int(info["iterations"]), elapsed
+        )
+
+
+class OsqpBackend:
+    """OSQP workspace (``osqp.OSQP``), warm-started, polished, tight tolerances."""
+
+    name = "osqp"
+
+    def __init__(
+        self,
+        h: np.ndarray,
+        c: np.ndarray,
+        a_eq: np.ndarray,
+        b_eq: np.ndarray,
+        lb: np.ndarray,
+        ub: np.ndarray,
+    ) -> None:
+        import osqp
+        from scipy import sparse
+
+        n = len(c)
+        self._n = n
+        self._m = len(b_eq)
+        # A_eq (dense, zeros kept so later updates only change values) over the
+        # identity of the bounds, built column by column in CSC order: column j
+        # stores A_eq[:, j] then the 1 of bound j.
+        m = len(b_eq)
+        self._indptr = np.arange(0, (m + 1) * n + 1, m + 1)
+        indices = np.empty((n, m + 1), dtype=np.int64)
+        indices[:, :m] = np.arange(m)
+        indices[:, m] = m + np.arange(n)
+        self._indices = indices.ravel()
+        a_full = sparse.csc_matrix(
+            (self._stacked_values(a_eq), self._indices, self._indptr), shape=(m + n, n)
+        )
+        self._lower = np.concatenate([b_eq, lb]).astype(float)
+        self._upper = np.concatenate([b_eq, ub]).astype(float)
+        self._solver = osqp.OSQP()
+        self._solver.setup(
+            sparse.triu(sparse.csc_matrix(h), format="csc"),
+            np.array(c, dtype=float),
+            a_full,
+            self._lower,
+            self._upper,
+            verbose=False,
+            eps_abs=OSQP_TOLERANCE,
+            eps_rel=OSQP_TOLERANCE,
+            eps_prim_inf=1e-9,
+            eps_dual_inf=1e-9,
+            max_iter=200_000,
+            polishing=True,
+            polish_refine_iter=10,
+            warm_starting=True,
+        )
+        self._status_optimal = osqp.SolverStatus.OSQP_SOLVED
+        self._status_infeasible = (
+            osqp.SolverStatus.OSQP_PRIMAL_INFEASIBLE,
+            osqp.SolverStatus.OSQP_PRIMAL_INFEASIBLE_INACCURATE,
+        )
+
+    def update(
+        self,
+        *,
+        c: np.ndarray | None = None,
+        a_eq: np.ndarray | None = None,
+        b_eq: np.ndarray | None = None,
+        lb: np.ndarray | None = None,
+        ub: np.ndarray | None = None,
+    ) -> None:
+        m = self._m
+        if b_eq is not None:
+            self._lower[:m] = b_eq
+            self._upper[:m] = b_eq
+        if lb is not None:
+            self._lower[m:] = lb
+        if ub is not None:
+            self._upper[m:] = ub
+        kwargs: dict[str, np.ndarray] = {}
+        if b_eq is not None or lb is not None or ub is not None:
+            kwargs["l"] = self._lower
+            kwargs["u"] = self._upper
+        if c is not None:
+            kwargs["q"] = np.array(c, dtype=float)
+        if a_eq is not None:
+            kwargs["Ax"] = self._stacked_values(a_eq)
+        self._solver.update(**kwargs)
+
+    def _stacked_values(self, a_eq: np.ndarray) -> np.ndarray:
+        values = np.ones((self._n, self._m + 1))
+        values[:, : self._m] = np.asarray(a_eq, dtype=float).T
+        return values.ravel()
+
+    def solve(self) -> QpSolution:
+        start = time.perf_counter()
+        result = self._solver.solve(raise_error=False)
+        elapsed = time.perf_counter() - start
+        status_value = result.info.status_val
+        if status_value == self._status_optimal:
+            status = "optimal"
+        elif status_value in self._status_infeasible:
+            status = "infeasible"
+        else:
+            status = "failed"
+        x = np.array(result.x) if status == "optimal" else None
+        return QpSolution(x, status, int(result.info.iter), elapsed)
+
+
+class QpsolversBackend:
+    """Any solver qpsolvers knows, through :func:`qpsolvers.solve_problem` (converted per call)."""
+
+    def __init__(
+        self,
+        solver: str,
+        h: np.ndarray,
+        c: np.ndarray,
+        a_eq: np.ndarray,
+        b_eq: np.ndarray,
+        lb: np.ndarray,
+        ub: np.ndarray,
+    ) -> None:
+        self.name = QPSOLVERS_PREFIX + solver if solver in NATIVE_SOLVERS else solver
+        self._solver = solver
+        self._h = np.array(h, dtype=float)
+        self._c = np.array(c, dtype=float)
+        self._a = np.array(a_eq, dtype=float)
+        self._b = np.array(b_eq, dtype=float)
+        self._lb = np.array(lb, dtype=float)
+        self._ub = np.array(ub, dtype=float)
+        self._last: np.ndarray | None = None
+
+    def update(
+        self,
+        *,
+        c: np.ndarray | None = None,
+        a_eq: np.ndarray | None = None,
+        b_eq: np.ndarray | None = None,
+        lb: np.ndarray | None = None,
+        ub: np.ndarray | None = None,
+    ) -> None:
+        for target, value in ((self._c, c), (self._a, a_eq), (self._b, b_eq)):
+            if value is not None:
+                target[...] = value
+        if lb is not None:
+            self._lb[:] = lb
+        if ub is not None:
+            self._ub[:] = ub
+
+    def solve(self) -> QpSolution:
+        import qpsolvers
+
+        # Same minimiser with a Hessian of unit size: HiGHS' QP solver stalls on
+        # a Hessian as small as the proximal terms used here.
+        objective_scale = float(np.abs(self._h).max())
+        problem = qpsolvers.Problem(
+            self._h / objective_scale,
+            self._c / objective_scale,
+            A=self._a,
+            b=self._b,
+            lb=self._lb,
+            ub=self._ub,
+        )
+        settings = GENERIC_SETTINGS.get(self._solver, {})
+        start = time.perf_counter()
+        with warnings.catch_warnings():
+            # qpsolvers warns on dense-to-sparse conversion and on every
+            # infeasible status; the status is handled below.
+            warnings.simplefilter("ignore")
+            solution = qpsolvers.solve_problem(
+                problem, self._solver, initvals=self._last, **settings
+            )
+        elapsed = time.perf_counter() - start
+        found = bool(solution.found) and solution.x is not None
+        self._last = solution.x if found else None
+        status = "optimal" if found else "infeasible"
+        iterations = _iterations(solution.extras)
+        return QpSolution(np.array(solution.x) if found else None, status, iterations, elapsed)
+
+
+def _iterations(extras: object) -> int:
+    """Iteration count from a qpsolvers solution's solver-specific extras, when it gives one."""
+    if isinstance(extras, dict):
+        for key in ("iterations", "iter", "iters"):
+            if key in extras:
+                return int(extras[key])
+        info = extras.get("info")
+        if isinstance(info, dict) and "iterations" in info:
+            return int(info["iterations"])
+    info = getattr(extras, "info", None)
+    return int(getattr(info, "iter", 0) or 0)

@@ -1,0 +1,407 @@
+"""Staged iESE engines: propellant, firing time, active stage and failures per CubeSat.
+
+Each CubeSat carries ``n_stages`` electrospray stages fired one after the
+other (paper, Section II.D). A stage holds the propellant it burns in its
+rated life at full thrust,
+
+    m_stage = F_stage * t_life / (Isp * g0),
+
+and burns ``F / (Isp g0)`` kilograms per second at thrust ``F``. When the
+active stage runs dry the next healthy stage takes over (within the same
+time step, at the instant of depletion); when every stage of a CubeSat is
+spent or failed, the CubeSat drops out of the allocation (limit 0).
+
+A commanded thrust is assumed to be held through a stage switch, limited
+to the thrust of the stage that takes over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import AllocationError, InputShapeError
+from casadi_debris.geometry import Geometry, build_geometry
+
+MN_PER_N = 1e3
+SECONDS_PER_HOUR = 3600.0
+# Propellant below this fraction of a stage's load counts as spent: it avoids
+# a stage that lingers on a rounding residue for one more step.
+DEPLETED_FRACTION = 1e-12
+# A commanded thrust may exceed its limit by this relative margin (solver round-off).
+THRUST_LIMIT_RTOL = 1e-9
+
+
+def stage_propellant_kg(
+    thrust_N: float, life_s: float, isp_s: float, standard_gravity_m_s2: float
+) -> float:
+    """Propellant of one stage: thrust x life / (Isp g0) [kg].
+
+    Parameters
+    ----------
+    thrust_N : float
+        Full thrust of the stage [N].
+    life_s : float
+        Rated firing life at full thrust [s].
+    isp_s : float
+        Specific impulse [s].
+    standard_gravity_m_s2 : float
+        g0 [m/s^2].
+    """
+    return thrust_N * life_s / (isp_s * standard_gravity_m_s2)
+
+
+@dataclass(frozen=True)
+class StageEvent:
+    """A stage of one CubeSat ran dry during :meth:`PropulsionState.advance`.
+
+    Attributes
+    ----------
+    cubesat : int
+    stage : int
+        The stage that was depleted (0-based).
+    time_s : float
+        When, from the start of the step [s].
+    next_stage : int or None
+        The stage that took over; None when the CubeSat has none left.
+    """
+
+    cubesat: int
+    stage: int
+    time_s: float
+    next_stage: int | None
+
+
+@dataclass(eq=False)
+class PropulsionState:
+    """Propellant, firing time and failures of every CubeSat's stages.
+
+    Attributes
+    ----------
+    stage_thrust_N : ndarray, shape (n_stages,)
+        Full thrust of each stage [N].
+    exhaust_velocity_m_s : float
+        Isp g0 [m/s]; mass flow is thrust / exhaust velocity.
+    stage_capacity_kg : ndarray, shape (n_stages,)
+        Propellant of a full stage [kg].
+    propellant_kg : ndarray, shape (n_cubesats, n_stages)
+        Propellant left [kg].
+    firing_time_s : ndarray, shape (n_cubesats, n_stages)
+        Time each stage has fired with non-zero thrust [s].
+    failed_cubesats : ndarray of bool, shape (n_cubesats,)
+    failed_stages : ndarray of bool, shape (n_cubesats, n_stages)
+
+    Example
+    -------
+    >>> from casadi_debris import load_problem
+    >>> state = PropulsionState.from_problem(load_problem())
+    >>> state.active_stage[:3]
+    array([0, 0, 0])
+    """
+
+    stage_thrust_N: np.ndarray
+    exhaust_velocity_m_s: float
+    stage_capacity_kg: np.ndarray
+    propellant_kg: np.ndarray
+    firing_time_s: np.ndarray = field(default=None)  # type: ignore[assignment]
+    failed_cubesats: np.ndarray = field(default=None)  # type: ignore[assignment]
+    failed_stages: np.ndarray = field(default=None)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        self.stage_thrust_N = _vector(self.stage_thrust_N, "stage_thrust_N")
+        self.stage_capacity_kg = _vector(self.stage_capacity_kg, "stage_capacity_kg")
+        n_stages = len(self.stage_thrust_N)
+        self.propellant_kg = _matrix(self.propellant_kg, "propellant_kg", n_stages)
+        n_cubesats = len(self.propellant_kg)
+        if self.firing_time_s is None:
+            self.firing_time_s = np.zeros_like(self.propellant_kg)
+        self.firing_time_s = _matrix(self.firing_time_s, "firing_time_s", n_stages, n_cubesats)
+        if self.failed_cubesats is None:
+            self.failed_cubesats = np.zeros(n_cubesats, dtype=bool)
+        if self.failed_stages is None:
+            self.failed_stages = np.zeros((n_cubesats, n_stages), dtype=bool)
+        self.failed_cubesats = np.array(self.failed_cubesats, dtype=bool)
+        self.failed_stages = np.array(self.failed_stages, dtype=bool)
+        if self.failed_cubesats.shape != (n_cubesats,):
+            raise InputShapeError(
+                f"failed_cubesats must have shape ({n_cubesats},), got {self.failed_cubesats.shape}"
+            )
+        if self.failed_stages.shape != (n_cubesats, n_stages):
+            raise InputShapeError(
+                f"failed_stages must have shape ({n_cubesats}, {n_stages}), "
+                f"got {self.failed_stages.shape}"
+            )
+        if len(self.stage_capacity_kg) != n_stages:
+            raise InputShapeError(
+                f"stage_capacity_kg needs one entry per stage ({n_stages}), "
+                f"got {len(self.stage_capacity_kg)}"
+            )
+        if not np.isfinite(self.exhaust_velocity_m_s) or self.exhaust_velocity_m_s <= 0:
+            raise AllocationError(
+                f"exhaust_velocity_m_s must be positive, got {self.exhaust_velocity_m_s}"
+            )
+        for name, values in (
+            ("stage_thrust_N", self.stage_thrust_N),
+            ("stage_capacity_kg", self.stage_capacity_kg),
+            ("propellant_kg", self.propellant_kg),
+            ("firing_time_s", self.firing_time_s),
+        ):
+            if np.any(values < 0):
+                raise AllocationError(f"{name} must not be negative")
+        if np.any(self.propellant_kg > self.stage_capacity_kg * (1.0 + THRUST_LIMIT_RTOL)):
+            raise AllocationError("propellant_kg exceeds the capacity of a stage")
+
+    # ------------------------------------------------------------------ construction
+
+    @classmethod
+    def from_problem(cls, problem: Problem, geometry: Geometry | None = None) -> PropulsionState:
+        """Every CubeSat of the problem with full, healthy stages.
+
+        Parameters
+        ----------
+        problem : Problem
+            Engine data: stages, thrust per stage, Isp, stage life; g0.
+        geometry : Geometry, optional
+            Gives the number of CubeSats (built from ``problem`` if omitted).
+        """
+        geometry = geometry or build_geometry(problem)
+        engine = problem.engine
+        thrust_N = engine.thrust_per_stage_mN / MN_PER_N
+        g0 = problem.constants.standard_gravity_m_s2
+        capacity = stage_propellant_kg(
+            thrust_N, engine.stage_life_h * SECONDS_PER_HOUR, engine.isp_s, g0
+        )
+        n_cubesats = len(geometry.cubesats)
+        return cls(
+            stage_thrust_N=np.full(engine.stages, thrust_N),
+            exhaust_velocity_m_s=engine.isp_s * g0,
+            stage_capacity_kg=np.full(engine.stages, capacity),
+            propellant_kg=np.full((n_cubesats, engine.stages), capacity),
+        )
+
+    def copy(self) -> PropulsionState:
+        """An independent copy."""
+        return PropulsionState(
+            self.stage_thrust_N.copy(),
+            self.exhaust_velocity_m_s,
+            self.stage_capacity_kg.copy(),
+            self.propellant_kg.copy(),
+            self.firing_time_s.copy(),
+            self.failed_cubesats.copy(),
+            self.failed_stages.copy(),
+        )
+
+    # ------------------------------------------------------------------ queries
+
+    @property
+    def n_cubesats(self) -> int:
+        """Number of CubeSats."""
+        return len(self.propellant_kg)
+
+    @property
+    def n_stages(self) -> int:
+        """Stages per CubeSat."""
+        return len(self.stage_thrust_N)
+
+    def _usable(self) -> np.ndarray:
+        """Stages that can still fire, shape (n_cubesats, n_stages)."""
+        return (
+            (self.propellant_kg > DEPLETED_FRACTION * self.stage_capacity_kg)
+            & ~self.failed_stages
+            & ~self.failed_cubesats[:, None]
+        )
+
+    @property
+    def active_stage(self) -> np.ndarray:
+        """Index of the stage each CubeSat fires now, ``n_stages`` when none is left, shape (n,)."""
+        usable = self._usable()
+        return np.where(usable.any(axis=1), np.argmax(usable, axis=1), self.n_stages)
+
+    @property
+    def available(self) -> np.ndarray:
+        """CubeSats that can fire, bool, shape (n_cubesats,)."""
+        return self._usable().any(axis=1)
+
+    def max_thrust_N(self) -> np.ndarray:
+        """Thrust limit of each CubeSat's active stage (0 when it has none), shape (n,) [N]."""
+        active = self.active_stage
+        limits = np.zeros(self.n_cubesats)
+        firing = active < self.n_stages
+        limits[firing] = self.stage_thrust_N[active[firing]]
+        return limits
+
+    @property
+    def fuel_used_kg(self) -> np.ndarray:
+        """Propellant burnt per CubeSat and stage, shape (n_cubesats, n_stages) [kg]."""
+        return self.stage_capacity_kg[None, :] - self.propellant_kg
+
+    def remaining_life_s(self) -> np.ndarray:
+        """Full-thrust firing time left in each CubeSat's usable stages, shape (n,) [s]."""
+        mass_flow = self.stage_thrust_N / self.exhaust_velocity_m_s
+        return np.sum(np.where(self._usable(), self.propellant_kg / mass_flow, 0.0), axis=1)
+
+    # ------------------------------------------------------------------ changes
+
+    def fail_cubesat(self, cubesat: int) -> None:
+        """Take a whole CubeSat out (all its stages)."""
+        self._check_index(cubesat)
+        self.failed_cubesats[cubesat] = True
+
+    def fail_stage(self, cubesat: int, stage: int) -> None:
+        """Take one stage of a CubeSat out; the next healthy stage becomes active."""
+        self._check_index(cubesat)
+        if not 0 <= stage < self.n_stages:
+            raise AllocationError(f"stage {stage} out of range 0..{self.n_stages - 1}")
+        self.failed_stages[cubesat, stage] = True
+
+    def _check_index(self, cubesat: int) -> None:
+        if not 0 <= cubesat < self.n_cubesats:
+            raise AllocationError(f"CubeSat {cubesat} out of range 0..{self.n_cubesats - 1}")
+
+    def advance(self, thrust_N: np.ndarray, dt_s: float) -> list[StageEvent]:
+        """Fire every CubeSat's active stage at the given thrust for ``dt_s``.
+
+        Parameters
+        ----------
+        thrust_N : array_like, shape (n_cubesats,)
+            Thrust held over the step [N]; within each active stage's limit,
+            zero for CubeSats that cannot fire.
+        dt_s : float
+            Step length [s], non-negative.
+
+        Returns
+        -------
+        list of StageEvent
+            Stages that ran dry during the step, in time order per CubeSat.
+
+        Raises
+        ------
+        InputShapeError
+            Wrong shape, NaN or infinite values.
+        AllocationError
+            Negative thrust or step, thrust above a limit, or thrust asked
+            of a CubeSat that cannot fire.
+        """
+        thrust = np.asarray(thrust_N, dtype=float)
+        if thrust.shape != (self.n_cubesats,):
+            raise InputShapeError(
+                f"thrust_N must have shape ({self.n_cubesats},), got {thrust.shape}"
+            )
+        if not np.all(np.isfinite(thrust)) or not np.isfinite(dt_s):
+            raise InputShapeError("thrust_N and dt_s must be finite")
+        if dt_s < 0 or np.any(thrust < 0):
+            raise AllocationError("thrust_N and dt_s must not be negative")
+        limits = self.max_thrust_N()
+        over = thrust > limits * (1.0 + THRUST_LIMIT_RTOL)
+        if np.any(over):
+            worst = int(np.argmax(np.where(over, thrust - limits, -np.inf)))
+            raise AllocationError(
+                f"CubeSat {worst}: thrust {thrust[worst] * MN_PER_N:.6g} mN above its active "
+                f"stage limit {limits[worst] * MN_PER_N:.6g} mN"
+            )
+        thrust = np.minimum(thrust, limits)
+        events: list[StageEvent] = []
+        for cubesat in np.flatnonzero(thrust > 0):
+            events.extend(self._burn(int(cubesat), float(thrust[cubesat]), float(dt_s)))
+        return events
+
+    def _burn(self, cubesat: int, thrust_N: float, dt_s: float) -> list[StageEvent]:
+        """Burn one CubeSat's stages in order for ``dt_s``, switching at depletion."""
+        events = []
+        elapsed = 0.0
+        stage = int(self.active_stage[cubesat])
+        while elapsed < dt_s and stage < self.n_stages:
+            mass_flow = min(thrust_N, float(self.stage_thrust_N[stage])) / self.exhaust_velocity_m_s
+            left = float(self.propellant_kg[cubesat, stage])
+            burn_s = min(dt_s - elapsed, left / mass_flow)
+            self.propellant_kg[cubesat, stage] = left - mass_flow * burn_s
+            self.firing_time_s[cubesat, stage] += burn_s
+            elapsed += burn_s
+            if self.propellant_kg[cubesat, stage] > DEPLETED_FRACTION * float(
+                self.stage_capacity_kg[stage]
+            ):
+                break
+            self.propellant_kg[cubesat, stage] = 0.0
+            next_stage = int(self.active_stage[cubesat])
+            taken_over = next_stage if next_stage < self.n_stages else None
+            events.append(StageEvent(cubesat, stage, elapsed, taken_over))
+            stage = next_stage
+        return events
+
+    # ------------------------------------------------------------------ serialisation
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (lists) for JSON, SI units in the key names."""
+        return {
+            "propellant_kg": self.propellant_kg.tolist(),
+            "firing_time_s": self.firing_time_s.tolist(),
+            "failed_cubesats": np.flatnonzero(self.failed_cubesats).tolist(),
+            "failed_stages": [list(map(int, pair)) for pair in np.argwhere(self.failed_stages)],
+        }
+
+    def updated_from_dict(self, data: dict[str, Any]) -> PropulsionState:
+        """A copy with the entries present in ``data`` (as :meth:`to_dict` writes) replaced.
+
+        Raises
+        ------
+        AllocationError
+            Unknown keys, indices out of range, values out of range.
+        InputShapeError
+            Arrays of the wrong shape or non-finite.
+        """
+        known = {"propellant_kg", "firing_time_s", "failed_cubesats", "failed_stages"}
+        if not isinstance(data, dict):
+            raise AllocationError("a propulsion state must be a JSON object")
+        unknown = sorted(set(data) - known)
+        if unknown:
+            raise AllocationError(
+                f"unknown propulsion state key {unknown[0]!r}; known: {', '.join(sorted(known))}"
+            )
+        state = self.copy()
+        for key in ("propellant_kg", "firing_time_s"):
+            if key in data:
+                values = _matrix(data[key], key, self.n_stages, self.n_cubesats)
+                setattr(state, key, values)
+        for cubesat in data.get("failed_cubesats", []):
+            state.fail_cubesat(_index(cubesat, "failed_cubesats"))
+        for pair in data.get("failed_stages", []):
+            if not isinstance(pair, list | tuple) or len(pair) != 2:
+                raise AllocationError("failed_stages entries must be [cubesat, stage] pairs")
+            state.fail_stage(_index(pair[0], "failed_stages"), _index(pair[1], "failed_stages"))
+        state.__post_init__()
+        return state
+
+
+def _index(value: Any, name: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer):
+        raise AllocationError(f"{name} entries must be integers, got {value!r}")
+    return int(value)
+
+
+def _vector(values: Any, name: str) -> np.ndarray:
+    try:
+        array = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputShapeError(f"{name} must be numbers") from None
+    if array.ndim != 1 or len(array) == 0:
+        raise InputShapeError(f"{name} must be a non-empty vector, got shape {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputShapeError(f"{name} must be finite")
+    return array
+
+
+def _matrix(values: Any, name: str, n_stages: int, n_cubesats: int | None = None) -> np.ndarray:
+    try:
+        array = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputShapeError(f"{name} must be numbers") from None
+    rows = n_cubesats if n_cubesats is not None else (len(array) if array.ndim == 2 else -1)
+    if array.shape != (rows, n_stages):
+        want = f"({n_cubesats if n_cubesats is not None else 'n_cubesats'}, {n_stages})"
+        raise InputShapeError(f"{name} must have shape {want}, got {array.shape}")
+    if not np.all(np.isfinite(array)):
+        raise InputShapeError(f"{name} must be finite")
+    return array

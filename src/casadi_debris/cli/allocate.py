@@ -1,0 +1,202 @@
+"""``casadi-debris allocate``: thrust of every CubeSat engine for one torque demand."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import click
+
+from casadi_debris.allocation import (
+    DEFAULT_SOLVER,
+    SATURATION_MODES,
+    AllocationResult,
+    Allocator,
+    PropulsionState,
+)
+from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
+from casadi_debris.config import load_problem
+from casadi_debris.errors import AllocationError
+from casadi_debris.geometry import build_geometry
+
+MN_PER_N = 1e3
+US_PER_S = 1e6
+SECONDS_PER_HOUR = 3600.0
+
+
+def _failed_indices(text: str | None, count: int) -> list[int]:
+    """0-based indices of the CubeSat ids (1 .. count, as ``casadi-debris model`` numbers them)."""
+    if not text:
+        return []
+    try:
+        ids = sorted({int(part) for part in text.split(",") if part.strip()})
+    except ValueError:
+        raise AllocationError(
+            f"--failed takes comma-separated CubeSat ids such as 3,17; got {text!r}"
+        ) from None
+    bad = [i for i in ids if not 1 <= i <= count]
+    if bad:
+        raise AllocationError(f"--failed: CubeSat ids run from 1 to {count}; got {bad}")
+    return [i - 1 for i in ids]
+
+
+def _read_state(path: Path | None, template: PropulsionState) -> PropulsionState:
+    if path is None:
+        return template
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise AllocationError(f"{path}: no such stage-state file") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise AllocationError(f"{path}: not a readable JSON stage state ({exc})") from None
+    try:
+        return template.updated_from_dict(data)
+    except AllocationError as exc:
+        raise AllocationError(f"{path}: {exc}") from None
+
+
+def _payload(
+    problem_name: str,
+    result: AllocationResult,
+    allocator: Allocator,
+    state: PropulsionState,
+    authority_Nm: dict[str, float],
+) -> dict[str, Any]:
+    limits = allocator.max_thrust_N
+    return {
+        "problem": problem_name,
+        "feasible": result.feasible,
+        "mode": result.mode,
+        "scale": result.scale,
+        "thrust_mN": result.thrust_N * MN_PER_N,
+        "thrust_limit_mN": limits * MN_PER_N,
+        "active_stage": state.active_stage,
+        "failed_cubesats": [int(i) + 1 for i in (limits == 0).nonzero()[0]],
+        "torque_demand_mNm": result.demand_torque_Nm * MN_PER_N,
+        "torque_achieved_mNm": result.torque_Nm * MN_PER_N,
+        "force_demand_mN": None
+        if result.demand_force_N is None
+        else result.demand_force_N * MN_PER_N,
+        "force_achieved_mN": result.force_N * MN_PER_N,
+        "fuel_rate_kg_s": result.fuel_rate_kg_s,
+        "torque_authority_mNm": {k: v * MN_PER_N for k, v in authority_Nm.items()},
+        "solver": result.solver,
+        "iterations": result.iterations,
+        "solve_time_us": result.solve_time_s * US_PER_S,
+    }
+
+
+def _text(payload: dict[str, Any], faces: list[str]) -> str:
+    def triple(values: Any) -> str:
+        return "[" + ", ".join(f"{v:+.4f}" for v in values) + "]"
+
+    status = "feasible" if payload["feasible"] else f"saturated, scale {payload['scale']:.6f}"
+    lines = [
+        f"allocation ({payload['problem']}): {status} ({payload['mode']})",
+        f"  torque demand    {triple(payload['torque_demand_mNm'])} mNm",
+        f"  torque achieved  {triple(payload['torque_achieved_mNm'])} mNm",
+        f"  force achieved   {triple(payload['force_achieved_mN'])} mN"
+        + ("  (free)" if payload["force_demand_mN"] is None else ""),
+        f"  fuel rate        {payload['fuel_rate_kg_s']:.4e} kg/s",
+        f"  solver           {payload['solver']}, {payload['iterations']} iterations, "
+        f"{payload['solve_time_us']:.1f} us",
+        "  authority (mNm)  "
+        + ", ".join(f"{k} {v:.3f}" for k, v in payload["torque_authority_mNm"].items()),
+        "",
+        "  cubesat  face  stage  thrust_mN  limit_mN",
+    ]
+    for index, (face, thrust, limit, stage) in enumerate(
+        zip(
+            faces,
+            payload["thrust_mN"],
+            payload["thrust_limit_mN"],
+            payload["active_stage"],
+            strict=True,
+        )
+    ):
+        stage_text = "-" if limit == 0 else str(int(stage))
+        lines.append(f"  {index + 1:7d}  {face:>4}  {stage_text:>5}  {thrust:9.4f}  {limit:8.4f}")
+    return "\n".join(lines)
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--torque-mNm",
+    "torque_mNm",
+    nargs=3,
+    type=float,
+    required=True,
+    metavar="TX TY TZ",
+    help="Torque demand about the CoG, body frame [mNm].",
+)
+@click.option(
+    "--force-mN",
+    "force_mN",
+    nargs=3,
+    type=float,
+    default=None,
+    metavar="FX FY FZ",
+    help="Net force demand [mN] (default zero).",
+)
+@click.option("--free-force", is_flag=True, help="Leave the net force free.")
+@click.option(
+    "--failed",
+    default=None,
+    metavar="I,J,...",
+    help="Failed CubeSats by id (1..24, as `casadi-debris model` lists them).",
+)
+@click.option(
+    "--stage-state",
+    type=click.Path(path_type=Path, dir_okay=False),
+    default=None,
+    help="JSON propulsion state (propellant_kg, firing_time_s, failed_cubesats, failed_stages;"
+    " CubeSats by 0-based index, as in the Python API).",
+)
+@click.option(
+    "--solver",
+    default=DEFAULT_SOLVER,
+    show_default=True,
+    help="QP back-end (daqp, osqp, or any solver qpsolvers finds).",
+)
+@click.option(
+    "--saturation",
+    type=click.Choice(SATURATION_MODES),
+    default="scale",
+    show_default=True,
+    help="Infeasible demands: keep the direction (scale) or least squares.",
+)
+@json_option
+@friendly_errors
+def allocate(
+    problem_file: Path | None,
+    torque_mNm: tuple[float, float, float],
+    force_mN: tuple[float, float, float] | None,
+    free_force: bool,
+    failed: str | None,
+    stage_state: Path | None,
+    solver: str,
+    saturation: str,
+    as_json: bool,
+) -> None:
+    """Thrust of every CubeSat engine for a torque (and force) demand: least fuel, exact when
+    reachable, direction kept when not."""
+    if force_mN is not None and free_force:
+        raise AllocationError("give either --force-mN or --free-force, not both")
+    problem = load_problem(problem_file)
+    geometry = build_geometry(problem)
+    state = _read_state(stage_state, PropulsionState.from_problem(problem, geometry))
+    for index in _failed_indices(failed, len(geometry.cubesats)):
+        state.fail_cubesat(index)
+    allocator = Allocator.from_problem(
+        problem, geometry, state=state, solver=solver, saturation=saturation
+    )
+    force_N = None if force_mN is None else [f / MN_PER_N for f in force_mN]
+    result = allocator.allocate([t / MN_PER_N for t in torque_mNm], force_N, free_force=free_force)
+    authority = allocator.torque_authority(free_force=free_force)
+    payload = _payload(problem.name, result, allocator, state, authority)
+    if as_json:
+        echo_json(payload)
+    else:
+        click.echo(_text(payload, [m.face for m in geometry.cubesats]))
