@@ -144,3 +144,51 @@ def test_console_script_installed():
     )
     assert result.returncode == 0, result.stderr
     assert "dv_transfer_m_s" in json.loads(result.stdout)
+
+
+def test_synthesize_quick_writes_a_loadable_controller(runner, tmp_path):
+    out = tmp_path / "k.json"
+    arguments = ["synthesize", "--out", str(out), "--json", "--mu-points", "30"]
+    arguments += ["--max-iterations", "0", "--samples", "66"]
+    result = runner.invoke(main, arguments)
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    for key in ("mu_peak", "order_full", "order_reduced", "mu_peak_reduced", "hinf_gamma_first",
+                "iterations", "time_s", "w_fit_order", "w_fit_samples"):  # fmt: skip
+        assert key in summary
+    data = json.loads(out.read_text())
+    for key in ("A", "B", "C", "D", "mu_peak", "mu_peak_reduced", "order_full", "order_reduced",
+                "problem_sha256", "seed"):  # fmt: skip
+        assert key in data
+    assert len(data["A"]) == data["order_reduced"]
+
+
+def test_margins_json_and_plots(runner, tmp_path):
+    out = tmp_path / "run"
+    result = runner.invoke(main, ["margins", "--samples", "70", "--out", str(out), "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    for block in ("nominal", "sampled_min"):
+        assert set(summary[block]) >= {"gain_margin_db", "phase_margin_deg", "delay_margin_s"}
+    assert summary["samples"] == 70 and "controller_path" in summary and "seed" in summary
+    assert set(summary["per_channel"]) == {"x", "y", "z"}
+    for name in (
+        "mu.png",
+        "uncertainty_weight.png",
+        "loop_shapes.png",
+        "margins.png",
+        "summary.json",
+    ):
+        assert (out / name).stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    ("content", "words"),
+    [("{", "not a readable JSON"), ('{"A": []}', "B: missing"), ("[1, 2]", "JSON object")],
+)
+def test_margins_bad_controller_file(runner, tmp_path, content, words):
+    bad = tmp_path / "k.json"
+    bad.write_text(content)
+    result = runner.invoke(main, ["margins", "--controller", str(bad), "--samples", "5"])
+    assert result.exit_code == 2
+    assert words in result.output and "Traceback" not in result.output

@@ -33,6 +33,9 @@ from casadi_debris.robust.design import SynthesisSettings, design_controller
 )
 @click.option("--mu-points", default=150, show_default=True, help="Frequencies of the mu grid.")
 @click.option("--max-iterations", default=8, show_default=True, help="D-K iterations at most.")
+@click.option(
+    "--d-orders", default="1,2,4", show_default=True, help="D-scale orders tried at each step."
+)
 @click.option("--samples", type=int, default=None, help="Models for the W fit [problem's].")
 @click.option("--seed", type=int, default=None, help="Seed of those models [problem's].")
 @json_option
@@ -42,14 +45,32 @@ def synthesize(
     out_path: Path,
     mu_points: int,
     max_iterations: int,
+    d_orders: str,
     samples: int | None,
     seed: int | None,
     as_json: bool,
 ) -> None:
     """mu-synthesis of the attitude controller (the paper's Section III), reduced and checked."""
     problem = load_problem(problem_file)
+    try:
+        orders = tuple(int(part) for part in d_orders.split(",") if part.strip())
+    except ValueError:
+        raise ProblemFileError(
+            "--d-orders", f"comma-separated integers, got {d_orders!r}"
+        ) from None
+    if not orders or min(orders) < 0 or mu_points < 10 or max_iterations < 0:
+        raise ProblemFileError(
+            "--d-orders/--mu-points/--max-iterations",
+            "need orders >= 0, at least 10 mu points and iterations >= 0",
+        )
+    if samples is not None and samples < 1:
+        raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
     settings = SynthesisSettings(
-        samples=samples, seed=seed, mu_points=mu_points, max_iterations=max_iterations
+        samples=samples,
+        seed=seed,
+        mu_points=mu_points,
+        d_orders=orders,
+        max_iterations=max_iterations,
     )
 
     def progress(stage: str, iteration) -> None:

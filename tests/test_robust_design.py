@@ -1,0 +1,88 @@
+"""The design pipeline, and the shipped controller against the paper's robustness claims."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from casadi_debris.config import default_controller_path
+from casadi_debris.model import build_model, linearize
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.design import SynthesisSettings, design_controller
+from casadi_debris.robust.interconnect import generalized_plant
+from casadi_debris.robust.margins import closed_loop_poles
+from casadi_debris.robust.musyn import closed_loop_mu
+from casadi_debris.robust.uncertainty import box_corners, parameters_from_normalized
+from casadi_debris.robust.weights import performance_weights, weight_system
+
+# DESIGN.md: peak mu <= 1.0 for full and reduced order; reduced order <= 25.
+MU_TARGET = 1.0
+ORDER_TARGET = 25
+
+
+@pytest.fixture(scope="module")
+def shipped() -> ControllerRecord:
+    path = default_controller_path()
+    return ControllerRecord.from_dict(json.loads(path.read_text()), str(path))
+
+
+@pytest.fixture(scope="module")
+def shipped_plant(problem, shipped):
+    """The generalised plant rebuilt from the problem and the weight stored in the file."""
+    model = build_model(problem, modes=shipped.details["design_plant_modes"])
+    weight = weight_system(
+        np.array(shipped.details["uncertainty_weight"]["coefficients_k_wz_zetaz_wp_zetap"])
+    )
+    return generalized_plant(
+        linearize(model, sensor=True, units="deg_mNm"), weight, performance_weights(problem)
+    )
+
+
+def test_shipped_controller_belongs_to_the_shipped_problem(problem, shipped):
+    assert shipped.problem_sha256 == problem.sha256
+    assert shipped.reduced.nstates <= ORDER_TARGET
+    assert shipped.full is not None and shipped.full.nstates > shipped.reduced.nstates
+
+
+def test_shipped_controller_robust_performance(shipped_plant, shipped):
+    # An independent, denser grid than the design's: mu <= 1 for both controllers.
+    omega = np.logspace(-5, 3, 400)
+    _, full = closed_loop_mu(shipped_plant, shipped.full, omega)
+    _, reduced = closed_loop_mu(shipped_plant, shipped.reduced, omega)
+    assert full.peak <= MU_TARGET
+    assert reduced.peak <= MU_TARGET
+    assert full.peak == pytest.approx(shipped.mu_peak, rel=0.01)
+    assert reduced.peak == pytest.approx(shipped.mu_peak_reduced, rel=0.01)
+
+
+@pytest.mark.parametrize("modes", ["first", "all"])
+def test_shipped_controller_stabilises_every_corner(problem, shipped, modes):
+    model = build_model(problem, modes=modes)
+    for p in parameters_from_normalized(problem, model, box_corners()):
+        plant = linearize(model, p, sensor=True, units="deg_mNm")
+        assert np.max(closed_loop_poles(plant, shipped.reduced).real) < 0
+
+
+def test_quick_design_is_consistent(problem):
+    settings = SynthesisSettings(samples=70, mu_points=40, d_orders=(1,), max_iterations=1)
+    design = design_controller(problem, settings)
+    summary = design.summary()
+    assert summary["w_fit_samples"] == 70 and summary["w_fit_margin"] >= 1.0 - 1e-9
+    assert summary["mu_peak"] <= design.musyn.iterations[0].mu_peak
+    _, recomputed = closed_loop_mu(design.plant, design.record.reduced, design.musyn.omega)
+    assert recomputed.peak == pytest.approx(summary["mu_peak_reduced"], rel=1e-9)
+    data = design.record.to_dict()
+    assert data["mu_per_iteration"][0] == pytest.approx(design.musyn.hinf_gamma_first, rel=0.02)
+    assert data["problem_sha256"] == problem.sha256 and data["seed"] == problem.uncertainty.seed
+
+
+def test_full_synthesis_reproduces_the_shipped_design(problem, shipped):
+    """The paper's mu-synthesis, redone: robust performance reached, as shipped."""
+    design = design_controller(problem)
+    summary = design.summary()
+    assert summary["mu_peak"] <= MU_TARGET
+    assert summary["mu_peak_reduced"] <= MU_TARGET
+    assert summary["order_reduced"] <= ORDER_TARGET
+    assert summary["mu_peak"] == pytest.approx(shipped.mu_peak, rel=0.02)
