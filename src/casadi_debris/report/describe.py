@@ -9,7 +9,7 @@ import numpy as np
 
 from casadi_debris.budgets import BudgetItem
 from casadi_debris.config import Problem
-from casadi_debris.geometry import build_geometry, torque_authority
+from casadi_debris.geometry import torque_authority
 from casadi_debris.model import assembled_modes, build_model
 from casadi_debris.model.cantilever import shape_integrals
 from casadi_debris.report.common import MN_PER_N, PAPER, format_cell, format_table, within_tolerance
@@ -31,8 +31,8 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         ``torque_max_zero_force_mNm`` ({"+x": ...}), ``modes`` (assembled
         free-free modes with their cantilever origin), ``thrusters``.
     """
-    geometry = build_geometry(problem)
     model = build_model(problem)
+    geometry = model.geometry
     modes = []
     by_name = {m.name: m for m in problem.arrays.modes}
     for assembled in assembled_modes(model):
