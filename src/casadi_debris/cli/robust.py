@@ -153,6 +153,12 @@ def margins(
     if samples < 1:
         raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
     folder = out_dir or Path("runs") / f"margins-{problem.name}"
+    if record.problem_sha256 and record.problem_sha256 != problem.sha256:
+        click.echo(
+            f"note: {path.name} was designed for another problem file "
+            f"(sha256 {record.problem_sha256[:12]}...); analysing it on {problem.name} anyway",
+            err=True,
+        )
 
     def progress(done: int, total: int) -> None:
         click.echo(f"  {done}/{total} sampled plants", err=True)
