@@ -1,0 +1,110 @@
+"""Benchmark of the slew methods on the paper's 180 deg z slew; prints JSON.
+
+Usage: python benchmarks/slew.py [--repeat N] [--out FILE]
+
+For each method: duration, fuel, residual vibration on the full flexible
+model, and the median wall time of generating it (OCP solve, or evaluating the
+bang-bang), against the rigid eigenaxis limit 2 sqrt(theta J / tau). Targets
+from issue 5: time-optimal <= 5 s to solve; flexible within 1.10 x the limit.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import statistics
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+from casadi_debris import load_problem
+from casadi_debris.report.common import json_ready
+from casadi_debris.slew import (
+    SlewProfile,
+    bang_bang_slew,
+    fuel_optimal_slew,
+    time_optimal_slew,
+)
+
+PAPER_DURATION_S = 1228.0
+PAPER_FUEL_KG = 2.8e-4
+
+
+def measure(make: Callable[[], SlewProfile], repeat: int) -> tuple[SlewProfile, list[float]]:
+    """Run ``make`` ``repeat`` times; the profile of the last run and each run's wall time."""
+    walls, profile = [], None
+    for _ in range(repeat):
+        started = time.perf_counter()
+        profile = make()
+        walls.append(time.perf_counter() - started)
+    return profile, walls
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--out", type=Path)
+    args = parser.parse_args()
+    problem = load_problem()
+    z, pi = "z", math.pi
+    cases = {
+        "bang_bang_paper_1228s": lambda: bang_bang_slew(
+            problem, z, pi, duration_s=PAPER_DURATION_S
+        ),
+        "bang_bang_full_torque": lambda: bang_bang_slew(problem, z, pi),
+        "time_optimal_rigid": lambda: time_optimal_slew(problem, z, pi),
+        "time_optimal_rigid_thrusters": lambda: time_optimal_slew(problem, z, pi, thrusters=True),
+        "time_optimal_flexible": lambda: time_optimal_slew(problem, z, pi, flexible=True),
+        "fuel_optimal_1228s": lambda: fuel_optimal_slew(
+            problem, z, pi, duration_s=PAPER_DURATION_S
+        ),
+        "fuel_optimal_1228s_thrusters": lambda: fuel_optimal_slew(
+            problem, z, pi, duration_s=PAPER_DURATION_S, thrusters=True
+        ),
+    }
+    results = {}
+    for name, make in cases.items():
+        repeat = 1 if "flexible" in name else args.repeat
+        profile, walls = measure(make, repeat)
+        results[name] = {
+            "duration_s": profile.duration_s,
+            "duration_over_limit": profile.duration_s / profile.limit_duration_s,
+            "fuel_kg": profile.fuel_kg,
+            "fuel_over_paper": profile.fuel_kg / PAPER_FUEL_KG,
+            "max_torque_mNm": profile.max_torque_Nm * 1e3,
+            "residual_vibration_rad": profile.residual_vibration_rad,
+            "residual_energy_J": profile.residual_energy_J,
+            "solve_time_s": profile.solve_time_s,
+            "wall_time_median_s": statistics.median(walls),
+            "runs": repeat,
+            "solver_status": profile.solver_status,
+            "engine_torque_shortfall_mNm": profile.settings.get("engine_torque_shortfall_Nm", 0.0)
+            * 1e3,
+            "torque_fraction": profile.settings.get("torque_fraction"),
+        }
+    limit = time_optimal_slew(problem, z, pi, check_vibration=False).limit_duration_s
+    payload = {
+        "benchmark": "slew",
+        "problem": problem.name,
+        "machine": platform.platform(),
+        "slew": "180 deg about z, rest to rest",
+        "limit_duration_s": limit,
+        "paper": {"duration_s": PAPER_DURATION_S, "fuel_kg": PAPER_FUEL_KG},
+        "targets": {
+            "time_optimal_solve_time_s_max": 5.0,
+            "flexible_duration_over_limit_max": 1.10,
+            "time_optimal_rigid_met": results["time_optimal_rigid"]["solve_time_s"] <= 5.0,
+            "flexible_met": results["time_optimal_flexible"]["duration_over_limit"] <= 1.10,
+        },
+        "methods": results,
+    }
+    text = json.dumps(json_ready(payload), indent=2)
+    if args.out:
+        args.out.write_text(text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

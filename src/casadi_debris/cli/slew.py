@@ -1,0 +1,168 @@
+"""``casadi-debris slew``: bang-bang, time-optimal and fuel-optimal slew references."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+
+from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
+from casadi_debris.config import load_problem
+from casadi_debris.errors import InputShapeError
+from casadi_debris.plots.slew import plot_slew
+from casadi_debris.report.common import atomic_run_folder, format_table, json_ready
+from casadi_debris.slew import (
+    SlewProfile,
+    bang_bang_slew,
+    fuel_optimal_slew,
+    slew_about_axis,
+    time_optimal_slew,
+)
+
+MNM_PER_NM = 1e3
+MN_PER_N = 1e3
+
+
+def summary_for_output(profile: SlewProfile, problem_name: str) -> dict[str, Any]:
+    """The summary with display units (mNm, deg) in the keys that need them."""
+    summary = profile.summary()
+    summary["max_torque_mNm"] = summary.pop("max_torque_Nm") * MNM_PER_NM
+    summary["angle_deg"] = math.degrees(summary.pop("angle_rad"))
+    if "engine_torque_shortfall_Nm" in summary:
+        summary["engine_torque_shortfall_mNm"] = (
+            summary.pop("engine_torque_shortfall_Nm") * MNM_PER_NM
+        )
+    return {"problem": problem_name, **summary}
+
+
+def write_profile_csv(profile: SlewProfile, path: Path, thrust: bool) -> None:
+    """Time series: quaternion, Euler angles (deg), rate (deg/s), acceleration (deg/s^2),
+    torque (mNm) and, with ``thrust``, thrust per engine (mN)."""
+    columns: dict[str, np.ndarray] = {"time_s": profile.time_s}
+    for i in range(4):
+        columns[f"q{i}_BN"] = profile.quaternion_BN[:, i]
+    for i, name in enumerate(("roll", "pitch", "yaw")):
+        columns[f"{name}_deg"] = np.degrees(profile.euler_angles_rad[:, i])
+    for i, axis in enumerate("xyz"):
+        columns[f"rate_{axis}_deg_s"] = np.degrees(profile.rate_rad_s[:, i])
+    for i, axis in enumerate("xyz"):
+        columns[f"acceleration_{axis}_deg_s2"] = np.degrees(profile.acceleration_rad_s2[:, i])
+    for i, axis in enumerate("xyz"):
+        columns[f"torque_{axis}_mNm"] = profile.torque_Nm[:, i] * MNM_PER_NM
+    if thrust:
+        for i in range(profile.thrust_N.shape[1]):
+            columns[f"thrust_{i + 1:02d}_mN"] = profile.thrust_N[:, i] * MN_PER_N
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(columns)
+        writer.writerows(np.column_stack(list(columns.values())).tolist())
+
+
+def summary_text(summary: dict[str, Any]) -> str:
+    """A short table of the figures a reader looks for first."""
+    torque = ", ".join(f"{v:.3g}" for v in summary["max_torque_mNm"])
+    rows = [
+        ["method", summary["method"]],
+        ["duration [s]", f"{summary['duration_s']:.2f}"],
+        ["rigid eigenaxis limit [s]", f"{summary['limit_duration_s']:.2f}"],
+        ["max torque x, y, z [mNm]", torque],
+        ["fuel [kg]", f"{summary['fuel_kg']:.4g}"],
+        ["residual vibration [rad]", f"{summary['residual_vibration_rad']:.3g}"],
+        ["solve time [s]", f"{summary['solve_time_s']:.3f}"],
+        ["solver status", summary["solver_status"]],
+    ]
+    if "torque_fraction" in summary:
+        rows.insert(4, ["torque fraction", f"{summary['torque_fraction']:.4f}"])
+    return format_table(["figure", "value"], rows)
+
+
+@main.command()
+@problem_argument
+@click.option("--axis", default="z", show_default=True, help="Slew axis: x, y, z, -x, ...")
+@click.option("--angle-deg", default=180.0, show_default=True, help="Slew angle, (0, 180] deg.")
+@click.option(
+    "--method",
+    type=click.Choice(["bang-bang", "time-optimal", "fuel-optimal"]),
+    default="bang-bang",
+    show_default=True,
+)
+@click.option("--duration-s", type=float, help="Slew time (bang-bang, fuel-optimal).")
+@click.option(
+    "--torque-fraction",
+    type=float,
+    help="Share of the torque authority to use (default: 1, or what --duration-s needs).",
+)
+@click.option("--rate-limit-deg-s", type=float, help="Bang-bang: largest slew rate (coast).")
+@click.option("--smoothing-s", type=float, default=0.0, help="Bang-bang: torque ramp per switch.")
+@click.option("--flexible", is_flag=True, help="Shape the optimal slew for the array modes.")
+@click.option("--thrusters", is_flag=True, help="Optimise the thrust of every engine.")
+@click.option("--sample-s", type=float, default=1.0, show_default=True, help="Output spacing.")
+@click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
+@json_option
+@friendly_errors
+def slew(
+    problem_file: Path | None,
+    axis: str,
+    angle_deg: float,
+    method: str,
+    duration_s: float | None,
+    torque_fraction: float | None,
+    rate_limit_deg_s: float | None,
+    smoothing_s: float,
+    flexible: bool,
+    thrusters: bool,
+    sample_s: float,
+    out: Path | None,
+    as_json: bool,
+) -> None:
+    """Slew reference profile: the paper's bang-bang or a CasADi time/fuel-optimal slew.
+
+    Writes profile.csv, slew.png and summary.json to --out, prints the summary.
+    """
+    problem = load_problem(problem_file)
+    target = slew_about_axis(axis, math.radians(angle_deg))
+    if method == "bang-bang":
+        if flexible or thrusters:
+            raise InputShapeError("--flexible and --thrusters apply to the optimal methods")
+        profile = bang_bang_slew(
+            problem,
+            target=target,
+            duration_s=duration_s,
+            torque_fraction=torque_fraction,
+            rate_limit_rad_s=None if rate_limit_deg_s is None else math.radians(rate_limit_deg_s),
+            smoothing_s=smoothing_s,
+            sample_s=sample_s,
+        )
+    else:
+        if rate_limit_deg_s is not None or smoothing_s:
+            raise InputShapeError("--rate-limit-deg-s and --smoothing-s apply to bang-bang only")
+        common = {
+            "target": target,
+            "flexible": flexible,
+            "thrusters": thrusters,
+            "torque_fraction": 1.0 if torque_fraction is None else torque_fraction,
+            "sample_s": sample_s,
+        }
+        if method == "time-optimal":
+            if duration_s is not None:
+                raise InputShapeError("--duration-s: a time-optimal slew chooses its own duration")
+            profile = time_optimal_slew(problem, **common)
+        else:
+            if duration_s is None:
+                raise InputShapeError("--duration-s: needed for a fuel-optimal slew")
+            profile = fuel_optimal_slew(problem, duration_s=duration_s, **common)
+    summary = summary_for_output(profile, problem.name)
+    if out is not None:
+        with atomic_run_folder(out) as folder:
+            (folder / "summary.json").write_text(json.dumps(json_ready(summary), indent=2))
+            write_profile_csv(profile, folder / "profile.csv", thrusters)
+            plot_slew(profile, folder / "slew.png", thrust=thrusters)
+    if as_json:
+        echo_json(summary)
+    else:
+        click.echo(summary_text(summary))

@@ -1,0 +1,52 @@
+"""Figures of a slew profile: attitude, rate, torque (and engine thrust) against time."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.slew import SlewProfile
+
+MNM_PER_NM = 1e3
+MN_PER_N = 1e3
+
+
+def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
+    """Write a PNG of Euler angles (deg), body rates (deg/s), torque (mNm) and, with
+    ``thrust``, the thrust of every engine (mN), all against time (s).
+
+    The torque panel shows the per-axis limits of the engines as dotted lines
+    (the paper's Fig. 9 style) when the profile carries them in its settings.
+    """
+    panels = 4 if thrust else 3
+    figure, axes = plt.subplots(panels, 1, figsize=(8, 2.4 * panels), sharex=True)
+    time = profile.time_s
+    labels = {"x": r"$\Phi$ / x", "y": r"$\Theta$ / y", "z": r"$\Psi$ / z"}
+    angles = np.degrees(np.unwrap(profile.euler_angles_rad, axis=0))
+    rates = np.degrees(profile.rate_rad_s)
+    torque = profile.torque_Nm * MNM_PER_NM
+    for index, axis in enumerate("xyz"):
+        colour = AXIS_COLOURS[axis]
+        axes[0].plot(time, angles[:, index], color=colour, label=labels[axis])
+        axes[1].plot(time, rates[:, index], color=colour)
+        axes[2].step(time, torque[:, index], where="post", color=colour)
+    axes[0].set_ylabel("angle [deg]")
+    axes[0].legend(loc="best", fontsize="small")
+    axes[1].set_ylabel("rate [deg/s]")
+    axes[2].set_ylabel("torque [mNm]")
+    if thrust:
+        axes[3].step(time, profile.thrust_N * MN_PER_N, where="post", linewidth=0.8)
+        axes[3].set_ylabel("thrust per engine [mN]")
+    axes[-1].set_xlabel("time [s]")
+    kind = f"{profile.method}{', flexible' if profile.flexible else ''}"
+    kind += ", thruster level" if profile.thrusters else ""
+    axes[0].set_title(
+        f"{kind}: {np.degrees(profile.target.angle_rad):.0f} deg in {profile.duration_s:.1f} s, "
+        f"fuel {profile.fuel_kg:.3g} kg"
+    )
+    for axis in axes:
+        axis.grid(True, linestyle=":")
+    return save_figure(figure, path)

@@ -1,0 +1,50 @@
+"""Slew references: the paper's bang-bang and time/fuel-optimal slews as CasADi OCPs.
+
+- :mod:`~casadi_debris.slew.maneuver`: rest-to-rest targets, eigenaxis limits.
+- :mod:`~casadi_debris.slew.bang_bang`: the paper's reference profile.
+- :mod:`~casadi_debris.slew.optimal`: time- and fuel-optimal OCPs (torque or
+  thruster level; flexible = shaped for zero array vibration).
+- :mod:`~casadi_debris.slew.propellant`: torque to thrust to propellant.
+- :mod:`~casadi_debris.slew.profile`: the common result and its check on the
+  flexible model.
+"""
+
+from casadi_debris.slew.bang_bang import BangBangTiming, bang_bang_slew, bang_bang_timing
+from casadi_debris.slew.maneuver import (
+    SlewTarget,
+    eigenaxis_acceleration_limit,
+    euler_angles_321,
+    rigid_limit_duration,
+    slew_about_axis,
+    slew_between,
+    torque_limits,
+)
+from casadi_debris.slew.optimal import (
+    fuel_optimal_slew,
+    shape,
+    time_optimal_slew,
+    zero_vibration_shaper,
+)
+from casadi_debris.slew.profile import SlewProfile, simulate
+from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
+
+__all__ = [
+    "BangBangTiming",
+    "SlewProfile",
+    "SlewTarget",
+    "bang_bang_slew",
+    "bang_bang_timing",
+    "eigenaxis_acceleration_limit",
+    "euler_angles_321",
+    "fuel_optimal_slew",
+    "least_fuel_thrust",
+    "propellant_kg",
+    "rigid_limit_duration",
+    "shape",
+    "simulate",
+    "slew_about_axis",
+    "slew_between",
+    "time_optimal_slew",
+    "torque_limits",
+    "zero_vibration_shaper",
+]

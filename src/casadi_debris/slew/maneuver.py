@@ -1,0 +1,203 @@
+"""What a slew has to do: the rest-to-rest attitude pair, its eigenaxis, and the rigid limits.
+
+Eigenaxis rotation (Wie, *Space Vehicle Dynamics and Control*, 2nd ed., Sec. 7.3)
+---------------------------------------------------------------------------------
+Any rest-to-rest re-orientation q_i -> q_f is one rotation by the angle Theta
+about a body-fixed unit axis e (the eigenaxis):
+
+    q_f = q_i (x) [cos(Theta / 2), sin(Theta / 2) e],   Theta in (0, pi] (short way).
+
+Rotating about e with angle theta(t), the body rate is omega = theta_dot e and
+Euler's equation J omega_dot + omega x J omega = tau gives the torque
+
+    tau(t) = theta_ddot J e + theta_dot**2 (e x J e).
+
+With per-axis limits tau_min,i <= tau_i <= tau_max,i the largest eigenaxis
+acceleration (gyroscopic term neglected: it vanishes about a principal axis and
+is second order in the rate) is
+
+    alpha_max = min_i  limit_i / |(J e)_i|,   limit_i = tau_max,i if (J e)_i > 0 else -tau_min,i
+
+and the rest-to-rest bang-bang (accelerate half way, decelerate half way) takes
+
+    T_limit = 2 sqrt(Theta / alpha_max)  (= 2 sqrt(Theta J / tau) about a principal axis),
+
+the rigid eigenaxis limit every slew of this package is measured against.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from casadi_debris.config import AXIS_NAMES
+from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.geometry import Geometry, torque_authority
+
+QUATERNION_TOLERANCE = 1e-9
+
+
+@dataclass(frozen=True)
+class SlewTarget:
+    """A rest-to-rest re-orientation.
+
+    Attributes
+    ----------
+    q_initial_BN, q_final_BN : ndarray, shape (4,)
+        Unit quaternions (scalar first) of B relative to N at start and end;
+        ``q_final_BN = q_initial_BN (x) [cos(angle/2), sin(angle/2) axis_B]``.
+    axis_B : ndarray, shape (3,)
+        Unit eigenaxis in body (and, being fixed during the rotation, inertial) axes.
+    angle_rad : float
+        Eigenaxis angle, in (0, pi].
+    """
+
+    q_initial_BN: np.ndarray
+    q_final_BN: np.ndarray
+    axis_B: np.ndarray
+    angle_rad: float
+
+
+def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product a (x) b of scalar-first quaternions; broadcasts over leading axes."""
+    a0, av = a[..., :1], a[..., 1:]
+    b0, bv = b[..., :1], b[..., 1:]
+    scalar = a0 * b0 - np.sum(av * bv, axis=-1, keepdims=True)
+    vector = a0 * bv + b0 * av + np.cross(av, bv)
+    return np.concatenate([scalar, vector], axis=-1)
+
+
+def axis_vector(axis: str | Sequence[float]) -> np.ndarray:
+    """Unit vector of ``"x"``, ``"-z"``, ... or of three numbers, shape (3,)."""
+    if isinstance(axis, str):
+        name = axis.strip().lower()
+        sign = -1.0 if name.startswith("-") else 1.0
+        name = name.lstrip("+-")
+        if name not in AXIS_NAMES:
+            raise InputShapeError(f"axis: expected x, y, z (optionally signed), got {axis!r}")
+        vector = np.zeros(3)
+        vector[AXIS_NAMES.index(name)] = sign
+        return vector
+    vector = np.asarray(axis, dtype=float)
+    if vector.shape != (3,) or not np.all(np.isfinite(vector)):
+        raise InputShapeError(f"axis: expected three finite numbers, got {axis!r}")
+    norm = float(np.linalg.norm(vector))
+    if norm == 0.0:
+        raise InputShapeError("axis: must not be zero")
+    return vector / norm
+
+
+def _unit_quaternion(q: Sequence[float], name: str) -> np.ndarray:
+    array = np.asarray(q, dtype=float)
+    if array.shape != (4,) or not np.all(np.isfinite(array)):
+        raise InputShapeError(f"{name}: expected four finite numbers (scalar first), got {q!r}")
+    norm = float(np.linalg.norm(array))
+    if norm == 0.0:
+        raise InputShapeError(f"{name}: must not be zero")
+    return array / norm
+
+
+def slew_about_axis(
+    axis: str | Sequence[float],
+    angle_rad: float,
+    q_initial_BN: Sequence[float] = (1.0, 0.0, 0.0, 0.0),
+) -> SlewTarget:
+    """Rest-to-rest rotation by ``angle_rad`` about a body axis.
+
+    Parameters
+    ----------
+    axis : str or sequence of 3 floats
+        ``"x"``, ``"y"``, ``"z"`` (optionally with a sign) or a vector in B.
+    angle_rad : float
+        Rotation angle in (0, pi] rad; larger turns are the short way about -axis.
+    q_initial_BN : sequence of 4 floats
+        Starting attitude (scalar first).
+    """
+    e = axis_vector(axis)
+    if not math.isfinite(angle_rad) or not 0.0 < angle_rad <= math.pi + 1e-12:
+        raise InputShapeError(
+            f"angle: must be in (0, 180] deg, got {math.degrees(angle_rad):g} deg "
+            "(turn about the opposite axis for the other way round)"
+        )
+    angle = min(angle_rad, math.pi)
+    q0 = _unit_quaternion(q_initial_BN, "q_initial_BN")
+    rotation = np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * e])
+    return SlewTarget(q0, quaternion_multiply(q0, rotation), e, angle)
+
+
+def slew_between(q_initial_BN: Sequence[float], q_final_BN: Sequence[float]) -> SlewTarget:
+    """Rest-to-rest slew between two attitudes, the short way round.
+
+    The eigenaxis and angle follow from q_rel = q_i^-1 (x) q_f with its sign chosen
+    so that q_rel,0 >= 0 (angle <= pi).
+    """
+    q0 = _unit_quaternion(q_initial_BN, "q_initial_BN")
+    qf = _unit_quaternion(q_final_BN, "q_final_BN")
+    relative = quaternion_multiply(q0 * np.array([1.0, -1.0, -1.0, -1.0]), qf)
+    if relative[0] < 0:
+        relative = -relative
+    sine = float(np.linalg.norm(relative[1:]))
+    if sine < QUATERNION_TOLERANCE:
+        raise InputShapeError("q_final_BN: equals q_initial_BN, nothing to slew")
+    angle = 2.0 * math.atan2(sine, relative[0])
+    return slew_about_axis(relative[1:] / sine, angle, q0)
+
+
+def torque_limits(
+    geometry: Geometry, torque_fraction: float = 1.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per-axis torque box from the engines: (lower, upper), N m, shape (3,) each.
+
+    The box is ``torque_fraction`` times the largest pure torque about each signed
+    body axis (:func:`casadi_debris.geometry.torque_authority`, a linear programme
+    over the engines).
+    """
+    if not math.isfinite(torque_fraction) or not 0.0 < torque_fraction <= 1.0:
+        raise InputShapeError(f"torque_fraction: must be in (0, 1], got {torque_fraction}")
+    authority = torque_authority(geometry)
+    upper = np.array([authority[f"+{a}"] for a in AXIS_NAMES]) * torque_fraction
+    lower = -np.array([authority[f"-{a}"] for a in AXIS_NAMES]) * torque_fraction
+    return lower, upper
+
+
+def eigenaxis_acceleration_limit(
+    inertia_kgm2: np.ndarray, axis_B: np.ndarray, lower_Nm: np.ndarray, upper_Nm: np.ndarray
+) -> float:
+    """Largest eigenaxis angular acceleration alpha_max (rad/s^2) within the torque box.
+
+    Both signs of the acceleration are needed in a rest-to-rest slew, so the
+    smaller of the two is returned.
+    """
+    moment = np.asarray(inertia_kgm2, dtype=float) @ axis_B
+    ratios = []
+    for sign in (1.0, -1.0):
+        demand = sign * moment
+        for i in range(3):
+            if abs(demand[i]) > 1e-12 * float(np.max(np.abs(moment))):
+                limit = upper_Nm[i] if demand[i] > 0 else -lower_Nm[i]
+                ratios.append(limit / abs(demand[i]))
+    alpha = min(ratios)
+    if alpha <= 0.0:
+        raise SlewInfeasibleError("infeasible: the engines give no torque about the slew axis")
+    return float(alpha)
+
+
+def rigid_limit_duration(angle_rad: float, alpha_max_rad_s2: float) -> float:
+    """Rest-to-rest eigenaxis bang-bang time 2 sqrt(Theta / alpha_max), s."""
+    return 2.0 * math.sqrt(angle_rad / alpha_max_rad_s2)
+
+
+def euler_angles_321(quaternion_BN: np.ndarray) -> np.ndarray:
+    """Roll, pitch, yaw [Phi, Theta, Psi] (rad) of the 3-2-1 sequence; shape (..., 3).
+
+    Yaw and roll in (-pi, pi], pitch in [-pi/2, pi/2] (Wie, eq. 5.68 ff.).
+    """
+    q = np.asarray(quaternion_BN, dtype=float)
+    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    roll = np.arctan2(2 * (q0 * q1 + q2 * q3), 1 - 2 * (q1**2 + q2**2))
+    pitch = np.arcsin(np.clip(2 * (q0 * q2 - q3 * q1), -1.0, 1.0))
+    yaw = np.arctan2(2 * (q0 * q3 + q1 * q2), 1 - 2 * (q2**2 + q3**2))
+    return np.stack([roll, pitch, yaw], axis=-1)

@@ -1,0 +1,770 @@
+"""Time- and fuel-optimal rest-to-rest slews as CasADi ``Opti`` problems.
+
+Optimal control problem
+-----------------------
+States x: the rigid model's state without the star tracker (q_BN, omega, v);
+the dynamics are the model's own ``dynamics`` Function (``build_model(problem,
+modes=[])``, full rigid inertia), called with the sensor state equal to the
+attitude (its derivative is then zero). Controls, held on each interval:
+
+- torque level: tau in the per-axis box of the engines' authority
+  (:func:`~casadi_debris.slew.maneuver.torque_limits`, times ``torque_fraction``);
+- thruster level: the thrust of every engine, 0 <= f_i <= f_max,i; the model
+  receives tau = B f and F = B_F f (geometry torque and force maps), so the
+  profile is realisable by construction.
+
+Problems (Betts, *Practical Methods for Optimal Control*, 2nd ed., ch. 4):
+
+    time-optimal:  min T   s.t. x(0) = rest at q_i, e(q_f, q(T)) = 0, h(T) = 0
+    fuel-optimal:  min sum_i int f_i dt (thruster level), or
+                   min int sum_i c_i+ tau_i+ + c_i- tau_i- dt (torque level,
+                   tau = tau+ - tau-, c the least thrust per unit torque about
+                   each signed axis), T given,
+
+e the model's attitude error (three equations; q(T) = q_f would be four,
+nearly rank deficient) and h the angular momentum (``model.momenta``).
+Transcription: direct collocation on Radau IIA points of degree 3, uniform
+intervals (an even count puts the single-axis switch at a node), states and
+controls scaled by physical magnitudes, initial guess = the eigenaxis
+bang-bang marched through the collocation equations themselves.
+
+Flexible slews
+--------------
+``flexible`` keeps the optimal rigid profile and passes it through a cascaded
+zero-vibration input shaper tuned to every array mode of the full model
+(:func:`zero_vibration_shaper`), then integrates the shaped input on the full
+flexible model (CVODES) to report the residual vibration and the vibration
+energy left, next to the limit ``residual_energy_fraction`` times what the
+bang-bang at the rigid limit leaves. The shaper lengthens the slew by the sum
+of half the damped periods (1.4 s for the paper's arrays); fuel-optimal slews
+give the rigid problem that much less time. A collocation OCP with the modal
+states as variables (a coarse grid refined towards the end, or a rigid bulk
+with a flexible terminal window) was tried and left out: IPOPT stalled on its
+near-singular KKT systems. The array torques are mNm against 5.6-35 rad/s
+modes, so the modes stay quasi-static and only the torque steps excite them.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.geometry import max_thrust_N
+from casadi_debris.model import Model, build_model, linearize
+from casadi_debris.slew.bang_bang import bang_bang_slew
+from casadi_debris.slew.maneuver import (
+    SlewTarget,
+    eigenaxis_acceleration_limit,
+    rigid_limit_duration,
+    slew_about_axis,
+    torque_limits,
+)
+from casadi_debris.slew.profile import (
+    SlewProfile,
+    finish_profile,
+    input_vector,
+    simulate,
+    vibration_energy,
+    zoh_input_function,
+)
+from casadi_debris.slew.propellant import axis_fuel_rates, least_fuel_thrust
+
+COLLOCATION_DEGREE = 3
+RIGID_INTERVALS = 40
+REGULARISATION = 1e-6
+DEFAULT_RESIDUAL_ENERGY_FRACTION = 0.01
+DEFAULT_SAMPLE_S = 1.0
+ACCEPTED_STATUS = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+IPOPT_OPTIONS = {
+    "expand": True,
+    "print_time": False,
+    "ipopt.print_level": 0,
+    "ipopt.sb": "yes",
+    "ipopt.max_iter": 1500,
+    "ipopt.tol": 1e-9,
+}
+
+
+@dataclass(frozen=True)
+class _Collocation:
+    """Radau IIA collocation matrices on [0, 1] (CasADi's direct_collocation example)."""
+
+    tau: np.ndarray  # (d + 1,) with the interval start 0 first
+    derivative: np.ndarray  # C[r, j]: d/dtau of Lagrange basis r at point j
+    end: np.ndarray  # D[r]: basis r at tau = 1
+
+    @classmethod
+    def radau(cls, degree: int) -> _Collocation:
+        tau = np.concatenate([[0.0], ca.collocation_points(degree, "radau")])
+        derivative = np.zeros((degree + 1, degree + 1))
+        end = np.zeros(degree + 1)
+        for r in range(degree + 1):
+            basis = np.poly1d([1.0])
+            for s in range(degree + 1):
+                if s != r:
+                    basis *= np.poly1d([1.0, -tau[s]]) / (tau[r] - tau[s])
+            end[r] = basis(1.0)
+            slope = np.polyder(basis)
+            derivative[r] = [slope(point) for point in tau]
+        return cls(tau, derivative, end)
+
+
+@dataclass
+class _Phase:
+    """One stretch of the horizon on one model: uniform intervals, scaled states.
+
+    ``interval(xk, xc, uk, h) -> (defects (n x d), x_end)`` works on scaled states
+    and controls; ``variables`` are filled in when the NLP is built.
+    """
+
+    model: Model
+    n_x: int
+    x_scale: np.ndarray
+    intervals: int
+    interval: ca.Function
+    X: ca.MX | None = None
+    XC: ca.MX | None = None
+    U: ca.MX | None = None
+
+    def full_state(self, x: ca.SX | ca.MX) -> ca.SX | ca.MX:
+        """Reduced state with the star tracker appended at the true attitude."""
+        return ca.vertcat(x, x[self.model.layout.q])
+
+
+def zero_vibration_shaper(
+    model: Model, parameters: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Cascaded zero-vibration (ZV) input shaper for every array mode of a model.
+
+    For a mode of natural frequency omega_n and damping zeta (poles of the
+    model linearised at rest, :func:`casadi_debris.model.linearize`) the ZV
+    shaper (Singer & Seering, J. Dyn. Sys. Meas. Control 112, 1990) is two
+    impulses
+
+        A_1 = 1 / (1 + K) at t = 0,   A_2 = K / (1 + K) at t = pi / omega_d,
+        K = exp(-zeta pi / sqrt(1 - zeta^2)),  omega_d = omega_n sqrt(1 - zeta^2);
+
+    a linear mode driven by the shaped input is left at rest after the last
+    impulse. Cascading one shaper per mode (convolving the impulse trains)
+    cancels them all; the amplitudes are positive and sum to one, so a shaped
+    torque or thrust stays within its bounds and keeps its integral.
+
+    Returns
+    -------
+    times_s, amplitudes : ndarray, shape (2**m,)
+        Impulse times (ascending, from 0) and amplitudes.
+    frequencies_rad_s : ndarray, shape (m,)
+        The natural frequencies shaped.
+    """
+    poles = np.linalg.eigvals(linearize(model, parameters).A)
+    oscillatory = poles[poles.imag > 1e-9]
+    times, amplitudes = np.zeros(1), np.ones(1)
+    for pole in oscillatory:
+        natural = abs(pole)
+        zeta = -pole.real / natural
+        k = math.exp(-zeta * math.pi / math.sqrt(1.0 - zeta**2))
+        delay = math.pi / pole.imag
+        times = np.concatenate([times, times + delay])
+        amplitudes = np.concatenate([amplitudes / (1 + k), amplitudes * k / (1 + k)])
+    order = np.argsort(times)
+    return times[order], amplitudes[order], np.sort(np.abs(oscillatory))
+
+
+def shape(
+    knots_s: np.ndarray, controls: np.ndarray, times_s: np.ndarray, amplitudes: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Convolve a piecewise-constant control with an impulse train.
+
+    ``u_shaped(t) = sum_i A_i u(t - t_i)`` with u held at ``controls[k]`` on
+    [knots[k], knots[k + 1]) and zero outside. Returns the new knots and the
+    control on each new interval (breaks closer than 1 microsecond merged).
+    """
+    knots = np.unique(np.concatenate([knots_s + t for t in times_s]))
+    knots = knots[np.concatenate([[True], np.diff(knots) > 1e-6])]
+    middles = 0.5 * (knots[:-1] + knots[1:])
+    shaped = np.zeros((len(middles), controls.shape[1]))
+    for t, a in zip(times_s, amplitudes, strict=True):
+        index = np.searchsorted(knots_s, middles - t, side="right") - 1
+        inside = (index >= 0) & (index < len(controls))
+        shaped[inside] += a * controls[index[inside]]
+    return knots, shaped
+
+
+class _SlewOCP:
+    """One slew OCP on the rigid model (module notes); ``flexible`` shapes its result."""
+
+    def __init__(
+        self,
+        problem: Problem,
+        target: SlewTarget,
+        *,
+        flexible: bool,
+        thrusters: bool,
+        torque_fraction: float,
+        single_axis: bool,
+    ) -> None:
+        if single_axis and thrusters:
+            raise InputShapeError("single_axis applies to torque-level slews only")
+        self.problem = problem
+        self.target = target
+        self.flexible = flexible
+        self.thrusters = thrusters
+        self.single_axis = single_axis
+        self.torque_fraction = torque_fraction
+        self.rigid_model = build_model(problem, modes=[])
+        self.flexible_model = build_model(problem, "all") if flexible else None
+        if flexible and self.flexible_model.layout.n_eta == 0:
+            raise InputShapeError("flexible: the problem has no array modes")
+        self.geometry = self.rigid_model.geometry
+        self.parameters = self.rigid_model.nominal_parameters
+        self.lower, self.upper = torque_limits(self.geometry, torque_fraction)
+        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
+        self.alpha_max = eigenaxis_acceleration_limit(
+            inertia, target.axis_B, self.lower, self.upper
+        )
+        self.limit_duration_s = rigid_limit_duration(target.angle_rad, self.alpha_max)
+        self.f_max = max_thrust_N(self.geometry)
+
+    # -- model pieces ------------------------------------------------------------------
+    def _torque_force(self, control: ca.SX, fuel: bool) -> tuple[ca.SX, ca.SX]:
+        if self.thrusters:
+            return (
+                ca.DM(self.geometry.torque_map) @ control,
+                ca.DM(self.geometry.force_map) @ control,
+            )
+        torque = control[0:3] - control[3:6] if fuel else control
+        return torque, ca.SX.zeros(3)
+
+    def _control_bounds(self, fuel: bool) -> tuple[np.ndarray, np.ndarray]:
+        if self.thrusters:
+            return np.zeros_like(self.f_max), self.f_max
+        if fuel:
+            return np.zeros(6), np.concatenate([self.upper, -self.lower])
+        return self.lower, self.upper
+
+    def _phase(
+        self, model: Model, x_scale: np.ndarray, u_scale: np.ndarray, intervals: int, fuel: bool
+    ) -> _Phase:
+        """Radau collocation equations of one interval on ``model`` (scaled), mapped."""
+        colloc = _Collocation.radau(COLLOCATION_DEGREE)
+        n_x = model.layout.size - 4  # without the star-tracker quaternion (last)
+        xk = ca.SX.sym("xk", n_x)
+        xc = ca.SX.sym("xc", n_x, COLLOCATION_DEGREE)
+        uk = ca.SX.sym("uk", len(u_scale))
+        h = ca.SX.sym("h")
+        x_s = ca.DM(x_scale)
+        torque, force = self._torque_force(uk * ca.DM(u_scale), fuel)
+        u_model = input_vector(torque, force)
+        points = ca.horzcat(xk, xc)
+        defects = []
+        for j in range(1, COLLOCATION_DEGREE + 1):
+            slope = points @ ca.DM(colloc.derivative[:, j])
+            state = points[:, j] * x_s
+            rate = model.dynamics(
+                ca.vertcat(state, state[model.layout.q]), u_model, self.parameters
+            )
+            defects.append(h * rate[:n_x] / x_s - slope)
+        single = ca.Function(
+            "interval", [xk, xc, uk, h], [ca.horzcat(*defects), points @ ca.DM(colloc.end)]
+        )
+        return _Phase(model, n_x, x_scale, intervals, single)
+
+    # -- initial guess and scaling ----------------------------------------------------
+    def _reference(self, duration_s: float) -> SlewProfile:
+        """Eigenaxis bang-bang at ``duration_s`` (at least the rigid limit): the initial guess."""
+        return bang_bang_slew(
+            self.problem,
+            target=self.target,
+            duration_s=max(duration_s, self.limit_duration_s),
+            check_vibration=False,
+            model=self.rigid_model,
+        )
+
+    def _bang_bang_energy(self) -> float:
+        """Vibration energy (J) the bang-bang at the rigid limit leaves in the arrays."""
+        reference = self._reference(self.limit_duration_s)
+        knots = np.array([0.0, reference.duration_s / 2.0, reference.duration_s])
+        states = simulate(
+            self.flexible_model,
+            reference.input_function,
+            knots,
+            self.flexible_model.initial_state(self.target.q_initial_BN),
+            self.parameters,
+        )
+        return vibration_energy(self.flexible_model, states[-1], self.parameters)
+
+    def _state_scale(self, model: Model, peak_rate_rad_s: float, duration_s: float) -> np.ndarray:
+        """Magnitudes of the states, from physics rather than from a guess.
+
+        omega: the peak rate of the guess. eta_k: the quasi-static deflection under
+        the largest acceleration, |H_r,k| alpha_max / Omega_k^2 (H_r,k the rotational
+        participation, from the model's mass matrix); eta_dot_k: Omega_k times
+        that. v: the translation the modes' momentum P_t^T eta_dot gives the
+        reference point, or what the engines' net force can give in T.
+        """
+        lay = model.layout
+        scale = np.ones(lay.size - 4)
+        scale[lay.omega] = peak_rate_rad_s
+        mass = np.array(model.mass_matrix(self.parameters))
+        total_mass = float(mass[0, 0])
+        velocity = 0.0
+        if lay.n_eta:
+            omegas = {mode.name: mode.omega_rad_s for mode in self.problem.arrays.modes}
+            frequency = np.array([omegas[name] for _, name in lay.mode_labels])
+            translational, rotational = mass[6:, 0:3], mass[6:, 3:6]
+            deflection = np.linalg.norm(rotational, axis=1) * self.alpha_max / frequency**2
+            scale[lay.eta] = deflection
+            scale[lay.eta_dot] = frequency * deflection
+            velocity = (
+                float(np.linalg.norm(translational.T @ (frequency * deflection))) / total_mass
+            )
+        if self.thrusters:
+            velocity = max(velocity, float(np.sum(self.f_max)) * duration_s / total_mass)
+        scale[lay.v] = velocity if velocity > 0.0 else 1.0
+        return scale
+
+    @staticmethod
+    def _march(
+        phase: _Phase, x0: np.ndarray, controls: np.ndarray, step_s: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Integrate the guess with the transcription itself (Newton on each interval).
+
+        A guess that satisfies the collocation equations exactly leaves IPOPT only
+        the end conditions to fix.
+        """
+        n, d = phase.n_x, COLLOCATION_DEGREE
+        unknown = ca.SX.sym("xc", n * d)
+        given = ca.SX.sym("given", n + controls.shape[0] + 1)
+        defects, end = phase.interval(given[:n], ca.reshape(unknown, n, d), given[n:-1], given[-1])
+        solver = ca.rootfinder(
+            "march",
+            "newton",
+            ca.Function("collocation", [unknown, given], [ca.vec(defects)]),
+            {"abstol": 1e-10, "max_iter": 50, "error_on_fail": False},
+        )
+        end_state = ca.Function("end", [unknown, given], [end])
+        nodes, inner = [x0], []
+        for k in range(controls.shape[1]):
+            parameters = np.concatenate([nodes[-1], controls[:, k], [step_s]])
+            solution = solver(np.tile(nodes[-1], d), parameters)
+            inner.append(np.array(solution).reshape(d, n).T)
+            nodes.append(np.array(end_state(solution, parameters)).ravel())
+        return np.array(nodes).T, np.hstack(inner)
+
+    # -- the NLP -----------------------------------------------------------------------
+    def solve(
+        self,
+        *,
+        objective: str,
+        duration_s: float | None,
+        intervals: int | None,
+        residual_energy_fraction: float,
+        sample_s: float,
+        check_vibration: bool,
+        warm_start: SlewProfile | None = None,
+    ) -> SlewProfile:
+        """Transcribe and solve; ``warm_start`` (e.g. the rigid solution) replaces the bang-bang."""
+        started = time.perf_counter()
+        fuel = objective == "fuel"
+        shaper_times, shaper_amplitudes, shaped_frequencies = (
+            zero_vibration_shaper(self.flexible_model, self.parameters)
+            if self.flexible
+            else (np.zeros(1), np.ones(1), np.zeros(0))
+        )
+        if fuel:  # the shaper stretches the rigid profile by its length
+            duration_s = duration_s - float(shaper_times[-1])
+        reference = self._reference(duration_s if fuel else self.limit_duration_s)
+        if warm_start is not None:
+            reference = warm_start
+        guess_total = duration_s if fuel else reference.duration_s
+        peak_rate = float(np.max(np.linalg.norm(reference.rate_rad_s, axis=1)))
+        lower_u, upper_u = self._control_bounds(fuel)
+        u_scale = np.maximum(np.maximum(np.abs(lower_u), np.abs(upper_u)), 1e-30)
+        n_u = len(u_scale)
+        rigid_scale = self._state_scale(self.rigid_model, peak_rate, guess_total)
+        phases = [
+            self._phase(self.rigid_model, rigid_scale, u_scale, intervals or RIGID_INTERVALS, fuel)
+        ]
+        opti = ca.Opti()
+        if fuel:
+            bulk = ca.MX(duration_s)
+        else:
+            bulk_scaled = opti.variable()
+            bulk = bulk_scaled * self.limit_duration_s
+            opti.subject_to(opti.bounded(0.05, bulk_scaled, 20.0))
+            opti.set_initial(bulk_scaled, guess_total / self.limit_duration_s)
+        lengths = [bulk]
+        d = COLLOCATION_DEGREE
+        for phase, length in zip(phases, lengths, strict=False):
+            n = phase.intervals
+            phase.X = opti.variable(phase.n_x, n + 1)
+            phase.XC = opti.variable(phase.n_x, n * d)
+            phase.U = opti.variable(n_u, n)
+            defect, ends = phase.interval.map(n)(
+                phase.X[:, :-1], phase.XC, phase.U, ca.repmat(length / n, 1, n)
+            )
+            opti.subject_to(ca.vec(defect) == 0)
+            opti.subject_to(ca.vec(phase.X[:, 1:] - ends) == 0)
+            opti.subject_to(
+                opti.bounded(
+                    np.tile((lower_u / u_scale)[:, None], n),
+                    phase.U,
+                    np.tile((upper_u / u_scale)[:, None], n),
+                )
+            )
+            if self.single_axis:  # torque along the eigenaxis: two rows spanning its normal plane
+                across = np.linalg.svd(self.target.axis_B[None, :])[2][1:]
+                scaled = ca.DM(across @ np.diag(u_scale / np.max(u_scale)))
+                opti.subject_to(ca.vec(scaled @ phase.U) == 0)
+        rigid = phases[0]
+        x0 = self.rigid_model.initial_state(self.target.q_initial_BN)[: rigid.n_x]
+        opti.subject_to(rigid.X[:, 0] == x0 / rigid_scale)
+
+        last = phases[-1]
+        lay = last.model.layout
+        final = last.X[:, -1] * ca.DM(last.x_scale)
+        final_full = last.full_state(final)
+        # Three equations, not four: the dynamics keep |q| = 1, so q(T) = q_f would be
+        # (nearly) rank deficient.
+        opti.subject_to(last.model.attitude_error(self.target.q_final_BN, final[lay.q]) == 0)
+        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
+        momentum_scale = float(self.target.axis_B @ inertia @ self.target.axis_B) * peak_rate
+        _, angular = last.model.momenta(final_full, self.parameters)
+        opti.subject_to(angular / momentum_scale == 0)
+        # Objective: integrals as sums over both phases, in units of the guess's duration.
+        total_scaled = bulk / guess_total
+        cost = 0
+        for phase, length in zip(phases, lengths, strict=False):
+            weight = length / guess_total / phase.intervals
+            if fuel:
+                if self.thrusters:
+                    rates = np.ones(n_u) / n_u
+                else:
+                    plus, minus = axis_fuel_rates(self.geometry)
+                    rates = np.concatenate([plus, minus]) * u_scale
+                    rates = rates / np.max(rates)
+                cost += weight * ca.sum2(ca.DM(rates).T @ phase.U)
+            elif self.thrusters:
+                cost += REGULARISATION * weight * ca.sum2(ca.sum1(phase.U)) / n_u
+            else:
+                cost += REGULARISATION * weight * ca.sumsqr(phase.U)
+        opti.minimize(cost if fuel else total_scaled + cost)
+
+        # Initial guess: the reference's controls, marched through the transcription.
+        bulk_guess = guess_total
+        times = (np.arange(rigid.intervals) + 0.5) * bulk_guess / rigid.intervals
+        controls = self._control_guess(reference, times, fuel).T / u_scale[:, None]
+        nodes, inner = self._march(rigid, x0 / rigid_scale, controls, bulk_guess / rigid.intervals)
+        opti.set_initial(rigid.X, nodes)
+        opti.set_initial(rigid.XC, inner)
+        opti.set_initial(rigid.U, controls)
+        opti.solver("ipopt", IPOPT_OPTIONS)
+        try:
+            solution = opti.solve()
+            status = solution.stats()["return_status"]
+            value = solution.value
+        except RuntimeError:
+            status = opti.stats().get("return_status", "failed")
+            value = opti.debug.value
+        if status not in ACCEPTED_STATUS:
+            raise SlewInfeasibleError(f"optimal slew did not converge (ipopt: {status})")
+        solve_time = time.perf_counter() - started
+        bulk_s = float(value(bulk))
+        knots = [np.linspace(0.0, bulk_s, rigid.intervals + 1)]
+        controls = [np.array(value(rigid.U)).reshape(n_u, rigid.intervals).T]
+        knots, controls = np.concatenate(knots), np.vstack(controls) * u_scale
+        settings = {}
+        if self.flexible:
+            rigid_duration = float(knots[-1])
+            knots, controls = shape(knots, controls, shaper_times, shaper_amplitudes)
+            reference_energy = self._bang_bang_energy()
+            settings = {
+                "rigid_duration_s": rigid_duration,
+                "shaped_frequencies_rad_s": shaped_frequencies,
+                "shaper_length_s": float(shaper_times[-1]),
+                "residual_energy_limit_J": residual_energy_fraction * reference_energy,
+            }
+        return self._profile(
+            objective=objective,
+            knots=knots,
+            controls=controls,
+            extra_settings=settings,
+            fuel=fuel,
+            solve_time=solve_time,
+            status=status,
+            sample_s=sample_s,
+            check_vibration=check_vibration,
+        )
+
+    def _control_guess(self, reference: SlewProfile, times_s: np.ndarray, fuel: bool) -> np.ndarray:
+        """Controls of ``reference`` at ``times_s`` in this OCP's form, shape (n, n_u)."""
+        if self.thrusters and reference.thrusters:
+            held = np.searchsorted(reference.time_s, times_s, side="right") - 1
+            return reference.thrust_N[np.clip(held, 0, len(reference.time_s) - 1)]
+        inputs = np.array(reference.input_function.map(len(times_s))(times_s)).T
+        torque = np.clip(inputs[:, :3], self.lower, self.upper)
+        if self.thrusters:
+            return least_fuel_thrust(self.geometry, torque)[0]
+        if fuel:
+            return np.hstack([np.maximum(torque, 0.0), np.maximum(-torque, 0.0)])
+        return torque
+
+    def _profile(
+        self,
+        *,
+        objective: str,
+        knots: np.ndarray,
+        controls: np.ndarray,
+        fuel: bool,
+        solve_time: float,
+        status: str,
+        sample_s: float,
+        check_vibration: bool,
+        extra_settings: dict,
+    ) -> SlewProfile:
+        model = self.flexible_model if self.flexible else self.rigid_model
+        lay = model.layout
+        total = float(knots[-1])
+        if self.thrusters:
+            torque = controls @ self.geometry.torque_map.T
+            force = controls @ self.geometry.force_map.T
+        else:
+            torque = controls[:, 0:3] - controls[:, 3:6] if fuel else controls
+            force = None
+        input_function = zoh_input_function(knots, torque, force)
+        grid = np.unique(np.concatenate([np.arange(0.0, total, sample_s), knots]))
+        states = simulate(
+            model,
+            input_function,
+            grid,
+            model.initial_state(self.target.q_initial_BN),
+            self.parameters,
+        )
+        inputs = np.array(input_function.map(len(grid))(grid)).T
+        accelerations = np.array(
+            [
+                np.array(model.dynamics(x, u, self.parameters)).ravel()[lay.omega]
+                for x, u in zip(states, inputs, strict=True)
+            ]
+        )
+        final_error = np.array(
+            model.attitude_error(self.target.q_final_BN, states[-1, lay.q])
+        ).ravel()
+        settings = {
+            "torque_fraction": self.torque_fraction,
+            "control_intervals": len(knots) - 1,
+            "collocation_degree": COLLOCATION_DEGREE,
+            "final_attitude_error_rad": float(np.linalg.norm(final_error)),
+            "final_rate_rad_s": float(np.linalg.norm(states[-1, lay.omega])),
+            "single_axis": self.single_axis,
+        }
+        settings.update(extra_settings)
+        if self.thrusters:
+            settings["delta_v_m_s"] = float(np.linalg.norm(states[-1, lay.v]))
+        return finish_profile(
+            problem=self.problem,
+            geometry=self.geometry,
+            method=f"{objective}-optimal",
+            target=self.target,
+            flexible=self.flexible,
+            thrusters=self.thrusters,
+            time_s=grid,
+            quaternion_BN=states[:, lay.q],
+            rate_rad_s=states[:, lay.omega],
+            acceleration_rad_s2=accelerations,
+            input_function=input_function,
+            knots_s=knots,
+            interval_thrust_N=controls if self.thrusters else None,
+            duration_s=total,
+            limit_duration_s=self.limit_duration_s,
+            solve_time_s=solve_time,
+            solver_status=status,
+            settings=settings,
+            check_vibration=check_vibration,
+            flexible_model=self.flexible_model,
+        )
+
+
+def time_optimal_slew(
+    problem: Problem,
+    axis: str | Sequence[float] = "z",
+    angle_rad: float = math.pi,
+    *,
+    target: SlewTarget | None = None,
+    flexible: bool = False,
+    thrusters: bool = False,
+    torque_fraction: float = 1.0,
+    single_axis: bool = False,
+    intervals: int | None = None,
+    residual_energy_fraction: float = DEFAULT_RESIDUAL_ENERGY_FRACTION,
+    sample_s: float = DEFAULT_SAMPLE_S,
+    check_vibration: bool = True,
+) -> SlewProfile:
+    """Minimum-time rest-to-rest slew (free final time, nonlinear attitude dynamics).
+
+    Parameters
+    ----------
+    problem : Problem
+    axis, angle_rad
+        Eigenaxis and angle in (0, pi] (ignored when ``target`` is given).
+    target : SlewTarget, optional
+        Any rest-to-rest attitude pair.
+    flexible : bool
+        Shape the optimal profile for zero vibration of every array mode and check it
+        on the full flexible model (module notes).
+    thrusters : bool
+        Thrust per engine as the decision variable (0 <= f <= f_max).
+    torque_fraction : float
+        Share of the per-axis torque authority usable (torque level) in (0, 1].
+    single_axis : bool
+        Restrict the torque to the eigenaxis (the single-degree-of-freedom slew).
+    intervals : int, optional
+        Collocation intervals (even; default 40).
+    residual_energy_fraction : float
+        Flexible only: the reported limit on the vibration energy left, as a fraction of
+        what the bang-bang at the rigid limit leaves.
+    sample_s : float
+        Output sample spacing (the control knots are added).
+    check_vibration : bool
+        Integrate the result on the full flexible model for the residual vibration.
+
+    Returns
+    -------
+    SlewProfile
+
+    Raises
+    ------
+    SlewInfeasibleError
+        IPOPT did not converge.
+    """
+    _check_common(torque_fraction, residual_energy_fraction, sample_s, intervals)
+    goal = slew_about_axis(axis, angle_rad) if target is None else target
+    ocp = _SlewOCP(
+        problem,
+        goal,
+        flexible=flexible,
+        thrusters=thrusters,
+        torque_fraction=torque_fraction,
+        single_axis=single_axis,
+    )
+    return _solve(
+        problem,
+        goal,
+        ocp,
+        objective="time",
+        duration_s=None,
+        intervals=intervals,
+        residual_energy_fraction=residual_energy_fraction,
+        sample_s=sample_s,
+        check_vibration=check_vibration,
+        torque_fraction=torque_fraction,
+    )
+
+
+def fuel_optimal_slew(
+    problem: Problem,
+    axis: str | Sequence[float] = "z",
+    angle_rad: float = math.pi,
+    *,
+    duration_s: float,
+    target: SlewTarget | None = None,
+    flexible: bool = False,
+    thrusters: bool = False,
+    torque_fraction: float = 1.0,
+    intervals: int | None = None,
+    residual_energy_fraction: float = DEFAULT_RESIDUAL_ENERGY_FRACTION,
+    sample_s: float = DEFAULT_SAMPLE_S,
+    check_vibration: bool = True,
+) -> SlewProfile:
+    """Least-propellant rest-to-rest slew of a given duration.
+
+    Parameters are those of :func:`time_optimal_slew`, plus ``duration_s`` (s).
+    Durations below the rigid eigenaxis limit are checked against the
+    time-optimal slew first.
+
+    Raises
+    ------
+    SlewInfeasibleError
+        ``"infeasible: minimum is X s"`` when ``duration_s`` is shorter than the
+        time-optimal slew; or IPOPT did not converge.
+    """
+    _check_common(torque_fraction, residual_energy_fraction, sample_s, intervals)
+    if not math.isfinite(duration_s):
+        raise InputShapeError(f"duration_s: must be finite, got {duration_s}")
+    goal = slew_about_axis(axis, angle_rad) if target is None else target
+    ocp = _SlewOCP(
+        problem,
+        goal,
+        flexible=flexible,
+        thrusters=thrusters,
+        torque_fraction=torque_fraction,
+        single_axis=False,
+    )
+    if duration_s < ocp.limit_duration_s:
+        # Three free axes can beat the eigenaxis limit (Bilimoria & Wie 1993): ask the OCP.
+        fastest = ocp.solve(
+            objective="time",
+            duration_s=None,
+            intervals=intervals,
+            residual_energy_fraction=residual_energy_fraction,
+            sample_s=sample_s,
+            check_vibration=False,
+        )
+        if duration_s < fastest.duration_s:
+            raise SlewInfeasibleError(f"infeasible: minimum is {fastest.duration_s:.6g} s")
+    return _solve(
+        problem,
+        goal,
+        ocp,
+        objective="fuel",
+        duration_s=duration_s,
+        intervals=intervals,
+        residual_energy_fraction=residual_energy_fraction,
+        sample_s=sample_s,
+        check_vibration=check_vibration,
+        torque_fraction=torque_fraction,
+    )
+
+
+def _solve(
+    problem: Problem,
+    target: SlewTarget,
+    ocp: _SlewOCP,
+    *,
+    objective: str,
+    duration_s: float | None,
+    intervals: int | None,
+    residual_energy_fraction: float,
+    sample_s: float,
+    check_vibration: bool,
+    torque_fraction: float,
+) -> SlewProfile:
+    """Solve ``ocp`` (kept as one entry point for both objectives)."""
+    return ocp.solve(
+        objective=objective,
+        duration_s=duration_s,
+        intervals=intervals,
+        residual_energy_fraction=residual_energy_fraction,
+        sample_s=sample_s,
+        check_vibration=check_vibration,
+    )
+
+
+def _check_common(
+    torque_fraction: float, energy_fraction: float, sample_s: float, intervals: int | None
+) -> None:
+    if not math.isfinite(torque_fraction) or not 0.0 < torque_fraction <= 1.0:
+        raise InputShapeError(f"torque_fraction: must be in (0, 1], got {torque_fraction}")
+    if not math.isfinite(energy_fraction) or energy_fraction <= 0.0:
+        raise InputShapeError(f"residual_energy_fraction: must be > 0, got {energy_fraction}")
+    if not math.isfinite(sample_s) or sample_s <= 0.0:
+        raise InputShapeError(f"sample_s: must be > 0, got {sample_s}")
+    if intervals is not None and (intervals < 2 or intervals % 2):
+        raise InputShapeError(f"intervals: must be an even number >= 2, got {intervals}")

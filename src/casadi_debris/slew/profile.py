@@ -1,0 +1,294 @@
+"""The result of every slew method, and its check on the flexible model.
+
+A :class:`SlewProfile` is a feed-forward reference: attitude, rate and
+acceleration of the hub, the torque (and thrust) that produce them, and the
+model input ``u(t) = [tau, 0, F]`` as a CasADi Function of time, ready to be the
+reference of a closed-loop simulation. Every method ends the same way
+(:func:`finish_profile`): the input is integrated on the full flexible model
+(all array modes, CVODES) from rest, then held at zero for a few periods of the
+lowest array mode, which gives the residual vibration:
+
+    e(t) = attitude_error(q_final, q(t)),  t in [T, T + window]
+    residual_vibration_rad = max_t || e(t) - (a + b t) ||
+
+(a + b t is the least-squares line through e, removing a constant offset and
+any slow drift so that only the oscillation is left), and the vibration energy
+left in the arrays
+
+    E_vib = E(x_T) - 1/2 mu^T M_rr^-1 mu,   mu = M_r nu = [p; h] (body axes)
+
+(total kinetic + strain energy less the least kinetic energy the rigid
+momenta mu alone must carry; M is the model's mass matrix in nu = [v, omega,
+eta_dot], M_rr its rigid 6 x 6 block).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.geometry import Geometry
+from casadi_debris.model import Model, build_model
+from casadi_debris.slew.maneuver import SlewTarget, euler_angles_321
+from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
+
+RESIDUAL_WINDOW_PERIODS = 10.0
+INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 200000}
+N_TORQUE = 3
+N_DISTURBANCE = 3
+N_FORCE = 3
+
+
+@dataclass(frozen=True, eq=False)
+class SlewProfile:
+    """A rest-to-rest slew reference, SI units, time along the first axis.
+
+    Attributes
+    ----------
+    method : str
+        ``"bang-bang"``, ``"time-optimal"`` or ``"fuel-optimal"``.
+    target : SlewTarget
+    flexible, thrusters : bool
+        Array modes in the optimisation; thrust per engine as decision variable.
+    time_s : ndarray, shape (n,)
+    quaternion_BN : ndarray, shape (n, 4)
+        Hub attitude, scalar first.
+    rate_rad_s, acceleration_rad_s2 : ndarray, shape (n, 3)
+        Body rate omega_BN_B and its derivative.
+    torque_Nm : ndarray, shape (n, 3)
+        Control torque in B (right-continuous at switches; zero at the end).
+    thrust_N : ndarray, shape (n, n_engines)
+        Thrust per engine: the OCP's when ``thrusters``, else the least-fuel
+        thrust of the torque (see :mod:`casadi_debris.slew.propellant`).
+    input_function : casadi.Function
+        ``u(t) -> [tau (3) N m, 0 (3), F (3) N]``, the model input (no disturbance); zero
+        before 0 and after the end.
+    duration_s, fuel_kg, limit_duration_s : float
+        Slew time; propellant; rigid eigenaxis limit 2 sqrt(Theta / alpha_max).
+    solve_time_s : float
+        Wall time of the generation (OCP solve, or evaluating the bang-bang profile).
+    solver_status : str
+    residual_vibration_rad, residual_energy_J : float
+        Detrended attitude oscillation after the end and vibration energy left,
+        both from the full flexible model (nan if not checked).
+    settings : dict
+        The parameters that define the profile, units in the keys.
+    """
+
+    method: str
+    target: SlewTarget
+    flexible: bool
+    thrusters: bool
+    time_s: np.ndarray
+    quaternion_BN: np.ndarray
+    rate_rad_s: np.ndarray
+    acceleration_rad_s2: np.ndarray
+    torque_Nm: np.ndarray
+    thrust_N: np.ndarray
+    input_function: ca.Function
+    duration_s: float
+    fuel_kg: float
+    limit_duration_s: float
+    solve_time_s: float
+    solver_status: str
+    residual_vibration_rad: float = math.nan
+    residual_energy_J: float = math.nan
+    settings: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def euler_angles_rad(self) -> np.ndarray:
+        """3-2-1 angles [Phi, Theta, Psi], shape (n, 3)."""
+        return euler_angles_321(self.quaternion_BN)
+
+    @property
+    def max_torque_Nm(self) -> np.ndarray:
+        """Largest |torque| per body axis, shape (3,)."""
+        return np.max(np.abs(self.torque_Nm), axis=0)
+
+    def summary(self) -> dict[str, Any]:
+        """Figures of the profile, SI units in the keys."""
+        return {
+            "method": self.method,
+            "flexible": self.flexible,
+            "thrusters": self.thrusters,
+            "axis_B": self.target.axis_B,
+            "angle_rad": self.target.angle_rad,
+            "duration_s": self.duration_s,
+            "limit_duration_s": self.limit_duration_s,
+            "duration_over_limit": self.duration_s / self.limit_duration_s,
+            "max_torque_Nm": self.max_torque_Nm,
+            "fuel_kg": self.fuel_kg,
+            "residual_vibration_rad": self.residual_vibration_rad,
+            "residual_energy_J": self.residual_energy_J,
+            "solve_time_s": self.solve_time_s,
+            "solver_status": self.solver_status,
+            **self.settings,
+        }
+
+
+def input_vector(torque: ca.SX, force: ca.SX | None = None) -> ca.SX:
+    """Model input [tau, 0 (disturbance), F] from torque and optional force."""
+    force = ca.SX.zeros(N_FORCE) if force is None else force
+    return ca.vertcat(torque, ca.SX.zeros(N_DISTURBANCE), force)
+
+
+def simulate(
+    model: Model,
+    input_function: ca.Function,
+    time_s: np.ndarray,
+    x0: np.ndarray | None = None,
+    parameters: np.ndarray | None = None,
+) -> np.ndarray:
+    """Integrate ``model.dynamics(x, u(t), p)`` with CVODES; states at ``time_s``, shape (n, nx).
+
+    ``time_s`` should hold the input's switching times, so that the integrator
+    restarts there instead of stepping across a jump.
+    """
+    p = model.nominal_parameters if parameters is None else parameters
+    x = ca.SX.sym("x", model.layout.size)
+    t = ca.SX.sym("t")
+    ode = model.dynamics(x, input_function(t), p)
+    grid = np.asarray(time_s, dtype=float)
+    integrator = ca.integrator(
+        "slew_check", "cvodes", {"x": x, "t": t, "ode": ode}, grid[0], grid, INTEGRATOR_OPTIONS
+    )
+    start = model.initial_state() if x0 is None else x0
+    return np.array(integrator(x0=start)["xf"]).T
+
+
+def vibration_energy(model: Model, state: np.ndarray, parameters: np.ndarray) -> float:
+    """Energy in the array modes, J: E(x) - 1/2 mu^T M_rr^-1 mu (see module notes)."""
+    lay = model.layout
+    mass = np.array(model.mass_matrix(parameters))
+    nu = np.concatenate([state[lay.v], state[lay.omega], state[lay.eta_dot]])
+    momenta = mass[:6] @ nu
+    rigid = 0.5 * momenta @ np.linalg.solve(mass[:6, :6], momenta)
+    return float(model.energy(state, parameters)) - rigid
+
+
+def residual_vibration(
+    problem: Problem,
+    target: SlewTarget,
+    input_function: ca.Function,
+    knots_s: np.ndarray,
+    duration_s: float,
+    flexible_model: Model | None = None,
+    parameters: np.ndarray | None = None,
+) -> tuple[float, float]:
+    """(residual_vibration_rad, residual_energy_J) of an input on the full flexible model.
+
+    Parameters
+    ----------
+    knots_s : ndarray
+        Switching times of the input (integration restarts there).
+    """
+    model = build_model(problem, "all") if flexible_model is None else flexible_model
+    p = model.nominal_parameters if parameters is None else parameters
+    lowest = min(mode.omega_rad_s for mode in problem.arrays.modes)
+    window = RESIDUAL_WINDOW_PERIODS * 2.0 * math.pi / lowest
+    after = duration_s + np.linspace(0.0, window, 401)
+    grid = np.unique(np.concatenate([[0.0], knots_s[knots_s < duration_s], after]))
+    states = simulate(model, input_function, grid, model.initial_state(target.q_initial_BN), p)
+    tail = states[grid >= duration_s]
+    errors = np.array(
+        [np.array(model.attitude_error(target.q_final_BN, s[model.layout.q])).ravel() for s in tail]
+    )
+    times = grid[grid >= duration_s] - duration_s
+    basis = np.column_stack([np.ones_like(times), times])
+    coefficients, *_ = np.linalg.lstsq(basis, errors, rcond=None)
+    oscillation = errors - basis @ coefficients
+    amplitude = float(np.max(np.linalg.norm(oscillation, axis=1)))
+    return amplitude, vibration_energy(model, tail[0], p)
+
+
+def zoh_input_function(
+    knots_s: np.ndarray, torque_Nm: np.ndarray, force_N: np.ndarray | None = None
+) -> ca.Function:
+    """u(t) holding torque (and force) k on [t_k, t_k+1), zero outside [t_0, t_n)."""
+    t = ca.SX.sym("t")
+    n = torque_Nm.shape[0]
+    force = np.zeros((n, N_FORCE)) if force_N is None else force_N
+    values = np.vstack([np.zeros((1, 6)), np.hstack([torque_Nm, force]), np.zeros((1, 6))])
+    columns = [ca.pw_const(t, ca.DM(knots_s), ca.DM(values[:, j])) for j in range(6)]
+    u = input_vector(ca.vertcat(*columns[:3]), ca.vertcat(*columns[3:]))
+    return ca.Function("slew_input", [t], [u], ["t"], ["u"])
+
+
+def finish_profile(
+    *,
+    problem: Problem,
+    geometry: Geometry,
+    method: str,
+    target: SlewTarget,
+    flexible: bool,
+    thrusters: bool,
+    time_s: np.ndarray,
+    quaternion_BN: np.ndarray,
+    rate_rad_s: np.ndarray,
+    acceleration_rad_s2: np.ndarray,
+    input_function: ca.Function,
+    knots_s: np.ndarray,
+    interval_thrust_N: np.ndarray | None,
+    duration_s: float,
+    limit_duration_s: float,
+    solve_time_s: float,
+    solver_status: str,
+    settings: dict[str, Any],
+    check_vibration: bool = True,
+    flexible_model: Model | None = None,
+) -> SlewProfile:
+    """Assemble a :class:`SlewProfile` from the sampled hub motion and its input.
+
+    Propellant comes from ``interval_thrust_N`` (thrust held on each knot
+    interval) when given, else from the least-fuel thrust of the torque at the
+    midpoint of every interval of the merged sample/knot grid (exact for
+    piecewise-constant torque, second order otherwise).
+    """
+    torque = np.array(input_function.map(len(time_s))(time_s)).T[:, :N_TORQUE]
+    if interval_thrust_N is not None:
+        fuel = propellant_kg(problem, interval_thrust_N, np.diff(knots_s))
+        thrust = np.vstack([interval_thrust_N, np.zeros((1, interval_thrust_N.shape[1]))])[
+            np.clip(np.searchsorted(knots_s, time_s, side="right") - 1, 0, len(knots_s) - 1)
+        ]
+    else:
+        edges = np.unique(np.concatenate([time_s, knots_s]))
+        middles = 0.5 * (edges[:-1] + edges[1:])
+        middle_torque = np.array(input_function.map(len(middles))(middles)).T[:, :N_TORQUE]
+        middle_thrust, shortfall = least_fuel_thrust(geometry, middle_torque)
+        fuel = propellant_kg(problem, middle_thrust, np.diff(edges))
+        thrust = least_fuel_thrust(geometry, torque)[0]
+        settings = {
+            **settings,
+            "engine_torque_shortfall_Nm": float(np.max(np.linalg.norm(shortfall, axis=1))),
+        }
+    vibration, energy = (math.nan, math.nan)
+    if check_vibration:
+        vibration, energy = residual_vibration(
+            problem, target, input_function, knots_s, duration_s, flexible_model
+        )
+    return SlewProfile(
+        method=method,
+        target=target,
+        flexible=flexible,
+        thrusters=thrusters,
+        time_s=time_s,
+        quaternion_BN=quaternion_BN,
+        rate_rad_s=rate_rad_s,
+        acceleration_rad_s2=acceleration_rad_s2,
+        torque_Nm=torque,
+        thrust_N=thrust,
+        input_function=input_function,
+        duration_s=duration_s,
+        fuel_kg=fuel,
+        limit_duration_s=limit_duration_s,
+        solve_time_s=solve_time_s,
+        solver_status=solver_status,
+        residual_vibration_rad=vibration,
+        residual_energy_J=energy,
+        settings=settings,
+    )

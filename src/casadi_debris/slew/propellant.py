@@ -1,0 +1,121 @@
+"""Propellant of a slew: from torque to engine thrust to kilograms.
+
+Torque-level profiles (bang-bang, torque-level OCPs) leave open which engines
+fire. Their propellant is counted with the *least-fuel* thrust that produces
+each torque sample exactly, a linear programme per sample
+
+    minimise  1^T f   subject to  B f = tau,  0 <= f <= f_max,
+
+with B the geometry's torque map (3 x n_engines, N m per N) and f_max the
+thrust of each engine's active stage; the net force is left free (the paper
+counts torque only). All samples are solved together as one block-diagonal LP
+(HiGHS). The mass flow of an engine of specific impulse I_sp is f / (I_sp g0),
+so the propellant of a thrust history is
+
+    m = (1 / (I_sp g0)) * sum_k sum_i f_ik * dt_k.
+
+This is a lower bound for the torque profile (any other allocation burns more);
+thruster-level OCPs carry their thrust and use the second formula directly.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import SlewInfeasibleError
+from casadi_debris.geometry import Geometry, max_thrust_N
+
+MILLI = 1e3  # N -> mN, N m -> mNm inside the LP
+
+
+def exhaust_velocity_m_s(problem: Problem) -> float:
+    """Effective exhaust velocity I_sp g0 of the iESE, m/s."""
+    return problem.engine.isp_s * problem.constants.standard_gravity_m_s2
+
+
+def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Least total thrust per torque sample, every engine within 0 <= f <= f_max.
+
+    Samples the engines cannot produce (a per-axis torque box is larger than
+    the engines' torque set) get the best effort: the LP is elastic,
+    B f + s = tau with the shortfall s penalised far above any thrust, so
+    those samples return the thrust that comes closest (in the 1-norm) and
+    their shortfall.
+
+    Parameters
+    ----------
+    geometry : Geometry
+    torque_Nm : ndarray, shape (n, 3)
+        Torque samples in B.
+
+    Returns
+    -------
+    thrust_N : ndarray, shape (n, n_engines)
+        Thrust per engine.
+    shortfall_Nm : ndarray, shape (n, 3)
+        tau - B f (zero wherever the torque is produced exactly).
+    """
+    torque = np.atleast_2d(np.asarray(torque_Nm, dtype=float))
+    n_samples = torque.shape[0]
+    torque_map = geometry.torque_map
+    n_engines = torque_map.shape[1]
+    limits = max_thrust_N(geometry)
+    thrust = np.zeros((n_samples, n_engines))
+    # Samples with (numerically) zero torque need no thrust: keep them out of the LP.
+    scale = float(np.max(np.abs(torque_map)) * np.max(limits))
+    active = np.flatnonzero(np.max(np.abs(torque), axis=1) > 1e-12 * scale)
+    if active.size == 0:
+        return thrust, np.zeros_like(torque)
+    # Per sample: [f (n_engines), s+ (3), s- (3)]; a shortfall costs more than all engines at full
+    # thrust on the shortest lever arm would.
+    penalty = 1e3 * float(np.sum(limits)) / scale
+    block = sp.hstack([sp.csr_matrix(torque_map), sp.identity(3), -sp.identity(3)])
+    width = n_engines + 6
+    a_eq = sp.kron(sp.identity(active.size, format="csr"), block, format="csr")
+    cost = np.tile(np.concatenate([np.ones(n_engines), penalty * np.ones(6)]), active.size)
+    upper = np.tile(np.concatenate([limits, np.full(6, np.inf)]), active.size)
+    # Solved in mN and mNm: in N the thrusts (~1e-4) sit at HiGHS's feasibility tolerance.
+    result = linprog(
+        cost,
+        A_eq=a_eq,
+        b_eq=torque[active].ravel() * MILLI,
+        bounds=np.column_stack([np.zeros(active.size * width), upper * MILLI]),
+        method="highs",
+    )
+    if result.status != 0:  # cannot happen for an elastic LP unless the input is not finite
+        raise SlewInfeasibleError(f"least-fuel thrust failed: {result.message}")
+    solution = result.x.reshape(active.size, width) / MILLI
+    thrust[active] = np.clip(solution[:, :n_engines], 0.0, limits)
+    return thrust, torque - thrust @ torque_map.T
+
+
+def propellant_kg(problem: Problem, thrust_N: np.ndarray, durations_s: np.ndarray) -> float:
+    """Propellant of piecewise-constant thrust: sum_k sum_i f_ik dt_k / (I_sp g0), kg.
+
+    Parameters
+    ----------
+    problem : Problem
+    thrust_N : ndarray, shape (n, n_engines)
+        Thrust held over each of the n intervals.
+    durations_s : ndarray, shape (n,)
+        Interval lengths.
+    """
+    impulse = float(np.sum(np.asarray(thrust_N).sum(axis=1) * np.asarray(durations_s)))
+    return impulse / exhaust_velocity_m_s(problem)
+
+
+def axis_fuel_rates(geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
+    """Least thrust per unit torque about each signed axis, N per N m: (plus, minus), (3,) each.
+
+    The cost coefficients c_i of the torque-level fuel objective
+    sum_i c_i^+ tau_i^+ + c_i^- tau_i^- (tau = tau^+ - tau^-), taken at a small
+    torque so that no engine bound is active.
+    """
+    torque_map = geometry.torque_map
+    small = 1e-6 * float(np.min(np.abs(torque_map[np.abs(torque_map) > 0])))
+    samples = np.vstack([small * np.eye(3), -small * np.eye(3)])
+    thrust = least_fuel_thrust(geometry, samples)[0].sum(axis=1) / small
+    return thrust[:3], thrust[3:]

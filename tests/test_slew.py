@@ -1,0 +1,282 @@
+"""Slews checked against independent computations: closed-form limits, a CasADi
+integrator on the model, the geometry's torque map, and each other."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris.cli import main
+from casadi_debris.config import Problem, problem_from_dict
+from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
+from casadi_debris.model import build_model
+from casadi_debris.slew import (
+    bang_bang_slew,
+    fuel_optimal_slew,
+    least_fuel_thrust,
+    shape,
+    slew_about_axis,
+    slew_between,
+    time_optimal_slew,
+)
+
+PAPER_SLEW_DURATION_S = 1228.0  # paper, Section IV.A
+PAPER_SLEW_FUEL_KG = 2.8e-4  # paper, Section IV.A; DESIGN.md accepts +-25 %
+
+
+def rigid_limit(geometry: Geometry, axis: int, angle_rad: float = math.pi) -> float:
+    """2 sqrt(theta J / tau) from the geometry's inertia and torque authority."""
+    name = "xyz"[axis]
+    tau = min(torque_authority(geometry)[f"+{name}"], torque_authority(geometry)[f"-{name}"])
+    return 2.0 * math.sqrt(angle_rad * geometry.inertia_total_kgm2[axis, axis] / tau)
+
+
+def integrate_on_model(problem: Problem, slew: Any, modes: Any = ()) -> np.ndarray:
+    """Final state of the model driven by the slew's input, by a CasADi integrator."""
+    model = build_model(problem, modes=list(modes))
+    x = ca.SX.sym("x", model.layout.size)
+    t = ca.SX.sym("t")
+    ode = model.dynamics(x, slew.input_function(t), model.nominal_parameters)
+    # Restart at every sample so that the integrator never steps across a switch.
+    grid = np.asarray(slew.time_s)
+    integrator = ca.integrator(
+        "check",
+        "cvodes",
+        {"x": x, "t": t, "ode": ode},
+        0.0,
+        grid,
+        {"abstol": 1e-12, "reltol": 1e-11},
+    )
+    start = model.initial_state(slew.target.q_initial_BN)
+    return model, np.array(integrator(x0=start)["xf"])[:, -1]
+
+
+@pytest.fixture(scope="module")
+def principal_problem(paper_data: dict[str, Any]) -> Problem:
+    """The paper's setup with the hub's products of inertia removed: z is principal."""
+    data = json.loads(json.dumps(paper_data))
+    inertia = np.diag(np.diag(np.array(data["hub"]["inertia_kgm2"])))
+    data["hub"]["inertia_kgm2"] = inertia.tolist()
+    return problem_from_dict(data, "principal")
+
+
+@pytest.fixture(scope="module")
+def paper_bang_bang(problem: Problem) -> Any:
+    return bang_bang_slew(problem, "z", math.pi, duration_s=PAPER_SLEW_DURATION_S)
+
+
+# -- bang-bang ----------------------------------------------------------------------------
+
+
+def test_bang_bang_full_authority_is_the_rigid_limit(problem: Problem, geometry: Geometry) -> None:
+    slew = bang_bang_slew(problem, "z", math.pi, check_vibration=False)
+    expected = rigid_limit(geometry, 2)
+    assert slew.duration_s == pytest.approx(expected, rel=1e-6)
+    assert slew.limit_duration_s == pytest.approx(expected, rel=1e-6)
+
+
+def test_paper_slew_duration_and_switch_at_half_time(
+    paper_bang_bang: Any, geometry: Geometry
+) -> None:
+    slew = paper_bang_bang
+    assert slew.duration_s == pytest.approx(PAPER_SLEW_DURATION_S, rel=1e-9)
+    # a (T/2)^2 = theta: the torque fraction is (T_limit / T)^2.
+    fraction = (rigid_limit(geometry, 2) / PAPER_SLEW_DURATION_S) ** 2
+    assert slew.settings["torque_fraction"] == pytest.approx(fraction, rel=1e-6)
+    z = slew.torque_Nm[:, 2]
+    half = slew.duration_s / 2.0
+    assert np.all(z[(slew.time_s > 0) & (slew.time_s < half)] > 0)
+    assert np.all(z[(slew.time_s > half) & (slew.time_s < slew.duration_s)] < 0)
+    yaw = slew.euler_angles_rad[:, 2]
+    assert np.degrees(abs(yaw[-1])) == pytest.approx(180.0, abs=1e-6)
+    assert np.degrees(yaw[np.searchsorted(slew.time_s, half)]) == pytest.approx(90.0, abs=1e-6)
+
+
+def test_paper_slew_fuel_within_25_percent(paper_bang_bang: Any) -> None:
+    assert paper_bang_bang.fuel_kg == pytest.approx(PAPER_SLEW_FUEL_KG, rel=0.25)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"duration_s": PAPER_SLEW_DURATION_S},
+        {"torque_fraction": 0.9, "rate_limit_rad_s": 0.004, "smoothing_s": 20.0},
+        {"duration_s": 1300.0, "torque_fraction": 0.8, "smoothing_s": 5.0},
+    ],
+)
+def test_bang_bang_integrates_to_target_at_rest(problem: Problem, options: dict) -> None:
+    slew = bang_bang_slew(problem, "z", math.pi, check_vibration=False, **options)
+    if "duration_s" in options:
+        assert slew.duration_s == pytest.approx(options["duration_s"], rel=1e-9)
+    model, final = integrate_on_model(problem, slew)
+    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-6
+    assert np.linalg.norm(final[model.layout.omega]) < 1e-9
+
+
+def test_bang_bang_between_any_attitudes(problem: Problem) -> None:
+    start = np.array([0.9, 0.1, -0.3, 0.2])
+    end = np.array([0.2, -0.5, 0.4, 0.7])
+    target = slew_between(start, end)
+    slew = bang_bang_slew(problem, target=target, check_vibration=False)
+    model, final = integrate_on_model(problem, slew)
+    error = np.array(model.attitude_error(end / np.linalg.norm(end), final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-6
+    assert np.linalg.norm(final[model.layout.omega]) < 1e-9
+
+
+def test_slew_target_quaternion() -> None:
+    target = slew_about_axis("-y", math.radians(90.0))
+    half = math.radians(45.0)
+    assert target.q_final_BN == pytest.approx([math.cos(half), 0.0, -math.sin(half), 0.0])
+
+
+# -- optimal slews -------------------------------------------------------------------------
+
+
+def test_single_axis_time_optimal_is_the_rigid_limit_with_switch_at_half(
+    principal_problem: Problem,
+) -> None:
+    from casadi_debris.geometry import build_geometry
+
+    geometry = build_geometry(principal_problem)
+    slew = time_optimal_slew(principal_problem, "z", math.pi, single_axis=True)
+    expected = rigid_limit(geometry, 2)
+    assert slew.duration_s == pytest.approx(expected, rel=0.01)
+    tau = torque_authority(geometry)["+z"]
+    z = slew.torque_Nm[:-1, 2]
+    times = slew.time_s[:-1]
+    half = slew.duration_s / 2.0
+    assert np.allclose(z[times < half], tau, rtol=1e-4)
+    assert np.allclose(z[times >= half], -tau, rtol=1e-4)
+
+
+def test_three_axis_time_optimal_not_longer_than_eigenaxis(problem: Problem) -> None:
+    # Bilimoria & Wie (1993): with all axes free the 180 deg slew beats the eigenaxis one.
+    slew = time_optimal_slew(problem, "z", math.pi, check_vibration=False)
+    assert slew.duration_s <= slew.limit_duration_s
+    assert slew.settings["final_attitude_error_rad"] < 1e-5
+    lower = -np.array([torque_authority(build_model(problem, []).geometry)[f"-{a}"] for a in "xyz"])
+    assert np.all(slew.torque_Nm >= lower * (1 + 1e-6))
+
+
+def test_fuel_optimal_uses_no_more_fuel_than_bang_bang(problem: Problem, paper_bang_bang) -> None:
+    slew = fuel_optimal_slew(problem, "z", math.pi, duration_s=PAPER_SLEW_DURATION_S)
+    assert slew.duration_s == pytest.approx(PAPER_SLEW_DURATION_S)
+    assert slew.fuel_kg <= paper_bang_bang.fuel_kg
+    model, final = integrate_on_model(problem, slew)
+    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-5
+
+
+def test_thruster_level_fuel_optimal_respects_engines(
+    problem: Problem, geometry: Geometry, paper_bang_bang: Any
+) -> None:
+    slew = fuel_optimal_slew(
+        problem, "z", math.pi, duration_s=PAPER_SLEW_DURATION_S, thrusters=True
+    )
+    limits = max_thrust_N(geometry)
+    assert np.all(slew.thrust_N >= -1e-12)
+    assert np.all(slew.thrust_N <= limits * (1 + 1e-9))
+    assert np.allclose(slew.thrust_N @ geometry.torque_map.T, slew.torque_Nm, atol=1e-12)
+    # The least-fuel thrust of the bang-bang torque is one thrust history the OCP could pick.
+    assert slew.fuel_kg <= paper_bang_bang.fuel_kg
+    model, final = integrate_on_model(problem, slew)
+    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-5
+
+
+@pytest.mark.slow
+def test_flexible_time_optimal_leaves_less_vibration_than_bang_bang(problem: Problem) -> None:
+    slew = time_optimal_slew(problem, "z", math.pi, flexible=True)
+    assert slew.duration_s <= 1.10 * slew.limit_duration_s
+    assert slew.residual_energy_J <= slew.settings["residual_energy_limit_J"]
+    model, final = integrate_on_model(problem, slew, modes=["bending1", "torsion1", "bending2"])
+    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-5
+
+
+def test_zero_vibration_shaping_keeps_bounds_and_impulse() -> None:
+    knots = np.array([0.0, 10.0, 20.0])
+    controls = np.array([[1.0, 0.0], [-1.0, 0.5]])
+    times, amplitudes = np.array([0.0, 0.3, 0.7]), np.array([0.2, 0.5, 0.3])
+    new_knots, shaped = shape(knots, controls, times, amplitudes)
+    assert new_knots[-1] == pytest.approx(20.7)
+    assert np.sum(shaped * np.diff(new_knots)[:, None], axis=0) == pytest.approx(
+        np.sum(controls * np.diff(knots)[:, None], axis=0)
+    )
+    assert np.all(shaped <= controls.max(axis=0) + 1e-12)
+
+
+def test_least_fuel_thrust_reproduces_torque(geometry: Geometry) -> None:
+    torque = np.array([[1e-3, -0.5e-3, 2e-3], [0.0, 0.0, -1e-3], [0.0, 0.0, 0.0]])
+    thrust, shortfall = least_fuel_thrust(geometry, torque)
+    assert np.allclose(thrust @ geometry.torque_map.T, torque, atol=1e-12)
+    assert np.all(shortfall == pytest.approx(0.0, abs=1e-12))
+    # A small pure z torque (no engine at its bound) uses the longest z lever arm.
+    assert thrust[1].sum() == pytest.approx(1e-3 / np.max(np.abs(geometry.torque_map[2])))
+
+
+# -- bad input -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("duration", [0.0, -5.0, 500.0])
+def test_too_short_bang_bang_says_minimum(problem: Problem, geometry: Geometry, duration) -> None:
+    with pytest.raises(SlewInfeasibleError, match=r"infeasible: minimum is 920\.1"):
+        bang_bang_slew(problem, "z", math.pi, duration_s=duration, check_vibration=False)
+    assert rigid_limit(geometry, 2) == pytest.approx(920.1, abs=0.05)
+
+
+def test_too_short_fuel_optimal_says_minimum(problem: Problem) -> None:
+    with pytest.raises(SlewInfeasibleError, match="infeasible: minimum is"):
+        fuel_optimal_slew(problem, "z", math.pi, duration_s=0.0)
+
+
+@pytest.mark.parametrize(
+    ("axis", "angle"), [("w", math.pi), ("z", 0.0), ("z", 4.0), ((0, 0, 0), 1.0)]
+)
+def test_bad_axis_or_angle(problem: Problem, axis: Any, angle: float) -> None:
+    with pytest.raises(InputShapeError):
+        bang_bang_slew(problem, axis, angle, check_vibration=False)
+
+
+# -- command line --------------------------------------------------------------------------
+
+
+def test_cli_bang_bang_json_and_run_folder(tmp_path: Path) -> None:
+    out = tmp_path / "slew"
+    result = CliRunner().invoke(
+        main,
+        ["slew", "--method", "bang-bang", "--duration-s", "1228", "--json", "--out", str(out)],
+    )
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.output)
+    for key in (
+        "duration_s",
+        "max_torque_mNm",
+        "fuel_kg",
+        "residual_vibration_rad",
+        "limit_duration_s",
+        "solve_time_s",
+        "solver_status",
+    ):
+        assert key in summary
+    assert summary["duration_s"] == pytest.approx(1228.0)
+    assert {p.name for p in out.iterdir()} >= {"summary.json", "profile.csv", "slew.png"}
+    header = (out / "profile.csv").read_text().splitlines()[0]
+    assert "time_s" in header and "torque_z_mNm" in header and "yaw_deg" in header
+
+
+def test_cli_infeasible_duration_is_one_line_exit_2() -> None:
+    result = CliRunner().invoke(main, ["slew", "--duration-s", "100"])
+    assert result.exit_code == 2
+    assert "infeasible: minimum is" in result.output
+    assert "Traceback" not in result.output
