@@ -53,6 +53,8 @@ from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.model import Model, build_model
 from casadi_debris.slew.maneuver import (
     SlewTarget,
+    check_positive,
+    check_torque_fraction,
     eigenaxis_acceleration_limit,
     quaternion_multiply,
     rigid_limit_duration,
@@ -140,14 +142,10 @@ def bang_bang_timing(
     ramp = float(smoothing_s)
     if not math.isfinite(ramp) or ramp < 0.0:
         raise InputShapeError(f"smoothing_s: must be >= 0, got {smoothing_s}")
-    if torque_fraction is not None and (
-        not math.isfinite(torque_fraction) or not 0.0 < torque_fraction <= 1.0
-    ):
-        raise InputShapeError(f"torque_fraction: must be in (0, 1], got {torque_fraction}")
-    if rate_limit_rad_s is not None and (
-        not math.isfinite(rate_limit_rad_s) or rate_limit_rad_s <= 0.0
-    ):
-        raise InputShapeError(f"rate_limit: must be > 0, got {rate_limit_rad_s}")
+    if torque_fraction is not None:
+        check_torque_fraction(torque_fraction)
+    if rate_limit_rad_s is not None:
+        check_positive("rate_limit", rate_limit_rad_s)
 
     if duration_s is not None:
         if not math.isfinite(duration_s):
@@ -252,8 +250,7 @@ def bang_bang_slew(
     1228
     """
     started = time.perf_counter()
-    if not math.isfinite(sample_s) or sample_s <= 0.0:
-        raise InputShapeError(f"sample_s: must be > 0, got {sample_s}")
+    check_positive("sample_s", sample_s)
     rigid = build_model(problem, modes=[]) if model is None else model
     goal = slew_about_axis(axis, angle_rad) if target is None else target
     p = rigid.nominal_parameters

@@ -146,6 +146,18 @@ def slew_between(q_initial_BN: Sequence[float], q_final_BN: Sequence[float]) -> 
     return slew_about_axis(relative[1:] / sine, angle, q0)
 
 
+def check_torque_fraction(torque_fraction: float) -> None:
+    """Raise unless 0 < torque_fraction <= 1 (the share of the engines' authority used)."""
+    if not math.isfinite(torque_fraction) or not 0.0 < torque_fraction <= 1.0:
+        raise InputShapeError(f"torque_fraction: must be in (0, 1], got {torque_fraction}")
+
+
+def check_positive(name: str, value: float) -> None:
+    """Raise unless ``value`` is finite and > 0, naming it."""
+    if not math.isfinite(value) or value <= 0.0:
+        raise InputShapeError(f"{name}: must be > 0, got {value}")
+
+
 def torque_limits(
     geometry: Geometry, torque_fraction: float = 1.0
 ) -> tuple[np.ndarray, np.ndarray]:
@@ -155,8 +167,7 @@ def torque_limits(
     body axis (:func:`casadi_debris.geometry.torque_authority`, a linear programme
     over the engines).
     """
-    if not math.isfinite(torque_fraction) or not 0.0 < torque_fraction <= 1.0:
-        raise InputShapeError(f"torque_fraction: must be in (0, 1], got {torque_fraction}")
+    check_torque_fraction(torque_fraction)
     authority = torque_authority(geometry)
     upper = np.array([authority[f"+{a}"] for a in AXIS_NAMES]) * torque_fraction
     lower = -np.array([authority[f"-{a}"] for a in AXIS_NAMES]) * torque_fraction

@@ -61,6 +61,8 @@ from casadi_debris.model import Model, build_model, linearize
 from casadi_debris.slew.bang_bang import bang_bang_slew
 from casadi_debris.slew.maneuver import (
     SlewTarget,
+    check_positive,
+    check_torque_fraction,
     eigenaxis_acceleration_limit,
     rigid_limit_duration,
     slew_about_axis,
@@ -760,11 +762,8 @@ def _solve(
 def _check_common(
     torque_fraction: float, energy_fraction: float, sample_s: float, intervals: int | None
 ) -> None:
-    if not math.isfinite(torque_fraction) or not 0.0 < torque_fraction <= 1.0:
-        raise InputShapeError(f"torque_fraction: must be in (0, 1], got {torque_fraction}")
-    if not math.isfinite(energy_fraction) or energy_fraction <= 0.0:
-        raise InputShapeError(f"residual_energy_fraction: must be > 0, got {energy_fraction}")
-    if not math.isfinite(sample_s) or sample_s <= 0.0:
-        raise InputShapeError(f"sample_s: must be > 0, got {sample_s}")
+    check_torque_fraction(torque_fraction)
+    check_positive("residual_energy_fraction", energy_fraction)
+    check_positive("sample_s", sample_s)
     if intervals is not None and (intervals < 2 or intervals % 2):
         raise InputShapeError(f"intervals: must be an even number >= 2, got {intervals}")
