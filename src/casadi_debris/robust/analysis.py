@@ -20,7 +20,7 @@ from casadi_debris.robust.margins import (
     CHANNELS,
     MARGIN_GRID,
     LoopMargins,
-    closed_loop_poles,
+    UnstableLoopError,
     disk_margins,
     loop_at_a_time,
     state_space_response,
@@ -107,10 +107,11 @@ def _sampled_margins(
     unstable = np.zeros(len(parameters), dtype=bool)
     for k, p in enumerate(parameters):
         plant = linearize(model, p, sensor=True, units="deg_mNm", function=function)
-        if np.max(closed_loop_poles(plant, controller).real) >= 0:
+        try:  # loop_at_a_time checks the closed-loop poles itself
+            margins = loop_at_a_time(plant, controller, MARGIN_GRID, controller_response)
+        except UnstableLoopError:
             unstable[k] = True
             continue
-        margins = loop_at_a_time(plant, controller, MARGIN_GRID, controller_response)
         for i, m in enumerate(margins):
             sampled[k, i] = (m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s)
     return sampled, unstable

@@ -33,6 +33,10 @@ MARGIN_GRID = np.logspace(-4, 2, 1800)
 REFINE_DB = 3.0
 
 
+class UnstableLoopError(SynthesisError):
+    """The closed loop is unstable, so its margins are meaningless."""
+
+
 @dataclass(frozen=True)
 class LoopMargins:
     """Margins of one broken loop.
@@ -229,7 +233,9 @@ def loop_at_a_time(
     """
     poles = closed_loop_poles(plant, controller)
     if poles.size and np.max(poles.real) >= 0:
-        raise SynthesisError(f"closed loop unstable (pole at {poles[np.argmax(poles.real)]:.3g})")
+        raise UnstableLoopError(
+            f"closed loop unstable (pole at {poles[np.argmax(poles.real)]:.3g})"
+        )
     if controller_response is None:
         controller_response = state_space_response(controller, omega)
     ratios = return_ratios(state_space_response(plant, omega), controller_response)
