@@ -5,6 +5,9 @@
   saturation (or least squares) when not; set up once, solved per call.
 - :class:`PropulsionState`: propellant, firing time, active stage and
   failures per CubeSat and stage; advances with the applied thrust.
+- :meth:`Allocator.allocate_series`: a whole history of demands at once
+  (saturation by the facets of :func:`authority_polytope`, least fuel by
+  reusing active sets).
 - :class:`PseudoInverseAllocator`: the clipped pseudo-inverse, for comparison only.
 - :func:`available_solvers`: the QP back-ends that can be named.
 
@@ -26,7 +29,9 @@ from casadi_debris.allocation.allocator import (
     Allocator,
     BatchAllocation,
     NoEngineError,
+    SeriesAllocation,
 )
+from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
 from casadi_debris.allocation.backends import UnknownSolverError, available_solvers
 from casadi_debris.allocation.baseline import PseudoInverseAllocator
 from casadi_debris.allocation.propulsion import PropulsionState, StageEvent, stage_propellant_kg
@@ -36,12 +41,15 @@ __all__ = [
     "SATURATION_MODES",
     "AllocationResult",
     "Allocator",
+    "AuthorityPolytope",
     "BatchAllocation",
     "NoEngineError",
     "PropulsionState",
     "PseudoInverseAllocator",
+    "SeriesAllocation",
     "StageEvent",
     "UnknownSolverError",
+    "authority_polytope",
     "available_solvers",
     "stage_propellant_kg",
 ]

@@ -56,8 +56,10 @@ from typing import Any, Literal
 
 import numpy as np
 
+from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
 from casadi_debris.allocation.backends import QpBackend, make_backend
 from casadi_debris.allocation.propulsion import PropulsionState
+from casadi_debris.allocation.series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.geometry import Geometry, build_geometry
@@ -89,6 +91,10 @@ THRUST_ROUND_OFF = 1e-12
 SMALL_DEMAND = 1e-2
 # Equality residual (relative to the target) above which a solution is polished.
 POLISH_TOLERANCE = 1e-13
+# Relative pull-in of a saturated demand in :meth:`Allocator.allocate_series`,
+# so that the target lies strictly inside the reachable set (alpha is promised
+# to 1e-9).
+SERIES_BACKOFF = 1e-10
 RESCUE_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 LEAST_SQUARES_PROXIMAL = 1e-9
 
@@ -169,6 +175,32 @@ class BatchAllocation:
     fuel_rate_kg_s: np.ndarray
     iterations: np.ndarray
     solve_time_s: np.ndarray
+    wall_time_s: float
+
+
+@dataclass(frozen=True, eq=False)
+class SeriesAllocation:
+    """Allocation of a history of demands (rows), see :meth:`Allocator.allocate_series`.
+
+    Attributes
+    ----------
+    thrust_N : ndarray, shape (k, n_engines)
+    torque_Nm, force_N : ndarray, shape (k, 3)
+        Achieved torque ``B f`` and net force ``F f``.
+    scale : ndarray, shape (k,)
+        alpha of the direction-keeping saturation (1 when the demand is met).
+    fuel_rate_kg_s : ndarray, shape (k,)
+    point_solves : int
+        Demands that needed a QP solve; the others reused an active set.
+    wall_time_s : float
+    """
+
+    thrust_N: np.ndarray
+    torque_Nm: np.ndarray
+    force_N: np.ndarray
+    scale: np.ndarray
+    fuel_rate_kg_s: np.ndarray
+    point_solves: int
     wall_time_s: float
 
 
@@ -262,6 +294,8 @@ class Allocator:
         self._max_thrust_N = limits
         self._upper = limits / self._thrust_ref_N
         self._workspaces: dict[tuple[str, bool], QpBackend] = {}
+        self._polytopes: dict[bool, AuthorityPolytope] = {}
+        self._series_qps: dict[bool, PiecewiseAffineQp] = {}
         self.solver = solver
         # Set up the default workspace now: an unknown solver fails at construction.
         self._workspace("exact", False)
@@ -343,6 +377,8 @@ class Allocator:
         limits = self._checked_limits(max_thrust_N)
         self._max_thrust_N = limits
         self._upper = limits / self._thrust_ref_N
+        self._polytopes.clear()
+        self._series_qps.clear()
         for (stage, _), workspace in self._workspaces.items():
             workspace.update(ub=self._stage_upper(stage))
 
@@ -748,6 +784,71 @@ class Allocator:
             fuel_rate_kg_s=np.array([r.fuel_rate_kg_s for r in results]),
             iterations=np.array([r.iterations for r in results], dtype=int),
             solve_time_s=np.array([r.solve_time_s for r in results]),
+            wall_time_s=time.perf_counter() - start,
+        )
+
+    def authority_polytope(self, *, free_force: bool = False) -> AuthorityPolytope:
+        """Facets of the reachable torques with the current limits (cached until they change)."""
+        polytope = self._polytopes.get(free_force)
+        if polytope is None:
+            polytope = authority_polytope(
+                self.torque_map, self.force_map, self._max_thrust_N, free_force=free_force
+            )
+            self._polytopes[free_force] = polytope
+        return polytope
+
+    def allocate_series(self, torques_Nm: Any, *, free_force: bool = False) -> SeriesAllocation:
+        """Allocate a history of torque demands at zero (or free) net force.
+
+        The same answers as :meth:`allocate` in ``"scale"`` saturation, computed
+        for a whole series at once: alpha from the facets of
+        :meth:`authority_polytope`, then the least-fuel thrust from the
+        piecewise-affine solution of the QP (:mod:`~casadi_debris.allocation.series`),
+        which needs a QP solve only where the active set changes.
+
+        Parameters
+        ----------
+        torques_Nm : array_like, shape (k, 3)
+            Torque demands [N m], e.g. one per control step.
+        free_force : bool
+            Leave the net force free instead of zero.
+
+        Returns
+        -------
+        SeriesAllocation
+        """
+        start = time.perf_counter()
+        torques = np.asarray(torques_Nm, dtype=float)
+        if torques.ndim != 2 or torques.shape[1] != 3:
+            raise InputShapeError(f"torques_Nm must have shape (k, 3), got {torques.shape}")
+        if not np.isfinite(torques).all():
+            raise InputShapeError("torques_Nm must be finite")
+        scale = self.authority_polytope(free_force=free_force).scale(torques)
+        shrink = np.where(scale < 1.0, scale * (1.0 - SERIES_BACKOFF), 1.0)
+        targets = torques * shrink[:, None] / self._torque_ref_Nm
+        rows = self._rows(free_force)
+        if not free_force:
+            targets = np.hstack([targets, np.zeros_like(targets)])
+        qp = self._series_qps.get(free_force)
+        if qp is None:
+            qp = PiecewiseAffineQp(rows, self._upper, EXACT_PROXIMAL)
+            self._series_qps[free_force] = qp
+
+        def solve_point(target: np.ndarray) -> np.ndarray:
+            torque = target[:3] * self._torque_ref_Nm
+            result = self._allocate(torque, None if free_force else np.zeros(3))
+            return result.thrust_N / self._thrust_ref_N
+
+        u, point_solves = qp.solve_series(targets, solve_point)
+        u = np.where(u < THRUST_ROUND_OFF, 0.0, np.minimum(u, self._upper))
+        thrust = u * self._thrust_ref_N
+        return SeriesAllocation(
+            thrust_N=thrust,
+            torque_Nm=thrust @ self.torque_map.T,
+            force_N=thrust @ self.force_map.T,
+            scale=scale,
+            fuel_rate_kg_s=thrust.sum(axis=1) / self.exhaust_velocity_m_s,
+            point_solves=point_solves,
             wall_time_s=time.perf_counter() - start,
         )
 
