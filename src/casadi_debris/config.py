@@ -225,6 +225,75 @@ class Constants:
     standard_gravity_m_s2: float
 
 
+REFERENCE_KINDS = ("hold", "slew")
+SLEW_METHODS = ("bang-bang", "time-optimal", "fuel-optimal")
+
+
+@dataclass(frozen=True, eq=False)
+class SlewReference:
+    """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
+
+    ``duration_s`` and ``torque_fraction`` are optional (None): the slew
+    methods then pick their own (see :mod:`casadi_debris.slew`).
+    """
+
+    axis: str
+    angle_deg: float
+    method: str
+    start_s: float
+    duration_s: float | None
+    torque_fraction: float | None
+
+
+@dataclass(frozen=True, eq=False)
+class FailureEvent:
+    """A CubeSat (or one of its stages) lost at a given time (``[[simulation.failures]]``).
+
+    Indices are 0-based here; the file numbers CubeSats and stages from 1, as
+    ``casadi-debris model`` lists them.
+    """
+
+    time_s: float
+    cubesat: int
+    stage: int | None
+
+
+@dataclass(frozen=True, eq=False)
+class Simulation:
+    """Closed-loop run: length, sampling, reference and failures (``[simulation]``)."""
+
+    duration_s: float
+    control_rate_hz: float
+    integrator_steps: int
+    reference: str
+    slew: SlewReference | None
+    failures: tuple[FailureEvent, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class MonteCarlo:
+    """Corner and random cases of the uncertainty set (``[montecarlo]``).
+
+    The corners combine the two extremes of every relative uncertainty
+    (inertia per axis, mass, first bending frequency) with
+    ``corner_array_angles`` array angles spread evenly over the angle range
+    (the +-180 deg extremes are one and the same attitude of the arrays).
+    """
+
+    corner_array_angles: int
+    samples: int
+    seed: int
+
+
+DEFAULT_SIMULATION = {
+    "duration_s": 5908.0,
+    "control_rate_hz": 10.0,
+    "integrator_steps": 4,
+    "reference": "hold",
+}
+DEFAULT_MONTECARLO = {"corner_array_angles": 8, "samples": 100, "seed": 1}
+
+
 @dataclass(frozen=True, eq=False)
 class Problem:
     """A whole validated scenario. See ``problems/paper.toml`` for every key."""
@@ -243,6 +312,8 @@ class Problem:
     transfer: Transfer
     detumble: Detumble
     constants: Constants
+    simulation: Simulation = field(default=None)  # type: ignore[assignment]
+    montecarlo: MonteCarlo = field(default=None)  # type: ignore[assignment]
     source: str = field(default="<dict>")
     sha256: str = field(default="")
 
@@ -569,6 +640,87 @@ def _read_weights(t: _Table) -> Weights:
     return weights
 
 
+def _read_slew(t: _Table) -> SlewReference:
+    axis = t.text("axis", AXIS_NAMES)
+    slew = SlewReference(
+        axis=axis,
+        angle_deg=t.number("angle_deg", positive=True, at_most=180.0),
+        method=t.text("method", SLEW_METHODS) if "method" in t.data else "bang-bang",
+        start_s=t.number("start_s", nonnegative=True) if "start_s" in t.data else 0.0,
+        duration_s=t.number("duration_s", positive=True) if "duration_s" in t.data else None,
+        torque_fraction=(
+            t.number("torque_fraction", positive=True, at_most=1.0)
+            if "torque_fraction" in t.data
+            else None
+        ),
+    )
+    if slew.method == "fuel-optimal" and slew.duration_s is None:
+        raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
+    t.done()
+    return slew
+
+
+def _read_failure(t: _Table, n_cubesats: int, n_stages: int) -> FailureEvent:
+    cubesat = t.integer("cubesat", minimum=1)
+    if cubesat > n_cubesats:
+        raise t.error(t.key("cubesat"), f"CubeSats are numbered 1 to {n_cubesats}; got {cubesat}")
+    stage = t.integer("stage", minimum=1) if "stage" in t.data else None
+    if stage is not None and stage > n_stages:
+        raise t.error(t.key("stage"), f"stages are numbered 1 to {n_stages}; got {stage}")
+    event = FailureEvent(
+        time_s=t.number("time_s", nonnegative=True),
+        cubesat=cubesat - 1,
+        stage=None if stage is None else stage - 1,
+    )
+    t.done()
+    return event
+
+
+def _read_simulation(t: _Table, n_cubesats: int, n_stages: int) -> Simulation:
+    reference = t.text("reference", REFERENCE_KINDS)
+    has_slew = "slew" in t.data
+    if reference == "slew" and not has_slew:
+        raise t.error(t.key("slew"), 'missing: reference = "slew" needs a [simulation.slew] table')
+    if reference == "hold" and has_slew:
+        raise t.error(t.key("slew"), 'only allowed with reference = "slew"')
+    simulation = Simulation(
+        duration_s=t.number("duration_s", positive=True),
+        control_rate_hz=t.number("control_rate_hz", positive=True),
+        integrator_steps=t.integer("integrator_steps", minimum=1),
+        reference=reference,
+        slew=_read_slew(t.table("slew")) if has_slew else None,
+        failures=tuple(
+            sorted(
+                (_read_failure(f, n_cubesats, n_stages) for f in t.tables("failures")),
+                key=lambda event: event.time_s,
+            )
+        )
+        if "failures" in t.data
+        else (),
+    )
+    t.done()
+    return simulation
+
+
+def _read_montecarlo(t: _Table) -> MonteCarlo:
+    montecarlo = MonteCarlo(
+        corner_array_angles=t.integer("corner_array_angles", minimum=1),
+        samples=t.integer("samples", minimum=1),
+        seed=t.integer("seed", minimum=0),
+    )
+    t.done()
+    return montecarlo
+
+
+def _optional_table(top: _Table, name: str, defaults: Mapping[str, Any]) -> _Table:
+    """The table ``name`` with missing keys taken from ``defaults`` (absent table: all)."""
+    given = top.data.get(name, {})
+    top.taken.add(name)
+    if not isinstance(given, Mapping):
+        raise top.error(top.key(name), "must be a table")
+    return _Table({**defaults, **given}, top.key(name), top.source)
+
+
 def _read_simple(t: _Table, cls: type, names: tuple[str, ...], **checks: Any) -> Any:
     value = cls(*(t.number(n, **checks) for n in names))
     t.done()
@@ -605,13 +757,15 @@ def problem_from_dict(
         ("from_altitude_km", "from_inclination_deg", "to_altitude_km", "to_inclination_deg"),
         nonnegative=True,
     )
+    cubesats = _read_cubesats(top.table("cubesats"))
+    engine = _read_engine(top.table("engine"))
     problem = Problem(
         name=top.text("name"),
         description=top.text("description"),
         hub=hub,
         arrays=_read_arrays(top.table("arrays"), hub.size_m),
-        cubesats=_read_cubesats(top.table("cubesats")),
-        engine=_read_engine(top.table("engine")),
+        cubesats=cubesats,
+        engine=engine,
         disturbance=_read_disturbance(top.table("disturbance")),
         sensor=_read_sensor(top.table("sensor")),
         uncertainty=_read_uncertainty(top.table("uncertainty")),
@@ -627,6 +781,12 @@ def problem_from_dict(
             ("earth_mu_km3_s2", "earth_radius_km", "standard_gravity_m_s2"),
             positive=True,
         ),
+        simulation=_read_simulation(
+            _optional_table(top, "simulation", DEFAULT_SIMULATION),
+            n_cubesats=6 * cubesats.per_face,
+            n_stages=engine.stages,
+        ),
+        montecarlo=_read_montecarlo(_optional_table(top, "montecarlo", DEFAULT_MONTECARLO)),
         source=source or "<dict>",
         sha256=sha256,
     )

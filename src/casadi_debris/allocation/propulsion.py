@@ -308,6 +308,81 @@ class PropulsionState:
             events.extend(self._burn(int(cubesat), float(thrust[cubesat]), float(dt_s)))
         return events
 
+    def advance_series(
+        self, thrust_N: np.ndarray, dt_s: float, *, stop_on_limit_change: bool = True
+    ) -> tuple[int, list[tuple[int, StageEvent]]]:
+        """Fire a history of thrusts, each held for ``dt_s``, as :meth:`advance` would step by step.
+
+        Steps in which no stage runs dry are applied all at once (sums per
+        CubeSat); a step in which one does goes through :meth:`advance`.
+
+        Parameters
+        ----------
+        thrust_N : ndarray, shape (k, n_cubesats)
+            Thrust of every CubeSat in each step [N].
+        dt_s : float
+            Step length [s].
+        stop_on_limit_change : bool
+            Stop after the first step that changes a CubeSat's thrust limit
+            (a CubeSat spent, or a stage of other thrust taking over): the
+            thrust after it was planned with the old limits.
+
+        Returns
+        -------
+        steps_done : int
+            Steps applied (``k`` unless stopped early).
+        events : list of (int, StageEvent)
+            Step index and event, in order.
+        """
+        thrust = np.asarray(thrust_N, dtype=float)
+        if thrust.ndim != 2 or thrust.shape[1] != self.n_cubesats:
+            raise InputShapeError(
+                f"thrust_N must have shape (k, {self.n_cubesats}), got {thrust.shape}"
+            )
+        events: list[tuple[int, StageEvent]] = []
+        done = 0
+        while done < len(thrust):
+            rest = thrust[done:]
+            usable = self._usable()
+            active = self.active_stage
+            left = np.array(
+                [
+                    self.propellant_kg[i, a] if a < self.n_stages and usable[i, a] else np.inf
+                    for i, a in enumerate(active)
+                ]
+            )
+            burnt = np.cumsum(rest, axis=0) * (dt_s / self.exhaust_velocity_m_s)
+            dry = burnt >= left * (1.0 - DEPLETED_FRACTION)
+            first = int(np.argmax(dry.any(axis=1))) if dry.any() else len(rest)
+            if first > 0:
+                self.advance_sum(rest[:first], dt_s)
+                done += first
+            if first == len(rest):
+                break
+            limits = self.max_thrust_N()
+            events.extend((done, event) for event in self.advance(rest[first], dt_s))
+            done += 1
+            if stop_on_limit_change and not np.array_equal(limits, self.max_thrust_N()):
+                break
+        return done, events
+
+    def advance_sum(self, thrust_N: np.ndarray, dt_s: float) -> None:
+        """Fire steps in which no stage runs dry: propellant and firing time summed per CubeSat."""
+        limits = self.max_thrust_N()
+        if np.any(thrust_N > limits * (1.0 + THRUST_LIMIT_RTOL)) or np.any(thrust_N < 0):
+            worst = np.unravel_index(np.argmax(thrust_N - limits), thrust_N.shape)
+            raise AllocationError(
+                f"CubeSat {worst[1]}: thrust {thrust_N[worst] * MN_PER_N:.6g} mN outside "
+                f"0 .. {limits[worst[1]] * MN_PER_N:.6g} mN"
+            )
+        active = self.active_stage
+        firing = active < self.n_stages
+        rows = np.flatnonzero(firing)
+        self.propellant_kg[rows, active[rows]] -= (
+            np.minimum(thrust_N, limits).sum(axis=0)[rows] * dt_s / self.exhaust_velocity_m_s
+        )
+        self.firing_time_s[rows, active[rows]] += (thrust_N[:, rows] > 0).sum(axis=0) * dt_s
+
     def _burn(self, cubesat: int, thrust_N: float, dt_s: float) -> list[StageEvent]:
         """Burn one CubeSat's stages in order for ``dt_s``, switching at depletion."""
         events = []

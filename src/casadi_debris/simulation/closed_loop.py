@@ -1,0 +1,239 @@
+"""The sampled-data closed loop as one compiled CasADi graph.
+
+One control period ``h = 1 / control_rate`` of the loop, from the state
+``z_k = [x_k, xc_k]`` (plant, controller) and the reference ``q_ref,k``:
+
+1. star tracker: ``e_k = attitude_error(q_ref,k, q_ST,k)`` (rad, attitude
+   minus reference, short way round; the model's own function);
+2. controller (the reduced mu controller, zero-order-hold discretised):
+   ``u_k = Cd xc_k + Dd (-e_k) [deg -> mNm]``, ``xc_k+1 = Ad xc_k + Bd (-e_k)``;
+3. saturation, as the allocator does it: the largest ``alpha <= 1`` with
+   ``alpha u_k`` reachable by the engines at zero net force, from the facets
+   of the authority polytope (:mod:`casadi_debris.allocation.authority`);
+4. plant: the model's ``dynamics`` with torque ``alpha u_k`` held and the
+   disturbance ``d(t)``, integrated over the period by ``integrator_steps``
+   classical Runge-Kutta steps (or CVODES, for reference).
+
+The whole period is one ``casadi.Function`` (expanded to scalar operations,
+the parameter vector folded in as constants), rolled out over many periods
+with ``mapaccum``: no Python per step. The engines' thrust for the applied
+torques is the allocator's least-fuel answer, computed for each stretch of
+periods at once by :meth:`~casadi_debris.allocation.Allocator.allocate_series`;
+its torque equals ``alpha u_k`` to 1e-9 (checked on every run and reported),
+so computing it after the stretch changes nothing in the loop.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import casadi as ca
+import control
+import numpy as np
+
+from casadi_debris.allocation import AuthorityPolytope
+from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.model import Model
+
+DEG_PER_RAD = 180.0 / math.pi
+NM_PER_MNM = 1e-3
+# Relative pull-in of a saturated torque so that it lies strictly inside the
+# reachable set (the allocator promises alpha to 1e-9).
+SATURATION_BACKOFF = 1e-10
+INTEGRATORS = ("rk4", "cvodes")
+CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
+
+
+class SimulationError(CasadiDebrisError):
+    """A closed-loop run cannot be set up as asked."""
+
+
+@dataclass(frozen=True, eq=False)
+class DiscreteController:
+    """Controller ``x+ = A x + B e, u = C x + D e`` (e [deg] -> u [mNm]) at period ``period_s``."""
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    period_s: float
+
+    @property
+    def n_states(self) -> int:
+        return self.A.shape[0]
+
+
+def discretize_controller(controller: control.StateSpace, period_s: float) -> DiscreteController:
+    """Zero-order-hold discretisation of a continuous controller.
+
+    Parameters
+    ----------
+    controller : control.StateSpace
+        Continuous, 3 inputs (attitude error, deg) and 3 outputs (torque, mNm).
+    period_s : float
+        Sample period [s].
+
+    Raises
+    ------
+    SimulationError
+        Not 3 x 3, or the discrete controller is not stable while the
+        continuous one is (period too long for its poles).
+    """
+    if controller.ninputs != 3 or controller.noutputs != 3:
+        raise SimulationError(
+            f"the controller must map 3 attitude errors to 3 torques, "
+            f"got {controller.ninputs} inputs and {controller.noutputs} outputs"
+        )
+    if not period_s > 0:
+        raise SimulationError(f"control period must be positive, got {period_s}")
+    discrete = control.sample_system(controller, period_s, method="zoh")
+    return DiscreteController(
+        A=np.asarray(discrete.A),
+        B=np.asarray(discrete.B),
+        C=np.asarray(discrete.C),
+        D=np.asarray(discrete.D),
+        period_s=float(period_s),
+    )
+
+
+def saturation_scale(torque: ca.SX, polytope: AuthorityPolytope) -> ca.SX:
+    """alpha = min(1, min over facets with n.tau > 0 of b / (n.tau)), symbolic."""
+    reach = ca.DM(polytope.normals) @ torque
+    tiny = np.finfo(float).tiny
+    ratios = ca.if_else(
+        reach > 0, ca.DM(polytope.offsets) / ca.fmax(reach, tiny), ca.DM.inf(reach.shape)
+    )
+    return ca.fmin(1.0, ca.mmin(ratios))
+
+
+def _rk4_step(model: Model, parameters: np.ndarray, period_s: float, steps: int) -> ca.Function:
+    """``plant(x, t, u) -> x(t + h)``: RK4 on the model with the torque/force input u held."""
+    x = ca.SX.sym("x", model.layout.size)
+    t = ca.SX.sym("t")
+    u = ca.SX.sym("u", 6)  # torque (3) N m, force (3) N
+    p = ca.DM(parameters)
+    h = period_s / steps
+
+    def rate(state: ca.SX, time: ca.SX) -> ca.SX:
+        inputs = ca.vertcat(u[0:3], model.disturbance(time), u[3:6])
+        return model.dynamics(state, inputs, p)
+
+    state = x
+    for i in range(steps):
+        start = t + i * h
+        k1 = rate(state, start)
+        k2 = rate(state + h / 2 * k1, start + h / 2)
+        k3 = rate(state + h / 2 * k2, start + h / 2)
+        k4 = rate(state + h * k3, start + h)
+        state = state + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return ca.Function("plant_rk4", [x, t, u], [state], ["x", "t", "u"], ["x_next"]).expand()
+
+
+def _cvodes_step(model: Model, parameters: np.ndarray, period_s: float) -> ca.Function:
+    """``plant(x, t, u) -> x(t + h)`` by CVODES (time as an extra state for the disturbance)."""
+    x = ca.SX.sym("x", model.layout.size)
+    clock = ca.SX.sym("clock")
+    u = ca.SX.sym("u", 6)
+    inputs = ca.vertcat(u[0:3], model.disturbance(clock), u[3:6])
+    ode = ca.vertcat(model.dynamics(x, inputs, ca.DM(parameters)), 1.0)
+    dae = {"x": ca.vertcat(x, clock), "p": u, "ode": ode}
+    integrator = ca.integrator("plant_cvodes", "cvodes", dae, 0.0, period_s, CVODES_OPTIONS)
+    xs = ca.MX.sym("x", model.layout.size)
+    ts = ca.MX.sym("t")
+    us = ca.MX.sym("u", 6)
+    final = integrator(x0=ca.vertcat(xs, ts), p=us)["xf"]
+    return ca.Function(
+        "plant_cvodes", [xs, ts, us], [final[: model.layout.size]], ["x", "t", "u"], ["x_next"]
+    )
+
+
+@dataclass(frozen=True, eq=False)
+class LoopStep:
+    """One control period as a CasADi Function and its roll-out.
+
+    ``step(z, s) -> (z_next, y)`` with z = [x (plant), xc (controller)],
+    s = [t_k, q_ref,k (4)], y = [u_k (3) N m demanded, alpha_k, e_k (3) rad
+    measured]. ``rollout`` is ``step.mapaccum`` over ``chunk_steps`` periods.
+    """
+
+    step: ca.Function
+    rollout: ca.Function
+    chunk_steps: int
+    n_plant: int
+    n_controller: int
+
+
+def build_loop_step(
+    model: Model,
+    parameters: np.ndarray,
+    controller: DiscreteController,
+    polytope: AuthorityPolytope,
+    *,
+    integrator_steps: int = 4,
+    integrator: str = "rk4",
+    chunk_steps: int = 1000,
+) -> LoopStep:
+    """Compile one control period of the closed loop for one parameter set.
+
+    Parameters
+    ----------
+    model : Model
+    parameters : ndarray, shape (6,)
+        Model parameters (folded into the graph as constants).
+    controller : DiscreteController
+    polytope : AuthorityPolytope
+        Reachable torques with the current engine limits.
+    integrator_steps : int
+        RK4 steps per control period.
+    integrator : {"rk4", "cvodes"}
+    chunk_steps : int
+        Periods per ``rollout`` call.
+
+    Returns
+    -------
+    LoopStep
+    """
+    if integrator not in INTEGRATORS:
+        raise SimulationError(f"unknown integrator {integrator!r}; one of {', '.join(INTEGRATORS)}")
+    period = controller.period_s
+    n_plant, n_ctrl = model.layout.size, controller.n_states
+    plant = (
+        _rk4_step(model, parameters, period, integrator_steps)
+        if integrator == "rk4"
+        else _cvodes_step(model, parameters, period)
+    )
+
+    x = ca.SX.sym("x", n_plant)
+    xc = ca.SX.sym("xc", n_ctrl)
+    q_ref = ca.SX.sym("q_ref", 4)
+    error = model.attitude_error(q_ref, x[model.layout.q_st])
+    command_deg = -DEG_PER_RAD * error  # e = reference - measured
+    demand = NM_PER_MNM * (ca.DM(controller.C) @ xc + ca.DM(controller.D) @ command_deg)
+    xc_next = ca.DM(controller.A) @ xc + ca.DM(controller.B) @ command_deg
+    scale = saturation_scale(demand, polytope)
+    applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
+    law = ca.Function(
+        "control_law", [x, xc, q_ref], [applied, xc_next, demand, scale, error]
+    ).expand()
+
+    z = ca.MX.sym("z", n_plant + n_ctrl)
+    s = ca.MX.sym("s", 5)
+    xz, xcz = z[:n_plant], z[n_plant:]
+    applied_z, xc_next_z, demand_z, scale_z, error_z = law(xz, xcz, s[1:5])
+    x_next = plant(xz, s[0], ca.vertcat(applied_z, ca.DM.zeros(3)))
+    step_mx = ca.Function(
+        "loop_step",
+        [z, s],
+        [ca.vertcat(x_next, xc_next_z), ca.vertcat(demand_z, scale_z, error_z)],
+        ["z", "s"],
+        ["z_next", "y"],
+    )
+    step = step_mx.expand() if integrator == "rk4" else step_mx
+    return LoopStep(
+        step=step,
+        rollout=step.mapaccum("loop_rollout", chunk_steps),
+        chunk_steps=chunk_steps,
+        n_plant=n_plant,
+        n_controller=n_ctrl,
+    )

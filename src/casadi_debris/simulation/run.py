@@ -1,0 +1,322 @@
+"""One closed-loop scenario: plant, star tracker, controller, allocator, engines, reference.
+
+:func:`simulate` rolls the compiled control period
+(:mod:`casadi_debris.simulation.closed_loop`) out in stretches. After each
+stretch the allocator turns the applied torques into engine thrust
+(least fuel, zero net force) and the propulsion state burns it. A stretch
+ends early where the engines change: at a scheduled failure (the problem's
+``[[simulation.failures]]``) or where a CubeSat runs out of stages. The loop
+is then rebuilt with the new torque authority and goes on from that step.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import control
+import numpy as np
+
+from casadi_debris.allocation import Allocator, PropulsionState, StageEvent
+from casadi_debris.config import FailureEvent, Problem
+from casadi_debris.model import Model
+from casadi_debris.simulation.closed_loop import (
+    SimulationError,
+    build_loop_step,
+    discretize_controller,
+)
+from casadi_debris.simulation.reference import Reference
+
+ARCSEC_PER_RAD = 180.0 / math.pi * 3600.0
+# Settling: the error's largest component stays below this from then on.
+SETTLE_BAND_ARCSEC = 60.0
+# The allocator's torque must equal the applied torque to this (relative to
+# the largest torque authority): the loop's premise, checked on every run.
+ALLOCATION_TOLERANCE = 1e-8
+DEFAULT_CHUNK_STEPS = 1000
+
+
+@dataclass(eq=False)
+class ClosedLoopResult:
+    """Time series and figures of one closed-loop run (SI units).
+
+    Attributes
+    ----------
+    time_s : ndarray, shape (n + 1,)
+        Control instants, 0 .. duration.
+    state : ndarray, shape (n + 1, n_x)
+        Plant state (model layout) at each instant.
+    reference_BN : ndarray, shape (n + 1, 4)
+    error_rad : ndarray, shape (n + 1, 3)
+        True attitude minus reference (doubled error-quaternion vector).
+    measured_error_rad : ndarray, shape (n, 3)
+        What the star tracker told the controller at each step.
+    demand_Nm, torque_Nm : ndarray, shape (n, 3)
+        Controller demand, and the allocator's torque ``B f`` held over each step.
+    force_N : ndarray, shape (n, 3)
+        Net force of the thrust (zero to round-off).
+    scale : ndarray, shape (n,)
+        Saturation factor alpha (1: demand met).
+    thrust_N : ndarray, shape (n, n_cubesats)
+    disturbance_Nm : ndarray, shape (n, 3)
+        At the start of each step.
+    propulsion : PropulsionState
+        At the end.
+    events : list of (float, str)
+        Time [s] and description of failures and stage switches.
+    parameters : dict
+        Model parameters by name.
+    control_period_s : float
+    allocation_residual_Nm : float
+        Largest |B f - applied torque| over the run.
+    point_solves : int
+        QP solves the allocator needed (the rest reused active sets).
+    wall_time_s : float
+    """
+
+    time_s: np.ndarray
+    state: np.ndarray
+    reference_BN: np.ndarray
+    error_rad: np.ndarray
+    measured_error_rad: np.ndarray
+    demand_Nm: np.ndarray
+    torque_Nm: np.ndarray
+    force_N: np.ndarray
+    scale: np.ndarray
+    thrust_N: np.ndarray
+    disturbance_Nm: np.ndarray
+    propulsion: PropulsionState
+    fuel_start_kg: np.ndarray
+    events: list[tuple[float, str]]
+    parameters: dict[str, float]
+    control_period_s: float
+    total_mass_kg: float
+    allocation_residual_Nm: float
+    point_solves: int
+    wall_time_s: float
+    info: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def fuel_per_cubesat_kg(self) -> np.ndarray:
+        """Propellant burnt by each CubeSat during the run, shape (n_cubesats,) [kg]."""
+        return (self.fuel_start_kg - self.propulsion.propellant_kg).sum(axis=1)
+
+    def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
+        """First instant after which every error component stays inside ``band_rad``.
+
+        None when the run ends outside the band.
+        """
+        outside = np.abs(self.error_rad).max(axis=1) > band_rad
+        if outside[-1]:
+            return None
+        if not outside.any():
+            return 0.0
+        return float(self.time_s[np.flatnonzero(outside)[-1] + 1])
+
+    def summary(self) -> dict[str, Any]:
+        """Figures of the run, units in the keys."""
+        fuel = self.fuel_per_cubesat_kg
+        fuel_kg = float(fuel.sum())
+        exhaust = self.propulsion.exhaust_velocity_m_s
+        max_error = float(np.abs(self.error_rad).max())
+        settle = self.settle_time_s()
+        return {
+            "max_error_deg": math.degrees(max_error),
+            "max_error_arcsec": max_error * ARCSEC_PER_RAD,
+            "max_error_per_axis_deg": np.degrees(np.abs(self.error_rad).max(axis=0)).tolist(),
+            "final_error_arcsec": float(np.abs(self.error_rad[-1]).max() * ARCSEC_PER_RAD),
+            "settle_time_s": settle,
+            "settle_band_arcsec": SETTLE_BAND_ARCSEC,
+            "fuel_kg": fuel_kg,
+            "fuel_per_cubesat_kg": fuel.tolist(),
+            "fuel_worst_cubesat_kg": float(fuel.max()),
+            "dv_used_m_s": exhaust * math.log(self.total_mass_kg / (self.total_mass_kg - fuel_kg)),
+            "torque_saturated_s": float(np.sum(self.scale < 1.0) * self.control_period_s),
+            "min_scale": float(self.scale.min()) if len(self.scale) else 1.0,
+            "max_torque_mNm": (np.abs(self.torque_Nm).max(axis=0) * 1e3).tolist(),
+            "max_demand_mNm": (np.abs(self.demand_Nm).max(axis=0) * 1e3).tolist(),
+            "stage_switches": sum(1 for _, text in self.events if "stage" in text),
+            "events": [{"time_s": t, "event": text} for t, text in self.events],
+            "allocation_residual_Nm": self.allocation_residual_Nm,
+            "max_net_force_N": float(np.abs(self.force_N).max()) if len(self.force_N) else 0.0,
+            "allocation_point_solves": self.point_solves,
+            "duration_s": float(self.time_s[-1]),
+            "control_period_s": self.control_period_s,
+            "steps": len(self.scale),
+            "parameters": self.parameters,
+            "wall_time_s": self.wall_time_s,
+            **self.info,
+        }
+
+
+def _describe(event: StageEvent) -> str:
+    then = "none left" if event.next_stage is None else f"stage {event.next_stage + 1} takes over"
+    return f"CubeSat {event.cubesat + 1}: stage {event.stage + 1} empty, {then}"
+
+
+def _apply_failure(failure: FailureEvent, propulsion: PropulsionState) -> str:
+    if failure.stage is None:
+        propulsion.fail_cubesat(failure.cubesat)
+        return f"CubeSat {failure.cubesat + 1} failed"
+    propulsion.fail_stage(failure.cubesat, failure.stage)
+    return f"CubeSat {failure.cubesat + 1}: stage {failure.stage + 1} failed"
+
+
+def simulate(
+    problem: Problem,
+    model: Model,
+    controller: control.StateSpace,
+    reference: Reference,
+    *,
+    parameters: np.ndarray | None = None,
+    propulsion: PropulsionState | None = None,
+    failures: tuple[FailureEvent, ...] | None = None,
+    integrator: str = "rk4",
+    integrator_steps: int | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+) -> ClosedLoopResult:
+    """Run one closed-loop scenario.
+
+    Parameters
+    ----------
+    problem : Problem
+    model : Model
+        Built from ``problem`` (all array modes for the paper's runs).
+    controller : control.StateSpace
+        Continuous controller, attitude error [deg] -> torque [mNm].
+    reference : Reference
+        Reference at the control instants; its times set the run
+        (uniform, spacing = control period).
+    parameters : ndarray, shape (6,), optional
+        Model parameters (default nominal).
+    propulsion : PropulsionState, optional
+        Engines at the start (default all full); not modified.
+    failures : tuple of FailureEvent, optional
+        Default the problem's ``simulation.failures``.
+    integrator : {"rk4", "cvodes"}
+    integrator_steps : int, optional
+        RK4 steps per period (default the problem's).
+    chunk_steps : int
+        Periods per compiled roll-out call.
+
+    Returns
+    -------
+    ClosedLoopResult
+    """
+    started = time.perf_counter()
+    times = reference.time_s
+    if len(times) < 2:
+        raise SimulationError("the reference needs at least two instants")
+    period = float(times[1] - times[0])
+    if not np.allclose(np.diff(times), period, rtol=1e-9, atol=1e-12):
+        raise SimulationError("the reference must be sampled uniformly (one per control period)")
+    p = model.nominal_parameters if parameters is None else np.asarray(parameters, dtype=float)
+    steps_per_period = (
+        problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
+    )
+    failures = problem.simulation.failures if failures is None else failures
+    discrete = discretize_controller(controller, period)
+    engines = (
+        PropulsionState.from_problem(problem, model.geometry)
+        if propulsion is None
+        else propulsion.copy()
+    )
+    fuel_start = engines.propellant_kg.copy()
+    allocator = Allocator.from_problem(problem, model.geometry, state=engines)
+
+    n = len(times) - 1
+    n_cubesats = engines.n_cubesats
+    failure_steps = [min(n, max(0, math.ceil(f.time_s / period - 1e-9))) for f in failures]
+    pending = list(zip(failure_steps, failures, strict=True))
+
+    z = np.concatenate([_initial_state(model, reference), np.zeros(discrete.n_states)])
+    states = np.zeros((n + 1, model.layout.size))
+    states[0] = z[: model.layout.size]
+    outputs = np.zeros((n, 7))
+    thrust = np.zeros((n, n_cubesats))
+    events: list[tuple[float, str]] = []
+    point_solves = 0
+    loop = None
+    k = 0
+    while k < n:
+        while pending and pending[0][0] <= k:
+            _, failure = pending.pop(0)
+            events.append((k * period, _apply_failure(failure, engines)))
+            loop = None
+        if loop is None:
+            allocator.update_from_state(engines)
+            loop = build_loop_step(
+                model,
+                p,
+                discrete,
+                allocator.authority_polytope(),
+                integrator_steps=steps_per_period,
+                integrator=integrator,
+                chunk_steps=chunk_steps,
+            )
+        stop = min(n, k + chunk_steps, pending[0][0] if pending else n)
+        inputs = np.zeros((5, chunk_steps))
+        inputs[0, : stop - k] = times[k:stop]
+        inputs[1:, : stop - k] = reference.quaternion_BN[k:stop].T
+        inputs[1, stop - k :] = 1.0  # padding periods: identity reference, results unused
+        z_all, y_all = loop.rollout(z, inputs)
+        z_all = np.asarray(z_all)[:, : stop - k]
+        y_all = np.asarray(y_all)[:, : stop - k].T
+        demand, scale = y_all[:, 0:3], y_all[:, 3]
+        applied = demand * np.where(scale < 1.0, scale * (1 - 1e-10), 1.0)[:, None]
+        allocation = allocator.allocate_series(applied)
+        point_solves += allocation.point_solves
+        done, stage_events = engines.advance_series(allocation.thrust_N, period)
+        for index, event in stage_events:
+            events.append(((k + index) * period + event.time_s, _describe(event)))
+        if done < stop - k:
+            loop = None  # a CubeSat's limit changed: rebuild from the step after
+        outputs[k : k + done] = y_all[:done]
+        thrust[k : k + done] = allocation.thrust_N[:done]
+        states[k + 1 : k + done + 1] = z_all[: model.layout.size, :done].T
+        z = z_all[:, done - 1]
+        k += done
+
+    torque = thrust @ allocator.torque_map.T
+    demand, scale = outputs[:, 0:3], outputs[:, 3]
+    applied = demand * np.where(scale < 1.0, scale * (1 - 1e-10), 1.0)[:, None]
+    residual = float(np.abs(torque - applied).max()) if n else 0.0
+    authority = float(np.abs(allocator.authority_polytope().vertices).max()) if n else 1.0
+    if residual > ALLOCATION_TOLERANCE * authority:
+        raise SimulationError(
+            f"the allocator's torque differs from the applied torque by {residual:.3g} N m"
+        )
+    q_index = model.layout.q
+    error = np.asarray(
+        model.attitude_error.map(n + 1)(reference.quaternion_BN.T, states[:, q_index].T)
+    ).T
+    disturbance = np.asarray(model.disturbance.map(n)(times[:-1])).T
+    return ClosedLoopResult(
+        time_s=times,
+        state=states,
+        reference_BN=reference.quaternion_BN,
+        error_rad=error,
+        measured_error_rad=outputs[:, 4:7],
+        demand_Nm=demand,
+        torque_Nm=torque,
+        force_N=thrust @ allocator.force_map.T,
+        scale=scale,
+        thrust_N=thrust,
+        disturbance_Nm=disturbance,
+        propulsion=engines,
+        fuel_start_kg=fuel_start,
+        events=events,
+        parameters=dict(zip(model.parameter_names, map(float, p), strict=True)),
+        control_period_s=period,
+        total_mass_kg=float(p[3]),
+        allocation_residual_Nm=residual,
+        point_solves=point_solves,
+        wall_time_s=time.perf_counter() - started,
+    )
+
+
+def _initial_state(model: Model, reference: Reference) -> np.ndarray:
+    """At rest, arrays undeformed, on the reference's first attitude."""
+    return model.initial_state(quaternion=reference.quaternion_BN[0])
