@@ -375,6 +375,8 @@ class Allocator:
             Every limit is zero.
         """
         limits = self._checked_limits(max_thrust_N)
+        if np.array_equal(limits, self._max_thrust_N):
+            return  # unchanged: keep the cached polytope and active-set regions
         self._max_thrust_N = limits
         self._upper = limits / self._thrust_ref_N
         self._polytopes.clear()

@@ -14,6 +14,7 @@ from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     describe,  # model, budget
     robust,  # synthesize, margins
+    simulate,  # simulate, montecarlo
     slew,  # slew
 )
 from casadi_debris.cli.common import main

@@ -2,28 +2,62 @@
 allocator and engines together; Monte Carlo over the uncertainty set.
 
 - :func:`simulate`: one scenario (:class:`ClosedLoopResult`).
+- :func:`run_campaign`: Monte Carlo over :func:`corner_cases` / :func:`sample_cases`
+  on processes or Dask, with an :class:`Envelope`.
 - :func:`open_loop_rigid`: the rigid body under a held torque table.
 - :func:`sample_reference`, :func:`generate_slew`: what the loop follows.
 """
 
+from casadi_debris.simulation.cases import (
+    Case,
+    corner_case,
+    corner_cases,
+    nominal_case,
+    sample_case,
+    sample_cases,
+)
 from casadi_debris.simulation.closed_loop import (
     SimulationError,
     build_loop_step,
     discretize_controller,
 )
+from casadi_debris.simulation.monte_carlo import (
+    CampaignSetup,
+    CaseOutcome,
+    Envelope,
+    run_campaign,
+    run_case,
+)
 from casadi_debris.simulation.open_loop import OpenLoopResult, open_loop_rigid
-from casadi_debris.simulation.reference import Reference, generate_slew, sample_reference
+from casadi_debris.simulation.reference import (
+    Reference,
+    generate_slew,
+    sample_reference,
+    scenario_reference,
+)
 from casadi_debris.simulation.run import ClosedLoopResult, simulate
 
 __all__ = [
+    "CampaignSetup",
+    "Case",
+    "CaseOutcome",
     "ClosedLoopResult",
+    "Envelope",
     "OpenLoopResult",
     "Reference",
     "SimulationError",
     "build_loop_step",
+    "corner_case",
+    "corner_cases",
     "discretize_controller",
     "generate_slew",
+    "nominal_case",
     "open_loop_rigid",
+    "run_campaign",
+    "run_case",
+    "sample_case",
+    "sample_cases",
     "sample_reference",
+    "scenario_reference",
     "simulate",
 ]

@@ -89,3 +89,15 @@ def sample_reference(
     )
     quaternion /= np.linalg.norm(quaternion, axis=1, keepdims=True)
     return Reference(time_s, quaternion, slew, start_s)
+
+
+def scenario_reference(problem: Problem) -> Reference:
+    """The reference of the problem's ``[simulation]`` table at its control instants."""
+    settings = problem.simulation
+    period = 1.0 / settings.control_rate_hz
+    steps = max(1, round(settings.duration_s / period))
+    times = period * np.arange(steps + 1)
+    if settings.reference == "hold" or settings.slew is None:
+        return sample_reference(times)
+    slew = generate_slew(problem, settings.slew, period)
+    return sample_reference(times, slew, settings.slew.start_s)

@@ -48,6 +48,8 @@ class ClosedLoopResult:
         Control instants, 0 .. duration.
     state : ndarray, shape (n + 1, n_x)
         Plant state (model layout) at each instant.
+    rate_rad_s : ndarray, shape (n + 1, 3)
+        Body rate omega_BN in B.
     reference_BN : ndarray, shape (n + 1, 4)
     error_rad : ndarray, shape (n + 1, 3)
         True attitude minus reference (doubled error-quaternion vector).
@@ -78,6 +80,7 @@ class ClosedLoopResult:
 
     time_s: np.ndarray
     state: np.ndarray
+    rate_rad_s: np.ndarray
     reference_BN: np.ndarray
     error_rad: np.ndarray
     measured_error_rad: np.ndarray
@@ -176,6 +179,7 @@ def simulate(
     integrator: str = "rk4",
     integrator_steps: int | None = None,
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    allocator: Allocator | None = None,
 ) -> ClosedLoopResult:
     """Run one closed-loop scenario.
 
@@ -200,6 +204,10 @@ def simulate(
         RK4 steps per period (default the problem's).
     chunk_steps : int
         Periods per compiled roll-out call.
+    allocator : Allocator, optional
+        Reused between runs of one problem (its authority polytope and
+        active-set regions are kept while the limits do not change); its
+        limits are set from the engines.
 
     Returns
     -------
@@ -224,7 +232,9 @@ def simulate(
         else propulsion.copy()
     )
     fuel_start = engines.propellant_kg.copy()
-    allocator = Allocator.from_problem(problem, model.geometry, state=engines)
+    if allocator is None:
+        allocator = Allocator.from_problem(problem, model.geometry, state=engines)
+    allocator.update_from_state(engines)
 
     n = len(times) - 1
     n_cubesats = engines.n_cubesats
@@ -296,6 +306,7 @@ def simulate(
     return ClosedLoopResult(
         time_s=times,
         state=states,
+        rate_rad_s=states[:, model.layout.omega],
         reference_BN=reference.quaternion_BN,
         error_rad=error,
         measured_error_rad=outputs[:, 4:7],

@@ -1,0 +1,376 @@
+"""``casadi-debris simulate`` and ``montecarlo``: closed-loop runs and campaigns."""
+
+from __future__ import annotations
+
+import csv
+import os
+import shutil
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import click
+import numpy as np
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
+from casadi_debris.cli.robust import load_controller
+from casadi_debris.config import Problem, load_problem
+from casadi_debris.errors import InputShapeError
+from casadi_debris.model import Model, build_model
+from casadi_debris.report.common import atomic_run_folder, format_table, write_json_atomic
+from casadi_debris.report.simulation import (
+    campaign_summary,
+    finished_cases,
+    partial_folder,
+    torque_limits_mNm,
+    write_campaign,
+    write_case,
+    write_csv,
+    write_run,
+)
+from casadi_debris.simulation import (
+    CampaignSetup,
+    Case,
+    ClosedLoopResult,
+    corner_case,
+    corner_cases,
+    nominal_case,
+    open_loop_rigid,
+    run_campaign,
+    sample_case,
+    sample_cases,
+    scenario_reference,
+)
+from casadi_debris.simulation import (
+    simulate as run_simulation,
+)
+
+NM_PER_MNM = 1e-3
+NOMINAL_KEYS = (
+    "max_error_deg",
+    "max_error_arcsec",
+    "fuel_kg",
+    "settle_time_s",
+    "torque_saturated_s",
+    "max_torque_mNm",
+)
+
+
+def run_summary(
+    problem: Problem, case: Case, result: ClosedLoopResult, controller_path: Path
+) -> dict[str, Any]:
+    """The run's figures plus what identifies it (case, seed, files)."""
+    return {
+        "problem": problem.name,
+        "problem_sha256": problem.sha256,
+        "case_id": case.case_id,
+        "seed": case.seed,
+        "controller_path": str(controller_path),
+        **result.summary(),
+    }
+
+
+def summary_text(summary: dict[str, Any]) -> str:
+    settle = summary["settle_time_s"]
+    rows = [
+        ["case", summary.get("case_id", "")],
+        ["max error [deg]", f"{summary['max_error_deg']:.4g}"],
+        ["max error [arcsec]", f"{summary['max_error_arcsec']:.4g}"],
+        ["settled (60 arcsec) at [s]", "not settled" if settle is None else f"{settle:.1f}"],
+        ["fuel [kg]", f"{summary['fuel_kg']:.4g}"],
+        ["worst CubeSat fuel [kg]", f"{summary['fuel_worst_cubesat_kg']:.4g}"],
+        ["dv used [m/s]", f"{summary['dv_used_m_s']:.3g}"],
+        ["torque saturated [s]", f"{summary['torque_saturated_s']:.1f}"],
+        ["max torque x, y, z [mNm]", ", ".join(f"{v:.3g}" for v in summary["max_torque_mNm"])],
+        ["stage switches", summary["stage_switches"]],
+        ["wall time [s]", f"{summary['wall_time_s']:.2f}"],
+    ]
+    return format_table(["figure", "value"], rows)
+
+
+def choose_case(
+    problem: Problem, model: Model, corner: int | None, sample: int | None, seed: int | None
+) -> Case:
+    if corner is not None and sample is not None:
+        raise InputShapeError("give either --corner or --sample, not both")
+    if corner is not None:
+        return corner_case(problem, model, corner)
+    if sample is not None:
+        return sample_case(
+            problem, model, sample, problem.montecarlo.seed if seed is None else seed
+        )
+    return nominal_case(model)
+
+
+def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """``t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm`` rows -> times [s], torques [N m]."""
+    expected = ["t_s", "tau_x_mNm", "tau_y_mNm", "tau_z_mNm"]
+    try:
+        with path.open(newline="") as handle:
+            rows = list(csv.reader(handle))
+    except OSError as exc:
+        raise InputShapeError(f"{path}: cannot be read ({exc.strerror})") from None
+    if not rows or [c.strip() for c in rows[0]] != expected:
+        raise InputShapeError(f"{path}: the header must be {','.join(expected)}")
+    try:
+        values = np.array([[float(c) for c in row] for row in rows[1:] if row], dtype=float)
+    except ValueError as exc:
+        raise InputShapeError(f"{path}: {exc}") from None
+    if values.ndim != 2 or values.shape[1] != 4 or len(values) == 0:
+        raise InputShapeError(f"{path}: need at least one row of 4 numbers")
+    return values[:, 0], values[:, 1:] * NM_PER_MNM
+
+
+@main.command()
+@problem_argument
+@click.option("--corner", type=int, help="Run corner K of the uncertainty set (0-based).")
+@click.option("--sample", type=int, help="Run random sample N (with --seed).")
+@click.option("--seed", type=int, help="Seed of --sample (default the problem's montecarlo.seed).")
+@click.option(
+    "--open-loop",
+    "open_loop",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help="Torque table t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm (held); needs --rigid.",
+)
+@click.option("--rigid", is_flag=True, help="Rigid body, full rigid inertia (with --open-loop).")
+@click.option("--duration-s", type=float, help="End time (default the problem's).")
+@click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
+@click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
+@click.option("--no-plots", is_flag=True, help="Skip the PNGs.")
+@json_option
+@friendly_errors
+def simulate(
+    problem_file: Path | None,
+    corner: int | None,
+    sample: int | None,
+    seed: int | None,
+    open_loop: Path | None,
+    rigid: bool,
+    duration_s: float | None,
+    controller_path: Path | None,
+    out: Path | None,
+    no_plots: bool,
+    as_json: bool,
+) -> None:
+    """One closed-loop run: flexible model, star tracker, mu controller, allocator, engines.
+
+    Follows the problem's [simulation] reference (paper_slew.toml: the 180 deg
+    slew; paper_pointing.toml: one orbit of pointing). Writes summary.json,
+    series.csv, closed_loop.png and thrust.png to --out.
+    """
+    problem = load_problem(problem_file)
+    if open_loop is not None or rigid:
+        if open_loop is None or not rigid:
+            raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
+        _open_loop(problem, open_loop, duration_s, out, as_json)
+        return
+    if duration_s is not None:
+        if not duration_s > 0:
+            raise InputShapeError(f"--duration-s must be positive, got {duration_s}")
+        problem = _with_duration(problem, duration_s)
+    record, resolved = load_controller(controller_path)
+    model = build_model(problem)
+    case = choose_case(problem, model, corner, sample, seed)
+    reference = scenario_reference(problem)
+    allocator = Allocator.from_problem(problem, model.geometry)
+    result = run_simulation(
+        problem, model, record.reduced, reference, parameters=case.parameters, allocator=allocator
+    )
+    summary = run_summary(problem, case, result, resolved)
+    if out is not None:
+        with atomic_run_folder(out) as staging:
+            summary["out_dir"] = str(out.resolve())
+            write_run(
+                staging,
+                result,
+                summary,
+                problem,
+                torque_limits_mNm(allocator),
+                with_plots=not no_plots,
+                title=f"{problem.name} ({case.case_id})",
+            )
+    if as_json:
+        echo_json(summary)
+    else:
+        click.echo(summary_text(summary))
+
+
+def _with_duration(problem: Problem, duration_s: float) -> Problem:
+    return replace(problem, simulation=replace(problem.simulation, duration_s=duration_s))
+
+
+def _open_loop(
+    problem: Problem, table: Path, duration_s: float | None, out: Path | None, as_json: bool
+) -> None:
+    times, torque = read_torque_table(table)
+    result = open_loop_rigid(problem, times, torque, duration_s)
+    summary = {
+        "problem": problem.name,
+        "final_quaternion": result.quaternion_BN[-1].tolist(),
+        "final_rate_rad_s": result.rate_rad_s[-1].tolist(),
+        "duration_s": float(result.time_s[-1]),
+        "inertia_kgm2": result.inertia_kgm2.tolist(),
+    }
+    columns = {"time_s": result.time_s}
+    for i in range(4):
+        columns[f"q{i}_BN"] = result.quaternion_BN[:, i]
+    for i, axis in enumerate("xyz"):
+        columns[f"rate_{axis}_rad_s"] = result.rate_rad_s[:, i]
+    for i, axis in enumerate("xyz"):
+        columns[f"tau_{axis}_mNm"] = result.torque_Nm[:, i] * 1e3
+    if out is not None:
+        with atomic_run_folder(out) as staging:
+            summary["out_dir"] = str(out.resolve())
+            write_csv(staging / "series.csv", columns)
+            write_json_atomic(staging / "summary.json", summary)
+    if as_json:
+        echo_json({**summary, "series": {k: v.tolist() for k, v in columns.items()}})
+    else:
+        q = ", ".join(f"{v:.9f}" for v in summary["final_quaternion"])
+        w = ", ".join(f"{v:.6e}" for v in summary["final_rate_rad_s"])
+        click.echo(f"final quaternion (scalar first): {q}\nfinal rate [rad/s]: {w}")
+
+
+def select_cases(
+    problem: Problem,
+    model: Model,
+    corners: bool,
+    samples: int | None,
+    seed: int | None,
+    max_cases: int | None,
+) -> list[Case]:
+    """The campaign's cases; ``max_cases`` keeps that many spread evenly over the list."""
+    if samples is not None and corners:
+        raise InputShapeError("give either --corners or --samples, not both")
+    if samples is not None:
+        if samples < 1:
+            raise InputShapeError(f"--samples must be at least 1, got {samples}")
+        chosen = sample_cases(
+            problem, model, samples, problem.montecarlo.seed if seed is None else seed
+        )
+    else:
+        chosen = corner_cases(problem, model)
+    if max_cases is not None:
+        if max_cases < 1:
+            raise InputShapeError(f"--max-cases must be at least 1, got {max_cases}")
+        if max_cases < len(chosen):
+            picks = np.unique(np.linspace(0, len(chosen) - 1, max_cases).round().astype(int))
+            chosen = [chosen[i] for i in picks]
+    return chosen
+
+
+def run_montecarlo(
+    problem: Problem,
+    controller_path: Path | None,
+    cases_spec: dict[str, Any],
+    workers: int,
+    scheduler: str | None,
+    out: Path,
+    progress: bool = True,
+) -> dict[str, Any]:
+    """A whole campaign into ``out`` (resuming from ``out.partial``); returns its summary."""
+    record, resolved = load_controller(controller_path)
+    model = build_model(problem)
+    cases = select_cases(problem, model, **cases_spec)
+    reference = scenario_reference(problem)
+    setup = CampaignSetup.create(problem, record.reduced, reference)
+    partial = partial_folder(out.resolve())
+    partial.mkdir(parents=True, exist_ok=True)
+    done = finished_cases(partial, cases)
+    todo = [c for c in cases if c.case_id not in done]
+    label = f"{problem.name}: {len(cases)} cases ({len(done)} on disk)"
+    with click.progressbar(length=len(todo), label=label, hidden=not progress) as bar:
+
+        def finished(outcome: Any) -> None:
+            write_case(partial, outcome)
+            done[outcome.case.case_id] = outcome
+            bar.update(1)
+
+        run_campaign(setup, todo, workers=workers, scheduler=scheduler, on_result=finished)
+    outcomes = [done[c.case_id] for c in cases]
+    allocator = Allocator.from_problem(problem, model.geometry)
+    nominal = run_simulation(problem, model, record.reduced, reference, allocator=allocator)
+    nominal_summary = run_summary(problem, nominal_case(model), nominal, resolved)
+    summary = campaign_summary(
+        problem,
+        setup,
+        outcomes,
+        {
+            "controller_path": str(resolved),
+            "case_kind": "sample" if cases_spec.get("samples") else "corner",
+            "seed": cases[0].seed,
+            "workers": workers,
+            "scheduler": scheduler,
+            "resumed_cases": len(cases) - len(todo),
+            "nominal": {key: nominal_summary[key] for key in NOMINAL_KEYS},
+            "out_dir": str(out.resolve()),
+        },
+    )
+    limits = torque_limits_mNm(allocator)
+    write_campaign(partial, problem, setup, outcomes, nominal, nominal_summary, limits, summary)
+    if out.exists():
+        shutil.rmtree(out)
+    partial.rename(out)
+    return summary
+
+
+@main.command()
+@problem_argument
+@click.option("--corners", is_flag=True, help="Every corner of the uncertainty set (default).")
+@click.option("--samples", type=int, help="N random samples instead of the corners.")
+@click.option("--seed", type=int, help="Seed of --samples (default the problem's).")
+@click.option("--max-cases", type=int, help="Keep N cases spread evenly (a quick look).")
+@click.option("--workers", type=int, default=os.cpu_count() or 1, show_default=True)
+@click.option(
+    "--scheduler", help="Dask scheduler address (tcp://host:8786) instead of local processes."
+)
+@click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path, file_okay=False),
+    help="Campaign folder (default runs/montecarlo-<problem>).",
+)
+@json_option
+@friendly_errors
+def montecarlo(
+    problem_file: Path | None,
+    corners: bool,
+    samples: int | None,
+    seed: int | None,
+    max_cases: int | None,
+    workers: int,
+    scheduler: str | None,
+    controller_path: Path | None,
+    out: Path | None,
+    as_json: bool,
+) -> None:
+    """Closed-loop Monte Carlo: all corners (the paper's 256) or seeded random samples.
+
+    Runs in parallel; an interrupted campaign resumes from the cases in
+    <out>.partial. Writes summary.json, cases.csv, envelope.csv/png and the
+    nominal run.
+    """
+    problem = load_problem(problem_file)
+    if workers < 1:
+        raise InputShapeError(f"--workers must be at least 1, got {workers}")
+    out = out or Path("runs") / f"montecarlo-{problem.name}"
+    summary = run_montecarlo(
+        problem,
+        controller_path,
+        {"corners": corners, "samples": samples, "seed": seed, "max_cases": max_cases},
+        workers,
+        scheduler,
+        out,
+        progress=not as_json,
+    )
+    if as_json:
+        echo_json(summary)
+        return
+    worst = summary["worst"]
+    rows = [
+        [key, worst[key]["value"], worst[key]["case_id"]]
+        for key in ("max_error_deg", "max_error_arcsec", "fuel_kg", "torque_saturated_s")
+    ]
+    click.echo(format_table(["worst over cases", "value", "case"], rows))
+    click.echo(f"{summary['cases']} cases written to {summary['out_dir']}")

@@ -1,0 +1,127 @@
+"""Closed-loop figures: the paper's Figs. 4 and 5 redrawn (error and torque with
+the Monte-Carlo envelope shaded and the torque limits dotted)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.simulation import ClosedLoopResult, Envelope
+from casadi_debris.slew import euler_angles_321
+
+ERROR_SCALE = {"deg": 180.0 / math.pi, "arcsec": 180.0 / math.pi * 3600.0}
+ANGLE_LABELS = ("Φ", "Θ", "Ψ")
+
+
+def plot_closed_loop(
+    result: ClosedLoopResult,
+    path: Path,
+    *,
+    torque_limits_mNm: np.ndarray,
+    envelope: Envelope | None = None,
+    error_unit: str = "deg",
+    requirement_arcsec: float | None = None,
+    title: str = "",
+) -> Path:
+    """Reference, attitude error and torque against time.
+
+    Parameters
+    ----------
+    result : ClosedLoopResult
+        The nominal run (solid lines).
+    path : Path
+        PNG to write.
+    torque_limits_mNm : ndarray, shape (3,)
+        Torque authority per axis (dotted at +-).
+    envelope : Envelope, optional
+        Min/max over the Monte-Carlo cases (shaded).
+    error_unit : {"deg", "arcsec"}
+    requirement_arcsec : float, optional
+        Pointing requirement drawn at +- (dashed).
+    """
+    scale = ERROR_SCALE[error_unit]
+    figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    reference = _euler_deg(result.reference_BN)
+    for i, axis in enumerate("xyz"):
+        top.plot(result.time_s, reference[:, i], color=AXIS_COLOURS[axis], label=ANGLE_LABELS[i])
+    top.set_ylabel("reference [deg]")
+    top.legend(loc="best", ncols=3)
+
+    for i, axis in enumerate("xyz"):
+        colour = AXIS_COLOURS[axis]
+        if envelope is not None and envelope.bands is not None:
+            middle.fill_between(
+                envelope.bin_start_s,
+                envelope.bands[:, i] * scale,
+                envelope.bands[:, 3 + i] * scale,
+                color=colour,
+                alpha=0.2,
+                linewidth=0,
+                step="post",
+            )
+            bottom.fill_between(
+                envelope.bin_start_s,
+                envelope.bands[:, 6 + i] * 1e3,
+                envelope.bands[:, 9 + i] * 1e3,
+                color=colour,
+                alpha=0.2,
+                linewidth=0,
+                step="post",
+            )
+        middle.plot(result.time_s, result.error_rad[:, i] * scale, color=colour, lw=1.0)
+        bottom.step(
+            result.time_s[:-1], result.torque_Nm[:, i] * 1e3, where="post", color=colour, lw=1.0
+        )
+        for sign in (1, -1):
+            bottom.axhline(sign * torque_limits_mNm[i], color=colour, ls=":", lw=1.0)
+    if requirement_arcsec is not None and error_unit == "arcsec":
+        for sign in (1, -1):
+            middle.axhline(sign * requirement_arcsec, color="k", ls="--", lw=0.8)
+    middle.set_ylabel(f"error [{error_unit}]")
+    bottom.set_ylabel("torque [mNm]")
+    bottom.set_xlabel("time [s]")
+    for axes in (top, middle, bottom):
+        axes.grid(True, ls=":", color="0.6")
+    if envelope is not None and envelope.count:
+        title = f"{title} (shaded: envelope of {envelope.count} cases)".strip()
+    if title:
+        top.set_title(title)
+    return save_figure(figure, path)
+
+
+def plot_thrust(result: ClosedLoopResult, path: Path) -> Path:
+    """Thrust of every CubeSat (mN) and propellant burnt per CubeSat."""
+    figure, (left, right) = plt.subplots(1, 2, figsize=(11, 4), width_ratios=(3, 1))
+    left.plot(result.time_s[:-1], result.thrust_N * 1e3, lw=0.6)
+    left.set_xlabel("time [s]")
+    left.set_ylabel("thrust per CubeSat [mN]")
+    left.grid(True, ls=":", color="0.6")
+    fuel = result.fuel_per_cubesat_kg * 1e6
+    right.bar(np.arange(1, len(fuel) + 1), fuel, color="0.4")
+    right.set_xlabel("CubeSat")
+    right.set_ylabel("propellant used [mg]")
+    return save_figure(figure, path)
+
+
+def _euler_deg(quaternion: np.ndarray) -> np.ndarray:
+    """3-2-1 angles [Phi, Theta, Psi] in degrees, unwrapped, shape (n, 3)."""
+    return np.degrees(np.unwrap(euler_angles_321(quaternion), axis=0))
+
+
+def plot_fuel_comparison(
+    labels: list[str], total_kg: list[float], worst_kg: list[float], path: Path
+) -> Path:
+    """Bar chart of total and worst-CubeSat propellant per variant."""
+    figure, axes = plt.subplots(figsize=(max(5, 1.3 * len(labels)), 4))
+    x = np.arange(len(labels))
+    axes.bar(x - 0.2, np.array(total_kg) * 1e6, 0.4, label="total")
+    axes.bar(x + 0.2, np.array(worst_kg) * 1e6, 0.4, label="worst CubeSat")
+    axes.set_xticks(x, labels, rotation=20, ha="right")
+    axes.set_ylabel("propellant [mg]")
+    axes.legend()
+    axes.grid(True, axis="y", ls=":", color="0.6")
+    return save_figure(figure, path)

@@ -1,0 +1,252 @@
+"""Run folders of closed-loop simulations and Monte-Carlo campaigns.
+
+A single run: ``summary.json``, ``series.csv`` (time series, units in the
+column names), ``closed_loop.png`` and ``thrust.png``.
+
+A campaign: ``summary.json`` (worst case of every figure, counts, seed),
+``cases.csv`` (one row per case), ``envelope.csv``, ``nominal/`` (the
+nominal run), ``envelope.png``, and ``cases/<id>.json`` + ``cases/<id>.npz``
+per case. While it runs the campaign lives in ``<out>.partial/``, each case
+written whole as it finishes; an interrupted campaign started again with
+the same folder picks up the cases found there. When every case is in, the
+folder is renamed to ``<out>``.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.config import AXIS_NAMES, Problem
+from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.report.common import json_ready, write_json_atomic
+from casadi_debris.simulation import CampaignSetup, Case, CaseOutcome, ClosedLoopResult, Envelope
+from casadi_debris.slew import euler_angles_321
+
+DEG_PER_RAD = 180.0 / math.pi
+MNM_PER_NM = 1e3
+MN_PER_N = 1e3
+POINTING_REQUIREMENT_ARCSEC = 60.0
+PARTIAL_SUFFIX = ".partial"
+
+
+def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
+    """Columns of equal length as CSV, names in the header."""
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(columns)
+        writer.writerows(np.column_stack(list(columns.values())).tolist())
+    return path
+
+
+def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
+    """Largest pure torque per axis at zero net force (the smaller of + and -), shape (3,)."""
+    authority = allocator.torque_authority()
+    return np.array([min(authority[f"+{a}"], authority[f"-{a}"]) for a in AXIS_NAMES]) * MNM_PER_NM
+
+
+def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
+    """The run's time series with display units; step quantities padded to the last instant."""
+
+    def held(values: np.ndarray) -> np.ndarray:
+        return np.vstack([values, values[-1:]]) if len(values) else values
+
+    columns: dict[str, np.ndarray] = {"time_s": result.time_s}
+    reference = np.degrees(np.unwrap(euler_angles_321(result.reference_BN), axis=0))
+    for i, name in enumerate(("roll", "pitch", "yaw")):
+        columns[f"reference_{name}_deg"] = reference[:, i]
+    for i, axis in enumerate(AXIS_NAMES):
+        columns[f"error_{axis}_deg"] = result.error_rad[:, i] * DEG_PER_RAD
+    for i, axis in enumerate(AXIS_NAMES):
+        columns[f"rate_{axis}_deg_s"] = np.degrees(result.rate_rad_s[:, i])
+    for name, values in (
+        ("demand", result.demand_Nm),
+        ("torque", result.torque_Nm),
+        ("disturbance", result.disturbance_Nm),
+    ):
+        padded = held(values)
+        for i, axis in enumerate(AXIS_NAMES):
+            columns[f"{name}_{axis}_mNm"] = padded[:, i] * MNM_PER_NM
+    columns["scale"] = held(result.scale[:, None])[:, 0]
+    thrust = held(result.thrust_N)
+    for i in range(thrust.shape[1]):
+        columns[f"thrust_{i + 1:02d}_mN"] = thrust[:, i] * MN_PER_N
+    return columns
+
+
+def run_figures_options(problem: Problem) -> dict[str, Any]:
+    """Error unit and requirement line: degrees for a slew, arcsec against 60 for a hold."""
+    if problem.simulation.reference == "hold":
+        return {"error_unit": "arcsec", "requirement_arcsec": POINTING_REQUIREMENT_ARCSEC}
+    return {"error_unit": "deg"}
+
+
+def write_run(
+    folder: Path,
+    result: ClosedLoopResult,
+    summary: dict[str, Any],
+    problem: Problem,
+    limits_mNm: np.ndarray,
+    *,
+    with_series: bool = True,
+    with_plots: bool = True,
+    title: str = "",
+) -> None:
+    """Write one run into an (already staged) folder."""
+    write_json_atomic(folder / "summary.json", summary)
+    if with_series:
+        write_csv(folder / "series.csv", series_columns(result))
+    if with_plots:
+        plot_closed_loop(
+            result,
+            folder / "closed_loop.png",
+            torque_limits_mNm=limits_mNm,
+            title=title or problem.name,
+            **run_figures_options(problem),
+        )
+        plot_thrust(result, folder / "thrust.png")
+
+
+# ----------------------------------------------------------------------------- campaigns
+
+
+def partial_folder(out: Path) -> Path:
+    return out.with_name(out.name + PARTIAL_SUFFIX)
+
+
+def write_case(folder: Path, outcome: CaseOutcome) -> None:
+    """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
+    cases = folder / "cases"
+    cases.mkdir(parents=True, exist_ok=True)
+    handle, temporary = tempfile.mkstemp(prefix=".", suffix=".npz", dir=cases)
+    os.close(handle)
+    try:
+        np.savez_compressed(temporary, bands=outcome.bands.astype(np.float32))
+        os.replace(temporary, cases / f"{outcome.case.case_id}.npz")
+    except BaseException:
+        Path(temporary).unlink(missing_ok=True)
+        raise
+    write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
+
+
+def finished_cases(folder: Path, cases: list[Case]) -> dict[str, CaseOutcome]:
+    """Cases of ``cases`` already written in ``folder`` (both files present and readable)."""
+    found: dict[str, CaseOutcome] = {}
+    for case in cases:
+        summary_path = folder / "cases" / f"{case.case_id}.json"
+        bands_path = folder / "cases" / f"{case.case_id}.npz"
+        if not (summary_path.exists() and bands_path.exists()):
+            continue
+        try:
+            summary = json.loads(summary_path.read_text())
+            with np.load(bands_path) as data:
+                bands = np.asarray(data["bands"], dtype=float)
+        except (OSError, ValueError, KeyError):
+            continue  # a damaged case is simply run again
+        found[case.case_id] = CaseOutcome(case, summary, bands)
+    return found
+
+
+CASE_COLUMNS = (
+    "case_id",
+    "kind",
+    "index",
+    "seed",
+    "max_error_deg",
+    "max_error_arcsec",
+    "settle_time_s",
+    "fuel_kg",
+    "fuel_worst_cubesat_kg",
+    "dv_used_m_s",
+    "torque_saturated_s",
+    "min_scale",
+)
+
+
+def campaign_summary(
+    problem: Problem, setup: CampaignSetup, outcomes: list[CaseOutcome], extra: dict[str, Any]
+) -> dict[str, Any]:
+    """Worst case of every figure over the campaign, and which case it was."""
+    summaries = [o.summary for o in outcomes]
+    fuels = [s["fuel_kg"] for s in summaries]
+
+    def worst(key: str) -> dict[str, Any]:
+        values = [s[key] for s in summaries]
+        if any(v is None for v in values):
+            missing = [s["case_id"] for s, v in zip(summaries, values, strict=True) if v is None]
+            return {"value": None, "case_id": missing[0], "cases_without": len(missing)}
+        index = int(np.argmax(values))
+        return {"value": values[index], "case_id": summaries[index]["case_id"]}
+
+    return {
+        "problem": problem.name,
+        "problem_sha256": problem.sha256,
+        "cases": len(outcomes),
+        "worst": {
+            key: worst(key)
+            for key in (
+                "max_error_deg",
+                "max_error_arcsec",
+                "settle_time_s",
+                "fuel_kg",
+                "fuel_worst_cubesat_kg",
+                "torque_saturated_s",
+            )
+        },
+        "max_torque_mNm": np.max([s["max_torque_mNm"] for s in summaries], axis=0).tolist(),
+        "fuel_kg_range": [min(fuels), max(fuels)],
+        "envelope_bin_s": setup.bin_s,
+        **extra,
+    }
+
+
+def write_campaign(
+    folder: Path,
+    problem: Problem,
+    setup: CampaignSetup,
+    outcomes: list[CaseOutcome],
+    nominal: ClosedLoopResult,
+    nominal_summary: dict[str, Any],
+    limits_mNm: np.ndarray,
+    summary: dict[str, Any],
+) -> Envelope:
+    """Write the campaign's tables, envelope and figures into ``folder``; returns the envelope."""
+    envelope = Envelope(setup.bin_start_s)
+    for outcome in outcomes:
+        envelope.add(outcome.bands)
+    write_json_atomic(folder / "summary.json", summary)
+    with (folder / "cases.csv").open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow([*CASE_COLUMNS, *(f"normalized_{n}" for n in nominal.parameters)])
+        for outcome in outcomes:
+            row = [json_ready(outcome.summary.get(c)) for c in CASE_COLUMNS]
+            writer.writerow([*row, *outcome.case.normalized.tolist()])
+    names = [f"{part}_{axis}" for part in ("error_min_deg", "error_max_deg") for axis in AXIS_NAMES]
+    names += [
+        f"{part}_{axis}" for part in ("torque_min_mNm", "torque_max_mNm") for axis in AXIS_NAMES
+    ]
+    bands = envelope.bands * np.repeat([DEG_PER_RAD, DEG_PER_RAD, MNM_PER_NM, MNM_PER_NM], 3)
+    write_csv(
+        folder / "envelope.csv",
+        {"time_s": setup.bin_start_s, **{n: bands[:, i] for i, n in enumerate(names)}},
+    )
+    nominal_folder = folder / "nominal"
+    nominal_folder.mkdir(exist_ok=True)
+    write_run(nominal_folder, nominal, nominal_summary, problem, limits_mNm)
+    plot_closed_loop(
+        nominal,
+        folder / "envelope.png",
+        torque_limits_mNm=limits_mNm,
+        envelope=envelope,
+        title=problem.name,
+        **run_figures_options(problem),
+    )
+    return envelope

@@ -1,0 +1,109 @@
+"""Cases of a Monte Carlo campaign: the nominal plant, the corners, seeded samples.
+
+Every case carries what is needed to re-run it alone: its id, its kind and
+index, and for random samples the seed (sample ``i`` of seed ``s`` is drawn
+from its own generator ``default_rng([s, i])``, so it does not depend on
+how many samples the campaign had).
+
+Corners: the two extremes of every relative uncertainty of the problem
+(inertia per axis, mass, first bending frequency: 2^5 = 32) times
+``montecarlo.corner_array_angles`` array angles spread evenly over the angle
+range. With the paper's +-180 deg the two extremes are one attitude of the
+arrays, so the angles are spaced by 360 deg / count: 8 angles (every 45 deg)
+give the paper's 256 runs. For a smaller range the angles run from one
+extreme to the other, both included.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.model import Model
+from casadi_debris.robust.uncertainty import N_PARAMETERS, parameters_from_normalized
+from casadi_debris.simulation.closed_loop import SimulationError
+
+ANGLE_INDEX = 4
+FULL_CIRCLE_DEG = 180.0
+
+
+@dataclass(frozen=True, eq=False)
+class Case:
+    """One plant of a campaign.
+
+    Attributes
+    ----------
+    case_id : str
+        ``"nominal"``, ``"corner-0017"`` or ``"sample-0042"``.
+    kind : str
+        ``"nominal"``, ``"corner"`` or ``"sample"``.
+    index : int
+    seed : int or None
+        Seed of a random sample.
+    normalized : ndarray, shape (6,)
+        Position in the uncertainty box, -1 .. 1 per parameter.
+    parameters : ndarray, shape (6,)
+        Model parameter vector.
+    """
+
+    case_id: str
+    kind: str
+    index: int
+    seed: int | None
+    normalized: np.ndarray
+    parameters: np.ndarray
+
+
+def corner_angles(problem: Problem) -> np.ndarray:
+    """Normalised array-angle positions of the corner set, shape (count,)."""
+    count = problem.montecarlo.corner_array_angles
+    if problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
+        return -1.0 + 2.0 * np.arange(count) / count
+    return np.linspace(-1.0, 1.0, count) if count > 1 else np.zeros(1)
+
+
+def corner_cases(problem: Problem, model: Model) -> list[Case]:
+    """Every combination of the uncertainty extremes (the paper's 256)."""
+    others = list(itertools.product((-1.0, 1.0), repeat=N_PARAMETERS - 1))
+    normalized = []
+    for angle in corner_angles(problem):
+        for combo in others:
+            z = np.insert(np.array(combo), ANGLE_INDEX, angle)
+            normalized.append(z)
+    z_all = np.array(normalized)
+    p_all = parameters_from_normalized(problem, model, z_all)
+    return [
+        Case(f"corner-{i:04d}", "corner", i, None, z_all[i], p_all[i]) for i in range(len(z_all))
+    ]
+
+
+def corner_case(problem: Problem, model: Model, index: int) -> Case:
+    """Corner ``index`` (0-based) of :func:`corner_cases`."""
+    cases = corner_cases(problem, model)
+    if not 0 <= index < len(cases):
+        raise SimulationError(f"corner index runs from 0 to {len(cases) - 1}; got {index}")
+    return cases[index]
+
+
+def sample_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
+    """Random sample ``index`` of seed ``seed``, uniform in the uncertainty box."""
+    if index < 0 or seed < 0:
+        raise SimulationError(f"sample index and seed must not be negative; got {index}, {seed}")
+    z = np.random.default_rng([seed, index]).uniform(-1.0, 1.0, N_PARAMETERS)
+    p = parameters_from_normalized(problem, model, z)
+    return Case(f"sample-{index:04d}", "sample", index, seed, z, p)
+
+
+def sample_cases(problem: Problem, model: Model, count: int, seed: int) -> list[Case]:
+    """The first ``count`` random samples of ``seed``."""
+    return [sample_case(problem, model, i, seed) for i in range(count)]
+
+
+def nominal_case(model: Model) -> Case:
+    """The nominal plant."""
+    return Case(
+        "nominal", "nominal", 0, None, np.zeros(N_PARAMETERS), model.nominal_parameters.copy()
+    )
