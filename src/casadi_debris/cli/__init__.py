@@ -13,6 +13,7 @@ from __future__ import annotations
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     describe,  # model, budget
+    reproduce,  # reproduce
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo
     slew,  # slew
