@@ -48,6 +48,7 @@ from casadi_debris.simulation import (
 
 NM_PER_MNM = 1e-3
 NOMINAL_KEYS = (
+    "fuel_slew_kg",
     "max_error_deg",
     "max_error_arcsec",
     "fuel_kg",
@@ -79,6 +80,11 @@ def summary_text(summary: dict[str, Any]) -> str:
         ["max error [arcsec]", f"{summary['max_error_arcsec']:.4g}"],
         ["settled (60 arcsec) at [s]", "not settled" if settle is None else f"{settle:.1f}"],
         ["fuel [kg]", f"{summary['fuel_kg']:.4g}"],
+        *(
+            [["fuel during the slew [kg]", f"{summary['fuel_slew_kg']:.4g}"]]
+            if "fuel_slew_kg" in summary
+            else []
+        ),
         ["worst CubeSat fuel [kg]", f"{summary['fuel_worst_cubesat_kg']:.4g}"],
         ["dv used [m/s]", f"{summary['dv_used_m_s']:.3g}"],
         ["torque saturated [s]", f"{summary['torque_saturated_s']:.1f}"],
@@ -303,7 +309,7 @@ def run_montecarlo(
             "workers": workers,
             "scheduler": scheduler,
             "resumed_cases": len(cases) - len(todo),
-            "nominal": {key: nominal_summary[key] for key in NOMINAL_KEYS},
+            "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
             "out_dir": str(out.resolve()),
         },
     )

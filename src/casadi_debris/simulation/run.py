@@ -76,6 +76,8 @@ class ClosedLoopResult:
     point_solves : int
         QP solves the allocator needed (the rest reused active sets).
     wall_time_s : float
+    slew_window_s : (float, float) or None
+        Start and end of the reference slew [s].
     """
 
     time_s: np.ndarray
@@ -99,6 +101,7 @@ class ClosedLoopResult:
     allocation_residual_Nm: float
     point_solves: int
     wall_time_s: float
+    slew_window_s: tuple[float, float] | None = None
     info: dict[str, Any] = field(default_factory=dict)
 
     @property
@@ -125,6 +128,12 @@ class ClosedLoopResult:
         exhaust = self.propulsion.exhaust_velocity_m_s
         max_error = float(np.abs(self.error_rad).max())
         settle = self.settle_time_s()
+        slew: dict[str, Any] = {}
+        if self.slew_window_s is not None:
+            start, end = self.slew_window_s
+            inside = (self.time_s[:-1] >= start) & (self.time_s[:-1] < end)
+            burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
+            slew = {"slew_start_s": start, "slew_end_s": end, "fuel_slew_kg": float(burnt)}
         return {
             "max_error_deg": math.degrees(max_error),
             "max_error_arcsec": max_error * ARCSEC_PER_RAD,
@@ -135,6 +144,7 @@ class ClosedLoopResult:
             "fuel_kg": fuel_kg,
             "fuel_per_cubesat_kg": fuel.tolist(),
             "fuel_worst_cubesat_kg": float(fuel.max()),
+            **slew,
             "dv_used_m_s": exhaust * math.log(self.total_mass_kg / (self.total_mass_kg - fuel_kg)),
             "torque_saturated_s": float(np.sum(self.scale < 1.0) * self.control_period_s),
             "min_scale": float(self.scale.min()) if len(self.scale) else 1.0,
@@ -325,6 +335,11 @@ def simulate(
         allocation_residual_Nm=residual,
         point_solves=point_solves,
         wall_time_s=time.perf_counter() - started,
+        slew_window_s=(
+            None
+            if reference.slew is None
+            else (reference.start_s, reference.start_s + reference.slew.duration_s)
+        ),
     )
 
 
