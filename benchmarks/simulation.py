@@ -1,0 +1,155 @@
+"""Benchmark of the closed-loop simulation and the corner Monte Carlo; prints JSON.
+
+Usage: python benchmarks/simulation.py [--repeat N] [--corners N] [--workers 1,2] [--out FILE]
+
+Measured in one run (ratios are what to compare across machines):
+
+- ``step_us``: one control period (RK4 plant with all array modes, star
+  tracker, controller, saturation) inside the compiled roll-out;
+- ``closed_loop_step_us``: the whole paper slew (roll-out, allocator with
+  staging and fuel tracking, bookkeeping) per step, and its real-time factor;
+- ``scipy_step_us``: the same loop written plainly -- a Python loop over the
+  periods calling ``scipy.integrate.solve_ivp`` (RK45, the model's dynamics
+  Function as right-hand side), numpy controller, ``Allocator.allocate`` per
+  step -- over the first ``--scipy-s`` seconds;
+- ``montecarlo_wall_s``: ``--corners`` corner cases of the slew with 1 and
+  2 workers (256 = the paper's set).
+
+Targets from issue 6: <= 40 us per closed-loop step; 256 corners <= 90 s on
+2 cores.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.config import default_controller_path, default_problem_path, load_problem
+from casadi_debris.model import build_model
+from casadi_debris.report.common import json_ready
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.simulation import (
+    CampaignSetup,
+    build_loop_step,
+    corner_cases,
+    discretize_controller,
+    run_campaign,
+    scenario_reference,
+    simulate,
+)
+
+DEG_PER_RAD = 180.0 / np.pi
+
+
+def scipy_loop(problem, model, controller, reference, seconds: float) -> float:
+    """Seconds per step of the plain Python/scipy closed loop over ``seconds``."""
+    period = float(reference.time_s[1] - reference.time_s[0])
+    discrete = discretize_controller(controller, period)
+    allocator = Allocator.from_problem(problem, model.geometry)
+    p = model.nominal_parameters
+    x = model.initial_state()
+    xc = np.zeros(discrete.n_states)
+    steps = int(seconds / period)
+    started = time.perf_counter()
+    for k in range(steps):
+        t = reference.time_s[k]
+        error = np.asarray(model.attitude_error(reference.quaternion_BN[k], x[model.layout.q_st]))
+        command = -DEG_PER_RAD * error.ravel()
+        demand = 1e-3 * (discrete.C @ xc + discrete.D @ command)
+        xc = discrete.A @ xc + discrete.B @ command
+        result = allocator.allocate(demand)
+        wrench = (result.torque_Nm, result.force_N)
+
+        def rate(time_s, state, wrench=wrench):
+            disturbance = np.asarray(model.disturbance(time_s)).ravel()
+            u = np.concatenate([wrench[0], disturbance, wrench[1]])
+            return np.asarray(model.dynamics(state, u, p)).ravel()
+
+        x = solve_ivp(rate, (t, t + period), x, rtol=1e-8, atol=1e-10).y[:, -1]
+    return (time.perf_counter() - started) / steps
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--corners", type=int, default=256)
+    parser.add_argument("--workers", default="1,2")
+    parser.add_argument("--scipy-s", type=float, default=20.0)
+    parser.add_argument("--out", type=Path)
+    args = parser.parse_args()
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+    problem = load_problem(default_problem_path().parent / "paper_slew.toml")
+    model = build_model(problem)
+    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    reference = scenario_reference(problem)
+    period = float(reference.time_s[1] - reference.time_s[0])
+    allocator = Allocator.from_problem(problem, model.geometry)
+
+    loop = build_loop_step(
+        model,
+        model.nominal_parameters,
+        discretize_controller(record.reduced, period),
+        allocator.authority_polytope(),
+        integrator_steps=problem.simulation.integrator_steps,
+        chunk_steps=1000,
+    )
+    z0 = np.concatenate([model.initial_state(), np.zeros(loop.n_controller)])
+    inputs = np.vstack([reference.time_s[:1000], reference.quaternion_BN[:1000].T])
+    rollout = []
+    for _ in range(args.repeat):
+        started = time.perf_counter()
+        loop.rollout(z0, inputs)
+        rollout.append((time.perf_counter() - started) / 1000)
+
+    whole = []
+    for _ in range(args.repeat):
+        result = simulate(problem, model, record.reduced, reference, allocator=allocator)
+        whole.append(result.wall_time_s)
+    steps = len(result.scale)
+    scipy_s = scipy_loop(problem, model, record.reduced, reference, args.scipy_s)
+
+    cases = corner_cases(problem, model)
+    picks = np.unique(np.linspace(0, len(cases) - 1, args.corners).round().astype(int))
+    chosen = [cases[i] for i in picks]
+    setup = CampaignSetup.create(problem, record.reduced, reference)
+    campaign = {}
+    for workers in (int(w) for w in args.workers.split(",")):
+        started = time.perf_counter()
+        run_campaign(setup, chosen, workers=workers)
+        campaign[str(workers)] = time.perf_counter() - started
+
+    step_us = statistics.median(rollout) * 1e6
+    closed_us = statistics.median(whole) / steps * 1e6
+    report = {
+        "machine": {"python": platform.python_version(), "cpus": os.cpu_count()},
+        "steps_paper_slew": steps,
+        "step_us": step_us,
+        "closed_loop_step_us": closed_us,
+        "real_time_factor_paper_slew": float(reference.time_s[-1]) / statistics.median(whole),
+        "scipy_step_us": scipy_s * 1e6,
+        "scipy_over_casadi": scipy_s * 1e6 / closed_us,
+        "montecarlo_cases": len(chosen),
+        "montecarlo_wall_s": campaign,
+        "montecarlo_speedup_2_over_1": (
+            campaign["1"] / campaign["2"] if {"1", "2"} <= set(campaign) else None
+        ),
+        "targets": {"closed_loop_step_us": 40.0, "montecarlo_256_wall_s_2_cores": 90.0},
+    }
+    text = json.dumps(json_ready(report), indent=2)
+    print(text)
+    if args.out:
+        args.out.write_text(text + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,287 @@
+"""simulate, montecarlo and reproduce from the command line: keys, folders, resume,
+Dask, reproducibility, and bad input without tracebacks."""
+
+from __future__ import annotations
+
+import csv
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from scipy.integrate import solve_ivp
+
+from casadi_debris.cli import main
+from casadi_debris.config import default_problem_path, load_problem
+from casadi_debris.model import build_model
+
+PROBLEMS = default_problem_path().parent
+SIMULATE_KEYS = {
+    "max_error_deg",
+    "max_error_arcsec",
+    "settle_time_s",
+    "fuel_kg",
+    "fuel_per_cubesat_kg",
+    "torque_saturated_s",
+    "max_torque_mNm",
+    "dv_used_m_s",
+    "seed",
+    "parameters",
+}
+
+
+def invoke(*args: str) -> tuple[int, str, str]:
+    runner = CliRunner()
+    result = runner.invoke(main, list(args), catch_exceptions=False)
+    return result.exit_code, result.stdout, result.stderr
+
+
+@pytest.fixture(scope="module")
+def short_slew(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The paper's slew problem cut to its first 120 s (the first torque transient)."""
+    folder = tmp_path_factory.mktemp("problems")
+    path = folder / "short_slew.toml"
+    path.write_text(
+        f'extends = "{PROBLEMS / "paper_slew.toml"}"\nname = "short_slew"\n'
+        "[simulation]\nduration_s = 120.0\n"
+    )
+    return path
+
+
+def test_simulate_json_has_the_issue_keys_and_writes_the_folder(
+    short_slew: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "run"
+    code, stdout, _ = invoke("simulate", str(short_slew), "--out", str(out), "--json")
+    assert code == 0
+    summary = json.loads(stdout)
+    assert set(summary) >= SIMULATE_KEYS
+    assert len(summary["fuel_per_cubesat_kg"]) == 24
+    assert summary["fuel_kg"] == pytest.approx(sum(summary["fuel_per_cubesat_kg"]))
+    assert {p.name for p in out.iterdir()} == {
+        "summary.json",
+        "series.csv",
+        "closed_loop.png",
+        "thrust.png",
+    }
+    with (out / "series.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 1201
+    # The written error is the summary's maximum, in degrees.
+    errors = [abs(float(r[f"error_{a}_deg"])) for r in rows for a in "xyz"]
+    assert max(errors) == pytest.approx(summary["max_error_deg"], rel=1e-9)
+
+
+def test_simulate_corner_and_sample_rerun_the_same_case(short_slew: Path) -> None:
+    code, stdout, _ = invoke("simulate", str(short_slew), "--sample", "3", "--seed", "7", "--json")
+    assert code == 0
+    first = json.loads(stdout)
+    code, stdout, _ = invoke("simulate", str(short_slew), "--sample", "3", "--seed", "7", "--json")
+    again = json.loads(stdout)
+    assert first["case_id"] == "sample-0003" and first["seed"] == 7
+    assert first["parameters"] == again["parameters"]
+    assert first["max_error_deg"] == again["max_error_deg"]
+    assert first["fuel_per_cubesat_kg"] == again["fuel_per_cubesat_kg"]
+    code, stdout, _ = invoke("simulate", str(short_slew), "--corner", "255", "--json")
+    corner = json.loads(stdout)
+    problem = load_problem(short_slew)
+    model = build_model(problem)
+    # The last corner: every relative uncertainty at its upper extreme.
+    assert corner["parameters"]["inertia_scale_x"] == pytest.approx(
+        1 + problem.uncertainty.inertia_fraction
+    )
+    assert corner["parameters"]["mass_kg"] == pytest.approx(
+        model.nominal_parameters[3] * (1 + problem.uncertainty.mass_fraction)
+    )
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["--corner", "256"], "corner index runs from 0 to 255"),
+        (["--corner", "1", "--sample", "2"], "either --corner or --sample"),
+        (["--duration-s", "-5"], "--duration-s must be positive"),
+        (["--rigid"], "--open-loop TORQUE.csv and --rigid go together"),
+    ],
+)
+def test_simulate_bad_input_is_one_line(short_slew: Path, args: list[str], needle: str) -> None:
+    code, stdout, stderr = invoke("simulate", str(short_slew), *args)
+    assert code == 2
+    assert needle in stderr
+    assert "Traceback" not in stderr + stdout
+    assert len(stderr.strip().splitlines()) == 1
+
+
+def test_open_loop_rigid_from_csv_matches_solve_ivp(tmp_path: Path) -> None:
+    table = tmp_path / "torque.csv"
+    table.write_text("t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm\n0,2,-1,3\n40,-1,2,0\n90,0,0,-4\n")
+    code, stdout, _ = invoke(
+        "simulate", "--open-loop", str(table), "--rigid", "--duration-s", "150", "--json"
+    )
+    assert code == 0
+    summary = json.loads(stdout)
+    inertia = np.array(summary["inertia_kgm2"])
+    knots = np.array([0.0, 40.0, 90.0])
+    torque = np.array([[2, -1, 3], [-1, 2, 0], [0, 0, -4]]) * 1e-3
+
+    def rates(t: float, y: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        q, w = y[:4], y[4:]
+        q_dot = 0.5 * np.concatenate([[-q[1:] @ w], q[0] * w + np.cross(q[1:], w)])
+        w_dot = np.linalg.solve(inertia, tau - np.cross(w, inertia @ w))
+        return np.concatenate([q_dot, w_dot])
+
+    y = np.array([1.0, 0, 0, 0, 0, 0, 0])
+    for start, end, tau in zip(knots, [40.0, 90.0, 150.0], torque, strict=True):
+        y = solve_ivp(rates, (start, end), y, args=(tau,), rtol=1e-12, atol=1e-14).y[:, -1]
+    assert np.abs(np.array(summary["final_quaternion"]) - y[:4]).max() < 1e-8
+    assert np.abs(np.array(summary["final_rate_rad_s"]) - y[4:]).max() < 1e-10
+    assert summary["series"]["time_s"][-1] == 150.0
+
+
+def test_open_loop_bad_table_is_named(tmp_path: Path) -> None:
+    table = tmp_path / "torque.csv"
+    table.write_text("time,tx,ty,tz\n0,1,2,3\n")
+    code, _, stderr = invoke("simulate", "--open-loop", str(table), "--rigid")
+    assert code == 2 and "header must be t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm" in stderr
+    table.write_text("t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm\n0,1,2,3\n0,1,2,3\n")
+    code, _, stderr = invoke("simulate", "--open-loop", str(table), "--rigid")
+    assert code == 2 and "increase strictly" in stderr
+
+
+def _cases_table(folder: Path) -> list[dict[str, str]]:
+    with (folder / "cases.csv").open() as handle:
+        return list(csv.DictReader(handle))
+
+
+@pytest.fixture(scope="module")
+def campaign(short_slew: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("mc") / "corners"
+    code, _, _ = invoke(
+        "montecarlo", str(short_slew), "--max-cases", "3", "--workers", "2", "--out", str(out)
+    )
+    assert code == 0
+    return out
+
+
+def test_montecarlo_writes_cases_envelope_and_nominal(campaign: Path) -> None:
+    summary = json.loads((campaign / "summary.json").read_text())
+    rows = _cases_table(campaign)
+    assert [r["case_id"] for r in rows] == ["corner-0000", "corner-0128", "corner-0255"]
+    assert summary["cases"] == 3
+    worst = max(float(r["max_error_deg"]) for r in rows)
+    assert summary["worst"]["max_error_deg"]["value"] == pytest.approx(worst)
+    # The envelope holds every case's error: its widest band is the worst case's maximum.
+    with (campaign / "envelope.csv").open() as handle:
+        envelope = list(csv.DictReader(handle))
+    widest = max(
+        max(abs(float(r[f"error_min_deg_{a}"])), abs(float(r[f"error_max_deg_{a}"])))
+        for r in envelope
+        for a in "xyz"
+    )
+    assert widest == pytest.approx(worst, rel=1e-6)  # stored as float32
+    assert (campaign / "nominal" / "summary.json").exists()
+    assert (campaign / "envelope.png").exists()
+    assert not campaign.with_name(campaign.name + ".partial").exists()
+
+
+def test_montecarlo_resumes_from_the_cases_on_disk(
+    short_slew: Path, campaign: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "resumed"
+    partial = tmp_path / "resumed.partial" / "cases"
+    partial.mkdir(parents=True)
+    for case_id in ("corner-0000", "corner-0255"):  # as if interrupted after two cases
+        for suffix in (".json", ".npz"):
+            shutil.copy(campaign / "cases" / f"{case_id}{suffix}", partial)
+    code, stdout, _ = invoke(
+        "montecarlo",
+        str(short_slew),
+        "--max-cases",
+        "3",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+        "--json",
+    )
+    assert code == 0
+    assert json.loads(stdout)["resumed_cases"] == 2
+    assert _cases_table(out) == _cases_table(campaign)
+
+
+def test_montecarlo_samples_are_reproducible(short_slew: Path, tmp_path: Path) -> None:
+    tables = []
+    for name in ("a", "b"):
+        out = tmp_path / name
+        code, _, _ = invoke(
+            "montecarlo",
+            str(short_slew),
+            "--samples",
+            "2",
+            "--seed",
+            "11",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+        )
+        assert code == 0
+        tables.append(_cases_table(out))
+    assert tables[0] == tables[1]
+    assert [r["seed"] for r in tables[0]] == ["11", "11"]
+
+
+def test_montecarlo_on_dask_gives_the_same_numbers(short_slew: Path, tmp_path: Path) -> None:
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True) as cluster:
+        out = tmp_path / "dask"
+        code, _, _ = invoke(
+            "montecarlo",
+            str(short_slew),
+            "--samples",
+            "2",
+            "--seed",
+            "11",
+            "--scheduler",
+            cluster.scheduler_address,
+            "--out",
+            str(out),
+        )
+    assert code == 0
+    local = tmp_path / "local"
+    code, _, _ = invoke(
+        "montecarlo",
+        str(short_slew),
+        "--samples",
+        "2",
+        "--seed",
+        "11",
+        "--workers",
+        "1",
+        "--out",
+        str(local),
+    )
+    assert _cases_table(out) == _cases_table(local)
+
+
+def test_montecarlo_bad_input(short_slew: Path, tmp_path: Path) -> None:
+    code, _, stderr = invoke(
+        "montecarlo", str(short_slew), "--corners", "--samples", "3", "--out", str(tmp_path / "x")
+    )
+    assert code == 2 and "either --corners or --samples" in stderr
+    code, _, stderr = invoke("montecarlo", str(short_slew), "--workers", "0")
+    assert code == 2 and "--workers must be at least 1" in stderr
+    code, _, stderr = invoke(
+        "montecarlo",
+        str(short_slew),
+        "--samples",
+        "1",
+        "--scheduler",
+        "tcp://127.0.0.1:1",
+        "--out",
+        str(tmp_path / "y"),
+    )
+    assert code == 2
+    assert not (tmp_path / "y").exists()
