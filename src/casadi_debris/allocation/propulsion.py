@@ -339,20 +339,27 @@ class PropulsionState:
             raise InputShapeError(
                 f"thrust_N must have shape (k, {self.n_cubesats}), got {thrust.shape}"
             )
+        if not np.all(np.isfinite(thrust)) or not np.isfinite(dt_s):
+            raise InputShapeError("thrust_N and dt_s must be finite")
+        if dt_s < 0 or np.any(thrust < 0):
+            raise AllocationError("thrust_N and dt_s must not be negative")
         events: list[tuple[int, StageEvent]] = []
         done = 0
         while done < len(thrust):
             rest = thrust[done:]
             usable = self._usable()
             active = self.active_stage
+            # What an active stage can burn before :meth:`_burn` calls it spent.
             left = np.array(
                 [
-                    self.propellant_kg[i, a] if a < self.n_stages and usable[i, a] else np.inf
+                    self.propellant_kg[i, a] - DEPLETED_FRACTION * self.stage_capacity_kg[a]
+                    if a < self.n_stages and usable[i, a]
+                    else np.inf
                     for i, a in enumerate(active)
                 ]
             )
             burnt = np.cumsum(rest, axis=0) * (dt_s / self.exhaust_velocity_m_s)
-            dry = burnt >= left * (1.0 - DEPLETED_FRACTION)
+            dry = burnt >= left
             first = int(np.argmax(dry.any(axis=1))) if dry.any() else len(rest)
             if first > 0:
                 self.advance_sum(rest[:first], dt_s)

@@ -105,8 +105,11 @@ class PiecewiseAffineQp:
         a_free = a[:, free]
         # lambda*: A_F^T lambda = -(1 + eps u_F), maximising the least bound multiplier s.
         n_rows = len(a)
-        sign = np.where(lower, 1.0, np.where(at_upper, -1.0, 0.0))
-        bounded = ~free
+        # A failed engine (0 <= u <= 0) is fixed: its bound multiplier may take either
+        # sign, so it gets no sign condition (as a free engine, but held at 0).
+        fixed = self.upper <= ACTIVE_TOLERANCE
+        sign = np.where(fixed, 0.0, np.where(lower, 1.0, np.where(at_upper, -1.0, 0.0)))
+        bounded = ~free & ~fixed
         # mu_i = sign_i (1 + a_i . lambda + eps u_max_i [i in U]) >= s
         mu_constant = sign * (1.0 + np.where(at_upper, eps * self.upper, 0.0))
         a_ub = np.hstack([-(sign[bounded, None] * a[:, bounded].T), np.ones((bounded.sum(), 1))])
@@ -128,7 +131,7 @@ class PiecewiseAffineQp:
         # d mu / d b: d lambda = -eps G^+ d b, d mu_i = sign_i a_i . d lambda
         multiplier_gain = (-eps * gram_pinv @ a) * sign
         multipliers = mu_constant + sign * (multiplier @ a)
-        multipliers[free] = 0.0
+        multipliers[free | fixed] = 0.0
         return _Region(labels, target.copy(), u.copy(), gain, multipliers, multiplier_gain)
 
     def evaluate(self, region: _Region, targets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
