@@ -157,10 +157,10 @@ def reproduction_rows(
             _verdict(slew_nominal["max_error_deg"] <= SLEW_ERROR_MAX_DEG),
         ]
     )
-    fuel = slew_nominal["fuel_kg"]
+    fuel = slew_nominal["fuel_slew_kg"]
     rows.append(
         [
-            "180° slew about z: fuel [kg]",
+            "180° slew about z: fuel during the 1228 s slew [kg]",
             "2.8e-4",
             "within 25 %",
             _fmt(fuel),
