@@ -104,7 +104,9 @@ def main() -> None:
         chunk_steps=1000,
     )
     z0 = np.concatenate([model.initial_state(), np.zeros(loop.n_controller)])
-    inputs = np.vstack([reference.time_s[:1000], reference.quaternion_BN[:1000].T])
+    inputs = np.vstack(
+        [reference.time_s[:1000], reference.quaternion_BN[:1000].T, np.zeros((3, 1000))]
+    )
     rollout = []
     for _ in range(args.repeat):
         started = time.perf_counter()

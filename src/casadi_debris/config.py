@@ -234,7 +234,9 @@ class SlewReference:
     """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
 
     ``duration_s`` and ``torque_fraction`` are optional (None): the slew
-    methods then pick their own (see :mod:`casadi_debris.slew`).
+    methods then pick their own (see :mod:`casadi_debris.slew`). With
+    ``feedforward`` the profile's torque is added to the controller's demand
+    (the paper's loop has none).
     """
 
     axis: str
@@ -243,6 +245,7 @@ class SlewReference:
     start_s: float
     duration_s: float | None
     torque_fraction: float | None
+    feedforward: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -372,6 +375,12 @@ class _Table:
             if v not in choices:
                 raise self.error(self.key(name), f"entries must be among {', '.join(choices)}")
         return tuple(value)
+
+    def boolean(self, name: str) -> bool:
+        value = self.raw(name)
+        if not isinstance(value, bool):
+            raise self.error(self.key(name), f"must be true or false, got {value!r}")
+        return value
 
     def integer(self, name: str, minimum: int | None = None) -> int:
         value = self.raw(name)
@@ -653,6 +662,7 @@ def _read_slew(t: _Table) -> SlewReference:
             if "torque_fraction" in t.data
             else None
         ),
+        feedforward=t.boolean("feedforward") if "feedforward" in t.data else False,
     )
     if slew.method == "fuel-optimal" and slew.duration_s is None:
         raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")

@@ -43,6 +43,7 @@ NM_PER_MNM = 1e-3
 SATURATION_BACKOFF = 1e-10
 INTEGRATORS = ("rk4", "cvodes")
 MODAL_CONDITION_MAX = 1e6
+STEP_INPUTS = 8  # t, q_ref (4), feedforward torque (3)
 MODAL_ROUND_OFF = 1e-13
 CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
 
@@ -164,8 +165,8 @@ class LoopStep:
     """One control period as a CasADi Function and its roll-out.
 
     ``step(z, s) -> (z_next, y)`` with z = [x (plant), xc (controller)],
-    s = [t_k, q_ref,k (4)], y = [u_k (3) N m demanded, alpha_k, e_k (3) rad
-    measured]. ``rollout`` is ``step.mapaccum`` over ``chunk_steps`` periods.
+    s = [t_k, q_ref,k (4), feedforward torque (3) N m], y = [u_k (3) N m
+    demanded, alpha_k, e_k (3) rad measured]. ``rollout`` is ``step.mapaccum`` over ``chunk_steps`` periods.
     """
 
     step: ca.Function
@@ -218,23 +219,24 @@ def build_loop_step(
     x = ca.SX.sym("x", n_plant)
     xc = ca.SX.sym("xc", n_ctrl)
     q_ref = ca.SX.sym("q_ref", 4)
+    feedforward = ca.SX.sym("feedforward", 3)
     error = model.attitude_error(q_ref, x[model.layout.q_st])
     command_deg = -DEG_PER_RAD * error  # e = reference - measured
     a, b, c, d = (
         ca.sparsify(ca.DM(m)) for m in (controller.A, controller.B, controller.C, controller.D)
     )
-    demand = NM_PER_MNM * (c @ xc + d @ command_deg)
+    demand = NM_PER_MNM * (c @ xc + d @ command_deg) + feedforward
     xc_next = a @ xc + b @ command_deg
     scale = saturation_scale(demand, polytope)
     applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
     law = ca.Function(
-        "control_law", [x, xc, q_ref], [applied, xc_next, demand, scale, error]
+        "control_law", [x, xc, q_ref, feedforward], [applied, xc_next, demand, scale, error]
     ).expand()
 
     z = ca.MX.sym("z", n_plant + n_ctrl)
-    s = ca.MX.sym("s", 5)
+    s = ca.MX.sym("s", STEP_INPUTS)
     xz, xcz = z[:n_plant], z[n_plant:]
-    applied_z, xc_next_z, demand_z, scale_z, error_z = law(xz, xcz, s[1:5])
+    applied_z, xc_next_z, demand_z, scale_z, error_z = law(xz, xcz, s[1:5], s[5:8])
     x_next = plant(xz, s[0], ca.vertcat(applied_z, ca.DM.zeros(3)))
     step_mx = ca.Function(
         "loop_step",

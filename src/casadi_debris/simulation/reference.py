@@ -34,12 +34,16 @@ class Reference:
         The slew it follows (None for a hold).
     start_s : float
         When the slew starts [s].
+    feedforward_Nm : ndarray, shape (n, 3) or None
+        Torque added to the controller's demand at each instant (the slew
+        profile's), or None for none.
     """
 
     time_s: np.ndarray
     quaternion_BN: np.ndarray
     slew: SlewProfile | None
     start_s: float = 0.0
+    feedforward_Nm: np.ndarray | None = None
 
 
 def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) -> SlewProfile:
@@ -77,6 +81,8 @@ def sample_reference(
     time_s: np.ndarray,
     slew: SlewProfile | None = None,
     start_s: float = 0.0,
+    *,
+    feedforward: bool = False,
 ) -> Reference:
     """Reference quaternions at ``time_s``: the slew shifted by ``start_s``, held outside it.
 
@@ -95,7 +101,12 @@ def sample_reference(
     spline = CubicHermiteSpline(slew.time_s, slew.quaternion_BN, derivative, axis=0)
     quaternion = spline(local)
     quaternion /= np.linalg.norm(quaternion, axis=1, keepdims=True)
-    return Reference(time_s, quaternion, slew, start_s)
+    torque = None
+    if feedforward:
+        # The profile's torque, zero before the start and after the end.
+        inputs = np.asarray(slew.input_function.map(len(time_s))(time_s - start_s)).T
+        torque = inputs[:, :3]
+    return Reference(time_s, quaternion, slew, start_s, torque)
 
 
 def scenario_reference(problem: Problem) -> Reference:
@@ -107,4 +118,6 @@ def scenario_reference(problem: Problem) -> Reference:
     if settings.reference == "hold" or settings.slew is None:
         return sample_reference(times)
     slew = generate_slew(problem, settings.slew, PROFILE_SAMPLE_S)
-    return sample_reference(times, slew, settings.slew.start_s)
+    return sample_reference(
+        times, slew, settings.slew.start_s, feedforward=settings.slew.feedforward
+    )

@@ -23,6 +23,7 @@ from casadi_debris.allocation import Allocator, PropulsionState, StageEvent
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.model import Model
 from casadi_debris.simulation.closed_loop import (
+    STEP_INPUTS,
     SimulationError,
     build_loop_step,
     discretize_controller,
@@ -277,9 +278,11 @@ def simulate(
                 chunk_steps=chunk_steps,
             )
         stop = min(n, k + chunk_steps, pending[0][0] if pending else n)
-        inputs = np.zeros((5, chunk_steps))
+        inputs = np.zeros((STEP_INPUTS, chunk_steps))
         inputs[0, : stop - k] = times[k:stop]
-        inputs[1:, : stop - k] = reference.quaternion_BN[k:stop].T
+        inputs[1:5, : stop - k] = reference.quaternion_BN[k:stop].T
+        if reference.feedforward_Nm is not None:
+            inputs[5:8, : stop - k] = reference.feedforward_Nm[k:stop].T
         inputs[1, stop - k :] = 1.0  # padding periods: identity reference, results unused
         z_all, y_all = loop.rollout(z, inputs)
         z_all = np.asarray(z_all)[:, : stop - k]
