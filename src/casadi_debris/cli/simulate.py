@@ -45,6 +45,7 @@ from casadi_debris.simulation import (
 from casadi_debris.simulation import (
     simulate as run_simulation,
 )
+from casadi_debris.simulation.closed_loop import c_compiler
 
 NM_PER_MNM = 1e-3
 NOMINAL_KEYS = (
@@ -274,13 +275,14 @@ def run_montecarlo(
     scheduler: str | None,
     out: Path,
     progress: bool = True,
+    jit: bool = True,
 ) -> dict[str, Any]:
     """A whole campaign into ``out`` (resuming from ``out.partial``); returns its summary."""
     record, resolved = load_controller(controller_path)
     model = build_model(problem)
     cases = select_cases(problem, model, **cases_spec)
     reference = scenario_reference(problem)
-    setup = CampaignSetup.create(problem, record.reduced, reference)
+    setup = CampaignSetup.create(problem, record.reduced, reference, jit=jit)
     partial = partial_folder(out.resolve())
     partial.mkdir(parents=True, exist_ok=True)
     done = finished_cases(partial, cases)
@@ -309,6 +311,7 @@ def run_montecarlo(
             "workers": workers,
             "scheduler": scheduler,
             "resumed_cases": len(cases) - len(todo),
+            "compiled_step": bool(jit and c_compiler()),
             "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
             "out_dir": str(out.resolve()),
         },
@@ -333,6 +336,11 @@ def run_montecarlo(
 )
 @click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
+    "--no-jit",
+    is_flag=True,
+    help="Run the step on CasADi's virtual machine even where a C compiler is found.",
+)
+@click.option(
     "--out",
     type=click.Path(path_type=Path, file_okay=False),
     help="Campaign folder (default runs/montecarlo-<problem>).",
@@ -348,14 +356,16 @@ def montecarlo(
     workers: int,
     scheduler: str | None,
     controller_path: Path | None,
+    no_jit: bool,
     out: Path | None,
     as_json: bool,
 ) -> None:
     """Closed-loop Monte Carlo: all corners (the paper's 256) or seeded random samples.
 
-    Runs in parallel; an interrupted campaign resumes from the cases in
-    <out>.partial. Writes summary.json, cases.csv, envelope.csv/png and the
-    nominal run.
+    Runs in parallel; where a C compiler is found each worker compiles the
+    control step to C once (a few seconds) and runs every case on it. An
+    interrupted campaign resumes from the cases in <out>.partial. Writes
+    summary.json, cases.csv, envelope.csv/png and the nominal run.
     """
     problem = load_problem(problem_file)
     if workers < 1:
@@ -369,6 +379,7 @@ def montecarlo(
         scheduler,
         out,
         progress=not as_json,
+        jit=not no_jit,
     )
     if as_json:
         echo_json(summary)

@@ -55,20 +55,29 @@ class CampaignSetup:
     reference : Reference
     bin_s : float
         Width of the envelope's time bins [s].
+    jit : bool
+        Run each case's step as compiled C when a C compiler is found
+        (compiled once per worker).
     """
 
     problem: Problem
     controller: control.StateSpace
     reference: Reference
     bin_s: float
+    jit: bool = True
 
     @classmethod
     def create(
-        cls, problem: Problem, controller: control.StateSpace, reference: Reference
+        cls,
+        problem: Problem,
+        controller: control.StateSpace,
+        reference: Reference,
+        *,
+        jit: bool = True,
     ) -> CampaignSetup:
         """Bins of 1 s, wider for long runs (at most ``MAX_BINS``)."""
         duration = float(reference.time_s[-1] - reference.time_s[0])
-        return cls(problem, controller, reference, max(1.0, duration / MAX_BINS))
+        return cls(problem, controller, reference, max(1.0, duration / MAX_BINS), jit)
 
     @property
     def n_bins(self) -> int:
@@ -145,6 +154,7 @@ def run_case(setup: CampaignSetup, case: Case) -> CaseOutcome:
         setup.reference,
         parameters=case.parameters,
         allocator=allocator,
+        jit=setup.jit,
     )
     summary = {
         "case_id": case.case_id,

@@ -191,6 +191,7 @@ def simulate(
     integrator_steps: int | None = None,
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
     allocator: Allocator | None = None,
+    jit: bool = False,
 ) -> ClosedLoopResult:
     """Run one closed-loop scenario.
 
@@ -219,6 +220,10 @@ def simulate(
         Reused between runs of one problem (its authority polytope and
         active-set regions are kept while the limits do not change); its
         limits are set from the engines.
+    jit : bool
+        Run the step as compiled C (see
+        :func:`~casadi_debris.simulation.build_loop_step`): worth its few
+        seconds of compiling when many runs share it (Monte Carlo).
 
     Returns
     -------
@@ -260,6 +265,7 @@ def simulate(
     events: list[tuple[float, str]] = []
     point_solves = 0
     loop = None
+    compiled = False
     k = 0
     while k < n:
         while pending and pending[0][0] <= k:
@@ -276,7 +282,9 @@ def simulate(
                 integrator_steps=steps_per_period,
                 integrator=integrator,
                 chunk_steps=chunk_steps,
+                jit=jit,
             )
+            compiled = compiled or loop.compiled
         stop = min(n, k + chunk_steps, pending[0][0] if pending else n)
         inputs = np.zeros((STEP_INPUTS, chunk_steps))
         inputs[0, : stop - k] = times[k:stop]
@@ -284,9 +292,9 @@ def simulate(
         if reference.feedforward_Nm is not None:
             inputs[5:8, : stop - k] = reference.feedforward_Nm[k:stop].T
         inputs[1, stop - k :] = 1.0  # padding periods: identity reference, results unused
-        z_all, y_all = loop.rollout(z, inputs)
-        z_all = np.asarray(z_all)[:, : stop - k]
-        y_all = np.asarray(y_all)[:, : stop - k].T
+        z_all, y_all = loop.roll(z, inputs, p)
+        z_all = z_all[:, : stop - k]
+        y_all = y_all[:, : stop - k].T
         demand, scale = y_all[:, 0:3], y_all[:, 3]
         applied = demand * np.where(scale < 1.0, scale * (1 - 1e-10), 1.0)[:, None]
         allocation = allocator.allocate_series(applied)
@@ -338,6 +346,7 @@ def simulate(
         allocation_residual_Nm=residual,
         point_solves=point_solves,
         wall_time_s=time.perf_counter() - started,
+        info={"compiled_step": compiled},
         slew_window_s=(
             None
             if reference.slew is None
