@@ -1,10 +1,13 @@
 """Benchmark of the robust design: D-K iteration and the 3000-sample margin sweep.
 
 Prints JSON: wall time of each D-K step, of the whole synthesis and of the
-margin sweep with 1 and 2 worker processes (their ratio measured in the same run).
+margin sweep with 1 and 2 worker processes (their ratio measured in the same run),
+with the load average before each sweep (the machine may be busy with other work).
 Targets (issue 3): synthesis <= 60 s, margin sweep <= 30 s on 2 cores.
 
-    python benchmarks/synthesis.py [--samples 3000]
+    python benchmarks/synthesis.py [--samples 3000] [--sweep-only]
+
+``--sweep-only`` skips the synthesis and sweeps the shipped controller.
 """
 
 from __future__ import annotations
@@ -14,27 +17,56 @@ import json
 import os
 import time
 
+import control
+
 from casadi_debris import load_problem
+from casadi_debris.config import Problem, default_controller_path
 from casadi_debris.robust.analysis import margin_study
+from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import design_controller
+
+
+def margin_sweeps(problem: Problem, controller: control.StateSpace, samples: int) -> dict:
+    """Wall time, load average before, and worst margins of the sweep with 1 and 2 workers."""
+    sweeps = {}
+    for workers in (1, 2):
+        load = os.getloadavg()[0]
+        begin = time.perf_counter()
+        study = margin_study(problem, controller, samples, workers=workers)
+        sweeps[workers] = (time.perf_counter() - begin, load, study.sampled_min())
+    return {
+        "margin_sweep_samples": samples,
+        "margin_sweep_s_1_worker": sweeps[1][0],
+        "margin_sweep_s_2_workers": sweeps[2][0],
+        "margin_sweep_speedup": sweeps[1][0] / sweeps[2][0],
+        "load_average_1min_before_1_worker": sweeps[1][1],
+        "load_average_1min_before_2_workers": sweeps[2][1],
+        "sampled_min": sweeps[2][2],
+        "sampled_min_workers_agree": sweeps[1][2] == sweeps[2][2],
+    }
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--samples", type=int, default=3000)
+    parser.add_argument("--sweep-only", action="store_true", help="sweep the shipped controller")
     args = parser.parse_args()
     problem = load_problem()
+    if args.sweep_only:
+        record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+        result = {
+            "cpu_count": os.cpu_count(),
+            **margin_sweeps(problem, record.reduced, args.samples),
+        }
+        print(json.dumps(result, indent=1))
+        return
     steps = []
     start = time.perf_counter()
     design = design_controller(
         problem, progress=lambda stage, it: steps.append((stage, it, time.perf_counter() - start))
     )
     synthesis_s = time.perf_counter() - start
-    sweeps = {}
-    for workers in (1, 2):
-        begin = time.perf_counter()
-        study = margin_study(problem, design.record.reduced, args.samples, workers=workers)
-        sweeps[workers] = (time.perf_counter() - begin, study.sampled_min())
+    sweeps = margin_sweeps(problem, design.record.reduced, args.samples)
     print(
         json.dumps(
             {
@@ -53,11 +85,7 @@ def main() -> None:
                 ],
                 "mu_peak": design.summary()["mu_peak"],
                 "mu_peak_reduced": design.summary()["mu_peak_reduced"],
-                "margin_sweep_samples": args.samples,
-                "margin_sweep_s_1_worker": sweeps[1][0],
-                "margin_sweep_s_2_workers": sweeps[2][0],
-                "margin_sweep_speedup": sweeps[1][0] / sweeps[2][0],
-                "sampled_min": sweeps[2][1],
+                **sweeps,
             },
             indent=1,
         )

@@ -4,15 +4,18 @@ margin computation."""
 from __future__ import annotations
 
 import json
+import math
 
 import numpy as np
 import pytest
+from scipy.optimize import brentq
 
 from casadi_debris.config import default_controller_path
 from casadi_debris.model import build_model, linearize
 from casadi_debris.robust.analysis import margin_study
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.margins import loop_at_a_time, return_ratio
+from casadi_debris.robust.margins import MARGIN_GRID, LoopAtATime, loop_at_a_time, return_ratio
+from casadi_debris.robust.uncertainty import sample_uncertainty
 
 # DESIGN.md: nominal >= 13 dB and >= 45 deg; over sampled plants >= 13 dB, >= 45 deg, delay >= 5 s.
 GAIN_DB, PHASE_DEG, DELAY_S = 13.0, 45.0, 5.0
@@ -67,3 +70,64 @@ def test_parallel_and_serial_agree(problem, controller):
     serial = margin_study(problem, controller, samples=70, workers=1)
     parallel = margin_study(problem, controller, samples=70, workers=2)
     np.testing.assert_array_equal(serial.sampled, parallel.sampled)
+
+
+def _reference_margins(loop, omega):
+    """Margins of a SISO state-space return ratio the slow, direct way.
+
+    One LU solve per frequency on the grid; every crossing (not only those
+    near the smallest margin) refined by scipy's brentq on single LU solves.
+    Returns (upper gain dB, lower gain dB, phase deg, delay s, crossover rad/s).
+    """
+    a, b, c = loop.A, loop.B, loop.C
+
+    def at(w):
+        return complex((c @ np.linalg.solve(1j * w * np.eye(len(a)) - a, b))[0, 0])
+
+    def root(function, k):
+        x = brentq(lambda x: function(at(math.exp(x))), *np.log(omega[k : k + 2]), xtol=1e-13)
+        return math.exp(x)
+
+    values = np.array([at(w) for w in omega])
+    gains = []
+    for k in np.flatnonzero(np.sign(values.imag[:-1]) != np.sign(values.imag[1:])):
+        point = at(root(lambda v: v.imag, k))
+        if point.real < 0:
+            gains.append(-20 * math.log10(-point.real))  # > 0: upper, < 0: lower margin
+    magnitude = np.abs(values) - 1.0
+    phases = []
+    for k in np.flatnonzero(np.sign(magnitude[:-1]) != np.sign(magnitude[1:])):
+        w = root(lambda v: abs(v) - 1.0, k)
+        phase = 180.0 + math.degrees(np.angle(at(w)))
+        phases.append((phase - 360.0 if phase > 180.0 else phase, w))
+    phase, crossover = min(phases)
+    return (
+        min((g for g in gains if g > 0), default=math.inf),
+        min((-g for g in gains if g < 0), default=math.inf),
+        phase,
+        min(math.radians(p) / w for p, w in phases),
+        crossover,
+    )
+
+
+def test_fast_margins_against_a_direct_computation_on_sampled_plants(problem, controller):
+    """The sweep's path (block-diagonal Schur responses, return ratios from 3 x 3 responses,
+    batched Chandrupatla refinement) against the return ratio's own state space, LU solves and
+    brentq, on corners, the three worst plants of the shipped 3000-sample sweep (gain: 33,
+    phase: 36, delay: 2344) and others. Agreement to 1e-6 (dB, deg, s) is far inside the 1e-3
+    that the reported figures need; observed ~1e-11."""
+    model = build_model(problem)
+    parameters = sample_uncertainty(problem, model, 3000).parameters
+    loops = LoopAtATime(controller)
+    for index in (0, 33, 36, 63, 64, 500, 2344):
+        plant = linearize(model, parameters[index], sensor=True, units="deg_mNm")
+        for channel, fast in enumerate(loops(plant)):
+            reference = _reference_margins(return_ratio(plant, controller, channel), MARGIN_GRID)
+            ours = (
+                fast.upper_gain_margin_db,
+                fast.lower_gain_margin_db,
+                fast.phase_margin_deg,
+                fast.delay_margin_s,
+                fast.crossover_rad_s,
+            )
+            np.testing.assert_allclose(ours, reference, rtol=0, atol=1e-6)

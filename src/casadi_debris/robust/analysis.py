@@ -18,12 +18,11 @@ from casadi_debris.config import Problem
 from casadi_debris.model import build_model, linearization_function, linearize
 from casadi_debris.robust.margins import (
     CHANNELS,
-    MARGIN_GRID,
+    LoopAtATime,
     LoopMargins,
     UnstableLoopError,
     disk_margins,
     loop_at_a_time,
-    state_space_response,
 )
 from casadi_debris.robust.uncertainty import (
     UncertaintySamples,
@@ -92,29 +91,44 @@ def margins_table(margins: list[LoopMargins]) -> dict[str, dict[str, float]]:
     }
 
 
-def _sampled_margins(
-    problem: Problem, matrices: tuple[np.ndarray, ...], modes: str, parameters: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """Margins of a batch of parameter sets: (n, 3, 3) values and (n,) unstable flags.
+class _SampledMargins:
+    """Margins of sampled plants around one controller, set up once per process.
 
-    Takes the controller as its (A, B, C, D) so that it crosses process boundaries.
+    The model, its linearisation function and the controller's frequency
+    response are built here, not per batch. Takes the controller as its
+    (A, B, C, D) so that it crosses process boundaries.
     """
-    controller = control.ss(*matrices)
-    model = build_model(problem, modes=modes)
-    function = linearization_function(model, sensor=True)
-    controller_response = state_space_response(controller, MARGIN_GRID)
-    sampled = np.full((len(parameters), 3, 3), np.nan)
-    unstable = np.zeros(len(parameters), dtype=bool)
-    for k, p in enumerate(parameters):
-        plant = linearize(model, p, sensor=True, units="deg_mNm", function=function)
-        try:  # loop_at_a_time checks the closed-loop poles itself
-            margins = loop_at_a_time(plant, controller, MARGIN_GRID, controller_response)
-        except UnstableLoopError:
-            unstable[k] = True
-            continue
-        for i, m in enumerate(margins):
-            sampled[k, i] = (m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s)
-    return sampled, unstable
+
+    def __init__(self, problem: Problem, matrices: tuple[np.ndarray, ...], modes: str):
+        self.model = build_model(problem, modes=modes)
+        self.function = linearization_function(self.model, sensor=True)
+        self.loops = LoopAtATime(control.ss(*matrices))
+
+    def __call__(self, parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(n, 3, 3) margins (gain dB, phase deg, delay s per channel) and (n,) unstable flags."""
+        sampled = np.full((len(parameters), 3, 3), np.nan)
+        unstable = np.zeros(len(parameters), dtype=bool)
+        for k, p in enumerate(parameters):
+            plant = linearize(self.model, p, sensor=True, units="deg_mNm", function=self.function)
+            try:  # LoopAtATime checks the closed-loop poles itself
+                margins = self.loops(plant)
+            except UnstableLoopError:
+                unstable[k] = True
+                continue
+            for i, m in enumerate(margins):
+                sampled[k, i] = (m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s)
+        return sampled, unstable
+
+
+_WORKER: dict[str, _SampledMargins] = {}  # a worker process's own _SampledMargins
+
+
+def _start_worker(problem: Problem, matrices: tuple[np.ndarray, ...], modes: str) -> None:
+    _WORKER["margins"] = _SampledMargins(problem, matrices, modes)
+
+
+def _worker_margins(parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return _WORKER["margins"](parameters)
 
 
 def margin_study(
@@ -154,13 +168,16 @@ def margin_study(
     matrices = tuple(np.asarray(m) for m in control.ssdata(controller))
     results = []
     if workers <= 1:
+        sampled_margins = _SampledMargins(problem, matrices, modes)
         for batch in batches:
-            results.append(_sampled_margins(problem, matrices, modes, batch))
+            results.append(sampled_margins(batch))
             if progress:
                 progress(sum(len(r[1]) for r in results), len(drawn.parameters))
     else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = [pool.submit(_sampled_margins, problem, matrices, modes, b) for b in batches]
+        with ProcessPoolExecutor(
+            max_workers=workers, initializer=_start_worker, initargs=(problem, matrices, modes)
+        ) as pool:
+            futures = [pool.submit(_worker_margins, b) for b in batches]
             for future in futures:
                 results.append(future.result())
                 if progress:

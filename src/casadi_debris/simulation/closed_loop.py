@@ -25,11 +25,15 @@ so computing it after the stretch changes nothing in the loop.
 
 from __future__ import annotations
 
+import atexit
+import gc
 import hashlib
 import math
 import os
 import shutil
+import tempfile
 from dataclasses import dataclass
+from pathlib import Path
 
 import casadi as ca
 import control
@@ -48,6 +52,7 @@ INTEGRATORS = ("rk4", "cvodes")
 MODAL_CONDITION_MAX = 1e6
 STEP_INPUTS = 8  # t, q_ref (4), feedforward torque (3)
 JIT_FLAGS = ("-O2",)
+JIT_FOLDER_ENV = "CASADI_DEBRIS_JIT_FOLDER"
 MODAL_ROUND_OFF = 1e-13
 CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
 
@@ -307,10 +312,16 @@ def _compiled(
     controller: DiscreteController,
     chunk_steps: int,
 ) -> LoopStep:
+    folder = _jit_folder()
     options = {
         "jit": True,
         "compiler": "shell",
-        "jit_options": {"compiler": compiler, "flags": list(JIT_FLAGS)},
+        "jit_name": "loop_step",
+        "jit_options": {
+            "compiler": compiler,
+            "flags": list(JIT_FLAGS),
+            "directory": f"{folder}{os.sep}",
+        },
     }
     inputs = [ca.SX.sym(step.name_in(i), step.sparsity_in(i)) for i in range(step.n_in())]
     compiled = ca.Function("loop_step_c", inputs, step(*inputs), options)
@@ -322,6 +333,31 @@ def _compiled(
         n_controller=controller.n_states,
         compiled=True,
     )
+
+
+def _jit_folder() -> Path:
+    """A private temporary folder for the generated C and libraries, removed at exit.
+
+    Worker processes (which leave without running exit handlers) get theirs
+    from the parent through ``JIT_FOLDER_ENV``; the parent removes it.
+    """
+    if "folder" not in _JIT_FOLDER and os.environ.get(JIT_FOLDER_ENV):
+        _JIT_FOLDER["folder"] = Path(os.environ[JIT_FOLDER_ENV])
+    if "folder" not in _JIT_FOLDER:
+        folder = Path(tempfile.mkdtemp(prefix="casadi_debris_jit_"))
+        atexit.register(_remove_jit_folder, folder)
+        _JIT_FOLDER["folder"] = folder
+    return _JIT_FOLDER["folder"]
+
+
+def _remove_jit_folder(folder: Path) -> None:
+    # Release the compiled Functions first: CasADi deletes its own files then.
+    _JIT_STEPS.clear()
+    gc.collect()
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+_JIT_FOLDER: dict[str, Path] = {}
 
 
 def _loop_step(

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import os
+import tempfile
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
@@ -30,7 +31,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.model import Model, build_model
 from casadi_debris.simulation.cases import Case
-from casadi_debris.simulation.closed_loop import SimulationError
+from casadi_debris.simulation.closed_loop import JIT_FOLDER_ENV, SimulationError
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.run import ClosedLoopResult, simulate
 
@@ -227,14 +228,23 @@ def _process_outcomes(
 ) -> Iterator[CaseOutcome]:
     # One thread per process: CasADi and BLAS would otherwise compete for the cores.
     os.environ.setdefault("OMP_NUM_THREADS", "1")
-    with ProcessPoolExecutor(
-        max_workers=workers, initializer=_init_process, initargs=(setup,)
-    ) as pool:
-        pending = {pool.submit(_run_in_process, case) for case in cases}
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
-                yield future.result()
+    with tempfile.TemporaryDirectory(prefix="casadi_debris_jit_") as jit_folder:
+        previous = os.environ.get(JIT_FOLDER_ENV)
+        os.environ[JIT_FOLDER_ENV] = jit_folder  # the workers' compiled steps go here
+        try:
+            with ProcessPoolExecutor(
+                max_workers=workers, initializer=_init_process, initargs=(setup,)
+            ) as pool:
+                pending = {pool.submit(_run_in_process, case) for case in cases}
+                while pending:
+                    done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for future in done:
+                        yield future.result()
+        finally:
+            if previous is None:
+                os.environ.pop(JIT_FOLDER_ENV, None)
+            else:
+                os.environ[JIT_FOLDER_ENV] = previous
 
 
 def _dask_outcomes(
