@@ -46,3 +46,27 @@ def test_report_has_the_table_and_the_figures(quick_report: Path) -> None:
     for figure in ("slew/envelope.png", "pointing/envelope.png", "margins/mu.png"):
         assert f"]({figure})" in report
         assert (quick_report / figure).stat().st_size > 10_000
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["paper_pointing", "paper_slew"])
+def test_every_corner(name: str, tmp_path: Path) -> None:
+    """The full 256-corner campaigns (minutes): pointing within 60 arcsec at every corner
+    with the torque inside the authority; the slew within 0.6 deg nominal and every corner
+    run."""
+    from casadi_debris.config import default_problem_path
+
+    problem = default_problem_path().parent / f"{name}.toml"
+    out = tmp_path / name
+    result = CliRunner().invoke(
+        main, ["montecarlo", str(problem), "--out", str(out), "--json"], catch_exceptions=False
+    )
+    assert result.exit_code == 0, result.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["cases"] == 256
+    limits = json.loads((out / "nominal" / "summary.json").read_text())
+    if name == "paper_pointing":
+        assert summary["worst"]["max_error_arcsec"]["value"] < 60.0
+        assert summary["worst"]["torque_saturated_s"]["value"] == 0.0
+    else:
+        assert limits["max_error_deg"] <= 0.6
