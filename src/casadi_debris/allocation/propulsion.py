@@ -285,15 +285,7 @@ class PropulsionState:
             Negative thrust or step, thrust above a limit, or thrust asked
             of a CubeSat that cannot fire.
         """
-        thrust = np.asarray(thrust_N, dtype=float)
-        if thrust.shape != (self.n_cubesats,):
-            raise InputShapeError(
-                f"thrust_N must have shape ({self.n_cubesats},), got {thrust.shape}"
-            )
-        if not np.all(np.isfinite(thrust)) or not np.isfinite(dt_s):
-            raise InputShapeError("thrust_N and dt_s must be finite")
-        if dt_s < 0 or np.any(thrust < 0):
-            raise AllocationError("thrust_N and dt_s must not be negative")
+        thrust = self._checked_thrust(thrust_N, dt_s, series=False)
         limits = self.max_thrust_N()
         over = thrust > limits * (1.0 + THRUST_LIMIT_RTOL)
         if np.any(over):
@@ -307,6 +299,22 @@ class PropulsionState:
         for cubesat in np.flatnonzero(thrust > 0):
             events.extend(self._burn(int(cubesat), float(thrust[cubesat]), float(dt_s)))
         return events
+
+    def _checked_thrust(self, thrust_N: Any, dt_s: float, *, series: bool) -> np.ndarray:
+        """Thrust as an array of shape (n,) or (k, n), finite and non-negative, like dt_s."""
+        thrust = np.asarray(thrust_N, dtype=float)
+        n = self.n_cubesats
+        if series:
+            good, want = thrust.ndim == 2 and thrust.shape[1] == n, f"(k, {n})"
+        else:
+            good, want = thrust.shape == (n,), f"({n},)"
+        if not good:
+            raise InputShapeError(f"thrust_N must have shape {want}, got {thrust.shape}")
+        if not np.all(np.isfinite(thrust)) or not np.isfinite(dt_s):
+            raise InputShapeError("thrust_N and dt_s must be finite")
+        if dt_s < 0 or np.any(thrust < 0):
+            raise AllocationError("thrust_N and dt_s must not be negative")
+        return thrust
 
     def advance_series(
         self, thrust_N: np.ndarray, dt_s: float, *, stop_on_limit_change: bool = True
@@ -334,15 +342,7 @@ class PropulsionState:
         events : list of (int, StageEvent)
             Step index and event, in order.
         """
-        thrust = np.asarray(thrust_N, dtype=float)
-        if thrust.ndim != 2 or thrust.shape[1] != self.n_cubesats:
-            raise InputShapeError(
-                f"thrust_N must have shape (k, {self.n_cubesats}), got {thrust.shape}"
-            )
-        if not np.all(np.isfinite(thrust)) or not np.isfinite(dt_s):
-            raise InputShapeError("thrust_N and dt_s must be finite")
-        if dt_s < 0 or np.any(thrust < 0):
-            raise AllocationError("thrust_N and dt_s must not be negative")
+        thrust = self._checked_thrust(thrust_N, dt_s, series=True)
         events: list[tuple[int, StageEvent]] = []
         done = 0
         while done < len(thrust):

@@ -150,14 +150,19 @@ class PiecewiseAffineQp:
         step = targets - region.anchor
         u = region.solution + step @ region.gain
         multipliers = region.multipliers + step @ region.multiplier_gain
+        return np.clip(u, 0.0, self.upper), self._satisfies_kkt(u, multipliers, targets)
+
+    def _satisfies_kkt(
+        self, u: np.ndarray, multipliers: np.ndarray, targets: np.ndarray
+    ) -> np.ndarray:
+        """Rows where u and the bound multipliers meet every KKT condition (within tolerance)."""
         residual = np.abs(u @ self.a_eq.T - targets).max(axis=1)
-        optimal = (
+        return (
             np.all(u >= -BOUND_TOLERANCE, axis=1)
             & np.all(u <= self.upper + BOUND_TOLERANCE, axis=1)
             & np.all(multipliers >= -MULTIPLIER_TOLERANCE, axis=1)
             & (residual <= RESIDUAL_TOLERANCE)
         )
-        return np.clip(u, 0.0, self.upper), optimal
 
     def solve_series(
         self, targets: np.ndarray, solve_point: Callable[[np.ndarray], np.ndarray]
@@ -234,12 +239,5 @@ class PiecewiseAffineQp:
         step = target - anchors
         u = solutions + np.einsum("rm,rmn->rn", step, gains)
         mu = multipliers + np.einsum("rm,rmn->rn", step, multiplier_gains)
-        residual = np.abs(u @ self.a_eq.T - target).max(axis=1)
-        optimal = (
-            np.all(u >= -BOUND_TOLERANCE, axis=1)
-            & np.all(u <= self.upper + BOUND_TOLERANCE, axis=1)
-            & np.all(mu >= -MULTIPLIER_TOLERANCE, axis=1)
-            & (residual <= RESIDUAL_TOLERANCE)
-        )
-        hits = np.flatnonzero(optimal)
+        hits = np.flatnonzero(self._satisfies_kkt(u, mu, target[None, :]))
         return regions[hits[-1]] if len(hits) else None

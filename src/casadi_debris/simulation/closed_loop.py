@@ -203,6 +203,26 @@ class LoopStep:
     n_controller: int
     compiled: bool = False
 
+    @classmethod
+    def of(
+        cls,
+        step: ca.Function,
+        model: Model,
+        controller: DiscreteController,
+        chunk_steps: int,
+        *,
+        compiled: bool = False,
+    ) -> LoopStep:
+        """Wrap a step Function with its ``mapaccum`` roll-out."""
+        return cls(
+            step=step,
+            rollout=step.mapaccum(f"{step.name()}_rollout", chunk_steps),
+            chunk_steps=chunk_steps,
+            n_plant=model.layout.size,
+            n_controller=controller.n_states,
+            compiled=compiled,
+        )
+
     def roll(self, z: np.ndarray, inputs: np.ndarray, parameters: np.ndarray) -> tuple:
         """``chunk_steps`` periods from ``z``: (states after each, outputs of each), arrays."""
         p = np.asarray(parameters, dtype=float)
@@ -267,13 +287,7 @@ def build_loop_step(
             if _JIT_STEPS[key] is not None:
                 return _JIT_STEPS[key]
     step = _loop_step(model, parameters, controller, polytope, integrator_steps, integrator)
-    return LoopStep(
-        step=step,
-        rollout=step.mapaccum("loop_rollout", chunk_steps),
-        chunk_steps=chunk_steps,
-        n_plant=model.layout.size,
-        n_controller=controller.n_states,
-    )
+    return LoopStep.of(step, model, controller, chunk_steps)
 
 
 def c_compiler() -> str | None:
@@ -325,14 +339,7 @@ def _compiled(
     }
     inputs = [ca.SX.sym(step.name_in(i), step.sparsity_in(i)) for i in range(step.n_in())]
     compiled = ca.Function("loop_step_c", inputs, step(*inputs), options)
-    return LoopStep(
-        step=compiled,
-        rollout=compiled.mapaccum("loop_rollout_c", chunk_steps),
-        chunk_steps=chunk_steps,
-        n_plant=model.layout.size,
-        n_controller=controller.n_states,
-        compiled=True,
-    )
+    return LoopStep.of(compiled, model, controller, chunk_steps, compiled=True)
 
 
 def _jit_folder() -> Path:
