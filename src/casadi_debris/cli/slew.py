@@ -76,6 +76,8 @@ def summary_text(summary: dict[str, Any]) -> str:
         ["solve time [s]", f"{summary['solve_time_s']:.3f}"],
         ["solver status", summary["solver_status"]],
     ]
+    if "flexible_method" in summary:
+        rows.insert(6, ["flexible method", summary["flexible_method"]])
     if "torque_fraction" in summary:
         rows.insert(4, ["torque fraction", f"{summary['torque_fraction']:.4f}"])
     return format_table(["figure", "value"], rows)
@@ -91,7 +93,11 @@ def summary_text(summary: dict[str, Any]) -> str:
     default="bang-bang",
     show_default=True,
 )
-@click.option("--duration-s", type=float, help="Slew time (bang-bang, fuel-optimal).")
+@click.option(
+    "--duration-s",
+    type=float,
+    help="Slew time (bang-bang, fuel-optimal); deadline for time-optimal.",
+)
 @click.option(
     "--torque-fraction",
     type=float,
@@ -99,7 +105,14 @@ def summary_text(summary: dict[str, Any]) -> str:
 )
 @click.option("--rate-limit-deg-s", type=float, help="Bang-bang: largest slew rate (coast).")
 @click.option("--smoothing-s", type=float, default=0.0, help="Bang-bang: torque ramp per switch.")
-@click.option("--flexible", is_flag=True, help="Shape the optimal slew for the array modes.")
+@click.option("--flexible", is_flag=True, help="Optimal slews: constrain the array vibration left.")
+@click.option(
+    "--flexible-method",
+    type=click.Choice(["ocp", "shaper"]),
+    default="ocp",
+    show_default=True,
+    help="--flexible: modal states in the OCP, or the rigid optimum through a ZV shaper.",
+)
 @click.option("--thrusters", is_flag=True, help="Optimise the thrust of every engine.")
 @click.option("--sample-s", type=float, default=1.0, show_default=True, help="Output spacing.")
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
@@ -115,6 +128,7 @@ def slew(
     rate_limit_deg_s: float | None,
     smoothing_s: float,
     flexible: bool,
+    flexible_method: str,
     thrusters: bool,
     sample_s: float,
     out: Path | None,
@@ -147,11 +161,10 @@ def slew(
             "thrusters": thrusters,
             "torque_fraction": 1.0 if torque_fraction is None else torque_fraction,
             "sample_s": sample_s,
+            "flexible_method": flexible_method,
         }
         if method == "time-optimal":
-            if duration_s is not None:
-                raise InputShapeError("--duration-s: a time-optimal slew chooses its own duration")
-            profile = time_optimal_slew(problem, **common)
+            profile = time_optimal_slew(problem, duration_s=duration_s, **common)
         else:
             if duration_s is None:
                 raise InputShapeError("--duration-s: needed for a fuel-optimal slew")

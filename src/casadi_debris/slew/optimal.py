@@ -30,22 +30,43 @@ bang-bang marched through the collocation equations themselves.
 
 Flexible slews
 --------------
-``flexible`` keeps the optimal rigid profile and passes it through a cascaded
-zero-vibration input shaper tuned to every array mode of the full model
-(:func:`zero_vibration_shaper`), then integrates the shaped input on the full
-flexible model (CVODES) to report the residual vibration and the vibration
-energy left, next to the limit ``residual_energy_fraction`` times what the
-bang-bang at the rigid limit leaves. The shaper lengthens the slew by the sum
-of half the damped periods (1.4 s for the paper's arrays); fuel-optimal slews
-give the rigid problem that much less time. A collocation OCP with the modal
-states as variables (a coarse grid refined towards the end, or a rigid bulk
-with a flexible terminal window) was tried and left out: IPOPT stalled on its
-near-singular KKT systems. The array torques are mNm against 5.6-35 rad/s
-modes, so the modes stay quasi-static and only the torque steps excite them.
+``flexible`` (``flexible_method="ocp"``, the default) solves the OCP with the
+array modes as states where they matter: a rigid bulk (the collocation above,
+free length T_b) followed by a terminal window of fixed length W (1.5 x the
+length of the cascaded ZV shaper of all array modes, 2.07 s for the paper's
+arrays) on the full flexible model (``build_model(problem, "all")``, 22
+states), multiple shooting with piecewise-constant controls on 64 intervals,
+each integrated by RK4 substeps with h * omega_max <= 0.4. The window starts
+from the bulk's rigid state with the modes at the quasi-static deflection of
+the last bulk control (eta = S u, S from the model's modal equation at rest,
+eta_dot = 0) and ends with the attitude error and the angular momentum zero and
+
+    E_vib(x(T)) <= 0.8 * residual_energy_fraction * E_bb,
+
+E_vib as in :func:`~casadi_debris.slew.profile.vibration_energy`, E_bb what the
+eigenaxis bang-bang at the rigid limit leaves; 0.8 is a margin for the RK4
+window and the hand-over, so that the CVODES check of the whole horizon on the
+full model (which is what the profile reports) meets the limit. Minimise
+T = T_b + W. The hand-over is exact for the rigid states; for the modes it
+assumes the transients excited during the bulk have decayed (damping
+exp(-zeta omega t): the lowest assembled mode, 5.8 rad/s at zeta 0.0052, loses
+a factor 2 in amplitude per 23 s bulk interval, e^-13 over half the slew); the
+CVODES check catches it if not. Modal coordinates are scaled by their
+quasi-static deflection under the largest acceleration (~1e-5 to 1e-4).
+Collocating the modes over the whole horizon (thousands of modal periods),
+and collocation windows, stalled in IPOPT; CVODES shooting intervals of 23 s
+run out of steps in the sensitivities.
+
+``flexible_method="shaper"`` (and the fallback when IPOPT fails on the modal
+OCP, said so in ``settings["flexible_method"]``) keeps the optimal rigid
+profile and passes it through the cascaded zero-vibration input shaper
+(:func:`zero_vibration_shaper`); it lengthens the slew by the shaper's length
+(1.38 s); fuel-optimal slews give the rigid problem that much less time.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
@@ -72,6 +93,7 @@ from casadi_debris.slew.profile import (
     SlewProfile,
     finish_profile,
     input_vector,
+    residual_vibration,
     simulate,
     vibration_energy,
     zoh_input_function,
@@ -83,6 +105,11 @@ RIGID_INTERVALS = 40
 REGULARISATION = 1e-6
 DEFAULT_RESIDUAL_ENERGY_FRACTION = 0.01
 DEFAULT_SAMPLE_S = 1.0
+WINDOW_INTERVALS = 64
+WINDOW_SHAPER_MULTIPLE = 1.5
+WINDOW_STEP_PHASE = 0.4
+ENERGY_MARGIN = 0.8
+FLEXIBLE_METHODS = ("ocp", "shaper")
 ACCEPTED_STATUS = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 IPOPT_OPTIONS = {
     "expand": True,
@@ -360,6 +387,72 @@ class _SlewOCP:
             nodes.append(np.array(end_state(solution, parameters)).ravel())
         return np.array(nodes).T, np.hstack(inner)
 
+    # -- flexible terminal window -----------------------------------------------------
+    def _input_map(self, fuel: bool) -> np.ndarray:
+        """G (9 x n_u): model input [tau, 0, F] = G u for this OCP's controls (linear)."""
+        if self.thrusters:
+            n = self.geometry.torque_map.shape[1]
+            return np.vstack([self.geometry.torque_map, np.zeros((3, n)), self.geometry.force_map])
+        columns = 6 if fuel else 3
+        g = np.zeros((9, columns))
+        g[0:3, 0:3] = np.eye(3)
+        if fuel:
+            g[0:3, 3:6] = -np.eye(3)
+        return g
+
+    def _quasi_static_map(self) -> np.ndarray:
+        """S (n_eta x 9): modal deflection at rest under a constant input u, eta = S u.
+
+        From the model's own modal equation at rest: eta_ddot = A eta + B u = 0.
+        """
+        model = self.flexible_model
+        lay = model.layout
+        x = ca.SX.sym("x", lay.size)
+        u = ca.SX.sym("u", 9)
+        acceleration = model.dynamics(x, u, self.parameters)[lay.eta_dot]
+        jacobians = ca.Function(
+            "modal_jacobians", [x, u], [ca.jacobian(acceleration, x), ca.jacobian(acceleration, u)]
+        )
+        a_x, b_u = (np.array(m) for m in jacobians(model.initial_state(), np.zeros(9)))
+        return -np.linalg.solve(a_x[:, lay.eta], b_u)
+
+    def _vibration_energy_expression(self, state: ca.MX) -> ca.MX:
+        """Symbolic :func:`~casadi_debris.slew.profile.vibration_energy` of a reduced state."""
+        model = self.flexible_model
+        lay = model.layout
+        mass = np.array(model.mass_matrix(self.parameters))
+        nu = ca.vertcat(state[lay.v], state[lay.omega], state[lay.eta_dot])
+        momenta = ca.DM(mass[:6]) @ nu
+        rigid = 0.5 * momenta.T @ ca.DM(np.linalg.inv(mass[:6, :6])) @ momenta
+        full = ca.vertcat(state, state[lay.q])
+        return model.energy(full, self.parameters) - rigid
+
+    def _window_step(
+        self, x_scale: np.ndarray, u_scale: np.ndarray, fuel: bool, step_s: float, substeps: int
+    ) -> ca.Function:
+        """One window interval on the full flexible model: RK4 substeps, scaled states."""
+        model = self.flexible_model
+        n_x = model.layout.size - 4
+        x = ca.SX.sym("x", n_x)
+        u = ca.SX.sym("u", len(u_scale))
+        u_model = ca.DM(self._input_map(fuel)) @ (u * ca.DM(u_scale))
+        x_s = ca.DM(x_scale)
+
+        def rate(z: ca.SX) -> ca.SX:
+            state = z * x_s
+            full = ca.vertcat(state, state[model.layout.q])
+            return model.dynamics(full, u_model, self.parameters)[:n_x] / x_s
+
+        h = step_s / substeps
+        z = x
+        for _ in range(substeps):
+            k1 = rate(z)
+            k2 = rate(z + 0.5 * h * k1)
+            k3 = rate(z + 0.5 * h * k2)
+            k4 = rate(z + h * k3)
+            z = z + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        return ca.Function("window_step", [x, u], [z])
+
     # -- the NLP -----------------------------------------------------------------------
     def solve(
         self,
@@ -371,8 +464,236 @@ class _SlewOCP:
         sample_s: float,
         check_vibration: bool,
         warm_start: SlewProfile | None = None,
+        flexible_method: str = "ocp",
     ) -> SlewProfile:
-        """Transcribe and solve; ``warm_start`` (e.g. the rigid solution) replaces the bang-bang."""
+        """Transcribe and solve; ``warm_start`` (e.g. the rigid solution) replaces the bang-bang.
+
+        ``flexible_method``: ``"ocp"`` (modal states in a terminal window, module
+        notes) or ``"shaper"`` (the rigid optimum through a ZV shaper).
+        """
+        options = {
+            "objective": objective,
+            "duration_s": duration_s,
+            "intervals": intervals,
+            "residual_energy_fraction": residual_energy_fraction,
+            "sample_s": sample_s,
+            "check_vibration": check_vibration,
+            "warm_start": warm_start,
+        }
+        if flexible_method not in FLEXIBLE_METHODS:
+            raise InputShapeError(
+                f"flexible_method: one of {', '.join(FLEXIBLE_METHODS)}, got {flexible_method!r}"
+            )
+        if not self.flexible or flexible_method == "shaper":
+            return self._solve_rigid_or_shaped(**options)
+        try:
+            return self._solve_modal(**options)
+        except SlewInfeasibleError as error:
+            if "did not converge" not in str(error):
+                raise
+            failure = str(error)
+        profile = self._solve_rigid_or_shaped(**options)
+        profile.settings["flexible_method"] = f"shaper (fallback: modal {failure})"
+        return profile
+
+    def _solve_modal(
+        self,
+        *,
+        objective: str,
+        duration_s: float | None,
+        intervals: int | None,
+        residual_energy_fraction: float,
+        sample_s: float,
+        check_vibration: bool,
+        warm_start: SlewProfile | None,
+    ) -> SlewProfile:
+        """Rigid collocation bulk + flexible multiple-shooting window (module notes)."""
+        fuel = objective == "fuel"
+        model = self.flexible_model
+        lay = model.layout
+        shaper_times, shaper_amplitudes, _ = zero_vibration_shaper(model, self.parameters)
+        reference_started = time.perf_counter()
+        reference_energy = self._bang_bang_energy()
+        reference_time = time.perf_counter() - reference_started
+        started = time.perf_counter()
+        window_s, step_s, substeps = self._window_grid(float(shaper_times[-1]))
+        m = WINDOW_INTERVALS
+        reference = self._reference(duration_s if fuel else self.limit_duration_s)
+        if warm_start is not None:
+            reference = warm_start
+        shaper_length = float(shaper_times[-1])
+        guess_total = duration_s if fuel else reference.duration_s + shaper_length
+        peak_rate = float(np.max(np.linalg.norm(reference.rate_rad_s, axis=1)))
+        lower_u, upper_u = self._control_bounds(fuel)
+        u_scale = np.maximum(np.maximum(np.abs(lower_u), np.abs(upper_u)), 1e-30)
+        n_u = len(u_scale)
+        n = intervals or RIGID_INTERVALS
+        d = COLLOCATION_DEGREE
+        rigid_scale = self._state_scale(self.rigid_model, peak_rate, guess_total)
+        flexible_scale = self._state_scale(model, peak_rate, guess_total)
+        rigid = self._phase(self.rigid_model, rigid_scale, u_scale, n, fuel)
+        step = self._window_step(flexible_scale, u_scale, fuel, step_s, substeps)
+        n_r, n_f = rigid.n_x, lay.size - 4
+
+        opti = ca.Opti()
+        if fuel:
+            bulk = ca.MX(duration_s - window_s)
+            if duration_s - window_s <= 0.0:
+                raise SlewInfeasibleError(f"infeasible: minimum is {window_s:.6g} s")
+        else:
+            bulk_scaled = opti.variable()
+            bulk = bulk_scaled * self.limit_duration_s
+            opti.subject_to(opti.bounded(0.05, bulk_scaled, 20.0))
+            opti.set_initial(bulk_scaled, (guess_total - window_s) / self.limit_duration_s)
+        X = opti.variable(n_r, n + 1)
+        XC = opti.variable(n_r, n * d)
+        U = opti.variable(n_u, n)
+        defect, ends = rigid.interval.map(n)(X[:, :-1], XC, U, ca.repmat(bulk / n, 1, n))
+        opti.subject_to(ca.vec(defect) == 0)
+        opti.subject_to(ca.vec(X[:, 1:] - ends) == 0)
+        XW = opti.variable(n_f, m + 1)
+        UW = opti.variable(n_u, m)
+        opti.subject_to(ca.vec(XW[:, 1:] - step.map(m)(XW[:, :-1], UW)) == 0)
+        for controls, count in ((U, n), (UW, m)):
+            opti.subject_to(
+                opti.bounded(
+                    np.tile((lower_u / u_scale)[:, None], count),
+                    controls,
+                    np.tile((upper_u / u_scale)[:, None], count),
+                )
+            )
+        x0 = self.rigid_model.initial_state(self.target.q_initial_BN)[:n_r]
+        opti.subject_to(X[:, 0] == x0 / rigid_scale)
+        # Hand-over: rigid states continue; the modes start at the quasi-static deflection
+        # of the last bulk control (the transients of the bulk have decayed, module notes).
+        qs_map = self._quasi_static_map() @ self._input_map(fuel) @ np.diag(u_scale)
+        eta = np.arange(lay.size)[lay.eta]
+        eta_dot = np.arange(lay.size)[lay.eta_dot]
+        opti.subject_to(XW[:n_r, 0] * ca.DM(flexible_scale[:n_r] / rigid_scale) - X[:, -1] == 0)
+        opti.subject_to(XW[eta, 0] - ca.DM(qs_map / flexible_scale[eta, None]) @ U[:, -1] == 0)
+        opti.subject_to(XW[eta_dot, 0] == 0)
+        final = XW[:, -1] * ca.DM(flexible_scale)
+        opti.subject_to(model.attitude_error(self.target.q_final_BN, final[lay.q]) == 0)
+        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
+        momentum_scale = float(self.target.axis_B @ inertia @ self.target.axis_B) * peak_rate
+        _, angular = model.momenta(ca.vertcat(final, final[lay.q]), self.parameters)
+        opti.subject_to(angular / momentum_scale == 0)
+        energy = self._vibration_energy_expression(final)
+        # The window is RK4 and the hand-over quasi-static: keep a margin for the CVODES check.
+        opti.subject_to(energy / reference_energy <= ENERGY_MARGIN * residual_energy_fraction)
+
+        total = bulk + window_s
+        bulk_weight = bulk / guess_total / n
+        window_weight = step_s / guess_total
+        if fuel:
+            if self.thrusters:
+                rates = np.ones(n_u) / n_u
+            else:
+                plus, minus = axis_fuel_rates(self.geometry)
+                rates = np.concatenate([plus, minus]) * u_scale
+                rates = rates / np.max(rates)
+            cost = bulk_weight * ca.sum2(ca.DM(rates).T @ U) + window_weight * ca.sum2(
+                ca.DM(rates).T @ UW
+            )
+        else:
+            cost = total / guess_total + REGULARISATION * (
+                bulk_weight * ca.sumsqr(U) + window_weight * ca.sumsqr(UW)
+            )
+        opti.minimize(cost)
+
+        # Initial guess: the reference on the bulk, its ZV-shaped end in the window.
+        bulk_guess = guess_total - window_s
+        times = (np.arange(n) + 0.5) * bulk_guess / n
+        controls = self._control_guess(reference, times, fuel).T / u_scale[:, None]
+        nodes, inner = self._march(rigid, x0 / rigid_scale, controls, bulk_guess / n)
+        window_times = bulk_guess + (np.arange(m) + 0.5) * step_s
+        window_controls = (
+            sum(
+                a * self._control_guess(reference, window_times - t, fuel)
+                for t, a in zip(shaper_times, shaper_amplitudes, strict=True)
+            ).T
+            / u_scale[:, None]
+        )
+        start = np.zeros(n_f)
+        start[:n_r] = nodes[:, -1] * rigid_scale / flexible_scale[:n_r]
+        start[eta] = qs_map @ controls[:, -1] / flexible_scale[eta]
+        window_nodes = [start]
+        for k in range(m):
+            window_nodes.append(np.array(step(window_nodes[-1], window_controls[:, k])).ravel())
+        opti.set_initial(X, nodes)
+        opti.set_initial(XC, inner)
+        opti.set_initial(U, controls)
+        opti.set_initial(XW, np.array(window_nodes).T)
+        opti.set_initial(UW, window_controls)
+        opti.solver("ipopt", IPOPT_OPTIONS)
+        try:
+            solution = opti.solve()
+            status = solution.stats()["return_status"]
+            value = solution.value
+        except RuntimeError:
+            status = opti.stats().get("return_status", "failed")
+            value = opti.debug.value
+        if status not in ACCEPTED_STATUS:
+            raise SlewInfeasibleError(f"optimal slew did not converge (ipopt: {status})")
+        solve_time = time.perf_counter() - started
+        bulk_s = float(value(bulk))
+        knots = np.concatenate(
+            [np.linspace(0.0, bulk_s, n + 1), bulk_s + np.arange(1, m + 1) * step_s]
+        )
+        controls = (
+            np.vstack(
+                [
+                    np.array(value(U)).reshape(n_u, n).T,
+                    np.array(value(UW)).reshape(n_u, m).T,
+                ]
+            )
+            * u_scale
+        )
+        settings = {
+            "flexible_method": "ocp",
+            "window_s": window_s,
+            "window_intervals": m,
+            "window_rk4_substeps": substeps,
+            "predicted_residual_energy_J": float(value(energy)),
+            "residual_energy_limit_J": residual_energy_fraction * reference_energy,
+            "bang_bang_residual_energy_J": reference_energy,
+            "reference_energy_time_s": reference_time,
+            "shaper_length_s": shaper_length,
+        }
+        return self._profile(
+            objective=objective,
+            knots=knots,
+            controls=controls,
+            extra_settings=settings,
+            fuel=fuel,
+            solve_time=solve_time,
+            status=status,
+            sample_s=sample_s,
+            check_vibration=check_vibration,
+        )
+
+    def _window_grid(self, shaper_length_s: float) -> tuple[float, float, int]:
+        """Window length, interval and RK4 substeps (h omega_max <= WINDOW_STEP_PHASE)."""
+        window_s = WINDOW_SHAPER_MULTIPLE * shaper_length_s
+        step_s = window_s / WINDOW_INTERVALS
+        highest = max(mode.omega_rad_s for mode in self.problem.arrays.modes)
+        poles = np.linalg.eigvals(linearize(self.flexible_model, self.parameters).A)
+        highest = max(highest, float(np.max(np.abs(poles))))
+        substeps = max(1, math.ceil(step_s * highest / WINDOW_STEP_PHASE))
+        return window_s, step_s, substeps
+
+    def _solve_rigid_or_shaped(
+        self,
+        *,
+        objective: str,
+        duration_s: float | None,
+        intervals: int | None,
+        residual_energy_fraction: float,
+        sample_s: float,
+        check_vibration: bool,
+        warm_start: SlewProfile | None = None,
+    ) -> SlewProfile:
+        """The rigid OCP; when ``flexible``, its result through the ZV shaper."""
         started = time.perf_counter()
         fuel = objective == "fuel"
         shaper_times, shaper_amplitudes, shaped_frequencies = (
@@ -488,6 +809,7 @@ class _SlewOCP:
             knots, controls = shape(knots, controls, shaper_times, shaper_amplitudes)
             reference_energy = self._bang_bang_energy()
             settings = {
+                "flexible_method": "shaper",
                 "rigid_duration_s": rigid_duration,
                 "shaped_frequencies_rad_s": shaped_frequencies,
                 "shaper_length_s": float(shaper_times[-1]),
@@ -608,6 +930,8 @@ def time_optimal_slew(
     residual_energy_fraction: float = DEFAULT_RESIDUAL_ENERGY_FRACTION,
     sample_s: float = DEFAULT_SAMPLE_S,
     check_vibration: bool = True,
+    duration_s: float | None = None,
+    flexible_method: str = "ocp",
 ) -> SlewProfile:
     """Minimum-time rest-to-rest slew (free final time, nonlinear attitude dynamics).
 
@@ -619,8 +943,8 @@ def time_optimal_slew(
     target : SlewTarget, optional
         Any rest-to-rest attitude pair.
     flexible : bool
-        Shape the optimal profile for zero vibration of every array mode and check it
-        on the full flexible model (module notes).
+        Keep the array modes: the vibration energy left at the end is constrained to
+        ``residual_energy_fraction`` times the rigid-limit bang-bang's (module notes).
     thrusters : bool
         Thrust per engine as the decision variable (0 <= f <= f_max).
     torque_fraction : float
@@ -636,6 +960,12 @@ def time_optimal_slew(
         Output sample spacing (the control knots are added).
     check_vibration : bool
         Integrate the result on the full flexible model for the residual vibration.
+    duration_s : float, optional
+        A deadline (s): the slew must not take longer. Checked after the solve.
+    flexible_method : {"ocp", "shaper"}
+        Flexible only: ``"ocp"`` solves with the modal states (falling back to the
+        shaper, and saying so in ``settings["flexible_method"]``, if IPOPT fails);
+        ``"shaper"`` passes the rigid optimum through a zero-vibration shaper.
 
     Returns
     -------
@@ -644,9 +974,19 @@ def time_optimal_slew(
     Raises
     ------
     SlewInfeasibleError
-        IPOPT did not converge.
+        ``"infeasible: minimum is X s"`` when ``duration_s`` is shorter than the
+        time-optimal slew; or IPOPT did not converge.
+
+    Examples
+    --------
+    >>> from casadi_debris import load_problem
+    >>> slew = time_optimal_slew(load_problem(), "z", math.pi, check_vibration=False)
+    >>> round(slew.duration_s)
+    903
     """
     _check_common(torque_fraction, residual_energy_fraction, sample_s, intervals)
+    if duration_s is not None and not math.isfinite(duration_s):
+        raise InputShapeError(f"duration_s: must be finite, got {duration_s}")
     goal = slew_about_axis(axis, angle_rad) if target is None else target
     ocp = _SlewOCP(
         problem,
@@ -656,18 +996,31 @@ def time_optimal_slew(
         torque_fraction=torque_fraction,
         single_axis=single_axis,
     )
-    return _solve(
-        problem,
-        goal,
-        ocp,
+    fastest = ocp.solve(
         objective="time",
         duration_s=None,
         intervals=intervals,
         residual_energy_fraction=residual_energy_fraction,
         sample_s=sample_s,
-        check_vibration=check_vibration,
-        torque_fraction=torque_fraction,
+        check_vibration=check_vibration and duration_s is None,
+        flexible_method=flexible_method,
     )
+    if duration_s is None:
+        return fastest
+    if duration_s < fastest.duration_s:
+        raise SlewInfeasibleError(f"infeasible: minimum is {fastest.duration_s:.6g} s")
+    if not check_vibration:
+        return fastest
+    # The deadline is met: now the (long) check on the flexible model.
+    vibration, energy = residual_vibration(
+        problem,
+        goal,
+        fastest.input_function,
+        fastest.time_s,
+        fastest.duration_s,
+        ocp.flexible_model,
+    )
+    return dataclasses.replace(fastest, residual_vibration_rad=vibration, residual_energy_J=energy)
 
 
 def fuel_optimal_slew(
@@ -684,6 +1037,7 @@ def fuel_optimal_slew(
     residual_energy_fraction: float = DEFAULT_RESIDUAL_ENERGY_FRACTION,
     sample_s: float = DEFAULT_SAMPLE_S,
     check_vibration: bool = True,
+    flexible_method: str = "ocp",
 ) -> SlewProfile:
     """Least-propellant rest-to-rest slew of a given duration.
 
@@ -718,44 +1072,18 @@ def fuel_optimal_slew(
             residual_energy_fraction=residual_energy_fraction,
             sample_s=sample_s,
             check_vibration=False,
+            flexible_method=flexible_method,
         )
         if duration_s < fastest.duration_s:
             raise SlewInfeasibleError(f"infeasible: minimum is {fastest.duration_s:.6g} s")
-    return _solve(
-        problem,
-        goal,
-        ocp,
+    return ocp.solve(
         objective="fuel",
         duration_s=duration_s,
         intervals=intervals,
         residual_energy_fraction=residual_energy_fraction,
         sample_s=sample_s,
         check_vibration=check_vibration,
-        torque_fraction=torque_fraction,
-    )
-
-
-def _solve(
-    problem: Problem,
-    target: SlewTarget,
-    ocp: _SlewOCP,
-    *,
-    objective: str,
-    duration_s: float | None,
-    intervals: int | None,
-    residual_energy_fraction: float,
-    sample_s: float,
-    check_vibration: bool,
-    torque_fraction: float,
-) -> SlewProfile:
-    """Solve ``ocp`` (kept as one entry point for both objectives)."""
-    return ocp.solve(
-        objective=objective,
-        duration_s=duration_s,
-        intervals=intervals,
-        residual_energy_fraction=residual_energy_fraction,
-        sample_s=sample_s,
-        check_vibration=check_vibration,
+        flexible_method=flexible_method,
     )
 
 

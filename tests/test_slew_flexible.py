@@ -1,0 +1,121 @@
+"""Flexible and deadline-constrained time-optimal slews, checked independently: the
+profile's input integrated by our own CVODES integrator on the full flexible model,
+the vibration energy recomputed from the model's energy and mass matrix, and the
+rigid optimum and the ZV-shaped profile as bounds."""
+
+from __future__ import annotations
+
+import math
+import re
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris.cli import main
+from casadi_debris.config import Problem
+from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.model import build_model
+from casadi_debris.slew import time_optimal_slew
+
+
+def final_state_on_flexible_model(problem: Problem, slew: Any) -> tuple[Any, np.ndarray]:
+    """State at the end of the slew, all array modes, restarting at every sample."""
+    model = build_model(problem, "all")
+    x = ca.SX.sym("x", model.layout.size)
+    t = ca.SX.sym("t")
+    ode = model.dynamics(x, slew.input_function(t), model.nominal_parameters)
+    grid = np.asarray(slew.time_s)
+    integrator = ca.integrator(
+        "flexible_check",
+        "cvodes",
+        {"x": x, "t": t, "ode": ode},
+        0.0,
+        grid,
+        {"abstol": 1e-13, "reltol": 1e-11, "max_num_steps": 500000},
+    )
+    start = model.initial_state(slew.target.q_initial_BN)
+    return model, np.array(integrator(x0=start)["xf"])[:, -1]
+
+
+def modal_energy(problem: Problem, model: Any, state: np.ndarray) -> float:
+    """Strain plus kinetic energy of the modes relative to the rigid motion of the same
+    momenta: 1/2 nu^T M nu + 1/2 sum (Omega eta)^2 - 1/2 mu^T M_rr^-1 mu."""
+    lay = model.layout
+    p = model.nominal_parameters
+    mass = np.array(model.mass_matrix(p))
+    nu = np.concatenate([state[lay.v], state[lay.omega], state[lay.eta_dot]])
+    by_name = {mode.name: mode.omega_rad_s for mode in problem.arrays.modes}
+    omegas = np.array([by_name[name] for _, name in lay.mode_labels])
+    strain = 0.5 * np.sum((omegas * state[lay.eta]) ** 2)
+    mu = mass[:6] @ nu
+    return 0.5 * nu @ mass @ nu + strain - 0.5 * mu @ np.linalg.solve(mass[:6, :6], mu)
+
+
+@pytest.fixture(scope="module")
+def rigid_optimum(problem: Problem) -> Any:
+    return time_optimal_slew(problem, "z", math.pi, check_vibration=False)
+
+
+@pytest.mark.slow
+def test_flexible_ocp_meets_energy_limit_and_is_not_faster_than_rigid(
+    problem: Problem, rigid_optimum: Any
+) -> None:
+    slew = time_optimal_slew(problem, "z", math.pi, flexible=True)
+    assert slew.settings["flexible_method"] == "ocp"
+    limit = slew.settings["residual_energy_limit_J"]
+    # the module's own CVODES check
+    assert slew.residual_energy_J <= limit
+    # our integrator and our energy
+    model, final = final_state_on_flexible_model(problem, slew)
+    assert modal_energy(problem, model, final) <= limit
+    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-5
+    # the rigid bang-bang at the limit leaves far more than the limit
+    assert slew.settings["bang_bang_residual_energy_J"] > 10.0 * limit
+    # a flexible slew cannot be faster than the rigid optimum, and the target holds
+    assert slew.duration_s >= rigid_optimum.duration_s - 1e-3
+    assert slew.duration_s <= 1.10 * slew.limit_duration_s
+    # ... and the OCP is no slower than the rigid optimum through the ZV shaper
+    shaped_duration = rigid_optimum.duration_s + slew.settings["shaper_length_s"]
+    assert slew.duration_s <= shaped_duration + 1e-3
+
+
+@pytest.mark.slow
+def test_zero_vibration_shaper_option_says_so(problem: Problem, rigid_optimum: Any) -> None:
+    slew = time_optimal_slew(problem, "z", math.pi, flexible=True, flexible_method="shaper")
+    assert slew.settings["flexible_method"] == "shaper"
+    assert slew.duration_s == pytest.approx(
+        rigid_optimum.duration_s + slew.settings["shaper_length_s"], abs=1e-6
+    )
+    assert slew.residual_energy_J <= slew.settings["residual_energy_limit_J"]
+
+
+def test_unknown_flexible_method(problem: Problem) -> None:
+    with pytest.raises(InputShapeError, match="flexible_method"):
+        time_optimal_slew(problem, "z", math.pi, flexible=True, flexible_method="modal")
+
+
+@pytest.mark.parametrize("duration", [-1.0, 0.0, 500.0, 900.0])
+def test_time_optimal_too_short_deadline_says_minimum(
+    problem: Problem, rigid_optimum: Any, duration: float
+) -> None:
+    expected = f"infeasible: minimum is {rigid_optimum.duration_s:.6g} s"
+    with pytest.raises(SlewInfeasibleError, match=re.escape(expected)):
+        time_optimal_slew(problem, "z", math.pi, duration_s=duration, check_vibration=False)
+
+
+def test_time_optimal_deadline_met_returns_the_optimum(
+    problem: Problem, rigid_optimum: Any
+) -> None:
+    slew = time_optimal_slew(problem, "z", math.pi, duration_s=1000.0, check_vibration=False)
+    assert slew.duration_s == pytest.approx(rigid_optimum.duration_s, rel=1e-9)
+
+
+def test_cli_time_optimal_too_short_is_one_line_exit_2() -> None:
+    result = CliRunner().invoke(main, ["slew", "--method", "time-optimal", "--duration-s", "100"])
+    assert result.exit_code == 2
+    assert "infeasible: minimum is 90" in result.output
+    assert "Traceback" not in result.output
