@@ -10,8 +10,13 @@ Prints JSON. Not a test: numbers depend on the machine and its load.
 - ``saturation``: on saturating demands, the fraction of the LP maximum
   torque (HiGHS, largest alpha along the demand) each method reaches, and
   the largest angle between achieved and demanded torque.
+- ``series``: ``allocate_series`` on a smooth torque history (three sines at
+  0.8 of the axis authorities, about half the steps saturated) against a
+  loop of ``allocate`` calls over the same history, per step, in the same
+  run; each series run starts from a fresh allocator (no remembered active
+  sets), its authority polytope built beforehand and timed on its own.
 
-Usage: python benchmarks/allocation.py [--calls N] [--solvers daqp,osqp]
+Usage: python benchmarks/allocation.py [--calls N] [--solvers daqp,osqp] [--series-steps K]
 """
 
 from __future__ import annotations
@@ -73,10 +78,54 @@ def lp_largest_torque(geometry, limits_N: np.ndarray, torque_Nm: np.ndarray) -> 
     return float(result.x[-1]) * float(np.linalg.norm(torque_Nm))
 
 
+def smooth_history(authority: dict[str, float], steps: int) -> np.ndarray:
+    """tau_j(t) = 0.8 peak_j sin(2 pi c_j t + phi_j), t in [0, 1] [N m]; peak: +axis authority."""
+    peak = np.array([authority["+x"], authority["+y"], authority["+z"]])
+    t = np.linspace(0.0, 1.0, steps)[:, None]
+    cycles = np.array([3.0, 2.0, 1.5])
+    phase_rad = np.array([0.0, 0.7, 1.77])
+    return 0.8 * peak * np.sin(2.0 * np.pi * cycles * t + phase_rad)
+
+
+def series_benchmark(problem, geometry, authority: dict[str, float], steps: int, repeats: int):
+    """Per-step time of allocate_series against a loop of allocate over one smooth history."""
+    torques = smooth_history(authority, steps)
+    per_step_s, polytope_s, point_solves = [], [], []
+    for _ in range(repeats):
+        allocator = Allocator.from_problem(problem, geometry)
+        start = time.perf_counter()
+        allocator.authority_polytope()
+        polytope_s.append(time.perf_counter() - start)
+        start = time.perf_counter()
+        series = allocator.allocate_series(torques)
+        per_step_s.append((time.perf_counter() - start) / steps)
+        point_solves.append(series.point_solves)
+    allocator = Allocator.from_problem(problem, geometry)
+    allocator.allocate(torques[0])  # first call sets up lazily built workspaces
+    wall, _ = time_calls(allocator.allocate, torques)
+    series_median = float(np.median(per_step_s))
+    loop_median = float(np.median(wall))
+    return {
+        "steps": steps,
+        "repeats": repeats,
+        "saturated_fraction": float(np.mean(series.scale < 1.0)),
+        "point_solves": int(np.median(point_solves)),
+        "series_per_step_median_us": series_median * US_PER_S,
+        "polytope_median_ms": float(np.median(polytope_s)) * 1e3,
+        "allocate_loop_per_step_median_us": loop_median * US_PER_S,
+        "allocate_loop_per_step_mean_us": float(np.mean(wall)) * US_PER_S,
+        "speed_up_median": loop_median / series_median,
+    }
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--calls", type=int, default=2000, help="demands per back-end and case")
     parser.add_argument("--solvers", default=None, help="comma-separated (default: all)")
+    parser.add_argument(
+        "--series-steps", type=int, default=12_000, help="steps of the allocate_series history"
+    )
+    parser.add_argument("--series-repeats", type=int, default=5, help="allocate_series runs")
     args = parser.parse_args()
 
     problem = load_problem()
@@ -137,6 +186,8 @@ def main() -> None:
             "angle_error_max_rad": float(np.max(angles)),
         }
 
+    series = series_benchmark(problem, geometry, authority, args.series_steps, args.series_repeats)
+
     print(
         json.dumps(
             {
@@ -150,6 +201,7 @@ def main() -> None:
                     "wall_time_s": batch.wall_time_s,
                 },
                 "saturation": saturation,
+                "series": series,
             },
             indent=2,
         )

@@ -200,12 +200,19 @@ class PiecewiseAffineQp:
                     size = min(2 * size, WINDOW_MAX)
                     continue
                 size = WINDOW_FIRST
-            region = self._known_fit(targets[i])
-            if region is None:
+            # Every pass below settles targets[i]: a known region's check and the
+            # window's may disagree by round-off on a target at a tolerance, and
+            # leaving targets[i] to the window again would loop for ever.
+            fit = self._known_fit(targets[i])
+            if fit is not None:
+                region, solution[i] = fit
+            else:
                 solution[i] = solve_point(targets[i])
                 point_solves += 1
-                region = self._remember(self.anchor(targets[i], solution[i]))
-                i += 1
+                # Anchor at the target the point solve met: a saturated solve may come
+                # back pulled in by round-off, and a region must satisfy A u* = b*.
+                region = self._remember(self.anchor(self.a_eq @ solution[i], solution[i]))
+            i += 1
         return solution, point_solves
 
     def _remember(self, region: _Region | None) -> _Region | None:
@@ -218,8 +225,8 @@ class PiecewiseAffineQp:
             self._stacked = None
         return region
 
-    def _known_fit(self, target: np.ndarray) -> _Region | None:
-        """A region seen before whose solution is optimal for ``target``, if any.
+    def _known_fit(self, target: np.ndarray) -> tuple[_Region, np.ndarray] | None:
+        """A region seen before whose solution is optimal for ``target``, and that solution.
 
         All remembered regions are checked at once (stacked arrays).
         """
@@ -240,4 +247,6 @@ class PiecewiseAffineQp:
         u = solutions + np.einsum("rm,rmn->rn", step, gains)
         mu = multipliers + np.einsum("rm,rmn->rn", step, multiplier_gains)
         hits = np.flatnonzero(self._satisfies_kkt(u, mu, target[None, :]))
-        return regions[hits[-1]] if len(hits) else None
+        if not len(hits):
+            return None
+        return regions[hits[-1]], np.clip(u[hits[-1]], 0.0, self.upper)

@@ -1,0 +1,295 @@
+"""Torque authority polytope, checked against independent linear programs.
+
+References: the geometry's per-axis authority LP
+(:func:`casadi_debris.geometry.torque_authority`) and scipy's HiGHS on the
+engines themselves: largest alpha with ``alpha tau`` reachable, feasibility
+of each vertex, support value of each facet. The LPs are posed in mN and mNm
+so that HiGHS' absolute tolerances are small against the numbers.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from scipy.optimize import linprog
+
+from casadi_debris.allocation import Allocator, AuthorityPolytope, authority_polytope
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
+from casadi_debris.errors import AllocationError
+from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
+
+MN = 1e3
+RTOL = 1e-9
+HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+N_CUBESATS = 24
+MIN_ALIVE = 8
+# Far beyond any engine's reach [N m]: the scale of such a demand times its
+# size is the authority along it.
+BEYOND_REACH_NM = 10.0
+
+
+# ----------------------------------------------------------------------------- references
+
+
+def _equalities(geometry: Geometry, free_force: bool) -> np.ndarray | None:
+    return None if free_force else geometry.force_map
+
+
+def _rows(geometry: Geometry, free_force: bool) -> np.ndarray:
+    return (
+        geometry.torque_map if free_force else np.vstack([geometry.torque_map, geometry.force_map])
+    )
+
+
+def lp_largest_alpha(
+    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, free_force: bool
+) -> float:
+    """max alpha s.t. B f = alpha tau, F f = 0 (unless free), 0 <= f <= f_max (HiGHS, mN).
+
+    alpha is not capped at 1, so that it measures the authority along ``tau``.
+    """
+    n = len(limits_N)
+    rows = _rows(geometry, free_force)
+    target = np.concatenate([torque_Nm, np.zeros(len(rows) - 3)]) * MN
+    result = linprog(
+        np.append(np.zeros(n), -1.0),
+        A_eq=np.hstack([rows, -target[:, None]]),
+        b_eq=np.zeros(len(rows)),
+        bounds=[*zip(np.zeros(n), limits_N * MN, strict=True), (0.0, None)],
+        method="highs",
+        options=HIGHS_OPTIONS,
+    )
+    assert result.status == 0, result.message
+    return float(result.x[-1])
+
+
+def lp_support_Nm(
+    geometry: Geometry, limits_N: np.ndarray, direction: np.ndarray, free_force: bool
+) -> float:
+    """max direction . B f over the engines' box (and F f = 0 unless free) [N m] (HiGHS, mN)."""
+    equalities = _equalities(geometry, free_force)
+    result = linprog(
+        -(direction @ geometry.torque_map),
+        A_eq=equalities,
+        b_eq=None if equalities is None else np.zeros(3),
+        bounds=list(zip(np.zeros_like(limits_N), limits_N * MN, strict=True)),
+        method="highs",
+        options=HIGHS_OPTIONS,
+    )
+    assert result.status == 0, result.message
+    return -float(result.fun) / MN
+
+
+def lp_reaches(
+    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, free_force: bool
+) -> bool:
+    """Whether some 0 <= f <= f_max gives B f = tau (and F f = 0 unless free) (HiGHS, mN)."""
+    rows = _rows(geometry, free_force)
+    target = np.concatenate([torque_Nm, np.zeros(len(rows) - 3)]) * MN
+    result = linprog(
+        np.zeros(len(limits_N)),
+        A_eq=rows,
+        b_eq=target,
+        bounds=list(zip(np.zeros_like(limits_N), limits_N * MN, strict=True)),
+        method="highs",
+        options=HIGHS_OPTIONS,
+    )
+    return result.status == 0
+
+
+def unit_directions(rng: np.random.Generator, count: int) -> np.ndarray:
+    directions = rng.normal(size=(count, 3))
+    return directions / np.linalg.norm(directions, axis=1, keepdims=True)
+
+
+def limits_with_failures(geometry: Geometry, failed: set[int] | tuple[int, ...]) -> np.ndarray:
+    limits = max_thrust_N(geometry).copy()
+    limits[list(failed)] = 0.0
+    return limits
+
+
+def check_polytope(
+    polytope: AuthorityPolytope,
+    geometry: Geometry,
+    limits: np.ndarray,
+    free_force: bool,
+    directions: np.ndarray,
+) -> None:
+    """Scale along random directions, vertices and facets, each against its own LP."""
+    size_Nm = float(np.abs(polytope.vertices).max())
+    assert size_Nm > 0
+    # Unit normals, vertices inside every facet.
+    np.testing.assert_allclose(np.linalg.norm(polytope.normals, axis=1), 1.0, rtol=1e-12)
+    slack = polytope.offsets[None, :] - polytope.vertices @ polytope.normals.T
+    assert slack.min() >= -RTOL * size_Nm
+
+    # Along any direction: alpha of a demand far beyond reach = the LP's largest alpha.
+    for direction in directions:
+        demand = BEYOND_REACH_NM * direction
+        reference = lp_largest_alpha(geometry, limits, demand, free_force)
+        found = float(polytope.scale(demand))
+        assert abs(found - reference) <= RTOL * max(reference, size_Nm / BEYOND_REACH_NM)
+    # Row-wise evaluation gives the same numbers.
+    np.testing.assert_allclose(
+        polytope.scale(BEYOND_REACH_NM * directions),
+        [polytope.scale(BEYOND_REACH_NM * d) for d in directions],
+        rtol=1e-14,
+    )
+
+    # Every vertex is made by some thrust; every facet touches the reachable set.
+    for vertex in polytope.vertices:
+        assert lp_reaches(geometry, limits, vertex, free_force)
+    for normal, offset in zip(polytope.normals, polytope.offsets, strict=True):
+        support = lp_support_Nm(geometry, limits, normal, free_force)
+        assert abs(support - offset) <= RTOL * size_Nm
+        # A facet, not an edge: its vertices span a plane.
+        on_facet = polytope.vertices[np.abs(polytope.vertices @ normal - offset) <= RTOL * size_Nm]
+        assert len(on_facet) >= 3
+        assert np.linalg.matrix_rank(on_facet[1:] - on_facet[0], tol=RTOL * size_Nm) == 2
+
+
+# ----------------------------------------------------------------------------- per axis
+
+
+@pytest.mark.parametrize("failed", [(), (3, 17), (0, 1, 2, 3), (8, 9, 12, 13, 20)])
+@pytest.mark.parametrize("free_force", [False, True])
+def test_scale_of_a_big_axis_demand_is_the_geometry_torque_authority(
+    geometry: Geometry, failed: tuple[int, ...], free_force: bool
+) -> None:
+    limits = limits_with_failures(geometry, failed)
+    available = limits > 0
+    expected = torque_authority(geometry, zero_net_force=not free_force, available=available)
+    polytope = authority_polytope(
+        geometry.torque_map, geometry.force_map, limits, free_force=free_force
+    )
+    largest = max(expected.values())
+    for name in SIGNED_AXES:
+        demand = np.zeros(3)
+        demand[AXIS_NAMES.index(name[1])] = BEYOND_REACH_NM if name[0] == "+" else -BEYOND_REACH_NM
+        found = float(polytope.scale(demand)) * BEYOND_REACH_NM
+        assert abs(found - expected[name]) <= RTOL * largest
+
+
+def test_allocator_polytope_is_cached_until_the_limits_change(
+    problem: Problem, geometry: Geometry
+) -> None:
+    allocator = Allocator.from_problem(problem, geometry)
+    first = allocator.authority_polytope()
+    assert allocator.authority_polytope() is first
+    assert allocator.authority_polytope(free_force=True) is not first
+    allocator.set_failed([5])
+    after = allocator.authority_polytope()
+    assert after is not first
+    expected = torque_authority(geometry, zero_net_force=True, available=allocator.max_thrust_N > 0)
+    for name in SIGNED_AXES:
+        demand = np.zeros(3)
+        demand[AXIS_NAMES.index(name[1])] = BEYOND_REACH_NM if name[0] == "+" else -BEYOND_REACH_NM
+        assert float(after.scale(demand)) * BEYOND_REACH_NM == pytest.approx(
+            expected[name], rel=RTOL, abs=RTOL * max(expected.values())
+        )
+
+
+def test_scale_is_one_inside_and_for_a_zero_demand(geometry: Geometry) -> None:
+    polytope = authority_polytope(geometry.torque_map, geometry.force_map, max_thrust_N(geometry))
+    inner = 0.5 * polytope.vertices
+    np.testing.assert_array_equal(polytope.scale(inner), 1.0)
+    assert float(polytope.scale(np.zeros(3))) == 1.0
+
+
+# ----------------------------------------------------------------------------- every direction
+
+
+@pytest.mark.parametrize("free_force", [False, True])
+def test_nominal_polytope_matches_linear_programs(geometry: Geometry, free_force: bool) -> None:
+    limits = max_thrust_N(geometry)
+    polytope = authority_polytope(
+        geometry.torque_map, geometry.force_map, limits, free_force=free_force
+    )
+    rng = np.random.default_rng(20240405)
+    check_polytope(polytope, geometry, limits, free_force, unit_directions(rng, 40))
+
+
+def _is_flat(geometry: Geometry, limits: np.ndarray, free_force: bool) -> bool:
+    """Whether the reachable torques lie in a plane (support points of 26 directions, by SVD)."""
+    grid = np.array([d for d in itertools.product((-1, 0, 1), repeat=3) if any(d)], dtype=float)
+    points = []
+    for direction in grid / np.linalg.norm(grid, axis=1, keepdims=True):
+        equalities = _equalities(geometry, free_force)
+        result = linprog(
+            -(direction @ geometry.torque_map),
+            A_eq=equalities,
+            b_eq=None if equalities is None else np.zeros(3),
+            bounds=list(zip(np.zeros_like(limits), limits * MN, strict=True)),
+            method="highs",
+            options=HIGHS_OPTIONS,
+        )
+        points.append(geometry.torque_map @ result.x / MN)
+    points = np.array(points)
+    spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
+    return bool(spread[-1] <= 1e-9 * max(spread[0], np.finfo(float).tiny))
+
+
+@settings(
+    max_examples=12,
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
+@given(
+    failed=st.sets(st.integers(0, N_CUBESATS - 1), max_size=N_CUBESATS - MIN_ALIVE),
+    free_force=st.booleans(),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_random_failures_match_linear_programs(
+    geometry: Geometry, failed: set[int], free_force: bool, seed: int
+) -> None:
+    limits = limits_with_failures(geometry, failed)
+    try:
+        polytope = authority_polytope(
+            geometry.torque_map, geometry.force_map, limits, free_force=free_force
+        )
+    except AllocationError:
+        # Only a set of torques in a plane may be refused.
+        assert _is_flat(geometry, limits, free_force)
+        return
+    rng = np.random.default_rng(seed)
+    check_polytope(polytope, geometry, limits, free_force, unit_directions(rng, 12))
+
+
+# ----------------------------------------------------------------------------- allocate
+
+
+@pytest.mark.parametrize("free_force", [False, True])
+def test_allocate_saturates_far_beyond_reach_to_the_linear_programs_alpha(
+    problem: Problem, geometry: Geometry, free_force: bool
+) -> None:
+    # Demands up to 1000x the authority: the saturation is still exact.
+    allocator = Allocator.from_problem(problem, geometry)
+    limits = allocator.max_thrust_N
+    rng = np.random.default_rng(20240406)
+    for direction in unit_directions(rng, 25):
+        for size_Nm in (1e-2, 1e-1, 1.0):
+            demand = size_Nm * direction
+            result = allocator.allocate(demand, free_force=free_force)
+            reference = lp_largest_alpha(geometry, limits, demand, free_force)
+            assert abs(result.scale - reference) <= RTOL * reference
+            assert np.all(result.thrust_N >= 0.0) and np.all(result.thrust_N <= limits)
+
+
+# ----------------------------------------------------------------------------- flat
+
+
+@pytest.mark.parametrize("free_force", [False, True])
+@pytest.mark.parametrize("faces", [("+x", "-x"), ("+y", "-y"), ("+z", "-z")])
+def test_engines_on_two_parallel_faces_only_make_a_flat_set_and_are_refused(
+    geometry: Geometry, faces: tuple[str, str], free_force: bool
+) -> None:
+    # Thrust along +-a only: every torque r x f is normal to a.
+    alive = np.array([mount.face in faces for mount in geometry.cubesats])
+    limits = np.where(alive, max_thrust_N(geometry), 0.0)
+    assert _is_flat(geometry, limits, free_force)
+    with pytest.raises(AllocationError, match="flat"):
+        authority_polytope(geometry.torque_map, geometry.force_map, limits, free_force=free_force)
