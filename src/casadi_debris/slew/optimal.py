@@ -71,6 +71,7 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -625,16 +626,7 @@ class _SlewOCP:
         opti.set_initial(U, controls)
         opti.set_initial(XW, np.array(window_nodes).T)
         opti.set_initial(UW, window_controls)
-        opti.solver("ipopt", IPOPT_OPTIONS)
-        try:
-            solution = opti.solve()
-            status = solution.stats()["return_status"]
-            value = solution.value
-        except RuntimeError:
-            status = opti.stats().get("return_status", "failed")
-            value = opti.debug.value
-        if status not in ACCEPTED_STATUS:
-            raise SlewInfeasibleError(f"optimal slew did not converge (ipopt: {status})")
+        value, status = _solve_with_ipopt(opti)
         solve_time = time.perf_counter() - started
         bulk_s = float(value(bulk))
         knots = np.concatenate(
@@ -788,16 +780,7 @@ class _SlewOCP:
         opti.set_initial(rigid.X, nodes)
         opti.set_initial(rigid.XC, inner)
         opti.set_initial(rigid.U, controls)
-        opti.solver("ipopt", IPOPT_OPTIONS)
-        try:
-            solution = opti.solve()
-            status = solution.stats()["return_status"]
-            value = solution.value
-        except RuntimeError:
-            status = opti.stats().get("return_status", "failed")
-            value = opti.debug.value
-        if status not in ACCEPTED_STATUS:
-            raise SlewInfeasibleError(f"optimal slew did not converge (ipopt: {status})")
+        value, status = _solve_with_ipopt(opti)
         solve_time = time.perf_counter() - started
         bulk_s = float(value(bulk))
         knots = [np.linspace(0.0, bulk_s, rigid.intervals + 1)]
@@ -1095,3 +1078,24 @@ def _check_common(
     check_positive("sample_s", sample_s)
     if intervals is not None and (intervals < 2 or intervals % 2):
         raise InputShapeError(f"intervals: must be an even number >= 2, got {intervals}")
+
+
+def _solve_with_ipopt(opti: ca.Opti) -> tuple[Any, str]:
+    """Solve with IPOPT: the solution's ``value`` function and the return status.
+
+    Raises
+    ------
+    SlewInfeasibleError
+        IPOPT ended in a status not in ``ACCEPTED_STATUS``.
+    """
+    opti.solver("ipopt", IPOPT_OPTIONS)
+    try:
+        solution = opti.solve()
+        status = solution.stats()["return_status"]
+        value = solution.value
+    except RuntimeError:
+        status = opti.stats().get("return_status", "failed")
+        value = opti.debug.value
+    if status not in ACCEPTED_STATUS:
+        raise SlewInfeasibleError(f"optimal slew did not converge (ipopt: {status})")
+    return value, status
