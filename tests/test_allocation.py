@@ -542,3 +542,22 @@ def test_cli_bad_input_is_one_line_and_exit_2(arguments: list[str]) -> None:
     result = CliRunner().invoke(main, ["allocate", *arguments])
     assert result.exit_code == 2, result.output
     assert result.output.count("\n") == 1 and result.output.startswith("error:")
+
+
+def test_small_demand_with_few_engines_left_is_least_fuel(problem: Problem) -> None:
+    """A small demand is solved stretched and scaled back, unless a limit binds when
+    stretched (found by hypothesis: nine CubeSats failed, force free, 6.7 % extra fuel)."""
+    allocator = Allocator.from_problem(problem)
+    allocator.set_failed([0, 2, 3, 7, 11, 12, 16, 18, 21])
+    torque = np.array([0.0, 0.0, 5.960464477539063e-08])
+    result = allocator.allocate(torque, free_force=True)
+    limits = allocator.max_thrust_N
+    reference = linprog(
+        np.ones(len(limits)),
+        A_eq=allocator.torque_map * 1e3,
+        b_eq=torque * 1e3,
+        bounds=list(zip(np.zeros_like(limits), limits, strict=True)),
+        method="highs",
+    )
+    assert reference.status == 0
+    assert result.thrust_N.sum() == pytest.approx(reference.x.sum(), rel=1e-6)

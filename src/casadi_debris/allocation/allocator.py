@@ -90,6 +90,9 @@ THRUST_ROUND_OFF = 1e-12
 # thrust) are solved stretched to this size and scaled back; no limit binds
 # there in a direction the engines can reach with margin.
 SMALL_DEMAND = 1e-2
+# An engine within this fraction of its limit counts as on it (a stretched small
+# demand is scaled back only when no limit binds).
+LIMIT_ACTIVE_RTOL = 1e-9
 # Equality residual (relative to the target) above which a solution is polished.
 POLISH_TOLERANCE = 1e-13
 # Relative pull-in of a saturated demand in :meth:`Allocator.allocate_series`,
@@ -538,15 +541,24 @@ class Allocator:
         solution = exact.solve()
         iterations = solution.iterations
         solve_time = solution.solve_time_s
+        if solution.status == "optimal" and stretch != 1.0:
+            u = self._polish(solution.x, target_stretched, free_force)
+            if not np.any((self._upper > 0.0) & (u >= self._upper * (1.0 - LIMIT_ACTIVE_RTOL))):
+                return self._result(
+                    u / stretch, torque, force, True, 1.0, "exact", iterations, solve_time
+                )
+            # A limit binds at the stretched size (few engines left), so the least-fuel
+            # answer does not scale back: solve at the demand's own size instead.
+            stretch, target_stretched = 1.0, target
+            exact.update(b_eq=target)
+            solution = exact.solve()
+            iterations += solution.iterations
+            solve_time += solution.solve_time_s
         if solution.status == "optimal":
             u = self._polish(solution.x, target_stretched, free_force)
-            if stretch == 1.0:
-                # _polish has clipped u already.
-                return self._result(
-                    u, torque, force, True, 1.0, "exact", iterations, solve_time, clip=False
-                )
+            # _polish has clipped u already.
             return self._result(
-                u / stretch, torque, force, True, 1.0, "exact", iterations, solve_time
+                u, torque, force, True, 1.0, "exact", iterations, solve_time, clip=False
             )
 
         if self.saturation == "least_squares":
