@@ -128,6 +128,15 @@ def saturation_scale(torque: ca.SX, polytope: AuthorityPolytope) -> ca.SX:
     return ca.fmin(1.0, ca.mmin(ratios))
 
 
+def applied_torque(demand_Nm: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """The torque the loop applies for demands (k, 3) and their saturation factors (k,).
+
+    The numeric twin of the step's own ``applied`` (same back-off).
+    """
+    shrink = np.where(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0)
+    return demand_Nm * shrink[:, None]
+
+
 def _rk4_step(
     model: Model, parameters: np.ndarray | None, period_s: float, steps: int
 ) -> ca.Function:

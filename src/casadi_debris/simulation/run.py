@@ -25,6 +25,7 @@ from casadi_debris.model import Model
 from casadi_debris.simulation.closed_loop import (
     STEP_INPUTS,
     SimulationError,
+    applied_torque,
     build_loop_step,
     discretize_controller,
 )
@@ -261,6 +262,7 @@ def simulate(
     states = np.zeros((n + 1, model.layout.size))
     states[0] = z[: model.layout.size]
     outputs = np.zeros((n, 7))
+    applied_all = np.zeros((n, 3))
     thrust = np.zeros((n, n_cubesats))
     events: list[tuple[float, str]] = []
     point_solves = 0
@@ -295,8 +297,7 @@ def simulate(
         z_all, y_all = loop.roll(z, inputs, p)
         z_all = z_all[:, : stop - k]
         y_all = y_all[:, : stop - k].T
-        demand, scale = y_all[:, 0:3], y_all[:, 3]
-        applied = demand * np.where(scale < 1.0, scale * (1 - 1e-10), 1.0)[:, None]
+        applied = applied_torque(y_all[:, 0:3], y_all[:, 3])
         allocation = allocator.allocate_series(applied)
         point_solves += allocation.point_solves
         done, stage_events = engines.advance_series(allocation.thrust_N, period)
@@ -305,6 +306,7 @@ def simulate(
         if done < stop - k:
             loop = None  # a CubeSat's limit changed: rebuild from the step after
         outputs[k : k + done] = y_all[:done]
+        applied_all[k : k + done] = applied[:done]
         thrust[k : k + done] = allocation.thrust_N[:done]
         states[k + 1 : k + done + 1] = z_all[: model.layout.size, :done].T
         z = z_all[:, done - 1]
@@ -312,8 +314,7 @@ def simulate(
 
     torque = thrust @ allocator.torque_map.T
     demand, scale = outputs[:, 0:3], outputs[:, 3]
-    applied = demand * np.where(scale < 1.0, scale * (1 - 1e-10), 1.0)[:, None]
-    residual = float(np.abs(torque - applied).max()) if n else 0.0
+    residual = float(np.abs(torque - applied_all).max()) if n else 0.0
     authority = float(np.abs(allocator.authority_polytope().vertices).max()) if n else 1.0
     if residual > ALLOCATION_TOLERANCE * authority:
         raise SimulationError(
