@@ -17,8 +17,12 @@ from casadi_debris.config import SLEW_METHODS, Problem, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import build_model
 from casadi_debris.plots.simulation import plot_fuel_comparison
-from casadi_debris.report.common import atomic_run_folder, format_table, write_json_atomic
-from casadi_debris.report.simulation import write_csv
+from casadi_debris.report.common import (
+    atomic_run_folder,
+    format_table,
+    write_csv,
+    write_json_atomic,
+)
 from casadi_debris.simulation import scenario_reference, simulate
 
 COLUMNS = (

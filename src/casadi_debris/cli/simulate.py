@@ -18,7 +18,12 @@ from casadi_debris.cli.robust import load_controller
 from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import Model, build_model
-from casadi_debris.report.common import atomic_run_folder, format_table, write_json_atomic
+from casadi_debris.report.common import (
+    atomic_run_folder,
+    format_table,
+    write_csv,
+    write_json_atomic,
+)
 from casadi_debris.report.simulation import (
     campaign_summary,
     finished_cases,
@@ -26,7 +31,6 @@ from casadi_debris.report.simulation import (
     torque_limits_mNm,
     write_campaign,
     write_case,
-    write_csv,
     write_run,
 )
 from casadi_debris.simulation import (

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import csv
 import json
 import math
 from pathlib import Path
@@ -15,7 +14,12 @@ from casadi_debris.cli.common import echo_json, friendly_errors, json_option, ma
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.plots.slew import plot_slew
-from casadi_debris.report.common import atomic_run_folder, format_table, json_ready
+from casadi_debris.report.common import (
+    atomic_run_folder,
+    format_table,
+    json_ready,
+    write_csv,
+)
 from casadi_debris.slew import (
     SlewProfile,
     bang_bang_slew,
@@ -57,10 +61,7 @@ def write_profile_csv(profile: SlewProfile, path: Path, thrust: bool) -> None:
     if thrust:
         for i in range(profile.thrust_N.shape[1]):
             columns[f"thrust_{i + 1:02d}_mN"] = profile.thrust_N[:, i] * MN_PER_N
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(columns)
-        writer.writerows(np.column_stack(list(columns.values())).tolist())
+    write_csv(path, columns)
 
 
 def summary_text(summary: dict[str, Any]) -> str:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import csv
 import json
 import math
 import os
@@ -112,6 +113,15 @@ def atomic_run_folder(path: str | Path) -> Iterator[Path]:
     if target.exists():
         shutil.rmtree(target)
     staging.rename(target)
+
+
+def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
+    """Columns of equal length as CSV, names in the header."""
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(columns)
+        writer.writerows(np.column_stack(list(columns.values())).tolist())
+    return path
 
 
 def write_json_atomic(path: str | Path, payload: dict[str, Any]) -> Path:

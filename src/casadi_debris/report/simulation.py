@@ -27,7 +27,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
-from casadi_debris.report.common import json_ready, write_json_atomic
+from casadi_debris.report.common import json_ready, write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, Case, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
 
@@ -36,15 +36,6 @@ MNM_PER_NM = 1e3
 MN_PER_N = 1e3
 POINTING_REQUIREMENT_ARCSEC = 60.0
 PARTIAL_SUFFIX = ".partial"
-
-
-def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
-    """Columns of equal length as CSV, names in the header."""
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(columns)
-        writer.writerows(np.column_stack(list(columns.values())).tolist())
-    return path
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
