@@ -574,11 +574,7 @@ class _SlewOCP:
         opti.subject_to(XW[eta, 0] - ca.DM(qs_map / flexible_scale[eta, None]) @ U[:, -1] == 0)
         opti.subject_to(XW[eta_dot, 0] == 0)
         final = XW[:, -1] * ca.DM(flexible_scale)
-        opti.subject_to(model.attitude_error(self.target.q_final_BN, final[lay.q]) == 0)
-        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
-        momentum_scale = float(self.target.axis_B @ inertia @ self.target.axis_B) * peak_rate
-        _, angular = model.momenta(ca.vertcat(final, final[lay.q]), self.parameters)
-        opti.subject_to(angular / momentum_scale == 0)
+        self._rest_at_target(opti, model, final[lay.q], ca.vertcat(final, final[lay.q]), peak_rate)
         energy = self._vibration_energy_expression(final)
         # The window is RK4 and the hand-over quasi-static: keep a margin for the CVODES check.
         opti.subject_to(energy / reference_energy <= ENERGY_MARGIN * residual_energy_fraction)
@@ -587,12 +583,7 @@ class _SlewOCP:
         bulk_weight = bulk / guess_total / n
         window_weight = step_s / guess_total
         if fuel:
-            if self.thrusters:
-                rates = np.ones(n_u) / n_u
-            else:
-                plus, minus = axis_fuel_rates(self.geometry)
-                rates = np.concatenate([plus, minus]) * u_scale
-                rates = rates / np.max(rates)
+            rates = self._fuel_rates(u_scale)
             cost = bulk_weight * ca.sum2(ca.DM(rates).T @ U) + window_weight * ca.sum2(
                 ca.DM(rates).T @ UW
             )
@@ -746,25 +737,14 @@ class _SlewOCP:
         lay = last.model.layout
         final = last.X[:, -1] * ca.DM(last.x_scale)
         final_full = last.full_state(final)
-        # Three equations, not four: the dynamics keep |q| = 1, so q(T) = q_f would be
-        # (nearly) rank deficient.
-        opti.subject_to(last.model.attitude_error(self.target.q_final_BN, final[lay.q]) == 0)
-        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
-        momentum_scale = float(self.target.axis_B @ inertia @ self.target.axis_B) * peak_rate
-        _, angular = last.model.momenta(final_full, self.parameters)
-        opti.subject_to(angular / momentum_scale == 0)
+        self._rest_at_target(opti, last.model, final[lay.q], final_full, peak_rate)
         # Objective: integrals as sums over both phases, in units of the guess's duration.
         total_scaled = bulk / guess_total
         cost = 0
         for phase, length in zip(phases, lengths, strict=False):
             weight = length / guess_total / phase.intervals
             if fuel:
-                if self.thrusters:
-                    rates = np.ones(n_u) / n_u
-                else:
-                    plus, minus = axis_fuel_rates(self.geometry)
-                    rates = np.concatenate([plus, minus]) * u_scale
-                    rates = rates / np.max(rates)
+                rates = self._fuel_rates(u_scale)
                 cost += weight * ca.sum2(ca.DM(rates).T @ phase.U)
             elif self.thrusters:
                 cost += REGULARISATION * weight * ca.sum2(ca.sum1(phase.U)) / n_u
@@ -809,6 +789,33 @@ class _SlewOCP:
             sample_s=sample_s,
             check_vibration=check_vibration,
         )
+
+    def _fuel_rates(self, u_scale: np.ndarray) -> np.ndarray:
+        """Propellant weight of each (scaled) control in the fuel objective, largest 1."""
+        if self.thrusters:
+            return np.ones(len(u_scale)) / len(u_scale)
+        plus, minus = axis_fuel_rates(self.geometry)
+        rates = np.concatenate([plus, minus]) * u_scale
+        return rates / np.max(rates)
+
+    def _rest_at_target(
+        self,
+        opti: ca.Opti,
+        model: Model,
+        final_q: ca.MX,
+        final_full: ca.MX,
+        peak_rate: float,
+    ) -> None:
+        """End on the target attitude with no angular momentum.
+
+        Three attitude equations, not four: the dynamics keep |q| = 1, so
+        q(T) = q_f would be (nearly) rank deficient.
+        """
+        opti.subject_to(model.attitude_error(self.target.q_final_BN, final_q) == 0)
+        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
+        momentum_scale = float(self.target.axis_B @ inertia @ self.target.axis_B) * peak_rate
+        _, angular = model.momenta(final_full, self.parameters)
+        opti.subject_to(angular / momentum_scale == 0)
 
     def _control_guess(self, reference: SlewProfile, times_s: np.ndarray, fuel: bool) -> np.ndarray:
         """Controls of ``reference`` at ``times_s`` in this OCP's form, shape (n, n_u)."""
