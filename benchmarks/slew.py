@@ -3,9 +3,11 @@
 Usage: python benchmarks/slew.py [--repeat N] [--out FILE]
 
 For each method: duration, fuel, residual vibration on the full flexible
-model, and the median wall time of generating it (OCP solve, or evaluating the
-bang-bang), against the rigid eigenaxis limit 2 sqrt(theta J / tau). Targets
-from issue 5: time-optimal <= 5 s to solve; flexible within 1.10 x the limit.
+model, and the medians of the solve time (the profile's ``solve_time_s``: the
+OCP from transcription to solution, or evaluating the bang-bang) and of the
+whole call's wall time (with the check on the flexible model), against the
+rigid eigenaxis limit 2 sqrt(theta J / tau). Targets from issue 5: every
+time-optimal slew <= 5 s to solve; flexible within 1.10 x the limit.
 """
 
 from __future__ import annotations
@@ -32,14 +34,17 @@ PAPER_DURATION_S = 1228.0
 PAPER_FUEL_KG = 2.8e-4
 
 
-def measure(make: Callable[[], SlewProfile], repeat: int) -> tuple[SlewProfile, list[float]]:
-    """Run ``make`` ``repeat`` times; the profile of the last run and each run's wall time."""
-    walls, profile = [], None
+def measure(
+    make: Callable[[], SlewProfile], repeat: int
+) -> tuple[SlewProfile, list[float], list[float]]:
+    """Run ``make`` ``repeat`` times: the last profile, each run's wall and solve time (s)."""
+    walls, solves, profile = [], [], None
     for _ in range(repeat):
         started = time.perf_counter()
         profile = make()
         walls.append(time.perf_counter() - started)
-    return profile, walls
+        solves.append(profile.solve_time_s)
+    return profile, walls, solves
 
 
 def main() -> None:
@@ -57,6 +62,9 @@ def main() -> None:
         "time_optimal_rigid": lambda: time_optimal_slew(problem, z, pi),
         "time_optimal_rigid_thrusters": lambda: time_optimal_slew(problem, z, pi, thrusters=True),
         "time_optimal_flexible": lambda: time_optimal_slew(problem, z, pi, flexible=True),
+        "time_optimal_flexible_thrusters": lambda: time_optimal_slew(
+            problem, z, pi, flexible=True, thrusters=True
+        ),
         "time_optimal_flexible_zv_shaper": lambda: time_optimal_slew(
             problem, z, pi, flexible=True, flexible_method="shaper"
         ),
@@ -69,8 +77,8 @@ def main() -> None:
     }
     results = {}
     for name, make in cases.items():
-        repeat = 1 if "flexible" in name else args.repeat
-        profile, walls = measure(make, repeat)
+        repeat = args.repeat
+        profile, walls, solves = measure(make, repeat)
         results[name] = {
             "duration_s": profile.duration_s,
             "duration_over_limit": profile.duration_s / profile.limit_duration_s,
@@ -79,7 +87,7 @@ def main() -> None:
             "max_torque_mNm": profile.max_torque_Nm * 1e3,
             "residual_vibration_rad": profile.residual_vibration_rad,
             "residual_energy_J": profile.residual_energy_J,
-            "solve_time_s": profile.solve_time_s,
+            "solve_time_s": statistics.median(solves),
             "wall_time_median_s": statistics.median(walls),
             "runs": repeat,
             "solver_status": profile.solver_status,
@@ -90,6 +98,7 @@ def main() -> None:
         for key in (
             "flexible_method",
             "residual_energy_limit_J",
+            "rigid_duration_s",
             "predicted_residual_energy_J",
             "bang_bang_residual_energy_J",
             "reference_energy_time_s",
@@ -108,9 +117,12 @@ def main() -> None:
         "targets": {
             "time_optimal_solve_time_s_max": 5.0,
             "flexible_duration_over_limit_max": 1.10,
-            "time_optimal_rigid_met": results["time_optimal_rigid"]["solve_time_s"] <= 5.0,
+            "time_optimal_met": all(
+                results[name]["solve_time_s"] <= 5.0
+                for name in results
+                if name.startswith("time_optimal")
+            ),
             "flexible_met": results["time_optimal_flexible"]["duration_over_limit"] <= 1.10,
-            "flexible_solve_met": results["time_optimal_flexible"]["solve_time_s"] <= 5.0,
         },
         "methods": results,
     }

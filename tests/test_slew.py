@@ -39,9 +39,9 @@ def rigid_limit(geometry: Geometry, axis: int, angle_rad: float = math.pi) -> fl
     return 2.0 * math.sqrt(angle_rad * geometry.inertia_total_kgm2[axis, axis] / tau)
 
 
-def integrate_on_model(problem: Problem, slew: Any, modes: Any = ()) -> np.ndarray:
-    """Final state of the model driven by the slew's input, by a CasADi integrator."""
-    model = build_model(problem, modes=list(modes))
+def integrate_on_model(problem: Problem, slew: Any) -> np.ndarray:
+    """Final state of the rigid model driven by the slew's input, by a CasADi integrator."""
+    model = build_model(problem, modes=[])
     x = ca.SX.sym("x", model.layout.size)
     t = ca.SX.sym("t")
     ode = model.dynamics(x, slew.input_function(t), model.nominal_parameters)
@@ -190,16 +190,6 @@ def test_thruster_level_fuel_optimal_respects_engines(
     # The least-fuel thrust of the bang-bang torque is one thrust history the OCP could pick.
     assert slew.fuel_kg <= paper_bang_bang.fuel_kg
     model, final = integrate_on_model(problem, slew)
-    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
-    assert np.linalg.norm(error) < 1e-5
-
-
-@pytest.mark.slow
-def test_flexible_time_optimal_leaves_less_vibration_than_bang_bang(problem: Problem) -> None:
-    slew = time_optimal_slew(problem, "z", math.pi, flexible=True)
-    assert slew.duration_s <= 1.10 * slew.limit_duration_s
-    assert slew.residual_energy_J <= slew.settings["residual_energy_limit_J"]
-    model, final = integrate_on_model(problem, slew, modes=["bending1", "torsion1", "bending2"])
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-5
 

@@ -3,7 +3,9 @@
 - :mod:`~casadi_debris.slew.maneuver`: rest-to-rest targets, eigenaxis limits.
 - :mod:`~casadi_debris.slew.bang_bang`: the paper's reference profile.
 - :mod:`~casadi_debris.slew.optimal`: time- and fuel-optimal OCPs (torque or
-  thruster level; flexible = modal states in a terminal window, or ZV-shaped).
+  thruster level; flexible = the vibration left bounded in closed form, or ZV-shaped).
+- :mod:`~casadi_debris.slew.modal`: the array modes' response to held inputs, in
+  closed form.
 - :mod:`~casadi_debris.slew.propellant`: torque to thrust to propellant.
 - :mod:`~casadi_debris.slew.profile`: the common result and its check on the
   flexible model.
