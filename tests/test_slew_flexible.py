@@ -7,9 +7,11 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 from typing import Any
 
 import casadi as ca
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -18,6 +20,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.model import build_model
+from casadi_debris.plots.slew import plot_slew
 from casadi_debris.slew import time_optimal_slew
 
 
@@ -59,10 +62,15 @@ def rigid_optimum(problem: Problem) -> Any:
     return time_optimal_slew(problem, "z", math.pi, check_vibration=False)
 
 
+@pytest.fixture(scope="module")
+def flexible_optimum(problem: Problem) -> Any:
+    return time_optimal_slew(problem, "z", math.pi, flexible=True)
+
+
 def test_flexible_ocp_meets_energy_limit_and_is_not_faster_than_rigid(
-    problem: Problem, rigid_optimum: Any
+    problem: Problem, rigid_optimum: Any, flexible_optimum: Any
 ) -> None:
-    slew = time_optimal_slew(problem, "z", math.pi, flexible=True)
+    slew = flexible_optimum
     assert slew.settings["flexible_method"] == "ocp"
     limit = slew.settings["residual_energy_limit_J"]
     # the module's own CVODES check, and the OCP's closed-form prediction agrees with it
@@ -83,6 +91,16 @@ def test_flexible_ocp_meets_energy_limit_and_is_not_faster_than_rigid(
     # ... and the OCP is no slower than the rigid optimum through the ZV shaper
     shaped_duration = rigid_optimum.duration_s + slew.settings["shaper_length_s"]
     assert slew.duration_s <= shaped_duration + 1e-3
+
+
+def test_flexible_figure_adds_the_window_panel(
+    tmp_path: Path, rigid_optimum: Any, flexible_optimum: Any
+) -> None:
+    heights = []
+    for name, slew in (("rigid", rigid_optimum), ("flexible", flexible_optimum)):
+        path = plot_slew(slew, tmp_path / f"{name}.png")
+        heights.append(plt.imread(path).shape[0])
+    assert heights[1] / heights[0] == pytest.approx(4 / 3, rel=0.01)
 
 
 @pytest.mark.slow

@@ -18,11 +18,17 @@ def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
     """Write a PNG of Euler angles (deg), body rates (deg/s), torque (mNm) and, with
     ``thrust``, the thrust of every engine (mN), all against time (s).
 
-    The torque panel shows the per-axis limits of the engines as dotted lines
-    (the paper's Fig. 9 style) when the profile carries them in its settings.
+    A flexible slew solved with its terminal window (``settings["window_s"]``) gets
+    one more panel: the torque over the last two window lengths, the window shaded.
     """
-    panels = 4 if thrust else 3
-    figure, axes = plt.subplots(panels, 1, figsize=(8, 2.4 * panels), sharex=True)
+    window_s = profile.settings.get("window_s")
+    main = 4 if thrust else 3
+    panels = main + (1 if window_s else 0)
+    figure, axes = plt.subplots(panels, 1, figsize=(8, 2.4 * panels))
+    for axis in axes[1:main]:
+        axis.sharex(axes[0])
+    for axis in axes[: main - 1]:
+        axis.tick_params(labelbottom=False)
     time = profile.time_s
     labels = {"x": r"$\Phi$ / x", "y": r"$\Theta$ / y", "z": r"$\Psi$ / z"}
     angles = np.degrees(np.unwrap(profile.euler_angles_rad, axis=0))
@@ -40,7 +46,17 @@ def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
     if thrust:
         axes[3].step(time, profile.thrust_N * MN_PER_N, where="post", linewidth=0.8)
         axes[3].set_ylabel("thrust per engine [mN]")
-    axes[-1].set_xlabel("time [s]")
+    axes[main - 1].set_xlabel("time [s]")
+    if window_s:
+        zoom = axes[-1]
+        end = profile.duration_s
+        shown = time >= end - 2.0 * window_s
+        for index, axis in enumerate("xyz"):
+            zoom.step(time[shown], torque[shown, index], where="post", color=AXIS_COLOURS[axis])
+        zoom.axvspan(end - window_s, end, color="0.85", label="vibration-cancelling window")
+        zoom.set_ylabel("torque [mNm]")
+        zoom.set_xlabel("time [s], the end")
+        zoom.legend(loc="best", fontsize="small")
     kind = f"{profile.method}{', flexible' if profile.flexible else ''}"
     kind += ", thruster level" if profile.thrusters else ""
     axes[0].set_title(
