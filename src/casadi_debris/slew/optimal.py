@@ -171,6 +171,22 @@ class _Collocated:
 
 
 @dataclass(frozen=True)
+class _Request:
+    """What :meth:`_SlewOCP.solve` was asked for (see :func:`time_optimal_slew`)."""
+
+    objective: str  # "time" or "fuel"
+    duration_s: float | None
+    intervals: int | None
+    residual_energy_fraction: float
+    sample_s: float
+    check_vibration: bool
+
+    @property
+    def fuel(self) -> bool:
+        return self.objective == "fuel"
+
+
+@dataclass(frozen=True)
 class _Solution:
     """What the NLP gives: control knots (s), held controls (N x n_u, SI), IPOPT status."""
 
@@ -429,27 +445,22 @@ class _SlewOCP:
         ``flexible_method``: ``"ocp"`` (the vibration left constrained in closed
         form, module notes) or ``"shaper"`` (the rigid optimum through a ZV shaper).
         """
-        options = {
-            "objective": objective,
-            "duration_s": duration_s,
-            "intervals": intervals,
-            "residual_energy_fraction": residual_energy_fraction,
-            "sample_s": sample_s,
-            "check_vibration": check_vibration,
-        }
+        request = _Request(
+            objective, duration_s, intervals, residual_energy_fraction, sample_s, check_vibration
+        )
         if flexible_method not in FLEXIBLE_METHODS:
             raise InputShapeError(
                 f"flexible_method: one of {', '.join(FLEXIBLE_METHODS)}, got {flexible_method!r}"
             )
         if not self.flexible or flexible_method == "shaper":
-            return self._solve_rigid_or_shaped(**options)
+            return self._solve_rigid_or_shaped(request)
         try:
-            return self._solve_modal(**options)
+            return self._solve_modal(request)
         except SlewInfeasibleError as error:
             if "did not converge" not in str(error):
                 raise
             failure = str(error)
-        profile = self._solve_rigid_or_shaped(**options)
+        profile = self._solve_rigid_or_shaped(request)
         profile.settings["flexible_method"] = f"shaper (fallback: modal {failure})"
         return profile
 
@@ -655,24 +666,15 @@ class _SlewOCP:
         )
         return solution, peak_rate
 
-    def _solve_modal(
-        self,
-        *,
-        objective: str,
-        duration_s: float | None,
-        intervals: int | None,
-        residual_energy_fraction: float,
-        sample_s: float,
-        check_vibration: bool,
-    ) -> SlewProfile:
+    def _solve_modal(self, request: _Request) -> SlewProfile:
         """Rigid bulk and fine window, the vibration left bounded in closed form (module notes)."""
-        fuel = objective == "fuel"
+        fuel, duration_s = request.fuel, request.duration_s
         shaper_times, shaper_amplitudes, _ = zero_vibration_shaper(
             self.flexible_model, self.parameters
         )
         shaper_length = float(shaper_times[-1])
         reference_started = time.perf_counter()
-        energy_limit, reference_energy = self._energy_limit(residual_energy_fraction)
+        energy_limit, reference_energy = self._energy_limit(request.residual_energy_fraction)
         reference_time = time.perf_counter() - reference_started
         started = time.perf_counter()
         window_s = WINDOW_SHAPER_MULTIPLE * shaper_length
@@ -681,13 +683,13 @@ class _SlewOCP:
         # Guess: the rigid optimum through the ZV shaper. Its length must be nearly right:
         # the modes' phase at the end turns by omega dT, 36 rad per second of change.
         rigid, peak_rate = self._solve_rigid(
-            fuel, duration_s - shaper_length if fuel else None, intervals
+            fuel, duration_s - shaper_length if fuel else None, request.intervals
         )
         knots, controls = shape(rigid.knots_s, rigid.controls, shaper_times, shaper_amplitudes)
         solution = self._transcribe_and_solve(
             fuel=fuel,
             bulk_s=duration_s - window_s if fuel else None,
-            bulk_intervals=intervals or RIGID_INTERVALS,
+            bulk_intervals=request.intervals or RIGID_INTERVALS,
             window=(WINDOW_INTERVALS, window_s / WINDOW_INTERVALS),
             energy_limit_J=ENERGY_MARGIN * energy_limit,
             guess=lambda times: held(knots, controls, times),
@@ -706,44 +708,30 @@ class _SlewOCP:
             "shaper_length_s": shaper_length,
         }
         return self._profile(
-            objective=objective,
-            knots=solution.knots_s,
-            controls=solution.controls,
-            extra_settings=settings,
-            fuel=fuel,
+            request,
+            solution,
             solve_time=time.perf_counter() - started,
-            status=solution.status,
-            sample_s=sample_s,
-            check_vibration=check_vibration,
+            extra_settings=settings,
         )
 
-    def _solve_rigid_or_shaped(
-        self,
-        *,
-        objective: str,
-        duration_s: float | None,
-        intervals: int | None,
-        residual_energy_fraction: float,
-        sample_s: float,
-        check_vibration: bool,
-    ) -> SlewProfile:
+    def _solve_rigid_or_shaped(self, request: _Request) -> SlewProfile:
         """The rigid OCP; when ``flexible``, its result through the ZV shaper."""
         started = time.perf_counter()
-        fuel = objective == "fuel"
+        fuel, duration_s = request.fuel, request.duration_s
         if self.flexible:
             shaper_times, shaper_amplitudes, shaped_frequencies = zero_vibration_shaper(
                 self.flexible_model, self.parameters
             )
             if fuel:  # the shaper stretches the rigid profile by its length
                 duration_s = duration_s - float(shaper_times[-1])
-        solution, _ = self._solve_rigid(fuel, duration_s, intervals)
+        solution, _ = self._solve_rigid(fuel, duration_s, request.intervals)
         solve_time = time.perf_counter() - started
         knots, controls = solution.knots_s, solution.controls
         settings = {}
         if self.flexible:
             rigid_duration = float(knots[-1])
             knots, controls = shape(knots, controls, shaper_times, shaper_amplitudes)
-            energy_limit, _ = self._energy_limit(residual_energy_fraction)
+            energy_limit, _ = self._energy_limit(request.residual_energy_fraction)
             settings = {
                 "flexible_method": "shaper",
                 "rigid_duration_s": rigid_duration,
@@ -752,15 +740,10 @@ class _SlewOCP:
                 "residual_energy_limit_J": energy_limit,
             }
         return self._profile(
-            objective=objective,
-            knots=knots,
-            controls=controls,
-            extra_settings=settings,
-            fuel=fuel,
+            request,
+            dataclasses.replace(solution, knots_s=knots, controls=controls),
             solve_time=solve_time,
-            status=solution.status,
-            sample_s=sample_s,
-            check_vibration=check_vibration,
+            extra_settings=settings,
         )
 
     def _fuel_rates(self, u_scale: np.ndarray) -> np.ndarray:
@@ -799,18 +782,10 @@ class _SlewOCP:
         return torque
 
     def _profile(
-        self,
-        *,
-        objective: str,
-        knots: np.ndarray,
-        controls: np.ndarray,
-        fuel: bool,
-        solve_time: float,
-        status: str,
-        sample_s: float,
-        check_vibration: bool,
-        extra_settings: dict,
+        self, request: _Request, solution: _Solution, *, solve_time: float, extra_settings: dict
     ) -> SlewProfile:
+        """The solution as a profile, integrated on the flexible model if there is one."""
+        knots, controls = solution.knots_s, solution.controls
         model = self.flexible_model if self.flexible else self.rigid_model
         lay = model.layout
         total = float(knots[-1])
@@ -818,10 +793,10 @@ class _SlewOCP:
             torque = controls @ self.geometry.torque_map.T
             force = controls @ self.geometry.force_map.T
         else:
-            torque = controls[:, 0:3] - controls[:, 3:6] if fuel else controls
+            torque = controls[:, 0:3] - controls[:, 3:6] if request.fuel else controls
             force = None
         input_function = zoh_input_function(knots, torque, force)
-        grid = np.unique(np.concatenate([np.arange(0.0, total, sample_s), knots]))
+        grid = np.unique(np.concatenate([np.arange(0.0, total, request.sample_s), knots]))
         states = simulate(
             model,
             input_function,
@@ -853,7 +828,7 @@ class _SlewOCP:
         return finish_profile(
             problem=self.problem,
             geometry=self.geometry,
-            method=f"{objective}-optimal",
+            method=f"{request.objective}-optimal",
             target=self.target,
             flexible=self.flexible,
             thrusters=self.thrusters,
@@ -867,9 +842,9 @@ class _SlewOCP:
             duration_s=total,
             limit_duration_s=self.limit_duration_s,
             solve_time_s=solve_time,
-            solver_status=status,
+            solver_status=solution.status,
             settings=settings,
-            check_vibration=check_vibration,
+            check_vibration=request.check_vibration,
             flexible_model=self.flexible_model,
         )
 
