@@ -145,6 +145,18 @@ def test_flexible_fuel_optimal_meets_the_limit_for_about_the_rigid_fuel(
     assert modal_energy(problem, model, final) <= slew.settings["residual_energy_limit_J"]
 
 
+def test_flexible_fuel_optimal_just_above_the_flexible_minimum(
+    problem: Problem, flexible_optimum: Any
+) -> None:
+    # Here the rigid problem a shaper's length shorter has no solution; the guess must
+    # come from elsewhere.
+    duration = flexible_optimum.duration_s + 0.5
+    slew = fuel_optimal_slew(problem, "z", math.pi, duration_s=duration, flexible=True)
+    assert slew.settings["flexible_method"] == "ocp"
+    assert slew.duration_s == pytest.approx(duration, abs=1e-6)
+    assert slew.residual_energy_J <= slew.settings["residual_energy_limit_J"]
+
+
 def test_unknown_flexible_method(problem: Problem) -> None:
     with pytest.raises(InputShapeError, match="flexible_method"):
         time_optimal_slew(problem, "z", math.pi, flexible=True, flexible_method="modal")

@@ -159,9 +159,15 @@ def modal_response(model: Model, parameters: np.ndarray) -> ModalResponse:
     )
     a, b, hessian = (np.array(m) for m in linear(np.zeros(n_z), np.zeros(9)))
     eigenvalues, right = np.linalg.eig(a)
-    oscillatory = np.flatnonzero(eigenvalues.imag > 1e-9)
+    oscillatory = np.flatnonzero(eigenvalues.imag > 1e-9 * np.max(np.abs(eigenvalues)))
     if len(oscillatory) == 0:
         raise ValueError("the model has no oscillatory array modes")
+    if len(oscillatory) != lay.n_eta:
+        raise ValueError(f"{len(oscillatory)} oscillatory eigenvalues for {lay.n_eta} modes")
+    values = eigenvalues[oscillatory]
+    gaps = np.abs(values[:, None] - values[None, :]) + np.diag(np.full(len(values), np.inf))
+    if np.min(gaps) < 1e-6 * np.min(np.abs(values)):
+        raise ValueError("the array modes are not distinct (repeated eigenvalues)")
     left_values, left = np.linalg.eig(a.T)
     rows, columns = [], []
     for index in oscillatory:

@@ -49,7 +49,7 @@ limit leaves (CVODES, full model), floor = 1e-12 x the slew's peak kinetic
 energy; 0.8 is a margin for the terms the linear modes leave out (products of
 rates), so that the CVODES check of the profile on the full nonlinear model,
 which is what the profile reports, meets the limit (on the paper's slew the
-prediction and the check agree to 2e-5). Minimise T = T_b + W. The guess is
+prediction and the check agree to 1e-4). Minimise T = T_b + W. The guess is
 the rigid optimum through the ZV shaper, solved first: the modes' phase at the
 end turns by omega dT, so IPOPT must start at nearly the right length, and
 with a small initial barrier (``mu_init`` 1e-3) so that it does not first
@@ -188,7 +188,8 @@ class _Request:
 
 @dataclass(frozen=True)
 class _Solution:
-    """What the NLP gives: control knots (s), held controls (N x n_u, SI), IPOPT status."""
+    """What the NLP gives: control knots (s, N + 1), held controls (N x n_u, SI), IPOPT
+    status, and the vibration energy its closed form predicts at the end (J; 0 if rigid)."""
 
     knots_s: np.ndarray
     controls: np.ndarray
@@ -480,11 +481,15 @@ class _SlewOCP:
 
         Parameters
         ----------
+        fuel
+            Minimise propellant (``bulk_s`` given) rather than time.
         bulk_s
             Length of the uniform bulk intervals together (fuel-optimal), or None
             (free: time-optimal).
+        bulk_intervals
+            How many bulk intervals (Radau collocation of degree 3 each).
         window
-            (count, length in s) of the fixed intervals that end the horizon.
+            (count, length of each in s) of the fixed intervals that end the horizon.
         energy_limit_J
             Bound on the vibration energy left at the end (closed form,
             :mod:`casadi_debris.slew.modal`), or None.
@@ -577,9 +582,10 @@ class _SlewOCP:
 
         Torque level: the controls themselves. Thruster level: the 24 thrusts act on the
         motion and on the modes only through six numbers, the torque and the force, so
-        those are variables of their own (scaled by the most the engines give about each
-        axis) with six linear equations per interval; every collocation and modal row
-        then depends on six variables instead of 24, and the KKT matrix stays sparse.
+        those are variables of their own (scaled by sum_i |B_ki| f_max,i, at most twice
+        what the engines give about each axis) with six linear equations per interval;
+        every collocation and modal row then depends on six variables instead of 24, and
+        the KKT matrix stays sparse.
         """
         input_map = self._input_map(fuel) * u_scale
         if not self.thrusters:
@@ -678,14 +684,20 @@ class _SlewOCP:
         reference_time = time.perf_counter() - reference_started
         started = time.perf_counter()
         window_s = WINDOW_SHAPER_MULTIPLE * shaper_length
-        if fuel and duration_s - window_s <= 0.0:
-            raise SlewInfeasibleError(f"infeasible: minimum is {window_s:.6g} s")
         # Guess: the rigid optimum through the ZV shaper. Its length must be nearly right:
         # the modes' phase at the end turns by omega dT, 36 rad per second of change.
-        rigid, peak_rate = self._solve_rigid(
-            fuel, duration_s - shaper_length if fuel else None, request.intervals
-        )
+        rigid_length = None
+        if fuel:
+            rigid_length = duration_s - shaper_length
+            if rigid_length < self.limit_duration_s:
+                # Within a shaper's length of the minimum the rigid problem may have no
+                # solution: ask it for no less than 1.001 x its own minimum.
+                fastest, _ = self._solve_rigid(False, None, request.intervals)
+                rigid_length = max(rigid_length, 1.001 * float(fastest.knots_s[-1]))
+        rigid, peak_rate = self._solve_rigid(fuel, rigid_length, request.intervals)
         knots, controls = shape(rigid.knots_s, rigid.controls, shaper_times, shaper_amplitudes)
+        if fuel:  # squeezed into the duration if it came out longer
+            knots = knots * min(1.0, duration_s / float(knots[-1]))
         solution = self._transcribe_and_solve(
             fuel=fuel,
             bulk_s=duration_s - window_s if fuel else None,
@@ -749,7 +761,7 @@ class _SlewOCP:
     def _fuel_rates(self, u_scale: np.ndarray) -> np.ndarray:
         """Propellant weight of each (scaled) control in the fuel objective, largest 1."""
         if self.thrusters:
-            return np.ones(len(u_scale)) / len(u_scale)
+            return u_scale / np.max(u_scale) / len(u_scale)  # sum f_i / (n f_max)
         plus, minus = axis_fuel_rates(self.geometry)
         rates = np.concatenate([plus, minus]) * u_scale
         return rates / np.max(rates)
@@ -769,10 +781,8 @@ class _SlewOCP:
         opti.subject_to(angular / momentum_scale == 0)
 
     def _control_guess(self, reference: SlewProfile, times_s: np.ndarray, fuel: bool) -> np.ndarray:
-        """Controls of ``reference`` at ``times_s`` in this OCP's form, shape (n, n_u)."""
-        if self.thrusters and reference.thrusters:
-            held = np.searchsorted(reference.time_s, times_s, side="right") - 1
-            return reference.thrust_N[np.clip(held, 0, len(reference.time_s) - 1)]
+        """Controls of the torque-level ``reference`` at ``times_s`` in this OCP's form,
+        shape (n, n_u)."""
         inputs = np.array(reference.input_function.map(len(times_s))(times_s)).T
         torque = np.clip(inputs[:, :3], self.lower, self.upper)
         if self.thrusters:
@@ -877,7 +887,8 @@ def time_optimal_slew(
         Any rest-to-rest attitude pair.
     flexible : bool
         Keep the array modes: the vibration energy left at the end is constrained to
-        ``residual_energy_fraction`` times the rigid-limit bang-bang's (module notes).
+        0.8 x max(``residual_energy_fraction`` x the rigid-limit bang-bang's, 1e-12 x
+        the slew's peak kinetic energy) (module notes).
     thrusters : bool
         Thrust per engine as the decision variable (0 <= f <= f_max).
     torque_fraction : float
@@ -885,7 +896,8 @@ def time_optimal_slew(
     single_axis : bool
         Restrict the torque to the eigenaxis (the single-degree-of-freedom slew).
     intervals : int, optional
-        Collocation intervals (even; default 40).
+        Collocation intervals (even; default 40); a flexible slew adds its 64 window
+        intervals.
     residual_energy_fraction : float
         Flexible only: the reported limit on the vibration energy left, as a fraction of
         what the bang-bang at the rigid limit leaves.
