@@ -38,8 +38,6 @@ import numpy as np
 
 from casadi_debris.model import Model
 
-N_RIGID = 9  # theta, omega, v
-
 
 @dataclass(frozen=True)
 class ModalResponse:
@@ -126,8 +124,10 @@ def _small_angle_state(model: Model, z: ca.SX) -> ca.SX:
     return ca.vertcat(q, z[3 : model.layout.size - 5], q)
 
 
-def vibration_energy_expression(model: Model, state: ca.SX | ca.MX, parameters: np.ndarray):
-    """Symbolic :func:`~casadi_debris.slew.profile.vibration_energy` of a full state."""
+def vibration_energy_expression(
+    model: Model, state: ca.SX | ca.MX, parameters: np.ndarray
+) -> ca.SX | ca.MX:
+    """Symbolic :func:`~casadi_debris.slew.profile.vibration_energy` of a full state (J)."""
     lay = model.layout
     mass = np.array(model.mass_matrix(parameters))
     nu = ca.vertcat(state[lay.v], state[lay.omega], state[lay.eta_dot])
