@@ -114,6 +114,25 @@ def test_simulate_bad_input_is_one_line(short_slew: Path, args: list[str], needl
     assert len(stderr.strip().splitlines()) == 1
 
 
+def test_a_thruster_level_time_optimal_reference_is_flown(tmp_path: Path) -> None:
+    """Zero net force and half the thrust: the profile's torque plus the controller's stays
+    inside the allocator's set, so the loop tracks it without saturating."""
+    path = tmp_path / "fast.toml"
+    path.write_text(
+        f'extends = "{PROBLEMS / "paper_slew.toml"}"\nname = "fast"\n'
+        "[simulation]\nduration_s = 1320.0\n"
+        '[simulation.slew]\naxis = "z"\nangle_deg = 180.0\nmethod = "time-optimal"\n'
+        "thrusters = true\ntorque_fraction = 0.5\nfeedforward = true\n"
+    )
+    code, out, _ = invoke("simulate", str(path), "--json")
+    assert code == 0
+    summary = json.loads(out)
+    assert summary["torque_saturated_s"] == 0.0
+    assert summary["max_error_deg"] < 0.05
+    # a rest-to-rest slew at half the thrust is slower than the rigid limit at full
+    assert 1200.0 < summary["slew_end_s"] < 1320.0
+
+
 def test_open_loop_rigid_from_csv_matches_solve_ivp(tmp_path: Path) -> None:
     table = tmp_path / "torque.csv"
     table.write_text("t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm\n0,2,-1,3\n40,-1,2,0\n90,0,0,-4\n")

@@ -71,6 +71,7 @@ def test_feedforward_is_read_from_the_problem_file(tmp_path) -> None:
     [
         ('[simulation.slew]\naxis = "z"\nangle_deg = 180.0\nfeedforward = "yes"\n', "feedforward"),
         ('[simulation.slew]\naxis = "q"\nangle_deg = 180.0\n', "simulation.slew.axis"),
+        ('[simulation.slew]\naxis = "z"\nangle_deg = 180.0\nthrusters = true\n', "thrusters"),
         ("[simulation]\ncontrol_rate_hz = 0.0\n", "simulation.control_rate_hz"),
         ("[[simulation.failures]]\ntime_s = 1.0\ncubesat = 25\n", "cubesat"),
         ("[montecarlo]\ncorner_array_angles = 0\n", "montecarlo.corner_array_angles"),

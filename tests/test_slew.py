@@ -194,6 +194,32 @@ def test_thruster_level_fuel_optimal_respects_engines(
     assert np.linalg.norm(error) < 1e-5
 
 
+def test_thruster_level_zero_net_force_at_a_torque_fraction(
+    problem: Problem, geometry: Geometry
+) -> None:
+    fraction = 0.8
+    common = {"thrusters": True, "torque_fraction": fraction, "check_vibration": False}
+    slew = time_optimal_slew(problem, "z", math.pi, zero_net_force=True, **common)
+    limits = fraction * max_thrust_N(geometry)
+    assert np.all(slew.thrust_N >= 0.0)
+    assert np.all(slew.thrust_N <= limits * (1 + 1e-9))
+    # the net force, from the thrusts through the geometry, is zero at every sample
+    force = slew.thrust_N @ geometry.force_map.T
+    assert np.abs(force).max() <= 1e-9 * limits.sum()
+    assert slew.settings["delta_v_m_s"] < 1e-12
+    model, final = integrate_on_model(problem, slew)
+    error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
+    assert np.linalg.norm(error) < 1e-5
+    # one more constraint cannot make it faster (both are local optima: 0.2 % slack)
+    free = time_optimal_slew(problem, "z", math.pi, **common)
+    assert slew.duration_s >= free.duration_s * (1 - 2e-3)
+
+
+def test_zero_net_force_needs_thrusters(problem: Problem) -> None:
+    with pytest.raises(InputShapeError, match="zero_net_force"):
+        time_optimal_slew(problem, "z", math.pi, zero_net_force=True, check_vibration=False)
+
+
 def test_zero_vibration_shaping_keeps_bounds_and_impulse() -> None:
     knots = np.array([0.0, 10.0, 20.0])
     controls = np.array([[1.0, 0.0], [-1.0, 0.5]])

@@ -236,7 +236,9 @@ class SlewReference:
     ``duration_s`` and ``torque_fraction`` are optional (None): the slew
     methods then pick their own (see :mod:`casadi_debris.slew`). With
     ``feedforward`` the profile's torque is added to the controller's demand
-    (the paper's loop has none).
+    (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
+    thruster level with zero net force, as the closed loop's allocator keeps it,
+    so that its torque is one the engines can give there.
     """
 
     axis: str
@@ -246,6 +248,7 @@ class SlewReference:
     duration_s: float | None
     torque_fraction: float | None
     feedforward: bool = False
+    thrusters: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -663,9 +666,14 @@ def _read_slew(t: _Table) -> SlewReference:
             else None
         ),
         feedforward=t.boolean("feedforward") if "feedforward" in t.data else False,
+        thrusters=t.boolean("thrusters") if "thrusters" in t.data else False,
     )
     if slew.method == "fuel-optimal" and slew.duration_s is None:
         raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
+    if slew.thrusters and slew.method == "bang-bang":
+        raise t.error(
+            t.key("thrusters"), "only for time-optimal and fuel-optimal slews (not bang-bang)"
+        )
     t.done()
     return slew
 

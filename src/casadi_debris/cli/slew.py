@@ -115,6 +115,11 @@ def summary_text(summary: dict[str, Any]) -> str:
     help="--flexible: modal states in the OCP, or the rigid optimum through a ZV shaper.",
 )
 @click.option("--thrusters", is_flag=True, help="Optimise the thrust of every engine.")
+@click.option(
+    "--zero-net-force",
+    is_flag=True,
+    help="--thrusters: keep the net force zero, as the closed loop's allocator does.",
+)
 @click.option("--sample-s", type=float, default=1.0, show_default=True, help="Output spacing.")
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @json_option
@@ -131,6 +136,7 @@ def slew(
     flexible: bool,
     flexible_method: str,
     thrusters: bool,
+    zero_net_force: bool,
     sample_s: float,
     out: Path | None,
     as_json: bool,
@@ -142,8 +148,10 @@ def slew(
     problem = load_problem(problem_file)
     target = slew_about_axis(axis, math.radians(angle_deg))
     if method == "bang-bang":
-        if flexible or thrusters:
-            raise InputShapeError("--flexible and --thrusters apply to the optimal methods")
+        if flexible or thrusters or zero_net_force:
+            raise InputShapeError(
+                "--flexible, --thrusters and --zero-net-force apply to the optimal methods"
+            )
         profile = bang_bang_slew(
             problem,
             target=target,
@@ -160,6 +168,7 @@ def slew(
             "target": target,
             "flexible": flexible,
             "thrusters": thrusters,
+            "zero_net_force": zero_net_force,
             "torque_fraction": 1.0 if torque_fraction is None else torque_fraction,
             "sample_s": sample_s,
             "flexible_method": flexible_method,

@@ -47,7 +47,8 @@ class Reference:
 
 
 def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) -> SlewProfile:
-    """The slew a ``[simulation.slew]`` table asks for (rigid, torque level).
+    """The slew a ``[simulation.slew]`` table asks for (rigid; torque level, or thruster
+    level with zero net force when ``settings.thrusters``).
 
     Parameters
     ----------
@@ -67,13 +68,15 @@ def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) ->
             torque_fraction=settings.torque_fraction,
             **common,
         )
-    fraction = (
-        {} if settings.torque_fraction is None else {"torque_fraction": settings.torque_fraction}
-    )
+    options: dict = {}
+    if settings.torque_fraction is not None:
+        options["torque_fraction"] = settings.torque_fraction
+    if settings.thrusters:
+        options.update(thrusters=True, zero_net_force=True)
     if settings.method == "time-optimal":
-        return time_optimal_slew(problem, settings.axis, angle, **fraction, **common)
+        return time_optimal_slew(problem, settings.axis, angle, **options, **common)
     return fuel_optimal_slew(
-        problem, settings.axis, angle, duration_s=float(settings.duration_s), **fraction, **common
+        problem, settings.axis, angle, duration_s=float(settings.duration_s), **options, **common
     )
 
 

@@ -278,9 +278,15 @@ class _SlewOCP:
         thrusters: bool,
         torque_fraction: float,
         single_axis: bool,
+        zero_net_force: bool = False,
     ) -> None:
         if single_axis and thrusters:
             raise InputShapeError("single_axis applies to torque-level slews only")
+        if zero_net_force and not thrusters:
+            raise InputShapeError(
+                "zero_net_force applies to thruster-level slews (a torque-level one has no force)"
+            )
+        self.zero_net_force = zero_net_force
         self.problem = problem
         self.target = target
         self.flexible = flexible
@@ -304,8 +310,8 @@ class _SlewOCP:
 
     # -- model pieces ------------------------------------------------------------------
     def _control_bounds(self, fuel: bool) -> tuple[np.ndarray, np.ndarray]:
-        if self.thrusters:
-            return np.zeros_like(self.f_max), self.f_max
+        if self.thrusters:  # the torque fraction scales the engines' torque set
+            return np.zeros_like(self.f_max), self.torque_fraction * self.f_max
         if fuel:
             return np.zeros(6), np.concatenate([self.upper, -self.lower])
         return self.lower, self.upper
@@ -581,7 +587,8 @@ class _SlewOCP:
         map, the n_d x n_u map from controls to drive).
 
         Torque level: the controls themselves. Thruster level: the 24 thrusts act on the
-        motion and on the modes only through six numbers, the torque and the force, so
+        motion and on the modes only through six numbers, the torque and the force (three
+        with ``zero_net_force``, which holds the force at zero), so
         those are variables of their own (scaled by sum_i |B_ki| f_max,i, at most twice
         what the engines give about each axis) with six linear equations per interval;
         every collocation and modal row then depends on six variables instead of 24, and
@@ -590,7 +597,12 @@ class _SlewOCP:
         input_map = self._input_map(fuel) * u_scale
         if not self.thrusters:
             return controls, input_map, np.eye(len(u_scale))
-        acting = [0, 1, 2, 6, 7, 8]  # torque and force rows of the model input
+        torque_rows, force_rows = [0, 1, 2], [6, 7, 8]  # of the model input
+        acting = torque_rows if self.zero_net_force else torque_rows + force_rows
+        if self.zero_net_force:
+            force = input_map[force_rows]
+            force = force / np.maximum(np.sum(np.abs(force), axis=1), 1e-30)[:, None]
+            opti.subject_to(ca.vec(ca.DM(force) @ controls) == 0)
         effect = input_map[acting]
         drive_scale = np.maximum(np.sum(np.abs(effect), axis=1), 1e-30)
         drive_map = np.zeros((9, len(acting)))
@@ -867,6 +879,7 @@ def time_optimal_slew(
     target: SlewTarget | None = None,
     flexible: bool = False,
     thrusters: bool = False,
+    zero_net_force: bool = False,
     torque_fraction: float = 1.0,
     single_axis: bool = False,
     intervals: int | None = None,
@@ -890,9 +903,13 @@ def time_optimal_slew(
         0.8 x max(``residual_energy_fraction`` x the rigid-limit bang-bang's, 1e-12 x
         the slew's peak kinetic energy) (module notes).
     thrusters : bool
-        Thrust per engine as the decision variable (0 <= f <= f_max).
+        Thrust per engine as the decision variable (0 <= f <= torque_fraction f_max).
+    zero_net_force : bool
+        Thruster level: the engines' net force is zero at every instant, as the
+        closed loop's allocator keeps it, so the closed loop can fly the profile.
     torque_fraction : float
-        Share of the per-axis torque authority usable (torque level) in (0, 1].
+        Share of the torque authority usable in (0, 1]: of each per-axis limit at
+        torque level, of each engine's thrust at thruster level.
     single_axis : bool
         Restrict the torque to the eigenaxis (the single-degree-of-freedom slew).
     intervals : int, optional
@@ -940,6 +957,7 @@ def time_optimal_slew(
         thrusters=thrusters,
         torque_fraction=torque_fraction,
         single_axis=single_axis,
+        zero_net_force=zero_net_force,
     )
     fastest = ocp.solve(
         objective="time",
@@ -977,6 +995,7 @@ def fuel_optimal_slew(
     target: SlewTarget | None = None,
     flexible: bool = False,
     thrusters: bool = False,
+    zero_net_force: bool = False,
     torque_fraction: float = 1.0,
     intervals: int | None = None,
     residual_energy_fraction: float = DEFAULT_RESIDUAL_ENERGY_FRACTION,
@@ -1007,6 +1026,7 @@ def fuel_optimal_slew(
         thrusters=thrusters,
         torque_fraction=torque_fraction,
         single_axis=False,
+        zero_net_force=zero_net_force,
     )
     if duration_s < ocp.limit_duration_s:
         # Three free axes can beat the eigenaxis limit (Bilimoria & Wie 1993): ask the OCP.
