@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from casadi_debris.model import build_model
+from casadi_debris.model import build_model, linearize
 from casadi_debris.robust.uncertainty import (
     box_corners,
     diagonal_cover,
@@ -51,6 +51,22 @@ def test_rigid_relative_error_is_inertia_ratio(problem):
     j_k = np.array(rigid.rigid_inertia(p))
     for e in errors[0]:
         np.testing.assert_allclose(e, j_c @ np.linalg.inv(j_k) - np.eye(3), atol=1e-9)
+
+
+def test_flexible_relative_error_matches_python_control(problem, first_mode_model):
+    # An independent evaluation: python-control's frequency response of the same plants.
+    samples = sample_uncertainty(problem, first_mode_model, count=68, seed=1)
+    omega = np.logspace(-3, 2, 40)
+    errors = relative_errors(first_mode_model, samples.parameters[-4:], omega)
+
+    def response(parameters):
+        plant = linearize(first_mode_model, parameters, units="deg_mNm")
+        return np.moveaxis(plant.frequency_response(omega).frdata, 2, 0)
+
+    nominal = response(None)
+    for e, p in zip(errors, samples.parameters[-4:], strict=True):
+        expected = np.linalg.solve(nominal, response(p)) - np.eye(3)
+        np.testing.assert_allclose(e, expected, atol=1e-9 * np.abs(expected).max())
 
 
 def test_nominal_has_zero_error(first_mode_model):
