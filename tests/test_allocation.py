@@ -16,7 +16,6 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from scipy.optimize import linprog
 
 from casadi_debris.allocation import (
     Allocator,
@@ -30,8 +29,8 @@ from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, CasadiDebrisError, InputShapeError
 from casadi_debris.geometry import Geometry, torque_authority
+from lp_reference import MN, largest_alpha, least_fuel_N
 
-MN = 1e3
 TORQUE_RTOL = 1e-9
 FUEL_RTOL = 1e-6
 ANGLE_TOL_RAD = 1e-6
@@ -41,67 +40,10 @@ ALPHA_TOL = 1e-9
 # the limit when warm-started, far below any physical demand (1e-14 N m here)
 # but above the demands of 1e-300 N m Hypothesis tries.
 ROUND_OFF = 1e-11
-HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 N_CUBESATS = 24
 
 
 # ----------------------------------------------------------------------------- references
-
-
-def _lp_rows(geometry: Geometry, free_force: bool) -> np.ndarray:
-    return (
-        geometry.torque_map if free_force else np.vstack([geometry.torque_map, geometry.force_map])
-    )
-
-
-def lp_least_fuel(
-    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, force_N: np.ndarray | None
-) -> float | None:
-    """Least sum of thrust [N] meeting the wrench exactly, or None when infeasible (HiGHS)."""
-    rows = _lp_rows(geometry, force_N is None)
-    target, unit = _lp_target(torque_Nm, force_N)
-    result = linprog(
-        np.ones(len(limits_N)),
-        A_eq=rows,
-        b_eq=target,
-        bounds=list(zip(np.zeros_like(limits_N), limits_N / unit, strict=True)),
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    return float(result.fun) * unit if result.status == 0 else None
-
-
-def _lp_target(torque_Nm: np.ndarray, force_N: np.ndarray | None) -> tuple[np.ndarray, float]:
-    """Wrench in a unit that makes it of order one (HiGHS' tolerances are absolute).
-
-    Thrust is counted in that unit too (N m per N keeps the maps unchanged);
-    mN for demands of ordinary size, smaller for tiny ones.
-    """
-    wrench = torque_Nm if force_N is None else np.concatenate([torque_Nm, force_N])
-    size = float(np.abs(wrench).max())
-    unit = min(1.0 / MN, size) if size > 0 else 1.0 / MN
-    return wrench / unit, unit
-
-
-def lp_largest_alpha(
-    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, force_N: np.ndarray | None
-) -> float:
-    """Largest alpha in [0, 1] with the wrench alpha * demand reachable (HiGHS)."""
-    rows = _lp_rows(geometry, force_N is None)
-    target, unit = _lp_target(torque_Nm, force_N)
-    n = len(limits_N)
-    cost = np.zeros(n + 1)
-    cost[-1] = -1.0
-    result = linprog(
-        cost,
-        A_eq=np.hstack([rows, -target[:, None]]),
-        b_eq=np.zeros(len(rows)),
-        bounds=[*zip(np.zeros(n), limits_N / unit, strict=True), (0.0, 1.0)],
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    assert result.status == 0
-    return float(result.x[-1])
 
 
 def angle_rad(a: np.ndarray, b: np.ndarray) -> float:
@@ -133,7 +75,7 @@ def check_against_lp(
     assert np.all(np.isfinite(result.thrust_N))
     np.testing.assert_array_equal(result.torque_Nm, geometry.torque_map @ result.thrust_N)
 
-    alpha_lp = lp_largest_alpha(geometry, limits, torque, force)
+    alpha_lp = largest_alpha(geometry, limits, torque, force)
     torque_norm = float(np.linalg.norm(torque))
     if result.feasible:
         assert result.scale == 1.0
@@ -160,7 +102,7 @@ def check_against_lp(
 
     # Least fuel among the thrusts that give the wrench achieved (alpha times the
     # demand, checked above): a wrench our thrust makes, so the LP is feasible.
-    reference = lp_least_fuel(
+    reference = least_fuel_N(
         geometry, limits, result.torque_Nm, None if force is None else result.force_N
     )
     assert reference is not None
@@ -309,7 +251,7 @@ def test_least_squares_mode_is_exact_when_feasible_and_closest_when_not(
         error_scaled = np.linalg.norm(a.torque_Nm - demand)
         assert error_ls <= error_scaled * (1.0 + 1e-9)
         # and it is the least-fuel way to make that torque.
-        reference = lp_least_fuel(geometry, least_squares.max_thrust_N, b.torque_Nm, np.zeros(3))
+        reference = least_fuel_N(geometry, least_squares.max_thrust_N, b.torque_Nm, np.zeros(3))
         assert reference is not None
         assert b.thrust_N.sum() == pytest.approx(reference, rel=FUEL_RTOL)
 
@@ -544,7 +486,9 @@ def test_cli_bad_input_is_one_line_and_exit_2(arguments: list[str]) -> None:
     assert result.output.count("\n") == 1 and result.output.startswith("error:")
 
 
-def test_small_demand_with_few_engines_left_is_least_fuel(problem: Problem) -> None:
+def test_small_demand_with_few_engines_left_is_least_fuel(
+    problem: Problem, geometry: Geometry
+) -> None:
     """A small demand is solved stretched and scaled back, unless a limit binds when
     stretched (found by hypothesis: nine CubeSats failed, force free, 6.7 % extra fuel)."""
     allocator = Allocator.from_problem(problem)
@@ -552,12 +496,6 @@ def test_small_demand_with_few_engines_left_is_least_fuel(problem: Problem) -> N
     torque = np.array([0.0, 0.0, 5.960464477539063e-08])
     result = allocator.allocate(torque, free_force=True)
     limits = allocator.max_thrust_N
-    reference = linprog(
-        np.ones(len(limits)),
-        A_eq=allocator.torque_map * 1e3,
-        b_eq=torque * 1e3,
-        bounds=list(zip(np.zeros_like(limits), limits, strict=True)),
-        method="highs",
-    )
-    assert reference.status == 0
-    assert result.thrust_N.sum() == pytest.approx(reference.x.sum(), rel=1e-6)
+    reference = least_fuel_N(geometry, limits, torque, None)
+    assert reference is not None
+    assert result.thrust_N.sum() == pytest.approx(reference, rel=1e-6)

@@ -15,16 +15,14 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from scipy.optimize import linprog
 
 from casadi_debris.allocation import Allocator, AuthorityPolytope, authority_polytope
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError
 from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
+from lp_reference import largest_alpha, net_force, reaches, support
 
-MN = 1e3
 RTOL = 1e-9
-HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 N_CUBESATS = 24
 MIN_ALIVE = 8
 # Far beyond any engine's reach [N m]: the scale of such a demand times its
@@ -33,72 +31,6 @@ BEYOND_REACH_NM = 10.0
 
 
 # ----------------------------------------------------------------------------- references
-
-
-def _equalities(geometry: Geometry, free_force: bool) -> np.ndarray | None:
-    return None if free_force else geometry.force_map
-
-
-def _rows(geometry: Geometry, free_force: bool) -> np.ndarray:
-    return (
-        geometry.torque_map if free_force else np.vstack([geometry.torque_map, geometry.force_map])
-    )
-
-
-def lp_largest_alpha(
-    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, free_force: bool
-) -> float:
-    """max alpha s.t. B f = alpha tau, F f = 0 (unless free), 0 <= f <= f_max (HiGHS, mN).
-
-    alpha is not capped at 1, so that it measures the authority along ``tau``.
-    """
-    n = len(limits_N)
-    rows = _rows(geometry, free_force)
-    target = np.concatenate([torque_Nm, np.zeros(len(rows) - 3)]) * MN
-    result = linprog(
-        np.append(np.zeros(n), -1.0),
-        A_eq=np.hstack([rows, -target[:, None]]),
-        b_eq=np.zeros(len(rows)),
-        bounds=[*zip(np.zeros(n), limits_N * MN, strict=True), (0.0, None)],
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    assert result.status == 0, result.message
-    return float(result.x[-1])
-
-
-def lp_support_Nm(
-    geometry: Geometry, limits_N: np.ndarray, direction: np.ndarray, free_force: bool
-) -> float:
-    """max direction . B f over the engines' box (and F f = 0 unless free) [N m] (HiGHS, mN)."""
-    equalities = _equalities(geometry, free_force)
-    result = linprog(
-        -(direction @ geometry.torque_map),
-        A_eq=equalities,
-        b_eq=None if equalities is None else np.zeros(3),
-        bounds=list(zip(np.zeros_like(limits_N), limits_N * MN, strict=True)),
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    assert result.status == 0, result.message
-    return -float(result.fun) / MN
-
-
-def lp_reaches(
-    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, free_force: bool
-) -> bool:
-    """Whether some 0 <= f <= f_max gives B f = tau (and F f = 0 unless free) (HiGHS, mN)."""
-    rows = _rows(geometry, free_force)
-    target = np.concatenate([torque_Nm, np.zeros(len(rows) - 3)]) * MN
-    result = linprog(
-        np.zeros(len(limits_N)),
-        A_eq=rows,
-        b_eq=target,
-        bounds=list(zip(np.zeros_like(limits_N), limits_N * MN, strict=True)),
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    return result.status == 0
 
 
 def unit_directions(rng: np.random.Generator, count: int) -> np.ndarray:
@@ -130,7 +62,7 @@ def check_polytope(
     # Along any direction: alpha of a demand far beyond reach = the LP's largest alpha.
     for direction in directions:
         demand = BEYOND_REACH_NM * direction
-        reference = lp_largest_alpha(geometry, limits, demand, free_force)
+        reference = largest_alpha(geometry, limits, demand, net_force(free_force), at_most=None)
         found = float(polytope.scale(demand))
         assert abs(found - reference) <= RTOL * max(reference, size_Nm / BEYOND_REACH_NM)
     # Row-wise evaluation gives the same numbers.
@@ -142,10 +74,10 @@ def check_polytope(
 
     # Every vertex is made by some thrust; every facet touches the reachable set.
     for vertex in polytope.vertices:
-        assert lp_reaches(geometry, limits, vertex, free_force)
+        assert reaches(geometry, limits, vertex, net_force(free_force))
     for normal, offset in zip(polytope.normals, polytope.offsets, strict=True):
-        support = lp_support_Nm(geometry, limits, normal, free_force)
-        assert abs(support - offset) <= RTOL * size_Nm
+        value, _ = support(geometry, limits, normal, free_force)
+        assert abs(value - offset) <= RTOL * size_Nm
         # A facet, not an edge: its vertices span a plane.
         on_facet = polytope.vertices[np.abs(polytope.vertices @ normal - offset) <= RTOL * size_Nm]
         assert len(on_facet) >= 3
@@ -218,16 +150,8 @@ def _is_flat(geometry: Geometry, limits: np.ndarray, free_force: bool) -> bool:
     grid = np.array([d for d in itertools.product((-1, 0, 1), repeat=3) if any(d)], dtype=float)
     points = []
     for direction in grid / np.linalg.norm(grid, axis=1, keepdims=True):
-        equalities = _equalities(geometry, free_force)
-        result = linprog(
-            -(direction @ geometry.torque_map),
-            A_eq=equalities,
-            b_eq=None if equalities is None else np.zeros(3),
-            bounds=list(zip(np.zeros_like(limits), limits * MN, strict=True)),
-            method="highs",
-            options=HIGHS_OPTIONS,
-        )
-        points.append(geometry.torque_map @ result.x / MN)
+        _, thrust = support(geometry, limits, direction, free_force)
+        points.append(geometry.torque_map @ thrust)
     points = np.array(points)
     spread = np.linalg.svd(points - points.mean(axis=0), compute_uv=False)
     return bool(spread[-1] <= 1e-9 * max(spread[0], np.finfo(float).tiny))
@@ -274,7 +198,7 @@ def test_allocate_saturates_far_beyond_reach_to_the_linear_programs_alpha(
         for size_Nm in (1e-2, 1e-1, 1.0):
             demand = size_Nm * direction
             result = allocator.allocate(demand, free_force=free_force)
-            reference = lp_largest_alpha(geometry, limits, demand, free_force)
+            reference = largest_alpha(geometry, limits, demand, net_force(free_force), at_most=None)
             assert abs(result.scale - reference) <= RTOL * reference
             assert np.all(result.thrust_N >= 0.0) and np.all(result.thrust_N <= limits)
 

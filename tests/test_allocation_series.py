@@ -25,70 +25,23 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from scipy.optimize import linprog
 
 from casadi_debris.allocation import Allocator, SeriesAllocation
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry, torque_authority
+from lp_reference import largest_alpha, least_fuel_N, net_force
 
-MN = 1e3
 THRUST_TOL = 1e-9  # of the largest limit
 TORQUE_RTOL = 1e-9
 ALPHA_TOL = 1e-9
 FUEL_RTOL = 1e-6
-HIGHS_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 N_CUBESATS = 24
 STEPS = 3000
 LP_SAMPLES = 30
 
 
 # ----------------------------------------------------------------------------- references
-
-
-def _rows(geometry: Geometry, free_force: bool) -> np.ndarray:
-    return (
-        geometry.torque_map if free_force else np.vstack([geometry.torque_map, geometry.force_map])
-    )
-
-
-def lp_largest_alpha(
-    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, free_force: bool
-) -> float:
-    """Largest alpha in [0, 1] with alpha * demand reachable at zero (or free) force (HiGHS)."""
-    rows = _rows(geometry, free_force)
-    unit = min(1.0 / MN, float(np.abs(torque_Nm).max()))
-    target = np.concatenate([torque_Nm, np.zeros(len(rows) - 3)]) / unit
-    n = len(limits_N)
-    result = linprog(
-        np.append(np.zeros(n), -1.0),
-        A_eq=np.hstack([rows, -target[:, None]]),
-        b_eq=np.zeros(len(rows)),
-        bounds=[*zip(np.zeros(n), limits_N / unit, strict=True), (0.0, 1.0)],
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    assert result.status == 0, result.message
-    return float(result.x[-1])
-
-
-def lp_least_fuel_N(
-    geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, free_force: bool
-) -> float:
-    """Least sum of thrust [N] making the torque exactly at zero (or free) force (HiGHS)."""
-    rows = _rows(geometry, free_force)
-    unit = min(1.0 / MN, float(np.abs(torque_Nm).max()))
-    target = np.concatenate([torque_Nm, np.zeros(len(rows) - 3)]) / unit
-    result = linprog(
-        np.ones(len(limits_N)),
-        A_eq=rows,
-        b_eq=target,
-        bounds=list(zip(np.zeros_like(limits_N), limits_N / unit, strict=True)),
-        method="highs",
-        options=HIGHS_OPTIONS,
-    )
-    assert result.status == 0, result.message
-    return float(result.fun) * unit
 
 
 def smooth_history(
@@ -169,9 +122,10 @@ def check_series(
     for i in rng.choice(k, size=min(lp_samples, k), replace=False):
         if not np.any(torques[i]):
             continue
-        alpha = lp_largest_alpha(geometry, limits, torques[i], free_force)
+        alpha = largest_alpha(geometry, limits, torques[i], net_force(free_force))
         assert abs(series.scale[i] - alpha) <= ALPHA_TOL
-        fuel = lp_least_fuel_N(geometry, limits, series.torque_Nm[i], free_force)
+        fuel = least_fuel_N(geometry, limits, series.torque_Nm[i], net_force(free_force))
+        assert fuel is not None
         assert abs(series.thrust_N[i].sum() - fuel) <= FUEL_RTOL * fuel
 
 
