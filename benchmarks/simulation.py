@@ -36,7 +36,7 @@ from scipy.integrate import solve_ivp
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.model import build_model
-from casadi_debris.report.common import json_ready
+from casadi_debris.report.common import json_ready, write_json_atomic
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
@@ -176,10 +176,9 @@ def main() -> None:
         "montecarlo_wall_s": campaign,
         "targets": {"closed_loop_step_us": 40.0, "montecarlo_256_wall_s_2_cores": 90.0},
     }
-    text = json.dumps(json_ready(report), indent=2)
-    print(text)
+    print(json.dumps(json_ready(report), indent=2))
     if args.out:
-        args.out.write_text(text + "\n")
+        write_json_atomic(args.out, report)
 
 
 if __name__ == "__main__":

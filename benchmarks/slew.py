@@ -22,7 +22,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from casadi_debris import load_problem
-from casadi_debris.report.common import json_ready
+from casadi_debris.report.common import json_ready, write_json_atomic
 from casadi_debris.slew import (
     SlewProfile,
     bang_bang_slew,
@@ -106,7 +106,7 @@ def main() -> None:
         ):
             if key in profile.settings:
                 results[name][key] = profile.settings[key]
-    limit = time_optimal_slew(problem, z, pi, check_vibration=False).limit_duration_s
+    limit = profile.limit_duration_s  # every method's profile carries the same rigid limit
     payload = {
         "benchmark": "slew",
         "problem": problem.name,
@@ -126,10 +126,9 @@ def main() -> None:
         },
         "methods": results,
     }
-    text = json.dumps(json_ready(payload), indent=2)
     if args.out:
-        args.out.write_text(text)
-    print(text)
+        write_json_atomic(args.out, payload)
+    print(json.dumps(json_ready(payload), indent=2))
 
 
 if __name__ == "__main__":

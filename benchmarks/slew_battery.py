@@ -22,17 +22,8 @@ from pathlib import Path
 
 from casadi_debris import load_problem
 from casadi_debris.config import Problem
-from casadi_debris.model import build_model
-from casadi_debris.report.common import json_ready
-from casadi_debris.slew import (
-    SlewProfile,
-    eigenaxis_acceleration_limit,
-    fuel_optimal_slew,
-    rigid_limit_duration,
-    slew_about_axis,
-    time_optimal_slew,
-    torque_limits,
-)
+from casadi_debris.report.common import json_ready, write_json_atomic
+from casadi_debris.slew import SlewProfile, bang_bang_slew, fuel_optimal_slew, time_optimal_slew
 
 SLEWS = {
     "z_180deg": ("z", math.pi),
@@ -46,12 +37,7 @@ TARGET_S = 5.0
 
 def rigid_limit_s(problem: Problem, axis: str | tuple, angle_rad: float) -> float:
     """2 sqrt(theta J / tau) of the rigid body about the slew's eigenaxis (s)."""
-    model = build_model(problem, modes=[])
-    target = slew_about_axis(axis, angle_rad)
-    lower, upper = torque_limits(model.geometry, 1.0)
-    inertia = model.rigid_inertia(model.nominal_parameters)
-    alpha = eigenaxis_acceleration_limit(inertia.full(), target.axis_B, lower, upper)
-    return rigid_limit_duration(angle_rad, alpha)
+    return bang_bang_slew(problem, axis, angle_rad, check_vibration=False).limit_duration_s
 
 
 def methods(problem: Problem) -> dict[str, Callable[[str | tuple, float], SlewProfile]]:
@@ -107,10 +93,9 @@ def main() -> None:
         "target_solve_time_s": TARGET_S,
         "methods": results,
     }
-    text = json.dumps(json_ready(payload), indent=2)
     if args.out:
-        args.out.write_text(text)
-    print(text)
+        write_json_atomic(args.out, payload)
+    print(json.dumps(json_ready(payload), indent=2))
 
 
 if __name__ == "__main__":
