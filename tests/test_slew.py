@@ -8,7 +8,6 @@ import math
 from pathlib import Path
 from typing import Any
 
-import casadi as ca
 import numpy as np
 import pytest
 from click.testing import CliRunner
@@ -27,6 +26,7 @@ from casadi_debris.slew import (
     slew_between,
     time_optimal_slew,
 )
+from slew_reference import final_state
 
 PAPER_SLEW_DURATION_S = 1228.0  # paper, Section IV.A
 PAPER_SLEW_FUEL_KG = 2.8e-4  # paper, Section IV.A; DESIGN.md accepts +-25 %
@@ -37,26 +37,6 @@ def rigid_limit(geometry: Geometry, axis: int, angle_rad: float = math.pi) -> fl
     name = "xyz"[axis]
     tau = min(torque_authority(geometry)[f"+{name}"], torque_authority(geometry)[f"-{name}"])
     return 2.0 * math.sqrt(angle_rad * geometry.inertia_total_kgm2[axis, axis] / tau)
-
-
-def integrate_on_model(problem: Problem, slew: Any) -> np.ndarray:
-    """Final state of the rigid model driven by the slew's input, by a CasADi integrator."""
-    model = build_model(problem, modes=[])
-    x = ca.SX.sym("x", model.layout.size)
-    t = ca.SX.sym("t")
-    ode = model.dynamics(x, slew.input_function(t), model.nominal_parameters)
-    # Restart at every sample so that the integrator never steps across a switch.
-    grid = np.asarray(slew.time_s)
-    integrator = ca.integrator(
-        "check",
-        "cvodes",
-        {"x": x, "t": t, "ode": ode},
-        0.0,
-        grid,
-        {"abstol": 1e-12, "reltol": 1e-11},
-    )
-    start = model.initial_state(slew.target.q_initial_BN)
-    return model, np.array(integrator(x0=start)["xf"])[:, -1]
 
 
 @pytest.fixture(scope="module")
@@ -116,7 +96,7 @@ def test_bang_bang_integrates_to_target_at_rest(problem: Problem, options: dict)
     slew = bang_bang_slew(problem, "z", math.pi, check_vibration=False, **options)
     if "duration_s" in options:
         assert slew.duration_s == pytest.approx(options["duration_s"], rel=1e-9)
-    model, final = integrate_on_model(problem, slew)
+    model, final = final_state(problem, slew, [])
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-6
     assert np.linalg.norm(final[model.layout.omega]) < 1e-9
@@ -127,7 +107,7 @@ def test_bang_bang_between_any_attitudes(problem: Problem) -> None:
     end = np.array([0.2, -0.5, 0.4, 0.7])
     target = slew_between(start, end)
     slew = bang_bang_slew(problem, target=target, check_vibration=False)
-    model, final = integrate_on_model(problem, slew)
+    model, final = final_state(problem, slew, [])
     error = np.array(model.attitude_error(end / np.linalg.norm(end), final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-6
     assert np.linalg.norm(final[model.layout.omega]) < 1e-9
@@ -172,7 +152,7 @@ def test_fuel_optimal_uses_no_more_fuel_than_bang_bang(problem: Problem, paper_b
     slew = fuel_optimal_slew(problem, "z", math.pi, duration_s=PAPER_SLEW_DURATION_S)
     assert slew.duration_s == pytest.approx(PAPER_SLEW_DURATION_S)
     assert slew.fuel_kg <= paper_bang_bang.fuel_kg
-    model, final = integrate_on_model(problem, slew)
+    model, final = final_state(problem, slew, [])
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-5
 
@@ -189,7 +169,7 @@ def test_thruster_level_fuel_optimal_respects_engines(
     assert np.allclose(slew.thrust_N @ geometry.torque_map.T, slew.torque_Nm, atol=1e-12)
     # The least-fuel thrust of the bang-bang torque is one thrust history the OCP could pick.
     assert slew.fuel_kg <= paper_bang_bang.fuel_kg
-    model, final = integrate_on_model(problem, slew)
+    model, final = final_state(problem, slew, [])
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-5
 
@@ -207,7 +187,7 @@ def test_thruster_level_zero_net_force_at_a_torque_fraction(
     force = slew.thrust_N @ geometry.force_map.T
     assert np.abs(force).max() <= 1e-9 * limits.sum()
     assert slew.settings["delta_v_m_s"] < 1e-12
-    model, final = integrate_on_model(problem, slew)
+    model, final = final_state(problem, slew, [])
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-5
     # one more constraint cannot make it faster (both are local optima: 0.2 % slack)

@@ -10,7 +10,6 @@ import re
 from pathlib import Path
 from typing import Any
 
-import casadi as ca
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -19,28 +18,9 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.model import build_model
 from casadi_debris.plots.slew import plot_slew
 from casadi_debris.slew import fuel_optimal_slew, time_optimal_slew
-
-
-def final_state_on_flexible_model(problem: Problem, slew: Any) -> tuple[Any, np.ndarray]:
-    """State at the end of the slew, all array modes, restarting at every sample."""
-    model = build_model(problem, "all")
-    x = ca.SX.sym("x", model.layout.size)
-    t = ca.SX.sym("t")
-    ode = model.dynamics(x, slew.input_function(t), model.nominal_parameters)
-    grid = np.asarray(slew.time_s)
-    integrator = ca.integrator(
-        "flexible_check",
-        "cvodes",
-        {"x": x, "t": t, "ode": ode},
-        0.0,
-        grid,
-        {"abstol": 1e-13, "reltol": 1e-11, "max_num_steps": 500000},
-    )
-    start = model.initial_state(slew.target.q_initial_BN)
-    return model, np.array(integrator(x0=start)["xf"])[:, -1]
+from slew_reference import final_state
 
 
 def modal_energy(problem: Problem, model: Any, state: np.ndarray) -> float:
@@ -79,7 +59,7 @@ def test_flexible_ocp_meets_energy_limit_and_is_not_faster_than_rigid(
         slew.residual_energy_J, rel=1e-3
     )
     # our integrator and our energy
-    model, final = final_state_on_flexible_model(problem, slew)
+    model, final = final_state(problem, slew, "all")
     assert modal_energy(problem, model, final) <= limit
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-5
@@ -141,7 +121,7 @@ def test_flexible_fuel_optimal_meets_the_limit_for_about_the_rigid_fuel(
     # Not a strict bound either way: the constraint costs fuel, the window's finer grid
     # can save some. Both are small against the slew's fuel.
     assert slew.fuel_kg == pytest.approx(rigid.fuel_kg, rel=0.01)
-    model, final = final_state_on_flexible_model(problem, slew)
+    model, final = final_state(problem, slew, "all")
     assert modal_energy(problem, model, final) <= slew.settings["residual_energy_limit_J"]
 
 
