@@ -1,0 +1,91 @@
+"""Problem parameters: frozen dataclasses loaded from TOML and validated.
+
+A problem file holds every number of a scenario with its unit in the key name
+(``mass_kg``, ``omega_rad_s``). :func:`load_problem` reads one (default: the
+shipped ``problems/paper.toml``), checks every key and returns a
+:class:`Problem`. Nothing downstream reads a file.
+
+A problem file may start from another one with ``extends = "paper.toml"``
+(path relative to the file): its tables are merged key by key, arrays and
+scalars replaced whole.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> problem = load_problem()
+>>> problem.hub.mass_kg
+500.0
+
+Modules: :mod:`~casadi_debris.config.schema` (the frozen dataclasses),
+:mod:`~casadi_debris.config.table` (the typed table reader),
+:mod:`~casadi_debris.config.checks` (physical checks),
+:mod:`~casadi_debris.config.reader` (one reader per table, :func:`problem_from_dict`)
+and :mod:`~casadi_debris.config.loader` (files and ``extends``).
+"""
+
+from __future__ import annotations
+
+from casadi_debris.config.checks import TRIANGLE_TOLERANCE, check_inertia
+from casadi_debris.config.loader import default_controller_path, default_problem_path, load_problem
+from casadi_debris.config.reader import problem_from_dict
+from casadi_debris.config.schema import (
+    AXIS_NAMES,
+    DEFAULT_MONTECARLO,
+    DEFAULT_SIMULATION,
+    MODE_KINDS,
+    REFERENCE_KINDS,
+    SIGNED_AXES,
+    SLEW_METHODS,
+    Arrays,
+    Constants,
+    CubeSats,
+    Detumble,
+    Disturbance,
+    Engine,
+    FailureEvent,
+    Hub,
+    Mode,
+    MonteCarlo,
+    Orbit,
+    Problem,
+    Sensor,
+    Simulation,
+    SlewReference,
+    Transfer,
+    Uncertainty,
+    Weights,
+)
+
+__all__ = [
+    "AXIS_NAMES",
+    "DEFAULT_MONTECARLO",
+    "DEFAULT_SIMULATION",
+    "MODE_KINDS",
+    "REFERENCE_KINDS",
+    "SIGNED_AXES",
+    "SLEW_METHODS",
+    "TRIANGLE_TOLERANCE",
+    "Arrays",
+    "Constants",
+    "CubeSats",
+    "Detumble",
+    "Disturbance",
+    "Engine",
+    "FailureEvent",
+    "Hub",
+    "Mode",
+    "MonteCarlo",
+    "Orbit",
+    "Problem",
+    "Sensor",
+    "Simulation",
+    "SlewReference",
+    "Transfer",
+    "Uncertainty",
+    "Weights",
+    "check_inertia",
+    "default_controller_path",
+    "default_problem_path",
+    "load_problem",
+    "problem_from_dict",
+]
