@@ -14,8 +14,9 @@ from click.testing import CliRunner
 from scipy.integrate import solve_ivp
 
 from casadi_debris.cli import main
-from casadi_debris.config import default_problem_path, load_problem
+from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.model import build_model
+from casadi_debris.report.folders import MARKER_NAME
 
 PROBLEMS = default_problem_path().parent
 SIMULATE_KEYS = {
@@ -61,6 +62,7 @@ def test_simulate_json_has_the_issue_keys_and_writes_the_folder(
     assert len(summary["fuel_per_cubesat_kg"]) == 24
     assert summary["fuel_kg"] == pytest.approx(sum(summary["fuel_per_cubesat_kg"]))
     assert {p.name for p in out.iterdir()} == {
+        MARKER_NAME,
         "summary.json",
         "series.csv",
         "closed_loop.png",
@@ -199,21 +201,22 @@ def test_montecarlo_writes_cases_envelope_and_nominal(campaign: Path) -> None:
         for r in envelope
         for a in "xyz"
     )
-    assert widest == pytest.approx(worst, rel=1e-6)  # stored as float32
+    assert widest == pytest.approx(worst, rel=1e-12)
     assert (campaign / "nominal" / "summary.json").exists()
     assert (campaign / "envelope.png").exists()
     assert not campaign.with_name(campaign.name + ".partial").exists()
 
 
-def test_montecarlo_resumes_from_the_cases_on_disk(
+def test_montecarlo_resumes_from_the_cases_on_disk_bit_exact(
     short_slew: Path, campaign: Path, tmp_path: Path
 ) -> None:
     out = tmp_path / "resumed"
-    partial = tmp_path / "resumed.partial" / "cases"
-    partial.mkdir(parents=True)
+    partial = tmp_path / "resumed.partial"
+    (partial / "cases").mkdir(parents=True)
+    shutil.copy(campaign / "campaign.json", partial)
     for case_id in ("corner-0000", "corner-0255"):  # as if interrupted after two cases
         for suffix in (".json", ".npz"):
-            shutil.copy(campaign / "cases" / f"{case_id}{suffix}", partial)
+            shutil.copy(campaign / "cases" / f"{case_id}{suffix}", partial / "cases")
     code, stdout, _ = invoke(
         "montecarlo",
         str(short_slew),
@@ -227,7 +230,47 @@ def test_montecarlo_resumes_from_the_cases_on_disk(
     )
     assert code == 0
     assert json.loads(stdout)["resumed_cases"] == 2
-    assert _cases_table(out) == _cases_table(campaign)
+    for table in ("cases.csv", "envelope.csv"):
+        assert (out / table).read_bytes() == (campaign / table).read_bytes(), table
+    assert sorted(p.name for p in (out / "cases").iterdir()) == sorted(
+        p.name for p in (campaign / "cases").iterdir()
+    )
+    assert not partial.exists()
+
+
+@pytest.mark.parametrize(
+    ("change", "differs"),
+    [
+        (["--max-cases", "2"], "case list"),
+        (["--samples", "3", "--seed", "5"], "case_kind"),
+        (["--controller", "OTHER"], "controller file"),
+        (["PROBLEM"], "problem file"),
+    ],
+)
+def test_montecarlo_refuses_to_resume_another_campaign(
+    short_slew: Path, campaign: Path, tmp_path: Path, change: list[str], differs: str
+) -> None:
+    partial = tmp_path / "resumed.partial"
+    (partial / "cases").mkdir(parents=True)
+    shutil.copy(campaign / "campaign.json", partial)
+    shutil.copy(campaign / "cases" / "corner-0000.json", partial / "cases")
+    problem = short_slew
+    if "PROBLEM" in change:
+        problem = tmp_path / "other.toml"
+        problem.write_text(short_slew.read_text().replace("120.0", "121.0"))
+        change = ["--max-cases", "3"]
+    if "OTHER" in change:
+        other = tmp_path / "controller.json"
+        shipped = json.loads(default_controller_path().read_text())
+        other.write_text(json.dumps(shipped, indent=2))
+        change = ["--max-cases", "3", "--controller", str(other)]
+    before = sorted(p.name for p in partial.rglob("*"))
+    code, _, stderr = invoke(
+        "montecarlo", str(problem), *change, "--workers", "1", "--out", str(tmp_path / "resumed")
+    )
+    assert code == 2, stderr
+    assert "holds another campaign" in stderr and differs in stderr
+    assert sorted(p.name for p in partial.rglob("*")) == before
 
 
 def test_montecarlo_samples_are_reproducible(short_slew: Path, tmp_path: Path) -> None:

@@ -1,10 +1,8 @@
-"""Report helpers: tolerance checks against the paper, tables, atomic run folders."""
+"""Report helpers: tolerance checks against the paper, tables."""
 
 from __future__ import annotations
 
-import pytest
-
-from casadi_debris.report.common import atomic_run_folder, format_table, within_tolerance
+from casadi_debris.report.common import format_table, within_tolerance
 
 
 def test_within_tolerance_uses_design_table():
@@ -22,16 +20,3 @@ def test_format_table_aligns_columns():
     assert lines[0].startswith("a       value")
     assert set(lines[1]) <= {"-", " "}
     assert "1.235" in lines[2] and "[1, 2]" in lines[3]
-
-
-def test_atomic_run_folder_all_or_nothing(tmp_path):
-    target = tmp_path / "run"
-    with atomic_run_folder(target) as folder:
-        (folder / "summary.json").write_text("{}")
-        assert not target.exists()
-    assert (target / "summary.json").read_text() == "{}"
-    with pytest.raises(RuntimeError), atomic_run_folder(target) as folder:
-        (folder / "half.csv").write_text("t,")
-        raise RuntimeError("interrupted")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
-    assert (target / "summary.json").exists() and not (target / "half.csv").exists()

@@ -51,6 +51,12 @@ problem_argument = click.argument(
     metavar="[PROBLEM.toml]",
 )
 json_option = click.option("--json", "as_json", is_flag=True, help="Print JSON for scripts.")
+overwrite_option = click.option(
+    "--overwrite",
+    is_flag=True,
+    help="Replace an existing result written by casadi-debris (atomically); "
+    "without it an existing non-empty output is refused.",
+)
 
 
 def echo_json(payload: dict[str, Any]) -> None:

@@ -11,18 +11,24 @@ import click
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    overwrite_option,
+)
 from casadi_debris.cli.robust import load_controller
 from casadi_debris.config import SLEW_METHODS, Problem, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import build_model
 from casadi_debris.plots.simulation import plot_fuel_comparison
 from casadi_debris.report.common import (
-    atomic_run_folder,
     format_table,
     write_csv,
     write_json_atomic,
 )
+from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation import scenario_reference, simulate
 
 COLUMNS = (
@@ -115,6 +121,7 @@ def _cell(value: Any) -> str:
     default=Path("runs") / "compare",
     show_default=True,
 )
+@overwrite_option
 @json_option
 @friendly_errors
 def compare(
@@ -122,6 +129,7 @@ def compare(
     methods: str | None,
     controller_path: Path | None,
     out: Path,
+    overwrite: bool,
     as_json: bool,
 ) -> None:
     """Compare fuel budgets of problem variants (placements, failures, slew methods).
@@ -141,13 +149,14 @@ def compare(
             )
     problems = [load_problem(path) for path in problem_files]
     record, resolved = load_controller(controller_path)
+    check_output_folder(out, overwrite=overwrite)
     rows = []
     for label, problem in variants(problems, chosen_methods):
         if not as_json:
             click.echo(f"  {label} ...", err=True)
         rows.append(compare_row(label, problem, record.reduced))
     summary = {"controller_path": str(resolved), "variants": rows, "out_dir": str(out.resolve())}
-    with atomic_run_folder(out) as staging:
+    with RunFolder.claim(out, overwrite=overwrite, command="compare") as staging:
         columns = {key: np.array([row[key] for row in rows], dtype=object) for key, _ in COLUMNS}
         write_csv(staging / "comparison.csv", columns)
         (staging / "comparison.md").write_text(comparison_markdown(rows))

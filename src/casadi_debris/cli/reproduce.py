@@ -12,14 +12,21 @@ import click
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
-from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    overwrite_option,
+)
 from casadi_debris.cli.robust import load_controller
 from casadi_debris.cli.simulate import run_montecarlo
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.common import atomic_run_folder, format_table, write_json_atomic
+from casadi_debris.report.common import format_table, write_json_atomic
 from casadi_debris.report.describe import describe_model
+from casadi_debris.report.folders import RunFolder
 from casadi_debris.report.reproduce import report_markdown, reproduction_rows
 from casadi_debris.report.robust import margin_report
 from casadi_debris.report.simulation import torque_limits_mNm
@@ -46,9 +53,12 @@ QUICK = {
 @click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run (CI).")
 @click.option("--resynthesize", is_flag=True, help="Design the controller anew (≈1 min).")
 @click.option("--workers", type=int, default=os.cpu_count() or 1, show_default=True)
+@overwrite_option
 @json_option
 @friendly_errors
-def reproduce(out: Path, quick: bool, resynthesize: bool, workers: int, as_json: bool) -> None:
+def reproduce(
+    out: Path, quick: bool, resynthesize: bool, workers: int, overwrite: bool, as_json: bool
+) -> None:
     """Reproduce the paper: model, budgets, controller, margins, slew and pointing
     with their Monte-Carlo envelopes; writes report.md with every figure of the
     paper next to ours."""
@@ -70,7 +80,7 @@ def reproduce(out: Path, quick: bool, resynthesize: bool, workers: int, as_json:
         if not as_json:
             click.echo(text, err=True)
 
-    with atomic_run_folder(out) as staging:
+    with RunFolder.claim(out, overwrite=overwrite, command="reproduce") as staging:
         say("model and budgets ...")
         model_summary = describe_model(problem)
         budgets = budgets_as_dict(compute_budgets(problem))
@@ -91,6 +101,7 @@ def reproduce(out: Path, quick: bool, resynthesize: bool, workers: int, as_json:
             staging / "margins",
             True,
             None,
+            out_dir=out / "margins",
         )
         say("slew Monte Carlo ...")
         cases = {"corners": True, "samples": None, "seed": None}

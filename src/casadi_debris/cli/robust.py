@@ -12,11 +12,18 @@ from casadi_debris.cli.common import (
     friendly_errors,
     json_option,
     main,
+    overwrite_option,
     problem_argument,
 )
 from casadi_debris.config import default_controller_path, load_problem
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.report.common import format_table, write_json_atomic
+from casadi_debris.report.folders import (
+    RunFolder,
+    check_output_file,
+    check_output_folder,
+    default_run_folder,
+)
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
 
@@ -38,6 +45,7 @@ from casadi_debris.robust.design import SynthesisSettings, design_controller
 )
 @click.option("--samples", type=int, default=None, help="Models for the W fit [problem's].")
 @click.option("--seed", type=int, default=None, help="Seed of those models [problem's].")
+@overwrite_option
 @json_option
 @friendly_errors
 def synthesize(
@@ -48,6 +56,7 @@ def synthesize(
     d_orders: str,
     samples: int | None,
     seed: int | None,
+    overwrite: bool,
     as_json: bool,
 ) -> None:
     """mu-synthesis of the attitude controller (the paper's Section III), reduced and checked."""
@@ -65,6 +74,7 @@ def synthesize(
         )
     if samples is not None and samples < 1:
         raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
+    check_output_file(out_path, overwrite=overwrite)
     settings = SynthesisSettings(
         samples=samples,
         seed=seed,
@@ -134,6 +144,7 @@ def load_controller(path: Path | None) -> tuple[ControllerRecord, Path]:
     help="Folder for summary.json and the plots [runs/margins-<problem>].",
 )
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
+@overwrite_option
 @json_option
 @friendly_errors
 def margins(
@@ -143,6 +154,7 @@ def margins(
     seed: int | None,
     out_dir: Path | None,
     no_plots: bool,
+    overwrite: bool,
     as_json: bool,
 ) -> None:
     """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
@@ -152,7 +164,8 @@ def margins(
     record, path = load_controller(controller_path)
     if samples < 1:
         raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
-    folder = out_dir or Path("runs") / f"margins-{problem.name}"
+    folder = out_dir or default_run_folder("margins", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     if record.problem_sha256 and record.problem_sha256 != problem.sha256:
         click.echo(
             f"note: {path.name} was designed for another problem file "
@@ -163,7 +176,10 @@ def margins(
     def progress(done: int, total: int) -> None:
         click.echo(f"  {done}/{total} sampled plants", err=True)
 
-    summary = margin_report(problem, record, path, samples, seed, folder, not no_plots, progress)
+    with RunFolder.claim(folder, overwrite=overwrite, command="margins") as staging:
+        summary = margin_report(
+            problem, record, path, samples, seed, staging, not no_plots, progress, out_dir=folder
+        )
     if as_json:
         echo_json(summary)
         return

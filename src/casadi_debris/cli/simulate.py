@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import csv
+import hashlib
 import os
-import shutil
+import sys
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -13,24 +14,33 @@ import click
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    overwrite_option,
+    problem_argument,
+)
 from casadi_debris.cli.robust import load_controller
 from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import Model, build_model
+from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.common import (
-    atomic_run_folder,
     format_table,
     write_csv,
     write_json_atomic,
 )
+from casadi_debris.report.folders import (
+    RunFolder,
+    check_output_folder,
+    default_run_folder,
+)
 from casadi_debris.report.simulation import (
     campaign_summary,
-    finished_cases,
-    partial_folder,
     torque_limits_mNm,
     write_campaign,
-    write_case,
     write_run,
 )
 from casadi_debris.simulation import (
@@ -52,6 +62,7 @@ from casadi_debris.simulation import (
 from casadi_debris.simulation.closed_loop import c_compiler
 
 NM_PER_MNM = 1e-3
+EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
 NOMINAL_KEYS = (
     "fuel_slew_kg",
     "max_error_deg",
@@ -149,6 +160,7 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
 @click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNGs.")
+@overwrite_option
 @json_option
 @friendly_errors
 def simulate(
@@ -162,6 +174,7 @@ def simulate(
     controller_path: Path | None,
     out: Path | None,
     no_plots: bool,
+    overwrite: bool,
     as_json: bool,
 ) -> None:
     """One closed-loop run: flexible model, star tracker, mu controller, allocator, engines.
@@ -171,10 +184,12 @@ def simulate(
     series.csv, closed_loop.png and thrust.png to --out.
     """
     problem = load_problem(problem_file)
+    if out is not None:
+        check_output_folder(out, overwrite=overwrite)
     if open_loop is not None or rigid:
         if open_loop is None or not rigid:
             raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
-        _open_loop(problem, open_loop, duration_s, out, as_json)
+        _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
     if duration_s is not None:
         if not duration_s > 0:
@@ -190,8 +205,8 @@ def simulate(
     )
     summary = run_summary(problem, case, result, resolved)
     if out is not None:
-        with atomic_run_folder(out) as staging:
-            summary["out_dir"] = str(out.resolve())
+        with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
+            summary["out_dir"] = str(out.absolute())
             write_run(
                 staging,
                 result,
@@ -212,7 +227,12 @@ def _with_duration(problem: Problem, duration_s: float) -> Problem:
 
 
 def _open_loop(
-    problem: Problem, table: Path, duration_s: float | None, out: Path | None, as_json: bool
+    problem: Problem,
+    table: Path,
+    duration_s: float | None,
+    out: Path | None,
+    overwrite: bool,
+    as_json: bool,
 ) -> None:
     times, torque = read_torque_table(table)
     result = open_loop_rigid(problem, times, torque, duration_s)
@@ -231,8 +251,8 @@ def _open_loop(
     for i, axis in enumerate("xyz"):
         columns[f"tau_{axis}_mNm"] = result.torque_Nm[:, i] * 1e3
     if out is not None:
-        with atomic_run_folder(out) as staging:
-            summary["out_dir"] = str(out.resolve())
+        with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
+            summary["out_dir"] = str(out.absolute())
             write_csv(staging / "series.csv", columns)
             write_json_atomic(staging / "summary.json", summary)
     if as_json:
@@ -280,52 +300,83 @@ def run_montecarlo(
     out: Path,
     progress: bool = True,
     jit: bool = True,
+    overwrite: bool = False,
 ) -> dict[str, Any]:
     """A whole campaign into ``out`` (resuming from ``out.partial``); returns its summary."""
+    check_output_folder(out, overwrite=overwrite)
     record, resolved = load_controller(controller_path)
     model = build_model(problem)
     cases = select_cases(problem, model, **cases_spec)
     reference = scenario_reference(problem)
     setup = CampaignSetup.create(problem, record.reduced, reference, jit=jit)
-    partial = partial_folder(out.resolve())
-    partial.mkdir(parents=True, exist_ok=True)
-    done = finished_cases(partial, cases)
-    todo = [c for c in cases if c.case_id not in done]
-    label = f"{problem.name}: {len(cases)} cases ({len(done)} on disk)"
-    with click.progressbar(length=len(todo), label=label, hidden=not progress) as bar:
-
-        def finished(outcome: Any) -> None:
-            write_case(partial, outcome)
-            done[outcome.case.case_id] = outcome
-            bar.update(1)
-
-        run_campaign(setup, todo, workers=workers, scheduler=scheduler, on_result=finished)
-    outcomes = [done[c.case_id] for c in cases]
-    allocator = Allocator.from_problem(problem, model.geometry)
-    nominal = run_simulation(problem, model, record.reduced, reference, allocator=allocator)
-    nominal_summary = run_summary(problem, nominal_case(model), nominal, resolved)
-    summary = campaign_summary(
-        problem,
-        setup,
-        outcomes,
-        {
-            "controller_path": str(resolved),
-            "case_kind": "sample" if cases_spec.get("samples") else "corner",
-            "seed": cases[0].seed,
-            "workers": workers,
-            "scheduler": scheduler,
-            "resumed_cases": len(cases) - len(todo),
-            "compiled_step": bool(jit and c_compiler()),
-            "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
-            "out_dir": str(out.resolve()),
-        },
+    identity = CampaignRecord(
+        problem_name=problem.name,
+        problem_sha256=problem.sha256,
+        controller_sha256=hashlib.sha256(resolved.read_bytes()).hexdigest(),
+        case_kind=cases[0].kind,
+        seed=cases[0].seed,
+        case_ids=tuple(c.case_id for c in cases),
+        envelope_bin_s=setup.bin_s,
     )
-    limits = torque_limits_mNm(allocator)
-    write_campaign(partial, problem, setup, outcomes, nominal, nominal_summary, limits, summary)
-    if out.exists():
-        shutil.rmtree(out)
-    partial.rename(out)
+    with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
+        done = folder.finished_cases(cases)
+        todo = [c for c in cases if c.case_id not in done]
+        label = f"{problem.name}: {len(cases)} cases ({len(done)} on disk)"
+        with click.progressbar(length=len(todo), label=label, hidden=not progress) as bar:
+
+            def finished(outcome: Any) -> None:
+                folder.write_case(outcome)
+                done[outcome.case.case_id] = outcome
+                bar.update(1)
+
+            try:
+                run_campaign(
+                    setup,
+                    todo,
+                    workers=workers,
+                    scheduler=scheduler,
+                    on_result=finished,
+                    build_folder=folder.build_folder,
+                )
+            except KeyboardInterrupt:
+                raise CampaignInterrupted(len(done), len(cases), folder.partial) from None
+        outcomes = [done[c.case_id] for c in cases]
+        allocator = Allocator.from_problem(problem, model.geometry)
+        nominal = run_simulation(problem, model, record.reduced, reference, allocator=allocator)
+        nominal_summary = run_summary(problem, nominal_case(model), nominal, resolved)
+        summary = campaign_summary(
+            problem,
+            setup,
+            outcomes,
+            {
+                "controller_path": str(resolved),
+                "controller_sha256": identity.controller_sha256,
+                "case_kind": identity.case_kind,
+                "seed": identity.seed,
+                "workers": workers,
+                "scheduler": scheduler,
+                "resumed_cases": len(cases) - len(todo),
+                "compiled_step": bool(jit and c_compiler()),
+                "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
+                "out_dir": str(out.absolute()),
+            },
+        )
+        limits = torque_limits_mNm(allocator)
+        write_campaign(
+            folder.partial, problem, setup, outcomes, nominal, nominal_summary, limits, summary
+        )
+        folder.finish()
     return summary
+
+
+class CampaignInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a campaign: the finished cases are on disk for a resume."""
+
+    def __init__(self, done: int, total: int, partial: Path) -> None:
+        super().__init__(
+            f"interrupted: {done} of {total} cases are kept in {partial}; "
+            "run the same command again to resume"
+        )
 
 
 @main.command()
@@ -349,6 +400,7 @@ def run_montecarlo(
     type=click.Path(path_type=Path, file_okay=False),
     help="Campaign folder (default runs/montecarlo-<problem>).",
 )
+@overwrite_option
 @json_option
 @friendly_errors
 def montecarlo(
@@ -362,6 +414,7 @@ def montecarlo(
     controller_path: Path | None,
     no_jit: bool,
     out: Path | None,
+    overwrite: bool,
     as_json: bool,
 ) -> None:
     """Closed-loop Monte Carlo: all corners (the paper's 256) or seeded random samples.
@@ -374,17 +427,22 @@ def montecarlo(
     problem = load_problem(problem_file)
     if workers < 1:
         raise InputShapeError(f"--workers must be at least 1, got {workers}")
-    out = out or Path("runs") / f"montecarlo-{problem.name}"
-    summary = run_montecarlo(
-        problem,
-        controller_path,
-        {"corners": corners, "samples": samples, "seed": seed, "max_cases": max_cases},
-        workers,
-        scheduler,
-        out,
-        progress=not as_json,
-        jit=not no_jit,
-    )
+    out = out or default_run_folder("montecarlo", problem.name)
+    try:
+        summary = run_montecarlo(
+            problem,
+            controller_path,
+            {"corners": corners, "samples": samples, "seed": seed, "max_cases": max_cases},
+            workers,
+            scheduler,
+            out,
+            progress=not as_json,
+            jit=not no_jit,
+            overwrite=overwrite,
+        )
+    except CampaignInterrupted as interrupted:
+        click.echo(str(interrupted), err=True)
+        sys.exit(EXIT_INTERRUPTED)
     if as_json:
         echo_json(summary)
         return

@@ -10,16 +10,23 @@ from typing import Any
 import click
 import numpy as np
 
-from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    overwrite_option,
+    problem_argument,
+)
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.plots.slew import plot_slew
 from casadi_debris.report.common import (
-    atomic_run_folder,
     format_table,
     json_ready,
     write_csv,
 )
+from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.slew import (
     SlewProfile,
     bang_bang_slew,
@@ -122,6 +129,7 @@ def summary_text(summary: dict[str, Any]) -> str:
 )
 @click.option("--sample-s", type=float, default=1.0, show_default=True, help="Output spacing.")
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
+@overwrite_option
 @json_option
 @friendly_errors
 def slew(
@@ -139,6 +147,7 @@ def slew(
     zero_net_force: bool,
     sample_s: float,
     out: Path | None,
+    overwrite: bool,
     as_json: bool,
 ) -> None:
     """Slew reference profile: the paper's bang-bang or a CasADi time/fuel-optimal slew.
@@ -146,6 +155,8 @@ def slew(
     Writes profile.csv, slew.png and summary.json to --out, prints the summary.
     """
     problem = load_problem(problem_file)
+    if out is not None:
+        check_output_folder(out, overwrite=overwrite)
     target = slew_about_axis(axis, math.radians(angle_deg))
     if method == "bang-bang":
         if flexible or thrusters or zero_net_force:
@@ -181,7 +192,7 @@ def slew(
             profile = fuel_optimal_slew(problem, duration_s=duration_s, **common)
     summary = summary_for_output(profile, problem.name)
     if out is not None:
-        with atomic_run_folder(out) as folder:
+        with RunFolder.claim(out, overwrite=overwrite, command="slew") as folder:
             (folder / "summary.json").write_text(json.dumps(json_ready(summary), indent=2))
             write_profile_csv(profile, folder / "profile.csv", thrusters)
             plot_slew(profile, folder / "slew.png", thrust=thrusters)

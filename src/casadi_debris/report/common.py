@@ -2,18 +2,17 @@
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
 import math
 import os
-import shutil
-import tempfile
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from casadi_debris.report.folders import temporary_path
 
 MN_PER_N = 1e3
 
@@ -89,32 +88,6 @@ def json_ready(value: Any) -> Any:
     return value
 
 
-@contextlib.contextmanager
-def atomic_run_folder(path: str | Path) -> Iterator[Path]:
-    """Write a results folder all-or-nothing.
-
-    Yields a temporary folder beside ``path``; when the block ends without an
-    error it replaces ``path`` (an existing folder of that name is removed
-    first); on an error it is deleted and ``path`` is left as it was.
-
-    Example
-    -------
-    >>> with atomic_run_folder("runs/slew") as folder:  # doctest: +SKIP
-    ...     (folder / "summary.json").write_text("{}")
-    """
-    target = Path(path).resolve()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{target.name}.", dir=target.parent))
-    try:
-        yield staging
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
-    if target.exists():
-        shutil.rmtree(target)
-    staging.rename(target)
-
-
 def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
     """Columns of equal length as CSV, names in the header."""
     with path.open("w", newline="") as handle:
@@ -128,13 +101,13 @@ def write_json_atomic(path: str | Path, payload: dict[str, Any]) -> Path:
     """Write JSON so that ``path`` holds either the old file or the whole new one."""
     target = Path(path).resolve()
     target.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{target.name}.", dir=target.parent)
+    temporary = temporary_path(target, "tmp")
     try:
-        with os.fdopen(handle, "w") as stream:
+        with temporary.open("x") as stream:
             json.dump(json_ready(payload), stream, indent=1)
             stream.write("\n")
         os.replace(temporary, target)
     except BaseException:
-        Path(temporary).unlink(missing_ok=True)
+        temporary.unlink(missing_ok=True)
         raise
     return target

@@ -11,7 +11,7 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.model import build_model, linearize
 from casadi_debris.plots import robust as robust_plots
-from casadi_debris.report.common import atomic_run_folder, json_ready
+from casadi_debris.report.common import json_ready
 from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margin_study, margins_table
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import weight_fit_grid
@@ -51,8 +51,13 @@ def margin_report(
     folder: Path,
     with_plots: bool = True,
     progress: Any = None,
+    out_dir: Path | None = None,
 ) -> dict[str, Any]:
-    """Margins of a controller record, written as a run folder (summary.json, CSV, PNGs).
+    """Margins of a controller record, written into ``folder`` (summary.json, CSV, PNGs).
+
+    ``folder`` is a staging folder the caller owns (see
+    :class:`~casadi_debris.report.folders.RunFolder`); ``out_dir`` is where it
+    will end up, recorded in the summary (default ``folder``).
 
     Returns the summary (``nominal`` and ``sampled_min`` each with
     ``gain_margin_db``, ``phase_margin_deg``, ``delay_margin_s``; ``per_channel``,
@@ -83,21 +88,20 @@ def margin_report(
         "time_s": study.time_s,
         "required": REQUIRED_MARGINS,
         "paper": PAPER_MARGINS,
-        "out_dir": str(Path(folder).resolve()),
+        "out_dir": str(Path(out_dir or folder).absolute()),
     }
-    with atomic_run_folder(folder) as staging:
-        (staging / "summary.json").write_text(json.dumps(json_ready(summary), indent=1) + "\n")
-        header = "sample," + ",".join(
-            f"{q}_{a}"
-            for a in "xyz"
-            for q in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
-        )
-        rows = np.column_stack(
-            [np.arange(len(study.sampled)), study.sampled.reshape(len(study.sampled), 9)]
-        )
-        np.savetxt(staging / "sampled_margins.csv", rows, delimiter=",", header=header, comments="")
-        if with_plots:
-            _margin_figures(problem, record, study, staging)
+    staging = Path(folder)
+    staging.mkdir(parents=True, exist_ok=True)
+    (staging / "summary.json").write_text(json.dumps(json_ready(summary), indent=1) + "\n")
+    header = "sample," + ",".join(
+        f"{q}_{a}" for a in "xyz" for q in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
+    )
+    rows = np.column_stack(
+        [np.arange(len(study.sampled)), study.sampled.reshape(len(study.sampled), 9)]
+    )
+    np.savetxt(staging / "sampled_margins.csv", rows, delimiter=",", header=header, comments="")
+    if with_plots:
+        _margin_figures(problem, record, study, staging)
     return summary
 
 

@@ -6,19 +6,14 @@ column names), ``closed_loop.png`` and ``thrust.png``.
 A campaign: ``summary.json`` (worst case of every figure, counts, seed),
 ``cases.csv`` (one row per case), ``envelope.csv``, ``nominal/`` (the
 nominal run), ``envelope.png``, and ``cases/<id>.json`` + ``cases/<id>.npz``
-per case. While it runs the campaign lives in ``<out>.partial/``, each case
-written whole as it finishes; an interrupted campaign started again with
-the same folder picks up the cases found there. When every case is in, the
-folder is renamed to ``<out>``.
+per case (written as they finish, see
+:mod:`casadi_debris.report.campaign_folder`).
 """
 
 from __future__ import annotations
 
 import csv
-import json
 import math
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
@@ -28,14 +23,13 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
 from casadi_debris.report.common import json_ready, write_csv, write_json_atomic
-from casadi_debris.simulation import CampaignSetup, Case, CaseOutcome, ClosedLoopResult, Envelope
+from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
 
 DEG_PER_RAD = 180.0 / math.pi
 MNM_PER_NM = 1e3
 MN_PER_N = 1e3
 POINTING_REQUIREMENT_ARCSEC = 60.0
-PARTIAL_SUFFIX = ".partial"
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
@@ -107,43 +101,6 @@ def write_run(
 
 
 # ----------------------------------------------------------------------------- campaigns
-
-
-def partial_folder(out: Path) -> Path:
-    return out.with_name(out.name + PARTIAL_SUFFIX)
-
-
-def write_case(folder: Path, outcome: CaseOutcome) -> None:
-    """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
-    cases = folder / "cases"
-    cases.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=".", suffix=".npz", dir=cases)
-    os.close(handle)
-    try:
-        np.savez_compressed(temporary, bands=outcome.bands.astype(np.float32))
-        os.replace(temporary, cases / f"{outcome.case.case_id}.npz")
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise
-    write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
-
-
-def finished_cases(folder: Path, cases: list[Case]) -> dict[str, CaseOutcome]:
-    """Cases of ``cases`` already written in ``folder`` (both files present and readable)."""
-    found: dict[str, CaseOutcome] = {}
-    for case in cases:
-        summary_path = folder / "cases" / f"{case.case_id}.json"
-        bands_path = folder / "cases" / f"{case.case_id}.npz"
-        if not (summary_path.exists() and bands_path.exists()):
-            continue
-        try:
-            summary = json.loads(summary_path.read_text())
-            with np.load(bands_path) as data:
-                bands = np.asarray(data["bands"], dtype=float)
-        except (OSError, ValueError, KeyError):
-            continue  # a damaged case is simply run again
-        found[case.case_id] = CaseOutcome(case, summary, bands)
-    return found
 
 
 CASE_COLUMNS = (

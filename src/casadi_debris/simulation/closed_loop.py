@@ -352,13 +352,17 @@ def _compiled(
 
 
 def _jit_folder() -> Path:
-    """A private temporary folder for the generated C and libraries, removed at exit.
+    """The folder for the generated C and libraries.
 
-    Worker processes (which leave without running exit handlers) get theirs
-    from the parent through ``JIT_FOLDER_ENV``; the parent removes it.
+    A campaign names it through ``JIT_FOLDER_ENV`` (inherited by its worker
+    processes, which leave without running exit handlers) and removes it;
+    otherwise a private temporary folder, removed at exit.
     """
-    if "folder" not in _JIT_FOLDER and os.environ.get(JIT_FOLDER_ENV):
-        _JIT_FOLDER["folder"] = Path(os.environ[JIT_FOLDER_ENV])
+    given = os.environ.get(JIT_FOLDER_ENV)
+    if given:
+        folder = Path(given)
+        folder.mkdir(parents=True, exist_ok=True)
+        return folder
     if "folder" not in _JIT_FOLDER:
         folder = Path(tempfile.mkdtemp(prefix="casadi_debris_jit_"))
         atexit.register(_remove_jit_folder, folder)

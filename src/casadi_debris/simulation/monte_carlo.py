@@ -16,12 +16,19 @@ writes files.
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import ctypes.util
 import math
 import os
+import signal
 import tempfile
+import threading
+import time
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import control
@@ -169,9 +176,38 @@ def run_case(setup: CampaignSetup, case: Case) -> CaseOutcome:
 
 
 _SETUP: dict[str, CampaignSetup] = {}
+_PARENT_WATCH_S = 1.0
+_PR_SET_PDEATHSIG = 1
 
 
-def _init_process(setup: CampaignSetup) -> None:
+def _die_with_parent(parent_pid: int) -> None:
+    """Make this worker end when the campaign's process ends, however it ends.
+
+    A killed parent (SIGKILL included) cannot stop its workers itself: on
+    Linux the kernel sends them SIGKILL (``prctl(PR_SET_PDEATHSIG)``); a
+    watcher thread covers other systems by checking the parent's id.
+    """
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent_pid:  # the parent died before the line above
+        os._exit(1)
+
+    def watch() -> None:
+        while True:
+            time.sleep(_PARENT_WATCH_S)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
+
+
+def _init_process(setup: CampaignSetup, parent_pid: int) -> None:
+    # Ctrl-C goes to the whole process group; the parent alone decides what to do.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    _die_with_parent(parent_pid)
     _SETUP["setup"] = setup
 
 
@@ -186,6 +222,7 @@ def run_campaign(
     workers: int = 1,
     scheduler: str | None = None,
     on_result: Callable[[CaseOutcome], None] | None = None,
+    build_folder: Path | None = None,
 ) -> list[CaseOutcome]:
     """Run cases, in parallel, calling ``on_result`` as each finishes.
 
@@ -200,6 +237,9 @@ def run_campaign(
         ``distributed`` package (``pip install 'casadi_debris[dask]'``).
     on_result : callable, optional
         Called with each :class:`CaseOutcome` in completion order.
+    build_folder : Path, optional
+        Where the compiled control steps go (default: a private temporary
+        folder, removed at the end). The caller removes a folder it gives.
 
     Returns
     -------
@@ -209,42 +249,64 @@ def run_campaign(
     cases = list(cases)
     if workers < 1:
         raise SimulationError(f"workers must be at least 1, got {workers}")
-    if scheduler is not None:
-        finished = _dask_outcomes(setup, cases, scheduler)
-    elif workers == 1 or len(cases) <= 1:
-        finished = (run_case(setup, case) for case in cases)
-    else:
-        finished = _process_outcomes(setup, cases, min(workers, len(cases)))
-    by_id: dict[str, CaseOutcome] = {}
-    for outcome in finished:
-        by_id[outcome.case.case_id] = outcome
-        if on_result is not None:
-            on_result(outcome)
+    with _build_folder(build_folder) as folder:
+        if scheduler is not None:
+            finished = _dask_outcomes(setup, cases, scheduler)
+        elif workers == 1 or len(cases) <= 1:
+            finished = (run_case(setup, case) for case in cases)
+        else:
+            finished = _process_outcomes(setup, cases, min(workers, len(cases)), folder)
+        by_id: dict[str, CaseOutcome] = {}
+        for outcome in finished:
+            by_id[outcome.case.case_id] = outcome
+            if on_result is not None:
+                on_result(outcome)
     return [by_id[case.case_id] for case in cases]
 
 
-def _process_outcomes(
-    setup: CampaignSetup, cases: list[Case], workers: int
-) -> Iterator[CaseOutcome]:
-    # One thread per process: CasADi and BLAS would otherwise compete for the cores.
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
-    with tempfile.TemporaryDirectory(prefix="casadi_debris_jit_") as jit_folder:
+@contextlib.contextmanager
+def _build_folder(given: Path | None) -> Iterator[Path]:
+    """The JIT folder of this campaign, announced to this process and its workers."""
+    with contextlib.ExitStack() as stack:
+        if given is None:
+            folder = Path(
+                stack.enter_context(tempfile.TemporaryDirectory(prefix="casadi_debris_jit_"))
+            )
+        else:
+            folder = Path(given)
+            folder.mkdir(parents=True, exist_ok=True)
         previous = os.environ.get(JIT_FOLDER_ENV)
-        os.environ[JIT_FOLDER_ENV] = jit_folder  # the workers' compiled steps go here
+        os.environ[JIT_FOLDER_ENV] = str(folder)
         try:
-            with ProcessPoolExecutor(
-                max_workers=workers, initializer=_init_process, initargs=(setup,)
-            ) as pool:
-                pending = {pool.submit(_run_in_process, case) for case in cases}
-                while pending:
-                    done, pending = wait(pending, return_when=FIRST_COMPLETED)
-                    for future in done:
-                        yield future.result()
+            yield folder
         finally:
             if previous is None:
                 os.environ.pop(JIT_FOLDER_ENV, None)
             else:
                 os.environ[JIT_FOLDER_ENV] = previous
+
+
+def _process_outcomes(
+    setup: CampaignSetup, cases: list[Case], workers: int, build_folder: Path
+) -> Iterator[CaseOutcome]:
+    # One thread per process: CasADi and BLAS would otherwise compete for the cores.
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    pool = ProcessPoolExecutor(
+        max_workers=workers, initializer=_init_process, initargs=(setup, os.getpid())
+    )
+    try:
+        pending = {pool.submit(_run_in_process, case) for case in cases}
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                yield future.result()
+    except BaseException:
+        # Interrupted (Ctrl-C) or failed: stop the cases under way instead of waiting.
+        for process in list(getattr(pool, "_processes", {}).values()):
+            process.kill()
+        pool.shutdown(wait=True, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True)
 
 
 def _dask_outcomes(

@@ -1,0 +1,263 @@
+"""The folder a Monte-Carlo campaign is written into, case by case, and resumed from.
+
+While it runs, a campaign lives in ``<out>.partial/``:
+
+- ``campaign.json``: what the campaign is (problem and controller hashes, case
+  kind, seed, the case list, envelope bins, toolkit version). A resume with
+  anything different is refused with a line that says what differs.
+- ``.lock``: the id of the process writing the folder; a second campaign on
+  the same folder is refused while that process lives.
+- ``cases/<id>.npz`` (bands, float64, so that a resumed campaign is bit-exact)
+  then ``cases/<id>.json`` (the summary, written last: the marker of a whole case).
+- ``.jit/``: the compiled control step of every worker, removed at the end.
+
+When every case is in, the tables are written and the folder is moved to
+``<out>`` (see :func:`~casadi_debris.report.folders.move_into_place`).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+import numpy as np
+
+from casadi_debris import __version__
+from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report.folders import (
+    OutputError,
+    check_output_folder,
+    clean_stale_folder,
+    move_into_place,
+    process_alive,
+    temporary_path,
+    write_marker,
+)
+from casadi_debris.simulation import Case, CaseOutcome
+
+PARTIAL_SUFFIX = ".partial"
+RECORD_NAME = "campaign.json"
+LOCK_NAME = ".lock"
+BUILD_FOLDER_NAME = ".jit"
+
+
+def partial_folder(out: Path) -> Path:
+    """Where the campaign for ``out`` is written while it runs."""
+    return out.with_name(out.name + PARTIAL_SUFFIX)
+
+
+@dataclass(frozen=True)
+class CampaignRecord:
+    """What identifies a campaign: a resume must match every field.
+
+    Attributes
+    ----------
+    problem_name : str
+    problem_sha256 : str
+        Hash of the problem file's bytes (and the files it extends).
+    controller_sha256 : str
+        Hash of the controller file's bytes.
+    case_kind : str
+        ``"corner"`` or ``"sample"``.
+    seed : int or None
+        Seed of sampled cases.
+    case_ids : tuple of str
+        Every case of the campaign, in order.
+    envelope_bin_s : float
+        Width of the envelope's time bins [s].
+    toolkit_version : str
+    """
+
+    problem_name: str
+    problem_sha256: str
+    controller_sha256: str
+    case_kind: str
+    seed: int | None
+    case_ids: tuple[str, ...]
+    envelope_bin_s: float
+    toolkit_version: str = __version__
+
+    def to_dict(self) -> dict[str, Any]:
+        return {**asdict(self), "case_ids": list(self.case_ids)}
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> CampaignRecord:
+        return cls(**{**data, "case_ids": tuple(data["case_ids"])})
+
+    def differences(self, other: CampaignRecord) -> list[str]:
+        """Human-readable fields in which ``other`` differs from this record."""
+        found = []
+        for name, mine in self.to_dict().items():
+            theirs = other.to_dict()[name]
+            if mine == theirs:
+                continue
+            if name == "case_ids":
+                found.append(f"case list ({len(theirs)} cases there, {len(mine)} here)")
+            elif name.endswith("sha256"):
+                found.append(f"{name.removesuffix('_sha256')} file (sha256 {theirs[:12]}...)")
+            else:
+                found.append(f"{name} ({theirs} there, {mine} here)")
+        return found
+
+
+def _lock(folder: Path, option: str) -> None:
+    lock = folder / LOCK_NAME
+    for _ in range(2):
+        try:
+            handle = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            text = lock.read_text().strip() if lock.exists() else ""
+            owner = int(text) if text.isdigit() else None
+            if owner is not None and owner != os.getpid() and process_alive(owner):
+                raise OutputError(
+                    f"{option}: {folder} is in use by process {owner} (another campaign); "
+                    f"wait for it, or remove {lock} if that process is not a casadi-debris run"
+                ) from None
+            lock.unlink(missing_ok=True)  # left by a run that was killed
+            continue
+        with os.fdopen(handle, "w") as stream:
+            stream.write(f"{os.getpid()}\n")
+        return
+    raise OutputError(f"{option}: cannot take the lock {lock}")
+
+
+class CampaignFolder:
+    """A campaign's ``<out>.partial`` folder: locked, checked against its record, resumable.
+
+    Use :meth:`open` before any work; it is a context manager that releases
+    the lock when the block ends (the folder itself stays for a resume unless
+    :meth:`finish` moved it into place).
+    """
+
+    def __init__(self, out: Path, partial: Path, overwrite: bool) -> None:
+        self.out = out
+        self.partial = partial
+        self.overwrite = overwrite
+
+    @classmethod
+    def open(
+        cls,
+        out: str | Path,
+        record: CampaignRecord,
+        *,
+        overwrite: bool = False,
+        option: str = "--out",
+        expected_bytes: int | None = None,
+    ) -> CampaignFolder:
+        """Check ``out``, lock ``<out>.partial`` and check (or write) its record.
+
+        Raises
+        ------
+        OutputError
+            ``out`` cannot be written (see
+            :func:`~casadi_debris.report.folders.check_output_folder`), the
+            partial folder is in use, or it holds another campaign.
+        """
+        target = check_output_folder(
+            out, overwrite=overwrite, option=option, expected_bytes=expected_bytes
+        )
+        partial = partial_folder(target)
+        if partial.exists() and not partial.is_dir():
+            raise OutputError(f"{option}: {partial} exists and is not a folder")
+        partial.mkdir(parents=True, exist_ok=True)
+        _lock(partial, option)
+        folder = cls(target, partial, overwrite)
+        try:
+            folder._check_record(record, option)
+        except BaseException:
+            folder.release()
+            raise
+        folder._clean()
+        return folder
+
+    def _check_record(self, record: CampaignRecord, option: str) -> None:
+        path = self.partial / RECORD_NAME
+        if not path.exists():
+            if (self.partial / "cases").exists():
+                raise OutputError(
+                    f"{option}: {self.partial} holds cases but no {RECORD_NAME}; "
+                    "it cannot be checked, remove it to start afresh"
+                )
+            write_json_atomic(path, record.to_dict())
+            return
+        try:
+            found = CampaignRecord.from_dict(json.loads(path.read_text()))
+        except (OSError, ValueError, TypeError, KeyError) as exc:
+            raise OutputError(f"{option}: {path} is damaged ({exc}); remove the folder") from None
+        differences = record.differences(found)
+        if differences:
+            raise OutputError(
+                f"{option}: {self.partial} holds another campaign (differs in "
+                f"{'; '.join(differences)}); resume with the same inputs, or choose another --out"
+            )
+
+    def _clean(self) -> None:
+        shutil.rmtree(self.build_folder, ignore_errors=True)
+        clean_stale_folder(self.partial / "cases")
+
+    @property
+    def build_folder(self) -> Path:
+        """Where the workers compile the control step."""
+        return self.partial / BUILD_FOLDER_NAME
+
+    def write_case(self, outcome: CaseOutcome) -> None:
+        """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
+        cases = self.partial / "cases"
+        cases.mkdir(exist_ok=True)
+        target = cases / f"{outcome.case.case_id}.npz"
+        temporary = temporary_path(target, "tmp")
+        try:
+            with temporary.open("xb") as stream:
+                np.savez_compressed(stream, bands=np.asarray(outcome.bands, dtype=np.float64))
+            os.replace(temporary, target)
+        except BaseException:
+            temporary.unlink(missing_ok=True)
+            raise
+        write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
+
+    def finished_cases(self, cases: list[Case]) -> dict[str, CaseOutcome]:
+        """Cases of ``cases`` already written (both files present and readable)."""
+        found: dict[str, CaseOutcome] = {}
+        for case in cases:
+            summary_path = self.partial / "cases" / f"{case.case_id}.json"
+            bands_path = self.partial / "cases" / f"{case.case_id}.npz"
+            if not (summary_path.exists() and bands_path.exists()):
+                continue
+            try:
+                summary = json.loads(summary_path.read_text())
+                with np.load(bands_path) as data:
+                    bands = np.asarray(data["bands"], dtype=np.float64)
+            except (OSError, ValueError, KeyError):
+                continue  # a damaged case is simply run again
+            found[case.case_id] = CaseOutcome(case, summary, bands)
+        return found
+
+    def finish(self, command: str = "montecarlo") -> Path:
+        """Move the complete campaign to ``out`` (replacing an old one only with overwrite)."""
+        shutil.rmtree(self.build_folder, ignore_errors=True)
+        (self.partial / LOCK_NAME).unlink(missing_ok=True)
+        write_marker(self.partial, command)
+        return move_into_place(self.partial, self.out, overwrite=self.overwrite)
+
+    def release(self) -> None:
+        """Give up the lock; the cases stay for a resume."""
+        lock = self.partial / LOCK_NAME
+        if lock.exists() and lock.read_text().strip() == str(os.getpid()):
+            lock.unlink()
+
+    def __enter__(self) -> CampaignFolder:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        trace: TracebackType | None,
+    ) -> None:
+        if self.partial.exists():
+            self.release()

@@ -1,0 +1,184 @@
+"""A campaign's folder: its record, its lock, bit-exact cases, and what a kill leaves."""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from casadi_debris.config import default_problem_path
+from casadi_debris.report.campaign_folder import (
+    LOCK_NAME,
+    RECORD_NAME,
+    CampaignFolder,
+    CampaignRecord,
+    partial_folder,
+)
+from casadi_debris.report.folders import MARKER_NAME, OutputError
+from casadi_debris.simulation import Case, CaseOutcome
+
+
+def _record(**changes) -> CampaignRecord:
+    fields = {
+        "problem_name": "p",
+        "problem_sha256": "a" * 64,
+        "controller_sha256": "b" * 64,
+        "case_kind": "sample",
+        "seed": 1,
+        "case_ids": ("sample-0000", "sample-0001"),
+        "envelope_bin_s": 1.0,
+    }
+    return CampaignRecord(**{**fields, **changes})
+
+
+def _dead_pid() -> int:
+    done = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True
+    )
+    return int(done.stdout)
+
+
+def _outcome(index: int, rng: np.random.Generator) -> CaseOutcome:
+    case = Case(f"sample-{index:04d}", "sample", index, 1, np.zeros(6), np.ones(6))
+    bands = rng.standard_normal((5, 12)) * 1e-7  # not representable in float32
+    return CaseOutcome(case, {"case_id": case.case_id, "max_error_deg": float(bands.max())}, bands)
+
+
+def test_record_differences_name_each_field() -> None:
+    mine = _record()
+    assert mine.differences(_record()) == []
+    assert CampaignRecord.from_dict(mine.to_dict()) == mine
+    found = mine.differences(_record(seed=2, problem_sha256="c" * 64, case_ids=("x",)))
+    assert any("seed (2 there, 1 here)" in f for f in found)
+    assert any(f.startswith("problem file (sha256 cccccccccccc") for f in found)
+    assert any("case list (1 cases there, 2 here)" in f for f in found)
+
+
+def test_cases_come_back_bit_exact_and_temporaries_of_the_dead_are_cleaned(
+    tmp_path: Path,
+) -> None:
+    out = tmp_path / "campaign"
+    rng = np.random.default_rng(5)
+    written = [_outcome(i, rng) for i in range(2)]
+    with CampaignFolder.open(out, _record()) as folder:
+        for outcome in written:
+            folder.write_case(outcome)
+    stale = partial_folder(out) / "cases" / f".sample-0001.npz.casadi-debris-{_dead_pid()}-0a.tmp"
+    stale.write_bytes(b"half")
+    (partial_folder(out) / ".jit").mkdir()
+    with CampaignFolder.open(out, _record()) as folder:
+        assert not stale.exists() and not folder.build_folder.exists()
+        found = folder.finished_cases([o.case for o in written])
+        for outcome in written:
+            again = found[outcome.case.case_id]
+            assert np.array_equal(again.bands, outcome.bands)
+            assert again.summary == outcome.summary
+        folder.finish()
+    assert not partial_folder(out).exists()
+    assert (out / MARKER_NAME).is_file() and (out / RECORD_NAME).is_file()
+    assert not (out / LOCK_NAME).exists()
+
+
+def test_another_campaign_is_refused_and_left_untouched(tmp_path: Path) -> None:
+    out = tmp_path / "campaign"
+    with CampaignFolder.open(out, _record()) as folder:
+        folder.write_case(_outcome(0, np.random.default_rng(1)))
+    before = sorted(p.name for p in partial_folder(out).rglob("*"))
+    with pytest.raises(OutputError, match=r"holds another campaign .*seed \(1 there, 7 here\)"):
+        CampaignFolder.open(out, _record(seed=7))
+    assert sorted(p.name for p in partial_folder(out).rglob("*")) == before
+
+
+def test_cases_without_a_record_are_refused(tmp_path: Path) -> None:
+    out = tmp_path / "campaign"
+    (partial_folder(out) / "cases").mkdir(parents=True)
+    with pytest.raises(OutputError, match=f"no {RECORD_NAME}"):
+        CampaignFolder.open(out, _record())
+
+
+def test_a_live_lock_is_refused_and_a_dead_one_taken_over(tmp_path: Path) -> None:
+    out = tmp_path / "campaign"
+    holder = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    try:
+        partial_folder(out).mkdir(parents=True)
+        (partial_folder(out) / LOCK_NAME).write_text(f"{holder.pid}\n")
+        with pytest.raises(OutputError, match=f"in use by process {holder.pid}"):
+            CampaignFolder.open(out, _record())
+    finally:
+        holder.kill()
+        holder.wait()
+    with CampaignFolder.open(out, _record()):
+        assert (partial_folder(out) / LOCK_NAME).read_text().strip() == str(os.getpid())
+    assert not (partial_folder(out) / LOCK_NAME).exists()
+
+
+def _running(pid: int) -> bool:
+    """Whether a process exists and is not a zombie waiting to be reaped."""
+    try:
+        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return False
+    return state != "Z"
+
+
+def _children(pid: int) -> set[int]:
+    found = set()
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                found.add(int(entry.name))
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
+def test_killing_the_parent_alone_ends_its_workers_and_leaves_no_temporary(
+    tmp_path: Path,
+) -> None:
+    problem = tmp_path / "short.toml"
+    problem.write_text(
+        f'extends = "{default_problem_path().parent / "paper_slew.toml"}"\n'
+        'name = "short"\n[simulation]\nduration_s = 600.0\n'
+    )
+    temporary = tmp_path / "tmp"
+    temporary.mkdir()
+    env = {**os.environ, "TMPDIR": str(temporary)}
+    args = ["montecarlo", str(problem), "--samples", "40", "--workers", "2", "--out", "mc"]
+    parent = subprocess.Popen(
+        [sys.executable, "-m", "casadi_debris.cli", *args],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.monotonic() + 120
+        workers: set[int] = set()
+        while len(workers) < 2 and time.monotonic() < deadline and parent.poll() is None:
+            time.sleep(0.2)
+            workers = _children(parent.pid)
+        assert len(workers) >= 2, "the campaign never started its workers"
+        time.sleep(1.0)
+        parent.send_signal(signal.SIGKILL)
+        parent.wait()
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and any(_running(w) for w in workers):
+            time.sleep(0.1)
+        alive = [w for w in workers if _running(w)]
+        assert not alive, f"workers {alive} outlived their parent"
+        assert list(temporary.iterdir()) == []
+        assert {p.name for p in tmp_path.iterdir()} == {"short.toml", "tmp", "mc.partial"}
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(parent.pid, signal.SIGKILL)
