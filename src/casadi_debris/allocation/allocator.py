@@ -46,46 +46,46 @@ of order one whatever the problem's units.
 
 Failed or spent engines keep their column with an upper bound of zero: the
 solver workspaces are set up once and only their bounds change.
+
+Modules: the QP stages in scaled units (:mod:`~casadi_debris.allocation.scaled_qp`),
+the saturation path and its HiGHS rescue (:mod:`~casadi_debris.allocation.saturation`),
+demand checks (:mod:`~casadi_debris.allocation.demand`), result types
+(:mod:`~casadi_debris.allocation.results`), batches and series
+(:mod:`~casadi_debris.allocation.batch`); this one holds the :class:`Allocator`.
 """
 
 from __future__ import annotations
 
-import math
-import time
-from dataclasses import dataclass
 from typing import Any, Literal
 
 import numpy as np
 
+from casadi_debris.allocation import batch
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
-from casadi_debris.allocation.backends import QpBackend, make_backend
+from casadi_debris.allocation.demand import as_vector3
 from casadi_debris.allocation.propulsion import PropulsionState
+from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
+from casadi_debris.allocation.saturation import StageSolution, largest_alpha, least_squares
+from casadi_debris.allocation.scaled_qp import THRUST_ROUND_OFF, ScaledQp
 from casadi_debris.allocation.series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.geometry import Geometry, build_geometry
 
+__all__ = [
+    "DEFAULT_SOLVER",
+    "SATURATION_MODES",
+    "AllocationResult",
+    "Allocator",
+    "BatchAllocation",
+    "NoEngineError",
+    "SeriesAllocation",
+]
+
 SaturationMode = Literal["scale", "least_squares"]
 SATURATION_MODES: tuple[str, ...] = ("scale", "least_squares")
 DEFAULT_SOLVER = "daqp"
 
-# Proximal weight of the least-fuel QP, in scaled thrust units against a fuel
-# weight of 1 per engine: far below the reduced costs of the LP (order one),
-# so the least-fuel optimum is exact (see the module docstring).
-EXACT_PROXIMAL = 1e-3
-# Max-alpha stage: alpha has weight 1, proximal eps << 1. It carries no fuel
-# term: with the force free, a little more alpha can cost a lot of fuel, so no
-# fixed fuel weight is small enough for every demand (measured: 2e-4 of alpha
-# lost with 1e-3); the least-fuel solve that follows does the fuel.
-SCALE_PROXIMAL = 1e-6
-# Relative pull-ins of a saturated target, tried in turn when the least-fuel
-# solve calls the exact edge infeasible by round-off (measured over 3000
-# random demands with up to 9 failed CubeSats: 86 % pass at 0, 10 % need a
-# pull-in, 4 % go on to HiGHS). All are well inside the 1e-9 to which alpha
-# is promised.
-BOUNDARY_BACKOFF = (0.0, 1e-12, 1e-10)
-# Thrust below this fraction of the largest limit is solver round-off: set to 0.
-THRUST_ROUND_OFF = 1e-12
 # Demands smaller than this (scaled: fraction of one engine's full torque or
 # thrust) are solved stretched to this size and scaled back; no limit binds
 # there in a direction the engines can reach with margin.
@@ -93,129 +93,10 @@ SMALL_DEMAND = 1e-2
 # An engine within this fraction of its limit counts as on it (a stretched small
 # demand is scaled back only when no limit binds).
 LIMIT_ACTIVE_RTOL = 1e-9
-# Equality residual (relative to the target) above which a solution is polished.
-POLISH_TOLERANCE = 1e-13
-# Relative pull-in of a saturated demand in :meth:`Allocator.allocate_series`,
-# so that the target lies strictly inside the reachable set (alpha is promised
-# to 1e-9).
-SERIES_BACKOFF = 1e-10
-RESCUE_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
-LEAST_SQUARES_PROXIMAL = 1e-9
 
 
 class NoEngineError(AllocationError):
     """Every CubeSat has failed or is spent: no torque can be made."""
-
-
-@dataclass(frozen=True, eq=False)
-class AllocationResult:
-    """Thrust of every engine for one demand.
-
-    Attributes
-    ----------
-    thrust_N : ndarray, shape (n_engines,)
-        Within ``0 <= f <= f_max`` always.
-    torque_Nm : ndarray, shape (3,)
-        Achieved torque ``B f``.
-    force_N : ndarray, shape (3,)
-        Achieved net force ``F f``.
-    demand_torque_Nm : ndarray, shape (3,)
-    demand_force_N : ndarray, shape (3,) or None
-        None when the force was left free.
-    feasible : bool
-        The demand was met exactly.
-    scale : float
-        alpha of the direction-preserving saturation (1 when feasible); in
-        least-squares mode the projection of the achieved torque on the demand,
-        ``tau_a . tau / |tau|^2``.
-    mode : str
-        ``"exact"``, ``"scaled"``, ``"least_squares"`` or ``"pseudo_inverse"``.
-    fuel_rate_kg_s : float
-        Propellant mass flow ``sum(f) / (Isp g0)`` [kg/s].
-    solver : str
-    iterations : int
-        Summed over the QP solves of this call.
-    solve_time_s : float
-        Wall time spent in the back-end (update + solve) [s].
-    """
-
-    thrust_N: np.ndarray
-    torque_Nm: np.ndarray
-    force_N: np.ndarray
-    demand_torque_Nm: np.ndarray
-    demand_force_N: np.ndarray | None
-    feasible: bool
-    scale: float
-    mode: str
-    fuel_rate_kg_s: float
-    solver: str
-    iterations: int
-    solve_time_s: float
-
-
-@dataclass(frozen=True, eq=False)
-class BatchAllocation:
-    """Allocations of many demands (rows).
-
-    Attributes
-    ----------
-    thrust_N : ndarray, shape (k, n_engines)
-    torque_Nm, force_N : ndarray, shape (k, 3)
-    feasible : ndarray of bool, shape (k,)
-    scale : ndarray, shape (k,)
-    fuel_rate_kg_s : ndarray, shape (k,)
-    iterations : ndarray of int, shape (k,)
-    solve_time_s : ndarray, shape (k,)
-        Back-end time per demand [s].
-    wall_time_s : float
-        Whole batch, Python included [s].
-    """
-
-    thrust_N: np.ndarray
-    torque_Nm: np.ndarray
-    force_N: np.ndarray
-    feasible: np.ndarray
-    scale: np.ndarray
-    fuel_rate_kg_s: np.ndarray
-    iterations: np.ndarray
-    solve_time_s: np.ndarray
-    wall_time_s: float
-
-
-@dataclass(frozen=True, eq=False)
-class SeriesAllocation:
-    """Allocation of a history of demands (rows), see :meth:`Allocator.allocate_series`.
-
-    Attributes
-    ----------
-    thrust_N : ndarray, shape (k, n_engines)
-    torque_Nm, force_N : ndarray, shape (k, 3)
-        Achieved torque ``B f`` and net force ``F f``.
-    scale : ndarray, shape (k,)
-        alpha of the direction-keeping saturation (1 when the demand is met).
-    fuel_rate_kg_s : ndarray, shape (k,)
-    point_solves : int
-        Demands that needed a QP solve; the others reused an active set.
-    wall_time_s : float
-    """
-
-    thrust_N: np.ndarray
-    torque_Nm: np.ndarray
-    force_N: np.ndarray
-    scale: np.ndarray
-    fuel_rate_kg_s: np.ndarray
-    point_solves: int
-    wall_time_s: float
-
-
-def _as_vector3(value: Any, name: str) -> np.ndarray:
-    array = np.asarray(value, dtype=float)
-    if array.shape != (3,):
-        raise InputShapeError(f"{name} must have shape (3,), got {array.shape}")
-    x, y, z = array.tolist()  # three scalar checks: a tenth of np.isfinite's cost
-    if not (math.isfinite(x) and math.isfinite(y) and math.isfinite(z)):
-        raise InputShapeError(f"{name} must be finite, got {array.tolist()}")
-    return array
 
 
 class Allocator:
@@ -293,27 +174,23 @@ class Allocator:
         self._force_ref_N = float(np.abs(force_map).max()) * self._thrust_ref_N
         if self._torque_ref_Nm <= 0:
             raise AllocationError("torque_map is all zeros: no engine makes a torque")
-        self._scaled_torque = torque_map * (self._thrust_ref_N / self._torque_ref_Nm)
-        self._scaled_force = force_map * (self._thrust_ref_N / self._force_ref_N)
-        self._scaled_wrench = np.vstack([self._scaled_torque, self._scaled_force])
         # Per-row references: target = wrench / reference, bit for bit the
         # division by the scalar references.
         self._wrench_ref = np.array([self._torque_ref_Nm] * 3 + [self._force_ref_N] * 3)
         self._torque_ref = self._wrench_ref[:3].copy()
-        # Equality rows of the max-alpha stage, [rows, -target], keyed by free_force.
-        self._scale_rows = {
-            free: np.hstack([self._rows(free), np.zeros((len(self._rows(free)), 1))])
-            for free in (False, True)
-        }
         self._max_thrust_N = limits
-        self._upper = limits / self._thrust_ref_N
-        self._reach = self._reachable_size()
-        self._workspaces: dict[tuple[str, bool], QpBackend] = {}
+        self._qp = ScaledQp(
+            torque_map * (self._thrust_ref_N / self._torque_ref_Nm),
+            force_map * (self._thrust_ref_N / self._force_ref_N),
+            limits / self._thrust_ref_N,
+            solver,
+            self._torque_ref_Nm,
+        )
+        self.solver = solver
         self._polytopes: dict[bool, AuthorityPolytope] = {}
         self._series_qps: dict[bool, PiecewiseAffineQp] = {}
-        self.solver = solver
         # Set up the default workspace now: an unknown solver fails at construction.
-        self._workspace("exact", False)
+        self._qp.workspace("exact", False)
 
     @classmethod
     def from_problem(
@@ -393,12 +270,9 @@ class Allocator:
         if np.array_equal(limits, self._max_thrust_N):
             return  # unchanged: keep the cached polytope and active-set regions
         self._max_thrust_N = limits
-        self._upper = limits / self._thrust_ref_N
-        self._reach = self._reachable_size()
+        self._qp.set_upper(limits / self._thrust_ref_N)
         self._polytopes.clear()
         self._series_qps.clear()
-        for (stage, _), workspace in self._workspaces.items():
-            workspace.update(ub=self._stage_upper(stage))
 
     def set_failed(self, failed: Any) -> None:
         """Remove CubeSats by index (the others keep their current limits).
@@ -420,67 +294,6 @@ class Allocator:
     def update_from_state(self, state: PropulsionState) -> None:
         """Take the limits of each CubeSat's active stage (0 when failed or spent)."""
         self.set_max_thrust(state.max_thrust_N())
-
-    def _reachable_size(self) -> dict[bool, float]:
-        """Bound on every component of a reachable scaled target: ``max_j sum_i |A_ji| u_max_i``.
-
-        Keyed by ``free_force`` (the rows differ).
-        """
-        return {
-            free: float((np.abs(self._rows(free)) @ self._upper).max()) for free in (False, True)
-        }
-
-    def _stage_upper(self, stage: str) -> np.ndarray:
-        return np.append(self._upper, 1.0) if stage == "scale" else self._upper
-
-    # ------------------------------------------------------------------ workspaces
-
-    def _workspace(self, stage: str, free_force: bool) -> QpBackend:
-        key = (stage, free_force)
-        workspace = self._workspaces.get(key)
-        if workspace is not None:
-            return workspace
-        n = self.n_engines
-        rows = (
-            self._scaled_torque
-            if free_force
-            else np.vstack([self._scaled_torque, self._scaled_force])
-        )
-        if stage == "exact":
-            workspace = make_backend(
-                self.solver,
-                EXACT_PROXIMAL * np.eye(n),
-                np.ones(n),
-                rows,
-                np.zeros(len(rows)),
-                np.zeros(n),
-                self._upper,
-            )
-        elif stage == "scale":
-            a_eq = np.hstack([rows, np.zeros((len(rows), 1))])
-            workspace = make_backend(
-                self.solver,
-                SCALE_PROXIMAL * np.eye(n + 1),
-                np.append(np.zeros(n), -1.0),
-                a_eq,
-                np.zeros(len(rows)),
-                np.zeros(n + 1),
-                np.append(self._upper, 1.0),
-            )
-        else:
-            torque = self._scaled_torque
-            force_rows = np.zeros((0, n)) if free_force else self._scaled_force
-            workspace = make_backend(
-                self.solver,
-                torque.T @ torque + LEAST_SQUARES_PROXIMAL * np.eye(n),
-                np.zeros(n),
-                force_rows,
-                np.zeros(len(force_rows)),
-                np.zeros(n),
-                self._upper,
-            )
-        self._workspaces[key] = workspace
-        return workspace
 
     # ------------------------------------------------------------------ allocation
 
@@ -509,13 +322,13 @@ class Allocator:
         AllocationError
             ``force_N`` with ``free_force``, or the back-end failed.
         """
-        torque = _as_vector3(torque_Nm, "torque_Nm")
+        torque = as_vector3(torque_Nm, "torque_Nm")
         if force_N is None:
             force = None if free_force else np.zeros(3)
         else:
             if free_force:
                 raise AllocationError("give either force_N or free_force, not both")
-            force = _as_vector3(force_N, "force_N")
+            force = as_vector3(force_N, "force_N")
         return self._allocate(torque, force)
 
     def _allocate(self, torque: np.ndarray, force: np.ndarray | None) -> AllocationResult:
@@ -531,7 +344,8 @@ class Allocator:
         size = max(map(abs, target.tolist()))
         if size == 0.0:
             return self._result(np.zeros(self.n_engines), torque, force, True, 1.0, "exact", 0, 0.0)
-        exact = self._workspace("exact", free_force)
+        qp = self._qp
+        exact = qp.workspace("exact", free_force)
         # A demand far below one engine's torque is solved stretched to
         # SMALL_DEMAND and scaled back: the solvers' tolerances are absolute, so
         # at 1e-12 of an engine's torque they would call anything feasible.
@@ -542,8 +356,9 @@ class Allocator:
         iterations = solution.iterations
         solve_time = solution.solve_time_s
         if solution.status == "optimal" and stretch != 1.0:
-            u = self._polish(solution.x, target_stretched, free_force)
-            if not np.any((self._upper > 0.0) & (u >= self._upper * (1.0 - LIMIT_ACTIVE_RTOL))):
+            u = qp.polish(solution.x, target_stretched, free_force)
+            upper = qp.upper
+            if not np.any((upper > 0.0) & (u >= upper * (1.0 - LIMIT_ACTIVE_RTOL))):
                 return self._result(
                     u / stretch, torque, force, True, 1.0, "exact", iterations, solve_time
                 )
@@ -555,64 +370,64 @@ class Allocator:
             iterations += solution.iterations
             solve_time += solution.solve_time_s
         if solution.status == "optimal":
-            u = self._polish(solution.x, target_stretched, free_force)
-            # _polish has clipped u already.
+            u = qp.polish(solution.x, target_stretched, free_force)
+            # polish has clipped u already.
             return self._result(
                 u, torque, force, True, 1.0, "exact", iterations, solve_time, clip=False
             )
+        return self._unreachable(target, size, stretch, torque, force, iterations, solve_time)
 
+    def _unreachable(
+        self,
+        target: np.ndarray,
+        size: float,
+        stretch: float,
+        torque: np.ndarray,
+        force: np.ndarray | None,
+        iterations: int,
+        solve_time_s: float,
+    ) -> AllocationResult:
+        """A demand the exact stage could not meet: least squares when asked, else the
+        largest alpha (:mod:`~casadi_debris.allocation.saturation`).
+
+        ``target`` is the scaled demand, ``size`` its largest component, and
+        ``stretch`` the factor the exact stage applied to it.
+        """
+        free_force = force is None
         if self.saturation == "least_squares":
-            u, iterations_ls, time_ls = self._least_squares(target, free_force)
-            iterations += iterations_ls
-            solve_time += time_ls
-            if u is not None:
-                achieved = self._scaled_torque @ u
-                scaled_demand = target[:3]
-                norm2 = float(scaled_demand @ scaled_demand)
-                scale = float(achieved @ scaled_demand / norm2) if norm2 > 0 else 1.0
-                settle = np.concatenate([achieved, target[3:]])
-                u, shrink, it, t, rescued = self._least_fuel(settle, free_force)
+            fit = least_squares(self._qp, target, free_force)
+            iterations += fit.iterations
+            solve_time_s += fit.solve_time_s
+            if fit.u is not None:
                 return self._result(
-                    u,
+                    fit.u,
                     torque,
                     force,
                     False,
-                    scale * shrink,
+                    fit.alpha,
                     "least_squares",
-                    iterations + it,
-                    solve_time + t,
-                    rescued,
+                    iterations,
+                    solve_time_s,
+                    fit.rescued,
                 )
             # The requested force alone cannot be met: fall back to scaling the wrench.
-
-        if size > self._reach[free_force]:
+        reach = self._qp.reach[free_force]
+        if size > reach:
             # The max-alpha QP's proximal term leaves alpha exact only for a
             # target of the size of what the engines can reach (measured: with
             # the force free, demands 1000x beyond reach lost up to 2e-4 of
             # alpha): a larger one is shrunk to the largest reachable component
             # first, which keeps every answer within alpha <= 1.
-            stretch = self._reach[free_force] / size
-        target = stretch * target
-        scale_workspace = self._workspace("scale", free_force)
-        # [rows, -target]: the workspace's own copy of its rows, last column replaced.
-        a_eq = self._scale_rows[free_force]
-        a_eq[:, -1] = -target
-        scale_workspace.update(a_eq=a_eq)
-        solution = scale_workspace.solve()
-        iterations += solution.iterations
-        solve_time += solution.solve_time_s
-        if solution.status != "optimal":
-            # The feasible set always holds u = 0, alpha = 0: a report of
-            # infeasibility is round-off at a degenerate vertex (seen when
-            # alpha = 0 is the only answer).
-            u, alpha, t = self._rescue(target, free_force)
-            return self._saturated(
-                u, alpha * stretch, torque, force, iterations, solve_time + t, True
-            )
-        alpha = min(max(float(solution.x[-1]), 0.0), 1.0)
-        u, shrink, it, t, rescued = self._least_fuel(alpha * target, free_force)
+            stretch = reach / size
+        edge: StageSolution = largest_alpha(self._qp, stretch * target, free_force)
         return self._saturated(
-            u, alpha * shrink * stretch, torque, force, iterations + it, solve_time + t, rescued
+            edge.u,
+            edge.alpha * stretch,
+            torque,
+            force,
+            iterations + edge.iterations,
+            solve_time_s + edge.solve_time_s,
+            edge.rescued,
         )
 
     def _saturated(
@@ -640,132 +455,6 @@ class Allocator:
             u, torque, force, False, alpha, "scaled", iterations, solve_time_s, rescued
         )
 
-    def _polish(self, u: np.ndarray, target: np.ndarray, free_force: bool) -> np.ndarray:
-        """Remove the solver's residual on the equalities by moving the engines off their bounds.
-
-        A warm-started active-set solve can leave thrusts of 1e-13 of the
-        limit that should be zero, and a residual of that size; against a
-        small demand that is a large relative error. One least-squares step
-        on the free engines (the solver's own active set) removes it.
-        """
-        rows = self._scaled_torque if free_force else self._scaled_wrench
-        u = np.minimum(u, self._upper)
-        u[u < THRUST_ROUND_OFF] = 0.0
-        residual = target - rows @ u
-        # Largest entries by Python's max over a handful of floats: cheaper than numpy's.
-        tolerance = POLISH_TOLERANCE * max(map(abs, target.tolist()))
-        if max(map(abs, residual.tolist())) <= tolerance:
-            return u
-        free = (u > 0.0) & (u < self._upper)
-        if not free.any():
-            return u
-        active = rows[:, free]
-        try:
-            # Minimum-norm step through the (at most 6 x 6) Gram matrix: a tenth of lstsq's cost.
-            step = active.T @ np.linalg.solve(active @ active.T, residual)
-        except np.linalg.LinAlgError:
-            step = np.linalg.lstsq(active, residual, rcond=None)[0]
-        polished = u.copy()
-        polished[free] = np.clip(u[free] + step, 0.0, self._upper[free])
-        if float(np.abs(target - rows @ polished).max()) > float(np.abs(residual).max()):
-            # A rank-deficient Gram matrix gave a poor step: take the least-squares one.
-            step = np.linalg.lstsq(active, residual, rcond=None)[0]
-            polished[free] = np.clip(u[free] + step, 0.0, self._upper[free])
-        return polished
-
-    def _rows(self, free_force: bool) -> np.ndarray:
-        """Scaled equality rows: torque, and force unless it is free."""
-        return self._scaled_torque if free_force else self._scaled_wrench
-
-    def _least_fuel(
-        self, target: np.ndarray, free_force: bool
-    ) -> tuple[np.ndarray, float, int, float, bool]:
-        """Least-fuel thrust for a target on the edge of what is reachable.
-
-        On the edge a solver may call the target infeasible by round-off; it
-        is then pulled in by each of ``BOUNDARY_BACKOFF`` (relative) in turn;
-        if every try fails, the LP is solved by HiGHS (:meth:`_rescue`).
-
-        Returns
-        -------
-        u : ndarray, shape (n,)
-        shrink : float
-            Factor applied to the target: 1 - backoff, or the rescue's alpha.
-        iterations : int
-        solve_time_s : float
-        rescued : bool
-            HiGHS gave the answer.
-        """
-        workspace = self._workspace("exact", free_force)
-        iterations, solve_time = 0, 0.0
-        for backoff in BOUNDARY_BACKOFF:
-            workspace.update(b_eq=(1.0 - backoff) * target)
-            solution = workspace.solve()
-            iterations += solution.iterations
-            solve_time += solution.solve_time_s
-            if solution.status == "optimal":
-                u = self._polish(solution.x, (1.0 - backoff) * target, free_force)
-                return u, 1.0 - backoff, iterations, solve_time, False
-        u, alpha, rescue_time = self._rescue(target, free_force)
-        return u, alpha, iterations, solve_time + rescue_time, True
-
-    def _rescue(self, target: np.ndarray, free_force: bool) -> tuple[np.ndarray, float, float]:
-        """Largest alpha, then least fuel, for ``alpha * target`` by HiGHS' simplex (rare path).
-
-        Returns
-        -------
-        u : ndarray, shape (n,)
-        alpha : float
-        solve_time_s : float
-        """
-        from scipy.optimize import linprog
-
-        start = time.perf_counter()
-        n = self.n_engines
-        rows = self._rows(free_force)
-        a_eq = np.hstack([rows, -target[:, None]])
-        bounds = [*zip(np.zeros(n), self._upper, strict=True), (0.0, 1.0)]
-        zeros = np.zeros(len(rows))
-        best = None
-        for options in (RESCUE_OPTIONS, {}):
-            best = linprog(
-                np.append(np.zeros(n), -1.0),
-                A_eq=a_eq,
-                b_eq=zeros,
-                bounds=bounds,
-                method="highs",
-                options=options,
-            )
-            if best.status == 0:
-                break
-        if best is None or best.status != 0:
-            raise AllocationError(
-                f"{self.solver} and the HiGHS rescue found no allocation for "
-                f"{(target * self._torque_ref_Nm)[:3].tolist()} N m ({best.message})"
-            )
-        alpha = float(best.x[-1])
-        bounds[-1] = (alpha * (1.0 - BOUNDARY_BACKOFF[-1]), 1.0)
-        frugal = linprog(
-            np.append(np.ones(n), 0.0),
-            A_eq=a_eq,
-            b_eq=zeros,
-            bounds=bounds,
-            method="highs",
-            options=RESCUE_OPTIONS,
-        )
-        x = frugal.x if frugal.status == 0 else best.x
-        return x[:n], float(np.clip(x[-1], 0.0, 1.0)), time.perf_counter() - start
-
-    def _least_squares(
-        self, target: np.ndarray, free_force: bool
-    ) -> tuple[np.ndarray | None, int, float]:
-        workspace = self._workspace("least_squares", free_force)
-        c = -self._scaled_torque.T @ target[:3]
-        workspace.update(c=c, b_eq=target[3:])
-        solution = workspace.solve()
-        x = solution.x if solution.status == "optimal" else None
-        return x, solution.iterations, solution.solve_time_s
-
     def _result(
         self,
         u: np.ndarray,
@@ -783,7 +472,7 @@ class Allocator:
         """Result of scaled thrust ``u``; ``clip=False`` when u is already within its bounds."""
         if clip:
             # Solver round-off may leave u a hair outside its bounds: limits are never exceeded.
-            u = np.minimum(u, self._upper)
+            u = np.minimum(u, self._qp.upper)
             u[u < THRUST_ROUND_OFF] = 0.0
         thrust = u * self._thrust_ref_N
         return AllocationResult(
@@ -801,6 +490,8 @@ class Allocator:
             solve_time_s,
         )
 
+    # ------------------------------------------------------------------ many demands
+
     def allocate_batch(
         self, torques_Nm: Any, forces_N: Any = None, *, free_force: bool = False
     ) -> BatchAllocation:
@@ -817,39 +508,7 @@ class Allocator:
         -------
         BatchAllocation
         """
-        start = time.perf_counter()
-        torques = np.asarray(torques_Nm, dtype=float)
-        if torques.ndim != 2 or torques.shape[1] != 3:
-            raise InputShapeError(f"torques_Nm must have shape (k, 3), got {torques.shape}")
-        if forces_N is not None:
-            if free_force:
-                raise AllocationError("give either forces_N or free_force, not both")
-            forces = np.asarray(forces_N, dtype=float)
-            if forces.shape != torques.shape:
-                raise InputShapeError(
-                    f"forces_N must have the shape {torques.shape} of torques_Nm, "
-                    f"got {forces.shape}"
-                )
-        else:
-            forces = None if free_force else np.zeros_like(torques)
-        if not np.isfinite(torques).all() or (forces is not None and not np.isfinite(forces).all()):
-            raise InputShapeError("torques_Nm and forces_N must be finite")
-        results = [
-            self._allocate(torques[i], None if forces is None else forces[i])
-            for i in range(len(torques))
-        ]
-        k, n = len(results), self.n_engines
-        return BatchAllocation(
-            thrust_N=np.array([r.thrust_N for r in results]).reshape(k, n),
-            torque_Nm=np.array([r.torque_Nm for r in results]).reshape(k, 3),
-            force_N=np.array([r.force_N for r in results]).reshape(k, 3),
-            feasible=np.array([r.feasible for r in results], dtype=bool),
-            scale=np.array([r.scale for r in results]),
-            fuel_rate_kg_s=np.array([r.fuel_rate_kg_s for r in results]),
-            iterations=np.array([r.iterations for r in results], dtype=int),
-            solve_time_s=np.array([r.solve_time_s for r in results]),
-            wall_time_s=time.perf_counter() - start,
-        )
+        return batch.allocate_batch(self, torques_Nm, forces_N, free_force)
 
     def authority_polytope(self, *, free_force: bool = False) -> AuthorityPolytope:
         """Facets of the reachable torques with the current limits (cached until they change)."""
@@ -881,40 +540,7 @@ class Allocator:
         -------
         SeriesAllocation
         """
-        start = time.perf_counter()
-        torques = np.asarray(torques_Nm, dtype=float)
-        if torques.ndim != 2 or torques.shape[1] != 3:
-            raise InputShapeError(f"torques_Nm must have shape (k, 3), got {torques.shape}")
-        if not np.isfinite(torques).all():
-            raise InputShapeError("torques_Nm must be finite")
-        scale = self.authority_polytope(free_force=free_force).scale(torques)
-        shrink = np.where(scale < 1.0, scale * (1.0 - SERIES_BACKOFF), 1.0)
-        targets = torques * shrink[:, None] / self._torque_ref_Nm
-        rows = self._rows(free_force)
-        if not free_force:
-            targets = np.hstack([targets, np.zeros_like(targets)])
-        qp = self._series_qps.get(free_force)
-        if qp is None:
-            qp = PiecewiseAffineQp(rows, self._upper, EXACT_PROXIMAL)
-            self._series_qps[free_force] = qp
-
-        def solve_point(target: np.ndarray) -> np.ndarray:
-            torque = target[:3] * self._torque_ref_Nm
-            result = self._allocate(torque, None if free_force else np.zeros(3))
-            return result.thrust_N / self._thrust_ref_N
-
-        u, point_solves = qp.solve_series(targets, solve_point)
-        u = np.where(u < THRUST_ROUND_OFF, 0.0, np.minimum(u, self._upper))
-        thrust = u * self._thrust_ref_N
-        return SeriesAllocation(
-            thrust_N=thrust,
-            torque_Nm=thrust @ self.torque_map.T,
-            force_N=thrust @ self.force_map.T,
-            scale=scale,
-            fuel_rate_kg_s=thrust.sum(axis=1) / self.exhaust_velocity_m_s,
-            point_solves=point_solves,
-            wall_time_s=time.perf_counter() - start,
-        )
+        return batch.allocate_series(self, torques_Nm, free_force)
 
     def torque_authority(self, *, free_force: bool = False) -> dict[str, float]:
         """Largest pure torque about each signed body axis with the current limits.

@@ -16,7 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.allocation.allocator import AllocationResult, Allocator, _as_vector3
+from casadi_debris.allocation.allocator import Allocator
+from casadi_debris.allocation.demand import as_vector3
+from casadi_debris.allocation.results import AllocationResult
 from casadi_debris.errors import AllocationError
 
 # A null-space direction counts as positive when its smallest entry exceeds
@@ -77,11 +79,11 @@ class PseudoInverseAllocator:
             Ignored when the baseline was built with ``free_force``; default zero.
         """
         start = time.perf_counter()
-        torque = _as_vector3(torque_Nm, "torque_Nm")
+        torque = as_vector3(torque_Nm, "torque_Nm")
         force = (
             None
             if self.free_force
-            else (np.zeros(3) if force_N is None else _as_vector3(force_N, "force_N"))
+            else (np.zeros(3) if force_N is None else as_vector3(force_N, "force_N"))
         )
         demand = torque if force is None else np.concatenate([torque, force])
         f = self._pinv @ demand
