@@ -5,6 +5,7 @@ from __future__ import annotations
 import csv
 import hashlib
 import os
+import re
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -263,6 +264,18 @@ def _open_loop(
         click.echo(f"final quaternion (scalar first): {q}\nfinal rate [rad/s]: {w}")
 
 
+_SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]{1,253}):(\d{1,5})")
+
+
+def check_scheduler_address(address: str) -> None:
+    """Refuse anything but ``tcp://host:port`` or ``tls://host:port`` (no other schemes)."""
+    match = _SCHEDULER_ADDRESS.fullmatch(address)
+    if match is None or not 1 <= int(match[3]) <= 65535:
+        raise InputShapeError(
+            f"--scheduler: expected tcp://host:port or tls://host:port, got {address!r}"
+        )
+
+
 def select_cases(
     problem: Problem,
     model: Model,
@@ -387,7 +400,10 @@ class CampaignInterrupted(KeyboardInterrupt):
 @click.option("--max-cases", type=int, help="Keep N cases spread evenly (a quick look).")
 @click.option("--workers", type=int, default=os.cpu_count() or 1, show_default=True)
 @click.option(
-    "--scheduler", help="Dask scheduler address (tcp://host:8786) instead of local processes."
+    "--scheduler",
+    help="Dask scheduler address (tcp://host:8786 or tls://host:8786) instead of local "
+    "processes. Connects only there; Dask unpickles what the scheduler sends, so give only "
+    "a scheduler you trust.",
 )
 @click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
 @click.option(
@@ -427,6 +443,8 @@ def montecarlo(
     problem = load_problem(problem_file)
     if workers < 1:
         raise InputShapeError(f"--workers must be at least 1, got {workers}")
+    if scheduler is not None:
+        check_scheduler_address(scheduler)
     out = out or default_run_folder("montecarlo", problem.name)
     try:
         summary = run_montecarlo(

@@ -260,4 +260,5 @@ class CampaignFolder:
         trace: TracebackType | None,
     ) -> None:
         if self.partial.exists():
+            shutil.rmtree(self.build_folder, ignore_errors=True)
             self.release()

@@ -370,10 +370,17 @@ def _jit_folder() -> Path:
     return _JIT_FOLDER["folder"]
 
 
-def _remove_jit_folder(folder: Path) -> None:
-    # Release the compiled Functions first: CasADi deletes its own files then.
+def release_compiled_steps() -> None:
+    """Drop this process's compiled steps; CasADi deletes their files then.
+
+    Call before removing a JIT folder that this process compiled into.
+    """
     _JIT_STEPS.clear()
     gc.collect()
+
+
+def _remove_jit_folder(folder: Path) -> None:
+    release_compiled_steps()
     shutil.rmtree(folder, ignore_errors=True)
 
 

@@ -38,7 +38,11 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.model import Model, build_model
 from casadi_debris.simulation.cases import Case
-from casadi_debris.simulation.closed_loop import JIT_FOLDER_ENV, SimulationError
+from casadi_debris.simulation.closed_loop import (
+    JIT_FOLDER_ENV,
+    SimulationError,
+    release_compiled_steps,
+)
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.run import ClosedLoopResult, simulate
 
@@ -280,6 +284,7 @@ def _build_folder(given: Path | None) -> Iterator[Path]:
         try:
             yield folder
         finally:
+            release_compiled_steps()
             if previous is None:
                 os.environ.pop(JIT_FOLDER_ENV, None)
             else:
