@@ -2,18 +2,14 @@
 
 from __future__ import annotations
 
-import contextlib
 import os
-import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from casadi_debris.config import default_problem_path
 from casadi_debris.report.campaign_folder import (
     LOCK_NAME,
     RECORD_NAME,
@@ -117,68 +113,3 @@ def test_a_live_lock_is_refused_and_a_dead_one_taken_over(tmp_path: Path) -> Non
     with CampaignFolder.open(out, _record()):
         assert (partial_folder(out) / LOCK_NAME).read_text().strip() == str(os.getpid())
     assert not (partial_folder(out) / LOCK_NAME).exists()
-
-
-def _running(pid: int) -> bool:
-    """Whether a process exists and is not a zombie waiting to be reaped."""
-    try:
-        state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
-    except OSError:
-        return False
-    return state != "Z"
-
-
-def _children(pid: int) -> set[int]:
-    found = set()
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
-            except OSError:
-                continue
-            if int(fields[1]) == pid:
-                found.add(int(entry.name))
-    return found
-
-
-@pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
-def test_killing_the_parent_alone_ends_its_workers_and_leaves_no_temporary(
-    tmp_path: Path,
-) -> None:
-    problem = tmp_path / "short.toml"
-    problem.write_text(
-        f'extends = "{default_problem_path().parent / "paper_slew.toml"}"\n'
-        'name = "short"\n[simulation]\nduration_s = 600.0\n'
-    )
-    temporary = tmp_path / "tmp"
-    temporary.mkdir()
-    env = {**os.environ, "TMPDIR": str(temporary)}
-    args = ["montecarlo", str(problem), "--samples", "40", "--workers", "2", "--out", "mc"]
-    parent = subprocess.Popen(
-        [sys.executable, "-m", "casadi_debris.cli", *args],
-        cwd=tmp_path,
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-        start_new_session=True,
-    )
-    try:
-        deadline = time.monotonic() + 120
-        workers: set[int] = set()
-        while len(workers) < 2 and time.monotonic() < deadline and parent.poll() is None:
-            time.sleep(0.2)
-            workers = _children(parent.pid)
-        assert len(workers) >= 2, "the campaign never started its workers"
-        time.sleep(1.0)
-        parent.send_signal(signal.SIGKILL)
-        parent.wait()
-        deadline = time.monotonic() + 10
-        while time.monotonic() < deadline and any(_running(w) for w in workers):
-            time.sleep(0.1)
-        alive = [w for w in workers if _running(w)]
-        assert not alive, f"workers {alive} outlived their parent"
-        assert list(temporary.iterdir()) == []
-        assert {p.name for p in tmp_path.iterdir()} == {"short.toml", "tmp", "mc.partial"}
-    finally:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(parent.pid, signal.SIGKILL)

@@ -347,7 +347,17 @@ def _compiled(
         },
     }
     inputs = [ca.SX.sym(step.name_in(i), step.sparsity_in(i)) for i in range(step.n_in())]
-    compiled = ca.Function("loop_step_c", inputs, step(*inputs), options)
+    # The compiler's own temporaries go to the JIT folder too, so that a killed
+    # run leaves nothing in the system's temporary folder.
+    previous = os.environ.get("TMPDIR")
+    os.environ["TMPDIR"] = str(folder)
+    try:
+        compiled = ca.Function("loop_step_c", inputs, step(*inputs), options)
+    finally:
+        if previous is None:
+            os.environ.pop("TMPDIR", None)
+        else:
+            os.environ["TMPDIR"] = previous
     return LoopStep.of(compiled, model, controller, chunk_steps, compiled=True)
 
 

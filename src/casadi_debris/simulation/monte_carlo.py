@@ -209,8 +209,9 @@ def _die_with_parent(parent_pid: int) -> None:
 
 
 def _init_process(setup: CampaignSetup, parent_pid: int) -> None:
-    # Ctrl-C goes to the whole process group; the parent alone decides what to do.
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    # A group of its own: Ctrl-C reaches the parent alone, which decides what to do,
+    # and the parent can stop a worker together with the compiler it may be running.
+    os.setpgrp()
     _die_with_parent(parent_pid)
     _SETUP["setup"] = setup
 
@@ -308,10 +309,21 @@ def _process_outcomes(
     except BaseException:
         # Interrupted (Ctrl-C) or failed: stop the cases under way instead of waiting.
         for process in list(getattr(pool, "_processes", {}).values()):
-            process.kill()
+            _kill_worker(process.pid)
         pool.shutdown(wait=True, cancel_futures=True)
         raise
     pool.shutdown(wait=True)
+
+
+def _kill_worker(pid: int) -> None:
+    """Kill a worker and what it runs (its process group), or the worker alone."""
+    try:
+        if os.getpgid(pid) == pid:
+            os.killpg(pid, signal.SIGKILL)
+            return
+        os.kill(pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError):
+        pass  # already gone
 
 
 def _dask_outcomes(
