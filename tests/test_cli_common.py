@@ -1,0 +1,55 @@
+"""What every command shares: one-line usage errors and bounded numbers."""
+
+from __future__ import annotations
+
+import click
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris.cli import main
+from casadi_debris.cli.common import BoundedFloat
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["nosuch"], "No such command 'nosuch'"),
+        (["simulate", "--duration-s", "abc"], "'--duration-s': 'abc' is not a valid float"),
+        (["allocate"], "Missing option '--torque-mNm'"),
+        (["model", "--bogus"], "No such option '--bogus'"),
+        (["allocate", "--torque-mNm", "1", "2"], "'--torque-mNm' requires 3 arguments"),
+    ],
+)
+def test_a_usage_error_is_one_line_naming_the_option(args: list[str], needle: str) -> None:
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 2
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0], lines
+
+
+def test_help_and_version_still_exit_0() -> None:
+    assert CliRunner().invoke(main, ["--help"]).exit_code == 0
+    assert CliRunner().invoke(main, ["simulate", "-h"]).exit_code == 0
+    assert "version" in CliRunner().invoke(main, ["--version"]).output
+
+
+@pytest.mark.parametrize(
+    ("text", "ok"),
+    [
+        ("1", True),
+        ("0", False),
+        ("10", True),
+        ("10.000001", False),
+        ("nan", False),
+        ("inf", False),
+        ("-inf", False),
+        ("1e308", False),
+    ],
+)
+def test_bounded_float_takes_finite_numbers_inside_its_range(text: str, ok: bool) -> None:
+    kind = BoundedFloat(0.0, 10.0, low_open=True)
+    if ok:
+        assert kind.convert(text, None, None) == float(text)
+    else:
+        with pytest.raises(click.BadParameter, match=r"finite|\(0, 10\]"):
+            kind.convert(text, None, None)
