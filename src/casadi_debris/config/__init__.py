@@ -17,10 +17,13 @@ Example
 500.0
 
 Modules: :mod:`~casadi_debris.config.schema` (the frozen dataclasses),
+:mod:`~casadi_debris.config.limits` (the range of every number, and why),
 :mod:`~casadi_debris.config.table` (the typed table reader),
 :mod:`~casadi_debris.config.checks` (physical checks),
-:mod:`~casadi_debris.config.reader` (one reader per table, :func:`problem_from_dict`)
-and :mod:`~casadi_debris.config.loader` (files and ``extends``).
+:mod:`~casadi_debris.config.bodies` and :mod:`~casadi_debris.config.runs` (the
+readers of the debris and swarm tables, and of the run tables),
+:mod:`~casadi_debris.config.reader` (:func:`problem_from_dict` and the checks
+across tables) and :mod:`~casadi_debris.config.loader` (files and ``extends``).
 """
 
 from __future__ import annotations

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from casadi_debris.config.limits import PRINCIPAL_INERTIA_KGM2
 from casadi_debris.config.schema import AXIS_NAMES
 from casadi_debris.config.table import Table
 from casadi_debris.errors import ProblemFileError
@@ -24,7 +25,8 @@ def check_inertia(inertia: np.ndarray, key: str, source: str | None = None) -> N
     Raises
     ------
     ProblemFileError
-        Not symmetric, not positive definite, or principal moments violating
+        Not symmetric, not positive definite, a principal moment below
+        ``limits.PRINCIPAL_INERTIA_KGM2.low``, or principal moments violating
         the triangle inequality (I1 <= I2 + I3 for every permutation) by more
         than ``TRIANGLE_TOLERANCE``: a thin plate sits on the equality, and
         published values are rounded (the paper's array, 80 > 17 + 62, is one).
@@ -37,6 +39,13 @@ def check_inertia(inertia: np.ndarray, key: str, source: str | None = None) -> N
     if moments[0] <= 0:
         raise ProblemFileError(
             key, f"inertia must be positive definite (principal moments {moments})", source
+        )
+    if moments[0] < PRINCIPAL_INERTIA_KGM2.low:
+        raise ProblemFileError(
+            key,
+            f"smallest principal moment {moments[0]:.3g} kg m^2 is below "
+            f"{PRINCIPAL_INERTIA_KGM2.low:g} (the model inverts the inertia)",
+            source,
         )
     if moments[2] > (moments[0] + moments[1]) * (1.0 + TRIANGLE_TOLERANCE):
         raise ProblemFileError(

@@ -1,0 +1,199 @@
+"""The range of every number in a problem file, and the reasons for each.
+
+Every number a problem file gives has a lower and an upper bound, so that a
+typo (``1e9`` for ``1e-9``), an overflow (``1e308``) or an unphysical value is
+refused at load time with the key named, instead of hanging a simulation or
+reaching the model as NaN. The bounds are wide on purpose: they bound what is
+physically meaningful for a satellite and its docked CubeSats, not what the
+paper uses. Units are those of the key (SI unless the key says otherwise).
+
+Other layers may use these constants to bound their own inputs the same way
+(e.g. a command-line sample count against :data:`MONTECARLO_SAMPLES`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Range:
+    """An interval of allowed values, closed unless told open.
+
+    Attributes
+    ----------
+    low, high : float
+        Bounds, in the unit of the key.
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    """
+
+    low: float
+    high: float
+    low_open: bool = False
+    high_open: bool = False
+
+    def __str__(self) -> str:
+        left = "(" if self.low_open else "["
+        right = ")" if self.high_open else "]"
+        return f"{left}{_show(self.low)}, {_show(self.high)}{right}"
+
+    def violation(self, values: np.ndarray | float) -> str | None:
+        """What is wrong with ``values`` (all must lie inside), or None.
+
+        Parameters
+        ----------
+        values : ndarray or float
+            Finite values.
+
+        Returns
+        -------
+        str or None
+            E.g. ``"must be positive"`` or ``"must be at most 1000"``.
+        """
+        array = np.asarray(values, dtype=float)
+        low, high = _show(self.low), _show(self.high)
+        if self.low_open and np.any(array <= self.low):
+            return "must be positive" if self.low == 0 else f"must be above {low}"
+        if not self.low_open and np.any(array < self.low):
+            if self.low == 0:
+                return "must not be negative"
+            if self.low > 0 and np.any(array <= 0):
+                return f"must be positive (at least {low})"
+            return f"must be at least {low}"
+        if self.high_open and np.any(array >= self.high):
+            return f"must be below {high}"
+        if not self.high_open and np.any(array > self.high):
+            return f"must be at most {high}"
+        return None
+
+
+def _show(bound: float) -> str:
+    """A bound as written in a message: integers whole (4294967295), floats short (1e+06)."""
+    return str(bound) if isinstance(bound, int) else f"{bound:g}"
+
+
+def positive(high: float) -> Range:
+    """The range (0, high]."""
+    return Range(0.0, high, low_open=True)
+
+
+def nonnegative(high: float) -> Range:
+    """The range [0, high]."""
+    return Range(0.0, high)
+
+
+def symmetric(bound: float) -> Range:
+    """The range [-bound, bound]."""
+    return Range(-bound, bound)
+
+
+FRACTION_BELOW_ONE = Range(0.0, 1.0, high_open=True)
+"""[0, 1): relative half-ranges, damping ratios, edge insets."""
+SMALL_GAIN = Range(1e-6, 1.0, high_open=True)
+"""[1e-6, 1): the weights' epsilon and high-frequency gain (the paper: 0.001, 0.01); below 1e-6
+the weights are integrators and differentiators in all but name and the synthesis is singular."""
+
+# ------------------------------------------------------------------ bodies
+MASS_KG = Range(1e-3, 1e6)
+"""[1 g, 1e6 kg] for the hub and each array: the ISS, the largest object in orbit, is 4.2e5 kg."""
+CUBESAT_MASS_KG = Range(1e-3, 1e3)
+"""[1 g, 1000 kg] per docked CubeSat: a 27U CubeSat is about 40 kg; this allows any servicer."""
+HUB_SIZE_M = Range(0.01, 200.0)
+"""[0.01, 200] m per hub edge: CubeSats dock on its faces (not a point); the ISS truss is 109 m."""
+LENGTH_M = Range(1e-3, 200.0)
+"""[1 mm, 200 m]: array length and width; the ISS truss is 109 m."""
+STANDOFF_M = Range(0.0, 200.0)
+"""[0, 200] m: height of a CubeSat's centre of gravity above its face."""
+POSITION_M = nonnegative(200.0)
+"""[0, 200] m: points in the hub-corner frame (then checked against the hub's own size)."""
+INERTIA_KGM2 = symmetric(1e9)
+"""|I_ij| <= 1e9 kg m^2: the ISS is about 1e8 kg m^2; then checked positive definite."""
+PRINCIPAL_INERTIA_KGM2 = Range(1e-6, 1e9)
+"""[1e-6, 1e9] kg m^2: principal moments of any body (a 1U CubeSat: 2e-3 kg m^2); smaller ones
+make the model's inverse inertia overflow."""
+ANGLE_DEG = symmetric(360.0)
+"""[-360, 360] deg: an array angle or a phase; any attitude is reachable within one turn."""
+MODE_OMEGA_RAD_S = Range(1e-3, 1e4)
+"""[0.001, 1e4] rad/s: a 'mode' slower than one cycle in 100 min is rigid motion, not vibration."""
+MODE_ORDER = Range(1, 6)
+"""Mode order 1 to 6: the model tabulates the cantilever shapes up to the sixth."""
+MAX_ARRAYS = 16
+"""At most 16 arrays (hinges): each adds its modes' states to the model."""
+MAX_MODES = 16
+"""At most 16 modes per array: each adds two states per array to the model."""
+
+# ------------------------------------------------------------------ engines
+STAGES = Range(1, 16)
+"""1 to 16 iESE stages per engine (the paper: 3)."""
+EMITTERS_PER_STAGE = Range(1, 10_000)
+"""1 to 10 000 emitters per stage (the paper: 32)."""
+THRUST_MN = Range(1e-6, 1e4)
+"""[1e-6, 1e4] mN per stage (1 nN to 10 N): electrosprays give 0.01 to 1 mN, cold gas 10 N."""
+ISP_S = Range(1.0, 1e5)
+"""[1, 1e5] s: cold gas gives 50 s, gridded ion engines reach 1e4 s."""
+STAGE_LIFE_H = Range(1e-3, 1e6)
+"""[3.6 s, 1e6 h] per stage (114 years); the propellant check (below the CubeSat's mass) binds
+first."""
+
+# ------------------------------------------------------------------ environment and control
+DISTURBANCE_MNM = nonnegative(1e6)
+"""[0, 1e6] mNm (1 kN m): environmental torques on a 1 t satellite are below 1 mNm."""
+DISTURBANCE_PERIOD_MIN = Range(1.0, 1e6)
+"""[1, 1e6] min: orbital disturbances repeat once or twice per orbit (>= 87 min in LEO)."""
+BANDWIDTH_RAD_S = Range(1e-6, 1e4)
+"""[1e-6, 1e4] rad/s: star tracker and weight bandwidths (the paper: 0.028 to 50 rad/s); the
+integration-step check binds below the upper bound."""
+SCALING = Range(1e-6, 1e6)
+"""[1e-6, 1e6] deg or mNm: the weights' scalings (the paper's: 0.002 deg to 4.6 mNm)."""
+RATE_RAD_S = symmetric(10.0)
+"""|w| <= 10 rad/s initial tumble (95 rpm): Envisat turns at 0.05 rad/s; the paper uses 1."""
+ALTITUDE_KM = Range(100.0, 1e5)
+"""[100, 1e5] km: below 100 km no orbit lasts a revolution; 1e5 km is beyond GEO."""
+INCLINATION_DEG = Range(0.0, 180.0)
+"""[0, 180] deg: the definition of an inclination."""
+EARTH_MU_KM3_S2 = Range(394_600.0, 402_600.0)
+"""398 600 km^3/s^2 +-1 %: every Earth model agrees to 1e-9; the keys are the Earth's."""
+EARTH_RADIUS_KM = Range(6_300.0, 6_450.0)
+"""[6300, 6450] km: the polar (6357), mean (6371) and equatorial (6378) radii, +-1 %."""
+STANDARD_GRAVITY_M_S2 = Range(9.7, 9.9)
+"""[9.7, 9.9] m/s^2: 9.80665 by definition, local gravity 9.78 to 9.83."""
+UNCERTAINTY_ANGLE_DEG = Range(0.0, 180.0)
+"""[0, 180] deg half-range of the array angle: 180 covers every angle."""
+UNCERTAINTY_SAMPLES = Range(1, 10_000)
+"""1 to 10 000 models for the uncertainty-weight fit: each keeps a 3x3 complex response on
+the fitting grid (about 0.26 MB at 1800 frequencies), 2.6 GB at the bound (the paper: 200)."""
+SEED = Range(0, 2**32 - 1)
+"""Seeds are unsigned 32-bit integers, as every random generator and file format stores them."""
+
+# ------------------------------------------------------------------ simulation and campaigns
+DURATION_S = positive(1e7)
+"""(0, 1e7] s (116 days): simulated time, slew duration and start, failure times."""
+SLEW_ANGLE_DEG = Range(1e-6, 180.0)
+"""[1e-6, 180] deg: a slew turns the short way (180 at most); 1e-6 deg (0.004 arcsec) is far below
+any star tracker, and smaller angles vanish in radians."""
+SLEW_DURATION_S = Range(1.0, 1e7)
+"""[1 s, 1e7 s]: no thruster turns a satellite round in under a second; the slew methods then
+check the duration against the minimum the engines allow."""
+CONTROL_RATE_HZ = Range(0.01, 1000.0)
+"""[0.01, 1000] Hz: one control period between 1 ms and 100 s (the paper: 10 Hz)."""
+INTEGRATOR_STEPS = Range(1, 1000)
+"""1 to 1000 Runge-Kutta steps per control period (the paper: 4)."""
+MAX_CONTROL_PERIODS = 1_000_000
+"""duration_s x control_rate_hz <= 1e6: one day at 10 Hz is 864 000 periods; the run keeps
+every period's state and thrust in memory (about 0.5 GB at the bound)."""
+MAX_INTEGRATION_STEPS = 10_000_000
+"""control periods x integrator_steps <= 1e7: about two minutes at the measured 1e5 steps/s
+(one day at 10 Hz with 4 steps is 3.5e6)."""
+RK4_STABLE_STEP = 2.0
+"""Largest h x omega allowed for one Runge-Kutta step of length h: classical RK4 is stable
+up to 2.78 on the real axis and 2.83 on the imaginary one; the margin covers the coupled
+(free-free) frequencies, which lie above the cantilevered ones the file gives."""
+MAX_FAILURES = 1000
+"""At most 1000 failure events (the paper's 24 CubeSats x 3 stages have 96 to lose)."""
+CORNER_ARRAY_ANGLES = Range(1, 64)
+"""1 to 64 array angles in the corner set: 2^5 x 64 = 2048 corner cases (the paper: 8, 256)."""
+MONTECARLO_SAMPLES = Range(1, 100_000)
+"""1 to 100 000 random closed-loop cases: about a day on two cores at one second a case."""

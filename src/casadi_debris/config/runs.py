@@ -1,0 +1,157 @@
+"""Readers of runs: ``[simulation]`` (with its slew and failures) and ``[montecarlo]``.
+
+Besides each key's range, a run is bounded as a whole: its count of control
+periods and of integration steps (so that no file can ask for a run of days
+or of more memory than a workstation has), and its Runge-Kutta step against
+the fastest dynamics the file gives (so that the integration cannot diverge to
+NaN).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+
+from casadi_debris.config import limits
+from casadi_debris.config.schema import (
+    AXIS_NAMES,
+    REFERENCE_KINDS,
+    SLEW_METHODS,
+    FailureEvent,
+    MonteCarlo,
+    Simulation,
+    SlewReference,
+)
+from casadi_debris.config.table import Table
+
+
+def read_slew(t: Table, run_duration_s: float) -> SlewReference:
+    """``[simulation.slew]``; it must start within the run of ``run_duration_s`` [s]."""
+    axis = t.text("axis", AXIS_NAMES)
+    slew = SlewReference(
+        axis=axis,
+        angle_deg=t.number("angle_deg", limits.SLEW_ANGLE_DEG),
+        method=t.text("method", SLEW_METHODS) if t.has("method") else "bang-bang",
+        start_s=t.number("start_s", limits.nonnegative(run_duration_s))
+        if t.has("start_s")
+        else 0.0,
+        duration_s=t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None,
+        torque_fraction=(
+            t.number("torque_fraction", limits.positive(1.0)) if t.has("torque_fraction") else None
+        ),
+        feedforward=t.boolean("feedforward") if t.has("feedforward") else False,
+        thrusters=t.boolean("thrusters") if t.has("thrusters") else False,
+    )
+    if slew.method == "fuel-optimal" and slew.duration_s is None:
+        raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
+    if slew.thrusters and slew.method == "bang-bang":
+        raise t.error(
+            t.key("thrusters"), "only for time-optimal and fuel-optimal slews (not bang-bang)"
+        )
+    t.done()
+    return slew
+
+
+def read_failure(t: Table, n_cubesats: int, n_stages: int) -> FailureEvent:
+    """One ``[[simulation.failures]]`` entry; CubeSats and stages numbered from 1."""
+    cubesat = t.integer("cubesat", limits.Range(1, n_cubesats))
+    stage = t.integer("stage", limits.Range(1, n_stages)) if t.has("stage") else None
+    event = FailureEvent(
+        time_s=t.number("time_s", limits.Range(0.0, limits.DURATION_S.high)),
+        cubesat=cubesat - 1,
+        stage=None if stage is None else stage - 1,
+    )
+    t.done()
+    return event
+
+
+def read_simulation(t: Table, n_cubesats: int, n_stages: int) -> Simulation:
+    """``[simulation]``: length, sampling, reference and failures of a closed-loop run."""
+    reference = t.text("reference", REFERENCE_KINDS)
+    has_slew = t.has("slew")
+    if reference == "slew" and not has_slew:
+        raise t.error(t.key("slew"), 'missing: reference = "slew" needs a [simulation.slew] table')
+    if reference == "hold" and has_slew:
+        raise t.error(t.key("slew"), 'only allowed with reference = "slew"')
+    duration_s = t.number("duration_s", limits.DURATION_S)
+    rate_hz = t.number("control_rate_hz", limits.CONTROL_RATE_HZ)
+    steps = t.integer("integrator_steps", limits.INTEGRATOR_STEPS)
+    periods = duration_s * rate_hz
+    if not 1.0 <= periods <= limits.MAX_CONTROL_PERIODS:
+        raise t.error(
+            t.key("duration_s"),
+            f"{duration_s:g} s at {rate_hz:g} Hz is {periods:.4g} control periods; "
+            f"a run holds 1 to {limits.MAX_CONTROL_PERIODS}",
+        )
+    if periods * steps > limits.MAX_INTEGRATION_STEPS:
+        raise t.error(
+            t.key("integrator_steps"),
+            f"{steps} steps x {periods:.4g} control periods exceeds the "
+            f"{limits.MAX_INTEGRATION_STEPS:.0e} integration steps a run may take",
+        )
+    failures = (
+        tuple(
+            read_failure(f, n_cubesats, n_stages) for f in t.tables("failures", limits.MAX_FAILURES)
+        )
+        if t.has("failures")
+        else ()
+    )
+    simulation = Simulation(
+        duration_s=duration_s,
+        control_rate_hz=rate_hz,
+        integrator_steps=steps,
+        reference=reference,
+        slew=read_slew(t.table("slew"), duration_s) if has_slew else None,
+        failures=tuple(sorted(failures, key=lambda event: event.time_s)),
+    )
+    t.done()
+    return simulation
+
+
+def check_integration_step(t: Table, simulation: Simulation, rates: Mapping[str, float]) -> None:
+    """Refuse Runge-Kutta steps too long for the fastest dynamics of the problem.
+
+    One step lasts ``h = 1 / (control_rate_hz x integrator_steps)``; classical
+    RK4 diverges when ``h x omega`` exceeds about 2.8, so ``h x omega <=``
+    :data:`~casadi_debris.config.limits.RK4_STABLE_STEP` for every rate given.
+
+    Parameters
+    ----------
+    t : Table
+        The ``[simulation]`` table (the error names its ``integrator_steps``).
+    simulation : Simulation
+    rates : mapping of str to float
+        Dotted key of each fast dynamic -> its rate [rad/s] (star tracker
+        bandwidth, array mode frequencies).
+
+    Raises
+    ------
+    ProblemFileError
+        Naming ``simulation.integrator_steps``, with the count that would do.
+    """
+    key, omega = max(rates.items(), key=lambda item: item[1])
+    step_s = 1.0 / (simulation.control_rate_hz * simulation.integrator_steps)
+    if step_s * omega <= limits.RK4_STABLE_STEP:
+        return
+    needed = math.ceil(omega / (simulation.control_rate_hz * limits.RK4_STABLE_STEP))
+    remedy = (
+        f"give integrator_steps >= {needed}"
+        if needed <= limits.INTEGRATOR_STEPS.high
+        else "raise control_rate_hz"
+    )
+    raise t.error(
+        t.key("integrator_steps"),
+        f"Runge-Kutta steps of {step_s:.3g} s diverge on {key} = {omega:g} rad/s "
+        f"(step x rate must be at most {limits.RK4_STABLE_STEP:g}); {remedy}",
+    )
+
+
+def read_montecarlo(t: Table) -> MonteCarlo:
+    """``[montecarlo]``: the corner set and the random cases of a campaign."""
+    montecarlo = MonteCarlo(
+        corner_array_angles=t.integer("corner_array_angles", limits.CORNER_ARRAY_ANGLES),
+        samples=t.integer("samples", limits.MONTECARLO_SAMPLES),
+        seed=t.integer("seed", limits.SEED),
+    )
+    t.done()
+    return montecarlo
