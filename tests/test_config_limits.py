@@ -178,6 +178,22 @@ def test_wrong_shapes_and_nesting_name_the_key(fresh_data, key, value, words):
     _refused(fresh_data, key, words)
 
 
+def test_propellant_heavier_than_the_cubesat_is_refused(fresh_data):
+    # 3 stages x 0.64 mN x 500 h / (1000 s g0) = 0.35 kg; 5000 h is 3.5 kg, the CubeSat's mass.
+    fresh_data["engine"]["stage_life_h"] = 5000.0
+    message = _refused(fresh_data, "engine.stage_life_h", "below the CubeSat's mass")
+    assert "3.524 kg" in message and "cubesats.mass_kg" in message
+    fresh_data["engine"]["stage_life_h"] = 4900.0
+    assert problem_from_dict(fresh_data).engine.stage_life_h == 4900.0
+
+
+def test_propellant_check_counts_every_stage(fresh_data):
+    fresh_data["engine"]["stages"] = 16  # 16 x 0.1175 kg = 1.88 kg < 3.5 kg
+    problem_from_dict(fresh_data)
+    fresh_data["cubesats"]["mass_kg"] = 1.8
+    _refused(fresh_data, "engine.stage_life_h", "16 stage(s)")
+
+
 def test_runs_are_bounded_as_a_whole(fresh_data):
     simulation = fresh_data["simulation"]
     simulation["duration_s"], simulation["control_rate_hz"] = 1e7, 1.0

@@ -15,12 +15,16 @@ from casadi_debris.config.schema import (
     MODE_KINDS,
     SIGNED_AXES,
     Arrays,
+    Constants,
     CubeSats,
     Engine,
     Hub,
     Mode,
 )
 from casadi_debris.config.table import Table
+
+SECONDS_PER_HOUR = 3600.0
+N_PER_MN = 1e-3
 
 
 def read_hub(t: Table) -> Hub:
@@ -113,3 +117,41 @@ def read_engine(t: Table) -> Engine:
     )
     t.done()
     return engine
+
+
+def check_propellant(t: Table, engine: Engine, cubesats: CubeSats, constants: Constants) -> None:
+    """Refuse engines whose propellant (all stages) is not below the CubeSat's mass.
+
+    A stage burns ``thrust x life / (Isp g0)`` [kg] (as
+    :func:`casadi_debris.allocation.stage_propellant_kg` computes it), so a
+    CubeSat carries ``stages`` times that; it cannot weigh more than the
+    CubeSat itself, and the rocket equation's logarithm would fail if it did.
+
+    Parameters
+    ----------
+    t : Table
+        The top-level table (the error names ``engine.stage_life_h``).
+    engine, cubesats, constants
+        Already read.
+
+    Raises
+    ------
+    ProblemFileError
+        Naming ``engine.stage_life_h``, the usual culprit of the product.
+    """
+    stage_kg = (
+        engine.thrust_per_stage_mN
+        * N_PER_MN
+        * engine.stage_life_h
+        * SECONDS_PER_HOUR
+        / (engine.isp_s * constants.standard_gravity_m_s2)
+    )
+    total_kg = engine.stages * stage_kg
+    if total_kg >= cubesats.mass_kg:
+        raise t.error(
+            "engine.stage_life_h",
+            f"the propellant of {engine.stages} stage(s), {engine.stages} x thrust x life / "
+            f"(Isp g0) = {total_kg:.4g} kg, must be below the CubeSat's mass "
+            f"({cubesats.mass_kg:g} kg, cubesats.mass_kg); shorten the stage life "
+            "or lower the thrust",
+        )

@@ -2,8 +2,8 @@
 
 The debris and swarm tables are read in :mod:`~casadi_debris.config.bodies`,
 the runs in :mod:`~casadi_debris.config.runs`; the checks across tables (the
-integration step against the fastest dynamics) are made here once everything
-is read.
+propellant against the CubeSat's mass, the integration step against the
+fastest dynamics) are made here once everything is read.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from typing import Any
 
 from casadi_debris.config import limits
 from casadi_debris.config.bodies import (
+    check_propellant,
     read_arrays,
     read_cubesats,
     read_engine,
@@ -124,8 +125,8 @@ def problem_from_dict(
     """Validate a parsed problem (as from TOML) and return it frozen.
 
     Every number must lie in its range of :mod:`~casadi_debris.config.limits`;
-    the tables must also agree with each other (integration step against the
-    fastest dynamics).
+    the tables must also agree with each other (propellant below the
+    CubeSat's mass, integration step against the fastest dynamics).
 
     Parameters
     ----------
@@ -150,6 +151,7 @@ def problem_from_dict(
     engine = read_engine(top.table("engine"))
     sensor = _read_sensor(top.table("sensor"))
     constants = _read_numbers(top.table("constants"), Constants, CONSTANTS_RANGES)
+    check_propellant(top, engine, cubesats, constants)
     simulation_table = _optional_table(top, "simulation", DEFAULT_SIMULATION)
     simulation = read_simulation(
         simulation_table, n_cubesats=6 * cubesats.per_face, n_stages=engine.stages
