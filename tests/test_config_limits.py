@@ -224,6 +224,34 @@ def test_slew_must_start_within_the_run(fresh_data):
     _refused(fresh_data, "simulation.slew.start_s", "at most 5908")
 
 
+@pytest.mark.parametrize(
+    "name",
+    ["../../somewhere", "..", ".", "a/b", "a\\b", "", "-x", "x" * 65, "a\nb", "é", "a b", "~x"],
+)
+def test_name_is_a_label_not_a_path(fresh_data, name):
+    fresh_data["name"] = name
+    _refused(fresh_data, "name", "label")
+
+
+@pytest.mark.parametrize("name", ["paper", "heavy-hub", "slew.v2", "x" * 64, "0"])
+def test_labels_are_accepted(fresh_data, name):
+    fresh_data["name"] = name
+    assert problem_from_dict(fresh_data).name == name
+
+
+def test_mode_names_are_labels(fresh_data):
+    fresh_data["arrays"]["modes"][0]["name"] = "../bending"
+    _refused(fresh_data, "arrays.modes[0].name", "label")
+
+
+@pytest.mark.parametrize(
+    ("text", "words"), [("x" * 1001, "at most 1000"), ("a\x1b[2Jb", "control characters")]
+)
+def test_description_is_bounded_prose(fresh_data, text, words):
+    fresh_data["description"] = text
+    _refused(fresh_data, "description", words)
+
+
 def test_messages_stay_on_one_short_line(fresh_data):
     fresh_data["hub"]["mass_kg"] = "5" * 100_000
     assert len(_refused(fresh_data, "hub.mass_kg")) < 200

@@ -43,7 +43,7 @@ def read_hub(t: Table) -> Hub:
 def read_mode(t: Table) -> Mode:
     """One ``[[arrays.modes]]`` entry."""
     mode = Mode(
-        name=t.text("name"),
+        name=t.label("name"),
         kind=t.text("kind", MODE_KINDS),
         order=t.integer("order", limits.MODE_ORDER),
         omega_rad_s=t.number("omega_rad_s", limits.MODE_OMEGA_RAD_S),

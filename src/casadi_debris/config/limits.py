@@ -197,3 +197,10 @@ CORNER_ARRAY_ANGLES = Range(1, 64)
 """1 to 64 array angles in the corner set: 2^5 x 64 = 2048 corner cases (the paper: 8, 256)."""
 MONTECARLO_SAMPLES = Range(1, 100_000)
 """1 to 100 000 random closed-loop cases: about a day on two cores at one second a case."""
+
+# ------------------------------------------------------------------ text and files
+NAME_PATTERN = r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}"
+"""A problem or mode name is a label (output folders are named after it), not a path: a letter
+or digit, then up to 63 letters, digits, '.', '_' or '-'; so never '.', '..' nor a separator."""
+MAX_DESCRIPTION_CHARS = 1000
+"""A description is prose of at most 1000 characters, without control characters."""

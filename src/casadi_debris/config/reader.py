@@ -143,8 +143,8 @@ def problem_from_dict(
         Naming the first offending key.
     """
     top = Table(data, "", source)
-    name = top.text("name")
-    description = top.text("description")
+    name = top.label("name")
+    description = top.prose("description")
     hub = read_hub(top.table("hub"))
     arrays = read_arrays(top.table("arrays"), hub.size_m)
     cubesats = read_cubesats(top.table("cubesats"))

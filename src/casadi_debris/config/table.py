@@ -16,11 +16,12 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.config.limits import Range
+from casadi_debris.config.limits import MAX_DESCRIPTION_CHARS, NAME_PATTERN, Range
 from casadi_debris.errors import ProblemFileError
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,64}")
 _SHOWN_CHARS = 60
+_ALLOWED_CONTROL = "\n\t"
 
 
 def frozen_array(values: Any) -> np.ndarray:
@@ -112,6 +113,29 @@ class Table:
             raise self.error(
                 self.key(name), f"must be one of {', '.join(choices)}; got {show(value)}"
             )
+        return value
+
+    def label(self, name: str) -> str:
+        """A name used as a label (and in folder names): see ``limits.NAME_PATTERN``."""
+        value = self.text(name)
+        if not re.fullmatch(NAME_PATTERN, value):
+            raise self.error(
+                self.key(name),
+                "must be a label: a letter or digit, then at most 63 letters, digits, "
+                f"'.', '_' or '-' (it names output folders, it is not a path); got {show(value)}",
+            )
+        return value
+
+    def prose(self, name: str) -> str:
+        """Free text of bounded length without control characters (tabs, newlines allowed)."""
+        value = self.text(name)
+        if len(value) > MAX_DESCRIPTION_CHARS:
+            raise self.error(
+                self.key(name),
+                f"at most {MAX_DESCRIPTION_CHARS} characters, got {len(value)}",
+            )
+        if any((ord(c) < 32 and c not in _ALLOWED_CONTROL) or ord(c) == 127 for c in value):
+            raise self.error(self.key(name), "must not hold control characters")
         return value
 
     def texts(self, name: str, choices: tuple[str, ...], max_count: int) -> tuple[str, ...]:
