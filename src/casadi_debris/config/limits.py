@@ -204,3 +204,7 @@ NAME_PATTERN = r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}"
 or digit, then up to 63 letters, digits, '.', '_' or '-'; so never '.', '..' nor a separator."""
 MAX_DESCRIPTION_CHARS = 1000
 """A description is prose of at most 1000 characters, without control characters."""
+MAX_FILE_BYTES = 1_000_000
+"""A problem file (and each file it extends) is at most 1 MB; the paper's is 5 kB."""
+MAX_EXTENDS_DEPTH = 8
+"""At most 8 files in an ``extends`` chain below the one loaded."""

@@ -1,16 +1,26 @@
-"""Reading problem files: TOML, ``extends`` chains, the shipped defaults."""
+"""Reading problem files: TOML, ``extends`` chains, the shipped defaults.
+
+Only regular files are read (never a FIFO, a terminal or a device, which could
+block or never end), each of at most ``limits.MAX_FILE_BYTES``, and an
+``extends`` chain holds at most ``limits.MAX_EXTENDS_DEPTH`` files below the
+one loaded.
+"""
 
 from __future__ import annotations
 
 import hashlib
+import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from casadi_debris.config.limits import MAX_EXTENDS_DEPTH, MAX_FILE_BYTES
 from casadi_debris.config.reader import problem_from_dict
 from casadi_debris.config.schema import Problem
+from casadi_debris.config.table import show
 from casadi_debris.errors import ProblemFileError
 
 
@@ -24,28 +34,101 @@ def _merge(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, An
     return merged
 
 
-def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any], bytes]:
-    """Parse a problem file, following ``extends``; returns data and the bytes hashed."""
-    source = str(path)
-    if path in chain:
-        raise ProblemFileError("extends", f"circular chain {[str(p) for p in chain]}", source)
+class _UnreadableFileError(Exception):
+    """Why a problem file cannot be read (turned into a ProblemFileError by the caller)."""
+
+
+def _read_regular_file(path: Path) -> bytes:
+    """The bytes of a regular file of at most ``MAX_FILE_BYTES``.
+
+    Checked before opening (a FIFO would block the open, a device such as
+    /dev/zero never ends), opened without blocking, and checked again on the
+    open descriptor in case the path was swapped in between.
+
+    Raises
+    ------
+    _UnreadableFileError
+        Missing, not a regular file, too large, or unreadable.
+    """
     try:
-        raw = path.read_bytes()
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise _UnreadableFileError("is not a regular file")
+        flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
+        descriptor = os.open(path, flags | getattr(os, "O_CLOEXEC", 0))
+        try:
+            if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+                raise _UnreadableFileError("is not a regular file")
+            # One byte more than allowed tells a file over the limit (st_size can lie: /proc).
+            raw = os.read(descriptor, MAX_FILE_BYTES + 1)
+            while len(raw) <= MAX_FILE_BYTES:
+                more = os.read(descriptor, MAX_FILE_BYTES + 1 - len(raw))
+                if not more:
+                    break
+                raw += more
+        finally:
+            os.close(descriptor)
     except FileNotFoundError:
-        raise ProblemFileError("", "no such problem file", source) from None
+        raise _UnreadableFileError("does not exist") from None
     except OSError as exc:
-        raise ProblemFileError("", f"cannot be read ({exc.strerror})", source) from None
+        raise _UnreadableFileError(f"cannot be read ({exc.strerror or exc})") from None
+    except ValueError:  # a NUL byte in the path
+        raise _UnreadableFileError("is not a valid path") from None
+    if len(raw) > MAX_FILE_BYTES:
+        raise _UnreadableFileError(f"is larger than {MAX_FILE_BYTES} bytes")
+    return raw
+
+
+def _parse(raw: bytes) -> dict[str, Any]:
+    """TOML of ``raw``; raises _UnreadableFileError for anything that is not valid TOML."""
     try:
-        data = tomllib.loads(raw.decode("utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ProblemFileError("", f"not valid TOML ({exc})", source) from None
+        return tomllib.loads(raw.decode("utf-8"))
+    except RecursionError:
+        raise _UnreadableFileError("is not valid TOML (nested too deeply)") from None
+    except ValueError as exc:  # TOMLDecodeError, UnicodeDecodeError, integers of 4300+ digits
+        raise _UnreadableFileError(f"is not valid TOML ({str(exc)[:200]})") from None
+
+
+def _parent_path(path: Path, parent: Any, chain: tuple[Path, ...]) -> Path:
+    """The resolved file ``extends = parent`` of ``path`` names, checked."""
+    source = str(path)
+    if not isinstance(parent, str) or not parent:
+        raise ProblemFileError("extends", f"must be a path string, got {show(parent)}", source)
+    if len(chain) >= MAX_EXTENDS_DEPTH:
+        raise ProblemFileError(
+            "extends", f"chains at most {MAX_EXTENDS_DEPTH} files below the one loaded", source
+        )
+    try:
+        resolved = (path.parent / parent).resolve()
+    except (OSError, RuntimeError, ValueError):  # a symlink loop, a NUL byte
+        raise ProblemFileError("extends", f"{show(parent)} is not a valid path", source) from None
+    if resolved in (*chain, path):
+        names = [str(p) for p in (*chain, path, resolved)]
+        raise ProblemFileError("extends", f"circular chain {names}", source)
+    return resolved
+
+
+def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any], bytes]:
+    """Parse a problem file, following ``extends``; returns data and the bytes hashed.
+
+    Errors in the loaded file name it; errors in a file it extends name
+    ``extends`` in the file that points there.
+    """
+    try:
+        raw = _read_regular_file(path)
+        data = _parse(raw)
+    except _UnreadableFileError as exc:
+        if not chain:
+            message = "no such problem file" if str(exc) == "does not exist" else str(exc)
+            raise ProblemFileError("", message, str(path)) from None
+        raise ProblemFileError("extends", f"{path} {exc}", str(chain[-1])) from None
     parent = data.get("extends")
     if parent is None:
         return data, raw
-    if not isinstance(parent, str):
-        raise ProblemFileError("extends", "must be a path string", source)
-    base, base_raw = _read_toml((path.parent / parent).resolve(), (*chain, path))
-    return _merge(base, data), base_raw + raw
+    base, base_raw = _read_toml(_parent_path(path, parent, chain), (*chain, path))
+    try:
+        return _merge(base, data), base_raw + raw
+    except RecursionError:
+        raise ProblemFileError("", "tables nested too deeply", str(path)) from None
 
 
 def default_problem_path() -> Path:
@@ -75,8 +158,13 @@ def load_problem(path: str | Path | None = None) -> Problem:
     Raises
     ------
     ProblemFileError
-        Missing or unreadable file, invalid TOML, or a bad key (named).
+        Missing, unreadable or oversized file (or not a regular file: no FIFO,
+        no device), invalid TOML, a broken ``extends`` chain, or a bad key
+        (named).
     """
-    resolved = Path(path).resolve() if path is not None else default_problem_path()
+    try:
+        resolved = Path(path).resolve() if path is not None else default_problem_path()
+    except (OSError, RuntimeError, ValueError):  # a symlink loop, a NUL byte
+        raise ProblemFileError("", "is not a valid path", str(path)) from None
     data, raw = _read_toml(resolved)
     return problem_from_dict(data, str(resolved), hashlib.sha256(raw).hexdigest())
