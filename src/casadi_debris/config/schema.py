@@ -123,7 +123,19 @@ class CubeSats:
 
 @dataclass(frozen=True, eq=False)
 class Engine:
-    """Staged ion-electrospray engine of one CubeSat."""
+    """Staged ion-electrospray engine of one CubeSat.
+
+    Attributes
+    ----------
+    stages : int
+        1 to 16.
+    emitters_per_stage : int
+    thrust_per_stage_mN : float
+    isp_s : float
+    stage_life_h : float
+        Firing life of one stage [h]; the propellant of all stages,
+        ``stages x thrust x life / (Isp g0)``, must stay below the CubeSat's mass.
+    """
 
     stages: int
     emitters_per_stage: int
@@ -150,7 +162,11 @@ class Sensor:
 
 @dataclass(frozen=True, eq=False)
 class Uncertainty:
-    """Half-ranges of the uncertainty set (relative or absolute as named)."""
+    """Half-ranges of the uncertainty set (relative or absolute as named).
+
+    ``samples`` (1 to 10 000) models fit the uncertainty weight, drawn with
+    ``seed`` (0 to 2^32 - 1).
+    """
 
     inertia_fraction: float
     mass_fraction: float
@@ -240,7 +256,25 @@ class FailureEvent:
 
 @dataclass(frozen=True, eq=False)
 class Simulation:
-    """Closed-loop run: length, sampling, reference and failures (``[simulation]``)."""
+    """Closed-loop run: length, sampling, reference and failures (``[simulation]``).
+
+    Attributes
+    ----------
+    duration_s : float
+        Simulated time [s], (0, 1e7], and 1 to 1e6 control periods.
+    control_rate_hz : float
+        Controller and allocator rate [Hz], 0.01 to 1000.
+    integrator_steps : int
+        Runge-Kutta steps per control period, 1 to 1000, short enough for the
+        fastest dynamics (step x rate <= 2) and at most 1e7 in the run.
+    reference : {"hold", "slew"}
+    slew : SlewReference or None
+        Given exactly when ``reference`` is ``"slew"``.
+    failures : tuple of FailureEvent
+        By time, at most 1000.
+
+    The ranges and why are in :mod:`casadi_debris.config.limits`.
+    """
 
     duration_s: float
     control_rate_hz: float
@@ -258,6 +292,15 @@ class MonteCarlo:
     (inertia per axis, mass, first bending frequency) with
     ``corner_array_angles`` array angles spread evenly over the angle range
     (the +-180 deg extremes are one and the same attitude of the arrays).
+
+    Attributes
+    ----------
+    corner_array_angles : int
+        1 to 64 (2^5 x 64 = 2048 corner cases at most).
+    samples : int
+        Random cases when a campaign gives no count, 1 to 100 000.
+    seed : int
+        0 to 2^32 - 1.
     """
 
     corner_array_angles: int
@@ -276,7 +319,12 @@ DEFAULT_MONTECARLO = {"corner_array_angles": 8, "samples": 100, "seed": 1}
 
 @dataclass(frozen=True, eq=False)
 class Problem:
-    """A whole validated scenario. See ``problems/paper.toml`` for every key."""
+    """A whole validated scenario. See ``problems/paper.toml`` for every key.
+
+    ``name`` is a label (it names output folders): a letter or digit, then at
+    most 63 letters, digits, ``.``, ``_`` or ``-``. Every number lies in its
+    range of :mod:`casadi_debris.config.limits`.
+    """
 
     name: str
     description: str
