@@ -87,7 +87,7 @@ def test_no_file_written_in_the_repository(corpus_run) -> None:
 
 
 def test_corpus_is_large_seeded_and_covers_every_command() -> None:
-    files = [e for e in ENTRIES if e.id[0] in "PCXS"]
+    files = [e for e in ENTRIES if e.id[0] in "PCXMS"]
     invocations = [e for e in ENTRIES if e.id[0] == "K"]
     assert len(files) >= 1000
     assert len(invocations) >= 200
