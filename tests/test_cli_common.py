@@ -53,3 +53,31 @@ def test_bounded_float_takes_finite_numbers_inside_its_range(text: str, ok: bool
     else:
         with pytest.raises(click.BadParameter, match=r"finite|\(0, 10\]"):
             kind.convert(text, None, None)
+
+
+@pytest.mark.parametrize(
+    ("args", "needle"),
+    [
+        (["synthesize", "--d-orders", "1000"], "--d-orders"),
+        (["synthesize", "--d-orders", "1,2,3,4,5,6,7"], "--d-orders"),
+        (["synthesize", "--mu-points", "100000"], "--mu-points"),
+        (["synthesize", "--max-iterations", "1000"], "--max-iterations"),
+        (["synthesize", "--seed", "-1"], "--seed"),
+        (["margins", "--samples", "1000000000"], "--samples"),
+        (["margins", "--seed", str(2**32)], "--seed"),
+        (["simulate", "--duration-s", "1e12"], "--duration-s"),
+        (["simulate", "--duration-s", "nan"], "--duration-s"),
+        (["simulate", "--duration-s", "0.01"], "--duration-s"),
+        (["simulate", "--corner", "256", "--duration-s", "1"], "--corner"),
+        (["simulate", "--sample", "-3"], "--sample"),
+        (["montecarlo", "--samples", "1000000000"], "--samples"),
+        (["montecarlo", "--max-cases", "0"], "--max-cases"),
+        (["montecarlo", "--workers", "0"], "--workers"),
+        (["reproduce", "--workers", "100000"], "--workers"),
+    ],
+)
+def test_out_of_range_options_are_refused_before_work(args: list[str], needle: str) -> None:
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert len(lines) == 1 and needle in lines[0], lines

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import default_controller_path
+from casadi_debris.errors import SynthesisError
 from casadi_debris.model import build_model, linearize
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
@@ -86,3 +87,22 @@ def test_full_synthesis_reproduces_the_shipped_design(problem, shipped):
     assert summary["mu_peak_reduced"] <= MU_TARGET
     assert summary["order_reduced"] <= ORDER_TARGET
     assert summary["mu_peak"] == pytest.approx(shipped.mu_peak, rel=0.02)
+
+
+@pytest.mark.parametrize(
+    ("knobs", "field"),
+    [
+        ({"d_orders": (1000,)}, "d_orders"),
+        ({"d_orders": ()}, "d_orders"),
+        ({"d_orders": (1, True)}, "d_orders"),
+        ({"mu_points": 5}, "mu_points"),
+        ({"mu_points": 150.0}, "mu_points"),
+        ({"max_iterations": -1}, "max_iterations"),
+        ({"samples": 0}, "samples"),
+        ({"seed": 2**32}, "seed"),
+        ({"reduced_order": 0}, "reduced_order"),
+    ],
+)
+def test_settings_outside_their_range_are_refused_naming_the_knob(knobs, field) -> None:
+    with pytest.raises(SynthesisError, match=f"^{field}: "):
+        SynthesisSettings(**knobs)

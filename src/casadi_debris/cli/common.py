@@ -14,6 +14,7 @@ from typing import Any
 import click
 
 from casadi_debris import __version__
+from casadi_debris.config.limits import Range
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.report.common import json_ready
 
@@ -52,6 +53,15 @@ problem_argument = click.argument(
     metavar="[PROBLEM.toml]",
 )
 json_option = click.option("--json", "as_json", is_flag=True, help="Print JSON for scripts.")
+MAX_WORKERS = 256
+"""Local worker processes at most (one per core of a large node)."""
+workers_option = click.option(
+    "--workers",
+    type=click.IntRange(1, MAX_WORKERS),
+    default=os.cpu_count() or 1,
+    show_default=True,
+    help="Local worker processes.",
+)
 overwrite_option = click.option(
     "--overwrite",
     is_flag=True,
@@ -98,6 +108,18 @@ class BoundedFloat(click.ParamType):
 
     def get_metavar(self, param: click.Parameter, ctx: click.Context | None = None) -> str:
         return f"FLOAT {self.describe()}"
+
+
+def in_range(allowed: Range) -> click.ParamType:
+    """The click type of an option whose values must lie in ``allowed``.
+
+    Whole-number bounds give :class:`click.IntRange`, others :class:`BoundedFloat`.
+    """
+    if isinstance(allowed.low, int) and isinstance(allowed.high, int):
+        return click.IntRange(allowed.low, allowed.high)
+    return BoundedFloat(
+        allowed.low, allowed.high, low_open=allowed.low_open, high_open=allowed.high_open
+    )
 
 
 class OneLineErrorGroup(click.Group):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -18,11 +17,11 @@ from casadi_debris.cli.common import (
     json_option,
     main,
     overwrite_option,
+    workers_option,
 )
 from casadi_debris.cli.robust import load_controller
 from casadi_debris.cli.simulate import run_montecarlo
 from casadi_debris.config import default_problem_path, load_problem
-from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import format_table, write_json_atomic
 from casadi_debris.report.describe import describe_model
@@ -52,7 +51,7 @@ QUICK = {
 )
 @click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run (CI).")
 @click.option("--resynthesize", is_flag=True, help="Design the controller anew (≈1 min).")
-@click.option("--workers", type=int, default=os.cpu_count() or 1, show_default=True)
+@workers_option
 @overwrite_option
 @json_option
 @friendly_errors
@@ -62,8 +61,6 @@ def reproduce(
     """Reproduce the paper: model, budgets, controller, margins, slew and pointing
     with their Monte-Carlo envelopes; writes report.md with every figure of the
     paper next to ours."""
-    if workers < 1:
-        raise InputShapeError(f"--workers must be at least 1, got {workers}")
     started = time.perf_counter()
     plan = {**FULL, **(QUICK if quick else {})}
     problems = default_problem_path().parent

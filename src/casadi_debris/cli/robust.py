@@ -10,13 +10,14 @@ import click
 from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
+    in_range,
     json_option,
     main,
     overwrite_option,
     problem_argument,
 )
-from casadi_debris.config import default_controller_path, load_problem
-from casadi_debris.errors import ProblemFileError
+from casadi_debris.config import default_controller_path, limits, load_problem
+from casadi_debris.errors import ProblemFileError, SynthesisError
 from casadi_debris.report.common import format_table, write_json_atomic
 from casadi_debris.report.folders import (
     RunFolder,
@@ -24,8 +25,16 @@ from casadi_debris.report.folders import (
     check_output_folder,
     default_run_folder,
 )
+from casadi_debris.robust.analysis import MARGIN_SAMPLES
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import SynthesisSettings, design_controller
+from casadi_debris.robust.design import (
+    D_ORDER,
+    DK_ITERATIONS,
+    MAX_D_ORDERS_TRIED,
+    MU_POINTS,
+    SynthesisSettings,
+    design_controller,
+)
 
 
 @main.command()
@@ -38,13 +47,35 @@ from casadi_debris.robust.design import SynthesisSettings, design_controller
     show_default=True,
     help="Controller file to write (JSON).",
 )
-@click.option("--mu-points", default=150, show_default=True, help="Frequencies of the mu grid.")
-@click.option("--max-iterations", default=8, show_default=True, help="D-K iterations at most.")
 @click.option(
-    "--d-orders", default="1,2,4", show_default=True, help="D-scale orders tried at each step."
+    "--mu-points",
+    type=in_range(MU_POINTS),
+    default=150,
+    show_default=True,
+    help="Frequencies of the mu grid.",
 )
-@click.option("--samples", type=int, default=None, help="Models for the W fit [problem's].")
-@click.option("--seed", type=int, default=None, help="Seed of those models [problem's].")
+@click.option(
+    "--max-iterations",
+    type=in_range(DK_ITERATIONS),
+    default=8,
+    show_default=True,
+    help="D-K iterations at most.",
+)
+@click.option(
+    "--d-orders",
+    default="1,2,4",
+    show_default=True,
+    help=f"D-scale orders tried at each step (1 to {MAX_D_ORDERS_TRIED} of {D_ORDER}).",
+)
+@click.option(
+    "--samples",
+    type=in_range(limits.UNCERTAINTY_SAMPLES),
+    default=None,
+    help="Models for the W fit [problem's].",
+)
+@click.option(
+    "--seed", type=in_range(limits.SEED), default=None, help="Seed of those models [problem's]."
+)
 @overwrite_option
 @json_option
 @friendly_errors
@@ -61,19 +92,7 @@ def synthesize(
 ) -> None:
     """mu-synthesis of the attitude controller (the paper's Section III), reduced and checked."""
     problem = load_problem(problem_file)
-    try:
-        orders = tuple(int(part) for part in d_orders.split(",") if part.strip())
-    except ValueError:
-        raise ProblemFileError(
-            "--d-orders", f"comma-separated integers, got {d_orders!r}"
-        ) from None
-    if not orders or min(orders) < 0 or mu_points < 10 or max_iterations < 0:
-        raise ProblemFileError(
-            "--d-orders/--mu-points/--max-iterations",
-            "need orders >= 0, at least 10 mu points and iterations >= 0",
-        )
-    if samples is not None and samples < 1:
-        raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
+    orders = _d_orders(d_orders)
     check_output_file(out_path, overwrite=overwrite)
     settings = SynthesisSettings(
         samples=samples,
@@ -109,6 +128,20 @@ def synthesize(
     click.echo(format_table(["figure", "value"], rows))
 
 
+def _d_orders(text: str) -> tuple[int, ...]:
+    """``--d-orders 1,2,4`` as integers, each in D_ORDER, at most MAX_D_ORDERS_TRIED."""
+    try:
+        orders = tuple(int(part) for part in text.split(",") if part.strip())
+    except ValueError:
+        orders = ()
+    if not 1 <= len(orders) <= MAX_D_ORDERS_TRIED or any(D_ORDER.violation(o) for o in orders):
+        raise SynthesisError(
+            f"--d-orders: 1 to {MAX_D_ORDERS_TRIED} comma-separated integers in {D_ORDER}, "
+            f"got {text!r}"
+        )
+    return orders
+
+
 def load_controller(path: Path | None) -> tuple[ControllerRecord, Path]:
     """Read a controller file (default: the one shipped for the paper's problem)."""
     resolved = (path or default_controller_path()).resolve()
@@ -134,8 +167,16 @@ def load_controller(path: Path | None) -> tuple[ControllerRecord, Path]:
     default=None,
     help="Controller file [the shipped paper controller].",
 )
-@click.option("--samples", default=3000, show_default=True, help="Sampled uncertain plants.")
-@click.option("--seed", type=int, default=None, help="Seed of the samples [problem's].")
+@click.option(
+    "--samples",
+    type=in_range(MARGIN_SAMPLES),
+    default=3000,
+    show_default=True,
+    help="Sampled uncertain plants.",
+)
+@click.option(
+    "--seed", type=in_range(limits.SEED), default=None, help="Seed of the samples [problem's]."
+)
 @click.option(
     "--out",
     "out_dir",
@@ -162,8 +203,6 @@ def margins(
 
     problem = load_problem(problem_file)
     record, path = load_controller(controller_path)
-    if samples < 1:
-        raise ProblemFileError("--samples", f"must be at least 1, got {samples}")
     folder = out_dir or default_run_folder("margins", problem.name)
     check_output_folder(folder, overwrite=overwrite)
     if record.problem_sha256 and record.problem_sha256 != problem.sha256:

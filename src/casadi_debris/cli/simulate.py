@@ -4,10 +4,8 @@ from __future__ import annotations
 
 import csv
 import hashlib
-import os
 import re
 import sys
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -18,13 +16,15 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
+    in_range,
     json_option,
     main,
     overwrite_option,
     problem_argument,
+    workers_option,
 )
 from casadi_debris.cli.robust import load_controller
-from casadi_debris.config import Problem, load_problem
+from casadi_debris.config import Problem, limits, load_problem, with_duration
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import Model, build_model
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
@@ -60,7 +60,7 @@ from casadi_debris.simulation import (
 from casadi_debris.simulation import (
     simulate as run_simulation,
 )
-from casadi_debris.simulation.closed_loop import c_compiler
+from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
 
 NM_PER_MNM = 1e-3
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
@@ -118,7 +118,10 @@ def choose_case(
     if corner is not None and sample is not None:
         raise InputShapeError("give either --corner or --sample, not both")
     if corner is not None:
-        return corner_case(problem, model, corner)
+        try:
+            return corner_case(problem, model, corner)
+        except SimulationError as exc:
+            raise InputShapeError(f"--corner: {exc}") from None
     if sample is not None:
         return sample_case(
             problem, model, sample, problem.montecarlo.seed if seed is None else seed
@@ -147,9 +150,19 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
 
 @main.command()
 @problem_argument
-@click.option("--corner", type=int, help="Run corner K of the uncertainty set (0-based).")
-@click.option("--sample", type=int, help="Run random sample N (with --seed).")
-@click.option("--seed", type=int, help="Seed of --sample (default the problem's montecarlo.seed).")
+@click.option(
+    "--corner", type=click.IntRange(0), help="Run corner K of the uncertainty set (0-based)."
+)
+@click.option(
+    "--sample",
+    type=click.IntRange(0, limits.MONTECARLO_SAMPLES.high - 1),
+    help="Run random sample N (with --seed).",
+)
+@click.option(
+    "--seed",
+    type=in_range(limits.SEED),
+    help="Seed of --sample (default the problem's montecarlo.seed).",
+)
 @click.option(
     "--open-loop",
     "open_loop",
@@ -157,7 +170,9 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     help="Torque table t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm (held); needs --rigid.",
 )
 @click.option("--rigid", is_flag=True, help="Rigid body, full rigid inertia (with --open-loop).")
-@click.option("--duration-s", type=float, help="End time (default the problem's).")
+@click.option(
+    "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
+)
 @click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNGs.")
@@ -193,9 +208,7 @@ def simulate(
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
     if duration_s is not None:
-        if not duration_s > 0:
-            raise InputShapeError(f"--duration-s must be positive, got {duration_s}")
-        problem = _with_duration(problem, duration_s)
+        problem = with_duration(problem, duration_s, field="--duration-s")
     record, resolved = load_controller(controller_path)
     model = build_model(problem)
     case = choose_case(problem, model, corner, sample, seed)
@@ -221,10 +234,6 @@ def simulate(
         echo_json(summary)
     else:
         click.echo(summary_text(summary))
-
-
-def _with_duration(problem: Problem, duration_s: float) -> Problem:
-    return replace(problem, simulation=replace(problem.simulation, duration_s=duration_s))
 
 
 def _open_loop(
@@ -395,10 +404,20 @@ class CampaignInterrupted(KeyboardInterrupt):
 @main.command()
 @problem_argument
 @click.option("--corners", is_flag=True, help="Every corner of the uncertainty set (default).")
-@click.option("--samples", type=int, help="N random samples instead of the corners.")
-@click.option("--seed", type=int, help="Seed of --samples (default the problem's).")
-@click.option("--max-cases", type=int, help="Keep N cases spread evenly (a quick look).")
-@click.option("--workers", type=int, default=os.cpu_count() or 1, show_default=True)
+@click.option(
+    "--samples",
+    type=in_range(limits.MONTECARLO_SAMPLES),
+    help="N random samples instead of the corners.",
+)
+@click.option(
+    "--seed", type=in_range(limits.SEED), help="Seed of --samples (default the problem's)."
+)
+@click.option(
+    "--max-cases",
+    type=in_range(limits.MONTECARLO_SAMPLES),
+    help="Keep N cases spread evenly (a quick look).",
+)
+@workers_option
 @click.option(
     "--scheduler",
     help="Dask scheduler address (tcp://host:8786 or tls://host:8786) instead of local "
@@ -441,8 +460,6 @@ def montecarlo(
     summary.json, cases.csv, envelope.csv/png and the nominal run.
     """
     problem = load_problem(problem_file)
-    if workers < 1:
-        raise InputShapeError(f"--workers must be at least 1, got {workers}")
     if scheduler is not None:
         check_scheduler_address(scheduler)
     out = out or default_run_folder("montecarlo", problem.name)

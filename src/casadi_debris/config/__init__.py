@@ -31,6 +31,7 @@ from __future__ import annotations
 from casadi_debris.config.checks import TRIANGLE_TOLERANCE, check_inertia
 from casadi_debris.config.loader import default_controller_path, default_problem_path, load_problem
 from casadi_debris.config.reader import problem_from_dict
+from casadi_debris.config.runs import with_duration
 from casadi_debris.config.schema import (
     AXIS_NAMES,
     DEFAULT_MONTECARLO,
@@ -91,4 +92,5 @@ __all__ = [
     "default_problem_path",
     "load_problem",
     "problem_from_dict",
+    "with_duration",
 ]

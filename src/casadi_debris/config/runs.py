@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from dataclasses import replace
 
 from casadi_debris.config import limits
 from casadi_debris.config.schema import (
@@ -19,10 +20,12 @@ from casadi_debris.config.schema import (
     SLEW_METHODS,
     FailureEvent,
     MonteCarlo,
+    Problem,
     Simulation,
     SlewReference,
 )
 from casadi_debris.config.table import Table
+from casadi_debris.errors import ProblemFileError
 
 
 def read_slew(t: Table, run_duration_s: float) -> SlewReference:
@@ -65,6 +68,53 @@ def read_failure(t: Table, n_cubesats: int, n_stages: int) -> FailureEvent:
     return event
 
 
+def run_length_violation(
+    duration_s: float, control_rate_hz: float, integrator_steps: int
+) -> tuple[str, str] | None:
+    """What makes a run too short or too long, as (key, message), or None.
+
+    A run holds 1 to :data:`~casadi_debris.config.limits.MAX_CONTROL_PERIODS`
+    control periods and at most
+    :data:`~casadi_debris.config.limits.MAX_INTEGRATION_STEPS` integration steps.
+    """
+    periods = duration_s * control_rate_hz
+    if not 1.0 <= periods <= limits.MAX_CONTROL_PERIODS:
+        return "duration_s", (
+            f"{duration_s:g} s at {control_rate_hz:g} Hz is {periods:.4g} control periods; "
+            f"a run holds 1 to {limits.MAX_CONTROL_PERIODS}"
+        )
+    if periods * integrator_steps > limits.MAX_INTEGRATION_STEPS:
+        return "integrator_steps", (
+            f"{integrator_steps} steps x {periods:.4g} control periods exceeds the "
+            f"{limits.MAX_INTEGRATION_STEPS:.0e} integration steps a run may take"
+        )
+    return None
+
+
+def with_duration(problem: Problem, duration_s: float, field: str = "duration_s") -> Problem:
+    """``problem`` with its closed-loop run lasting ``duration_s`` [s], checked as a file's.
+
+    Raises
+    ------
+    ProblemFileError
+        Naming ``field`` when the run would be outside the bounds of
+        :func:`run_length_violation` or ``duration_s`` outside
+        :data:`~casadi_debris.config.limits.DURATION_S`.
+    """
+    simulation = problem.simulation
+    violation = (
+        limits.DURATION_S.violation(duration_s) if math.isfinite(duration_s) else "must be finite"
+    )
+    if violation is None:
+        found = run_length_violation(
+            duration_s, simulation.control_rate_hz, simulation.integrator_steps
+        )
+        violation = None if found is None else found[1]
+    if violation is not None:
+        raise ProblemFileError(field, violation)
+    return replace(problem, simulation=replace(simulation, duration_s=float(duration_s)))
+
+
 def read_simulation(t: Table, n_cubesats: int, n_stages: int) -> Simulation:
     """``[simulation]``: length, sampling, reference and failures of a closed-loop run."""
     reference = t.text("reference", REFERENCE_KINDS)
@@ -76,19 +126,9 @@ def read_simulation(t: Table, n_cubesats: int, n_stages: int) -> Simulation:
     duration_s = t.number("duration_s", limits.DURATION_S)
     rate_hz = t.number("control_rate_hz", limits.CONTROL_RATE_HZ)
     steps = t.integer("integrator_steps", limits.INTEGRATOR_STEPS)
-    periods = duration_s * rate_hz
-    if not 1.0 <= periods <= limits.MAX_CONTROL_PERIODS:
-        raise t.error(
-            t.key("duration_s"),
-            f"{duration_s:g} s at {rate_hz:g} Hz is {periods:.4g} control periods; "
-            f"a run holds 1 to {limits.MAX_CONTROL_PERIODS}",
-        )
-    if periods * steps > limits.MAX_INTEGRATION_STEPS:
-        raise t.error(
-            t.key("integrator_steps"),
-            f"{steps} steps x {periods:.4g} control periods exceeds the "
-            f"{limits.MAX_INTEGRATION_STEPS:.0e} integration steps a run may take",
-        )
+    violation = run_length_violation(duration_s, rate_hz, steps)
+    if violation is not None:
+        raise t.error(t.key(violation[0]), violation[1])
     failures = (
         tuple(
             read_failure(f, n_cubesats, n_stages) for f in t.tables("failures", limits.MAX_FAILURES)

@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import control
 import numpy as np
 
-from casadi_debris.config import Problem
+from casadi_debris.config import Problem, limits
+from casadi_debris.errors import SynthesisError
 from casadi_debris.model import build_model, linearization_function, linearize
 from casadi_debris.robust.margins import (
     CHANNELS,
@@ -131,6 +132,10 @@ def _worker_margins(parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _WORKER["margins"](parameters)
 
 
+MARGIN_SAMPLES = limits.Range(1, 100_000)
+"""Sampled plants of a margin study: 3000 take about 12 s on two cores (the paper: 3000)."""
+
+
 def margin_study(
     problem: Problem,
     controller: control.StateSpace,
@@ -157,7 +162,19 @@ def margin_study(
         Processes for the samples (1: in this process).
     progress : callable, optional
         ``progress(done, total)`` after each batch.
+
+    Raises
+    ------
+    SynthesisError
+        ``samples`` outside :data:`MARGIN_SAMPLES` or ``seed`` outside 0 .. 2**32 - 1.
     """
+    for name, value, allowed in (
+        ("samples", samples, MARGIN_SAMPLES),
+        ("seed", seed, limits.SEED),
+    ):
+        problem_found = None if value is None else allowed.violation(value)
+        if problem_found:
+            raise SynthesisError(f"{name}: {problem_found}, got {value}")
     start = time.perf_counter()
     model = build_model(problem, modes=modes)
     nominal_plant = linearize(model, sensor=True, units="deg_mNm")

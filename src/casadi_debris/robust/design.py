@@ -18,7 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.config import Problem
+from casadi_debris.config import Problem, limits
+from casadi_debris.errors import SynthesisError
 from casadi_debris.model import Model, build_model, linearize
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.interconnect import GeneralizedPlant, generalized_plant
@@ -38,6 +39,18 @@ from casadi_debris.robust.weights import (
     fit_uncertainty_weight,
     performance_weights,
 )
+
+MU_POINTS = limits.Range(10, 5000)
+"""Frequencies of the mu grid: below 10 the peak is missed; each point costs an SVD per D fit."""
+D_ORDER = limits.Range(0, 8)
+"""Order of each D-scale fit: a rational fit above order 8 is ill-conditioned on 150 points,
+and every order adds two states per channel to the controller."""
+MAX_D_ORDERS_TRIED = 6
+"""At most 6 D-scale orders tried at each D-K step (each is a whole H-inf synthesis)."""
+DK_ITERATIONS = limits.Range(0, 50)
+"""D-K steps at most (the paper's design converges in 4 to 8)."""
+REDUCED_ORDER = limits.Range(1, 500)
+"""Target order of the balanced truncation."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +72,11 @@ class SynthesisSettings:
     max_iterations : int
     reduced_order : int
         Target order of the balanced truncation (the paper: 25).
+
+    Raises
+    ------
+    SynthesisError
+        A knob outside its range (:data:`MU_POINTS`, :data:`D_ORDER`, ...), named.
     """
 
     modes: str = "first"
@@ -68,6 +86,31 @@ class SynthesisSettings:
     d_orders: tuple[int, ...] = (1, 2, 4)
     max_iterations: int = 8
     reduced_order: int = 25
+
+    def __post_init__(self) -> None:
+        checks = {
+            "samples": (self.samples, limits.UNCERTAINTY_SAMPLES),
+            "seed": (self.seed, limits.SEED),
+            "mu_points": (self.mu_points, MU_POINTS),
+            "max_iterations": (self.max_iterations, DK_ITERATIONS),
+            "reduced_order": (self.reduced_order, REDUCED_ORDER),
+        }
+        for name, (value, allowed) in checks.items():
+            if value is None and name in ("samples", "seed"):
+                continue
+            if isinstance(value, bool) or not isinstance(value, int | np.integer):
+                raise SynthesisError(f"{name}: must be an integer, got {value!r}")
+            problem = allowed.violation(value)
+            if problem:
+                raise SynthesisError(f"{name}: {problem}, got {value}")
+        orders = tuple(self.d_orders)
+        if not 1 <= len(orders) <= MAX_D_ORDERS_TRIED or any(
+            isinstance(o, bool) or not isinstance(o, int | np.integer) or D_ORDER.violation(o)
+            for o in orders
+        ):
+            raise SynthesisError(
+                f"d_orders: 1 to {MAX_D_ORDERS_TRIED} integers in {D_ORDER}, got {orders!r}"
+            )
 
 
 @dataclass(frozen=True, eq=False)
