@@ -3,11 +3,13 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from casadi_debris.config import default_problem_path, load_problem
+from casadi_debris.errors import ProblemFileError
 from casadi_debris.model import build_model
 from casadi_debris.simulation import generate_slew, sample_reference, scenario_reference
 
@@ -84,3 +86,28 @@ def test_bad_simulation_tables_name_the_key(tmp_path, table: str, key: str) -> N
     path.write_text(f'extends = "{SLEW_PROBLEM}"\nname = "bad"\n{table}')
     with pytest.raises(ProblemFileError, match=key):
         load_problem(path)
+
+
+@pytest.mark.parametrize("method", ["bang-bang", "time-optimal"])
+def test_a_slew_shorter_than_possible_names_its_duration(tmp_path, method: str) -> None:
+    path = tmp_path / "fast.toml"
+    path.write_text(
+        f'extends = "{default_problem_path().parent / "paper_slew.toml"}"\n'
+        f'[simulation.slew]\nmethod = "{method}"\nduration_s = 500.0\n'
+    )
+    problem = load_problem(path)
+    with pytest.raises(ProblemFileError, match=r"simulation\.slew\.duration_s: .*minimum is 9"):
+        generate_slew(problem, problem.simulation.slew, 1.0)
+
+
+def test_a_time_optimal_slew_within_its_deadline_is_the_fastest(tmp_path) -> None:
+    path = tmp_path / "deadline.toml"
+    path.write_text(
+        f'extends = "{default_problem_path().parent / "paper_slew.toml"}"\n'
+        '[simulation.slew]\nmethod = "time-optimal"\nduration_s = 2000.0\n'
+    )
+    problem = load_problem(path)
+    with_deadline = generate_slew(problem, problem.simulation.slew, 1.0)
+    free = generate_slew(problem, replace(problem.simulation.slew, duration_s=None), 1.0)
+    assert with_deadline.duration_s == pytest.approx(free.duration_s, rel=1e-9)
+    assert with_deadline.duration_s < 2000.0

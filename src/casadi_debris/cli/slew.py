@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -11,15 +12,17 @@ import click
 import numpy as np
 
 from casadi_debris.cli.common import (
+    BoundedFloat,
     echo_json,
     friendly_errors,
+    in_range,
     json_option,
     main,
     overwrite_option,
     problem_argument,
 )
-from casadi_debris.config import load_problem
-from casadi_debris.errors import InputShapeError
+from casadi_debris.config import Problem, limits, load_problem
+from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.plots.slew import plot_slew
 from casadi_debris.report.common import (
     format_table,
@@ -91,10 +94,103 @@ def summary_text(summary: dict[str, Any]) -> str:
     return format_table(["figure", "value"], rows)
 
 
+AXIS_CHOICES = ("x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z")
+MAX_RATE_DEG_S = 1e4
+MIN_SAMPLE_S = 1e-3
+# The slew functions name their parameters; the command line names its options.
+OPTION_OF_PARAMETER = {
+    "axis": "--axis",
+    "angle": "--angle-deg",
+    "duration_s": "--duration-s",
+    "torque_fraction": "--torque-fraction",
+    "rate_limit": "--rate-limit-deg-s",
+    "smoothing_s": "--smoothing-s",
+    "sample_s": "--sample-s",
+}
+
+
+@dataclass(frozen=True)
+class SlewRequest:
+    """What ``casadi-debris slew`` was asked for, in its options' units."""
+
+    axis: str
+    angle_deg: float
+    method: str
+    duration_s: float | None
+    torque_fraction: float | None
+    rate_limit_deg_s: float | None
+    smoothing_s: float
+    flexible: bool
+    flexible_method: str
+    thrusters: bool
+    zero_net_force: bool
+    sample_s: float
+
+    def solve(self, problem: Problem) -> SlewProfile:
+        """The profile of the chosen method."""
+        target = slew_about_axis(self.axis, math.radians(self.angle_deg))
+        if self.method == "bang-bang":
+            if self.flexible or self.thrusters or self.zero_net_force:
+                raise InputShapeError(
+                    "--flexible, --thrusters and --zero-net-force apply to the optimal methods"
+                )
+            rate_limit = self.rate_limit_deg_s
+            return bang_bang_slew(
+                problem,
+                target=target,
+                duration_s=self.duration_s,
+                torque_fraction=self.torque_fraction,
+                rate_limit_rad_s=None if rate_limit is None else math.radians(rate_limit),
+                smoothing_s=self.smoothing_s,
+                sample_s=self.sample_s,
+            )
+        if self.rate_limit_deg_s is not None or self.smoothing_s:
+            raise InputShapeError("--rate-limit-deg-s and --smoothing-s apply to bang-bang only")
+        common = {
+            "target": target,
+            "flexible": self.flexible,
+            "thrusters": self.thrusters,
+            "zero_net_force": self.zero_net_force,
+            "torque_fraction": 1.0 if self.torque_fraction is None else self.torque_fraction,
+            "sample_s": self.sample_s,
+            "flexible_method": self.flexible_method,
+        }
+        if self.method == "time-optimal":
+            return time_optimal_slew(problem, duration_s=self.duration_s, **common)
+        if self.duration_s is None:
+            raise InputShapeError("--duration-s: needed for a fuel-optimal slew")
+        return fuel_optimal_slew(problem, duration_s=self.duration_s, **common)
+
+
+def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeError:
+    """The error with the option it is about in front (the library names its parameters)."""
+    text = str(error)
+    name, separator, rest = text.partition(": ")
+    if separator and name in OPTION_OF_PARAMETER:
+        return InputShapeError(f"{OPTION_OF_PARAMETER[name]}: {rest}")
+    if text.startswith("--"):
+        return InputShapeError(text)
+    if isinstance(error, SlewInfeasibleError) and request.duration_s is not None:
+        return InputShapeError(f"--duration-s: {text}")
+    return InputShapeError(f"--axis/--method: {text}")
+
+
 @main.command()
 @problem_argument
-@click.option("--axis", default="z", show_default=True, help="Slew axis: x, y, z, -x, ...")
-@click.option("--angle-deg", default=180.0, show_default=True, help="Slew angle, (0, 180] deg.")
+@click.option(
+    "--axis",
+    type=click.Choice(AXIS_CHOICES, case_sensitive=False),
+    default="z",
+    show_default=True,
+    help="Slew axis.",
+)
+@click.option(
+    "--angle-deg",
+    type=in_range(limits.SLEW_ANGLE_DEG),
+    default=180.0,
+    show_default=True,
+    help="Slew angle [deg].",
+)
 @click.option(
     "--method",
     type=click.Choice(["bang-bang", "time-optimal", "fuel-optimal"]),
@@ -103,16 +199,25 @@ def summary_text(summary: dict[str, Any]) -> str:
 )
 @click.option(
     "--duration-s",
-    type=float,
+    type=in_range(limits.SLEW_DURATION_S),
     help="Slew time (bang-bang, fuel-optimal); deadline for time-optimal.",
 )
 @click.option(
     "--torque-fraction",
-    type=float,
+    type=BoundedFloat(0.0, 1.0, low_open=True),
     help="Share of the torque authority to use (default: 1, or what --duration-s needs).",
 )
-@click.option("--rate-limit-deg-s", type=float, help="Bang-bang: largest slew rate (coast).")
-@click.option("--smoothing-s", type=float, default=0.0, help="Bang-bang: torque ramp per switch.")
+@click.option(
+    "--rate-limit-deg-s",
+    type=BoundedFloat(0.0, MAX_RATE_DEG_S, low_open=True),
+    help="Bang-bang: largest slew rate (coast).",
+)
+@click.option(
+    "--smoothing-s",
+    type=BoundedFloat(0.0, limits.SLEW_DURATION_S.high),
+    default=0.0,
+    help="Bang-bang: torque ramp per switch.",
+)
 @click.option("--flexible", is_flag=True, help="Optimal slews: constrain the array vibration left.")
 @click.option(
     "--flexible-method",
@@ -127,7 +232,13 @@ def summary_text(summary: dict[str, Any]) -> str:
     is_flag=True,
     help="--thrusters: keep the net force zero, as the closed loop's allocator does.",
 )
-@click.option("--sample-s", type=float, default=1.0, show_default=True, help="Output spacing.")
+@click.option(
+    "--sample-s",
+    type=BoundedFloat(MIN_SAMPLE_S, limits.SLEW_DURATION_S.high),
+    default=1.0,
+    show_default=True,
+    help="Output spacing.",
+)
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @overwrite_option
 @json_option
@@ -157,39 +268,24 @@ def slew(
     problem = load_problem(problem_file)
     if out is not None:
         check_output_folder(out, overwrite=overwrite)
-    target = slew_about_axis(axis, math.radians(angle_deg))
-    if method == "bang-bang":
-        if flexible or thrusters or zero_net_force:
-            raise InputShapeError(
-                "--flexible, --thrusters and --zero-net-force apply to the optimal methods"
-            )
-        profile = bang_bang_slew(
-            problem,
-            target=target,
-            duration_s=duration_s,
-            torque_fraction=torque_fraction,
-            rate_limit_rad_s=None if rate_limit_deg_s is None else math.radians(rate_limit_deg_s),
-            smoothing_s=smoothing_s,
-            sample_s=sample_s,
-        )
-    else:
-        if rate_limit_deg_s is not None or smoothing_s:
-            raise InputShapeError("--rate-limit-deg-s and --smoothing-s apply to bang-bang only")
-        common = {
-            "target": target,
-            "flexible": flexible,
-            "thrusters": thrusters,
-            "zero_net_force": zero_net_force,
-            "torque_fraction": 1.0 if torque_fraction is None else torque_fraction,
-            "sample_s": sample_s,
-            "flexible_method": flexible_method,
-        }
-        if method == "time-optimal":
-            profile = time_optimal_slew(problem, duration_s=duration_s, **common)
-        else:
-            if duration_s is None:
-                raise InputShapeError("--duration-s: needed for a fuel-optimal slew")
-            profile = fuel_optimal_slew(problem, duration_s=duration_s, **common)
+    request = SlewRequest(
+        axis,
+        angle_deg,
+        method,
+        duration_s,
+        torque_fraction,
+        rate_limit_deg_s,
+        smoothing_s,
+        flexible,
+        flexible_method,
+        thrusters,
+        zero_net_force,
+        sample_s,
+    )
+    try:
+        profile = request.solve(problem)
+    except (InputShapeError, SlewInfeasibleError) as exc:
+        raise _named_after_options(exc, request) from None
     summary = summary_for_output(profile, problem.name)
     if out is not None:
         with RunFolder.claim(out, overwrite=overwrite, command="slew") as folder:

@@ -9,6 +9,7 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
 from casadi_debris.config import Problem, SlewReference
+from casadi_debris.errors import ProblemFileError, SlewInfeasibleError
 from casadi_debris.slew import (
     SlewProfile,
     bang_bang_slew,
@@ -56,7 +57,21 @@ def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) ->
     settings : SlewReference
     sample_s : float
         Output sample spacing [s] (the control period).
+
+    Raises
+    ------
+    ProblemFileError
+        The slew cannot be done as the table asks (e.g. a duration below the
+        minimum), naming ``simulation.slew.duration_s`` when one is given.
     """
+    try:
+        return _slew_of(problem, settings, sample_s)
+    except SlewInfeasibleError as exc:
+        key = "simulation.slew.duration_s" if settings.duration_s is not None else "simulation.slew"
+        raise ProblemFileError(key, str(exc), problem.source) from None
+
+
+def _slew_of(problem: Problem, settings: SlewReference, sample_s: float) -> SlewProfile:
     angle = math.radians(settings.angle_deg)
     common = {"sample_s": sample_s, "check_vibration": False}
     if settings.method == "bang-bang":
@@ -74,7 +89,10 @@ def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) ->
     if settings.thrusters:
         options.update(thrusters=True, zero_net_force=True)
     if settings.method == "time-optimal":
-        return time_optimal_slew(problem, settings.axis, angle, **options, **common)
+        # A duration is the slew's deadline: the optimum must not be longer.
+        return time_optimal_slew(
+            problem, settings.axis, angle, duration_s=settings.duration_s, **options, **common
+        )
     return fuel_optimal_slew(
         problem, settings.axis, angle, duration_s=float(settings.duration_s), **options, **common
     )

@@ -61,7 +61,7 @@ from casadi_debris.slew.maneuver import (
     slew_about_axis,
     torque_limits,
 )
-from casadi_debris.slew.profile import SlewProfile, finish_profile, input_vector
+from casadi_debris.slew.profile import SlewProfile, finish_profile, input_vector, sample_grid
 
 DEFAULT_SAMPLE_S = 1.0
 
@@ -277,7 +277,7 @@ def bang_bang_slew(
     total = timing.duration_s
     knots = np.cumsum([0.0] + [length for _, length, _, _ in timing.segments()])
     knots[-1] = total
-    grid = np.unique(np.concatenate([np.arange(0.0, total, sample_s), knots]))
+    grid = sample_grid(total, sample_s, knots)
     values = np.array(motion_function.map(len(grid))(grid)).T
     half = values[:, 0:1] / 2.0
     rotation = np.hstack([np.cos(half), np.sin(half) * goal.axis_B])

@@ -100,6 +100,7 @@ from casadi_debris.slew.profile import (
     SlewProfile,
     finish_profile,
     residual_vibration,
+    sample_grid,
     simulate,
     vibration_energy,
     zoh_input_function,
@@ -818,7 +819,7 @@ class _SlewOCP:
             torque = controls[:, 0:3] - controls[:, 3:6] if request.fuel else controls
             force = None
         input_function = zoh_input_function(knots, torque, force)
-        grid = np.unique(np.concatenate([np.arange(0.0, total, request.sample_s), knots]))
+        grid = sample_grid(total, request.sample_s, knots)
         states = simulate(
             model,
             input_function,

@@ -32,6 +32,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry
 from casadi_debris.model import Model, build_model
 from casadi_debris.slew.maneuver import SlewTarget, euler_angles_321
@@ -42,6 +43,7 @@ INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 200000}
 N_TORQUE = 3
 N_DISTURBANCE = 3
 N_FORCE = 3
+MAX_PROFILE_SAMPLES = 10_000_000  # 2 GB of states and inputs at the bound
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,6 +131,24 @@ class SlewProfile:
             "solver_status": self.solver_status,
             **self.settings,
         }
+
+
+def sample_grid(duration_s: float, sample_s: float, knots_s: np.ndarray) -> np.ndarray:
+    """Output instants of a profile: every ``sample_s`` and every knot, sorted [s].
+
+    Raises
+    ------
+    InputShapeError
+        Naming ``sample_s`` when the profile would hold more than
+        ``MAX_PROFILE_SAMPLES`` samples.
+    """
+    count = duration_s / sample_s
+    if not count <= MAX_PROFILE_SAMPLES:
+        raise InputShapeError(
+            f"sample_s: {sample_s:g} s over a {duration_s:.6g} s slew is {count:.3g} samples; "
+            f"a profile holds at most {MAX_PROFILE_SAMPLES:.0e}"
+        )
+    return np.unique(np.concatenate([np.arange(0.0, duration_s, sample_s), knots_s]))
 
 
 def input_vector(torque: ca.SX, force: ca.SX | None = None) -> ca.SX:
