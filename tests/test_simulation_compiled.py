@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import replace
 
 import numpy as np
@@ -43,3 +44,24 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
     # Same operations in the same order: agreement to round-off.
     assert np.abs(runs[0].state - runs[1].state).max() < 1e-12
     assert np.abs(runs[0].thrust_N - runs[1].thrust_N).max() < 1e-15
+
+
+def test_jit_folders_of_killed_processes_are_removed(tmp_path, monkeypatch) -> None:
+    import subprocess
+    import sys
+    import tempfile
+
+    from casadi_debris.simulation import closed_loop
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    finished = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True
+    )
+    dead = tmp_path / f"{closed_loop.JIT_PREFIX}{int(finished.stdout)}_x1"
+    live = tmp_path / f"{closed_loop.JIT_PREFIX}{os.getpid()}_x2"
+    other = tmp_path / "casadi_debris_jit_notapid_x3"
+    for folder in (dead, live, other):
+        folder.mkdir()
+        (folder / "loop_step.c").write_text("int x;")
+    closed_loop._remove_stale_jit_folders()
+    assert not dead.exists() and live.exists() and other.exists()

@@ -28,13 +28,13 @@ from typing import Any
 import numpy as np
 
 from casadi_debris import __version__
+from casadi_debris.processes import process_alive
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.folders import (
     OutputError,
     check_output_folder,
     clean_stale_folder,
     move_into_place,
-    process_alive,
     temporary_path,
     write_marker,
 )

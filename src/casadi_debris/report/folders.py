@@ -39,6 +39,7 @@ from types import TracebackType
 
 from casadi_debris import __version__
 from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.processes import process_alive
 
 LOGGER = logging.getLogger(__name__)
 
@@ -85,17 +86,6 @@ def temporary_path(target: Path, kind: str) -> Path:
     return target.with_name(
         f".{target.name}.{TEMPORARY_TAG}-{os.getpid()}-{secrets.token_hex(4)}.{kind}"
     )
-
-
-def process_alive(pid: int) -> bool:
-    """Whether a process of that id exists (a zombie counts as alive)."""
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    return True
 
 
 def clean_stale_temporaries(target: Path) -> list[Path]:

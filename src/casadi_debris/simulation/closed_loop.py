@@ -42,6 +42,7 @@ import numpy as np
 from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.model import Model
+from casadi_debris.processes import process_alive
 
 DEG_PER_RAD = 180.0 / math.pi
 NM_PER_MNM = 1e-3
@@ -53,6 +54,7 @@ MODAL_CONDITION_MAX = 1e6
 STEP_INPUTS = 8  # t, q_ref (4), feedforward torque (3)
 JIT_FLAGS = ("-O2",)
 JIT_FOLDER_ENV = "CASADI_DEBRIS_JIT_FOLDER"
+JIT_PREFIX = "casadi_debris_jit_"  # then the owner's process id: stale ones are found
 MODAL_ROUND_OFF = 1e-13
 CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
 
@@ -374,7 +376,8 @@ def _jit_folder() -> Path:
         folder.mkdir(parents=True, exist_ok=True)
         return folder
     if "folder" not in _JIT_FOLDER:
-        folder = Path(tempfile.mkdtemp(prefix="casadi_debris_jit_"))
+        _remove_stale_jit_folders()
+        folder = Path(tempfile.mkdtemp(prefix=f"{JIT_PREFIX}{os.getpid()}_"))
         atexit.register(_remove_jit_folder, folder)
         _JIT_FOLDER["folder"] = folder
     return _JIT_FOLDER["folder"]
@@ -387,6 +390,14 @@ def release_compiled_steps() -> None:
     """
     _JIT_STEPS.clear()
     gc.collect()
+
+
+def _remove_stale_jit_folders() -> None:
+    """Remove the JIT folders that killed processes left in the temporary folder."""
+    for folder in Path(tempfile.gettempdir()).glob(f"{JIT_PREFIX}*_*"):
+        owner = folder.name.removeprefix(JIT_PREFIX).split("_")[0]
+        if owner.isdigit() and not process_alive(int(owner)) and folder.is_dir():
+            shutil.rmtree(folder, ignore_errors=True)
 
 
 def _remove_jit_folder(folder: Path) -> None:

@@ -40,6 +40,7 @@ from casadi_debris.model import Model, build_model
 from casadi_debris.simulation.cases import Case
 from casadi_debris.simulation.closed_loop import (
     JIT_FOLDER_ENV,
+    JIT_PREFIX,
     SimulationError,
     release_compiled_steps,
 )
@@ -275,7 +276,9 @@ def _build_folder(given: Path | None) -> Iterator[Path]:
     with contextlib.ExitStack() as stack:
         if given is None:
             folder = Path(
-                stack.enter_context(tempfile.TemporaryDirectory(prefix="casadi_debris_jit_"))
+                stack.enter_context(
+                    tempfile.TemporaryDirectory(prefix=f"{JIT_PREFIX}{os.getpid()}_")
+                )
             )
         else:
             folder = Path(given)
