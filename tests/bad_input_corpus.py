@@ -1251,7 +1251,7 @@ def syntax_entries(rng: random.Random) -> list[Entry]:
                 (
                     f"truncated at character {pos} (still TOML)",
                     FileSpec("p.toml", content=cut),
-                    "reject",
+                    "either",
                     (),
                 )
             )
