@@ -1832,6 +1832,30 @@ def cli_entries() -> list[Entry]:
         files=(controllers["not JSON"],),
         category="controller",
     )
+
+    # --overwrite on a folder casadi-debris did not write: refused, its file kept.
+    for command in ("slew", "simulate", "margins", "compare"):
+        add(
+            command,
+            [*_replace_option(BASE[command], "--out", ["full"]), "--overwrite"],
+            "--out an existing folder of the user's with --overwrite",
+            ("--out", "--overwrite", "full"),
+            category="overwrite-foreign",
+        )
+    # An unwritable --out with the full default work: refused before the work starts.
+    for command, args in (
+        ("margins", ["--no-plots", "--out", "/proc/casadi-debris-corpus"]),
+        ("montecarlo", ["--out", "/proc/casadi-debris-corpus"]),
+        ("synthesize", ["--out", "/proc/casadi-debris-corpus.json"]),
+        ("simulate", ["--out", "/proc/casadi-debris-corpus"]),
+    ):
+        add(
+            command,
+            args,
+            "an unwritable --out with the full default work (checked before it starts)",
+            ("--out",),
+            category="out-checked-late",
+        )
     return entries
 
 
