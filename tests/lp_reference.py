@@ -40,8 +40,16 @@ def scaled_wrench(torque_Nm: np.ndarray, force_N: np.ndarray | None) -> tuple[np
     return wrench / unit, unit
 
 
-def _thrust_bounds(limits_N: np.ndarray, unit: float) -> list[tuple[float, float]]:
-    return list(zip(np.zeros_like(limits_N), limits_N / unit, strict=True))
+# A thrust bound this many times the (order one) wrench cannot bind a least-fuel or
+# largest-alpha answer; HiGHS fails on bounds of 1e17 (status "Unknown") and
+# overflows to inf for a subnormal unit, so such bounds are left out.
+UNBOUNDED = 1e9
+
+
+def _thrust_bounds(limits_N: np.ndarray, unit: float) -> list[tuple[float, float | None]]:
+    with np.errstate(over="ignore"):
+        upper = limits_N / unit
+    return [(0.0, None if bound > UNBOUNDED else float(bound)) for bound in upper]
 
 
 def least_fuel_N(

@@ -9,6 +9,7 @@
   (saturation by the facets of :func:`authority_polytope`, least fuel by
   reusing active sets).
 - :class:`PseudoInverseAllocator`: the clipped pseudo-inverse, for comparison only.
+- :class:`DemandError`: a demand refused (not finite, absurd, wrong shape), by name.
 - :func:`available_solvers`: the QP back-ends that can be named.
 
 Example
@@ -25,6 +26,7 @@ Example
 from casadi_debris.allocation.allocator import (
     DEFAULT_SOLVER,
     SATURATION_MODES,
+    AllocationInternalError,
     AllocationResult,
     Allocator,
     BatchAllocation,
@@ -34,15 +36,18 @@ from casadi_debris.allocation.allocator import (
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
 from casadi_debris.allocation.backends import UnknownSolverError, available_solvers
 from casadi_debris.allocation.baseline import PseudoInverseAllocator
+from casadi_debris.allocation.demand import DemandError
 from casadi_debris.allocation.propulsion import PropulsionState, StageEvent, stage_propellant_kg
 
 __all__ = [
     "DEFAULT_SOLVER",
     "SATURATION_MODES",
+    "AllocationInternalError",
     "AllocationResult",
     "Allocator",
     "AuthorityPolytope",
     "BatchAllocation",
+    "DemandError",
     "NoEngineError",
     "PropulsionState",
     "PseudoInverseAllocator",

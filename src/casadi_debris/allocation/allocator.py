@@ -62,11 +62,11 @@ import numpy as np
 
 from casadi_debris.allocation import batch
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
-from casadi_debris.allocation.demand import as_vector3
+from casadi_debris.allocation.demand import ABSURD_FACTOR, SMALLEST_SUBNORMAL, as_vector3
+from casadi_debris.allocation.paths import AllocationInternalError, SolvePaths
 from casadi_debris.allocation.propulsion import PropulsionState
 from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
-from casadi_debris.allocation.saturation import StageSolution, largest_alpha, least_squares
-from casadi_debris.allocation.scaled_qp import THRUST_ROUND_OFF, ScaledQp
+from casadi_debris.allocation.scaled_qp import ScaledQp
 from casadi_debris.allocation.series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError
@@ -75,6 +75,7 @@ from casadi_debris.geometry import Geometry, build_geometry
 __all__ = [
     "DEFAULT_SOLVER",
     "SATURATION_MODES",
+    "AllocationInternalError",
     "AllocationResult",
     "Allocator",
     "BatchAllocation",
@@ -86,20 +87,12 @@ SaturationMode = Literal["scale", "least_squares"]
 SATURATION_MODES: tuple[str, ...] = ("scale", "least_squares")
 DEFAULT_SOLVER = "daqp"
 
-# Demands smaller than this (scaled: fraction of one engine's full torque or
-# thrust) are solved stretched to this size and scaled back; no limit binds
-# there in a direction the engines can reach with margin.
-SMALL_DEMAND = 1e-2
-# An engine within this fraction of its limit counts as on it (a stretched small
-# demand is scaled back only when no limit binds).
-LIMIT_ACTIVE_RTOL = 1e-9
-
 
 class NoEngineError(AllocationError):
     """Every CubeSat has failed or is spent: no torque can be made."""
 
 
-class Allocator:
+class Allocator(SolvePaths):
     """Least-fuel thrust allocation over every engine, set up once, solved per demand.
 
     Parameters
@@ -179,6 +172,13 @@ class Allocator:
         self._wrench_ref = np.array([self._torque_ref_Nm] * 3 + [self._force_ref_N] * 3)
         self._torque_ref = self._wrench_ref[:3].copy()
         self._max_thrust_N = limits
+        self._set_demand_bounds(limits)
+        # Final check of every answer (see allocate): largest torque and force per
+        # newton of any engine, and the subnormal resolution of B f and F f.
+        self._lever_m = float(np.abs(torque_map).max())
+        self._force_per_N = float(np.abs(force_map).max())
+        self._floor_Nm = n * (self._lever_m + 2.0) * SMALLEST_SUBNORMAL
+        self._floor_N = n * (self._force_per_N + 2.0) * SMALLEST_SUBNORMAL
         self._qp = ScaledQp(
             torque_map * (self._thrust_ref_N / self._torque_ref_Nm),
             force_map * (self._thrust_ref_N / self._force_ref_N),
@@ -270,9 +270,16 @@ class Allocator:
         if np.array_equal(limits, self._max_thrust_N):
             return  # unchanged: keep the cached polytope and active-set regions
         self._max_thrust_N = limits
+        self._set_demand_bounds(limits)
         self._qp.set_upper(limits / self._thrust_ref_N)
         self._polytopes.clear()
         self._series_qps.clear()
+
+    def _set_demand_bounds(self, limits: np.ndarray) -> None:
+        """Largest demand component accepted: ABSURD_FACTOR times the largest that any
+        thrust within ``limits`` makes (see :mod:`~casadi_debris.allocation.demand`)."""
+        self._torque_bound_Nm = ABSURD_FACTOR * float((np.abs(self.torque_map) @ limits).max())
+        self._force_bound_N = ABSURD_FACTOR * float((np.abs(self.force_map) @ limits).max())
 
     def set_failed(self, failed: Any) -> None:
         """Remove CubeSats by index (the others keep their current limits).
@@ -302,6 +309,24 @@ class Allocator:
     ) -> AllocationResult:
         """Thrust of every engine for one torque (and force) demand.
 
+        The answer is exact (``feasible``, mode ``"exact"``) only when the
+        achieved torque ``B f`` (and force ``F f``) meets the demand to the
+        promised accuracy,
+
+            |B f - tau|_inf <= 1e-9 max(|tau|_inf, l sum(f)) + n (l + 2) 2**-1074 N m,
+
+        ``l`` the largest lever arm [m] and ``n`` the number of engines (the last
+        term, 4e-322 N m for the paper's 24 CubeSats, is the resolution of
+        subnormal floats: below 1e-9 of any demand above about 1e-300 N m, the
+        whole of a demand of 5e-324 N m); the same bound holds for ``alpha tau``
+        when saturated, and for the force with ``F``.
+        This holds for every demand from the smallest subnormal up (tiny ones are
+        solved scaled up by a power of two, see
+        :mod:`~casadi_debris.allocation.demand`); a demand of exactly zero gets
+        exactly zero thrust. No NaN or inf is ever returned: an answer of the
+        back-end that fails these checks is recomputed by HiGHS, and if that
+        fails too an :class:`AllocationInternalError` is raised.
+
         Parameters
         ----------
         torque_Nm : array_like, shape (3,)
@@ -317,196 +342,50 @@ class Allocator:
 
         Raises
         ------
-        InputShapeError
-            Demand of the wrong shape or not finite.
+        DemandError
+            A demand of the wrong shape, not finite, or with a component beyond
+            1e6 times the largest that any thrust within the limits makes; an
+            :class:`~casadi_debris.errors.AllocationError` naming the argument.
         AllocationError
-            ``force_N`` with ``free_force``, or the back-end failed.
+            ``force_N`` with ``free_force``.
+        AllocationInternalError
+            Neither the back-end nor HiGHS found an answer that passes the checks
+            (a bug: please report it).
         """
-        torque = as_vector3(torque_Nm, "torque_Nm")
+        torque = as_vector3(torque_Nm, "torque_Nm", self._torque_bound_Nm, "N m")
         if force_N is None:
             force = None if free_force else np.zeros(3)
         else:
             if free_force:
                 raise AllocationError("give either force_N or free_force, not both")
-            force = as_vector3(force_N, "force_N")
-        return self._allocate(torque, force)
-
-    def _allocate(self, torque: np.ndarray, force: np.ndarray | None) -> AllocationResult:
-        # The feasible case is the common one and is kept lean (about twice the
-        # back-end's own time): no array is built twice, maxima of a few
-        # numbers are taken in Python (numpy's reductions cost 1.5 us each at
-        # this size), the result is clipped once.
-        free_force = force is None
-        if free_force:
-            target = torque / self._torque_ref
-        else:
-            target = np.concatenate((torque, force)) / self._wrench_ref
-        size = max(map(abs, target.tolist()))
-        if size == 0.0:
-            return self._result(np.zeros(self.n_engines), torque, force, True, 1.0, "exact", 0, 0.0)
-        qp = self._qp
-        exact = qp.workspace("exact", free_force)
-        # A demand far below one engine's torque is solved stretched to
-        # SMALL_DEMAND and scaled back: the solvers' tolerances are absolute, so
-        # at 1e-12 of an engine's torque they would call anything feasible.
-        stretch = SMALL_DEMAND / size if size < SMALL_DEMAND else 1.0
-        target_stretched = stretch * target if stretch != 1.0 else target
-        exact.update(b_eq=target_stretched)
-        solution = exact.solve()
-        iterations = solution.iterations
-        solve_time = solution.solve_time_s
-        if solution.status == "optimal" and stretch != 1.0:
-            u = qp.polish(solution.x, target_stretched, free_force)
-            upper = qp.upper
-            if not np.any((upper > 0.0) & (u >= upper * (1.0 - LIMIT_ACTIVE_RTOL))):
-                return self._result(
-                    u / stretch, torque, force, True, 1.0, "exact", iterations, solve_time
-                )
-            # A limit binds at the stretched size (few engines left), so the least-fuel
-            # answer does not scale back: solve at the demand's own size instead.
-            stretch, target_stretched = 1.0, target
-            exact.update(b_eq=target)
-            solution = exact.solve()
-            iterations += solution.iterations
-            solve_time += solution.solve_time_s
-        if solution.status == "optimal":
-            u = qp.polish(solution.x, target_stretched, free_force)
-            # polish has clipped u already.
-            return self._result(
-                u, torque, force, True, 1.0, "exact", iterations, solve_time, clip=False
-            )
-        return self._unreachable(target, size, stretch, torque, force, iterations, solve_time)
-
-    def _unreachable(
-        self,
-        target: np.ndarray,
-        size: float,
-        stretch: float,
-        torque: np.ndarray,
-        force: np.ndarray | None,
-        iterations: int,
-        solve_time_s: float,
-    ) -> AllocationResult:
-        """A demand the exact stage could not meet: least squares when asked, else the
-        largest alpha (:mod:`~casadi_debris.allocation.saturation`).
-
-        ``target`` is the scaled demand, ``size`` its largest component, and
-        ``stretch`` the factor the exact stage applied to it.
-        """
-        free_force = force is None
-        if self.saturation == "least_squares":
-            fit = least_squares(self._qp, target, free_force)
-            iterations += fit.iterations
-            solve_time_s += fit.solve_time_s
-            if fit.u is not None:
-                return self._result(
-                    fit.u,
-                    torque,
-                    force,
-                    False,
-                    fit.alpha,
-                    "least_squares",
-                    iterations,
-                    solve_time_s,
-                    fit.rescued,
-                )
-            # The requested force alone cannot be met: fall back to scaling the wrench.
-        reach = self._qp.reach[free_force]
-        if size > reach:
-            # The max-alpha QP's proximal term leaves alpha exact only for a
-            # target of the size of what the engines can reach (measured: with
-            # the force free, demands 1000x beyond reach lost up to 2e-4 of
-            # alpha): a larger one is shrunk to the largest reachable component
-            # first, which keeps every answer within alpha <= 1.
-            stretch = reach / size
-        edge: StageSolution = largest_alpha(self._qp, stretch * target, free_force)
-        return self._saturated(
-            edge.u,
-            edge.alpha * stretch,
-            torque,
-            force,
-            iterations + edge.iterations,
-            solve_time_s + edge.solve_time_s,
-            edge.rescued,
-        )
-
-    def _saturated(
-        self,
-        u: np.ndarray,
-        alpha: float,
-        torque: np.ndarray,
-        force: np.ndarray | None,
-        iterations: int,
-        solve_time_s: float,
-        rescued: bool,
-    ) -> AllocationResult:
-        """Result of the saturation path; ``alpha`` is relative to the demand as given.
-
-        A stretched small demand may turn out reachable after all (alpha >= 1):
-        the thrust is then scaled back to meet it exactly.
-        """
-        if alpha <= 0.0:
-            u = np.zeros(self.n_engines)  # whatever the solver left is round-off
-        elif alpha >= 1.0:
-            return self._result(
-                u / alpha, torque, force, True, 1.0, "exact", iterations, solve_time_s, rescued
-            )
-        return self._result(
-            u, torque, force, False, alpha, "scaled", iterations, solve_time_s, rescued
-        )
-
-    def _result(
-        self,
-        u: np.ndarray,
-        torque: np.ndarray,
-        force: np.ndarray | None,
-        feasible: bool,
-        scale: float,
-        mode: str,
-        iterations: int,
-        solve_time_s: float,
-        rescued: bool = False,
-        *,
-        clip: bool = True,
-    ) -> AllocationResult:
-        """Result of scaled thrust ``u``; ``clip=False`` when u is already within its bounds."""
-        if clip:
-            # Solver round-off may leave u a hair outside its bounds: limits are never exceeded.
-            u = np.minimum(u, self._qp.upper)
-            u[u < THRUST_ROUND_OFF] = 0.0
-        thrust = u * self._thrust_ref_N
-        return AllocationResult(
-            thrust,
-            self.torque_map @ thrust,
-            self.force_map @ thrust,
-            torque,
-            force,
-            feasible,
-            scale + 0.0,  # no -0.0 from a clipped alpha
-            mode,
-            float(np.add.reduce(thrust)) / self.exhaust_velocity_m_s,  # thrust.sum(), faster
-            f"{self.solver}+highs" if rescued else self.solver,
-            iterations,
-            solve_time_s,
-        )
+            force = as_vector3(force_N, "force_N", self._force_bound_N, "N")
+        # self._allocate, inlined: this is the hot path.
+        result = self._solve(torque, force)
+        return result if result is not None else self._fallback(torque, force)
 
     # ------------------------------------------------------------------ many demands
 
     def allocate_batch(
         self, torques_Nm: Any, forces_N: Any = None, *, free_force: bool = False
     ) -> BatchAllocation:
-        """Allocate many demands in a row (warm-started workspaces).
+        """Allocate many demands in a row (warm-started workspaces), each as :meth:`allocate`.
 
         Parameters
         ----------
         torques_Nm : array_like, shape (k, 3)
+            Torque demands [N m].
         forces_N : array_like, shape (k, 3), optional
-            Default zero net force.
+            Net force demands [N]; default zero.
         free_force : bool
 
         Returns
         -------
         BatchAllocation
+
+        Raises
+        ------
+        DemandError
+            A row of the wrong shape, not finite or absurd (the message names the row).
         """
         return batch.allocate_batch(self, torques_Nm, forces_N, free_force)
 
@@ -527,7 +406,10 @@ class Allocator:
         for a whole series at once: alpha from the facets of
         :meth:`authority_polytope`, then the least-fuel thrust from the
         piecewise-affine solution of the QP (:mod:`~casadi_debris.allocation.series`),
-        which needs a QP solve only where the active set changes.
+        which needs a QP solve only where the active set changes. Tiny demands
+        are scaled up by a power of two as in :meth:`allocate`; every row passes
+        the same final check (finite, torque within the promised tolerance of
+        ``scale`` times the demand) or is recomputed by :meth:`allocate`.
 
         Parameters
         ----------
@@ -539,6 +421,11 @@ class Allocator:
         Returns
         -------
         SeriesAllocation
+
+        Raises
+        ------
+        DemandError
+            A row not finite or absurd (the message names the row).
         """
         return batch.allocate_series(self, torques_Nm, free_force)
 

@@ -79,11 +79,17 @@ class PseudoInverseAllocator:
             Ignored when the baseline was built with ``free_force``; default zero.
         """
         start = time.perf_counter()
-        torque = as_vector3(torque_Nm, "torque_Nm")
+        # The allocator's checks (finite, not absurd): no NaN from an overflowing pinv.
+        allocator = self.allocator
+        torque = as_vector3(torque_Nm, "torque_Nm", allocator._torque_bound_Nm, "N m")
         force = (
             None
             if self.free_force
-            else (np.zeros(3) if force_N is None else as_vector3(force_N, "force_N"))
+            else (
+                np.zeros(3)
+                if force_N is None
+                else as_vector3(force_N, "force_N", allocator._force_bound_N, "N")
+            )
         )
         demand = torque if force is None else np.concatenate([torque, force])
         f = self._pinv @ demand
@@ -92,7 +98,6 @@ class PseudoInverseAllocator:
         thrust[self._available] = f
         thrust = np.clip(thrust, 0.0, self._limits)
         elapsed = time.perf_counter() - start
-        allocator = self.allocator
         achieved = allocator.torque_map @ thrust
         norm2 = float(torque @ torque)
         error = float(np.linalg.norm(achieved - torque))

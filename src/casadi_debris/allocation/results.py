@@ -27,7 +27,7 @@ class AllocationResult:
     demand_force_N : ndarray, shape (3,) or None
         None when the force was left free.
     feasible : bool
-        The demand was met exactly.
+        The demand was met, to the tolerance :meth:`Allocator.allocate` promises.
     scale : float
         alpha of the direction-preserving saturation (1 when feasible); in
         least-squares mode the projection of the achieved torque on the demand,

@@ -27,6 +27,13 @@ from casadi_debris.errors import AllocationError
 # is promised.
 BOUNDARY_BACKOFF = (0.0, 1e-12, 1e-10)
 RESCUE_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+# A saturated target met only to below this (scaled: alpha times the target's
+# largest component) is the solvers' feasibility tolerance (1e-10), not torque:
+# alpha is 0 and the thrust zero. Exactly, the reachable set is a polytope
+# around 0, so along any direction alpha is 0 or of the order of an engine's
+# torque over the target; an alpha of 1e-25 with thrust of 1e-13 of a limit
+# (seen with CubeSats failed, the demand outside what they reach) is noise.
+ALPHA_RESOLUTION = 1e-10
 
 
 class StageSolution(NamedTuple):
@@ -45,6 +52,9 @@ class StageSolution(NamedTuple):
         Back-end time [s].
     rescued : bool
         HiGHS gave the answer.
+    verified : bool
+        ``u``'s residual against ``alpha * target`` was measured within 1e-13
+        (:meth:`~casadi_debris.allocation.scaled_qp.ScaledQp.polish_checked`).
     """
 
     u: np.ndarray | None
@@ -52,6 +62,7 @@ class StageSolution(NamedTuple):
     iterations: int
     solve_time_s: float
     rescued: bool
+    verified: bool = False
 
 
 def largest_alpha(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSolution:
@@ -83,6 +94,8 @@ def largest_alpha(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSo
         u, alpha, t = rescue(qp, target, free_force)
         return StageSolution(u, alpha, solution.iterations, solution.solve_time_s + t, rescued=True)
     alpha = min(max(float(solution.x[-1]), 0.0), 1.0)
+    if alpha * max(map(abs, target.tolist())) <= ALPHA_RESOLUTION:
+        return StageSolution(np.zeros(qp.n), 0.0, solution.iterations, solution.solve_time_s, False)
     fuel = least_fuel_on_edge(qp, alpha * target, free_force)
     return StageSolution(
         fuel.u,
@@ -90,6 +103,7 @@ def largest_alpha(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSo
         solution.iterations + fuel.iterations,
         solution.solve_time_s + fuel.solve_time_s,
         fuel.rescued,
+        fuel.verified,
     )
 
 
@@ -114,8 +128,8 @@ def least_fuel_on_edge(qp: ScaledQp, target: np.ndarray, free_force: bool) -> St
         iterations += solution.iterations
         solve_time += solution.solve_time_s
         if solution.status == "optimal":
-            u = qp.polish(solution.x, (1.0 - backoff) * target, free_force)
-            return StageSolution(u, 1.0 - backoff, iterations, solve_time, False)
+            u, verified = qp.polish_checked(solution.x, (1.0 - backoff) * target, free_force)
+            return StageSolution(u, 1.0 - backoff, iterations, solve_time, False, verified)
     u, alpha, rescue_time = rescue(qp, target, free_force)
     return StageSolution(u, alpha, iterations, solve_time + rescue_time, True)
 
@@ -170,7 +184,10 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
         options=RESCUE_OPTIONS,
     )
     x = frugal.x if frugal.status == 0 else best.x
-    return x[:n], float(np.clip(x[-1], 0.0, 1.0)), time.perf_counter() - start
+    alpha = float(np.clip(x[-1], 0.0, 1.0))
+    if alpha * float(np.abs(target).max()) <= ALPHA_RESOLUTION:
+        return np.zeros(n), 0.0, time.perf_counter() - start
+    return x[:n], alpha, time.perf_counter() - start
 
 
 def least_squares(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSolution:

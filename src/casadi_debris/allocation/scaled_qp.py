@@ -37,6 +37,9 @@ LEAST_SQUARES_PROXIMAL = 1e-9
 THRUST_ROUND_OFF = 1e-12
 # Equality residual (relative to the target) above which a solution is polished.
 POLISH_TOLERANCE = 1e-13
+# An engine within this fraction of its limit counts as on it (a stretched small
+# demand is scaled back only when no limit binds).
+LIMIT_ACTIVE_RTOL = 1e-9
 
 
 class ScaledQp:
@@ -74,14 +77,17 @@ class ScaledQp:
             free: np.hstack([self.rows(free), np.zeros((len(self.rows(free)), 1))])
             for free in (False, True)
         }
-        self.upper = upper
-        self.reach = self._reachable_size()
         self._workspaces: dict[tuple[str, bool], QpBackend] = {}
+        self.set_upper(upper)
 
     @property
     def n(self) -> int:
         """Number of engines."""
         return self.torque.shape[1]
+
+    def binds(self, u: np.ndarray) -> np.ndarray | bool:
+        """Whether an engine that can fire is on its limit; per row for ``u`` of shape (k, n)."""
+        return (u >= self.on_limit).any(axis=-1)
 
     def rows(self, free_force: bool) -> np.ndarray:
         """Scaled equality rows: torque, and force unless it is free."""
@@ -91,6 +97,8 @@ class ScaledQp:
         """New scaled limits, handed to every workspace set up so far."""
         self.upper = upper
         self.reach = self._reachable_size()
+        # Thrust at or above which an engine that can fire counts as on its limit.
+        self.on_limit = np.where(upper > 0.0, upper * (1.0 - LIMIT_ACTIVE_RTOL), np.inf)
         for (stage, _), workspace in self._workspaces.items():
             workspace.update(ub=self._stage_upper(stage))
 
@@ -157,6 +165,19 @@ class ScaledQp:
         small demand that is a large relative error. One least-squares step
         on the free engines (the solver's own active set) removes it.
         """
+        return self.polish_checked(u, target, free_force)[0]
+
+    def polish_checked(
+        self, u: np.ndarray, target: np.ndarray, free_force: bool
+    ) -> tuple[np.ndarray, bool]:
+        """:meth:`polish`, and whether the returned ``u`` was seen to meet the target to
+        ``POLISH_TOLERANCE`` (relative to its largest component).
+
+        True only when the residual of the returned ``u`` itself was measured
+        (no step taken): the allocator then needs no second check of its
+        accuracy. ``max`` may pass over a NaN in the residual, so a caller must
+        still check that ``u`` is finite (the allocator checks every answer's sum).
+        """
         rows = self.torque if free_force else self.wrench
         u = np.minimum(u, self.upper)
         u[u < THRUST_ROUND_OFF] = 0.0
@@ -164,10 +185,10 @@ class ScaledQp:
         # Largest entries by Python's max over a handful of floats: cheaper than numpy's.
         tolerance = POLISH_TOLERANCE * max(map(abs, target.tolist()))
         if max(map(abs, residual.tolist())) <= tolerance:
-            return u
+            return u, True
         free = (u > 0.0) & (u < self.upper)
         if not free.any():
-            return u
+            return u, False
         active = rows[:, free]
         try:
             # Minimum-norm step through the (at most 6 x 6) Gram matrix: a tenth of lstsq's cost.
@@ -180,4 +201,4 @@ class ScaledQp:
             # A rank-deficient Gram matrix gave a poor step: take the least-squares one.
             step = np.linalg.lstsq(active, residual, rcond=None)[0]
             polished[free] = np.clip(u[free] + step, 0.0, self.upper[free])
-        return polished
+        return polished, False
