@@ -18,6 +18,7 @@ with the net force zero, free or given, and with CubeSats failed:
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from collections.abc import Callable
@@ -25,11 +26,13 @@ from typing import Any
 
 import numpy as np
 import pytest
+from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from casadi_debris.allocation import AllocationInternalError, Allocator, DemandError
 from casadi_debris.allocation.backends import QpSolution
+from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError
 from casadi_debris.geometry import Geometry
@@ -396,3 +399,33 @@ def test_no_answer_passing_the_final_check_is_an_internal_error(
     with pytest.raises(AllocationInternalError, match="neither daqp nor HiGHS"):
         allocator.allocate([1e-3, 0.0, 0.0])
     assert not issubclass(AllocationInternalError, AllocationError)  # exit 3, not 2
+
+
+# ----------------------------------------------------------------------------- command line
+
+
+@pytest.mark.parametrize(
+    ("arguments", "start"),
+    [
+        (["--torque-mNm", "1.7e308", "1.7e308", "1.7e308"], "error: --torque-mNm 1.7e+308"),
+        (["--torque-mNm", "nan", "0", "0"], "error: --torque-mNm nan 0 0: must be finite"),
+        (["--torque-mNm", "1e309", "0", "0"], "error: --torque-mNm inf 0 0: must be finite"),
+        (["--torque-mNm", "1", "0", "0", "--force-mN", "1e12", "0", "0"], "error: --force-mN"),
+    ],
+)
+def test_cli_refuses_absurd_demands_in_one_line(arguments: list[str], start: str) -> None:
+    result = CliRunner().invoke(main, ["allocate", *arguments, "--json"])
+    assert result.exit_code == 2, result.output
+    assert result.output.count("\n") == 1 and result.output.startswith(start), result.output
+
+
+def test_cli_answers_a_subnormal_demand_with_finite_thrust() -> None:
+    result = CliRunner().invoke(main, ["allocate", "--torque-mNm", "5e-318", "0", "0", "--json"])
+    assert result.exit_code == 0, result.output
+    payload = json.loads(result.output)
+    assert None not in payload["thrust_mN"]
+    assert payload["feasible"] is True and payload["mode"] == "exact"
+    demanded = np.array(payload["torque_demand_mNm"])
+    achieved = np.array(payload["torque_achieved_mNm"])
+    # 5e-321 N m carries three digits; the promise adds 24 (l + 2) 2**-1074 N m.
+    assert np.abs(achieved - demanded).max() <= 1e3 * 24 * 4 * SMALLEST_SUBNORMAL

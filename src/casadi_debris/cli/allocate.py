@@ -13,8 +13,10 @@ from casadi_debris.allocation import (
     SATURATION_MODES,
     AllocationResult,
     Allocator,
+    DemandError,
     PropulsionState,
 )
+from casadi_debris.allocation.demand import ABSURD_FACTOR
 from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
 from casadi_debris.config import load_problem
 from casadi_debris.errors import AllocationError
@@ -23,6 +25,8 @@ from casadi_debris.geometry import build_geometry
 MN_PER_N = 1e3
 US_PER_S = 1e6
 SECONDS_PER_HOUR = 3600.0
+# The API's demand arguments and the options (and display units) they come from.
+DEMAND_OPTIONS = {"torque_Nm": ("--torque-mNm", "mNm"), "force_N": ("--force-mN", "mN")}
 
 
 def _failed_indices(text: str | None, count: int) -> list[int]:
@@ -39,6 +43,24 @@ def _failed_indices(text: str | None, count: int) -> list[int]:
     if bad:
         raise AllocationError(f"--failed: CubeSat ids run from 1 to {count}; got {bad}")
     return [i - 1 for i in ids]
+
+
+def _demand_message(
+    error: DemandError,
+    torque_mNm: tuple[float, float, float],
+    force_mN: tuple[float, float, float] | None,
+) -> str:
+    """The API's refusal of a demand, said with the option and the units the user typed."""
+    option, unit = DEMAND_OPTIONS.get(error.argument, (error.argument, ""))
+    given = torque_mNm if error.argument == "torque_Nm" else force_mN
+    typed = " ".join(f"{value:g}" for value in given or ())
+    if error.bound is None:
+        return f"{option} {typed}: {error.problem}"
+    largest = error.bound / ABSURD_FACTOR * MN_PER_N
+    return (
+        f"{option} {typed}: more than {ABSURD_FACTOR:g} times the largest component any "
+        f"thrust within the limits can make ({largest:.6g} {unit}); check the units"
+    )
 
 
 def _read_state(path: Path | None, template: PropulsionState) -> PropulsionState:
@@ -129,7 +151,8 @@ def _text(payload: dict[str, Any], faces: list[str]) -> str:
     type=float,
     required=True,
     metavar="TX TY TZ",
-    help="Torque demand about the CoG, body frame [mNm].",
+    help="Torque demand about the CoG, body frame [mNm]; finite, and no component beyond"
+    " 1e6 times the largest the engines can make.",
 )
 @click.option(
     "--force-mN",
@@ -193,7 +216,12 @@ def allocate(
         problem, geometry, state=state, solver=solver, saturation=saturation
     )
     force_N = None if force_mN is None else [f / MN_PER_N for f in force_mN]
-    result = allocator.allocate([t / MN_PER_N for t in torque_mNm], force_N, free_force=free_force)
+    try:
+        result = allocator.allocate(
+            [t / MN_PER_N for t in torque_mNm], force_N, free_force=free_force
+        )
+    except DemandError as error:
+        raise AllocationError(_demand_message(error, torque_mNm, force_mN)) from None
     authority = allocator.torque_authority(free_force=free_force)
     payload = _payload(problem.name, result, allocator, state, authority)
     if as_json:
