@@ -125,6 +125,8 @@ def test_a_thruster_level_time_optimal_reference_is_flown(tmp_path: Path) -> Non
         "[simulation]\nduration_s = 1320.0\n"
         '[simulation.slew]\naxis = "z"\nangle_deg = 180.0\nmethod = "time-optimal"\n'
         "thrusters = true\ntorque_fraction = 0.5\nfeedforward = true\n"
+        # the inherited 1228 s of the bang-bang would be this slew's deadline: too short
+        "duration_s = 1310.0\n"
     )
     code, out, _ = invoke("simulate", str(path), "--json")
     assert code == 0

@@ -6,7 +6,6 @@ from pathlib import Path
 
 import click
 
-from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.cli.common import (
     PAPER_PROBLEM_NAME,
     echo_json,
@@ -16,7 +15,6 @@ from casadi_debris.cli.common import (
     problem_argument,
 )
 from casadi_debris.config import load_problem
-from casadi_debris.report.describe import budget_text, describe_model, model_text
 
 
 @main.command()
@@ -25,6 +23,8 @@ from casadi_debris.report.describe import budget_text, describe_model, model_tex
 @friendly_errors
 def model(problem_file: Path | None, as_json: bool) -> None:
     """Describe the combined system: mass, inertia, CoG, torque authority, modes, engines."""
+    from casadi_debris.report.describe import describe_model, model_text
+
     problem = load_problem(problem_file)
     summary = describe_model(problem)
     if as_json:
@@ -39,6 +39,9 @@ def model(problem_file: Path | None, as_json: bool) -> None:
 @friendly_errors
 def budget(problem_file: Path | None, as_json: bool) -> None:
     """Δv, propellant, lifetime, transfer and detumble budgets."""
+    from casadi_debris.budgets import budgets_as_dict, compute_budgets
+    from casadi_debris.report.describe import budget_text
+
     problem = load_problem(problem_file)
     items = compute_budgets(problem)
     if as_json:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import click
@@ -16,24 +15,21 @@ from casadi_debris.cli.common import (
     overwrite_option,
     problem_argument,
 )
-from casadi_debris.config import default_controller_path, limits, load_problem
-from casadi_debris.errors import ProblemFileError, SynthesisError
+from casadi_debris.config import limits, load_problem
+from casadi_debris.config.limits import (
+    D_ORDER,
+    DK_ITERATIONS,
+    MARGIN_SAMPLES,
+    MAX_D_ORDERS_TRIED,
+    MU_POINTS,
+)
+from casadi_debris.errors import SynthesisError
 from casadi_debris.report.common import format_table, write_json_atomic
 from casadi_debris.report.folders import (
     RunFolder,
     check_output_file,
     check_output_folder,
     default_run_folder,
-)
-from casadi_debris.robust.analysis import MARGIN_SAMPLES
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import (
-    D_ORDER,
-    DK_ITERATIONS,
-    MAX_D_ORDERS_TRIED,
-    MU_POINTS,
-    SynthesisSettings,
-    design_controller,
 )
 
 
@@ -94,6 +90,8 @@ def synthesize(
     problem = load_problem(problem_file)
     orders = _d_orders(d_orders)
     check_output_file(out_path, overwrite=overwrite)
+    from casadi_debris.robust.design import SynthesisSettings, design_controller
+
     settings = SynthesisSettings(
         samples=samples,
         seed=seed,
@@ -142,22 +140,6 @@ def _d_orders(text: str) -> tuple[int, ...]:
     return orders
 
 
-def load_controller(path: Path | None) -> tuple[ControllerRecord, Path]:
-    """Read a controller file (default: the one shipped for the paper's problem)."""
-    resolved = (path or default_controller_path()).resolve()
-    try:
-        data = json.loads(resolved.read_text())
-    except FileNotFoundError:
-        raise ProblemFileError("", "no such controller file", str(resolved)) from None
-    except (OSError, json.JSONDecodeError) as exc:
-        raise ProblemFileError(
-            "", f"not a readable JSON controller file ({exc})", str(resolved)
-        ) from None
-    if not isinstance(data, dict):
-        raise ProblemFileError("", "a controller file holds a JSON object", str(resolved))
-    return ControllerRecord.from_dict(data, str(resolved)), resolved
-
-
 @main.command()
 @problem_argument
 @click.option(
@@ -199,7 +181,8 @@ def margins(
     as_json: bool,
 ) -> None:
     """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
-    from casadi_debris.report.robust import margin_report  # loads matplotlib: only when needed
+    from casadi_debris.report.robust import margin_report
+    from casadi_debris.workflows.controller import load_controller
 
     problem = load_problem(problem_file)
     record, path = load_controller(controller_path)

@@ -3,16 +3,13 @@
 from __future__ import annotations
 
 import csv
-import hashlib
-import re
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
-import numpy as np
 
-from casadi_debris.allocation import Allocator
 from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
@@ -23,70 +20,16 @@ from casadi_debris.cli.common import (
     problem_argument,
     workers_option,
 )
-from casadi_debris.cli.robust import load_controller
 from casadi_debris.config import Problem, limits, load_problem, with_duration
 from casadi_debris.errors import InputShapeError
-from casadi_debris.model import Model, build_model
-from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
-from casadi_debris.report.common import (
-    format_table,
-    write_csv,
-    write_json_atomic,
-)
-from casadi_debris.report.folders import (
-    RunFolder,
-    check_output_folder,
-    default_run_folder,
-)
-from casadi_debris.report.simulation import (
-    campaign_summary,
-    torque_limits_mNm,
-    write_campaign,
-    write_run,
-)
-from casadi_debris.simulation import (
-    CampaignSetup,
-    Case,
-    ClosedLoopResult,
-    corner_case,
-    corner_cases,
-    nominal_case,
-    open_loop_rigid,
-    run_campaign,
-    sample_case,
-    sample_cases,
-    scenario_reference,
-)
-from casadi_debris.simulation import (
-    simulate as run_simulation,
-)
-from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
+from casadi_debris.report.common import format_table, write_csv, write_json_atomic
+from casadi_debris.report.folders import RunFolder, check_output_folder, default_run_folder
+
+if TYPE_CHECKING:
+    import numpy as np
 
 NM_PER_MNM = 1e-3
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
-NOMINAL_KEYS = (
-    "fuel_slew_kg",
-    "max_error_deg",
-    "max_error_arcsec",
-    "fuel_kg",
-    "settle_time_s",
-    "torque_saturated_s",
-    "max_torque_mNm",
-)
-
-
-def run_summary(
-    problem: Problem, case: Case, result: ClosedLoopResult, controller_path: Path
-) -> dict[str, Any]:
-    """The run's figures plus what identifies it (case, seed, files)."""
-    return {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "case_id": case.case_id,
-        "seed": case.seed,
-        "controller_path": str(controller_path),
-        **result.summary(),
-    }
 
 
 def summary_text(summary: dict[str, Any]) -> str:
@@ -112,23 +55,6 @@ def summary_text(summary: dict[str, Any]) -> str:
     return format_table(["figure", "value"], rows)
 
 
-def choose_case(
-    problem: Problem, model: Model, corner: int | None, sample: int | None, seed: int | None
-) -> Case:
-    if corner is not None and sample is not None:
-        raise InputShapeError("give either --corner or --sample, not both")
-    if corner is not None:
-        try:
-            return corner_case(problem, model, corner)
-        except SimulationError as exc:
-            raise InputShapeError(f"--corner: {exc}") from None
-    if sample is not None:
-        return sample_case(
-            problem, model, sample, problem.montecarlo.seed if seed is None else seed
-        )
-    return nominal_case(model)
-
-
 def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     """``t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm`` rows -> times [s], torques [N m]."""
     expected = ["t_s", "tau_x_mNm", "tau_y_mNm", "tau_z_mNm"]
@@ -139,6 +65,8 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
         raise InputShapeError(f"{path}: cannot be read ({exc.strerror})") from None
     if not rows or [c.strip() for c in rows[0]] != expected:
         raise InputShapeError(f"{path}: the header must be {','.join(expected)}")
+    import numpy as np
+
     try:
         values = np.array([[float(c) for c in row] for row in rows[1:] if row], dtype=float)
     except ValueError as exc:
@@ -209,9 +137,17 @@ def simulate(
         return
     if duration_s is not None:
         problem = with_duration(problem, duration_s, field="--duration-s")
+    from casadi_debris.allocation import Allocator
+    from casadi_debris.model import build_model
+    from casadi_debris.report.simulation import torque_limits_mNm, write_run
+    from casadi_debris.simulation import scenario_reference
+    from casadi_debris.simulation import simulate as run_simulation
+    from casadi_debris.workflows.campaign import one_case, run_summary
+    from casadi_debris.workflows.controller import load_controller
+
     record, resolved = load_controller(controller_path)
     model = build_model(problem)
-    case = choose_case(problem, model, corner, sample, seed)
+    case = one_case(problem, model, corner, sample, seed)
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(
@@ -244,6 +180,8 @@ def _open_loop(
     overwrite: bool,
     as_json: bool,
 ) -> None:
+    from casadi_debris.simulation import open_loop_rigid
+
     times, torque = read_torque_table(table)
     result = open_loop_rigid(problem, times, torque, duration_s)
     summary = {
@@ -273,132 +211,14 @@ def _open_loop(
         click.echo(f"final quaternion (scalar first): {q}\nfinal rate [rad/s]: {w}")
 
 
-_SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]{1,253}):(\d{1,5})")
+def cases_progress(label: str) -> Callable[[int, int], None]:
+    """A one-line counter of finished cases on stderr."""
 
+    def show(done: int, total: int) -> None:
+        end = "\n" if done == total else ""
+        click.echo(f"\r{label}: {done}/{total} cases{end}", nl=False, err=True)
 
-def check_scheduler_address(address: str) -> None:
-    """Refuse anything but ``tcp://host:port`` or ``tls://host:port`` (no other schemes)."""
-    match = _SCHEDULER_ADDRESS.fullmatch(address)
-    if match is None or not 1 <= int(match[3]) <= 65535:
-        raise InputShapeError(
-            f"--scheduler: expected tcp://host:port or tls://host:port, got {address!r}"
-        )
-
-
-def select_cases(
-    problem: Problem,
-    model: Model,
-    corners: bool,
-    samples: int | None,
-    seed: int | None,
-    max_cases: int | None,
-) -> list[Case]:
-    """The campaign's cases; ``max_cases`` keeps that many spread evenly over the list."""
-    if samples is not None and corners:
-        raise InputShapeError("give either --corners or --samples, not both")
-    if samples is not None:
-        if samples < 1:
-            raise InputShapeError(f"--samples must be at least 1, got {samples}")
-        chosen = sample_cases(
-            problem, model, samples, problem.montecarlo.seed if seed is None else seed
-        )
-    else:
-        chosen = corner_cases(problem, model)
-    if max_cases is not None:
-        if max_cases < 1:
-            raise InputShapeError(f"--max-cases must be at least 1, got {max_cases}")
-        if max_cases < len(chosen):
-            picks = np.unique(np.linspace(0, len(chosen) - 1, max_cases).round().astype(int))
-            chosen = [chosen[i] for i in picks]
-    return chosen
-
-
-def run_montecarlo(
-    problem: Problem,
-    controller_path: Path | None,
-    cases_spec: dict[str, Any],
-    workers: int,
-    scheduler: str | None,
-    out: Path,
-    progress: bool = True,
-    jit: bool = True,
-    overwrite: bool = False,
-) -> dict[str, Any]:
-    """A whole campaign into ``out`` (resuming from ``out.partial``); returns its summary."""
-    check_output_folder(out, overwrite=overwrite)
-    record, resolved = load_controller(controller_path)
-    model = build_model(problem)
-    cases = select_cases(problem, model, **cases_spec)
-    reference = scenario_reference(problem)
-    setup = CampaignSetup.create(problem, record.reduced, reference, jit=jit)
-    identity = CampaignRecord(
-        problem_name=problem.name,
-        problem_sha256=problem.sha256,
-        controller_sha256=hashlib.sha256(resolved.read_bytes()).hexdigest(),
-        case_kind=cases[0].kind,
-        seed=cases[0].seed,
-        case_ids=tuple(c.case_id for c in cases),
-        envelope_bin_s=setup.bin_s,
-    )
-    with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
-        done = folder.finished_cases(cases)
-        todo = [c for c in cases if c.case_id not in done]
-        label = f"{problem.name}: {len(cases)} cases ({len(done)} on disk)"
-        with click.progressbar(length=len(todo), label=label, hidden=not progress) as bar:
-
-            def finished(outcome: Any) -> None:
-                folder.write_case(outcome)
-                done[outcome.case.case_id] = outcome
-                bar.update(1)
-
-            try:
-                run_campaign(
-                    setup,
-                    todo,
-                    workers=workers,
-                    scheduler=scheduler,
-                    on_result=finished,
-                    build_folder=folder.build_folder,
-                )
-            except KeyboardInterrupt:
-                raise CampaignInterrupted(len(done), len(cases), folder.partial) from None
-        outcomes = [done[c.case_id] for c in cases]
-        allocator = Allocator.from_problem(problem, model.geometry)
-        nominal = run_simulation(problem, model, record.reduced, reference, allocator=allocator)
-        nominal_summary = run_summary(problem, nominal_case(model), nominal, resolved)
-        summary = campaign_summary(
-            problem,
-            setup,
-            outcomes,
-            {
-                "controller_path": str(resolved),
-                "controller_sha256": identity.controller_sha256,
-                "case_kind": identity.case_kind,
-                "seed": identity.seed,
-                "workers": workers,
-                "scheduler": scheduler,
-                "resumed_cases": len(cases) - len(todo),
-                "compiled_step": bool(jit and c_compiler()),
-                "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
-                "out_dir": str(out.absolute()),
-            },
-        )
-        limits = torque_limits_mNm(allocator)
-        write_campaign(
-            folder.partial, problem, setup, outcomes, nominal, nominal_summary, limits, summary
-        )
-        folder.finish()
-    return summary
-
-
-class CampaignInterrupted(KeyboardInterrupt):
-    """Ctrl-C during a campaign: the finished cases are on disk for a resume."""
-
-    def __init__(self, done: int, total: int, partial: Path) -> None:
-        super().__init__(
-            f"interrupted: {done} of {total} cases are kept in {partial}; "
-            "run the same command again to resume"
-        )
+    return show
 
 
 @main.command()
@@ -459,24 +279,28 @@ def montecarlo(
     interrupted campaign resumes from the cases in <out>.partial. Writes
     summary.json, cases.csv, envelope.csv/png and the nominal run.
     """
+    from casadi_debris.workflows.campaign import (
+        CampaignInterrupted,
+        CaseSelection,
+        run_campaign_folder,
+    )
+
     problem = load_problem(problem_file)
-    if scheduler is not None:
-        check_scheduler_address(scheduler)
-    out = out or default_run_folder("montecarlo", problem.name)
+    selection = CaseSelection(corners, samples, seed, max_cases)
     try:
-        summary = run_montecarlo(
+        summary = run_campaign_folder(
             problem,
             controller_path,
-            {"corners": corners, "samples": samples, "seed": seed, "max_cases": max_cases},
-            workers,
-            scheduler,
-            out,
-            progress=not as_json,
+            selection,
+            out or default_run_folder("montecarlo", problem.name),
+            workers=workers,
+            scheduler=scheduler,
             jit=not no_jit,
             overwrite=overwrite,
+            progress=None if as_json else cases_progress(problem.name),
         )
     except CampaignInterrupted as interrupted:
-        click.echo(str(interrupted), err=True)
+        click.echo(f"\n{interrupted}", err=True)
         sys.exit(EXIT_INTERRUPTED)
     if as_json:
         echo_json(summary)

@@ -6,7 +6,7 @@ import json
 import math
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
@@ -23,20 +23,15 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import Problem, limits, load_problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.plots.slew import plot_slew
 from casadi_debris.report.common import (
     format_table,
     json_ready,
     write_csv,
 )
 from casadi_debris.report.folders import RunFolder, check_output_folder
-from casadi_debris.slew import (
-    SlewProfile,
-    bang_bang_slew,
-    fuel_optimal_slew,
-    slew_about_axis,
-    time_optimal_slew,
-)
+
+if TYPE_CHECKING:
+    from casadi_debris.slew import SlewProfile
 
 MNM_PER_NM = 1e3
 MN_PER_N = 1e3
@@ -128,6 +123,13 @@ class SlewRequest:
 
     def solve(self, problem: Problem) -> SlewProfile:
         """The profile of the chosen method."""
+        from casadi_debris.slew import (
+            bang_bang_slew,
+            fuel_optimal_slew,
+            slew_about_axis,
+            time_optimal_slew,
+        )
+
         target = slew_about_axis(self.axis, math.radians(self.angle_deg))
         if self.method == "bang-bang":
             if self.flexible or self.thrusters or self.zero_net_force:
@@ -288,6 +290,8 @@ def slew(
         raise _named_after_options(exc, request) from None
     summary = summary_for_output(profile, problem.name)
     if out is not None:
+        from casadi_debris.plots.slew import plot_slew
+
         with RunFolder.claim(out, overwrite=overwrite, command="slew") as folder:
             (folder / "summary.json").write_text(json.dumps(json_ready(summary), indent=2))
             write_profile_csv(profile, folder / "profile.csv", thrusters)

@@ -198,6 +198,21 @@ CORNER_ARRAY_ANGLES = Range(1, 64)
 MONTECARLO_SAMPLES = Range(1, 100_000)
 """1 to 100 000 random closed-loop cases: about a day on two cores at one second a case."""
 
+# ------------------------------------------------------------------ synthesis and analysis
+MU_POINTS = Range(10, 5000)
+"""Frequencies of the mu grid: below 10 the peak is missed; each point costs an SVD per D fit."""
+D_ORDER = Range(0, 8)
+"""Order of each D-scale fit: a rational fit above order 8 is ill-conditioned on 150 points,
+and every order adds two states per channel to the controller."""
+MAX_D_ORDERS_TRIED = 6
+"""At most 6 D-scale orders tried at each D-K step (each is a whole H-inf synthesis)."""
+DK_ITERATIONS = Range(0, 50)
+"""D-K steps at most (the paper's design converges in 4 to 8)."""
+REDUCED_ORDER = Range(1, 500)
+"""Target order of the balanced truncation."""
+MARGIN_SAMPLES = Range(1, 100_000)
+"""Sampled plants of a margin study: 3000 take about 12 s on two cores (the paper: 3000)."""
+
 # ------------------------------------------------------------------ text and files
 NAME_PATTERN = r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}"
 """A problem or mode name is a label (output folders are named after it), not a path: a letter

@@ -132,10 +132,6 @@ def _worker_margins(parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _WORKER["margins"](parameters)
 
 
-MARGIN_SAMPLES = limits.Range(1, 100_000)
-"""Sampled plants of a margin study: 3000 take about 12 s on two cores (the paper: 3000)."""
-
-
 def margin_study(
     problem: Problem,
     controller: control.StateSpace,
@@ -166,10 +162,10 @@ def margin_study(
     Raises
     ------
     SynthesisError
-        ``samples`` outside :data:`MARGIN_SAMPLES` or ``seed`` outside 0 .. 2**32 - 1.
+        ``samples`` outside :data:`limits.MARGIN_SAMPLES` or ``seed`` outside 0 .. 2**32 - 1.
     """
     for name, value, allowed in (
-        ("samples", samples, MARGIN_SAMPLES),
+        ("samples", samples, limits.MARGIN_SAMPLES),
         ("seed", seed, limits.SEED),
     ):
         problem_found = None if value is None else allowed.violation(value)

@@ -40,18 +40,6 @@ from casadi_debris.robust.weights import (
     performance_weights,
 )
 
-MU_POINTS = limits.Range(10, 5000)
-"""Frequencies of the mu grid: below 10 the peak is missed; each point costs an SVD per D fit."""
-D_ORDER = limits.Range(0, 8)
-"""Order of each D-scale fit: a rational fit above order 8 is ill-conditioned on 150 points,
-and every order adds two states per channel to the controller."""
-MAX_D_ORDERS_TRIED = 6
-"""At most 6 D-scale orders tried at each D-K step (each is a whole H-inf synthesis)."""
-DK_ITERATIONS = limits.Range(0, 50)
-"""D-K steps at most (the paper's design converges in 4 to 8)."""
-REDUCED_ORDER = limits.Range(1, 500)
-"""Target order of the balanced truncation."""
-
 
 @dataclass(frozen=True)
 class SynthesisSettings:
@@ -76,7 +64,7 @@ class SynthesisSettings:
     Raises
     ------
     SynthesisError
-        A knob outside its range (:data:`MU_POINTS`, :data:`D_ORDER`, ...), named.
+        A knob outside its range (:data:`limits.MU_POINTS`, :data:`limits.D_ORDER`, ...), named.
     """
 
     modes: str = "first"
@@ -91,9 +79,9 @@ class SynthesisSettings:
         checks = {
             "samples": (self.samples, limits.UNCERTAINTY_SAMPLES),
             "seed": (self.seed, limits.SEED),
-            "mu_points": (self.mu_points, MU_POINTS),
-            "max_iterations": (self.max_iterations, DK_ITERATIONS),
-            "reduced_order": (self.reduced_order, REDUCED_ORDER),
+            "mu_points": (self.mu_points, limits.MU_POINTS),
+            "max_iterations": (self.max_iterations, limits.DK_ITERATIONS),
+            "reduced_order": (self.reduced_order, limits.REDUCED_ORDER),
         }
         for name, (value, allowed) in checks.items():
             if value is None and name in ("samples", "seed"):
@@ -104,12 +92,15 @@ class SynthesisSettings:
             if problem:
                 raise SynthesisError(f"{name}: {problem}, got {value}")
         orders = tuple(self.d_orders)
-        if not 1 <= len(orders) <= MAX_D_ORDERS_TRIED or any(
-            isinstance(o, bool) or not isinstance(o, int | np.integer) or D_ORDER.violation(o)
+        if not 1 <= len(orders) <= limits.MAX_D_ORDERS_TRIED or any(
+            isinstance(o, bool)
+            or not isinstance(o, int | np.integer)
+            or limits.D_ORDER.violation(o)
             for o in orders
         ):
             raise SynthesisError(
-                f"d_orders: 1 to {MAX_D_ORDERS_TRIED} integers in {D_ORDER}, got {orders!r}"
+                f"d_orders: 1 to {limits.MAX_D_ORDERS_TRIED} integers "
+                f"in {limits.D_ORDER}, got {orders!r}"
             )
 
 

@@ -1,0 +1,296 @@
+"""A Monte-Carlo campaign into a folder: cases chosen, run in parallel, written as they
+finish, resumed after an interruption, summarised with the nominal run.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.workflows.campaign import CaseSelection, run_campaign_folder
+>>> problem = load_problem("problems/paper_slew.toml")  # doctest: +SKIP
+>>> summary = run_campaign_folder(  # doctest: +SKIP
+...     problem, None, CaseSelection(max_cases=8), "runs/slew-mc", workers=2
+... )
+>>> summary["worst"]["max_error_deg"]  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import re
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.config import Problem
+from casadi_debris.errors import InputShapeError
+from casadi_debris.model import Model, build_model
+from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
+from casadi_debris.report.folders import check_output_folder
+from casadi_debris.report.simulation import campaign_summary, torque_limits_mNm, write_campaign
+from casadi_debris.simulation import (
+    CampaignSetup,
+    Case,
+    CaseOutcome,
+    ClosedLoopResult,
+    corner_case,
+    corner_cases,
+    nominal_case,
+    run_campaign,
+    sample_case,
+    sample_cases,
+    scenario_reference,
+    simulate,
+)
+from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
+from casadi_debris.workflows.controller import load_controller
+
+LOGGER = logging.getLogger(__name__)
+
+NOMINAL_KEYS = (
+    "fuel_slew_kg",
+    "max_error_deg",
+    "max_error_arcsec",
+    "fuel_kg",
+    "settle_time_s",
+    "torque_saturated_s",
+    "max_torque_mNm",
+)
+_SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]{1,253}):(\d{1,5})")
+
+Progress = Callable[[int, int], None]
+"""``progress(done, total)``: cases finished in this run, of the cases it runs."""
+
+
+class CampaignInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a campaign: the finished cases are on disk for a resume."""
+
+    def __init__(self, done: int, total: int, partial: Path) -> None:
+        super().__init__(
+            f"interrupted: {done} of {total} cases are kept in {partial}; "
+            "run the same command again to resume"
+        )
+
+
+@dataclass(frozen=True)
+class CaseSelection:
+    """Which cases a campaign runs.
+
+    Attributes
+    ----------
+    corners : bool
+        Every corner of the uncertainty set (the default when ``samples`` is None).
+    samples : int, optional
+        That many seeded random samples instead.
+    seed : int, optional
+        Seed of the samples (default the problem's ``montecarlo.seed``).
+    max_cases : int, optional
+        Keep that many cases spread evenly over the list (a quick look).
+    """
+
+    corners: bool = False
+    samples: int | None = None
+    seed: int | None = None
+    max_cases: int | None = None
+
+    def cases(self, problem: Problem, model: Model) -> list[Case]:
+        """The chosen cases, in campaign order."""
+        if self.samples is not None and self.corners:
+            raise InputShapeError("give either --corners or --samples, not both")
+        if self.samples is not None:
+            seed = problem.montecarlo.seed if self.seed is None else self.seed
+            chosen = sample_cases(problem, model, self.samples, seed)
+        else:
+            chosen = corner_cases(problem, model)
+        if self.max_cases is not None and self.max_cases < len(chosen):
+            picks = np.unique(np.linspace(0, len(chosen) - 1, self.max_cases).round().astype(int))
+            chosen = [chosen[i] for i in picks]
+        return chosen
+
+
+def one_case(
+    problem: Problem, model: Model, corner: int | None, sample: int | None, seed: int | None
+) -> Case:
+    """Corner ``corner``, sample ``sample`` (with ``seed``), or the nominal case."""
+    if corner is not None and sample is not None:
+        raise InputShapeError("give either --corner or --sample, not both")
+    if corner is not None:
+        try:
+            return corner_case(problem, model, corner)
+        except SimulationError as exc:
+            raise InputShapeError(f"--corner: {exc}") from None
+    if sample is not None:
+        return sample_case(
+            problem, model, sample, problem.montecarlo.seed if seed is None else seed
+        )
+    return nominal_case(model)
+
+
+def run_summary(
+    problem: Problem, case: Case, result: ClosedLoopResult, controller_path: Path
+) -> dict[str, Any]:
+    """A run's figures plus what identifies it (case, seed, files)."""
+    return {
+        "problem": problem.name,
+        "problem_sha256": problem.sha256,
+        "case_id": case.case_id,
+        "seed": case.seed,
+        "controller_path": str(controller_path),
+        **result.summary(),
+    }
+
+
+def check_scheduler_address(address: str) -> None:
+    """Refuse anything but ``tcp://host:port`` or ``tls://host:port`` (no other schemes).
+
+    Dask unpickles what a scheduler sends: only the address the user gave is
+    contacted, and only over Dask's own TCP or TLS transports.
+    """
+    match = _SCHEDULER_ADDRESS.fullmatch(address)
+    if match is None or not 1 <= int(match[3]) <= 65535:
+        raise InputShapeError(
+            f"--scheduler: expected tcp://host:port or tls://host:port, got {address!r}"
+        )
+
+
+def run_campaign_folder(
+    problem: Problem,
+    controller_path: str | Path | None,
+    selection: CaseSelection,
+    out: str | Path,
+    *,
+    workers: int = 1,
+    scheduler: str | None = None,
+    jit: bool = True,
+    overwrite: bool = False,
+    progress: Progress | None = None,
+) -> dict[str, Any]:
+    """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
+
+    Parameters
+    ----------
+    problem : Problem
+    controller_path : str or Path, optional
+        Controller file (default the shipped paper controller).
+    selection : CaseSelection
+    out : str or Path
+        Campaign folder; see :mod:`casadi_debris.report.campaign_folder` for
+        what it holds and how a resume is checked.
+    workers : int
+        Local processes.
+    scheduler : str, optional
+        A Dask scheduler address instead of local processes.
+    jit : bool
+        Compile the control step to C where a compiler is found.
+    overwrite : bool
+        Replace an existing campaign folder this toolkit wrote.
+    progress : callable, optional
+        Called as cases finish (see :data:`Progress`).
+
+    Returns
+    -------
+    dict
+        The campaign summary, as written to ``summary.json``.
+
+    Raises
+    ------
+    OutputError
+        ``out`` cannot be written, or ``out.partial`` holds another campaign or is in use.
+    CampaignInterrupted
+        On Ctrl-C; the finished cases stay for a resume.
+    """
+    out = Path(out)
+    if scheduler is not None:
+        check_scheduler_address(scheduler)
+    check_output_folder(out, overwrite=overwrite)
+    record, resolved = load_controller(controller_path)
+    model = build_model(problem)
+    cases = selection.cases(problem, model)
+    reference = scenario_reference(problem)
+    setup = CampaignSetup.create(problem, record.reduced, reference, jit=jit)
+    identity = CampaignRecord(
+        problem_name=problem.name,
+        problem_sha256=problem.sha256,
+        controller_sha256=hashlib.sha256(resolved.read_bytes()).hexdigest(),
+        case_kind=cases[0].kind,
+        seed=cases[0].seed,
+        case_ids=tuple(c.case_id for c in cases),
+        envelope_bin_s=setup.bin_s,
+    )
+    with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
+        done = folder.finished_cases(cases)
+        outcomes = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
+        allocator = Allocator.from_problem(problem, model.geometry)
+        nominal = simulate(problem, model, record.reduced, reference, allocator=allocator)
+        nominal_summary = run_summary(problem, nominal_case(model), nominal, resolved)
+        summary = campaign_summary(
+            problem,
+            setup,
+            outcomes,
+            {
+                "controller_path": str(resolved),
+                "controller_sha256": identity.controller_sha256,
+                "case_kind": identity.case_kind,
+                "seed": identity.seed,
+                "workers": workers,
+                "scheduler": scheduler,
+                "resumed_cases": len(done),
+                "compiled_step": bool(jit and c_compiler()),
+                "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
+                "out_dir": str(out.absolute()),
+            },
+        )
+        limits = torque_limits_mNm(allocator)
+        write_campaign(
+            folder.partial, problem, setup, outcomes, nominal, nominal_summary, limits, summary
+        )
+        folder.finish()
+    return summary
+
+
+def _run_missing(
+    setup: CampaignSetup,
+    cases: list[Case],
+    done: dict[str, CaseOutcome],
+    folder: CampaignFolder,
+    workers: int,
+    scheduler: str | None,
+    progress: Progress | None,
+) -> list[CaseOutcome]:
+    """Run the cases not in ``done``, writing each as it finishes; all outcomes, in order."""
+    resumed = dict(done)
+    todo = [c for c in cases if c.case_id not in resumed]
+    LOGGER.info(
+        "%s: %d cases (%d on disk, %d to run)",
+        setup.problem.name,
+        len(cases),
+        len(resumed),
+        len(todo),
+    )
+    finished: dict[str, CaseOutcome] = {}
+
+    def keep(outcome: CaseOutcome) -> None:
+        folder.write_case(outcome)
+        finished[outcome.case.case_id] = outcome
+        if progress is not None:
+            progress(len(finished), len(todo))
+
+    if progress is not None:
+        progress(0, len(todo))
+    try:
+        run_campaign(
+            setup,
+            todo,
+            workers=workers,
+            scheduler=scheduler,
+            on_result=keep,
+            build_folder=folder.build_folder,
+        )
+    except KeyboardInterrupt:
+        kept = len(resumed) + len(finished)
+        raise CampaignInterrupted(kept, len(cases), folder.partial) from None
+    every = {**resumed, **finished}
+    return [every[c.case_id] for c in cases]

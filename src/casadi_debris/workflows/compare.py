@@ -1,0 +1,127 @@
+"""Fuel budgets of problem variants side by side (placements, failures, slew methods).
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.workflows.compare import compare_variants
+>>> problem = load_problem("problems/paper_slew.toml")  # doctest: +SKIP
+>>> summary = compare_variants([problem], ["bang-bang", "time-optimal"], None, "runs/compare")
+... # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.config import SLEW_METHODS, Problem
+from casadi_debris.errors import InputShapeError
+from casadi_debris.model import build_model
+from casadi_debris.report.compare import write_comparison
+from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.simulation import scenario_reference, simulate
+from casadi_debris.workflows.controller import load_controller
+
+LOGGER = logging.getLogger(__name__)
+
+
+def variants(problems: list[Problem], methods: list[str] | None) -> list[tuple[str, Problem]]:
+    """Each problem, and for slew problems each requested slew method."""
+    chosen = []
+    for problem in problems:
+        slew = problem.simulation.slew
+        if not methods or slew is None:
+            chosen.append((problem.name, problem))
+            continue
+        for method in methods:
+            settings = replace(slew, method=method)
+            if method == "time-optimal":
+                settings = replace(settings, duration_s=None)
+            elif method == "fuel-optimal" and settings.duration_s is None:
+                raise InputShapeError(
+                    f"{problem.name}: fuel-optimal needs simulation.slew.duration_s"
+                )
+            variant = replace(problem, simulation=replace(problem.simulation, slew=settings))
+            chosen.append((f"{problem.name} / {method}", variant))
+    return chosen
+
+
+def compare_row(label: str, problem: Problem, controller: Any) -> dict[str, Any]:
+    """One variant's nominal closed-loop run, reduced to the budget figures."""
+    model = build_model(problem)
+    reference = scenario_reference(problem)
+    allocator = Allocator.from_problem(problem, model.geometry)
+    result = simulate(problem, model, controller, reference, allocator=allocator)
+    summary = result.summary()
+    left_kg = float(result.propulsion.propellant_kg.sum())
+    mass_now = result.total_mass_kg - summary["fuel_kg"]
+    exhaust = result.propulsion.exhaust_velocity_m_s
+    return {
+        "variant": label,
+        "problem": problem.name,
+        "fuel_kg": summary["fuel_kg"],
+        "fuel_worst_cubesat_kg": summary["fuel_worst_cubesat_kg"],
+        "dv_left_m_s": exhaust * math.log(mass_now / (mass_now - left_kg)),
+        "stage_switches": summary["stage_switches"],
+        "slew_duration_s": None if reference.slew is None else reference.slew.duration_s,
+        "max_error_deg": summary["max_error_deg"],
+        "torque_saturated_s": summary["torque_saturated_s"],
+        "failed_cubesats": int(result.propulsion.failed_cubesats.sum()),
+    }
+
+
+def compare_variants(
+    problems: Sequence[Problem],
+    methods: Sequence[str] | None,
+    controller_path: str | Path | None,
+    out: str | Path,
+    *,
+    overwrite: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> dict[str, Any]:
+    """Run the nominal closed loop of every variant and write the comparison into ``out``.
+
+    Parameters
+    ----------
+    problems : sequence of Problem
+    methods : sequence of str, optional
+        Slew methods to fly on each slew problem (default: each problem's own).
+    controller_path : str or Path, optional
+        Controller file (default the shipped paper controller).
+    out : str or Path
+        Results folder (see :class:`~casadi_debris.report.folders.RunFolder`).
+    overwrite : bool
+        Replace a results folder this toolkit wrote.
+    progress : callable, optional
+        ``progress(label)`` as each variant starts.
+
+    Returns
+    -------
+    dict
+        ``controller_path``, ``variants`` (one row per variant: fuel total and
+        worst CubeSat [kg], Δv left [m/s], stage switches, slew time [s], max
+        error [deg], saturated time [s]) and ``out_dir``.
+    """
+    unknown = sorted(set(methods or ()) - set(SLEW_METHODS))
+    if unknown:
+        raise InputShapeError(
+            f"--methods: unknown {', '.join(unknown)}; choose from {', '.join(SLEW_METHODS)}"
+        )
+    out = Path(out)
+    record, resolved = load_controller(controller_path)
+    check_output_folder(out, overwrite=overwrite)
+    rows = []
+    for label, problem in variants(list(problems), list(methods) if methods else None):
+        LOGGER.info("variant %s", label)
+        if progress is not None:
+            progress(label)
+        rows.append(compare_row(label, problem, record.reduced))
+    summary = {"controller_path": str(resolved), "variants": rows, "out_dir": str(out.absolute())}
+    with RunFolder.claim(out, overwrite=overwrite, command="compare") as staging:
+        write_comparison(staging, rows, summary)
+    return summary

@@ -1,0 +1,187 @@
+"""The paper end to end: model, budgets, controller, margins, slew and pointing with their
+Monte-Carlo envelopes, and ``report.md`` with every figure of the paper next to ours.
+
+Example
+-------
+>>> from casadi_debris.workflows.reproduce import reproduce_paper
+>>> summary = reproduce_paper("runs/reproduce", quick=True)  # doctest: +SKIP
+>>> summary["reproduced"], summary["rows"]  # doctest: +SKIP
+(19, 19)
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.budgets import budgets_as_dict, compute_budgets
+from casadi_debris.config import Problem, default_problem_path, load_problem
+from casadi_debris.geometry import build_geometry
+from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report.describe import describe_model
+from casadi_debris.report.folders import RunFolder
+from casadi_debris.report.reproduce import report_markdown, reproduction_rows
+from casadi_debris.report.robust import margin_report
+from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.robust.design import SynthesisSettings, design_controller
+from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
+from casadi_debris.workflows.controller import load_controller
+
+LOGGER = logging.getLogger(__name__)
+
+FULL = {"margin_samples": 3000, "slew_cases": None, "pointing_cases": None}
+# Quick: a few minutes on two cores (CI); corners spread evenly over the set.
+QUICK = {
+    "margin_samples": 200,
+    "slew_cases": 8,
+    "pointing_cases": 4,
+    "pointing_duration_s": 1500.0,
+}
+FIGURES = [
+    ("Slew (paper Fig. 4): error and torque, corner envelope shaded", "slew/envelope.png"),
+    (
+        "Pointing (paper Fig. 5): error against 60 arcsec, torque against limits",
+        "pointing/envelope.png",
+    ),
+    ("μ of the robust-performance problem", "margins/mu.png"),
+    ("Uncertainty weight W over the sampled relative errors", "margins/uncertainty_weight.png"),
+    ("Loop shapes", "margins/loop_shapes.png"),
+    ("Margins over sampled plants", "margins/margins.png"),
+]
+
+
+def _paper_problems(plan: dict[str, Any]) -> tuple[Problem, Problem, Problem]:
+    """The paper's problem, its slew and its pointing run (shortened by a quick plan)."""
+    problems = default_problem_path().parent
+    problem = load_problem(problems / "paper.toml")
+    slew_problem = load_problem(problems / "paper_slew.toml")
+    pointing_problem = load_problem(problems / "paper_pointing.toml")
+    if "pointing_duration_s" in plan:
+        pointing_problem = replace(
+            pointing_problem,
+            simulation=replace(pointing_problem.simulation, duration_s=plan["pointing_duration_s"]),
+        )
+    return problem, slew_problem, pointing_problem
+
+
+def reproduce_paper(
+    out: str | Path,
+    *,
+    quick: bool = False,
+    resynthesize: bool = False,
+    workers: int = 1,
+    overwrite: bool = False,
+    progress: Callable[[str], Progress | None] | None = None,
+) -> dict[str, Any]:
+    """Reproduce the paper into the folder ``out``.
+
+    Parameters
+    ----------
+    out : str or Path
+        Report folder (see :class:`~casadi_debris.report.folders.RunFolder`).
+    quick : bool
+        Fewer samples and corners and a shorter pointing run (CI).
+    resynthesize : bool
+        Design the controller anew (about a minute) instead of the shipped one.
+    workers : int
+        Local processes for the campaigns.
+    overwrite : bool
+        Replace a report folder this toolkit wrote.
+    progress : callable, optional
+        ``progress(stage)`` is called as each stage starts and may return a
+        case counter for the stage's campaign (see
+        :data:`~casadi_debris.workflows.campaign.Progress`).
+
+    Returns
+    -------
+    dict
+        The summary written to ``summary.json``: the table's rows with their
+        verdicts, ``reproduced`` of ``rows``, the time taken.
+    """
+    started = time.perf_counter()
+    plan = {**FULL, **(QUICK if quick else {})}
+    problem, slew_problem, pointing_problem = _paper_problems(plan)
+    out = Path(out)
+
+    def stage(name: str) -> Progress | None:
+        LOGGER.info(name)
+        return None if progress is None else progress(name)
+
+    with RunFolder.claim(out, overwrite=overwrite, command="reproduce") as staging:
+        stage("model and budgets")
+        model_summary = describe_model(problem)
+        budgets = budgets_as_dict(compute_budgets(problem))
+        controller_path = None
+        if resynthesize:
+            stage("synthesising the controller (D-K iteration)")
+            design = design_controller(problem, SynthesisSettings())
+            controller_path = write_json_atomic(
+                staging / "controller.json", design.record.to_dict()
+            )
+        record, controller_path = load_controller(controller_path)
+        stage(f"margins over {plan['margin_samples']} sampled plants")
+        margins = margin_report(
+            problem,
+            record,
+            controller_path,
+            plan["margin_samples"],
+            None,
+            staging / "margins",
+            True,
+            None,
+            out_dir=out / "margins",
+        )
+        campaigns = {}
+        for name, campaign_problem, cases in (
+            ("slew", slew_problem, plan["slew_cases"]),
+            ("pointing", pointing_problem, plan["pointing_cases"]),
+        ):
+            counter = stage(f"{name} Monte Carlo")
+            campaigns[name] = run_campaign_folder(
+                campaign_problem,
+                controller_path,
+                CaseSelection(corners=True, max_cases=cases),
+                staging / name,
+                workers=workers,
+                progress=counter,
+            )
+        campaigns["slew"]["slew_duration_s"] = slew_problem.simulation.slew.duration_s
+        limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
+        rows = reproduction_rows(
+            model_summary,
+            budgets,
+            {
+                "mu_peak": record.mu_peak,
+                "mu_peak_reduced": record.mu_peak_reduced,
+                "order_full": None if record.full is None else record.full.nstates,
+                "order_reduced": record.reduced.nstates,
+            },
+            margins,
+            campaigns["slew"],
+            campaigns["pointing"],
+            limits,
+        )
+        summary: dict[str, Any] = {
+            "problem": problem.name,
+            "problem_sha256": problem.sha256,
+            "controller_path": str(controller_path),
+            "quick": quick,
+            "workers": workers,
+            "time_s": time.perf_counter() - started,
+            "reproduced": sum("✅" in row[-1] for row in rows),
+            "rows": len(rows),
+            "table": [
+                dict(zip(("result", "paper", "accepted", "ours", "verdict"), r, strict=True))
+                for r in rows
+            ],
+            "out_dir": str(out.absolute()),
+        }
+        figures = [(t, p) for t, p in FIGURES if (staging / p).exists()]
+        (staging / "report.md").write_text(report_markdown(rows, summary, figures))
+        write_json_atomic(staging / "summary.json", summary)
+    return summary
