@@ -18,6 +18,7 @@ from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
 from casadi_debris.model import build_model
 from casadi_debris.slew import (
+    SlewOptions,
     bang_bang_slew,
     fuel_optimal_slew,
     least_fuel_thrust,
@@ -26,6 +27,7 @@ from casadi_debris.slew import (
     slew_between,
     time_optimal_slew,
 )
+from casadi_debris.slew.transcription import COLLOCATION_DEGREE, radau_coefficients
 from slew_reference import final_state
 
 PAPER_SLEW_DURATION_S = 1228.0  # paper, Section IV.A
@@ -200,6 +202,29 @@ def test_zero_net_force_needs_thrusters(problem: Problem) -> None:
         time_optimal_slew(problem, "z", math.pi, zero_net_force=True, check_vibration=False)
 
 
+def test_options_object_and_keywords_give_the_same_slew(problem: Problem) -> None:
+    options = SlewOptions(intervals=8, check_vibration=False, sample_s=10.0)
+    by_object = time_optimal_slew(problem, "z", math.pi, options=options)
+    by_keywords = time_optimal_slew(
+        problem, "z", math.pi, intervals=8, check_vibration=False, sample_s=10.0
+    )
+    # a keyword replaces the object's field
+    overridden = time_optimal_slew(problem, "z", math.pi, options=options, intervals=10)
+    assert by_object.duration_s == by_keywords.duration_s
+    assert by_object.settings["control_intervals"] == 8
+    assert overridden.settings["control_intervals"] == 10
+
+
+def test_radau_interval_is_exact_on_cubics() -> None:
+    """The collocation of x' = 3 t^2 (Radau IIA, degree 3) integrates it exactly."""
+    t, h = 0.7, 2.0
+    points, slopes, end = radau_coefficients()
+    z = (t + h * points) ** 3  # the state at the interval start and collocation points
+    assert z @ slopes == pytest.approx(h * 3.0 * (t + h * points[1:]) ** 2, rel=1e-12)
+    assert z @ end == pytest.approx((t + h) ** 3, rel=1e-12)
+    assert len(points) == COLLOCATION_DEGREE + 1
+
+
 def test_zero_vibration_shaping_keeps_bounds_and_impulse() -> None:
     knots = np.array([0.0, 10.0, 20.0])
     controls = np.array([[1.0, 0.0], [-1.0, 0.5]])
@@ -229,6 +254,28 @@ def test_too_short_bang_bang_says_minimum(problem: Problem, geometry: Geometry, 
     with pytest.raises(SlewInfeasibleError, match=r"infeasible: minimum is 920\.1"):
         bang_bang_slew(problem, "z", math.pi, duration_s=duration, check_vibration=False)
     assert rigid_limit(geometry, 2) == pytest.approx(920.1, abs=0.05)
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "message"),
+    [
+        ("torque_fraction", 0.0, "torque_fraction"),
+        ("residual_energy_fraction", -1.0, "residual_energy_fraction"),
+        ("sample_s", math.nan, "sample_s"),
+        ("intervals", 3, "intervals: must be an even number"),
+        ("flexible_method", "modal", "flexible_method: one of ocp, shaper"),
+    ],
+)
+def test_bad_slew_option_is_named(field: str, value: Any, message: str) -> None:
+    with pytest.raises(InputShapeError, match=message):
+        SlewOptions(**{field: value})
+
+
+def test_unknown_keyword_and_single_axis_fuel_are_refused(problem: Problem) -> None:
+    with pytest.raises(TypeError, match=r"time_optimal_slew\(\) got an unexpected keyword"):
+        time_optimal_slew(problem, "z", math.pi, torque_fractoin=0.5)
+    with pytest.raises(InputShapeError, match="single_axis applies to time-optimal"):
+        fuel_optimal_slew(problem, "z", math.pi, duration_s=1300.0, single_axis=True)
 
 
 def test_too_short_fuel_optimal_says_minimum(problem: Problem) -> None:

@@ -3,7 +3,12 @@
 - :mod:`~casadi_debris.slew.maneuver`: rest-to-rest targets, eigenaxis limits.
 - :mod:`~casadi_debris.slew.bang_bang`: the paper's reference profile.
 - :mod:`~casadi_debris.slew.optimal`: time- and fuel-optimal OCPs (torque or
-  thruster level; flexible = the vibration left bounded in closed form, or ZV-shaped).
+  thruster level; flexible = the vibration left bounded in closed form, or ZV-shaped),
+  set by a :class:`SlewOptions`; stated in :mod:`~casadi_debris.slew.ocp_problem`,
+  transcribed in :mod:`~casadi_debris.slew.transcription`, started from
+  :mod:`~casadi_debris.slew.initial_guess`, the flexible end in
+  :mod:`~casadi_debris.slew.modal_window`.
+- :mod:`~casadi_debris.slew.shaper`: the zero-vibration input shaper.
 - :mod:`~casadi_debris.slew.modal`: the array modes' response to held inputs, in
   closed form.
 - :mod:`~casadi_debris.slew.propellant`: torque to thrust to propellant.
@@ -22,17 +27,15 @@ from casadi_debris.slew.maneuver import (
     slew_between,
     torque_limits,
 )
-from casadi_debris.slew.optimal import (
-    fuel_optimal_slew,
-    shape,
-    time_optimal_slew,
-    zero_vibration_shaper,
-)
+from casadi_debris.slew.optimal import fuel_optimal_slew, time_optimal_slew
+from casadi_debris.slew.options import SlewOptions
 from casadi_debris.slew.profile import SlewProfile, simulate
 from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
+from casadi_debris.slew.shaper import shape, zero_vibration_shaper
 
 __all__ = [
     "BangBangTiming",
+    "SlewOptions",
     "SlewProfile",
     "SlewTarget",
     "bang_bang_slew",

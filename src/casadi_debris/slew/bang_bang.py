@@ -203,6 +203,37 @@ def _piecewise_motion(timing: BangBangTiming, angle_rad: float, t: ca.SX) -> ca.
     return ca.if_else(t < 0.0, ca.vertcat(0.0, 0.0, 0.0), motion)
 
 
+def _eigenaxis_functions(
+    timing: BangBangTiming, goal: SlewTarget, inertia: np.ndarray
+) -> tuple[ca.Function, ca.Function]:
+    """The bang-bang's model input and motion as functions of time.
+
+    Returns
+    -------
+    input_function : casadi.Function
+        ``u(t)``: the model input, the torque J alpha e + omega^2 e x (J e) that turns
+        the rigid body about the fixed eigenaxis e (N m), the rest zero.
+    motion_function : casadi.Function
+        ``motion(t)``: [angle (rad), rate (rad/s), acceleration (rad/s^2)] about e.
+    """
+    t = ca.SX.sym("t")
+    motion = _piecewise_motion(timing, goal.angle_rad, t)
+    e = ca.DM(goal.axis_B)
+    moment = ca.DM(inertia) @ e
+    torque = motion[2] * moment + motion[1] ** 2 * ca.cross(e, moment)
+    input_function = ca.Function("slew_input", [t], [input_vector(torque)], ["t"], ["u"])
+    motion_function = ca.Function("slew_motion", [t], [motion], ["t"], ["motion"])
+    return input_function, motion_function
+
+
+def _about_axis(goal: SlewTarget, angle_rad: np.ndarray) -> np.ndarray:
+    """Attitudes q_BN (scalar first, shape (n, 4)) turned from the initial one by
+    ``angle_rad`` (shape (n,)) about the eigenaxis."""
+    half = angle_rad[:, None] / 2.0
+    rotation = np.hstack([np.cos(half), np.sin(half) * goal.axis_B])
+    return quaternion_multiply(np.broadcast_to(goal.q_initial_BN, rotation.shape), rotation)
+
+
 def bang_bang_slew(
     problem: Problem,
     axis: str | Sequence[float] = "z",
@@ -253,10 +284,8 @@ def bang_bang_slew(
     check_positive("sample_s", sample_s)
     rigid = build_model(problem, modes=[]) if model is None else model
     goal = slew_about_axis(axis, angle_rad) if target is None else target
-    p = rigid.nominal_parameters
-    inertia = np.array(rigid.rigid_inertia(p))
-    lower, upper = torque_limits(rigid.geometry)
-    alpha_max = eigenaxis_acceleration_limit(inertia, goal.axis_B, lower, upper)
+    inertia = np.array(rigid.rigid_inertia(rigid.nominal_parameters))
+    alpha_max = eigenaxis_acceleration_limit(inertia, goal.axis_B, *torque_limits(rigid.geometry))
     timing = bang_bang_timing(
         goal.angle_rad,
         alpha_max,
@@ -265,23 +294,40 @@ def bang_bang_slew(
         rate_limit_rad_s=rate_limit_rad_s,
         smoothing_s=smoothing_s,
     )
+    return _profile(
+        problem,
+        rigid,
+        goal,
+        timing,
+        inertia=inertia,
+        alpha_max=alpha_max,
+        sample_s=sample_s,
+        check_vibration=check_vibration,
+        started=started,
+    )
 
-    t = ca.SX.sym("t")
-    motion = _piecewise_motion(timing, goal.angle_rad, t)
-    e = ca.DM(goal.axis_B)
-    moment = ca.DM(inertia) @ e
-    torque = motion[2] * moment + motion[1] ** 2 * ca.cross(e, moment)
-    input_function = ca.Function("slew_input", [t], [input_vector(torque)], ["t"], ["u"])
-    motion_function = ca.Function("slew_motion", [t], [motion], ["t"], ["motion"])
 
+def _profile(
+    problem: Problem,
+    rigid: Model,
+    goal: SlewTarget,
+    timing: BangBangTiming,
+    *,
+    inertia: np.ndarray,
+    alpha_max: float,
+    sample_s: float,
+    check_vibration: bool,
+    started: float,
+) -> SlewProfile:
+    """The bang-bang of ``timing`` sampled every ``sample_s`` seconds (and at its
+    switches) as a profile; ``inertia`` (kg m^2, shape (3, 3)) and ``alpha_max``
+    (rad/s^2) are the rigid body's, ``started`` the ``time.perf_counter`` at the call."""
+    input_function, motion_function = _eigenaxis_functions(timing, goal, inertia)
     total = timing.duration_s
     knots = np.cumsum([0.0] + [length for _, length, _, _ in timing.segments()])
     knots[-1] = total
     grid = sample_grid(total, sample_s, knots)
     values = np.array(motion_function.map(len(grid))(grid)).T
-    half = values[:, 0:1] / 2.0
-    rotation = np.hstack([np.cos(half), np.sin(half) * goal.axis_B])
-    quaternion = quaternion_multiply(np.broadcast_to(goal.q_initial_BN, rotation.shape), rotation)
     settings = {
         "torque_fraction": timing.acceleration_rad_s2 / alpha_max,
         "acceleration_rad_s2": timing.acceleration_rad_s2,
@@ -298,7 +344,7 @@ def bang_bang_slew(
         flexible=False,
         thrusters=False,
         time_s=grid,
-        quaternion_BN=quaternion,
+        quaternion_BN=_about_axis(goal, values[:, 0]),
         rate_rad_s=values[:, 1:2] * goal.axis_B,
         acceleration_rad_s2=values[:, 2:3] * goal.axis_B,
         input_function=input_function,
