@@ -10,6 +10,12 @@ Prints JSON. Not a test: numbers depend on the machine and its load.
 - ``saturation``: on saturating demands, the fraction of the LP maximum
   torque (HiGHS, largest alpha along the demand) each method reaches, and
   the largest angle between achieved and demanded torque.
+- ``tiny``: ``allocate`` on demands from 1e-300 to 1e-4 N m (log-uniform,
+  random directions; solved scaled up by a power of two) and on subnormal ones
+  (5e-324 to 2e-308 N m): median time, the largest relative torque error
+  ``|B f - tau|_inf / |tau|_inf`` of the normal ones, the largest error of the
+  subnormal ones in units of the promised floor ``n (l + 2) 2**-1074`` N m,
+  and how many answers needed the HiGHS fallback.
 - ``series``: ``allocate_series`` on a smooth torque history (three sines at
   0.8 of the axis authorities, about half the steps saturated) against a
   loop of ``allocate`` calls over the same history, per step, in the same
@@ -85,6 +91,41 @@ def smooth_history(authority: dict[str, float], steps: int) -> np.ndarray:
     cycles = np.array([3.0, 2.0, 1.5])
     phase_rad = np.array([0.0, 0.7, 1.77])
     return 0.8 * peak * np.sin(2.0 * np.pi * cycles * t + phase_rad)
+
+
+def tiny_benchmark(problem, geometry, rng: np.random.Generator, count: int) -> dict:
+    """Tiny demands: time, worst relative error (normal floats), worst error (subnormals)."""
+    allocator = Allocator.from_problem(problem, geometry)
+    directions = rng.normal(size=(2 * count, 3))
+    directions /= np.abs(directions).max(axis=1, keepdims=True)
+    normal = directions[:count] * 10.0 ** rng.uniform(-300, -4, size=(count, 1))
+    subnormal = directions[count:] * 10.0 ** rng.uniform(-323.3, -307.7, size=(count, 1))
+    lever = float(np.abs(geometry.torque_map).max())
+    floor_Nm = allocator.n_engines * (lever + 2.0) * 2.0**-1074
+    allocator.allocate(normal[0])
+    wall, relative, rescued = [], [], 0
+    for torque in normal:
+        start = time.perf_counter()
+        result = allocator.allocate(torque)
+        wall.append(time.perf_counter() - start)
+        rescued += result.solver.endswith("+highs")
+        error = float(np.abs(result.torque_Nm - torque).max() / np.abs(torque).max())
+        relative.append(error if result.feasible else math.inf)
+    in_floors = []
+    for torque in subnormal:
+        result = allocator.allocate(torque)
+        rescued += result.solver.endswith("+highs")
+        error = float(np.abs(result.torque_Nm - torque).max())
+        in_floors.append(error / floor_Nm if result.feasible else math.inf)
+    return {
+        "demands": 2 * count,
+        **percentiles_us(wall),
+        "feasible_fraction": float(np.mean(np.isfinite(relative + in_floors))),
+        "max_relative_error_normal": float(np.max(relative)),
+        "max_error_subnormal_in_floors": float(np.max(in_floors)),
+        "floor_Nm": floor_Nm,
+        "highs_fallbacks": rescued,
+    }
 
 
 def series_benchmark(problem, geometry, authority: dict[str, float], steps: int, repeats: int):
@@ -186,6 +227,7 @@ def main() -> None:
             "angle_error_max_rad": float(np.max(angles)),
         }
 
+    tiny = tiny_benchmark(problem, geometry, rng, min(500, args.calls))
     series = series_benchmark(problem, geometry, authority, args.series_steps, args.series_repeats)
 
     print(
@@ -201,6 +243,7 @@ def main() -> None:
                     "wall_time_s": batch.wall_time_s,
                 },
                 "saturation": saturation,
+                "tiny": tiny,
                 "series": series,
             },
             indent=2,
