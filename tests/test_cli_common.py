@@ -81,3 +81,24 @@ def test_out_of_range_options_are_refused_before_work(args: list[str], needle: s
     assert result.exit_code == 2, result.output
     lines = result.output.strip().splitlines()
     assert len(lines) == 1 and needle in lines[0], lines
+
+
+def test_the_command_line_loads_no_heavy_library_before_a_command_runs() -> None:
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, casadi_debris.cli; "
+        "print(sorted(m for m in ('casadi', 'control', 'matplotlib', 'scipy', 'osqp', 'daqp')"
+        " if m in sys.modules))"
+    )
+    loaded = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert loaded.stdout.strip() == "[]", loaded.stdout + loaded.stderr
+
+
+def test_allocate_options_are_the_allocators_own() -> None:
+    from casadi_debris import allocation
+    from casadi_debris.cli import allocate
+
+    assert allocate.SATURATION_MODES == allocation.SATURATION_MODES
+    assert allocate.DEFAULT_SOLVER == allocation.DEFAULT_SOLVER

@@ -4,23 +4,26 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
-from casadi_debris.allocation import (
-    DEFAULT_SOLVER,
-    SATURATION_MODES,
-    AllocationResult,
-    Allocator,
-    DemandError,
-    PropulsionState,
-)
-from casadi_debris.allocation.demand import ABSURD_FACTOR
 from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
 from casadi_debris.config import load_problem
 from casadi_debris.errors import AllocationError
-from casadi_debris.geometry import build_geometry
+
+if TYPE_CHECKING:
+    from casadi_debris.allocation import (
+        AllocationResult,
+        Allocator,
+        DemandError,
+        PropulsionState,
+    )
+
+# The allocator's own values (a test checks they agree); written here so that the
+# command's help does not load the QP back-ends.
+DEFAULT_SOLVER = "daqp"
+SATURATION_MODES = ("scale", "least_squares")
 
 MN_PER_N = 1e3
 US_PER_S = 1e6
@@ -51,6 +54,8 @@ def _demand_message(
     force_mN: tuple[float, float, float] | None,
 ) -> str:
     """The API's refusal of a demand, said with the option and the units the user typed."""
+    from casadi_debris.allocation.demand import ABSURD_FACTOR
+
     option, unit = DEMAND_OPTIONS.get(error.argument, (error.argument, ""))
     given = torque_mNm if error.argument == "torque_Nm" else force_mN
     typed = " ".join(f"{value:g}" for value in given or ())
@@ -205,6 +210,10 @@ def allocate(
 ) -> None:
     """Thrust of every CubeSat engine for a torque (and force) demand: least fuel, exact when
     reachable, direction kept when not."""
+    from casadi_debris.allocation import Allocator, DemandError, PropulsionState
+    from casadi_debris.allocation.backends import UnknownSolverError
+    from casadi_debris.geometry import build_geometry
+
     if force_mN is not None and free_force:
         raise AllocationError("give either --force-mN or --free-force, not both")
     problem = load_problem(problem_file)
@@ -212,9 +221,12 @@ def allocate(
     state = _read_state(stage_state, PropulsionState.from_problem(problem, geometry))
     for index in _failed_indices(failed, len(geometry.cubesats)):
         state.fail_cubesat(index)
-    allocator = Allocator.from_problem(
-        problem, geometry, state=state, solver=solver, saturation=saturation
-    )
+    try:
+        allocator = Allocator.from_problem(
+            problem, geometry, state=state, solver=solver, saturation=saturation
+        )
+    except UnknownSolverError as error:
+        raise AllocationError(f"--solver: {error}") from None
     force_N = None if force_mN is None else [f / MN_PER_N for f in force_mN]
     try:
         result = allocator.allocate(
