@@ -560,11 +560,14 @@ def test_failed_engines_stop(
     failure_run: ClosedLoopResult, nominal_slew: ClosedLoopResult, failure_problem: Problem
 ) -> None:
     step = round(FAILURE_TIME_S / failure_run.control_period_s)
-    assert failure_run.events == [
+    assert [(e.time_s, e.text) for e in failure_run.events] == [
         (FAILURE_TIME_S, "CubeSat 17 failed"),
         (FAILURE_TIME_S, "CubeSat 19 failed"),
         (FAILURE_TIME_S, "CubeSat 1: stage 1 failed"),
     ]
+    # CubeSat 1 was firing stage 1: its failure hands over to stage 2, a switch.
+    assert [e.switched for e in failure_run.events] == [False, False, True]
+    assert failure_run.summary()["stage_switches"] == 1
     # Identical to the nominal run up to the failure.
     np.testing.assert_array_equal(failure_run.thrust_N[:step], nominal_slew.thrust_N[:step])
     np.testing.assert_array_equal(failure_run.state[: step + 1], nominal_slew.state[: step + 1])
@@ -636,10 +639,10 @@ def test_stage_runs_dry_when_predicted(
     thrust = staging_run.thrust_N[:, STAGING_CUBESAT]
     predicted = crossing_time_s(thrust, dt, exhaust, STAGING_FIRST_STAGE_KG)
     number = STAGING_CUBESAT + 1
-    [(time, _)] = [
-        e
+    [time] = [
+        e.time_s
         for e in staging_run.events
-        if e[1] == f"CubeSat {number}: stage 1 empty, stage 2 takes over"
+        if e.text == f"CubeSat {number}: stage 1 empty, stage 2 takes over"
     ]
     assert time == pytest.approx(predicted, abs=1e-9)
     # It keeps firing on stage 2, at the same limit.
@@ -664,7 +667,7 @@ def test_cubesat_drops_out_when_predicted(
     thrust = staging_run.thrust_N[:, DROPOUT_CUBESAT]
     predicted = [crossing_time_s(thrust, dt, exhaust, (i + 1) * DROPOUT_STAGE_KG) for i in range(3)]
     number = DROPOUT_CUBESAT + 1
-    mine = [(t, text) for t, text in staging_run.events if text.startswith(f"CubeSat {number}:")]
+    mine = [(e.time_s, e.text) for e in staging_run.events if e.cubesat == DROPOUT_CUBESAT]
     assert [text for _, text in mine] == [
         f"CubeSat {number}: stage 1 empty, stage 2 takes over",
         f"CubeSat {number}: stage 2 empty, stage 3 takes over",
@@ -689,7 +692,8 @@ def test_staging_run_still_tracks(
     q = staging_run.state[:, slew_model.layout.q]
     angle = error_angle_rad(staging_run.reference_BN, q)
     assert np.degrees(angle.max()) <= PAPER_SLEW_MAX_ERROR_DEG
-    assert [t for t, _ in staging_run.events] == sorted(t for t, _ in staging_run.events)
+    times = [e.time_s for e in staging_run.events]
+    assert times == sorted(times)
     assert staging_run.summary()["stage_switches"] == 4
 
 

@@ -35,7 +35,7 @@ from casadi_debris.simulation.reference import (
     sample_reference,
     scenario_reference,
 )
-from casadi_debris.simulation.run import ClosedLoopResult, simulate
+from casadi_debris.simulation.run import ClosedLoopResult, RunEvent, simulate
 
 __all__ = [
     "CampaignSetup",
@@ -45,6 +45,7 @@ __all__ = [
     "Envelope",
     "OpenLoopResult",
     "Reference",
+    "RunEvent",
     "SimulationError",
     "build_loop_step",
     "corner_case",

@@ -40,6 +40,64 @@ ALLOCATION_TOLERANCE = 1e-8
 DEFAULT_CHUNK_STEPS = 1000
 
 
+EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed")
+
+
+@dataclass(frozen=True)
+class RunEvent:
+    """Something that changed the engines during a run.
+
+    Attributes
+    ----------
+    time_s : float
+        When [s].
+    kind : {"stage_depleted", "stage_failed", "cubesat_failed"}
+    cubesat : int
+        0-based (``text`` and the summary number CubeSats from 1).
+    stage : int or None
+        The stage depleted or failed (0-based); None for a whole CubeSat.
+    next_stage : int or None
+        The stage firing afterwards; None when the CubeSat has none left.
+    switched : bool
+        Whether the stage that fires changed (a depleted stage always; a failed
+        stage only when it was the one firing).
+    """
+
+    time_s: float
+    kind: str
+    cubesat: int
+    stage: int | None = None
+    next_stage: int | None = None
+    switched: bool = False
+
+    @property
+    def text(self) -> str:
+        """The event in words, CubeSats and stages numbered from 1."""
+        who = f"CubeSat {self.cubesat + 1}"
+        if self.kind == "cubesat_failed":
+            return f"{who} failed"
+        if self.kind == "stage_failed":
+            return f"{who}: stage {_number(self.stage)} failed"
+        then = "none left" if self.next_stage is None else f"stage {self.next_stage + 1} takes over"
+        return f"{who}: stage {_number(self.stage)} empty, {then}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """For JSON: 1-based ids, units in the keys."""
+        return {
+            "time_s": self.time_s,
+            "kind": self.kind,
+            "cubesat": self.cubesat + 1,
+            "stage": None if self.stage is None else self.stage + 1,
+            "next_stage": None if self.next_stage is None else self.next_stage + 1,
+            "stage_switch": self.switched,
+            "event": self.text,
+        }
+
+
+def _number(stage: int | None) -> str:
+    return "?" if stage is None else str(stage + 1)
+
+
 @dataclass(eq=False)
 class ClosedLoopResult:
     """Time series and figures of one closed-loop run (SI units).
@@ -68,8 +126,8 @@ class ClosedLoopResult:
         At the start of each step.
     propulsion : PropulsionState
         At the end.
-    events : list of (float, str)
-        Time [s] and description of failures and stage switches.
+    events : list of RunEvent
+        Failures and depleted stages, in time order.
     parameters : dict
         Model parameters by name.
     control_period_s : float
@@ -96,7 +154,7 @@ class ClosedLoopResult:
     disturbance_Nm: np.ndarray
     propulsion: PropulsionState
     fuel_start_kg: np.ndarray
-    events: list[tuple[float, str]]
+    events: list[RunEvent]
     parameters: dict[str, float]
     control_period_s: float
     total_mass_kg: float
@@ -152,8 +210,8 @@ class ClosedLoopResult:
             "min_scale": float(self.scale.min()) if len(self.scale) else 1.0,
             "max_torque_mNm": (np.abs(self.torque_Nm).max(axis=0) * 1e3).tolist(),
             "max_demand_mNm": (np.abs(self.demand_Nm).max(axis=0) * 1e3).tolist(),
-            "stage_switches": sum(1 for _, text in self.events if "stage" in text),
-            "events": [{"time_s": t, "event": text} for t, text in self.events],
+            "stage_switches": sum(event.switched for event in self.events),
+            "events": [event.to_dict() for event in self.events],
             "allocation_residual_Nm": self.allocation_residual_Nm,
             "max_net_force_N": float(np.abs(self.force_N).max()) if len(self.force_N) else 0.0,
             "allocation_point_solves": self.point_solves,
@@ -166,17 +224,28 @@ class ClosedLoopResult:
         }
 
 
-def _describe(event: StageEvent) -> str:
-    then = "none left" if event.next_stage is None else f"stage {event.next_stage + 1} takes over"
-    return f"CubeSat {event.cubesat + 1}: stage {event.stage + 1} empty, {then}"
+def _depleted(event: StageEvent, time_s: float) -> RunEvent:
+    return RunEvent(
+        time_s, "stage_depleted", event.cubesat, event.stage, event.next_stage, switched=True
+    )
 
 
-def _apply_failure(failure: FailureEvent, propulsion: PropulsionState) -> str:
+def _apply_failure(failure: FailureEvent, propulsion: PropulsionState, time_s: float) -> RunEvent:
+    cubesat = failure.cubesat
     if failure.stage is None:
-        propulsion.fail_cubesat(failure.cubesat)
-        return f"CubeSat {failure.cubesat + 1} failed"
-    propulsion.fail_stage(failure.cubesat, failure.stage)
-    return f"CubeSat {failure.cubesat + 1}: stage {failure.stage + 1} failed"
+        propulsion.fail_cubesat(cubesat)
+        return RunEvent(time_s, "cubesat_failed", cubesat)
+    before = int(propulsion.active_stage[cubesat])
+    propulsion.fail_stage(cubesat, failure.stage)
+    after = int(propulsion.active_stage[cubesat])
+    return RunEvent(
+        time_s,
+        "stage_failed",
+        cubesat,
+        failure.stage,
+        None if after == propulsion.n_stages else after,
+        switched=after != before and before == failure.stage,
+    )
 
 
 def simulate(
@@ -264,7 +333,7 @@ def simulate(
     outputs = np.zeros((n, 7))
     applied_all = np.zeros((n, 3))
     thrust = np.zeros((n, n_cubesats))
-    events: list[tuple[float, str]] = []
+    events: list[RunEvent] = []
     point_solves = 0
     loop = None
     compiled = False
@@ -272,7 +341,7 @@ def simulate(
     while k < n:
         while pending and pending[0][0] <= k:
             _, failure = pending.pop(0)
-            events.append((k * period, _apply_failure(failure, engines)))
+            events.append(_apply_failure(failure, engines, k * period))
             loop = None
         if loop is None:
             allocator.update_from_state(engines)
@@ -302,7 +371,7 @@ def simulate(
         point_solves += allocation.point_solves
         done, stage_events = engines.advance_series(allocation.thrust_N, period)
         for index, event in stage_events:
-            events.append(((k + index) * period + event.time_s, _describe(event)))
+            events.append(_depleted(event, (k + index) * period + event.time_s))
         if done < stop - k:
             loop = None  # a CubeSat's limit changed: rebuild from the step after
         outputs[k : k + done] = y_all[:done]
