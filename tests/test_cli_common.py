@@ -102,3 +102,24 @@ def test_allocate_options_are_the_allocators_own() -> None:
 
     assert allocate.SATURATION_MODES == allocation.SATURATION_MODES
     assert allocate.DEFAULT_SOLVER == allocation.DEFAULT_SOLVER
+
+
+def test_quiet_prints_no_progress_and_verbose_logs_the_stages(tmp_path) -> None:
+    from casadi_debris.config import default_problem_path
+
+    problem = tmp_path / "short.toml"
+    problem.write_text(
+        f'extends = "{default_problem_path().parent / "paper_slew.toml"}"\n'
+        'name = "short"\n[simulation]\nduration_s = 30.0\n'
+    )
+    args = ["montecarlo", str(problem), "--samples", "2", "--workers", "1"]
+    runner = CliRunner()
+    plain = runner.invoke(main, [*args, "--out", str(tmp_path / "a")])
+    assert plain.exit_code == 0, plain.output
+    assert "short: 2/2 cases" in plain.stderr
+    quiet = runner.invoke(main, ["-q", *args, "--out", str(tmp_path / "b")])
+    assert quiet.exit_code == 0, quiet.output
+    assert quiet.stderr == ""
+    verbose = runner.invoke(main, ["-v", *args, "--out", str(tmp_path / "c")])
+    assert verbose.exit_code == 0, verbose.output
+    assert "short: 2 cases (0 on disk, 2 to run)" in verbose.stderr

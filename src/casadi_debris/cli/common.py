@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import json
+import logging
 import math
 import os
 import sys
@@ -53,6 +54,13 @@ problem_argument = click.argument(
     metavar="[PROBLEM.toml]",
 )
 json_option = click.option("--json", "as_json", is_flag=True, help="Print JSON for scripts.")
+controller_option = click.option(
+    "--controller",
+    "controller_path",
+    type=click.Path(path_type=Path, dir_okay=False),
+    default=None,
+    help="Controller file written by synthesize [the shipped paper controller].",
+)
 MAX_WORKERS = 256
 """Local worker processes at most (one per core of a large node)."""
 workers_option = click.option(
@@ -143,10 +151,50 @@ class OneLineErrorGroup(click.Group):
         sys.exit(result if isinstance(result, int) else 0)
 
 
+_QUIET_KEY = "casadi_debris.quiet"
+_HANDLER_NAME = "casadi-debris-cli"
+
+
+def configure_output(verbose: int, quiet: bool) -> None:
+    """Route the toolkit's log to stderr: warnings by default, more with -v, errors with -q."""
+    logger = logging.getLogger("casadi_debris")
+    level = (
+        logging.ERROR if quiet else (logging.WARNING, logging.INFO, logging.DEBUG)[min(verbose, 2)]
+    )
+    logger.setLevel(level)
+    for handler in [h for h in logger.handlers if h.get_name() == _HANDLER_NAME]:
+        logger.removeHandler(handler)
+    handler = logging.StreamHandler(click.get_text_stream("stderr"))
+    handler.set_name(_HANDLER_NAME)
+    detail = "%(levelname)s %(name)s: %(message)s" if verbose >= 2 else "%(message)s"
+    handler.setFormatter(logging.Formatter(detail))
+    logger.addHandler(handler)
+    logger.propagate = False
+
+
+def is_quiet() -> bool:
+    """Whether the user asked for errors only (``casadi-debris -q``)."""
+    context = click.get_current_context(silent=True)
+    return bool(context is not None and context.find_root().meta.get(_QUIET_KEY))
+
+
+def say(text: str, *, newline: bool = True) -> None:
+    """Progress and notes on stderr, unless ``-q``."""
+    if not is_quiet():
+        click.echo(text, nl=newline, err=True)
+
+
 @click.group(cls=OneLineErrorGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="casadi-debris")
-def main() -> None:
+@click.option("-v", "--verbose", count=True, help="Say more: -v each stage, -vv debugging detail.")
+@click.option("-q", "--quiet", is_flag=True, help="Errors only: no progress, no notes.")
+@click.pass_context
+def main(context: click.Context, verbose: int, quiet: bool) -> None:
     """Attitude control of space debris with docked iESE CubeSats.
 
-    PROBLEM.toml defaults to the paper's setup (problems/paper.toml).
+    PROBLEM.toml defaults to the paper's setup (problems/paper.toml). Results go
+    to --out (never over a folder you made; see --overwrite). Shell completion:
+    eval "$(_CASADI_DEBRIS_COMPLETE=bash_source casadi-debris)" (zsh_source, fish_source).
     """
+    context.meta[_QUIET_KEY] = quiet
+    configure_output(verbose, quiet)

@@ -7,11 +7,13 @@ from pathlib import Path
 import click
 
 from casadi_debris.cli.common import (
+    controller_option,
     echo_json,
     friendly_errors,
     json_option,
     main,
     overwrite_option,
+    say,
 )
 from casadi_debris.config import SLEW_METHODS, load_problem
 from casadi_debris.report.common import format_table
@@ -25,7 +27,7 @@ from casadi_debris.report.common import format_table
     "--methods",
     help=f"Slew methods to compare on slew problems, comma-separated ({', '.join(SLEW_METHODS)}).",
 )
-@click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
+@controller_option
 @click.option(
     "--out",
     type=click.Path(path_type=Path, file_okay=False),
@@ -58,7 +60,7 @@ def compare(
 
     def progress(label: str) -> None:
         if not as_json:
-            click.echo(f"  {label} ...", err=True)
+            say(f"  {label} ...")
 
     summary = compare_variants(
         problems, chosen, controller_path, out, overwrite=overwrite, progress=progress

@@ -10,9 +10,11 @@ import click
 from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
+    is_quiet,
     json_option,
     main,
     overwrite_option,
+    say,
     workers_option,
 )
 from casadi_debris.cli.simulate import cases_progress
@@ -44,9 +46,9 @@ def reproduce(
     from casadi_debris.workflows.reproduce import reproduce_paper
 
     def progress(stage: str) -> Callable[[int, int], None] | None:
-        if as_json:
+        if as_json or is_quiet():
             return None
-        click.echo(f"{stage} ...", err=True)
+        say(f"{stage} ...")
         return cases_progress(f"  {stage}")
 
     summary = reproduce_paper(

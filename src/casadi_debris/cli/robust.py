@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from casadi_debris.cli.common import (
+    controller_option,
     echo_json,
     friendly_errors,
     in_range,
@@ -14,6 +15,7 @@ from casadi_debris.cli.common import (
     main,
     overwrite_option,
     problem_argument,
+    say,
 )
 from casadi_debris.config import limits, load_problem
 from casadi_debris.config.limits import (
@@ -102,20 +104,19 @@ def synthesize(
 
     def progress(stage: str, iteration) -> None:
         if iteration is None:
-            click.echo(f"  {stage} done", err=True)
+            say(f"  {stage} done")
             return
         what = (
             "H-inf"
             if iteration.index == 0
             else f"D-K {iteration.index} (D order {iteration.d_order})"
         )
-        click.echo(
+        say(
             f"  {what}: gamma {iteration.gamma:.4f}, mu {iteration.mu_peak:.4f}, "
-            f"{iteration.controller_order} states, {iteration.time_s:.1f} s",
-            err=True,
+            f"{iteration.controller_order} states, {iteration.time_s:.1f} s"
         )
 
-    click.echo(f"Synthesising for {problem.name} ...", err=True)
+    say(f"Synthesising for {problem.name} ...")
     design = design_controller(problem, settings, progress)
     written = write_json_atomic(out_path, design.record.to_dict())
     summary = design.summary() | {"controller_path": str(written)}
@@ -142,13 +143,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 
 @main.command()
 @problem_argument
-@click.option(
-    "--controller",
-    "controller_path",
-    type=click.Path(path_type=Path, dir_okay=False),
-    default=None,
-    help="Controller file [the shipped paper controller].",
-)
+@controller_option
 @click.option(
     "--samples",
     type=in_range(MARGIN_SAMPLES),
@@ -189,14 +184,13 @@ def margins(
     folder = out_dir or default_run_folder("margins", problem.name)
     check_output_folder(folder, overwrite=overwrite)
     if record.problem_sha256 and record.problem_sha256 != problem.sha256:
-        click.echo(
+        say(
             f"note: {path.name} was designed for another problem file "
-            f"(sha256 {record.problem_sha256[:12]}...); analysing it on {problem.name} anyway",
-            err=True,
+            f"(sha256 {record.problem_sha256[:12]}...); analysing it on {problem.name} anyway"
         )
 
     def progress(done: int, total: int) -> None:
-        click.echo(f"  {done}/{total} sampled plants", err=True)
+        say(f"  {done}/{total} sampled plants")
 
     with RunFolder.claim(folder, overwrite=overwrite, command="margins") as staging:
         summary = margin_report(

@@ -11,13 +11,16 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from casadi_debris.cli.common import (
+    controller_option,
     echo_json,
     friendly_errors,
     in_range,
+    is_quiet,
     json_option,
     main,
     overwrite_option,
     problem_argument,
+    say,
     workers_option,
 )
 from casadi_debris.config import Problem, limits, load_problem, with_duration
@@ -101,7 +104,7 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
 @click.option(
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
 )
-@click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
+@controller_option
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNGs.")
 @overwrite_option
@@ -216,7 +219,7 @@ def cases_progress(label: str) -> Callable[[int, int], None]:
 
     def show(done: int, total: int) -> None:
         end = "\n" if done == total else ""
-        click.echo(f"\r{label}: {done}/{total} cases{end}", nl=False, err=True)
+        say(f"\r{label}: {done}/{total} cases{end}", newline=False)
 
     return show
 
@@ -244,7 +247,7 @@ def cases_progress(label: str) -> Callable[[int, int], None]:
     "processes. Connects only there; Dask unpickles what the scheduler sends, so give only "
     "a scheduler you trust.",
 )
-@click.option("--controller", "controller_path", type=click.Path(path_type=Path, dir_okay=False))
+@controller_option
 @click.option(
     "--no-jit",
     is_flag=True,
@@ -297,7 +300,7 @@ def montecarlo(
             scheduler=scheduler,
             jit=not no_jit,
             overwrite=overwrite,
-            progress=None if as_json else cases_progress(problem.name),
+            progress=None if as_json or is_quiet() else cases_progress(problem.name),
         )
     except CampaignInterrupted as interrupted:
         click.echo(f"\n{interrupted}", err=True)
