@@ -2003,6 +2003,7 @@ def _child(args: tuple[str, ...], cwd: Path, rundir: Path) -> None:
         os.environ.pop("CASADI_DEBRIS_DEBUG", None)
         tempfile.tempdir = None
         signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
         from casadi_debris.cli import main
 
         sys.argv = ["casadi-debris", *args]
@@ -2055,10 +2056,21 @@ def _prepare_parent() -> None:
     import matplotlib
 
     matplotlib.use("Agg")
+    import importlib
+    import pkgutil
+
     import matplotlib.font_manager
     import matplotlib.pyplot
 
-    import casadi_debris.cli  # noqa: F401
+    import casadi_debris
+
+    # The commands import their modules when run: import every module once here,
+    # or each forked run pays for it (seconds).
+    for module in pkgutil.walk_packages(casadi_debris.__path__, "casadi_debris."):
+        if module.name.endswith("__main__"):
+            continue  # runs the command line when imported
+        with contextlib.suppress(Exception):
+            importlib.import_module(module.name)
 
 
 PR_SET_CHILD_SUBREAPER = 36
@@ -2449,6 +2461,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{e.id} {flag} {e.expect:6} {e.description[:100]} :: {commands}")
         print(f"{len(entries)} entries", file=sys.stderr)
         return 0
+
+    def stop(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt  # so that the runs are killed and the folders removed
+
+    signal.signal(signal.SIGTERM, stop)
     started = time.monotonic()
     repo_before = git_status()
     results = run_corpus(entries, jobs=args.jobs, progress=True)
