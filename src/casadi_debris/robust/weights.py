@@ -152,7 +152,8 @@ def fit_uncertainty_weight(omega: np.ndarray, bound: np.ndarray) -> UncertaintyW
     omega : ndarray, shape (n_omega,)
         Ascending frequencies [rad/s].
     bound : ndarray, shape (n_omega, 3)
-        What |W_i(jw)| must reach, e.g. :func:`diagonal_cover` of the samples.
+        What |W_i(jw)| must reach, e.g.
+        :func:`~casadi_debris.robust.uncertainty.diagonal_cover` of the samples.
 
     Returns
     -------
