@@ -9,4 +9,4 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 __all__ = ["CasadiDebrisError", "Problem", "ProblemFileError", "load_problem"]
-__version__ = "0.1.0"
+__version__ = "0.1.0"  # the one place the version is written (pyproject.toml reads it)
