@@ -1413,6 +1413,9 @@ DIR_OUT = [
 ]
 
 
+STAGE_STATE_KEYS = ("propellant_kg", "firing_time_s", "failed_cubesats", "failed_stages")
+
+
 def cli_entries() -> list[Entry]:
     """Bad invocations of every command."""
     controllers = _controller_files()
@@ -1454,6 +1457,7 @@ def cli_entries() -> list[Entry]:
         names = (opt,)
         if kw.get("files") or values[0].startswith("/dev/") or values[0].endswith(".json"):
             names = (opt, values[0])  # a message about a file's content may name the file
+        names = kw.pop("names", names)
         add(command, _replace_option(BASE[command], opt, values), desc, names, **kw)
 
     # Every command: an unknown option, a flag given a value, an option missing its value.
@@ -1638,8 +1642,12 @@ def cli_entries() -> list[Entry]:
         ("not JSON", "state\n"),
         ("a list", "[]"),
         ("propellant_kg a string", '{"propellant_kg": "a"}'),
-        ("propellant_kg NaN", '{"propellant_kg": [NaN]}'),
-        ("negative propellant", '{"propellant_kg": ' + json.dumps([-1.0] * 24) + "}"),
+        ("propellant_kg NaN", '{"propellant_kg": ' + json.dumps([[math.nan] * 3] * 24) + "}"),
+        ("negative propellant", '{"propellant_kg": ' + json.dumps([[-1.0] * 3] * 24) + "}"),
+        (
+            "propellant_kg one CubeSat short",
+            '{"propellant_kg": ' + json.dumps([[0.1] * 3] * 23) + "}",
+        ),
         ("failed CubeSat 99", '{"failed_cubesats": [99]}'),
         ("unknown key", '{"bogus": 1}'),
     ):
@@ -1650,6 +1658,7 @@ def cli_entries() -> list[Entry]:
             f"--stage-state {desc}",
             files=(FileSpec("state.json", content=content),),
             category="stage-state",
+            names=("--stage-state", "state.json", *STAGE_STATE_KEYS),
         )
     for value, desc, files in (
         ("nope.json", "missing", ()),
@@ -2334,14 +2343,18 @@ def git_status() -> set[str]:
 
 
 def new_repo_files(before: set[str], after: set[str]) -> list[str]:
-    """Status lines that appeared, less source edits (others work in the same tree)."""
+    """Status lines that appeared, less source edits and tool caches (others work in this tree)."""
+    caches = re.compile(r"(^|/)(__pycache__|\.\w*cache|\.venv[\w-]*|\.hypothesis)/")
     new = sorted(after - before)
     return [
         line
         for line in new
-        if not re.search(r"\.(py|md|toml|cfg|txt|json|yml|yaml)$", line)
-        or "runs/" in line
-        or line.strip().endswith(("summary.json", "controller.json"))
+        if not caches.search(line[3:])
+        and (
+            not re.search(r"\.(py|md|toml|cfg|txt|json|yml|yaml)$", line)
+            or "runs/" in line
+            or line.strip().endswith(("summary.json", "controller.json"))
+        )
     ]
 
 
