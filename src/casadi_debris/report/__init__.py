@@ -2,5 +2,6 @@
 
 This is an edge package: it turns SI results into fields whose names carry
 their display unit (``torque_max_mNm``), holds the paper's published figures
-(:data:`casadi_debris.report.common.PAPER`) and writes run folders atomically.
+and tolerances (:mod:`casadi_debris.report.paper`) and writes run folders
+atomically.
 """

@@ -1,4 +1,7 @@
-"""Shared pieces of the reports: the paper's figures and tolerances, tables, JSON, atomic writes."""
+"""Shared pieces of the reports: tables, JSON, atomic writes.
+
+The paper's figures and tolerances are in :mod:`casadi_debris.report.paper`.
+"""
 
 from __future__ import annotations
 
@@ -15,39 +18,6 @@ import numpy as np
 from casadi_debris.report.folders import temporary_path
 
 MN_PER_N = 1e3
-
-# Figures the paper publishes, with the tolerance DESIGN.md accepts. A figure
-# with a (low, high) range is accepted inside that range.
-PAPER: dict[str, dict[str, Any]] = {
-    "mass_kg": {"value": 668.0, "abs": 0.5},
-    "inertia_hub_cubesats_diag_kgm2": {"value": [246.0, 66.0, 242.0], "rel": 0.06},
-    "torque_max_mNm": {"value": [4.61, 1.96, 4.26], "rel": 0.04},
-    "dv_one_stage_one_face_m_s": {"value": 6.8, "rel": 0.05},
-    "dv_three_stages_one_face_m_s": {"value": 20.0, "rel": 0.05},
-    "dv_one_stage_all_faces_m_s": {"value": 41.0, "rel": 0.05},
-    "dv_all_stages_all_faces_m_s": {"value": 125.0, "rel": 0.05},
-    "dv_cubesat_one_stage_m_s": {"value": 300.0, "range": (290.0, 340.0)},
-    "dv_transfer_m_s": {"value": 150.0, "range": (135.0, 160.0)},
-    "detumble_time_h": {"value": 15.9, "rel": 0.06},
-    "detumble_dv_m_s": {"value": 0.22},
-    "stage_life_h": {"value": 500.0},
-}
-
-
-def within_tolerance(key: str, value: float | Sequence[float]) -> bool | None:
-    """Whether ``value`` reproduces the paper's ``key`` (None if no tolerance is set)."""
-    reference = PAPER[key]
-    ours = np.atleast_1d(np.asarray(value, dtype=float))
-    paper = np.atleast_1d(np.asarray(reference["value"], dtype=float))
-    if "abs" in reference:
-        return bool(np.all(np.abs(ours - paper) <= reference["abs"]))
-    if "rel" in reference:
-        return bool(np.all(np.abs(ours - paper) <= reference["rel"] * np.abs(paper)))
-    if "range" in reference:
-        low, high = reference["range"]
-        return bool(np.all((low <= ours) & (ours <= high)))
-    return None
-
 
 # ----------------------------------------------------------------------------- text
 

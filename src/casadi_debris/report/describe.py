@@ -12,7 +12,8 @@ from casadi_debris.config import Problem
 from casadi_debris.geometry import torque_authority
 from casadi_debris.model import assembled_modes, build_model
 from casadi_debris.model.cantilever import shape_integrals
-from casadi_debris.report.common import MN_PER_N, PAPER, format_cell, format_table, within_tolerance
+from casadi_debris.report.common import MN_PER_N, format_cell, format_table
+from casadi_debris.report.paper import paper_figures
 
 
 def _rounded(matrix: np.ndarray, digits: int = 6) -> list:
@@ -88,11 +89,12 @@ def describe_model(problem: Problem) -> dict[str, Any]:
 
 
 def _paper_cells(key: str, ours: Any, show_paper: bool) -> list[str]:
-    if not show_paper or key not in PAPER:
+    figure = paper_figures().get(key) if show_paper else None
+    if figure is None:
         return ["", ""]
-    verdict = within_tolerance(key, ours)
-    mark = {True: "ok", False: "OUTSIDE", None: ""}[verdict]
-    return [format_cell(PAPER[key]["value"]), mark]
+    mark = {True: "ok", False: "OUTSIDE", None: ""}[figure.accepts(ours)]
+    paper = figure.value if len(figure.values) == 1 else list(figure.values)
+    return [format_cell(paper), mark]
 
 
 def model_text(summary: dict[str, Any], show_paper: bool) -> str:

@@ -1,26 +1,20 @@
 """``report.md`` of ``casadi-debris reproduce``: every figure of the paper next to ours.
 
-The rows follow DESIGN.md's table "What must reproduce" (paper value,
-accepted tolerance, ours, verdict); the figures are the paper's Figs. 4 and
-5 redrawn from our closed loop with the Monte-Carlo envelope, and the
+The rows are the paper's figures of ``data/paper_reference.toml`` (paper value,
+accepted tolerance, ours, verdict); the figures are the paper's Figs. 4 and 5
+redrawn from our closed loop with the Monte-Carlo envelope, and the
 robust-control plots.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from casadi_debris.report.common import within_tolerance
-
-SLEW_ERROR_MAX_DEG = 0.6
-SLEW_FUEL_PAPER_KG = 2.8e-4
-SLEW_FUEL_REL = 0.25
-SLEW_DURATION_PAPER_S = 1228.0
-POINTING_MAX_ARCSEC = 60.0
-PAPER_CORNERS = 256
+from casadi_debris.report.paper import paper_figure
 
 
 def _fmt(value: Any, digits: int = 4) -> str:
@@ -35,8 +29,187 @@ def _fmt(value: Any, digits: int = 4) -> str:
     return f"{float(value):.{digits}g}"
 
 
-def _verdict(ok: bool | None) -> str:
-    return "—" if ok is None else ("✅ reproduced" if ok else "❌ not reproduced")
+@dataclass(frozen=True)
+class ReproductionRow:
+    """One row of the reproduction table: a figure of the paper against ours.
+
+    Parameters
+    ----------
+    key : str
+        The figure's key in ``data/paper_reference.toml`` (``"mass_kg"``).
+    result : str
+        The row's title, with its unit (``"total mass [kg]"``).
+    paper : str
+        The paper's figure as printed.
+    accepted : str
+        The tolerance as printed.
+    ours : str
+        Our figure as printed.
+    ours_values : tuple of float or None
+        Our numbers, one per component of the paper's figure, in its unit
+        (None: not computed, e.g. a controller file without its full order).
+    reproduced : bool or None
+        Whether ours are within the tolerance (None: not judged).
+    """
+
+    key: str
+    result: str
+    paper: str
+    accepted: str
+    ours: str
+    ours_values: tuple[float | None, ...]
+    reproduced: bool | None
+
+    @property
+    def verdict(self) -> str:
+        """The verdict as printed: ✅/❌ with words, "—" when not judged."""
+        if self.reproduced is None:
+            return "—"
+        return "✅ reproduced" if self.reproduced else "❌ not reproduced"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The row for ``summary.json`` (``result``, ``paper``, ``accepted``, ``ours``,
+        ``verdict`` as printed; ``reproduced`` true, false or null; ``key``,
+        ``ours_values``)."""
+        return {
+            "key": self.key,
+            "result": self.result,
+            "paper": self.paper,
+            "accepted": self.accepted,
+            "ours": self.ours,
+            "verdict": self.verdict,
+            "reproduced": self.reproduced,
+            "ours_values": list(self.ours_values),
+        }
+
+
+def paper_row(key: str, ours: Any, text: str | None = None, **title_fields: Any) -> ReproductionRow:
+    """The row of the paper's figure ``key`` for our number(s) ``ours``.
+
+    Parameters
+    ----------
+    key : str
+        A figure of ``data/paper_reference.toml``.
+    ours : float or sequence of float
+        One number per component of the figure, in its unit.
+    text : str, optional
+        Our figure as printed (default: the numbers, " / " between them).
+    **title_fields
+        Fields of the title (``samples`` of ``margins_sampled``).
+    """
+    figure = paper_figure(key)
+    values = tuple(
+        None if v is None else float(v) for v in np.ravel(np.asarray(ours, dtype=object))
+    )
+    return ReproductionRow(
+        key=key,
+        result=figure.title.format(**title_fields),
+        paper=figure.paper,
+        accepted=figure.accepted,
+        ours=_fmt(ours) if text is None else text,
+        ours_values=values,
+        reproduced=figure.accepts(values),
+    )
+
+
+BUDGET_KEYS = (
+    "dv_one_stage_one_face_m_s",
+    "dv_three_stages_one_face_m_s",
+    "dv_one_stage_all_faces_m_s",
+    "dv_all_stages_all_faces_m_s",
+    "dv_cubesat_one_stage_m_s",
+    "dv_transfer_m_s",
+    "detumble_time_h",
+)
+
+
+def model_rows(model: dict[str, Any]) -> list[ReproductionRow]:
+    """Mass, inertia and torque authority (``model`` as from
+    :func:`~casadi_debris.report.describe.describe_model`)."""
+    torque = model["torque_max_mNm"]
+    # The paper gives one authority per axis: the smaller of + and - is what
+    # the controller can count on.
+    torque_axes = [min(torque[f"+{a}"], torque[f"-{a}"]) for a in "xyz"]
+    inertia = np.diag(np.asarray(model["inertia_hub_cubesats_kgm2"]))
+    return [
+        paper_row("mass_kg", model["mass_kg"]),
+        paper_row("inertia_hub_cubesats_diag_kgm2", inertia.tolist()),
+        paper_row("torque_max_mNm", torque_axes),
+    ]
+
+
+def budget_rows(budgets: dict[str, float]) -> list[ReproductionRow]:
+    """Δv, transfer and detumble budgets (``budgets`` keyed as the figures, m/s and h)."""
+    return [paper_row(key, budgets[key]) for key in BUDGET_KEYS]
+
+
+def controller_rows(controller: dict[str, Any]) -> list[ReproductionRow]:
+    """Peak μ and order of the controller (``mu_peak``, ``mu_peak_reduced``,
+    ``order_full`` (None if unknown), ``order_reduced``)."""
+    return [
+        paper_row("mu_peak", [controller["mu_peak"], controller["mu_peak_reduced"]]),
+        paper_row("controller_order", [controller["order_full"], controller["order_reduced"]]),
+    ]
+
+
+def margin_rows(margins: dict[str, Any]) -> list[ReproductionRow]:
+    """Nominal and sampled loop-at-a-time margins (``margins`` as from
+    :func:`~casadi_debris.report.robust.margin_report`: dB, deg, s)."""
+    nominal, sampled = margins["nominal"], margins["sampled_min"]
+    return [
+        paper_row(
+            "margins_nominal",
+            [nominal[name] for name in ("gain_margin_db", "phase_margin_deg")],
+        ),
+        paper_row(
+            "margins_sampled",
+            [sampled[name] for name in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")],
+            samples=margins["samples"],
+        ),
+    ]
+
+
+def slew_rows(slew: dict[str, Any]) -> list[ReproductionRow]:
+    """The 180° slew: nominal error and fuel, reference duration, corner envelope.
+
+    ``slew`` is the slew campaign's summary (deg, kg) with ``slew_duration_s``.
+    """
+    nominal = slew["nominal"]
+    worst = _fmt(slew["worst"]["max_error_deg"]["value"])
+    return [
+        paper_row("slew_max_error_deg", nominal["max_error_deg"]),
+        paper_row("slew_fuel_kg", nominal["fuel_slew_kg"]),
+        paper_row("slew_duration_s", slew["slew_duration_s"]),
+        paper_row(
+            "slew_envelope_cases",
+            slew["cases"],
+            text=f"{slew['cases']} (worst error {worst}°)",
+        ),
+    ]
+
+
+def pointing_rows(pointing: dict[str, Any], torque_limits_mNm: np.ndarray) -> list[ReproductionRow]:
+    """One orbit of pointing: error nominal and at the worst corner, torque within limits.
+
+    Parameters
+    ----------
+    pointing : dict
+        The pointing campaign's summary (arcsec, mNm).
+    torque_limits_mNm : ndarray, shape (3,)
+        The torque authority per axis [mNm].
+    """
+    nominal = pointing["nominal"]["max_error_arcsec"]
+    worst = pointing["worst"]["max_error_arcsec"]["value"]
+    torque_to_limit = float(
+        np.max(np.asarray(pointing["max_torque_mNm"], dtype=float) / torque_limits_mNm)
+    )
+    return [
+        paper_row(
+            "pointing",
+            [nominal, worst, pointing["cases"], torque_to_limit],
+            text=f"{_fmt(nominal)} / {_fmt(worst)} ({pointing['cases']} cases)",
+        )
+    ]
 
 
 def reproduction_rows(
@@ -47,168 +220,25 @@ def reproduction_rows(
     slew: dict[str, Any],
     pointing: dict[str, Any],
     torque_limits_mNm: np.ndarray,
-) -> list[list[str]]:
-    """Rows: result, paper, accepted, ours, verdict."""
-    torque = model["torque_max_mNm"]
-    torque_axes = [min(torque[f"+{a}"], torque[f"-{a}"]) for a in "xyz"]
-    inertia = np.diag(np.asarray(model["inertia_hub_cubesats_kgm2"]))
-    rows: list[list[str]] = []
+) -> list[ReproductionRow]:
+    """The reproduction table, one row per figure of the paper, in the paper's order.
 
-    def paper_row(title: str, key: str, ours: Any, paper: str, accepted: str) -> None:
-        rows.append([title, paper, accepted, _fmt(ours), _verdict(within_tolerance(key, ours))])
-
-    paper_row("total mass [kg]", "mass_kg", model["mass_kg"], "668", "±0.5")
-    paper_row(
-        "hub + CubeSats inertia diagonal [kg m²]",
-        "inertia_hub_cubesats_diag_kgm2",
-        inertia.tolist(),
-        "246 / 66 / 242",
-        "within 6 %",
-    )
-    paper_row(
-        "max torque per axis [mNm]",
-        "torque_max_mNm",
-        torque_axes,
-        "4.61 / 1.96 / 4.26",
-        "within 4 %",
-    )
-    for key, title, paper in (
-        ("dv_one_stage_one_face_m_s", "Δv one stage, one face [m/s]", "6.8"),
-        ("dv_three_stages_one_face_m_s", "Δv three stages, one face [m/s]", "20"),
-        ("dv_one_stage_all_faces_m_s", "Δv one stage, all faces [m/s]", "41"),
-        ("dv_all_stages_all_faces_m_s", "Δv all stages, all faces [m/s]", "125"),
-    ):
-        paper_row(title, key, budgets[key], paper, "within 5 %")
-    paper_row(
-        "Δv one CubeSat, one stage [m/s]",
-        "dv_cubesat_one_stage_m_s",
-        budgets["dv_cubesat_one_stage_m_s"],
-        "≈300",
-        "290–340",
-    )
-    paper_row(
-        "transfer 550 km 97.5° → 685 km 98.1° [m/s]",
-        "dv_transfer_m_s",
-        budgets["dv_transfer_m_s"],
-        "≈150",
-        "135–160",
-    )
-    paper_row(
-        "detumble from 1 rad/s, full thrust [h]",
-        "detumble_time_h",
-        budgets["detumble_time_h"],
-        "15.9",
-        "within 6 %",
-    )
-
-    mu = [controller["mu_peak"], controller["mu_peak_reduced"]]
-    rows.append(
-        [
-            "μ-synthesis peak μ (full / reduced)",
-            "γ = 1",
-            "≤ 1.0",
-            _fmt(mu),
-            _verdict(max(mu) <= 1.0),
-        ]
-    )
-    order = [controller["order_full"], controller["order_reduced"]]
-    rows.append(
-        [
-            "controller order (full → reduced)",
-            "52 → 25",
-            "reduced ≤ 25",
-            _fmt(order),
-            _verdict(order[1] <= 25),
-        ]
-    )
-    nominal = margins["nominal"]
-    sampled = margins["sampled_min"]
-    rows.append(
-        [
-            "loop-at-a-time margins, nominal [dB, deg]",
-            "15.22, 54.8",
-            "≥ 13 dB, ≥ 45°",
-            _fmt([nominal["gain_margin_db"], nominal["phase_margin_deg"]]),
-            _verdict(nominal["gain_margin_db"] >= 13.0 and nominal["phase_margin_deg"] >= 45.0),
-        ]
-    )
-    rows.append(
-        [
-            f"margins over {margins['samples']} sampled plants [dB, deg, s]",
-            "≥ 13, ≥ 45, ≈ 9",
-            "≥ 13 dB, ≥ 45°, delay ≥ 5 s",
-            _fmt(
-                [sampled["gain_margin_db"], sampled["phase_margin_deg"], sampled["delay_margin_s"]]
-            ),
-            _verdict(
-                sampled["gain_margin_db"] >= 13.0
-                and sampled["phase_margin_deg"] >= 45.0
-                and sampled["delay_margin_s"] >= 5.0
-            ),
-        ]
-    )
-    slew_nominal = slew["nominal"]
-    rows.append(
-        [
-            "180° slew about z: max error, nominal [deg]",
-            "0.6",
-            "≤ 0.6",
-            _fmt(slew_nominal["max_error_deg"]),
-            _verdict(slew_nominal["max_error_deg"] <= SLEW_ERROR_MAX_DEG),
-        ]
-    )
-    fuel = slew_nominal["fuel_slew_kg"]
-    rows.append(
-        [
-            "180° slew about z: fuel during the 1228 s slew [kg]",
-            "2.8e-4",
-            "within 25 %",
-            _fmt(fuel),
-            _verdict(abs(fuel - SLEW_FUEL_PAPER_KG) <= SLEW_FUEL_REL * SLEW_FUEL_PAPER_KG),
-        ]
-    )
-    rows.append(
-        [
-            "180° slew about z: reference duration [s]",
-            "1228",
-            "1228",
-            _fmt(slew["slew_duration_s"]),
-            _verdict(abs(slew["slew_duration_s"] - SLEW_DURATION_PAPER_S) < 0.5),
-        ]
-    )
-    rows.append(
-        [
-            "slew envelope: corner cases run and plotted",
-            "256",
-            "all corners",
-            f"{slew['cases']} (worst error {_fmt(slew['worst']['max_error_deg']['value'])}°)",
-            _verdict(slew["cases"] >= PAPER_CORNERS),
-        ]
-    )
-    pointing_nominal = pointing["nominal"]["max_error_arcsec"]
-    pointing_worst = pointing["worst"]["max_error_arcsec"]["value"]
-    torque_ok = bool(
-        np.all(np.asarray(pointing["max_torque_mNm"]) <= torque_limits_mNm * (1 + 1e-9))
-    )
-    rows.append(
-        [
-            "one-orbit pointing: max error, nominal / worst corner [arcsec]",
-            "< 60, torque within limits",
-            "same, nominal and all corners",
-            f"{_fmt(pointing_nominal)} / {_fmt(pointing_worst)} ({pointing['cases']} cases)",
-            _verdict(
-                pointing_nominal < POINTING_MAX_ARCSEC
-                and pointing_worst < POINTING_MAX_ARCSEC
-                and torque_ok
-                and pointing["cases"] >= PAPER_CORNERS
-            ),
-        ]
-    )
-    return rows
+    See :func:`model_rows`, :func:`budget_rows`, :func:`controller_rows`,
+    :func:`margin_rows`, :func:`slew_rows` and :func:`pointing_rows` for what
+    each argument holds.
+    """
+    return [
+        *model_rows(model),
+        *budget_rows(budgets),
+        *controller_rows(controller),
+        *margin_rows(margins),
+        *slew_rows(slew),
+        *pointing_rows(pointing, torque_limits_mNm),
+    ]
 
 
 def report_markdown(
-    rows: list[list[str]],
+    rows: list[ReproductionRow],
     summary: dict[str, Any],
     figures: list[tuple[str, str]],
 ) -> str:
@@ -223,7 +253,10 @@ def report_markdown(
         "",
         "| result | paper | accepted | ours | verdict |",
         "| --- | --- | --- | --- | --- |",
-        *("| " + " | ".join(row) + " |" for row in rows),
+        *(
+            f"| {row.result} | {row.paper} | {row.accepted} | {row.ours} | {row.verdict} |"
+            for row in rows
+        ),
         "",
         "A quick run reduces the margin samples and corner cases, so the rows that need",
         "every corner read ❌ there by design; `casadi-debris reproduce` without `--quick`",

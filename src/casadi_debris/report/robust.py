@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -12,6 +12,7 @@ from casadi_debris.config import Problem
 from casadi_debris.model import build_model, linearize
 from casadi_debris.plots import robust as robust_plots
 from casadi_debris.report.common import json_ready
+from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margin_study, margins_table
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import weight_fit_grid
@@ -25,14 +26,23 @@ from casadi_debris.robust.uncertainty import (
 )
 from casadi_debris.robust.weights import performance_weights, weight_system
 
-PAPER_MARGINS = {
-    "nominal_gain_margin_db": 15.22,
-    "nominal_phase_margin_deg": 54.8,
-    "sampled_min_gain_margin_db": 13.0,
-    "sampled_min_phase_margin_deg": 45.0,
-    "sampled_min_delay_margin_s": 9.0,
-}
-REQUIRED_MARGINS = {"gain_margin_db": 13.0, "phase_margin_deg": 45.0, "delay_margin_s": 5.0}
+
+def paper_margins() -> dict[str, float]:
+    """The paper's margins (dB, deg, s): ``nominal_*`` and ``sampled_min_*``."""
+    return {
+        f"{prefix}_{c.name}": c.value
+        for prefix, key in (("nominal", "margins_nominal"), ("sampled_min", "margins_sampled"))
+        for c in paper_figure(key).components
+    }
+
+
+def required_margins() -> dict[str, float]:
+    """The least margins accepted over the sampled plants (dB, deg, s), by name."""
+    return {
+        c.name: float(cast(float, c.tolerance.bound))
+        for c in paper_figure("margins_sampled").components
+        if c.tolerance is not None
+    }
 
 
 def _worst(margins: dict[str, dict[str, float]]) -> dict[str, float]:
@@ -86,8 +96,8 @@ def margin_report(
         "unstable_samples": int(study.unstable.sum()),
         "seed": study.samples.seed,
         "time_s": study.time_s,
-        "required": REQUIRED_MARGINS,
-        "paper": PAPER_MARGINS,
+        "required": required_margins(),
+        "paper": paper_margins(),
         "out_dir": str(Path(out_dir or folder).absolute()),
     }
     staging = Path(folder)
@@ -145,10 +155,11 @@ def _margin_figures(
     nominal = np.array(
         [[m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s] for m in study.nominal]
     )
+    required = required_margins()
     stable = study.sampled[~study.unstable]
     robust_plots.plot_margin_scatter(
         folder / "margins.png",
         stable,
         nominal,
-        (REQUIRED_MARGINS["gain_margin_db"], REQUIRED_MARGINS["phase_margin_deg"]),
+        (required["gain_margin_db"], required["phase_margin_deg"]),
     )

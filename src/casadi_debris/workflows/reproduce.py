@@ -100,8 +100,10 @@ def reproduce_paper(
     Returns
     -------
     dict
-        The summary written to ``summary.json``: the table's rows with their
-        verdicts, ``reproduced`` of ``rows``, the time taken.
+        The summary written to ``summary.json``: the table's rows (each
+        :meth:`~casadi_debris.report.reproduce.ReproductionRow.to_dict`, with
+        ``reproduced`` true, false or null), ``reproduced`` of ``rows``, the
+        time taken.
     """
     started = time.perf_counter()
     plan = {**FULL, **(QUICK if quick else {})}
@@ -173,12 +175,9 @@ def reproduce_paper(
             "quick": quick,
             "workers": workers,
             "time_s": time.perf_counter() - started,
-            "reproduced": sum("✅" in row[-1] for row in rows),
+            "reproduced": sum(row.reproduced is True for row in rows),
             "rows": len(rows),
-            "table": [
-                dict(zip(("result", "paper", "accepted", "ours", "verdict"), r, strict=True))
-                for r in rows
-            ],
+            "table": [row.to_dict() for row in rows],
             "out_dir": str(out.absolute()),
         }
         figures = [(t, p) for t, p in FIGURES if (staging / p).exists()]
