@@ -1,4 +1,5 @@
-"""Budgets against the paper (DESIGN.md tolerances) and against textbook limits."""
+"""Budgets against the paper (the tolerances of casadi_debris/data/paper_reference.toml)
+and against textbook limits."""
 
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ from casadi_debris.budgets import (
     edelbaum_dv,
     rocket_dv,
 )
+from casadi_debris.report.paper import paper_figure
 
 
 @pytest.fixture(scope="module")
@@ -21,29 +23,30 @@ def budgets(problem, geometry):
     return budgets_as_dict(compute_budgets(problem, geometry))
 
 
-# DESIGN.md "What must reproduce": paper value and accepted relative tolerance
 @pytest.mark.parametrize(
-    ("key", "paper", "rel"),
+    "key",
     [
-        ("dv_one_stage_one_face_m_s", 6.8, 0.05),
-        ("dv_three_stages_one_face_m_s", 20.0, 0.05),
-        ("dv_one_stage_all_faces_m_s", 41.0, 0.05),
-        ("dv_all_stages_all_faces_m_s", 125.0, 0.05),
-        ("detumble_time_h", 15.9, 0.06),
+        "dv_one_stage_one_face_m_s",
+        "dv_three_stages_one_face_m_s",
+        "dv_one_stage_all_faces_m_s",
+        "dv_all_stages_all_faces_m_s",
+        "dv_cubesat_one_stage_m_s",
+        "dv_transfer_m_s",
+        "detumble_time_h",
     ],
 )
-def test_against_paper(budgets, key, paper, rel):
-    assert budgets[key] == pytest.approx(paper, rel=rel)
-
-
-def test_cubesat_alone_and_transfer_in_accepted_ranges(budgets):
-    assert 290.0 <= budgets["dv_cubesat_one_stage_m_s"] <= 340.0
-    assert 135.0 <= budgets["dv_transfer_m_s"] <= 160.0
+def test_against_paper(budgets, key):
+    figure = paper_figure(key)
+    assert figure.accepts(budgets[key]), (budgets[key], figure.paper, figure.accepted)
 
 
 def test_detumble_dv_is_about_paper(budgets):
-    # Paper: "approximately 0.22 m/s" (its detumble time is 15.9 h, ours 16.5 h)
-    assert budgets["detumble_dv_m_s"] == pytest.approx(0.22, rel=0.06)
+    # Paper: "approximately 0.22 m/s", not judged in the report. The Δv is
+    # proportional to the detumble time, so it is held to the time's tolerance.
+    time_tolerance = paper_figure("detumble_time_h").tolerance
+    assert time_tolerance is not None
+    paper = paper_figure("detumble_dv_m_s").value
+    assert time_tolerance.accepts(budgets["detumble_dv_m_s"], paper), budgets["detumble_dv_m_s"]
 
 
 def test_stage_propellant_by_hand(budgets):
@@ -51,7 +54,7 @@ def test_stage_propellant_by_hand(budgets):
     assert budgets["stage_propellant_kg"] == pytest.approx(
         0.64e-3 * 500 * 3600 / 9806.65, rel=1e-12
     )
-    assert budgets["stage_life_h"] == 500.0
+    assert budgets["stage_life_h"] == paper_figure("stage_life_h").value
 
 
 def test_rocket_equation_small_burn_limit():
