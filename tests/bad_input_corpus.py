@@ -2060,7 +2060,7 @@ class _Pending:
     listings: dict[Path, set[str]]
 
 
-def _prepare_parent() -> None:
+def _prepare_parent() -> list[str]:
     """Imports done once, before any fork (children only run the command)."""
     import matplotlib
 
@@ -2075,11 +2075,15 @@ def _prepare_parent() -> None:
 
     # The commands import their modules when run: import every module once here,
     # or each forked run pays for it (seconds).
+    failed: list[str] = []
     for module in pkgutil.walk_packages(casadi_debris.__path__, "casadi_debris."):
         if module.name.endswith("__main__"):
             continue  # runs the command line when imported
-        with contextlib.suppress(Exception):
+        try:
             importlib.import_module(module.name)
+        except Exception as exc:
+            failed.append(f"{module.name}: {type(exc).__name__}: {exc}")
+    return failed
 
 
 PR_SET_CHILD_SUBREAPER = 36
@@ -2151,7 +2155,8 @@ def run_corpus(
     keep: bool = False,
 ) -> list[EntryResult]:
     """Run every entry's invocations, each in a forked child; return checked results."""
-    _prepare_parent()
+    for failure in _prepare_parent():  # a tree half-way through an edit: results will show it
+        print(f"warning: cannot import {failure}", file=sys.stderr, flush=True)
     root = Path(tempfile.mkdtemp(prefix="casadi-debris-corpus-"))
     units_dir = root / "units"
     units_dir.mkdir()
@@ -2483,6 +2488,9 @@ def main(argv: list[str] | None = None) -> int:
     repo_before = git_status()
     results = run_corpus(entries, jobs=args.jobs, progress=True)
     repo_new = new_repo_files(repo_before, git_status())
+    import casadi_debris
+
+    print(f"# casadi_debris from {Path(casadi_debris.__file__).parent}")
     print(
         f"# bad-input corpus: seed {args.seed}, {len(entries)} entries, "
         f"{time.monotonic() - started:.0f} s, {args.jobs} jobs"
