@@ -56,14 +56,14 @@ demand checks (:mod:`~casadi_debris.allocation.demand`), result types
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
 from casadi_debris.allocation import batch
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
 from casadi_debris.allocation.demand import ABSURD_FACTOR, SMALLEST_SUBNORMAL, as_vector3
-from casadi_debris.allocation.paths import AllocationInternalError, SolvePaths
+from casadi_debris.allocation.paths import AllocationInternalError, SaturationMode, SolvePaths
 from casadi_debris.allocation.propulsion import PropulsionState
 from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
 from casadi_debris.allocation.scaled_qp import ScaledQp
@@ -83,8 +83,7 @@ __all__ = [
     "SeriesAllocation",
 ]
 
-SaturationMode = Literal["scale", "least_squares"]
-SATURATION_MODES: tuple[str, ...] = ("scale", "least_squares")
+SATURATION_MODES: tuple[SaturationMode, ...] = ("scale", "least_squares")
 DEFAULT_SOLVER = "daqp"
 
 
@@ -441,7 +440,7 @@ class Allocator(SolvePaths):
             ``{"+x": tau [N m], "-x": ..., ...}``.
         """
         beyond_reach = 10.0 * self._torque_ref_Nm * self.n_engines
-        authority = {}
+        authority: dict[str, float] = {}
         saturation, self.saturation = self.saturation, "scale"
         try:
             for name in SIGNED_AXES:

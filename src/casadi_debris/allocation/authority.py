@@ -83,10 +83,10 @@ def _support(
         -(direction @ torque_map),
         A_eq=equality if len(equality) else None,
         b_eq=np.zeros(len(equality)) if len(equality) else None,
-        bounds=np.column_stack([np.zeros_like(upper), upper]),
+        bounds=list(zip(np.zeros_like(upper), upper, strict=True)),
         method="highs",
     )
-    if result.status != 0:
+    if result.status != 0 or result.x is None:
         raise AllocationError(f"authority polytope: support LP failed ({result.message})")
     return torque_map @ result.x
 

@@ -25,9 +25,10 @@ from __future__ import annotations
 
 import time
 import warnings
-from typing import NamedTuple, Protocol
+from typing import Any, Literal, NamedTuple, Protocol
 
 import numpy as np
+import numpy.typing as npt
 
 from casadi_debris.errors import AllocationError
 
@@ -51,12 +52,14 @@ OSQP_MAX_ITER = 10_000
 DAQP_EQUALITY_SENSE = 5
 # Settings passed through qpsolvers: full accuracy where the solver allows, and
 # a time limit where it could otherwise stall.
-GENERIC_SETTINGS: dict[str, dict[str, float | bool]] = {
+GENERIC_SETTINGS: dict[str, dict[str, Any]] = {
     "osqp": {"eps_abs": OSQP_TOLERANCE, "eps_rel": OSQP_TOLERANCE, "polishing": True},
     "highs": {"time_limit": 1.0},
     "daqp": {"primal_tol": DAQP_PRIMAL_TOLERANCE},
 }
 DAQP_INFEASIBLE_FLAGS = (-1,)
+
+QpStatus = Literal["optimal", "infeasible", "failed"]
 
 
 class UnknownSolverError(AllocationError):
@@ -76,10 +79,22 @@ class QpSolution(NamedTuple):
         Wall time of the back-end call (update + solve) [s].
     """
 
-    x: np.ndarray | None
-    status: str
+    x: npt.NDArray[np.float64] | None
+    status: QpStatus
     iterations: int
     solve_time_s: float
+
+    def optimal_x(self) -> npt.NDArray[np.float64]:
+        """The solution of a solve whose status is ``"optimal"``.
+
+        Raises
+        ------
+        AllocationError
+            There is none: the solve was not optimal (check ``status`` first).
+        """
+        if self.x is None:
+            raise AllocationError(f"no QP solution to read: the solve was {self.status}")
+        return self.x
 
 
 class QpBackend(Protocol):
@@ -248,7 +263,7 @@ class DaqpBackend:
         if flag > 0:
             # x is a fresh array owned by the caller (DAQP allocates it per solve).
             return QpSolution(x, "optimal", info["iterations"], elapsed)
-        status = "infeasible" if flag in DAQP_INFEASIBLE_FLAGS else "failed"
+        status: QpStatus = "infeasible" if flag in DAQP_INFEASIBLE_FLAGS else "failed"
         return QpSolution(None, status, int(info["iterations"]), elapsed)
 
 
@@ -347,6 +362,7 @@ class OsqpBackend:
         result = self._solver.solve(raise_error=False)
         elapsed = time.perf_counter() - start
         status_value = result.info.status_val
+        status: QpStatus
         if status_value == self._status_optimal:
             status = "optimal"
         elif status_value in self._status_infeasible:
@@ -432,7 +448,7 @@ class QpsolversBackend:
         elapsed = time.perf_counter() - start
         found = bool(solution.found) and solution.x is not None
         self._last = solution.x if found else None
-        status = "optimal" if found else "infeasible"
+        status: QpStatus = "optimal" if found else "infeasible"
         iterations = _iterations(solution.extras)
         return QpSolution(np.array(solution.x) if found else None, status, iterations, elapsed)
 

@@ -25,6 +25,7 @@ unlabelled wrong answer leaves the allocator.
 from __future__ import annotations
 
 import math
+from typing import Literal
 
 import numpy as np
 
@@ -45,6 +46,8 @@ from casadi_debris.allocation.saturation import (
 )
 from casadi_debris.allocation.scaled_qp import THRUST_ROUND_OFF, ScaledQp
 
+SaturationMode = Literal["scale", "least_squares"]
+
 
 class AllocationInternalError(RuntimeError):
     """Neither the back-end nor HiGHS gave a finite allocation within the promised accuracy.
@@ -60,7 +63,7 @@ class SolvePaths:
     torque_map: np.ndarray
     force_map: np.ndarray
     exhaust_velocity_m_s: float
-    saturation: str
+    saturation: SaturationMode
     solver: str
     _qp: ScaledQp
     _thrust_ref_N: float
@@ -83,7 +86,7 @@ class SolvePaths:
         # numbers are taken in Python (numpy's reductions cost 1.5 us each at
         # this size), the result is clipped once.
         free_force = force is None
-        if free_force:
+        if force is None:
             target = torque / self._torque_ref
         else:
             target = np.concatenate((torque, force)) / self._wrench_ref
@@ -95,7 +98,7 @@ class SolvePaths:
         exact.update(b_eq=target)
         solution = exact.solve()
         if solution.status == "optimal":
-            u, verified = qp.polish_checked(solution.x, target, free_force)
+            u, verified = qp.polish_checked(solution.optimal_x(), target, free_force)
             # polish has clipped u already.
             return self._result(
                 u,
@@ -124,7 +127,7 @@ class SolvePaths:
         up to the limits that bind at 1e-6 of an engine's torque).
         """
         free_force = force is None
-        wrench = torque if free_force else np.concatenate((torque, force))
+        wrench = torque if force is None else np.concatenate((torque, force))
         if not wrench.any():
             # Exactly zero: exactly zero thrust (no solve, no round-off).
             return self._result(np.zeros(self._qp.n), torque, force, True, 1.0, "exact", 0, 0.0)
@@ -132,6 +135,7 @@ class SolvePaths:
         qp = self._qp
         exact = qp.workspace("exact", free_force)
         iterations, solve_time = 0, 0.0
+        k, target = 0, wrench / reference
         for level in SMALL_DEMAND_LEVELS:
             # Never scaled down: a demand above this level is solved at its own size.
             k = max(stretch_exponent(wrench, reference, level), 0)
@@ -141,7 +145,7 @@ class SolvePaths:
             iterations += solution.iterations
             solve_time += solution.solve_time_s
             if solution.status == "optimal":
-                u = qp.polish(solution.x, target, free_force)
+                u = qp.polish(solution.optimal_x(), target, free_force)
                 if k == 0 or level == SMALL_DEMAND_LEVELS[-1] or not self._qp.binds(u):
                     return self._result(
                         u,
@@ -208,6 +212,8 @@ class SolvePaths:
             # first, which keeps every answer within alpha <= 1.
             shrink = reach / size
         edge: StageSolution = largest_alpha(self._qp, shrink * target, free_force)
+        if edge.u is None:
+            raise AllocationInternalError("the largest-alpha stage returned no thrust")
         return self._saturated(
             edge.u,
             edge.alpha * shrink,
@@ -287,7 +293,7 @@ class SolvePaths:
             HiGHS' answer fails the check too.
         """
         free_force = force is None
-        wrench = torque if free_force else np.concatenate((torque, force))
+        wrench = torque if force is None else np.concatenate((torque, force))
         reference = self._torque_ref if free_force else self._wrench_ref
         qp = self._qp
         size = float(np.abs(wrench / reference).max())

@@ -17,10 +17,11 @@ to the thrust of the stage that takes over.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError, InputShapeError
@@ -33,6 +34,9 @@ SECONDS_PER_HOUR = 3600.0
 DEPLETED_FRACTION = 1e-12
 # A commanded thrust may exceed its limit by this relative margin (solver round-off).
 THRUST_LIMIT_RTOL = 1e-9
+
+FloatArray = npt.NDArray[np.float64]
+BoolArray = npt.NDArray[np.bool_]
 
 
 def stage_propellant_kg(
@@ -75,7 +79,7 @@ class StageEvent:
     next_stage: int | None
 
 
-@dataclass(eq=False)
+@dataclass(eq=False, init=False)
 class PropulsionState:
     """Propellant, firing time and failures of every CubeSat's stages.
 
@@ -102,29 +106,46 @@ class PropulsionState:
     array([0, 0, 0])
     """
 
-    stage_thrust_N: np.ndarray
+    stage_thrust_N: FloatArray
     exhaust_velocity_m_s: float
-    stage_capacity_kg: np.ndarray
-    propellant_kg: np.ndarray
-    firing_time_s: np.ndarray = field(default=None)  # type: ignore[assignment]
-    failed_cubesats: np.ndarray = field(default=None)  # type: ignore[assignment]
-    failed_stages: np.ndarray = field(default=None)  # type: ignore[assignment]
+    stage_capacity_kg: FloatArray
+    propellant_kg: FloatArray
+    firing_time_s: FloatArray
+    failed_cubesats: BoolArray
+    failed_stages: BoolArray
 
-    def __post_init__(self) -> None:
-        self.stage_thrust_N = _vector(self.stage_thrust_N, "stage_thrust_N")
-        self.stage_capacity_kg = _vector(self.stage_capacity_kg, "stage_capacity_kg")
+    # Written out, not generated: the last three arguments may be omitted (no firing
+    # time, no failures) while the attributes are always arrays.
+    def __init__(
+        self,
+        stage_thrust_N: npt.ArrayLike,
+        exhaust_velocity_m_s: float,
+        stage_capacity_kg: npt.ArrayLike,
+        propellant_kg: npt.ArrayLike,
+        firing_time_s: npt.ArrayLike | None = None,
+        failed_cubesats: npt.ArrayLike | None = None,
+        failed_stages: npt.ArrayLike | None = None,
+    ) -> None:
+        self.exhaust_velocity_m_s = exhaust_velocity_m_s
+        self.stage_thrust_N = _vector(stage_thrust_N, "stage_thrust_N")
+        self.stage_capacity_kg = _vector(stage_capacity_kg, "stage_capacity_kg")
         n_stages = len(self.stage_thrust_N)
-        self.propellant_kg = _matrix(self.propellant_kg, "propellant_kg", n_stages)
+        self.propellant_kg = _matrix(propellant_kg, "propellant_kg", n_stages)
         n_cubesats = len(self.propellant_kg)
-        if self.firing_time_s is None:
-            self.firing_time_s = np.zeros_like(self.propellant_kg)
-        self.firing_time_s = _matrix(self.firing_time_s, "firing_time_s", n_stages, n_cubesats)
-        if self.failed_cubesats is None:
-            self.failed_cubesats = np.zeros(n_cubesats, dtype=bool)
-        if self.failed_stages is None:
-            self.failed_stages = np.zeros((n_cubesats, n_stages), dtype=bool)
-        self.failed_cubesats = np.array(self.failed_cubesats, dtype=bool)
-        self.failed_stages = np.array(self.failed_stages, dtype=bool)
+        if firing_time_s is None:
+            firing_time_s = np.zeros_like(self.propellant_kg)
+        self.firing_time_s = _matrix(firing_time_s, "firing_time_s", n_stages, n_cubesats)
+        if failed_cubesats is None:
+            failed_cubesats = np.zeros(n_cubesats, dtype=bool)
+        if failed_stages is None:
+            failed_stages = np.zeros((n_cubesats, n_stages), dtype=bool)
+        self.failed_cubesats = np.array(failed_cubesats, dtype=bool)
+        self.failed_stages = np.array(failed_stages, dtype=bool)
+        self._check()
+
+    def _check(self) -> None:
+        """Shapes agree, values in range (after construction, and after an update)."""
+        n_stages, n_cubesats = len(self.stage_thrust_N), len(self.propellant_kg)
         if self.failed_cubesats.shape != (n_cubesats,):
             raise InputShapeError(
                 f"failed_cubesats must have shape ({n_cubesats},), got {self.failed_cubesats.shape}"
@@ -206,13 +227,14 @@ class PropulsionState:
         """Stages per CubeSat."""
         return len(self.stage_thrust_N)
 
-    def _usable(self) -> np.ndarray:
+    def _usable(self) -> BoolArray:
         """Stages that can still fire, shape (n_cubesats, n_stages)."""
-        return (
+        usable: BoolArray = (
             (self.propellant_kg > DEPLETED_FRACTION * self.stage_capacity_kg)
             & ~self.failed_stages
             & ~self.failed_cubesats[:, None]
         )
+        return usable
 
     @property
     def active_stage(self) -> np.ndarray:
@@ -223,7 +245,7 @@ class PropulsionState:
     @property
     def available(self) -> np.ndarray:
         """CubeSats that can fire, bool, shape (n_cubesats,)."""
-        return self._usable().any(axis=1)
+        return np.asarray(self._usable().any(axis=1))
 
     def max_thrust_N(self) -> np.ndarray:
         """Thrust limit of each CubeSat's active stage (0 when it has none), shape (n,) [N]."""
@@ -453,7 +475,7 @@ class PropulsionState:
             if not isinstance(pair, list | tuple) or len(pair) != 2:
                 raise AllocationError("failed_stages entries must be [cubesat, stage] pairs")
             state.fail_stage(_index(pair[0], "failed_stages"), _index(pair[1], "failed_stages"))
-        state.__post_init__()
+        state._check()
         return state
 
 

@@ -26,7 +26,8 @@ from casadi_debris.errors import AllocationError
 # pull-in, 4 % go on to HiGHS). All are well inside the 1e-9 to which alpha
 # is promised.
 BOUNDARY_BACKOFF = (0.0, 1e-12, 1e-10)
-RESCUE_OPTIONS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
+# HiGHS' primal and dual feasibility tolerances in the rescue (tried first; then its defaults).
+RESCUE_TOLERANCE = 1e-10
 # A saturated target met only to below this (scaled: alpha times the target's
 # largest component) is the solvers' feasibility tolerance (1e-10), not torque:
 # alpha is 0 and the thrust zero. Exactly, the reachable set is a polytope
@@ -93,7 +94,7 @@ def largest_alpha(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSo
         # alpha = 0 is the only answer).
         u, alpha, t = rescue(qp, target, free_force)
         return StageSolution(u, alpha, solution.iterations, solution.solve_time_s + t, rescued=True)
-    alpha = min(max(float(solution.x[-1]), 0.0), 1.0)
+    alpha = min(max(float(solution.optimal_x()[-1]), 0.0), 1.0)
     if alpha * max(map(abs, target.tolist())) <= ALPHA_RESOLUTION:
         return StageSolution(np.zeros(qp.n), 0.0, solution.iterations, solution.solve_time_s, False)
     fuel = least_fuel_on_edge(qp, alpha * target, free_force)
@@ -128,7 +129,9 @@ def least_fuel_on_edge(qp: ScaledQp, target: np.ndarray, free_force: bool) -> St
         iterations += solution.iterations
         solve_time += solution.solve_time_s
         if solution.status == "optimal":
-            u, verified = qp.polish_checked(solution.x, (1.0 - backoff) * target, free_force)
+            u, verified = qp.polish_checked(
+                solution.optimal_x(), (1.0 - backoff) * target, free_force
+            )
             return StageSolution(u, 1.0 - backoff, iterations, solve_time, False, verified)
     u, alpha, rescue_time = rescue(qp, target, free_force)
     return StageSolution(u, alpha, iterations, solve_time + rescue_time, True)
@@ -156,19 +159,24 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
     a_eq = np.hstack([rows, -target[:, None]])
     bounds = [*zip(np.zeros(n), qp.upper, strict=True), (0.0, 1.0)]
     zeros = np.zeros(len(rows))
-    best = None
-    for options in (RESCUE_OPTIONS, {}):
+    largest_alpha_cost = np.append(np.zeros(n), -1.0)
+    best = linprog(
+        largest_alpha_cost,
+        A_eq=a_eq,
+        b_eq=zeros,
+        bounds=bounds,
+        method="highs",
+        options={
+            "primal_feasibility_tolerance": RESCUE_TOLERANCE,
+            "dual_feasibility_tolerance": RESCUE_TOLERANCE,
+        },
+    )
+    if best.status != 0:
+        # HiGHS' default tolerances.
         best = linprog(
-            np.append(np.zeros(n), -1.0),
-            A_eq=a_eq,
-            b_eq=zeros,
-            bounds=bounds,
-            method="highs",
-            options=options,
+            largest_alpha_cost, A_eq=a_eq, b_eq=zeros, bounds=bounds, method="highs", options={}
         )
-        if best.status == 0:
-            break
-    if best is None or best.status != 0:
+    if best.status != 0 or best.x is None:
         raise AllocationError(
             f"{qp.solver} and the HiGHS rescue found no allocation for "
             f"{(target * qp.torque_ref_Nm)[:3].tolist()} N m ({best.message})"
@@ -181,9 +189,12 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
         b_eq=zeros,
         bounds=bounds,
         method="highs",
-        options=RESCUE_OPTIONS,
+        options={
+            "primal_feasibility_tolerance": RESCUE_TOLERANCE,
+            "dual_feasibility_tolerance": RESCUE_TOLERANCE,
+        },
     )
-    x = frugal.x if frugal.status == 0 else best.x
+    x = frugal.x if frugal.status == 0 and frugal.x is not None else best.x
     alpha = float(np.clip(x[-1], 0.0, 1.0))
     if alpha * float(np.abs(target).max()) <= ALPHA_RESOLUTION:
         return np.zeros(n), 0.0, time.perf_counter() - start
@@ -206,7 +217,7 @@ def least_squares(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSo
     solution = workspace.solve()
     if solution.status != "optimal":
         return StageSolution(None, 0.0, solution.iterations, solution.solve_time_s, False)
-    achieved = qp.torque @ solution.x
+    achieved = qp.torque @ solution.optimal_x()
     scaled_demand = target[:3]
     norm2 = float(scaled_demand @ scaled_demand)
     scale = float(achieved @ scaled_demand / norm2) if norm2 > 0 else 1.0

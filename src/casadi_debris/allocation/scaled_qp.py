@@ -19,7 +19,10 @@ Stages, each a QP of fixed structure whose data change only in ``b_eq``,
 
 from __future__ import annotations
 
+from typing import Literal
+
 import numpy as np
+import numpy.typing as npt
 
 from casadi_debris.allocation.backends import QpBackend, make_backend
 
@@ -40,6 +43,9 @@ POLISH_TOLERANCE = 1e-13
 # An engine within this fraction of its limit counts as on it (a stretched small
 # demand is scaled back only when no limit binds).
 LIMIT_ACTIVE_RTOL = 1e-9
+
+# The QP workspaces: least fuel for the exact target, largest alpha, least squares.
+Stage = Literal["exact", "scale", "least_squares"]
 
 
 class ScaledQp:
@@ -77,7 +83,7 @@ class ScaledQp:
             free: np.hstack([self.rows(free), np.zeros((len(self.rows(free)), 1))])
             for free in (False, True)
         }
-        self._workspaces: dict[tuple[str, bool], QpBackend] = {}
+        self._workspaces: dict[tuple[Stage, bool], QpBackend] = {}
         self.set_upper(upper)
 
     @property
@@ -85,7 +91,7 @@ class ScaledQp:
         """Number of engines."""
         return self.torque.shape[1]
 
-    def binds(self, u: np.ndarray) -> np.ndarray | bool:
+    def binds(self, u: np.ndarray) -> npt.NDArray[np.bool_] | np.bool_:
         """Whether an engine that can fire is on its limit; per row for ``u`` of shape (k, n)."""
         return (u >= self.on_limit).any(axis=-1)
 
@@ -109,10 +115,10 @@ class ScaledQp:
         """
         return {free: float((np.abs(self.rows(free)) @ self.upper).max()) for free in (False, True)}
 
-    def _stage_upper(self, stage: str) -> np.ndarray:
+    def _stage_upper(self, stage: Stage) -> np.ndarray:
         return np.append(self.upper, 1.0) if stage == "scale" else self.upper
 
-    def workspace(self, stage: str, free_force: bool) -> QpBackend:
+    def workspace(self, stage: Stage, free_force: bool) -> QpBackend:
         """The workspace of ``stage`` (``"exact"``, ``"scale"``, ``"least_squares"``), set up
         on first use."""
         key = (stage, free_force)

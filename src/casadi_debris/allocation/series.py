@@ -122,7 +122,7 @@ class PiecewiseAffineQp:
             bounds=[(None, None)] * n_rows + [(None, 1.0)],
             method="highs",
         )
-        if result.status != 0 or result.x[-1] < -MULTIPLIER_TOLERANCE:
+        if result.status != 0 or result.x is None or result.x[-1] < -MULTIPLIER_TOLERANCE:
             return None
         multiplier = result.x[:n_rows]
         gram_pinv = np.linalg.pinv(a_free @ a_free.T) if free.any() else np.zeros((n_rows, n_rows))
