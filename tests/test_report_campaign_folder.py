@@ -16,9 +16,11 @@ from casadi_debris.report.campaign_folder import (
     CampaignFolder,
     CampaignRecord,
     partial_folder,
+    write_atomically,
 )
 from casadi_debris.report.folders import MARKER_NAME, OutputError
 from casadi_debris.simulation import Case, CaseOutcome
+from casadi_debris.simulation.monte_carlo import Bands, Extremes
 
 
 def _record(**changes) -> CampaignRecord:
@@ -43,8 +45,14 @@ def _dead_pid() -> int:
 
 def _outcome(index: int, rng: np.random.Generator) -> CaseOutcome:
     case = Case(f"sample-{index:04d}", "sample", index, 1, np.zeros(6), np.ones(6))
-    bands = rng.standard_normal((5, 12)) * 1e-7  # not representable in float32
-    return CaseOutcome(case, {"case_id": case.case_id, "max_error_deg": float(bands.max())}, bands)
+    values = rng.standard_normal((4, 5, 3)) * 1e-7  # not representable in float32
+    bands = Bands(Extremes(values[0], values[1]), Extremes(values[2], values[3]))
+    return CaseOutcome(case, {"case_id": case.case_id, "max_error_deg": float(values.max())}, bands)
+
+
+def _same_bands(first: Bands, second: Bands) -> bool:
+    one, two = first.to_arrays(), second.to_arrays()
+    return one.keys() == two.keys() and all(np.array_equal(one[k], two[k]) for k in one)
 
 
 def test_record_differences_name_each_field() -> None:
@@ -66,15 +74,19 @@ def test_cases_come_back_bit_exact_and_temporaries_of_the_dead_are_cleaned(
     with CampaignFolder.open(out, _record()) as folder:
         for outcome in written:
             folder.write_case(outcome)
-    stale = partial_folder(out) / "cases" / f".sample-0001.npz.casadi-debris-{_dead_pid()}-0a.tmp"
+    dead = _dead_pid()
+    stale = partial_folder(out) / "cases" / f".sample-0001.npz.casadi-debris-{dead}-0a.tmp"
     stale.write_bytes(b"half")
+    stale_table = partial_folder(out) / f".campaign.nc.casadi-debris-{dead}-0b.tmp"
+    stale_table.write_bytes(b"half")
     (partial_folder(out) / ".jit").mkdir()
     with CampaignFolder.open(out, _record()) as folder:
-        assert not stale.exists() and not folder.build_folder.exists()
+        assert not stale.exists() and not stale_table.exists()
+        assert not folder.build_folder.exists()
         found = folder.finished_cases([o.case for o in written])
         for outcome in written:
             again = found[outcome.case.case_id]
-            assert np.array_equal(again.bands, outcome.bands)
+            assert _same_bands(again.bands, outcome.bands)
             assert again.summary == outcome.summary
         folder.finish()
     assert not partial_folder(out).exists()
@@ -113,3 +125,29 @@ def test_a_live_lock_is_refused_and_a_dead_one_taken_over(tmp_path: Path) -> Non
     with CampaignFolder.open(out, _record()):
         assert (partial_folder(out) / LOCK_NAME).read_text().strip() == str(os.getpid())
     assert not (partial_folder(out) / LOCK_NAME).exists()
+
+
+def test_a_case_of_an_older_layout_is_run_again(tmp_path: Path) -> None:
+    out = tmp_path / "campaign"
+    outcome = _outcome(0, np.random.default_rng(2))
+    with CampaignFolder.open(out, _record()) as folder:
+        folder.write_case(outcome)
+        cases = partial_folder(out) / "cases"
+        assert folder.finished_cases([outcome.case]).keys() == {"sample-0000"}
+        np.savez_compressed(cases / "sample-0000.npz", bands=np.zeros((5, 12)))  # one array
+        assert folder.finished_cases([outcome.case]) == {}
+
+
+def test_write_atomically_leaves_the_old_file_or_the_new_one(tmp_path: Path) -> None:
+    target = tmp_path / "table.bin"
+    target.write_bytes(b"old")
+
+    def fail(path: Path) -> None:
+        path.write_bytes(b"half")
+        raise RuntimeError("killed")
+
+    with pytest.raises(RuntimeError):
+        write_atomically(target, fail)
+    assert [p.name for p in tmp_path.iterdir()] == ["table.bin"] and target.read_bytes() == b"old"
+    write_atomically(target, lambda path: path.write_bytes(b"new"))
+    assert [p.name for p in tmp_path.iterdir()] == ["table.bin"] and target.read_bytes() == b"new"

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
 
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
@@ -51,27 +52,10 @@ def plot_closed_loop(
     top.set_ylabel("reference [deg]")
     top.legend(loc="best", ncols=3)
 
+    if envelope is not None:
+        _shade_envelope(middle, bottom, envelope, scale)
     for i, axis in enumerate("xyz"):
         colour = AXIS_COLOURS[axis]
-        if envelope is not None and envelope.bands is not None:
-            middle.fill_between(
-                envelope.bin_start_s,
-                envelope.bands[:, i] * scale,
-                envelope.bands[:, 3 + i] * scale,
-                color=colour,
-                alpha=0.2,
-                linewidth=0,
-                step="post",
-            )
-            bottom.fill_between(
-                envelope.bin_start_s,
-                envelope.bands[:, 6 + i] * 1e3,
-                envelope.bands[:, 9 + i] * 1e3,
-                color=colour,
-                alpha=0.2,
-                linewidth=0,
-                step="post",
-            )
         middle.plot(result.time_s, result.error_rad[:, i] * scale, color=colour, lw=1.0)
         bottom.step(
             result.time_s[:-1], result.torque_Nm[:, i] * 1e3, where="post", color=colour, lw=1.0
@@ -91,6 +75,26 @@ def plot_closed_loop(
     if title:
         top.set_title(title)
     return save_figure(figure, path)
+
+
+def _shade_envelope(error_axes: Axes, torque_axes: Axes, envelope: Envelope, scale: float) -> None:
+    """Shade every axis' band: error times ``scale``, torque in mNm."""
+    if envelope.bands is None:
+        return
+    for extremes, axes, factor in (
+        (envelope.bands.error_rad, error_axes, scale),
+        (envelope.bands.torque_Nm, torque_axes, 1e3),
+    ):
+        for i, axis in enumerate("xyz"):
+            axes.fill_between(
+                envelope.bin_start_s,
+                extremes.min[:, i] * factor,
+                extremes.max[:, i] * factor,
+                color=AXIS_COLOURS[axis],
+                alpha=0.2,
+                linewidth=0,
+                step="post",
+            )
 
 
 def plot_thrust(result: ClosedLoopResult, path: Path) -> Path:

@@ -7,8 +7,10 @@ While it runs, a campaign lives in ``<out>.partial/``:
   anything different is refused with a line that says what differs.
 - ``.lock``: the id of the process writing the folder; a second campaign on
   the same folder is refused while that process lives.
-- ``cases/<id>.npz`` (bands, float64, so that a resumed campaign is bit-exact)
-  then ``cases/<id>.json`` (the summary, written last: the marker of a whole case).
+- ``cases/<id>.npz`` (the case's :class:`~casadi_debris.simulation.monte_carlo.Bands`
+  as named float64 arrays ``error_rad_min``, ..., so that a resumed campaign
+  is bit-exact) then ``cases/<id>.json`` (the summary, written last: the
+  marker of a whole case).
 - ``.jit/``: the compiled control step of every worker, removed at the end.
 
 When every case is in, the tables are written and the folder is moved to
@@ -20,6 +22,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from types import TracebackType
@@ -39,6 +42,7 @@ from casadi_debris.report.folders import (
     write_marker,
 )
 from casadi_debris.simulation import Case, CaseOutcome
+from casadi_debris.simulation.monte_carlo import Bands
 
 PARTIAL_SUFFIX = ".partial"
 RECORD_NAME = "campaign.json"
@@ -126,6 +130,23 @@ def _lock(folder: Path, option: str) -> None:
     raise OutputError(f"{option}: cannot take the lock {lock}")
 
 
+def write_atomically(target: Path, write: Callable[[Path], None]) -> Path:
+    """Write ``target`` through ``write(path)`` so that it is either whole or absent.
+
+    ``write`` creates the file it is given: a temporary sibling of ``target``
+    that names this process (removed by a later run if this one is killed),
+    renamed over ``target`` once written.
+    """
+    temporary = temporary_path(target, "tmp")
+    try:
+        write(temporary)
+        os.replace(temporary, target)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    return target
+
+
 class CampaignFolder:
     """A campaign's ``<out>.partial`` folder: locked, checked against its record, resumable.
 
@@ -198,6 +219,7 @@ class CampaignFolder:
 
     def _clean(self) -> None:
         shutil.rmtree(self.build_folder, ignore_errors=True)
+        clean_stale_folder(self.partial)
         clean_stale_folder(self.partial / "cases")
 
     @property
@@ -209,15 +231,15 @@ class CampaignFolder:
         """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
         cases = self.partial / "cases"
         cases.mkdir(exist_ok=True)
-        target = cases / f"{outcome.case.case_id}.npz"
-        temporary = temporary_path(target, "tmp")
-        try:
-            with temporary.open("xb") as stream:
-                np.savez_compressed(stream, bands=np.asarray(outcome.bands, dtype=np.float64))
-            os.replace(temporary, target)
-        except BaseException:
-            temporary.unlink(missing_ok=True)
-            raise
+        # Any: numpy's stubs take ** entries for its own keywords (allow_pickle).
+        arrays: dict[str, Any] = outcome.bands.to_arrays()
+
+        def save(path: Path) -> None:
+            # A stream, not a name: savez would add ".npz" to the temporary's name.
+            with path.open("xb") as stream:
+                np.savez_compressed(stream, **arrays)
+
+        write_atomically(cases / f"{outcome.case.case_id}.npz", save)
         write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
 
     def finished_cases(self, cases: list[Case]) -> dict[str, CaseOutcome]:
@@ -231,9 +253,9 @@ class CampaignFolder:
             try:
                 summary = json.loads(summary_path.read_text())
                 with np.load(bands_path) as data:
-                    bands = np.asarray(data["bands"], dtype=np.float64)
+                    bands = Bands.from_arrays(data)
             except (OSError, ValueError, KeyError):
-                continue  # a damaged case is simply run again
+                continue  # a damaged case (or one of an older layout) is simply run again
             found[case.case_id] = CaseOutcome(case, summary, bands)
         return found
 

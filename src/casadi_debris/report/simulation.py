@@ -117,6 +117,11 @@ CASE_COLUMNS = (
     "torque_saturated_s",
     "min_scale",
 )
+# How envelope.csv shows each binned quantity: name, display unit, factor from SI.
+ENVELOPE_COLUMNS = {
+    "error_rad": ("error", "deg", DEG_PER_RAD),
+    "torque_Nm": ("torque", "mNm", MNM_PER_NM),
+}
 
 
 def campaign_summary(
@@ -156,6 +161,20 @@ def campaign_summary(
     }
 
 
+def envelope_columns(envelope: Envelope) -> dict[str, np.ndarray]:
+    """The envelope in display units: ``time_s``, ``error_min_deg_x``, ... ``torque_max_mNm_z``."""
+    columns = {"time_s": envelope.bin_start_s}
+    if envelope.bands is None:
+        return columns
+    for name, extremes in envelope.bands.quantities().items():
+        label, unit, factor = ENVELOPE_COLUMNS[name]
+        for bound in ("min", "max"):
+            values = getattr(extremes, bound) * factor
+            for i, axis in enumerate(AXIS_NAMES):
+                columns[f"{label}_{bound}_{unit}_{axis}"] = values[:, i]
+    return columns
+
+
 def write_campaign(
     folder: Path,
     problem: Problem,
@@ -177,15 +196,7 @@ def write_campaign(
         for outcome in outcomes:
             row = [json_ready(outcome.summary.get(c)) for c in CASE_COLUMNS]
             writer.writerow([*row, *outcome.case.normalized.tolist()])
-    names = [f"{part}_{axis}" for part in ("error_min_deg", "error_max_deg") for axis in AXIS_NAMES]
-    names += [
-        f"{part}_{axis}" for part in ("torque_min_mNm", "torque_max_mNm") for axis in AXIS_NAMES
-    ]
-    bands = envelope.bands * np.repeat([DEG_PER_RAD, DEG_PER_RAD, MNM_PER_NM, MNM_PER_NM], 3)
-    write_csv(
-        folder / "envelope.csv",
-        {"time_s": setup.bin_start_s, **{n: bands[:, i] for i, n in enumerate(names)}},
-    )
+    write_csv(folder / "envelope.csv", envelope_columns(envelope))
     nominal_folder = folder / "nominal"
     nominal_folder.mkdir(exist_ok=True)
     write_run(nominal_folder, nominal, nominal_summary, problem, limits_mNm)

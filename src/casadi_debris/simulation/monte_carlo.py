@@ -3,10 +3,10 @@
 A campaign runs :func:`~casadi_debris.simulation.simulate` for each
 :class:`~casadi_debris.simulation.cases.Case` on local processes (default),
 or on a Dask cluster when a scheduler address is given. Each case returns
-its summary and its *bands*: the minimum and maximum of the attitude error
-and the torque over consecutive time bins, small enough to keep for
-hundreds of cases and exact as an envelope at the bin resolution (the
-summary's maxima are exact at every step).
+its summary and its :class:`Bands`: the minimum and maximum of the attitude
+error and the torque over consecutive time bins, per body axis, small enough
+to keep for hundreds of cases and exact as an envelope at the bin resolution
+(the summary's maxima are exact at every step).
 
 Results come back through a callback as they finish, so the caller (the
 CLI) can show progress and write each case to disk; cases already on disk
@@ -25,9 +25,9 @@ import signal
 import tempfile
 import threading
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from dataclasses import dataclass, field
+from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
 
@@ -47,12 +47,6 @@ from casadi_debris.simulation.closed_loop import (
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.run import ClosedLoopResult, simulate
 
-BAND_COLUMNS = (
-    "error_min_rad",
-    "error_max_rad",
-    "torque_min_Nm",
-    "torque_max_Nm",
-)
 MAX_BINS = 2000
 
 
@@ -104,6 +98,102 @@ class CampaignSetup:
 
 
 @dataclass(frozen=True, eq=False)
+class Extremes:
+    """The smallest and the largest value of one quantity in every time bin, per axis.
+
+    Attributes
+    ----------
+    min : ndarray, shape (n_bins, 3)
+        Smallest value in each bin, per body axis x, y, z.
+    max : ndarray, shape (n_bins, 3)
+        Largest value in each bin, per body axis x, y, z.
+    """
+
+    min: np.ndarray
+    max: np.ndarray
+
+    def widened(self, other: Extremes) -> Extremes:
+        """The extremes of both, bin by bin (a NaN loses to a number, as in ``numpy.fmin``)."""
+        return Extremes(np.fmin(self.min, other.min), np.fmax(self.max, other.max))
+
+
+@dataclass(frozen=True, eq=False)
+class Bands:
+    """Attitude error and torque of a case (or an envelope of cases), binned in time.
+
+    Attributes
+    ----------
+    error_rad : Extremes
+        Attitude error (doubled vector part of the error quaternion, about
+        body axes x, y, z) [rad], per bin, shapes (n_bins, 3).
+    torque_Nm : Extremes
+        Torque applied by the engines [N m], per bin, shapes (n_bins, 3). A
+        torque held over a control period counts in the bin of its start.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> zero = Extremes(np.zeros((2, 3)), np.zeros((2, 3)))
+    >>> bands = Bands(error_rad=zero, torque_Nm=zero)
+    >>> sorted(bands.to_arrays())
+    ['error_rad_max', 'error_rad_min', 'torque_Nm_max', 'torque_Nm_min']
+    >>> Bands.from_arrays(bands.to_arrays()).error_rad.max.shape
+    (2, 3)
+    """
+
+    error_rad: Extremes
+    torque_Nm: Extremes
+
+    @property
+    def n_bins(self) -> int:
+        """Number of time bins."""
+        return int(self.error_rad.min.shape[0])
+
+    def quantities(self) -> dict[str, Extremes]:
+        """Every quantity by its field name (the unit is in the name)."""
+        return {item.name: getattr(self, item.name) for item in fields(self)}
+
+    def widened(self, other: Bands) -> Bands:
+        """The envelope of both, bin by bin."""
+        return Bands(
+            error_rad=self.error_rad.widened(other.error_rad),
+            torque_Nm=self.torque_Nm.widened(other.torque_Nm),
+        )
+
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """Flat named float64 arrays (``error_rad_min``, ...), e.g. for ``numpy.savez``."""
+        return {
+            f"{name}_{bound}": np.asarray(getattr(extremes, bound), dtype=np.float64)
+            for name, extremes in self.quantities().items()
+            for bound in ("min", "max")
+        }
+
+    @classmethod
+    def from_arrays(cls, arrays: Mapping[str, np.ndarray]) -> Bands:
+        """Inverse of :meth:`to_arrays`.
+
+        Raises
+        ------
+        KeyError
+            An array is missing.
+        ValueError
+            The arrays are not all of one shape (n_bins, 3).
+        """
+        parts = {
+            item.name: Extremes(
+                np.asarray(arrays[f"{item.name}_min"], dtype=np.float64),
+                np.asarray(arrays[f"{item.name}_max"], dtype=np.float64),
+            )
+            for item in fields(cls)
+        }
+        shapes = {a.shape for e in parts.values() for a in (e.min, e.max)}
+        shape = shapes.pop() if len(shapes) == 1 else ()
+        if len(shape) != 2 or shape[1] != 3:
+            raise ValueError("bands must all be of one shape (n_bins, 3)")
+        return cls(**parts)
+
+
+@dataclass(frozen=True, eq=False)
 class CaseOutcome:
     """One finished case.
 
@@ -112,49 +202,49 @@ class CaseOutcome:
     case : Case
     summary : dict
         :meth:`ClosedLoopResult.summary` plus the case's identity.
-    bands : ndarray, shape (n_bins, 12)
-        Per bin: error min (3), error max (3) [rad], torque min (3), max (3) [N m].
+    bands : Bands
+        Error and torque per time bin.
     """
 
     case: Case
     summary: dict[str, Any]
-    bands: np.ndarray
+    bands: Bands
 
 
-def bin_bands(setup: CampaignSetup, result: ClosedLoopResult) -> np.ndarray:
-    """Min/max of error and torque per time bin, shape (n_bins, 12)."""
+def bin_bands(setup: CampaignSetup, result: ClosedLoopResult) -> Bands:
+    """Min/max of the error and the torque per time bin of ``setup``."""
     n_bins = setup.n_bins
     t0 = setup.reference.time_s[0]
     error_bins = np.minimum(((result.time_s - t0) / setup.bin_s).astype(int), n_bins - 1)
-    torque_bins = error_bins[:-1]
-    bands = np.full((n_bins, 12), np.nan)
-    for column, values, bins in (
-        (0, result.error_rad, error_bins),
-        (6, result.torque_Nm, torque_bins),
-    ):
-        low = np.full((n_bins, 3), np.inf)
-        high = np.full((n_bins, 3), -np.inf)
-        np.minimum.at(low, bins, values)
-        np.maximum.at(high, bins, values)
-        bands[:, column : column + 3] = low
-        bands[:, column + 3 : column + 6] = high
-    return bands
+    # The torque is held from one sample to the next: one value fewer than the error.
+    return Bands(
+        error_rad=_extremes(result.error_rad, error_bins, n_bins),
+        torque_Nm=_extremes(result.torque_Nm, error_bins[:-1], n_bins),
+    )
 
 
-# Per-process cache: the model and allocator of the campaign's problem, built once.
+def _extremes(values: np.ndarray, bins: np.ndarray, n_bins: int) -> Extremes:
+    """Min/max of ``values`` (n, 3) grouped by ``bins`` (n,); +-inf in an empty bin."""
+    low = np.full((n_bins, values.shape[1]), np.inf)
+    high = np.full((n_bins, values.shape[1]), -np.inf)
+    np.minimum.at(low, bins, values)
+    np.maximum.at(high, bins, values)
+    return Extremes(low, high)
+
+
+# Per-process cache: the model of the campaign's problem, built once.
 _WORKER: dict[str, Any] = {}
 
 
 def _worker_parts(problem: Problem) -> tuple[Model, Allocator]:
     key = f"{problem.sha256}:{problem.name}:{id(problem)}"
     if _WORKER.get("key") != key:
-        model = build_model(problem)
-        _WORKER.update(
-            key=key,
-            model=model,
-            allocator=Allocator.from_problem(problem, model.geometry),
-        )
-    return _WORKER["model"], _WORKER["allocator"]
+        _WORKER.update(key=key, model=build_model(problem))
+    model = _WORKER["model"]
+    # A fresh allocator (about 1 ms) for every case: its QP workspaces keep the
+    # last solution as a warm start, which would make a case's last bits depend
+    # on the case the worker ran before it, and a resumed campaign differ.
+    return model, Allocator.from_problem(problem, model.geometry)
 
 
 def run_case(setup: CampaignSetup, case: Case) -> CaseOutcome:
@@ -358,21 +448,18 @@ class Envelope:
     Attributes
     ----------
     bin_start_s : ndarray, shape (n_bins,)
-    bands : ndarray, shape (n_bins, 12)
-        As :attr:`CaseOutcome.bands`, over all cases.
+        Start of every time bin [s].
+    bands : Bands or None
+        The envelope of every case added (None before the first).
     count : int
+        Cases added.
     """
 
     bin_start_s: np.ndarray
-    bands: np.ndarray = field(default=None)  # type: ignore[assignment]
+    bands: Bands | None = None
     count: int = 0
 
-    def add(self, bands: np.ndarray) -> None:
-        if self.bands is None:
-            self.bands = np.array(bands, dtype=float)
-        else:
-            lows = np.r_[0:3, 6:9]
-            highs = np.r_[3:6, 9:12]
-            self.bands[:, lows] = np.fmin(self.bands[:, lows], bands[:, lows])
-            self.bands[:, highs] = np.fmax(self.bands[:, highs], bands[:, highs])
+    def add(self, bands: Bands) -> None:
+        """Widen the envelope by one case's bands."""
+        self.bands = bands if self.bands is None else self.bands.widened(bands)
         self.count += 1
