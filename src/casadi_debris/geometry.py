@@ -131,7 +131,7 @@ def _cubesat_layout(problem: Problem) -> list[tuple[str, np.ndarray, np.ndarray]
     margin = problem.cubesats.edge_margin_fraction
     standoff = problem.cubesats.standoff_m
     centre = size / 2.0
-    layout = []
+    layout: list[tuple[str, np.ndarray, np.ndarray]] = []
     for face in SIGNED_AXES:
         normal = signed_axis_vector(face)
         axis = AXIS_NAMES.index(face[1])
@@ -157,7 +157,9 @@ def _cubesat_own_inertia(problem: Problem, face: str) -> np.ndarray:
     return inertia
 
 
-def array_axes(direction: np.ndarray, angle_rad: float | ca.SX) -> tuple[ca.SX, ca.SX, ca.SX]:
+def array_axes(
+    direction: np.ndarray, angle_rad: float | ca.SX
+) -> tuple[ca.DM, ca.SX | ca.DM, ca.SX | ca.DM]:
     """Length, width and normal unit vectors of an array at angle theta_SA.
 
     Parameters
@@ -170,6 +172,7 @@ def array_axes(direction: np.ndarray, angle_rad: float | ca.SX) -> tuple[ca.SX, 
     Returns
     -------
     e_length, e_width, e_normal : casadi column vectors, shape (3, 1)
+        ``casadi.DM``, the last two ``casadi.SX`` for a symbolic angle.
     """
     axis = int(np.argmax(np.abs(direction)))
     positive_axis = np.zeros(3)
@@ -233,9 +236,13 @@ def build_geometry(problem: Problem) -> Geometry:
 
     hinges = arrays.hinges_corner_m - cog
     angle = math.radians(arrays.angle_deg)
+    # Starts from zeros so that a debris without arrays has a (3, 3) zero, not 0.
     inertia_arrays = sum(
-        np.array(array_rigid_inertia(problem, h, d, angle))
-        for h, d in zip(hinges, directions, strict=True)
+        (
+            np.array(array_rigid_inertia(problem, h, d, angle))
+            for h, d in zip(hinges, directions, strict=True)
+        ),
+        np.zeros((3, 3)),
     )
     force_map = np.array([m.direction for m in mounts]).T
     torque_map = np.cross(np.array([m.position_m for m in mounts]), force_map.T).T
@@ -282,7 +289,7 @@ def torque_authority(
     limits = max_thrust_N(geometry)
     if available is not None:
         limits = np.where(available, limits, 0.0)
-    authority = {}
+    authority: dict[str, float] = {}
     for name in SIGNED_AXES:
         axis = AXIS_NAMES.index(name[1])
         sign = 1.0 if name[0] == "+" else -1.0
@@ -297,5 +304,7 @@ def torque_authority(
             bounds=list(zip(np.zeros_like(limits), limits, strict=True)),
             method="highs",
         )
-        authority[name] = float(-result.fun) if result.status == 0 else 0.0
+        authority[name] = (
+            -float(result.fun) if result.status == 0 and result.fun is not None else 0.0
+        )
     return authority

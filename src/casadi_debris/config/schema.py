@@ -9,12 +9,16 @@ only by :func:`casadi_debris.config.problem_from_dict` (or
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 
-AXIS_NAMES = ("x", "y", "z")
-SIGNED_AXES = ("+x", "-x", "+y", "-y", "+z", "-z")
-MODE_KINDS = ("bending", "torsion")
+AxisName = Literal["x", "y", "z"]
+SignedAxis = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
+ModeKind = Literal["bending", "torsion"]
+AXIS_NAMES: tuple[AxisName, ...] = ("x", "y", "z")
+SIGNED_AXES: tuple[SignedAxis, ...] = ("+x", "-x", "+y", "-y", "+z", "-z")
+MODE_KINDS: tuple[ModeKind, ...] = ("bending", "torsion")
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,7 +60,7 @@ class Mode:
     """
 
     name: str
-    kind: str
+    kind: ModeKind
     order: int
     omega_rad_s: float
 
@@ -87,7 +91,7 @@ class Arrays:
     width_m: float
     inertia_kgm2: np.ndarray
     hinges_corner_m: np.ndarray
-    directions: tuple[str, ...]
+    directions: tuple[SignedAxis, ...]
     angle_deg: float
     damping_ratio: float
     modes: tuple[Mode, ...]
@@ -215,8 +219,10 @@ class Constants:
     standard_gravity_m_s2: float
 
 
-REFERENCE_KINDS = ("hold", "slew")
-SLEW_METHODS = ("bang-bang", "time-optimal", "fuel-optimal")
+ReferenceKind = Literal["hold", "slew"]
+SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
+REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew")
+SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,9 +237,9 @@ class SlewReference:
     so that its torque is one the engines can give there.
     """
 
-    axis: str
+    axis: AxisName
     angle_deg: float
-    method: str
+    method: SlewMethod
     start_s: float
     duration_s: float | None
     torque_fraction: float | None
@@ -279,7 +285,7 @@ class Simulation:
     duration_s: float
     control_rate_hz: float
     integrator_steps: int
-    reference: str
+    reference: ReferenceKind
     slew: SlewReference | None
     failures: tuple[FailureEvent, ...]
 

@@ -12,12 +12,15 @@ import json
 import math
 import re
 from collections.abc import Mapping
-from typing import Any
+from typing import Any, TypeVar, overload
 
 import numpy as np
 
 from casadi_debris.config.limits import MAX_DESCRIPTION_CHARS, NAME_PATTERN, Range
 from casadi_debris.errors import ProblemFileError
+
+# One of a closed set of strings (a Literal type's values): what a checked choice is typed as.
+Choice = TypeVar("Choice", bound=str)
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,64}")
 _SHOWN_CHARS = 60
@@ -104,6 +107,10 @@ class Table:
             raise self.error(self.key(name), f"at most {max_count} tables, got {len(value)}")
         return [Table(v, f"{self.key(name)}[{i}]", self.source) for i, v in enumerate(value)]
 
+    @overload
+    def text(self, name: str, choices: None = None) -> str: ...
+    @overload
+    def text(self, name: str, choices: tuple[Choice, ...]) -> Choice: ...
     def text(self, name: str, choices: tuple[str, ...] | None = None) -> str:
         """A string, one of ``choices`` when given."""
         value = self.raw(name)
@@ -138,7 +145,7 @@ class Table:
             raise self.error(self.key(name), "must not hold control characters")
         return value
 
-    def texts(self, name: str, choices: tuple[str, ...], max_count: int) -> tuple[str, ...]:
+    def texts(self, name: str, choices: tuple[Choice, ...], max_count: int) -> tuple[Choice, ...]:
         """An array of one to ``max_count`` strings, each among ``choices``."""
         value = self.raw(name)
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):

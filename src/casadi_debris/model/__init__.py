@@ -6,6 +6,7 @@ See :mod:`casadi_debris.model.flexible_body` for the equations.
 from casadi_debris.model.compiled import Model, build_model, select_modes
 from casadi_debris.model.flexible_body import INPUT_NAMES, PARAMETER_NAMES, StateLayout
 from casadi_debris.model.linearize import (
+    Units,
     assembled_modes,
     flexible_frequencies,
     linearization_function,
@@ -18,6 +19,7 @@ __all__ = [
     "PARAMETER_NAMES",
     "Model",
     "StateLayout",
+    "Units",
     "assembled_modes",
     "build_model",
     "flexible_frequencies",

@@ -20,12 +20,16 @@ fraction 3 a2^2 (of m L^2 / 3), polar-inertia fraction b1^2.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cache
 
 import numpy as np
+import numpy.typing as npt
 from scipy.integrate import quad
 from scipy.optimize import brentq
+
+from casadi_debris.config import ModeKind
 
 MAX_BENDING_ORDER = 6
 
@@ -66,7 +70,7 @@ def bending_eigenvalue(order: int) -> float:
     return brentq(lambda b: 1.0 + math.cos(b) * math.cosh(b), guess - 0.5, guess + 0.5, xtol=1e-14)
 
 
-def bending_shape(order: int, xi: np.ndarray) -> np.ndarray:
+def bending_shape(order: int, xi: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Unnormalised Euler–Bernoulli cantilever shape at xi in [0, 1]."""
     b = bending_eigenvalue(order)
     sigma = (math.cosh(b) + math.cos(b)) / (math.sinh(b) + math.sin(b))
@@ -74,13 +78,13 @@ def bending_shape(order: int, xi: np.ndarray) -> np.ndarray:
     return np.cosh(bx) - np.cos(bx) - sigma * (np.sinh(bx) - np.sin(bx))
 
 
-def torsion_shape(order: int, xi: np.ndarray) -> np.ndarray:
+def torsion_shape(order: int, xi: npt.ArrayLike) -> npt.NDArray[np.float64]:
     """Uniform cantilevered shaft twist shape at xi in [0, 1]."""
     return np.sin((2 * order - 1) * math.pi * np.asarray(xi, dtype=float) / 2.0)
 
 
 @cache
-def shape_integrals(kind: str, order: int) -> ShapeIntegrals:
+def shape_integrals(kind: ModeKind, order: int) -> ShapeIntegrals:
     """Participation integrals of a normalised cantilever mode, by quadrature.
 
     Parameters
@@ -96,8 +100,8 @@ def shape_integrals(kind: str, order: int) -> ShapeIntegrals:
     """
     shape = {"bending": bending_shape, "torsion": torsion_shape}[kind]
 
-    def integral(fn):
-        return quad(fn, 0.0, 1.0, limit=200, epsabs=1e-13, epsrel=1e-12)[0]
+    def integral(fn: Callable[[float], npt.NDArray[np.float64]]) -> float:
+        return quad(lambda xi: float(fn(xi)), 0.0, 1.0, limit=200, epsabs=1e-13, epsrel=1e-12)[0]
 
     norm = math.sqrt(integral(lambda xi: shape(order, xi) ** 2))
     first = integral(lambda xi: shape(order, xi)) / norm

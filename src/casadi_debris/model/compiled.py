@@ -187,7 +187,7 @@ def build_model(problem: Problem, modes: str | Sequence[str] = "all") -> Model:
         measured_attitude=ca.Function(
             "measured_attitude",
             [x],
-            [attitude_error_vector(ca.DM([1, 0, 0, 0]), q_st)],
+            [attitude_error_vector(ca.SX([1, 0, 0, 0]), q_st)],
             ["x"],
             ["y"],
         ),

@@ -221,6 +221,8 @@ class FlexibleBodyEquations:
             e_length, _, normal = array_axes(direction, angle)
             for mode in self.modes:
                 integrals = shape_integrals(mode.kind, mode.order)
+                translation: ca.SX | ca.DM
+                rotation: ca.SX | ca.DM
                 if mode.kind == "bending":
                     translation = sqrt_mass * integrals.first * normal
                     rotation = ca.cross(ca.DM(hinge), translation) + (

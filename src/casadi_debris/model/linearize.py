@@ -16,16 +16,18 @@ with ``sensor=True``).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from typing import Literal
 
 import casadi as ca
 import control
 import numpy as np
+import numpy.typing as npt
 
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.model.compiled import Model
 
-UNITS = ("SI", "deg_mNm")
+Units = Literal["SI", "deg_mNm"]
+UNITS: tuple[Units, ...] = ("SI", "deg_mNm")
 AXES = ("x", "y", "z")
 
 
@@ -81,11 +83,11 @@ def state_names(model: Model, sensor: bool = False) -> list[str]:
 
 def linearize(
     model: Model,
-    parameters: Sequence[float] | None = None,
+    parameters: npt.ArrayLike | None = None,
     *,
     sensor: bool = False,
     disturbance_input: bool = False,
-    units: str = "SI",
+    units: Units = "SI",
     function: ca.Function | None = None,
 ) -> control.StateSpace:
     """Linear attitude plant of the model at rest.
@@ -153,7 +155,7 @@ def flexible_frequencies(plant: control.StateSpace) -> np.ndarray:
     return np.sort(np.abs(oscillatory))
 
 
-def assembled_modes(model: Model, parameters: Sequence[float] | None = None) -> list[dict]:
+def assembled_modes(model: Model, parameters: npt.ArrayLike | None = None) -> list[dict]:
     """Flexible modes of the free-floating assembly, from the linear plant's eigenvectors.
 
     Parameters
@@ -183,7 +185,7 @@ def assembled_modes(model: Model, parameters: Sequence[float] | None = None) -> 
         by_mode: dict[str, float] = {}
         for (_, name), w in zip(lay.mode_labels, weight, strict=True):
             by_mode[name] = by_mode.get(name, 0.0) + w
-        dominant = max(by_mode, key=by_mode.get)
+        dominant = max(by_mode, key=by_mode.__getitem__)
         arrays = sorted({a for a, _ in lay.mode_labels})
         share = [
             float(sum(w for (a, _), w in zip(lay.mode_labels, weight, strict=True) if a == k))
