@@ -24,6 +24,7 @@ margins (balanced, skew 0) of the full MIMO loop come from ``control.disk_margin
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import control
@@ -233,11 +234,11 @@ def return_ratios(plant_response: np.ndarray, controller_response: np.ndarray) -
         x_k = (m_jj * m_ki - m_kj * m_ji) / determinant
         return loop[:, i, i] - loop[:, i, j] * x_j - loop[:, i, k] * x_k
     ratios = np.empty(loop.shape[:2], dtype=complex)
-    for i in range(n):
-        rest = [j for j in range(n) if j != i]
+    for m in range(n):
+        rest = [j for j in range(n) if j != m]
         closed = np.eye(n - 1) + loop[:, rest][:, :, rest]
-        x = np.linalg.solve(closed, loop[:, rest, i][:, :, None])
-        ratios[:, i] = loop[:, i, i] - (loop[:, [i], rest][:, None, :] @ x)[:, 0, 0]
+        x = np.linalg.solve(closed, loop[:, rest, m][:, :, None])
+        ratios[:, m] = loop[:, m, m] - (loop[:, [m], rest][:, None, :] @ x)[:, 0, 0]
     return ratios
 
 
@@ -247,7 +248,11 @@ def _crossings(values: np.ndarray) -> np.ndarray:
 
 
 def _bracketed_roots(
-    function, low: np.ndarray, high: np.ndarray, f_low: np.ndarray, f_high: np.ndarray
+    function: Callable[[np.ndarray, np.ndarray], np.ndarray],
+    low: np.ndarray,
+    high: np.ndarray,
+    f_low: np.ndarray,
+    f_high: np.ndarray,
 ) -> np.ndarray:
     """Roots of ``function`` in the brackets [low, high], all at once (Chandrupatla's method).
 
@@ -271,6 +276,7 @@ def _bracketed_roots(
     which = np.arange(len(low))
     a, fa, b, fb = high, f_high, low, f_low
     c, fc = a, fa
+    best = b  # replaced in the first iteration
     # The first step is the secant (regula falsi) point: the grid brackets are narrow.
     step = np.clip(f_high / (f_high - f_low), 0.01, 0.99)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -301,7 +307,9 @@ def _bracketed_roots(
     return roots
 
 
-def _margins(evaluate, omega: np.ndarray, responses: np.ndarray) -> list[LoopMargins]:
+def _margins(
+    evaluate: Callable[[np.ndarray], np.ndarray], omega: np.ndarray, responses: np.ndarray
+) -> list[LoopMargins]:
     """Margins of several SISO return ratios given on a grid and as a function for refinement.
 
     Every crossing is first estimated by interpolation on the grid; those that
@@ -325,12 +333,12 @@ def _margins(evaluate, omega: np.ndarray, responses: np.ndarray) -> list[LoopMar
         estimate = response.real[ks] + fraction * (response.real[ks + 1] - response.real[ks])
         on_axis = estimate < 0  # crossings of the negative real axis -> gain margins
         ks, db = ks[on_axis], -20 * np.log10(np.abs(estimate[on_axis]))
-        for sign in (1, -1):
-            candidate = sign * db > 0
+        for side in (1, -1):
+            candidate = side * db > 0
             if candidate.any():
-                best = np.min(sign * db[candidate])
-                refine = candidate & (sign * db <= best + REFINE_DB)
-                brackets += [(i, k, 0, sign) for k in ks[refine]]
+                best = np.min(side * db[candidate])
+                refine = candidate & (side * db <= best + REFINE_DB)
+                brackets += [(i, k, 0, side) for k in ks[refine]]
         brackets += [(i, k, 1, 0) for k in _crossings(np.abs(response) - 1.0)]
     loop, low, kind, sign = np.array(brackets, dtype=int).reshape(-1, 4).T
 
@@ -393,7 +401,9 @@ def _assemble(
     )
 
 
-def margins_from_response(evaluate, omega: np.ndarray, response: np.ndarray) -> LoopMargins:
+def margins_from_response(
+    evaluate: Callable[[np.ndarray], np.ndarray], omega: np.ndarray, response: np.ndarray
+) -> LoopMargins:
     """Margins of a SISO return ratio given on a grid and as a function for refinement.
 
     Parameters

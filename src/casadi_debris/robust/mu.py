@@ -51,23 +51,23 @@ def mu_upper_bound(responses: np.ndarray, blocks: Sequence[int]) -> MuBound:
     -------
     MuBound
     """
-    blocks = np.asarray(blocks, dtype=int)
-    n = int(blocks.sum())
+    sizes = np.asarray(blocks, dtype=int)
+    n = int(sizes.sum())
     if responses.ndim != 3 or responses.shape[1:] != (n, n):
         raise SynthesisError(
             f"mu needs responses of shape (n_omega, {n}, {n}), got {responses.shape}"
         )
-    types = np.full(len(blocks), 2, dtype=int)
-    starts = np.concatenate([[0], np.cumsum(blocks)[:-1]])
+    types = np.full(len(sizes), 2, dtype=int)
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
     mu = np.empty(len(responses))
-    scales = np.ones((len(responses), len(blocks)))
+    scales = np.ones((len(responses), len(sizes)))
     for k, matrix in enumerate(responses):
         if not np.all(np.isfinite(matrix)):
             raise SynthesisError("closed-loop response is not finite (unstable or singular)")
-        if len(blocks) == 1:
+        if len(sizes) == 1:
             mu[k] = np.linalg.norm(matrix, 2)
             continue
-        bound, d, _, _ = slycot.ab13md(np.asarray(matrix, dtype=complex), blocks, types)
+        bound, d, _, _ = slycot.ab13md(np.asarray(matrix, dtype=complex), sizes, types)
         mu[k] = bound
         block_d = d[starts]
         scales[k] = block_d / block_d[-1]

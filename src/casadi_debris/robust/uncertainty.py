@@ -18,7 +18,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import Model, linearization_function, linearize
+from casadi_debris.model import Model, Units, linearization_function, linearize
 from casadi_debris.robust.margins import FrequencyResponse
 
 N_PARAMETERS = 6
@@ -111,7 +111,7 @@ def frequency_response(system: control.StateSpace, omega: np.ndarray) -> np.ndar
 
 
 def relative_errors(
-    model: Model, parameters: np.ndarray, omega: np.ndarray, units: str = "deg_mNm"
+    model: Model, parameters: np.ndarray, omega: np.ndarray, units: Units = "deg_mNm"
 ) -> np.ndarray:
     """Input-multiplicative relative errors E_k(jw) = P_c(jw)^-1 P_k(jw) - I.
 

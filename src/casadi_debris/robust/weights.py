@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import control
 import numpy as np
+import numpy.typing as npt
 from scipy.optimize import minimize
 
 from casadi_debris.config import Problem
@@ -120,17 +121,24 @@ def _fit_channel(omega: np.ndarray, bound: np.ndarray) -> np.ndarray:
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             return np.log(second_order_magnitude(np.exp(theta), omega))
 
+    def log_excess(theta: npt.NDArray[np.float64]) -> np.ndarray:
+        return log_magnitude(theta) - log_bound
+
+    def mean_log_excess(theta: npt.NDArray[np.float64]) -> float:
+        return float(np.mean(log_excess(theta)))
+
     best = None
     for pole in (0.5 * peak_at, peak_at, 2.0 * peak_at):
         for damping in (0.01, 0.1, 0.5):
             gain = max(bound.max() * 2 * damping, high)
             zero = pole * math.sqrt(low / gain)
             start = np.log([gain, zero, 0.7, pole, damping])
-            result = minimize(
-                lambda t: float(np.mean(log_magnitude(t) - log_bound)),
+            # scipy-stubs types a constraint's "fun" as scalar; SLSQP takes a vector of them.
+            result = minimize(  # type: ignore[call-overload]
+                mean_log_excess,
                 start,
                 method="SLSQP",
-                constraints=[{"type": "ineq", "fun": lambda t: log_magnitude(t) - log_bound}],
+                constraints=[{"type": "ineq", "fun": log_excess}],
                 options={"maxiter": 400, "ftol": 1e-10},
             )
             theta = result.x
