@@ -20,6 +20,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
+import numpy.typing as npt
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, ModelError
@@ -105,8 +106,8 @@ class Model:
 
     def initial_state(
         self,
-        quaternion: Sequence[float] = (1.0, 0.0, 0.0, 0.0),
-        rate_rad_s: Sequence[float] = (0.0, 0.0, 0.0),
+        quaternion: npt.ArrayLike = (1.0, 0.0, 0.0, 0.0),
+        rate_rad_s: npt.ArrayLike = (0.0, 0.0, 0.0),
     ) -> np.ndarray:
         """State at rest (arrays undeformed) with the given attitude and body rate.
 
@@ -123,7 +124,7 @@ class Model:
         return x
 
 
-def _vector(values: Sequence[float], size: int, name: str) -> np.ndarray:
+def _vector(values: npt.ArrayLike, size: int, name: str) -> np.ndarray:
     array = np.asarray(values, dtype=float)
     if array.shape != (size,):
         raise InputShapeError(f"{name}: expected {size} numbers, got shape {array.shape}")
