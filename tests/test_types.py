@@ -35,6 +35,8 @@ CLEAN = [
     "errors.py",
     "processes.py",
     "plots",
+    "cli",
+    "workflows",
 ]
 
 

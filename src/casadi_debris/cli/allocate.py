@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import click
 
@@ -19,6 +19,7 @@ if TYPE_CHECKING:
         DemandError,
         PropulsionState,
     )
+    from casadi_debris.allocation.paths import SaturationMode
 
 # The allocator's own values (a test checks they agree); written here so that the
 # command's help does not load the QP back-ends.
@@ -223,7 +224,11 @@ def allocate(
         state.fail_cubesat(index)
     try:
         allocator = Allocator.from_problem(
-            problem, geometry, state=state, solver=solver, saturation=saturation
+            problem,
+            geometry,
+            state=state,
+            solver=solver,
+            saturation=cast("SaturationMode", saturation),  # a click.Choice of those
         )
     except UnknownSolverError as error:
         raise AllocationError(f"--solver: {error}") from None

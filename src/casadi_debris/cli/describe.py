@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -45,7 +46,7 @@ def budget(problem_file: Path | None, as_json: bool) -> None:
     problem = load_problem(problem_file)
     items = compute_budgets(problem)
     if as_json:
-        payload = {"problem": problem.name, "problem_sha256": problem.sha256}
+        payload: dict[str, Any] = {"problem": problem.name, "problem_sha256": problem.sha256}
         payload.update(budgets_as_dict(items))
         payload["how"] = {item.key: item.how for item in items}
         echo_json(payload)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -27,6 +28,9 @@ from casadi_debris.config.limits import (
 )
 from casadi_debris.errors import SynthesisError
 from casadi_debris.report.common import format_table, write_json_atomic
+
+if TYPE_CHECKING:
+    from casadi_debris.robust.musyn import Iteration
 from casadi_debris.report.folders import (
     RunFolder,
     check_output_file,
@@ -102,7 +106,7 @@ def synthesize(
         max_iterations=max_iterations,
     )
 
-    def progress(stage: str, iteration) -> None:
+    def progress(stage: str, iteration: Iteration | None) -> None:
         if iteration is None:
             say(f"  {stage} done")
             return

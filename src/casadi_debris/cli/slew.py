@@ -124,6 +124,7 @@ class SlewRequest:
     def solve(self, problem: Problem) -> SlewProfile:
         """The profile of the chosen method."""
         from casadi_debris.slew import (
+            SlewOptions,
             bang_bang_slew,
             fuel_optimal_slew,
             slew_about_axis,
@@ -148,20 +149,23 @@ class SlewRequest:
             )
         if self.rate_limit_deg_s is not None or self.smoothing_s:
             raise InputShapeError("--rate-limit-deg-s and --smoothing-s apply to bang-bang only")
-        common = {
-            "target": target,
-            "flexible": self.flexible,
-            "thrusters": self.thrusters,
-            "zero_net_force": self.zero_net_force,
-            "torque_fraction": 1.0 if self.torque_fraction is None else self.torque_fraction,
-            "sample_s": self.sample_s,
-            "flexible_method": self.flexible_method,
-        }
+        options = SlewOptions(
+            flexible=self.flexible,
+            thrusters=self.thrusters,
+            zero_net_force=self.zero_net_force,
+            torque_fraction=1.0 if self.torque_fraction is None else self.torque_fraction,
+            sample_s=self.sample_s,
+            flexible_method=self.flexible_method,
+        )
         if self.method == "time-optimal":
-            return time_optimal_slew(problem, duration_s=self.duration_s, **common)
+            return time_optimal_slew(
+                problem, target=target, duration_s=self.duration_s, options=options
+            )
         if self.duration_s is None:
             raise InputShapeError("--duration-s: needed for a fuel-optimal slew")
-        return fuel_optimal_slew(problem, duration_s=self.duration_s, **common)
+        return fuel_optimal_slew(
+            problem, target=target, duration_s=self.duration_s, options=options
+        )
 
 
 def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeError:

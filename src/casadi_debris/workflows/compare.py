@@ -16,10 +16,10 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import SLEW_METHODS, Problem
+from casadi_debris.config import SLEW_METHODS, Problem, SlewMethod
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import build_model
 from casadi_debris.report.compare import write_comparison
@@ -30,7 +30,9 @@ from casadi_debris.workflows.controller import load_controller
 LOGGER = logging.getLogger(__name__)
 
 
-def variants(problems: list[Problem], methods: list[str] | None) -> list[tuple[str, Problem]]:
+def variants(
+    problems: list[Problem], methods: list[SlewMethod] | None
+) -> list[tuple[str, Problem]]:
     """Each problem, and for slew problems each requested slew method."""
     chosen = []
     for problem in problems:
@@ -116,7 +118,8 @@ def compare_variants(
     record, resolved = load_controller(controller_path)
     check_output_folder(out, overwrite=overwrite)
     rows = []
-    for label, problem in variants(list(problems), list(methods) if methods else None):
+    chosen = [cast(SlewMethod, m) for m in methods] if methods else None  # checked above
+    for label, problem in variants(list(problems), chosen):
         LOGGER.info("variant %s", label)
         if progress is not None:
             progress(label)

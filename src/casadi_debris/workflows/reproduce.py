@@ -14,13 +14,13 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
-from casadi_debris.config import Problem, default_problem_path, load_problem
+from casadi_debris.config import Problem, default_problem_path, load_problem, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.describe import describe_model
@@ -34,14 +34,30 @@ from casadi_debris.workflows.controller import load_controller
 
 LOGGER = logging.getLogger(__name__)
 
-FULL = {"margin_samples": 3000, "slew_cases": None, "pointing_cases": None}
-# Quick: a few minutes on two cores (CI); corners spread evenly over the set.
-QUICK = {
-    "margin_samples": 200,
-    "slew_cases": 8,
-    "pointing_cases": 4,
-    "pointing_duration_s": 1500.0,
-}
+
+@dataclass(frozen=True)
+class Plan:
+    """How much of the paper a run reproduces.
+
+    Attributes
+    ----------
+    margin_samples : int
+        Sampled plants of the margin study (the paper: 3000).
+    slew_cases, pointing_cases : int or None
+        Corners of each campaign, spread evenly (None: all 256).
+    pointing_duration_s : float or None
+        Length of the pointing run (None: the problem's, one orbit).
+    """
+
+    margin_samples: int = 3000
+    slew_cases: int | None = None
+    pointing_cases: int | None = None
+    pointing_duration_s: float | None = None
+
+
+FULL = Plan()
+QUICK = Plan(margin_samples=200, slew_cases=8, pointing_cases=4, pointing_duration_s=1500.0)
+"""A few minutes on two cores (CI); corners spread evenly over the set."""
 FIGURES = [
     ("Slew (paper Fig. 4): error and torque, corner envelope shaded", "slew/envelope.png"),
     (
@@ -55,17 +71,14 @@ FIGURES = [
 ]
 
 
-def _paper_problems(plan: dict[str, Any]) -> tuple[Problem, Problem, Problem]:
+def _paper_problems(plan: Plan) -> tuple[Problem, Problem, Problem]:
     """The paper's problem, its slew and its pointing run (shortened by a quick plan)."""
     problems = default_problem_path().parent
     problem = load_problem(problems / "paper.toml")
     slew_problem = load_problem(problems / "paper_slew.toml")
     pointing_problem = load_problem(problems / "paper_pointing.toml")
-    if "pointing_duration_s" in plan:
-        pointing_problem = replace(
-            pointing_problem,
-            simulation=replace(pointing_problem.simulation, duration_s=plan["pointing_duration_s"]),
-        )
+    if plan.pointing_duration_s is not None:
+        pointing_problem = with_duration(pointing_problem, plan.pointing_duration_s)
     return problem, slew_problem, pointing_problem
 
 
@@ -106,7 +119,7 @@ def reproduce_paper(
         time taken.
     """
     started = time.perf_counter()
-    plan = {**FULL, **(QUICK if quick else {})}
+    plan = QUICK if quick else FULL
     problem, slew_problem, pointing_problem = _paper_problems(plan)
     out = Path(out)
 
@@ -126,12 +139,12 @@ def reproduce_paper(
                 staging / "controller.json", design.record.to_dict()
             )
         record, controller_path = load_controller(controller_path)
-        stage(f"margins over {plan['margin_samples']} sampled plants")
+        stage(f"margins over {plan.margin_samples} sampled plants")
         margins = margin_report(
             problem,
             record,
             controller_path,
-            plan["margin_samples"],
+            plan.margin_samples,
             None,
             staging / "margins",
             True,
@@ -140,8 +153,8 @@ def reproduce_paper(
         )
         campaigns = {}
         for name, campaign_problem, cases in (
-            ("slew", slew_problem, plan["slew_cases"]),
-            ("pointing", pointing_problem, plan["pointing_cases"]),
+            ("slew", slew_problem, plan.slew_cases),
+            ("pointing", pointing_problem, plan.pointing_cases),
         ):
             counter = stage(f"{name} Monte Carlo")
             campaigns[name] = run_campaign_folder(
@@ -152,7 +165,10 @@ def reproduce_paper(
                 workers=workers,
                 progress=counter,
             )
-        campaigns["slew"]["slew_duration_s"] = slew_problem.simulation.slew.duration_s
+        paper_slew = slew_problem.simulation.slew
+        if paper_slew is None:
+            raise RuntimeError("the shipped paper_slew.toml has no [simulation.slew] table")
+        campaigns["slew"]["slew_duration_s"] = paper_slew.duration_s
         limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
         rows = reproduction_rows(
             model_summary,
