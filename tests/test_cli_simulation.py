@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import csv
 import json
+import re
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 from click.testing import CliRunner
 from scipy.integrate import solve_ivp
 
@@ -209,6 +211,90 @@ def test_montecarlo_writes_cases_envelope_and_nominal(campaign: Path) -> None:
     assert not campaign.with_name(campaign.name + ".partial").exists()
 
 
+def _stored_value(ds: xr.Dataset, case_id: str, column: str) -> object:
+    one = ds.sel(case=case_id)
+    if column.startswith("normalized_"):
+        return one.normalized.sel(parameter=column.removeprefix("normalized_")).item()
+    return one[column].item()
+
+
+def test_campaign_nc_holds_what_the_case_files_hold(campaign: Path) -> None:
+    """Rebuilt apart: numpy and json on cases/<id>.npz and .json, csv on the tables."""
+    rows = _cases_table(campaign)
+    record = json.loads((campaign / "campaign.json").read_text())
+    envelope = np.loadtxt(campaign / "envelope.csv", delimiter=",", skiprows=1)
+    with xr.open_dataset(campaign / "campaign.nc") as ds:
+        assert list(ds.case.values) == [r["case_id"] for r in rows]
+        assert ds.attrs["problem"] == "short_slew" and ds.attrs["case_kind"] == "corner"
+        assert ds.attrs["controller_sha256"] == record["controller_sha256"]
+        assert ds.attrs["problem_sha256"] == record["problem_sha256"]
+        assert np.array_equal(ds.time.values, envelope[:, 0])
+        for row in rows:
+            case_id = row.pop("case_id")
+            summary = json.loads((campaign / "cases" / f"{case_id}.json").read_text())
+            with np.load(campaign / "cases" / f"{case_id}.npz") as stored:
+                for name in ("error_rad", "torque_Nm"):
+                    for bound in ("min", "max"):
+                        written = ds[name].sel(case=case_id, bound=bound).values
+                        assert np.array_equal(written, stored[f"{name}_{bound}"]), name
+            for column, text in row.items():
+                value = _stored_value(ds, case_id, column)
+                if text == "":
+                    assert value == -1 if column == "seed" else np.isnan(value), column
+                else:
+                    assert str(value) == text, column
+            stored_fuel = ds.fuel_per_cubesat_kg.sel(case=case_id).values.tolist()
+            assert stored_fuel == summary["fuel_per_cubesat_kg"]
+            assert ds.max_torque_mNm.sel(case=case_id).values.tolist() == summary["max_torque_mNm"]
+        # envelope.csv is the dataset's extremes over the cases, in degrees.
+        lowest = ds.error_rad.sel(bound="min", axis="x").min("case").values * (180.0 / np.pi)
+        assert np.array_equal(lowest, envelope[:, 1])
+
+
+# What the user guide shows for a campaign in a notebook (see docs/guide/results.md).
+DOCS_SNIPPET = """
+from casadi_debris.report.campaign_dataset import open_campaign
+ds = open_campaign("runs/slew-mc")
+worst = ds.max_error_deg.idxmax().item()
+ds.error_rad.sel(case=worst, bound="max").plot.line(x="time")
+"""
+
+
+def _snippets_opening_a_campaign() -> list[str]:
+    """The snippet above, the module's Examples, and any python block of the docs that
+    opens a campaign (all run in a folder where ``runs/slew-mc`` is a campaign)."""
+    import doctest
+
+    from casadi_debris.report import campaign_dataset
+
+    found = [DOCS_SNIPPET]
+    parser = doctest.DocTestParser()
+    for text in (campaign_dataset.__doc__, campaign_dataset.open_campaign.__doc__):
+        found.append("".join(example.source for example in parser.get_examples(text or "")))
+    root = Path(__file__).parents[1]
+    for page in [root / "README.md", *sorted((root / "docs").rglob("*.md"))]:
+        if page.is_file():
+            blocks = re.findall(r"```python\n(.*?)```", page.read_text(), flags=re.S)
+            found += [block for block in blocks if "open_campaign(" in block]
+    return found
+
+
+def test_the_documented_snippets_open_a_campaign(
+    campaign: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import casadi_debris.plots  # noqa: F401  (the headless backend)
+
+    (tmp_path / "runs").mkdir()
+    (tmp_path / "runs" / "slew-mc").symlink_to(campaign)
+    monkeypatch.chdir(tmp_path)
+    for snippet in _snippets_opening_a_campaign():
+        namespace: dict[str, object] = {}
+        exec(compile(snippet, "snippet", "exec"), namespace)
+        dataset = namespace["ds"]
+        assert isinstance(dataset, xr.Dataset) and dataset.sizes["case"] == 3
+        dataset.close()
+
+
 def test_montecarlo_resumes_from_the_cases_on_disk_bit_exact(
     short_slew: Path, campaign: Path, tmp_path: Path
 ) -> None:
@@ -234,6 +320,11 @@ def test_montecarlo_resumes_from_the_cases_on_disk_bit_exact(
     assert json.loads(stdout)["resumed_cases"] == 2
     for table in ("cases.csv", "envelope.csv"):
         assert (out / table).read_bytes() == (campaign / table).read_bytes(), table
+    with (
+        xr.open_dataset(out / "campaign.nc") as resumed,
+        xr.open_dataset(campaign / "campaign.nc") as whole,
+    ):
+        xr.testing.assert_identical(resumed, whole)
     assert sorted(p.name for p in (out / "cases").iterdir()) == sorted(
         p.name for p in (campaign / "cases").iterdir()
     )
@@ -328,6 +419,11 @@ def test_montecarlo_on_dask_gives_the_same_numbers(short_slew: Path, tmp_path: P
         str(local),
     )
     assert _cases_table(out) == _cases_table(local)
+    with (
+        xr.open_dataset(out / "campaign.nc") as on_dask,
+        xr.open_dataset(local / "campaign.nc") as here,
+    ):
+        xr.testing.assert_identical(on_dask, here)
 
 
 def test_montecarlo_bad_input(short_slew: Path, tmp_path: Path) -> None:

@@ -13,8 +13,10 @@ While it runs, a campaign lives in ``<out>.partial/``:
   marker of a whole case).
 - ``.jit/``: the compiled control step of every worker, removed at the end.
 
-When every case is in, the tables are written and the folder is moved to
-``<out>`` (see :func:`~casadi_debris.report.folders.move_into_place`).
+When every case is in, the tables and ``campaign.nc`` (every case as labelled
+arrays, see :mod:`casadi_debris.report.campaign_dataset`) are written and the
+folder is moved to ``<out>`` (see
+:func:`~casadi_debris.report.folders.move_into_place`).
 """
 
 from __future__ import annotations

@@ -4,9 +4,10 @@ A single run: ``summary.json``, ``series.csv`` (time series, units in the
 column names), ``closed_loop.png`` and ``thrust.png``.
 
 A campaign: ``summary.json`` (worst case of every figure, counts, seed),
-``cases.csv`` (one row per case), ``envelope.csv``, ``nominal/`` (the
-nominal run), ``envelope.png``, and ``cases/<id>.json`` + ``cases/<id>.npz``
-per case (written as they finish, see
+``cases.csv`` (one row per case), ``envelope.csv``, ``campaign.nc`` (every
+case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
+``nominal/`` (the nominal run), ``envelope.png``, and ``cases/<id>.json`` +
+``cases/<id>.npz`` per case (written as they finish, see
 :mod:`casadi_debris.report.campaign_folder`).
 """
 
@@ -22,6 +23,13 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.report.campaign_dataset import (
+    CASE_FIGURES,
+    DATASET_NAME,
+    campaign_dataset,
+    write_campaign_dataset,
+)
+from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import json_ready, write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
@@ -103,20 +111,7 @@ def write_run(
 # ----------------------------------------------------------------------------- campaigns
 
 
-CASE_COLUMNS = (
-    "case_id",
-    "kind",
-    "index",
-    "seed",
-    "max_error_deg",
-    "max_error_arcsec",
-    "settle_time_s",
-    "fuel_kg",
-    "fuel_worst_cubesat_kg",
-    "dv_used_m_s",
-    "torque_saturated_s",
-    "min_scale",
-)
+CASE_COLUMNS = ("case_id", "kind", "index", "seed", *CASE_FIGURES)
 # How envelope.csv shows each binned quantity: name, display unit, factor from SI.
 ENVELOPE_COLUMNS = {
     "error_rad": ("error", "deg", DEG_PER_RAD),
@@ -184,8 +179,15 @@ def write_campaign(
     nominal_summary: dict[str, Any],
     limits_mNm: np.ndarray,
     summary: dict[str, Any],
+    record: CampaignRecord,
 ) -> Envelope:
-    """Write the campaign's tables, envelope and figures into ``folder``; returns the envelope."""
+    """Write the campaign's tables, dataset, envelope and figures into ``folder``.
+
+    Returns
+    -------
+    Envelope
+        Over every case of ``outcomes``.
+    """
     envelope = Envelope(setup.bin_start_s)
     for outcome in outcomes:
         envelope.add(outcome.bands)
@@ -197,6 +199,10 @@ def write_campaign(
             row = [json_ready(outcome.summary.get(c)) for c in CASE_COLUMNS]
             writer.writerow([*row, *outcome.case.normalized.tolist()])
     write_csv(folder / "envelope.csv", envelope_columns(envelope))
+    write_campaign_dataset(
+        folder / DATASET_NAME,
+        campaign_dataset(record, setup.bin_start_s, outcomes, list(nominal.parameters)),
+    )
     nominal_folder = folder / "nominal"
     nominal_folder.mkdir(exist_ok=True)
     write_run(nominal_folder, nominal, nominal_summary, problem, limits_mNm)

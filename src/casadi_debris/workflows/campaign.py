@@ -10,6 +10,8 @@ Example
 ...     problem, None, CaseSelection(max_cases=8), "runs/slew-mc", workers=2
 ... )
 >>> summary["worst"]["max_error_deg"]  # doctest: +SKIP
+>>> from casadi_debris.report.campaign_dataset import open_campaign
+>>> ds = open_campaign("runs/slew-mc")  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -245,7 +247,15 @@ def run_campaign_folder(
         )
         limits = torque_limits_mNm(allocator)
         write_campaign(
-            folder.partial, problem, setup, outcomes, nominal, nominal_summary, limits, summary
+            folder.partial,
+            problem,
+            setup,
+            outcomes,
+            nominal,
+            nominal_summary,
+            limits,
+            summary,
+            identity,
         )
         folder.finish()
     return summary
