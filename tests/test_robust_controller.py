@@ -47,3 +47,24 @@ def test_missing_and_bad_keys_named():
     data["D"][0][0] = float("nan")
     with pytest.raises(ProblemFileError, match="finite"):
         ControllerRecord.from_dict(data)
+
+
+@pytest.mark.parametrize(
+    ("change", "key"),
+    [
+        (lambda d: d.__setitem__("B", d["B"][:-1]), "B"),
+        (lambda d: d.__setitem__("A", [1.0, 2.0, 3.0]), "A"),
+        (lambda d: d["C"][0].__setitem__(0, 1e308), "C"),
+        (lambda d: d.__setitem__("format_version", 99), "format_version"),
+        (lambda d: d.__setitem__("mu_peak", "high"), "mu_peak"),
+    ],
+)
+def test_a_damaged_controller_file_is_refused_naming_the_key(change, key) -> None:
+    import copy
+
+    from casadi_debris.config import default_controller_path
+
+    data = copy.deepcopy(json.loads(default_controller_path().read_text()))
+    change(data)
+    with pytest.raises(ProblemFileError, match=f"^ctl.json: {key}: "):
+        ControllerRecord.from_dict(data, "ctl.json")

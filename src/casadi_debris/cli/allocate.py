@@ -8,8 +8,16 @@ from typing import TYPE_CHECKING, Any, cast
 
 import click
 
-from casadi_debris.cli.common import echo_json, friendly_errors, json_option, main, problem_argument
+from casadi_debris.cli.common import (
+    comma_list,
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    problem_argument,
+)
 from casadi_debris.config import load_problem
+from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import AllocationError
 
 if TYPE_CHECKING:
@@ -35,10 +43,10 @@ DEMAND_OPTIONS = {"torque_Nm": ("--torque-mNm", "mNm"), "force_N": ("--force-mN"
 
 def _failed_indices(text: str | None, count: int) -> list[int]:
     """0-based indices of the CubeSat ids (1 .. count, as ``casadi-debris model`` numbers them)."""
-    if not text:
+    if text is None:
         return []
     try:
-        ids = sorted({int(part) for part in text.split(",") if part.strip()})
+        ids = sorted({int(part) for part in comma_list(text, "--failed", "3,17")})
     except ValueError:
         raise AllocationError(
             f"--failed takes comma-separated CubeSat ids such as 3,17; got {text!r}"
@@ -69,15 +77,25 @@ def _demand_message(
     )
 
 
+def _no_engine(error: Exception, failed: str | None, stage_state: Path | None) -> AllocationError:
+    """No engine left: name the options that took them out."""
+    given = " and ".join(
+        name for name, value in (("--failed", failed), ("--stage-state", stage_state)) if value
+    )
+    return AllocationError(f"{given or 'the problem'}: {error}")
+
+
 def _read_state(path: Path | None, template: PropulsionState) -> PropulsionState:
     if path is None:
         return template
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise AllocationError(f"{path}: no such stage-state file") from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise AllocationError(f"{path}: not a readable JSON stage state ({exc})") from None
+        data = json.loads(read_regular_file(path))
+    except UnreadableFileError as exc:
+        raise AllocationError(f"--stage-state {path}: {exc}") from None
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
+        raise AllocationError(
+            f"--stage-state {path}: not a readable JSON stage state ({str(exc)[:200]})"
+        ) from None
     try:
         return template.updated_from_dict(data)
     except AllocationError as exc:
@@ -211,7 +229,7 @@ def allocate(
 ) -> None:
     """Thrust of every CubeSat engine for a torque (and force) demand: least fuel, exact when
     reachable, direction kept when not."""
-    from casadi_debris.allocation import Allocator, DemandError, PropulsionState
+    from casadi_debris.allocation import Allocator, DemandError, NoEngineError, PropulsionState
     from casadi_debris.allocation.backends import UnknownSolverError
     from casadi_debris.geometry import build_geometry
 
@@ -232,6 +250,8 @@ def allocate(
         )
     except UnknownSolverError as error:
         raise AllocationError(f"--solver: {error}") from None
+    except NoEngineError as error:
+        raise _no_engine(error, failed, stage_state) from None
     force_N = None if force_mN is None else [f / MN_PER_N for f in force_mN]
     try:
         result = allocator.allocate(
@@ -239,6 +259,8 @@ def allocate(
         )
     except DemandError as error:
         raise AllocationError(_demand_message(error, torque_mNm, force_mN)) from None
+    except NoEngineError as error:
+        raise _no_engine(error, failed, stage_state) from None
     authority = allocator.torque_authority(free_force=free_force)
     payload = _payload(problem.name, result, allocator, state, authority)
     if as_json:

@@ -16,7 +16,7 @@ import click
 
 from casadi_debris import __version__
 from casadi_debris.config.limits import Range
-from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.report.common import json_ready
 
 EXIT_BAD_INPUT = 2
@@ -76,6 +76,14 @@ overwrite_option = click.option(
     help="Replace an existing result written by casadi-debris (atomically); "
     "without it an existing non-empty output is refused.",
 )
+
+
+def comma_list(text: str, option: str, example: str) -> list[str]:
+    """The parts of ``a,b,c``: none empty, at least one; else one line naming ``option``."""
+    parts = [part.strip() for part in text.split(",")]
+    if not text.strip() or any(not part for part in parts):
+        raise InputShapeError(f"{option}: comma-separated values such as {example}; got {text!r}")
+    return parts
 
 
 def echo_json(payload: dict[str, Any]) -> None:

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from casadi_debris.cli.common import (
+    comma_list,
     controller_option,
     echo_json,
     friendly_errors,
@@ -55,7 +56,7 @@ def compare(
     from casadi_debris.report.compare import COLUMNS
     from casadi_debris.workflows.compare import compare_variants
 
-    chosen = [m.strip() for m in methods.split(",") if m.strip()] if methods else None
+    chosen = None if methods is None else comma_list(methods, "--methods", "bang-bang,time-optimal")
     problems = [load_problem(path) for path in problem_files]
 
     def progress(label: str) -> None:

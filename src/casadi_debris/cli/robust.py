@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from casadi_debris.cli.common import (
+    comma_list,
     controller_option,
     echo_json,
     friendly_errors,
@@ -134,7 +135,7 @@ def synthesize(
 def _d_orders(text: str) -> tuple[int, ...]:
     """``--d-orders 1,2,4`` as integers, each in D_ORDER, at most MAX_D_ORDERS_TRIED."""
     try:
-        orders = tuple(int(part) for part in text.split(",") if part.strip())
+        orders = tuple(int(part) for part in comma_list(text, "--d-orders", "1,2,4"))
     except ValueError:
         orders = ()
     if not 1 <= len(orders) <= MAX_D_ORDERS_TRIED or any(D_ORDER.violation(o) for o in orders):

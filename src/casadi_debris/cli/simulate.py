@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import io
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -24,6 +25,7 @@ from casadi_debris.cli.common import (
     workers_option,
 )
 from casadi_debris.config import Problem, limits, load_problem, with_duration
+from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table, write_csv, write_json_atomic
 from casadi_debris.report.folders import RunFolder, check_output_folder, default_run_folder
@@ -59,24 +61,41 @@ def summary_text(summary: dict[str, Any]) -> str:
 
 
 def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
-    """``t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm`` rows -> times [s], torques [N m]."""
-    expected = ["t_s", "tau_x_mNm", "tau_y_mNm", "tau_z_mNm"]
-    try:
-        with path.open(newline="") as handle:
-            rows = list(csv.reader(handle))
-    except OSError as exc:
-        raise InputShapeError(f"{path}: cannot be read ({exc.strerror})") from None
-    if not rows or [c.strip() for c in rows[0]] != expected:
-        raise InputShapeError(f"{path}: the header must be {','.join(expected)}")
+    """``t_s,tau_x_mNm,tau_y_mNm,tau_z_mNm`` rows -> times [s], torques [N m].
+
+    Times finite, from 0 to the longest run, strictly increasing; torques finite
+    and within the range a problem's torques may take.
+    """
     import numpy as np
 
+    expected = ["t_s", "tau_x_mNm", "tau_y_mNm", "tau_z_mNm"]
+    where = f"--open-loop {path}"
+    try:
+        text = read_regular_file(path, limits.MAX_TABLE_BYTES).decode("utf-8")
+    except UnreadableFileError as exc:
+        raise InputShapeError(f"{where}: {exc}") from None
+    except UnicodeDecodeError:
+        raise InputShapeError(f"{where}: not UTF-8 text") from None
+    rows = list(csv.reader(io.StringIO(text, newline="")))
+    if not rows or [c.strip() for c in rows[0]] != expected:
+        raise InputShapeError(f"{where}: the header must be {','.join(expected)}")
     try:
         values = np.array([[float(c) for c in row] for row in rows[1:] if row], dtype=float)
     except ValueError as exc:
-        raise InputShapeError(f"{path}: {exc}") from None
+        raise InputShapeError(f"{where}: {exc}") from None
     if values.ndim != 2 or values.shape[1] != 4 or len(values) == 0:
-        raise InputShapeError(f"{path}: need at least one row of 4 numbers")
-    return values[:, 0], values[:, 1:] * NM_PER_MNM
+        raise InputShapeError(f"{where}: need at least one row of 4 numbers")
+    times, torque = values[:, 0], values[:, 1:]
+    if not np.all(np.isfinite(values)):
+        raise InputShapeError(f"{where}: every entry must be finite (no NaN or inf)")
+    if limits.Range(0.0, limits.DURATION_S.high).violation(times):
+        raise InputShapeError(f"{where}: t_s must lie in [0, {limits.DURATION_S.high:g}] s")
+    if np.any(np.diff(times) <= 0):
+        raise InputShapeError(f"{where}: t_s must increase strictly")
+    problem = limits.DISTURBANCE_MNM.violation(np.abs(torque))
+    if problem:
+        raise InputShapeError(f"{where}: torques (their magnitude) {problem} mNm")
+    return times, torque * NM_PER_MNM
 
 
 @main.command()

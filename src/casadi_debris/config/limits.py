@@ -221,5 +221,10 @@ MAX_DESCRIPTION_CHARS = 1000
 """A description is prose of at most 1000 characters, without control characters."""
 MAX_FILE_BYTES = 1_000_000
 """A problem file (and each file it extends) is at most 1 MB; the paper's is 5 kB."""
+MAX_CONTROLLER_BYTES = 16_000_000
+"""A controller file is at most 16 MB (the paper's 25-state design with its full-order
+controller and weights is 0.2 MB)."""
+MAX_TABLE_BYTES = 64_000_000
+"""A torque table (``simulate --open-loop``) is at most 64 MB (about a million rows)."""
 MAX_EXTENDS_DEPTH = 8
 """At most 8 files in an ``extends`` chain below the one loaded."""

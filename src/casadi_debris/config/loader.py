@@ -21,7 +21,7 @@ from casadi_debris.config.limits import MAX_EXTENDS_DEPTH, MAX_FILE_BYTES
 from casadi_debris.config.reader import problem_from_dict
 from casadi_debris.config.schema import Problem
 from casadi_debris.config.table import show
-from casadi_debris.errors import ProblemFileError
+from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 
 def _merge(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, Any]:
@@ -34,12 +34,15 @@ def _merge(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, An
     return merged
 
 
-class _UnreadableFileError(Exception):
-    """Why a problem file cannot be read (turned into a ProblemFileError by the caller)."""
+class UnreadableFileError(CasadiDebrisError):
+    """Why a file given by the user cannot be read (the caller adds which file it was)."""
 
 
-def _read_regular_file(path: Path) -> bytes:
-    """The bytes of a regular file of at most ``MAX_FILE_BYTES``.
+def read_regular_file(path: Path, max_bytes: int = MAX_FILE_BYTES) -> bytes:
+    """The bytes of a regular file of at most ``max_bytes``.
+
+    Every file a user names (problem files, controllers, tables, stage states)
+    is read through this.
 
     Checked before opening (a FIFO would block the open, a device such as
     /dev/zero never ends), opened without blocking, and checked again on the
@@ -47,45 +50,45 @@ def _read_regular_file(path: Path) -> bytes:
 
     Raises
     ------
-    _UnreadableFileError
+    UnreadableFileError
         Missing, not a regular file, too large, or unreadable.
     """
     try:
         if not stat.S_ISREG(os.stat(path).st_mode):
-            raise _UnreadableFileError("is not a regular file")
+            raise UnreadableFileError("is not a regular file")
         flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
         descriptor = os.open(path, flags | getattr(os, "O_CLOEXEC", 0))
         try:
             if not stat.S_ISREG(os.fstat(descriptor).st_mode):
-                raise _UnreadableFileError("is not a regular file")
+                raise UnreadableFileError("is not a regular file")
             # One byte more than allowed tells a file over the limit (st_size can lie: /proc).
-            raw = os.read(descriptor, MAX_FILE_BYTES + 1)
-            while len(raw) <= MAX_FILE_BYTES:
-                more = os.read(descriptor, MAX_FILE_BYTES + 1 - len(raw))
+            raw = os.read(descriptor, max_bytes + 1)
+            while len(raw) <= max_bytes:
+                more = os.read(descriptor, max_bytes + 1 - len(raw))
                 if not more:
                     break
                 raw += more
         finally:
             os.close(descriptor)
     except FileNotFoundError:
-        raise _UnreadableFileError("does not exist") from None
+        raise UnreadableFileError("does not exist") from None
     except OSError as exc:
-        raise _UnreadableFileError(f"cannot be read ({exc.strerror or exc})") from None
+        raise UnreadableFileError(f"cannot be read ({exc.strerror or exc})") from None
     except ValueError:  # a NUL byte in the path
-        raise _UnreadableFileError("is not a valid path") from None
-    if len(raw) > MAX_FILE_BYTES:
-        raise _UnreadableFileError(f"is larger than {MAX_FILE_BYTES} bytes")
+        raise UnreadableFileError("is not a valid path") from None
+    if len(raw) > max_bytes:
+        raise UnreadableFileError(f"is larger than {max_bytes} bytes")
     return raw
 
 
 def _parse(raw: bytes) -> dict[str, Any]:
-    """TOML of ``raw``; raises _UnreadableFileError for anything that is not valid TOML."""
+    """TOML of ``raw``; raises UnreadableFileError for anything that is not valid TOML."""
     try:
         return tomllib.loads(raw.decode("utf-8"))
     except RecursionError:
-        raise _UnreadableFileError("is not valid TOML (nested too deeply)") from None
+        raise UnreadableFileError("is not valid TOML (nested too deeply)") from None
     except ValueError as exc:  # TOMLDecodeError, UnicodeDecodeError, integers of 4300+ digits
-        raise _UnreadableFileError(f"is not valid TOML ({str(exc)[:200]})") from None
+        raise UnreadableFileError(f"is not valid TOML ({str(exc)[:200]})") from None
 
 
 def _parent_path(path: Path, parent: Any, chain: tuple[Path, ...]) -> Path:
@@ -114,9 +117,9 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
     ``extends`` in the file that points there.
     """
     try:
-        raw = _read_regular_file(path)
+        raw = read_regular_file(path)
         data = _parse(raw)
-    except _UnreadableFileError as exc:
+    except UnreadableFileError as exc:
         if not chain:
             message = "no such problem file" if str(exc) == "does not exist" else str(exc)
             raise ProblemFileError("", message, str(path)) from None

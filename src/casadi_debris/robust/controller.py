@@ -17,6 +17,8 @@ import numpy as np
 from casadi_debris.errors import ProblemFileError
 
 FORMAT_VERSION = 1
+# No designed controller comes near this; a larger entry is a corrupted file.
+MAX_ENTRY = 1e12
 REQUIRED_KEYS = ("A", "B", "C", "D", "mu_peak", "mu_peak_reduced", "order_full", "order_reduced")
 
 
@@ -72,6 +74,17 @@ class ControllerRecord:
         for key in REQUIRED_KEYS:
             if key not in data:
                 raise ProblemFileError(key, "missing from the controller file", source)
+        version = data.get("format_version", FORMAT_VERSION)
+        if isinstance(version, bool) or version != FORMAT_VERSION:
+            raise ProblemFileError(
+                "format_version",
+                f"this toolkit reads controller files of format {FORMAT_VERSION}, got {version!r}",
+                source,
+            )
+        for key in ("mu_peak", "mu_peak_reduced"):
+            value = data[key]
+            if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0:
+                raise ProblemFileError(key, f"must be a non-negative number, got {value!r}", source)
         reduced = _system(data, "", source)
         full = _system(data["full"], "full.", source) if "full" in data else None
         known = {"format_version", "input", "output", "full", "problem_sha256", "seed"}
@@ -95,20 +108,29 @@ def _matrices(system: control.StateSpace) -> dict[str, list]:
 
 
 def _system(data: dict[str, Any], prefix: str, source: str | None) -> control.StateSpace:
+    """A 3-input, 3-output state-space system from its rows, every shape and value checked."""
+    key = f"{prefix}A/B/C/D"
     try:
         a, b, c, d = (np.array(data[k], dtype=float) for k in "ABCD")
     except (KeyError, TypeError, ValueError) as exc:
-        raise ProblemFileError(
-            f"{prefix}A/B/C/D", f"not numeric matrices ({exc})", source
-        ) from None
-    n = a.shape[0] if a.size else 0
-    a = a.reshape(n, n)
-    b = b.reshape(n, -1) if n else np.zeros((0, d.shape[1]))
-    c = c.reshape(-1, n) if n else np.zeros((d.shape[0], 0))
-    if d.shape != (3, 3) or b.shape != (n, 3) or c.shape != (3, n):
-        raise ProblemFileError(
-            f"{prefix}A/B/C/D", "must describe a 3-input, 3-output system", source
-        )
-    if not all(np.all(np.isfinite(m)) for m in (a, b, c, d)):
-        raise ProblemFileError(f"{prefix}A/B/C/D", "must be finite", source)
+        raise ProblemFileError(key, f"not numeric matrices ({exc})", source) from None
+    n = a.shape[0] if a.ndim == 2 else -1
+    if a.size == 0:
+        n = 0
+        a = a.reshape(0, 0)
+        b = b.reshape(0, 3) if b.size == 0 else b
+        c = c.reshape(3, 0) if c.size == 0 else c
+    shapes = {"A": (n, n), "B": (n, 3), "C": (3, n), "D": (3, 3)}
+    for name, matrix in zip("ABCD", (a, b, c, d), strict=True):
+        if n < 0 or matrix.shape != shapes[name]:
+            raise ProblemFileError(
+                f"{prefix}{name}",
+                f"must be {shapes['A'][0] if n >= 0 else 'n'} states of a 3-input, "
+                f"3-output system: A n x n, B n x 3, C 3 x n, D 3 x 3; got {matrix.shape}",
+                source,
+            )
+        if not np.all(np.isfinite(matrix)) or np.any(np.abs(matrix) > MAX_ENTRY):
+            raise ProblemFileError(
+                f"{prefix}{name}", f"entries must be finite and at most {MAX_ENTRY:g}", source
+            )
     return control.ss(a, b, c, d)

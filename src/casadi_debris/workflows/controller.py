@@ -5,7 +5,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from casadi_debris.config import default_controller_path
+from casadi_debris.config import default_controller_path, limits
+from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.robust.controller import ControllerRecord
 
@@ -31,12 +32,12 @@ def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, P
     """
     resolved = Path(path or default_controller_path()).resolve()
     try:
-        data = json.loads(resolved.read_text())
-    except FileNotFoundError:
-        raise ProblemFileError("", "no such controller file", str(resolved)) from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        data = json.loads(read_regular_file(resolved, limits.MAX_CONTROLLER_BYTES))
+    except UnreadableFileError as exc:
+        raise ProblemFileError("", f"controller file {exc}", str(resolved)) from None
+    except (UnicodeDecodeError, json.JSONDecodeError, RecursionError) as exc:
         raise ProblemFileError(
-            "", f"not a readable JSON controller file ({exc})", str(resolved)
+            "", f"not a readable JSON controller file ({str(exc)[:200]})", str(resolved)
         ) from None
     if not isinstance(data, dict):
         raise ProblemFileError("", "a controller file holds a JSON object", str(resolved))
