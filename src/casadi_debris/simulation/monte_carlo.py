@@ -50,6 +50,10 @@ from casadi_debris.simulation.run import ClosedLoopResult, simulate
 MAX_BINS = 2000
 
 
+class SchedulerError(SimulationError):
+    """The Dask scheduler asked for cannot be used (not installed, not reachable)."""
+
+
 @dataclass(frozen=True, eq=False)
 class CampaignSetup:
     """What every case of a campaign shares (sent once to each worker).
@@ -425,13 +429,13 @@ def _dask_outcomes(
     try:
         from distributed import Client, as_completed
     except ImportError as exc:
-        raise SimulationError(
-            "--scheduler needs the Dask 'distributed' package: pip install 'casadi_debris[dask]'"
+        raise SchedulerError(
+            "the Dask 'distributed' package is needed: pip install 'casadi_debris[dask]'"
         ) from exc
     try:
         client = Client(scheduler, timeout="10s")
     except OSError as exc:
-        raise SimulationError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from exc
+        raise SchedulerError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from exc
     try:
         shared = client.scatter(setup, broadcast=True)
         futures = [client.submit(run_case, shared, case, pure=False) for case in cases]

@@ -48,6 +48,7 @@ from casadi_debris.simulation import (
     simulate,
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
+from casadi_debris.simulation.monte_carlo import SchedulerError
 from casadi_debris.workflows.controller import load_controller
 
 LOGGER = logging.getLogger(__name__)
@@ -302,5 +303,7 @@ def _run_missing(
     except KeyboardInterrupt:
         kept = len(resumed) + len(finished)
         raise CampaignInterrupted(kept, len(cases), folder.partial) from None
+    except SchedulerError as exc:
+        raise InputShapeError(f"--scheduler: {exc}") from None
     every = {**resumed, **finished}
     return [every[c.case_id] for c in cases]
