@@ -299,7 +299,8 @@ def montecarlo(
     Runs in parallel; where a C compiler is found each worker compiles the
     control step to C once (a few seconds) and runs every case on it. An
     interrupted campaign resumes from the cases in <out>.partial. Writes
-    summary.json, cases.csv, envelope.csv/png and the nominal run.
+    summary.json, cases.csv, envelope.csv/png, campaign.nc (every case, for xarray)
+    and the nominal run.
     """
     from casadi_debris.workflows.campaign import (
         CampaignInterrupted,
