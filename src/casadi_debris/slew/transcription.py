@@ -112,7 +112,8 @@ def radau_coefficients() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     A polynomial Pi through (0, x_0) and the collocation points (tau_j, x_cj)
     has, with Z = [x_0, x_c1 .. x_cd] (one row per state), the slopes
     dPi/dtau (tau_j) = Z C and the end value Pi(1) = Z D; over an interval of
-    length h, dPi/dt = Z C / h (Lagrange basis, CasADi's direct_collocation example).
+    length h, dPi/dt = Z C / h (``casadi.collocation_coeff``). The last Radau point
+    is the interval's end, so D = [0, .., 0, 1] exactly.
 
     Returns
     -------
@@ -121,18 +122,9 @@ def radau_coefficients() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     C : ndarray, shape (d + 1, d)
     D : ndarray, shape (d + 1,)
     """
-    tau = np.concatenate([[0.0], ca.collocation_points(COLLOCATION_DEGREE, "radau")])
-    derivative = np.zeros((COLLOCATION_DEGREE + 1, COLLOCATION_DEGREE + 1))
-    end = np.zeros(COLLOCATION_DEGREE + 1)
-    for r in range(COLLOCATION_DEGREE + 1):
-        basis = np.poly1d([1.0])
-        for s in range(COLLOCATION_DEGREE + 1):
-            if s != r:
-                basis *= np.poly1d([1.0, -tau[s]]) / (tau[r] - tau[s])
-        end[r] = basis(1.0)
-        slope = np.polyder(basis)
-        derivative[r] = [slope(point) for point in tau]
-    return tau, derivative[:, 1:], end
+    tau = ca.collocation_points(COLLOCATION_DEGREE, "radau")
+    C, D, _ = ca.collocation_coeff(tau)
+    return np.concatenate([[0.0], tau]), np.array(C), np.array(D).ravel()
 
 
 @dataclass(frozen=True)
