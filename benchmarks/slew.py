@@ -6,7 +6,7 @@ For each method: duration, fuel, residual vibration on the full flexible
 model, and the medians of the solve time (the profile's ``solve_time_s``: the
 OCP from transcription to solution, or evaluating the bang-bang) and of the
 whole call's wall time (with the check on the flexible model), against the
-rigid eigenaxis limit 2 sqrt(theta J / tau). Targets from issue 5: every
+rigid eigenaxis limit 2 sqrt(theta J / tau). Targets: every
 time-optimal slew <= 5 s to solve; flexible within 1.10 x the limit.
 """
 

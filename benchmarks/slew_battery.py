@@ -7,7 +7,7 @@ of the thruster-level slews differ by up to 0.15 %, iteration counts by 2-5x),
 so a setting is judged on several slews: 180 deg about z (the paper's), 90 deg
 about x, 2 rad about [1, 1, 1], 45 deg about y. For each method: duration and
 solve time (the profile's ``solve_time_s``) per slew, and the range of the
-solve times against issue 5's 5 s target. Fuel-optimal slews are given 1.3 x
+solve times against the 5 s target. Fuel-optimal slews are given 1.3 x
 the rigid eigenaxis limit of their slew.
 """
 
