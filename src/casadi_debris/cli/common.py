@@ -179,7 +179,7 @@ def configure_output(verbose: int, quiet: bool) -> None:
     logger.setLevel(level)
     for handler in [h for h in logger.handlers if h.get_name() == _HANDLER_NAME]:
         logger.removeHandler(handler)
-    handler = logging.StreamHandler(click.get_text_stream("stderr"))
+    handler = logging.StreamHandler(sys.stderr)
     handler.set_name(_HANDLER_NAME)
     detail = "%(levelname)s %(name)s: %(message)s" if verbose >= 2 else "%(message)s"
     handler.setFormatter(logging.Formatter(detail))

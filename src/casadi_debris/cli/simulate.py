@@ -105,7 +105,7 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
 )
 @click.option(
     "--sample",
-    type=click.IntRange(0, limits.MONTECARLO_SAMPLES.high - 1),
+    type=click.IntRange(0, int(limits.MONTECARLO_SAMPLES.high) - 1),
     help="Run random sample N (with --seed).",
 )
 @click.option(
