@@ -214,52 +214,78 @@ def run_campaign_folder(
     cases = selection.cases(problem, model)
     reference = scenario_reference(problem)
     setup = CampaignSetup.create(problem, record.reduced, reference, jit=jit)
-    identity = CampaignRecord(
-        problem_name=problem.name,
-        problem_sha256=problem.sha256,
-        controller_sha256=hashlib.sha256(resolved.read_bytes()).hexdigest(),
+    identity = _identity(setup, cases, resolved)
+    with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
+        done = folder.finished_cases(cases)
+        outcomes = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
+        how = {
+            "controller_path": str(resolved),
+            "workers": workers,
+            "scheduler": scheduler,
+            "resumed_cases": len(done),
+            "compiled_step": bool(jit and c_compiler()),
+            "out_dir": str(out.absolute()),
+        }
+        summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
+        folder.finish()
+    return summary
+
+
+def _summarise_and_write(
+    folder: CampaignFolder,
+    setup: CampaignSetup,
+    model: Model,
+    identity: CampaignRecord,
+    outcomes: list[CaseOutcome],
+    how: dict[str, Any],
+) -> dict[str, Any]:
+    """Run the nominal case, then write the campaign's tables, figures and summary."""
+    problem = setup.problem
+    controller_path = Path(how["controller_path"])
+    allocator = Allocator.from_problem(problem, model.geometry)
+    nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
+    nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
+    described = {
+        **how,
+        "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
+    }
+    summary = campaign_summary(problem, setup, outcomes, _described(identity, described))
+    write_campaign(
+        folder.partial,
+        problem,
+        setup,
+        outcomes,
+        nominal,
+        nominal_summary,
+        torque_limits_mNm(allocator),
+        summary,
+        identity,
+    )
+    return summary
+
+
+def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) -> CampaignRecord:
+    """What the campaign is, as its folder records it for a resume."""
+    return CampaignRecord(
+        problem_name=setup.problem.name,
+        problem_sha256=setup.problem.sha256,
+        controller_sha256=hashlib.sha256(controller_path.read_bytes()).hexdigest(),
         case_kind=cases[0].kind,
         seed=cases[0].seed,
         case_ids=tuple(c.case_id for c in cases),
         envelope_bin_s=setup.bin_s,
     )
-    with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
-        done = folder.finished_cases(cases)
-        outcomes = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
-        allocator = Allocator.from_problem(problem, model.geometry)
-        nominal = simulate(problem, model, record.reduced, reference, allocator=allocator)
-        nominal_summary = run_summary(problem, nominal_case(model), nominal, resolved)
-        summary = campaign_summary(
-            problem,
-            setup,
-            outcomes,
-            {
-                "controller_path": str(resolved),
-                "controller_sha256": identity.controller_sha256,
-                "case_kind": identity.case_kind,
-                "seed": identity.seed,
-                "workers": workers,
-                "scheduler": scheduler,
-                "resumed_cases": len(done),
-                "compiled_step": bool(jit and c_compiler()),
-                "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
-                "out_dir": str(out.absolute()),
-            },
-        )
-        limits = torque_limits_mNm(allocator)
-        write_campaign(
-            folder.partial,
-            problem,
-            setup,
-            outcomes,
-            nominal,
-            nominal_summary,
-            limits,
-            summary,
-            identity,
-        )
-        folder.finish()
-    return summary
+
+
+def _described(identity: CampaignRecord, how: dict[str, Any]) -> dict[str, Any]:
+    """The summary's fields beside the worst cases: what was run and how."""
+    return {
+        "controller_path": how["controller_path"],
+        "controller_sha256": identity.controller_sha256,
+        "case_kind": identity.case_kind,
+        "seed": identity.seed,
+        **{key: value for key, value in how.items() if key != "controller_path"},
+    }
 
 
 def _run_missing(

@@ -25,9 +25,10 @@ from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.describe import describe_model
 from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.reproduce import report_markdown, reproduction_rows
+from casadi_debris.report.reproduce import ReproductionRow, report_markdown, reproduction_rows
 from casadi_debris.report.robust import margin_report
 from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
 from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
 from casadi_debris.workflows.controller import load_controller
@@ -82,6 +83,49 @@ def _paper_problems(plan: Plan) -> tuple[Problem, Problem, Problem]:
     return problem, slew_problem, pointing_problem
 
 
+def _controller(problem: Problem, design_into: Path | None) -> tuple[ControllerRecord, Path]:
+    """The shipped controller, or one designed anew and written into ``design_into``."""
+    if design_into is None:
+        return load_controller(None)
+    design = design_controller(problem, SynthesisSettings())
+    return load_controller(
+        write_json_atomic(design_into / "controller.json", design.record.to_dict())
+    )
+
+
+def _campaign(
+    problem: Problem,
+    controller_path: Path,
+    cases: int | None,
+    folder: Path,
+    workers: int,
+    progress: Progress | None,
+) -> dict[str, Any]:
+    """One of the paper's corner campaigns (``cases`` spread evenly, None: all)."""
+    selection = CaseSelection(corners=True, max_cases=cases)
+    return run_campaign_folder(
+        problem, controller_path, selection, folder, workers=workers, progress=progress
+    )
+
+
+def _slew_duration_s(slew_problem: Problem) -> float | None:
+    """The reference duration of the paper's slew problem [s]."""
+    slew = slew_problem.simulation.slew
+    if slew is None:
+        raise RuntimeError("the shipped paper_slew.toml has no [simulation.slew] table")
+    return slew.duration_s
+
+
+def _controller_figures(record: ControllerRecord) -> dict[str, Any]:
+    """Peak mu and orders of the controller, as the reproduction rows read them."""
+    return {
+        "mu_peak": record.mu_peak,
+        "mu_peak_reduced": record.mu_peak_reduced,
+        "order_full": None if record.full is None else record.full.nstates,
+        "order_reduced": record.reduced.nstates,
+    }
+
+
 def reproduce_paper(
     out: str | Path,
     *,
@@ -113,10 +157,8 @@ def reproduce_paper(
     Returns
     -------
     dict
-        The summary written to ``summary.json``: the table's rows (each
-        :meth:`~casadi_debris.report.reproduce.ReproductionRow.to_dict`, with
-        ``reproduced`` true, false or null), ``reproduced`` of ``rows``, the
-        time taken.
+        What ``summary.json`` holds: the rows (``ReproductionRow.to_dict``), with
+        ``reproduced`` of ``rows``.
     """
     started = time.perf_counter()
     plan = QUICK if quick else FULL
@@ -131,14 +173,9 @@ def reproduce_paper(
         stage("model and budgets")
         model_summary = describe_model(problem)
         budgets = budgets_as_dict(compute_budgets(problem))
-        controller_path = None
         if resynthesize:
             stage("synthesising the controller (D-K iteration)")
-            design = design_controller(problem, SynthesisSettings())
-            controller_path = write_json_atomic(
-                staging / "controller.json", design.record.to_dict()
-            )
-        record, controller_path = load_controller(controller_path)
+        record, controller_path = _controller(problem, staging if resynthesize else None)
         stage(f"margins over {plan.margin_samples} sampled plants")
         margins = margin_report(
             problem,
@@ -147,56 +184,57 @@ def reproduce_paper(
             plan.margin_samples,
             None,
             staging / "margins",
-            True,
-            None,
             out_dir=out / "margins",
         )
-        campaigns = {}
-        for name, campaign_problem, cases in (
-            ("slew", slew_problem, plan.slew_cases),
-            ("pointing", pointing_problem, plan.pointing_cases),
-        ):
-            counter = stage(f"{name} Monte Carlo")
-            campaigns[name] = run_campaign_folder(
+        campaigns = {
+            name: _campaign(
                 campaign_problem,
                 controller_path,
-                CaseSelection(corners=True, max_cases=cases),
+                cases,
                 staging / name,
-                workers=workers,
-                progress=counter,
+                workers,
+                stage(f"{name} Monte Carlo"),
             )
-        paper_slew = slew_problem.simulation.slew
-        if paper_slew is None:
-            raise RuntimeError("the shipped paper_slew.toml has no [simulation.slew] table")
-        campaigns["slew"]["slew_duration_s"] = paper_slew.duration_s
+            for name, campaign_problem, cases in (
+                ("slew", slew_problem, plan.slew_cases),
+                ("pointing", pointing_problem, plan.pointing_cases),
+            )
+        }
+        campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
         limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
         rows = reproduction_rows(
             model_summary,
             budgets,
-            {
-                "mu_peak": record.mu_peak,
-                "mu_peak_reduced": record.mu_peak_reduced,
-                "order_full": None if record.full is None else record.full.nstates,
-                "order_reduced": record.reduced.nstates,
-            },
+            _controller_figures(record),
             margins,
             campaigns["slew"],
             campaigns["pointing"],
             limits,
         )
-        summary: dict[str, Any] = {
-            "problem": problem.name,
-            "problem_sha256": problem.sha256,
-            "controller_path": str(controller_path),
-            "quick": quick,
-            "workers": workers,
-            "time_s": time.perf_counter() - started,
-            "reproduced": sum(row.reproduced is True for row in rows),
-            "rows": len(rows),
-            "table": [row.to_dict() for row in rows],
-            "out_dir": str(out.absolute()),
-        }
-        figures = [(t, p) for t, p in FIGURES if (staging / p).exists()]
-        (staging / "report.md").write_text(report_markdown(rows, summary, figures))
-        write_json_atomic(staging / "summary.json", summary)
+        how = {"controller_path": str(controller_path), "quick": quick, "workers": workers}
+        summary = _summary(problem, rows, how, time.perf_counter() - started, out)
+        _write_report(staging, rows, summary)
     return summary
+
+
+def _summary(
+    problem: Problem, rows: list[ReproductionRow], how: dict[str, Any], time_s: float, out: Path
+) -> dict[str, Any]:
+    """What ``summary.json`` holds: the rows, how many reproduced, how the run was made."""
+    return {
+        "problem": problem.name,
+        "problem_sha256": problem.sha256,
+        **how,
+        "time_s": time_s,
+        "reproduced": sum(row.reproduced is True for row in rows),
+        "rows": len(rows),
+        "table": [row.to_dict() for row in rows],
+        "out_dir": str(out.absolute()),
+    }
+
+
+def _write_report(folder: Path, rows: list[ReproductionRow], summary: dict[str, Any]) -> None:
+    """``report.md`` with the figures the run made, and ``summary.json``."""
+    figures = [(title, path) for title, path in FIGURES if (folder / path).exists()]
+    (folder / "report.md").write_text(report_markdown(rows, summary, figures))
+    write_json_atomic(folder / "summary.json", summary)
