@@ -175,13 +175,7 @@ def _force(mode: str, unit: tuple[float, float, float], size: float) -> np.ndarr
     return {"zero": np.zeros(3), "free": None, "given": demand(unit, size)}[mode]
 
 
-@settings(
-    max_examples=150,
-    deadline=None,
-    suppress_health_check=[HealthCheck.function_scoped_fixture],
-)
-@given(**demands)
-def test_any_demand_is_refused_or_answered_within_the_promise(
+def _any_demand(
     allocator: Allocator,
     geometry: Geometry,
     stage_limit_N: float,
@@ -197,27 +191,18 @@ def test_any_demand_is_refused_or_answered_within_the_promise(
     run_property(allocator, geometry, stage_limit_N, torque, force, failed)
 
 
-@pytest.mark.slow
-@settings(
-    max_examples=3000,
-    deadline=None,
-    suppress_health_check=[HealthCheck.function_scoped_fixture],
-)
-@given(**demands)
-def test_any_demand_long_run(
-    allocator: Allocator,
-    geometry: Geometry,
-    stage_limit_N: float,
-    torque_dir: tuple[float, float, float],
-    torque_size: float,
-    force_dir: tuple[float, float, float],
-    force_size: float,
-    force_mode: str,
-    failed: set[int],
-) -> None:
-    torque = demand(torque_dir, torque_size)
-    force = _force(force_mode, force_dir, force_size)
-    run_property(allocator, geometry, stage_limit_N, torque, force, failed)
+def _property_test(examples: int) -> Any:
+    """The property over ``examples`` drawn demands (one body for the fast and long runs)."""
+    checks = settings(
+        max_examples=examples,
+        deadline=None,
+        suppress_health_check=[HealthCheck.function_scoped_fixture],
+    )
+    return checks(given(**demands)(_any_demand))
+
+
+test_any_demand_is_refused_or_answered_within_the_promise = _property_test(150)
+test_any_demand_long_run = pytest.mark.slow(_property_test(3000))
 
 
 # ----------------------------------------------------------------------------- examples
