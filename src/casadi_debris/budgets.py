@@ -13,10 +13,7 @@ import numpy as np
 from casadi_debris.allocation import stage_propellant_kg
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
-
-SECONDS_PER_HOUR = 3600.0
-MN_PER_N = 1e3
-M_PER_KM = 1e3
+from casadi_debris.units import M_PER_KM, MN_PER_N, SECONDS_PER_HOUR
 
 
 def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_kg: float) -> float:

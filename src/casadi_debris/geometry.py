@@ -38,8 +38,7 @@ import numpy as np
 from scipy.optimize import linprog
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
-
-MN_PER_N = 1e3
+from casadi_debris.units import MN_PER_N
 
 
 def signed_axis_vector(name: str) -> np.ndarray:

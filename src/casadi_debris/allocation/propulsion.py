@@ -26,9 +26,8 @@ import numpy.typing as npt
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.geometry import Geometry, build_geometry
+from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
-MN_PER_N = 1e3
-SECONDS_PER_HOUR = 3600.0
 # Propellant below this fraction of a stage's load counts as spent: it avoids
 # a stage that lingers on a rounding residue for one more step.
 DEPLETED_FRACTION = 1e-12

@@ -19,6 +19,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import AllocationError
+from casadi_debris.units import MN_PER_N
 
 if TYPE_CHECKING:
     from casadi_debris.allocation import (
@@ -34,9 +35,7 @@ if TYPE_CHECKING:
 DEFAULT_SOLVER = "daqp"
 SATURATION_MODES = ("scale", "least_squares")
 
-MN_PER_N = 1e3
 US_PER_S = 1e6
-SECONDS_PER_HOUR = 3600.0
 # The API's demand arguments and the options (and display units) they come from.
 DEMAND_OPTIONS = {"torque_Nm": ("--torque-mNm", "mNm"), "force_N": ("--force-mN", "mN")}
 

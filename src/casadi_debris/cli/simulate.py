@@ -29,11 +29,11 @@ from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table, write_csv, write_json_atomic
 from casadi_debris.report.folders import RunFolder, check_output_folder, default_run_folder
+from casadi_debris.units import NM_PER_MNM
 
 if TYPE_CHECKING:
     import numpy as np
 
-NM_PER_MNM = 1e-3
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
 
 

@@ -29,12 +29,10 @@ from casadi_debris.report.common import (
     write_csv,
 )
 from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
 if TYPE_CHECKING:
     from casadi_debris.slew import SlewProfile
-
-MNM_PER_NM = 1e3
-MN_PER_N = 1e3
 
 
 def summary_for_output(profile: SlewProfile, problem_name: str) -> dict[str, Any]:

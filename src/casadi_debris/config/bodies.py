@@ -22,9 +22,7 @@ from casadi_debris.config.schema import (
     Mode,
 )
 from casadi_debris.config.table import Table
-
-SECONDS_PER_HOUR = 3600.0
-N_PER_MN = 1e-3
+from casadi_debris.units import N_PER_MN, SECONDS_PER_HOUR
 
 
 def read_hub(t: Table) -> Hub:

@@ -32,9 +32,7 @@ from casadi_debris.model.flexible_body import (
     StateLayout,
     attitude_error_vector,
 )
-
-SECONDS_PER_MINUTE = 60.0
-NM_PER_MNM = 1e-3
+from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 
 
 @dataclass(frozen=True, eq=False)

@@ -3,7 +3,6 @@ the Monte-Carlo envelope shaded and the torque limits dotted)."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -13,8 +12,9 @@ from matplotlib.axes import Axes
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
+from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD
 
-ERROR_SCALE = {"deg": 180.0 / math.pi, "arcsec": 180.0 / math.pi * 3600.0}
+ERROR_SCALE = {"deg": DEG_PER_RAD, "arcsec": ARCSEC_PER_RAD}
 ANGLE_LABELS = ("Φ", "Θ", "Ψ")
 
 

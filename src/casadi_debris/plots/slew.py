@@ -9,9 +9,7 @@ import numpy as np
 
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.slew import SlewProfile
-
-MNM_PER_NM = 1e3
-MN_PER_N = 1e3
+from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
 
 def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:

@@ -17,8 +17,6 @@ import numpy as np
 
 from casadi_debris.report.folders import temporary_path
 
-MN_PER_N = 1e3
-
 # ----------------------------------------------------------------------------- text
 
 

@@ -12,8 +12,9 @@ from casadi_debris.config import Problem
 from casadi_debris.geometry import torque_authority
 from casadi_debris.model import assembled_modes, build_model
 from casadi_debris.model.cantilever import shape_integrals
-from casadi_debris.report.common import MN_PER_N, format_cell, format_table
+from casadi_debris.report.common import format_cell, format_table
 from casadi_debris.report.paper import paper_figures
+from casadi_debris.units import MN_PER_N
 
 
 def _rounded(matrix: np.ndarray, digits: int = 6) -> list:

@@ -14,7 +14,6 @@ case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
 from __future__ import annotations
 
 import csv
-import math
 from pathlib import Path
 from typing import Any
 
@@ -33,10 +32,8 @@ from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import json_ready, write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
+from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
-DEG_PER_RAD = 180.0 / math.pi
-MNM_PER_NM = 1e3
-MN_PER_N = 1e3
 POINTING_REQUIREMENT_ARCSEC = 60.0
 
 

@@ -28,7 +28,6 @@ from __future__ import annotations
 import atexit
 import gc
 import hashlib
-import math
 import os
 import shutil
 import tempfile
@@ -43,9 +42,8 @@ from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.model import Model
 from casadi_debris.processes import process_alive
+from casadi_debris.units import DEG_PER_RAD, NM_PER_MNM
 
-DEG_PER_RAD = 180.0 / math.pi
-NM_PER_MNM = 1e-3
 # Relative pull-in of a saturated torque so that it lies strictly inside the
 # reachable set (the allocator promises alpha to 1e-9).
 SATURATION_BACKOFF = 1e-10

@@ -30,8 +30,8 @@ from casadi_debris.simulation.closed_loop import (
     discretize_controller,
 )
 from casadi_debris.simulation.reference import Reference
+from casadi_debris.units import ARCSEC_PER_RAD
 
-ARCSEC_PER_RAD = 180.0 / math.pi * 3600.0
 # Settling: the error's largest component stays below this from then on.
 SETTLE_BAND_ARCSEC = 60.0
 # The allocator's torque must equal the applied torque to this (relative to
