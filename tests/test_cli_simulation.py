@@ -97,7 +97,7 @@ def test_simulate_corner_and_sample_rerun_the_same_case(short_slew: Path) -> Non
         1 + problem.uncertainty.inertia_fraction
     )
     assert corner["parameters"]["mass_kg"] == pytest.approx(
-        model.nominal_parameters[3] * (1 + problem.uncertainty.mass_fraction)
+        model.nominal.mass_kg * (1 + problem.uncertainty.mass_fraction)
     )
 
 

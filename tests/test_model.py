@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from casadi_debris.errors import InputShapeError, ModelError
-from casadi_debris.model import INPUT_NAMES, PARAMETER_NAMES, build_model
+from casadi_debris.model import INPUT_NAMES, build_model
 
 
 def _integrate(model, x0, p, times, u=None):
@@ -46,7 +46,7 @@ def test_function_names_and_shapes(model):
     assert model.dynamics.name_in() == ["x", "u", "p"]
     assert model.dynamics.name_out() == ["xdot"]
     assert model.dynamics.size1_in(1) == len(INPUT_NAMES) == 9
-    assert model.dynamics.size1_in(2) == len(PARAMETER_NAMES) == 6
+    assert model.dynamics.size1_in(2) == len(model.parameter_names) == 6
     assert model.layout.size == 14 + 2 * 6
     assert len(model.layout.names()) == model.layout.size
 

@@ -504,8 +504,7 @@ def corner(model: Model, problem: Problem, signs: tuple[int, ...], angle_deg: fl
         inertia_scale_z=1.0 + signs[2] * u.inertia_fraction,
         mass_kg=nominal["mass_kg"] * (1.0 + signs[3] * u.mass_fraction),
         array_angle_rad=math.radians(angle_deg),
-        omega_bending1_rad_s=nominal["omega_bending1_rad_s"]
-        * (1.0 + signs[4] * u.bending_frequency_fraction),
+        bending_frequency_scale=1.0 + signs[4] * u.bending_frequency_fraction,
     )
 
 

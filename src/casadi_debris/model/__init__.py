@@ -4,7 +4,7 @@ See :mod:`casadi_debris.model.flexible_body` for the equations.
 """
 
 from casadi_debris.model.compiled import Model, build_model, select_modes
-from casadi_debris.model.flexible_body import INPUT_NAMES, PARAMETER_NAMES, StateLayout
+from casadi_debris.model.flexible_body import INPUT_NAMES, StateLayout
 from casadi_debris.model.linearize import (
     Units,
     assembled_modes,
@@ -13,11 +13,14 @@ from casadi_debris.model.linearize import (
     linearize,
     state_names,
 )
+from casadi_debris.model.parameters import INERTIA_SCALE_NAMES, ParameterLayout, Parameters
 
 __all__ = [
+    "INERTIA_SCALE_NAMES",
     "INPUT_NAMES",
-    "PARAMETER_NAMES",
     "Model",
+    "ParameterLayout",
+    "Parameters",
     "StateLayout",
     "Units",
     "assembled_modes",

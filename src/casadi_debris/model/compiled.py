@@ -27,11 +27,11 @@ from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.model.flexible_body import (
     INPUT_NAMES,
-    PARAMETER_NAMES,
     FlexibleBodyEquations,
     StateLayout,
     attitude_error_vector,
 )
+from casadi_debris.model.parameters import ParameterLayout, Parameters
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 
 
@@ -47,7 +47,7 @@ class Model:
         Slices of the state vector x.
     dynamics : casadi.Function
         ``dynamics(x, u, p) -> xdot``; u = [torque (3) N m, disturbance torque
-        (3) N m, force (3) N] in B; p ordered as ``PARAMETER_NAMES``.
+        (3) N m, force (3) N] in B; p laid out as ``parameter_layout``.
     measured_attitude : casadi.Function
         ``measured_attitude(x) -> y``: star-tracker attitude as the doubled
         vector part of q_ST (rad, ~[Phi, Theta, Psi]).
@@ -64,7 +64,8 @@ class Model:
         ``rigid_inertia(p) -> J`` (kg m^2) about the CoG.
     disturbance : casadi.Function
         ``disturbance(t) -> tau_d`` (N m): the problem's sine disturbance.
-    nominal_parameters : ndarray, shape (6,)
+    nominal : Parameters
+        The parameters at the problem's nominal values, by name.
     """
 
     problem: Problem
@@ -78,11 +79,22 @@ class Model:
     mass_matrix: ca.Function
     rigid_inertia: ca.Function
     disturbance: ca.Function
-    nominal_parameters: np.ndarray
+    nominal: Parameters
+
+    @property
+    def parameter_layout(self) -> ParameterLayout:
+        """Which entry of ``p`` is which."""
+        return self.nominal.layout
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
-        return PARAMETER_NAMES
+        """Names of the entries of ``p``, in order."""
+        return self.nominal.layout.names
+
+    @property
+    def nominal_parameters(self) -> np.ndarray:
+        """The nominal parameter vector ``p``, shape (parameter_layout.size,)."""
+        return self.nominal.to_vector()
 
     @property
     def input_names(self) -> tuple[str, ...]:
@@ -93,14 +105,7 @@ class Model:
 
         Example: ``model.parameters(array_angle_rad=0.5, inertia_scale_x=1.17)``.
         """
-        p = self.nominal_parameters.copy()
-        for name, value in values.items():
-            if name not in PARAMETER_NAMES:
-                raise ModelError(f"unknown parameter {name!r}; known: {', '.join(PARAMETER_NAMES)}")
-            if not math.isfinite(value):
-                raise ModelError(f"parameter {name} must be finite, got {value}")
-            p[PARAMETER_NAMES.index(name)] = value
-        return p
+        return self.nominal.replace(**values).to_vector()
 
     def initial_state(
         self,
@@ -164,7 +169,7 @@ def build_model(problem: Problem, modes: str | Sequence[str] = "all") -> Model:
     layout = equations.layout
     x = ca.SX.sym("x", layout.size)
     u = ca.SX.sym("u", len(INPUT_NAMES))
-    p = ca.SX.sym("p", len(PARAMETER_NAMES))
+    p = ca.SX.sym("p", equations.parameters.size)
     q_ref = ca.SX.sym("q_ref", 4)
     q = ca.SX.sym("q", 4)
     t = ca.SX.sym("t")
@@ -198,5 +203,5 @@ def build_model(problem: Problem, modes: str | Sequence[str] = "all") -> Model:
         mass_matrix=ca.Function("mass_matrix", [p], [equations.mass_matrix(p)], ["p"], ["M"]),
         rigid_inertia=ca.Function("rigid_inertia", [p], [equations.rigid_inertia(p)], ["p"], ["J"]),
         disturbance=ca.Function("disturbance", [t], [tau_d], ["t"], ["tau_d"]),
-        nominal_parameters=equations.nominal_parameters(),
+        nominal=equations.nominal_parameters(),
     )

@@ -50,20 +50,12 @@ import math
 from dataclasses import dataclass
 
 import casadi as ca
-import numpy as np
 
 from casadi_debris.config import Mode, Problem
 from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
 from casadi_debris.model.cantilever import shape_integrals
+from casadi_debris.model.parameters import ParameterLayout, Parameters
 
-PARAMETER_NAMES = (
-    "inertia_scale_x",
-    "inertia_scale_y",
-    "inertia_scale_z",
-    "mass_kg",
-    "array_angle_rad",
-    "omega_bending1_rad_s",
-)
 INPUT_NAMES = (
     "torque_x_Nm",
     "torque_y_Nm",
@@ -181,34 +173,36 @@ class FlexibleBodyEquations:
             n_eta=n_arrays * len(modes),
             mode_labels=tuple((a + 1, m.name) for a in range(n_arrays) for m in modes),
         )
+        self.parameters = ParameterLayout.for_problem(problem)
 
-    def nominal_parameters(self) -> np.ndarray:
-        """Parameter vector at the problem's nominal values, ordered as PARAMETER_NAMES."""
-        first_bending = next(
-            m for m in self.problem.arrays.modes if (m.kind, m.order) == ("bending", 1)
-        )
-        return np.array(
-            [
-                1.0,
-                1.0,
-                1.0,
-                self.geometry.mass_kg,
-                math.radians(self.problem.arrays.angle_deg),
-                first_bending.omega_rad_s,
-            ]
+    def nominal_parameters(self) -> Parameters:
+        """The parameters at the problem's nominal values."""
+        layout = self.parameters
+        return Parameters(
+            layout=layout,
+            inertia_scale=(1.0, 1.0, 1.0),
+            mass_kg=self.geometry.mass_kg,
+            array_angle_rad=(
+                math.radians(self.problem.arrays.angle_deg) if layout.has_array_angle else None
+            ),
+            bending_frequency_scale=1.0 if layout.has_bending_scale else None,
         )
 
     def rigid_inertia(self, p: ca.SX) -> ca.SX:
         """Full rigid inertia about the CoG: scaled hub + CubeSats plus arrays, (3, 3)."""
-        scale = ca.sqrt(p[0:3])
+        scale = ca.sqrt(self.parameters.inertia_scale(p))
         hub_cubesats = ca.DM(self.geometry.inertia_hub_cubesats_kgm2) * (scale @ scale.T)
         arrays = sum(
-            array_rigid_inertia(self.problem, hinge, direction, p[4])
+            array_rigid_inertia(self.problem, hinge, direction, self._angle(p))
             for hinge, direction in zip(
                 self.geometry.hinges_m, self.geometry.array_directions, strict=True
             )
         )
         return hub_cubesats + arrays
+
+    def _angle(self, p: ca.SX) -> ca.SX:
+        """The arrays' angle (0 for a debris without arrays, where nothing uses it)."""
+        return self.parameters.array_angle_rad(p) if self.parameters.has_array_angle else ca.SX(0)
 
     def participation(self, angle: ca.SX) -> tuple[ca.SX, ca.SX]:
         """Translational and rotational (about the CoG) modal participation, (n_eta, 3) each."""
@@ -240,16 +234,18 @@ class FlexibleBodyEquations:
     def modal_frequencies(self, p: ca.SX) -> ca.SX:
         """Cantilever frequency of each modal coordinate [rad/s], (n_eta, 1)."""
         per_array = [
-            p[5] if (m.kind, m.order) == ("bending", 1) else ca.SX(m.omega_rad_s)
+            m.omega_rad_s * self.parameters.bending_frequency_scale(p)
+            if (m.kind, m.order) == ("bending", 1)
+            else ca.SX(m.omega_rad_s)
             for m in self.modes
         ]
         return ca.vertcat(*(per_array * self.problem.arrays.count)) if per_array else ca.SX(0, 1)
 
     def mass_matrix(self, p: ca.SX) -> ca.SX:
         """Generalised mass matrix for nu = [v, omega, eta_dot], (6 + n_eta) square."""
-        pt, hr = self.participation(p[4])
+        pt, hr = self.participation(self._angle(p))
         n = self.layout.n_eta
-        top = ca.horzcat(p[3] * ca.SX.eye(3), ca.SX.zeros(3, 3), pt.T)
+        top = ca.horzcat(self.parameters.mass_kg(p) * ca.SX.eye(3), ca.SX.zeros(3, 3), pt.T)
         middle = ca.horzcat(ca.SX.zeros(3, 3), self.rigid_inertia(p), hr.T)
         bottom = ca.horzcat(pt, hr, ca.SX.eye(n))
         return ca.vertcat(top, middle, bottom)
@@ -261,9 +257,9 @@ class FlexibleBodyEquations:
         eta, eta_dot, q_st = x[lay.eta], x[lay.eta_dot], x[lay.q_st]
         torque, disturbance, force = u[0:3], u[3:6], u[6:9]
 
-        pt, hr = self.participation(p[4])
+        pt, hr = self.participation(self._angle(p))
         inertia = self.rigid_inertia(p)
-        mass = p[3]
+        mass = self.parameters.mass_kg(p)
         frequencies = self.modal_frequencies(p)
         zeta = self.problem.arrays.damping_ratio
 
@@ -307,9 +303,9 @@ class FlexibleBodyEquations:
         is zero (a free body started with p = 0 keeps p = 0).
         """
         lay = self.layout
-        pt, hr = self.participation(p[4])
+        pt, hr = self.participation(self._angle(p))
         eta_dot = x[lay.eta_dot]
         rotation = rotation_matrix(x[lay.q])
-        linear = p[3] * x[lay.v] + pt.T @ eta_dot
+        linear = self.parameters.mass_kg(p) * x[lay.v] + pt.T @ eta_dot
         angular = self.rigid_inertia(p) @ x[lay.omega] + hr.T @ eta_dot
         return rotation @ linear, rotation @ angular

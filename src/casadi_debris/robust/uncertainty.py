@@ -18,10 +18,15 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import Model, Units, linearization_function, linearize
+from casadi_debris.model import (
+    INERTIA_SCALE_NAMES,
+    Model,
+    ParameterLayout,
+    Units,
+    linearization_function,
+    linearize,
+)
 from casadi_debris.robust.margins import FrequencyResponse
-
-N_PARAMETERS = 6
 
 
 @dataclass(frozen=True, eq=False)
@@ -30,11 +35,10 @@ class UncertaintySamples:
 
     Attributes
     ----------
-    normalized : ndarray, shape (n, 6)
-        Each parameter's position in its range, -1 .. 1 (ordered as the
-        model's parameters: inertia scale x, y, z, mass, array angle, first
-        bending frequency).
-    parameters : ndarray, shape (n, 6)
+    normalized : ndarray, shape (n, n_parameters)
+        Each parameter's position in its range, -1 .. 1, ordered as the model's
+        parameters (``model.parameter_names``).
+    parameters : ndarray, shape (n, n_parameters)
         The model parameter vectors.
     n_corners : int
         The first ``n_corners`` rows are the box's corners.
@@ -47,6 +51,20 @@ class UncertaintySamples:
     seed: int
 
 
+def half_ranges(problem: Problem, layout: ParameterLayout) -> dict[str, tuple[str, float]]:
+    """How far each parameter of ``layout`` ranges: name -> (kind, half-range).
+
+    ``"relative"``: nominal (1 + h z); ``"absolute"``: nominal + h z, for z in
+    -1 .. 1 (h in the parameter's unit, radians for the angle).
+    """
+    u = problem.uncertainty
+    ranges = {name: ("relative", u.inertia_fraction) for name in INERTIA_SCALE_NAMES}
+    ranges["mass_kg"] = ("relative", u.mass_fraction)
+    ranges["array_angle_rad"] = ("absolute", np.radians(u.array_angle_deg))
+    ranges["bending_frequency_scale"] = ("relative", u.bending_frequency_fraction)
+    return {name: ranges[name] for name in layout.names}
+
+
 def parameters_from_normalized(
     problem: Problem, model: Model, normalized: np.ndarray
 ) -> np.ndarray:
@@ -54,27 +72,34 @@ def parameters_from_normalized(
 
     Parameters
     ----------
-    normalized : ndarray, shape (n, 6) or (6,)
+    normalized : ndarray, shape (n, n_parameters) or (n_parameters,)
+        Ordered as ``model.parameter_names``.
 
     Returns
     -------
     ndarray, same shape: inertia scales 1 ± f_I, mass m (1 ± f_m), angle
-    theta_0 ± range, first bending frequency omega_1 (1 ± f_w).
+    theta_0 ± range, first bending frequency factor 1 ± f_w.
     """
-    u = problem.uncertainty
+    layout = model.parameter_layout
     z = np.atleast_2d(np.asarray(normalized, dtype=float))
+    if z.shape[-1] != layout.size:
+        raise SynthesisError(
+            f"normalized parameters: expected {layout.size} per row "
+            f"({', '.join(layout.names)}), got shape {np.shape(normalized)}"
+        )
     nominal = model.nominal_parameters
     p = np.tile(nominal, (len(z), 1))
-    p[:, 0:3] = 1.0 + u.inertia_fraction * z[:, 0:3]
-    p[:, 3] = nominal[3] * (1.0 + u.mass_fraction * z[:, 3])
-    p[:, 4] = nominal[4] + np.radians(u.array_angle_deg) * z[:, 4]
-    p[:, 5] = nominal[5] * (1.0 + u.bending_frequency_fraction * z[:, 5])
+    for index, (kind, half) in enumerate(half_ranges(problem, layout).values()):
+        if kind == "relative":
+            p[:, index] = nominal[index] * (1.0 + half * z[:, index])
+        else:
+            p[:, index] = nominal[index] + half * z[:, index]
     return p.reshape(np.shape(normalized))
 
 
-def box_corners() -> np.ndarray:
-    """All 2^6 corners of the normalised uncertainty box, shape (64, 6)."""
-    return np.array(list(itertools.product((-1.0, 1.0), repeat=N_PARAMETERS)))
+def box_corners(n_parameters: int) -> np.ndarray:
+    """All 2^n corners of the normalised uncertainty box, shape (2^n, n)."""
+    return np.array(list(itertools.product((-1.0, 1.0), repeat=n_parameters)))
 
 
 def sample_uncertainty(
@@ -87,15 +112,16 @@ def sample_uncertainty(
     problem, model
     count : int, optional
         Total number of models (default ``problem.uncertainty.samples``);
-        at least the 64 corners are always included.
+        at least the box's corners are always included.
     seed : int, optional
         Default ``problem.uncertainty.seed``.
     """
     count = problem.uncertainty.samples if count is None else count
     seed = problem.uncertainty.seed if seed is None else seed
-    corners = box_corners()
+    n_parameters = model.parameter_layout.size
+    corners = box_corners(n_parameters)
     rng = np.random.default_rng(seed)
-    extra = rng.uniform(-1.0, 1.0, size=(max(count - len(corners), 0), N_PARAMETERS))
+    extra = rng.uniform(-1.0, 1.0, size=(max(count - len(corners), 0), n_parameters))
     normalized = np.vstack([corners, extra])
     return UncertaintySamples(
         normalized=normalized,

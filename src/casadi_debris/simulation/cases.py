@@ -8,7 +8,8 @@ how many samples the campaign had).
 Corners: the two extremes of every relative uncertainty of the problem
 (inertia per axis, mass, first bending frequency: 2^5 = 32) times
 ``montecarlo.corner_array_angles`` array angles spread evenly over the angle
-range. With the paper's +-180 deg the two extremes are one attitude of the
+range (a debris without arrays has no angle and no bending frequency:
+2^4). With the paper's +-180 deg the two extremes are one attitude of the
 arrays, so the angles are spaced by 360 deg / count: 8 angles (every 45 deg)
 give the paper's 256 runs. For a smaller range the angles run from one
 extreme to the other, both included.
@@ -23,10 +24,9 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.model import Model
-from casadi_debris.robust.uncertainty import N_PARAMETERS, parameters_from_normalized
+from casadi_debris.robust.uncertainty import parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError
 
-ANGLE_INDEX = 4
 FULL_CIRCLE_DEG = 180.0
 
 
@@ -43,9 +43,10 @@ class Case:
     index : int
     seed : int or None
         Seed of a random sample.
-    normalized : ndarray, shape (6,)
-        Position in the uncertainty box, -1 .. 1 per parameter.
-    parameters : ndarray, shape (6,)
+    normalized : ndarray, shape (n_parameters,)
+        Position in the uncertainty box, -1 .. 1 per parameter (ordered as
+        ``model.parameter_names``).
+    parameters : ndarray, shape (n_parameters,)
         Model parameter vector.
     """
 
@@ -67,13 +68,19 @@ def corner_angles(problem: Problem) -> np.ndarray:
 
 def corner_cases(problem: Problem, model: Model) -> list[Case]:
     """Every combination of the uncertainty extremes (the paper's 256)."""
-    others = list(itertools.product((-1.0, 1.0), repeat=N_PARAMETERS - 1))
-    normalized = []
-    for angle in corner_angles(problem):
-        for combo in others:
-            z = np.insert(np.array(combo), ANGLE_INDEX, angle)
-            normalized.append(z)
-    z_all = np.array(normalized)
+    layout = model.parameter_layout
+    if not layout.has_array_angle:
+        z_all = np.array(list(itertools.product((-1.0, 1.0), repeat=layout.size)))
+    else:
+        angle_index = layout.index("array_angle_rad")
+        others = list(itertools.product((-1.0, 1.0), repeat=layout.size - 1))
+        z_all = np.array(
+            [
+                np.insert(np.array(combo), angle_index, angle)
+                for angle in corner_angles(problem)
+                for combo in others
+            ]
+        )
     p_all = parameters_from_normalized(problem, model, z_all)
     return [
         Case(f"corner-{i:04d}", "corner", i, None, z_all[i], p_all[i]) for i in range(len(z_all))
@@ -92,7 +99,7 @@ def sample_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
     """Random sample ``index`` of seed ``seed``, uniform in the uncertainty box."""
     if index < 0 or seed < 0:
         raise SimulationError(f"sample index and seed must not be negative; got {index}, {seed}")
-    z = np.random.default_rng([seed, index]).uniform(-1.0, 1.0, N_PARAMETERS)
+    z = np.random.default_rng([seed, index]).uniform(-1.0, 1.0, model.parameter_layout.size)
     p = parameters_from_normalized(problem, model, z)
     return Case(f"sample-{index:04d}", "sample", index, seed, z, p)
 
@@ -104,6 +111,5 @@ def sample_cases(problem: Problem, model: Model, count: int, seed: int) -> list[
 
 def nominal_case(model: Model) -> Case:
     """The nominal plant."""
-    return Case(
-        "nominal", "nominal", 0, None, np.zeros(N_PARAMETERS), model.nominal_parameters.copy()
-    )
+    zero = np.zeros(model.parameter_layout.size)
+    return Case("nominal", "nominal", 0, None, zero, model.nominal_parameters)

@@ -275,8 +275,8 @@ def simulate(
     reference : Reference
         Reference at the control instants; its times set the run
         (uniform, spacing = control period).
-    parameters : ndarray, shape (6,), optional
-        Model parameters (default nominal).
+    parameters : ndarray, shape (n_parameters,), optional
+        Model parameter vector, laid out as ``model.parameter_layout`` (default nominal).
     propulsion : PropulsionState, optional
         Engines at the start (default all full); not modified.
     failures : tuple of FailureEvent, optional
@@ -412,7 +412,7 @@ def simulate(
         events=events,
         parameters=dict(zip(model.parameter_names, map(float, p), strict=True)),
         control_period_s=period,
-        total_mass_kg=float(p[3]),
+        total_mass_kg=float(model.parameter_layout.mass_kg(p)),
         allocation_residual_Nm=residual,
         point_solves=point_solves,
         wall_time_s=time.perf_counter() - started,

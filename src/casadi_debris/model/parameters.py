@@ -1,0 +1,212 @@
+"""The model's uncertain parameters by name: layout of the vector ``p`` and a named value type.
+
+CasADi Functions take the parameters as one vector ``p``; everything else reads
+and writes them by name through :class:`ParameterLayout` (which entry is which)
+and :class:`Parameters` (the values, named). The layout follows the debris: a
+rigid debris has no array angle and no bending frequency.
+
+Entries, in order:
+
+- ``inertia_scale_x``, ``inertia_scale_y``, ``inertia_scale_z``: factors on the
+  hub-and-CubeSats inertia about each body axis (the diagonal scales by them, a
+  product of inertia by the square root of the two factors), 1 nominal;
+- ``mass_kg``: total mass [kg];
+- ``array_angle_rad``: the arrays' angle about their hinge axes [rad], shared
+  by every array (the paper's theta_SA), present when the debris has arrays;
+- ``bending_frequency_scale``: factor on every array's first bending frequency,
+  1 nominal, present when the model keeps a first bending mode.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.model import build_model
+>>> model = build_model(load_problem())
+>>> corner = model.nominal.replace(mass_kg=700.0, array_angle_rad=0.5)
+>>> p = corner.to_vector()  # for model.dynamics(x, u, p)
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import InputShapeError, ModelError
+
+INERTIA_SCALE_NAMES = ("inertia_scale_x", "inertia_scale_y", "inertia_scale_z")
+
+
+class Indexable(Protocol):
+    """A numeric vector or a CasADi symbol: the layout only indexes it."""
+
+    def __getitem__(self, key: Any, /) -> Any: ...
+
+
+@dataclass(frozen=True)
+class ParameterLayout:
+    """Which entry of the parameter vector ``p`` is which.
+
+    Attributes
+    ----------
+    has_array_angle : bool
+        Whether ``p`` holds the arrays' angle (the debris has arrays).
+    has_bending_scale : bool
+        Whether ``p`` holds the first-bending frequency factor.
+    """
+
+    has_array_angle: bool = True
+    has_bending_scale: bool = True
+
+    @classmethod
+    def for_problem(cls, problem: Problem) -> ParameterLayout:
+        """The layout of every model of ``problem``, whichever modes it keeps.
+
+        It depends on the problem only, so that one parameter vector (a Monte
+        Carlo case, say) fits both the design model and the simulation model.
+        """
+        arrays = problem.arrays.count > 0
+        bending = any((m.kind, m.order) == ("bending", 1) for m in problem.arrays.modes)
+        return cls(has_array_angle=arrays, has_bending_scale=arrays and bending)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Entry names, in vector order."""
+        names = [*INERTIA_SCALE_NAMES, "mass_kg"]
+        if self.has_array_angle:
+            names.append("array_angle_rad")
+        if self.has_bending_scale:
+            names.append("bending_frequency_scale")
+        return tuple(names)
+
+    @property
+    def size(self) -> int:
+        """Length of ``p``."""
+        return len(self.names)
+
+    def index(self, name: str) -> int:
+        """Position of entry ``name`` in ``p``; a ModelError names the known entries."""
+        try:
+            return self.names.index(name)
+        except ValueError:
+            raise ModelError(
+                f"unknown parameter {name!r}; this model has {', '.join(self.names)}"
+            ) from None
+
+    def inertia_scale(self, p: Indexable) -> Any:
+        """The three inertia factors of ``p`` (a slice of it)."""
+        return p[0:3]
+
+    def mass_kg(self, p: Indexable) -> Any:
+        """Total mass entry of ``p`` [kg]."""
+        return p[3]
+
+    def array_angle_rad(self, p: Indexable) -> Any:
+        """Arrays' angle entry of ``p`` [rad]."""
+        return p[self.index("array_angle_rad")]
+
+    def bending_frequency_scale(self, p: Indexable) -> Any:
+        """First-bending frequency factor of ``p``."""
+        return p[self.index("bending_frequency_scale")]
+
+
+@dataclass(frozen=True)
+class Parameters:
+    """Values of a model's parameters, by name.
+
+    Attributes
+    ----------
+    layout : ParameterLayout
+    inertia_scale : tuple of float
+        Factors on the hub-and-CubeSats inertia about x, y, z.
+    mass_kg : float
+        Total mass [kg].
+    array_angle_rad : float or None
+        Arrays' angle about their hinge axes [rad]; None without arrays.
+    bending_frequency_scale : float or None
+        Factor on the first bending frequencies; None without a bending mode.
+    """
+
+    layout: ParameterLayout
+    inertia_scale: tuple[float, float, float]
+    mass_kg: float
+    array_angle_rad: float | None = None
+    bending_frequency_scale: float | None = None
+
+    def __post_init__(self) -> None:
+        for name, value in self.items():
+            if not math.isfinite(value):
+                raise ModelError(f"parameter {name} must be finite, got {value}")
+        if self.mass_kg <= 0.0 or min(self.inertia_scale) <= 0.0:
+            raise ModelError("parameters mass_kg and inertia_scale_* must be positive")
+        for name, present in (
+            ("array_angle_rad", self.layout.has_array_angle),
+            ("bending_frequency_scale", self.layout.has_bending_scale),
+        ):
+            if (getattr(self, name) is not None) != present:
+                raise ModelError(
+                    f"parameter {name}: {'needed' if present else 'not part of'} this model"
+                )
+
+    def items(self) -> list[tuple[str, float]]:
+        """(name, value) pairs in vector order."""
+        values = [*self.inertia_scale, self.mass_kg]
+        if self.array_angle_rad is not None:
+            values.append(self.array_angle_rad)
+        if self.bending_frequency_scale is not None:
+            values.append(self.bending_frequency_scale)
+        return list(zip(self.layout.names, map(float, values), strict=True))
+
+    def to_dict(self) -> dict[str, float]:
+        """Values by name (for JSON)."""
+        return dict(self.items())
+
+    def to_vector(self) -> np.ndarray:
+        """The vector ``p`` the model's Functions take, shape (layout.size,)."""
+        return np.array([value for _, value in self.items()])
+
+    @classmethod
+    def from_vector(cls, layout: ParameterLayout, vector: npt.ArrayLike) -> Parameters:
+        """Named values of a parameter vector laid out as ``layout``."""
+        p = np.asarray(vector, dtype=float)
+        if p.shape != (layout.size,):
+            raise InputShapeError(
+                f"parameters: expected {layout.size} numbers ({', '.join(layout.names)}), "
+                f"got shape {p.shape}"
+            )
+        return cls.from_mapping(layout, dict(zip(layout.names, p.tolist(), strict=True)))
+
+    @classmethod
+    def from_mapping(cls, layout: ParameterLayout, values: Mapping[str, float]) -> Parameters:
+        """From a complete name -> value mapping (unknown or missing names are errors)."""
+        unknown = sorted(set(values) - set(layout.names))
+        missing = [name for name in layout.names if name not in values]
+        if unknown or missing:
+            raise ModelError(
+                f"parameters: unknown {unknown}, missing {missing}; "
+                f"this model has {', '.join(layout.names)}"
+            )
+        scale = tuple(float(values[name]) for name in INERTIA_SCALE_NAMES)
+        return cls(
+            layout=layout,
+            inertia_scale=(scale[0], scale[1], scale[2]),
+            mass_kg=float(values["mass_kg"]),
+            array_angle_rad=_optional(values, "array_angle_rad"),
+            bending_frequency_scale=_optional(values, "bending_frequency_scale"),
+        )
+
+    def replace(self, **values: float) -> Parameters:
+        """A copy with the named entries replaced (``inertia_scale_x=1.17``, ``mass_kg=700``)."""
+        merged = self.to_dict()
+        for name, value in values.items():
+            self.layout.index(name)  # names the known entries if ``name`` is not one
+            merged[name] = float(value)
+        return Parameters.from_mapping(self.layout, merged)
+
+
+def _optional(values: Mapping[str, float], name: str) -> float | None:
+    return float(values[name]) if name in values else None

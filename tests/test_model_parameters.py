@@ -1,0 +1,85 @@
+"""Named model parameters: layout, round trips, errors that name the entry."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from casadi_debris.errors import InputShapeError, ModelError
+from casadi_debris.model import ParameterLayout, Parameters
+
+PAPER = ParameterLayout()
+
+
+def test_layout_names_follow_the_debris():
+    assert PAPER.names == (
+        "inertia_scale_x",
+        "inertia_scale_y",
+        "inertia_scale_z",
+        "mass_kg",
+        "array_angle_rad",
+        "bending_frequency_scale",
+    )
+    rigid = ParameterLayout(has_array_angle=False, has_bending_scale=False)
+    assert rigid.names == ("inertia_scale_x", "inertia_scale_y", "inertia_scale_z", "mass_kg")
+    assert rigid.size == 4
+
+
+def test_layout_reads_entries_of_a_vector_by_name():
+    p = np.array([1.1, 1.2, 1.3, 668.0, 0.5, 0.9])
+    np.testing.assert_array_equal(PAPER.inertia_scale(p), [1.1, 1.2, 1.3])
+    assert PAPER.mass_kg(p) == 668.0
+    assert PAPER.array_angle_rad(p) == 0.5
+    assert PAPER.bending_frequency_scale(p) == 0.9
+
+
+def test_round_trip_vector_and_mapping():
+    p = np.array([1.17, 0.83, 1.0, 534.4, -math.pi, 1.2])
+    named = Parameters.from_vector(PAPER, p)
+    assert named.mass_kg == 534.4 and named.array_angle_rad == -math.pi
+    np.testing.assert_array_equal(named.to_vector(), p)
+    assert Parameters.from_mapping(PAPER, named.to_dict()) == named
+
+
+def test_replace_changes_only_the_named_entry():
+    base = Parameters.from_vector(PAPER, [1, 1, 1, 668.0, 0.0, 1.0])
+    changed = base.replace(inertia_scale_y=1.17)
+    assert changed.inertia_scale == (1.0, 1.17, 1.0)
+    assert changed.to_vector()[[0, 2, 3, 4, 5]].tolist() == [1, 1, 668.0, 0.0, 1.0]
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda b: b.replace(omega_bending1_rad_s=5.6), "unknown parameter 'omega_bending1_rad_s'"),
+        (lambda b: b.replace(mass_kg=math.nan), "mass_kg must be finite"),
+        (lambda b: b.replace(mass_kg=-1.0), "must be positive"),
+        (lambda b: Parameters.from_vector(PAPER, [1, 1, 1]), "expected 6 numbers"),
+        (
+            lambda b: Parameters.from_mapping(
+                ParameterLayout(has_array_angle=False, has_bending_scale=False), b.to_dict()
+            ),
+            "unknown ['array_angle_rad', 'bending_frequency_scale']",
+        ),
+    ],
+)
+def test_bad_values_name_the_entry(call, message):
+    base = Parameters.from_vector(PAPER, [1, 1, 1, 668.0, 0.0, 1.0])
+    with pytest.raises((ModelError, InputShapeError), match=None) as raised:
+        call(base)
+    assert message in str(raised.value)
+
+
+def test_model_nominal_matches_the_problem(problem):
+    from casadi_debris.geometry import build_geometry
+    from casadi_debris.model import build_model
+
+    model = build_model(problem, modes="first")
+    nominal = model.nominal
+    assert nominal.mass_kg == pytest.approx(build_geometry(problem).mass_kg)
+    assert nominal.array_angle_rad == pytest.approx(math.radians(problem.arrays.angle_deg))
+    assert model.parameter_layout == ParameterLayout.for_problem(problem)
+    # Every model of a problem shares one layout, whichever modes it keeps.
+    assert build_model(problem, modes="all").parameter_names == model.parameter_names
