@@ -49,7 +49,26 @@ from casadi_debris.units import DEG_PER_RAD, NM_PER_MNM
 SATURATION_BACKOFF = 1e-10
 INTEGRATORS = ("rk4", "cvodes")
 MODAL_CONDITION_MAX = 1e6
-STEP_INPUTS = 8  # t, q_ref (4), feedforward torque (3)
+
+
+class StepInput:
+    """Rows of the step's input ``s`` (one column per control period)."""
+
+    TIME_S = 0
+    REFERENCE_BN = slice(1, 5)
+    FEEDFORWARD_NM = slice(5, 8)
+    SIZE = 8
+
+
+class StepOutput:
+    """Rows of the step's output ``y``."""
+
+    DEMAND_NM = slice(0, 3)
+    SCALE = 3
+    MEASURED_ERROR_RAD = slice(4, 7)
+    SIZE = 7
+
+
 JIT_FLAGS = ("-O2",)
 JIT_FOLDER_ENV = "CASADI_DEBRIS_JIT_FOLDER"
 JIT_PREFIX = "casadi_debris_jit_"  # then the owner's process id: stale ones are found
@@ -293,8 +312,9 @@ def build_loop_step(
                     )
                 except RuntimeError:
                     _JIT_STEPS[key] = None  # compiling failed: the virtual machine serves
-            if _JIT_STEPS[key] is not None:
-                return _JIT_STEPS[key]
+            cached = _JIT_STEPS[key]
+            if cached is not None:
+                return cached
     step = _loop_step(model, parameters, controller, polytope, integrator_steps, integrator)
     return LoopStep.of(step, model, controller, chunk_steps)
 
@@ -336,7 +356,7 @@ def _compiled(
     chunk_steps: int,
 ) -> LoopStep:
     folder = _jit_folder()
-    options = {
+    options: dict[str, bool | str | dict[str, str | list[str]]] = {
         "jit": True,
         "compiler": "shell",
         "jit_name": "loop_step",
@@ -352,7 +372,7 @@ def _compiled(
     previous = os.environ.get("TMPDIR")
     os.environ["TMPDIR"] = str(folder)
     try:
-        compiled = ca.Function("loop_step_c", inputs, step(*inputs), options)
+        compiled = ca.Function("loop_step_c", inputs, step.call(inputs), options)
     finally:
         if previous is None:
             os.environ.pop("TMPDIR", None)
@@ -420,11 +440,12 @@ def _loop_step(
     period = controller.period_s
     n_plant, n_ctrl = model.layout.size, controller.n_states
     n_p = len(model.parameter_names)
-    plant = (
-        _rk4_step(model, parameters, period, integrator_steps)
-        if integrator == "rk4"
-        else _cvodes_step(model, parameters, period)
-    )
+    if integrator == "rk4":
+        plant = _rk4_step(model, parameters, period, integrator_steps)
+    elif parameters is None:  # only the JIT leaves them an input, and it is RK4 only
+        raise ValueError("the CVODES step folds the parameters in: it needs them")
+    else:
+        plant = _cvodes_step(model, parameters, period)
 
     x = ca.SX.sym("x", n_plant)
     xc = ca.SX.sym("xc", n_ctrl)
@@ -444,11 +465,13 @@ def _loop_step(
     ).expand()
 
     z = ca.MX.sym("z", n_plant + n_ctrl)
-    s = ca.MX.sym("s", STEP_INPUTS)
+    s = ca.MX.sym("s", StepInput.SIZE)
     p = ca.MX.sym("p", n_p)
     xz, xcz = z[:n_plant], z[n_plant:]
-    applied_z, xc_next_z, demand_z, scale_z, error_z = law(xz, xcz, s[1:5], s[5:8])
-    x_next = plant(xz, s[0], ca.vertcat(applied_z, ca.DM.zeros(3)), p)
+    applied_z, xc_next_z, demand_z, scale_z, error_z = law(
+        xz, xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM]
+    )
+    x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(applied_z, ca.DM.zeros(3)), p)
     step_mx = ca.Function(
         "loop_step",
         [z, s, p],

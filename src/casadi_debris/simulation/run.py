@@ -21,10 +21,13 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState, StageEvent
 from casadi_debris.config import FailureEvent, Problem
-from casadi_debris.model import Model
+from casadi_debris.model import Model, Parameters
 from casadi_debris.simulation.closed_loop import (
-    STEP_INPUTS,
+    DiscreteController,
+    LoopStep,
     SimulationError,
+    StepInput,
+    StepOutput,
     applied_torque,
     build_loop_step,
     discretize_controller,
@@ -300,18 +303,8 @@ def simulate(
     ClosedLoopResult
     """
     started = time.perf_counter()
-    times = reference.time_s
-    if len(times) < 2:
-        raise SimulationError("the reference needs at least two instants")
-    period = float(times[1] - times[0])
-    if not np.allclose(np.diff(times), period, rtol=1e-9, atol=1e-12):
-        raise SimulationError("the reference must be sampled uniformly (one per control period)")
+    period = _control_period(reference)
     p = model.nominal_parameters if parameters is None else np.asarray(parameters, dtype=float)
-    steps_per_period = (
-        problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
-    )
-    failures = problem.simulation.failures if failures is None else failures
-    discrete = discretize_controller(controller, period)
     engines = (
         PropulsionState.from_problem(problem, model.geometry)
         if propulsion is None
@@ -320,109 +313,174 @@ def simulate(
     fuel_start = engines.propellant_kg.copy()
     if allocator is None:
         allocator = Allocator.from_problem(problem, model.geometry, state=engines)
-    allocator.update_from_state(engines)
+    rollout = _Rollout(
+        model=model,
+        reference=reference,
+        parameters=p,
+        controller=discretize_controller(controller, period),
+        engines=engines,
+        allocator=allocator,
+        loop_options={
+            "integrator_steps": (
+                problem.simulation.integrator_steps
+                if integrator_steps is None
+                else integrator_steps
+            ),
+            "integrator": integrator,
+            "chunk_steps": chunk_steps,
+            "jit": jit,
+        },
+    )
+    rollout.run(problem.simulation.failures if failures is None else failures)
+    return rollout.result(fuel_start, wall_time_s=time.perf_counter() - started)
 
-    n = len(times) - 1
-    n_cubesats = engines.n_cubesats
-    failure_steps = [min(n, max(0, math.ceil(f.time_s / period - 1e-9))) for f in failures]
-    pending = list(zip(failure_steps, failures, strict=True))
 
-    z = np.concatenate([_initial_state(model, reference), np.zeros(discrete.n_states)])
-    states = np.zeros((n + 1, model.layout.size))
-    states[0] = z[: model.layout.size]
-    outputs = np.zeros((n, 7))
-    applied_all = np.zeros((n, 3))
-    thrust = np.zeros((n, n_cubesats))
-    events: list[RunEvent] = []
-    point_solves = 0
-    loop = None
-    compiled = False
-    k = 0
-    while k < n:
-        while pending and pending[0][0] <= k:
-            _, failure = pending.pop(0)
-            events.append(_apply_failure(failure, engines, k * period))
-            loop = None
-        if loop is None:
-            allocator.update_from_state(engines)
-            loop = build_loop_step(
-                model,
-                p,
-                discrete,
-                allocator.authority_polytope(),
-                integrator_steps=steps_per_period,
-                integrator=integrator,
-                chunk_steps=chunk_steps,
-                jit=jit,
-            )
-            compiled = compiled or loop.compiled
-        stop = min(n, k + chunk_steps, pending[0][0] if pending else n)
-        inputs = np.zeros((STEP_INPUTS, chunk_steps))
-        inputs[0, : stop - k] = times[k:stop]
-        inputs[1:5, : stop - k] = reference.quaternion_BN[k:stop].T
-        if reference.feedforward_Nm is not None:
-            inputs[5:8, : stop - k] = reference.feedforward_Nm[k:stop].T
-        inputs[1, stop - k :] = 1.0  # padding periods: identity reference, results unused
-        z_all, y_all = loop.roll(z, inputs, p)
+def _control_period(reference: Reference) -> float:
+    """The reference's uniform spacing [s], which the run takes as its control period."""
+    times = reference.time_s
+    if len(times) < 2:
+        raise SimulationError("the reference needs at least two instants")
+    period = float(times[1] - times[0])
+    if not np.allclose(np.diff(times), period, rtol=1e-9, atol=1e-12):
+        raise SimulationError("the reference must be sampled uniformly (one per control period)")
+    return period
+
+
+@dataclass(eq=False)
+class _Rollout:
+    """The compiled loop rolled out stretch by stretch, with the engines burning in between."""
+
+    model: Model
+    reference: Reference
+    parameters: np.ndarray
+    controller: DiscreteController
+    engines: PropulsionState
+    allocator: Allocator
+    loop_options: dict[str, Any]
+
+    def __post_init__(self) -> None:
+        self.period = float(self.reference.time_s[1] - self.reference.time_s[0])
+        self.n = len(self.reference.time_s) - 1
+        self.states = np.zeros((self.n + 1, self.model.layout.size))
+        self.outputs = np.zeros((self.n, StepOutput.SIZE))
+        self.applied = np.zeros((self.n, 3))
+        self.thrust = np.zeros((self.n, self.engines.n_cubesats))
+        self.events: list[RunEvent] = []
+        self.point_solves = 0
+        self.compiled = False
+        self.allocator.update_from_state(self.engines)
+
+    def run(self, failures: tuple[FailureEvent, ...]) -> None:
+        """Every period of the reference; failures applied at their periods."""
+        period, n = self.period, self.n
+        failure_steps = [min(n, max(0, math.ceil(f.time_s / period - 1e-9))) for f in failures]
+        pending = list(zip(failure_steps, failures, strict=True))
+        z = np.concatenate(
+            [_initial_state(self.model, self.reference), np.zeros(self.controller.n_states)]
+        )
+        self.states[0] = z[: self.model.layout.size]
+        loop: LoopStep | None = None
+        k = 0
+        while k < n:
+            while pending and pending[0][0] <= k:
+                _, failure = pending.pop(0)
+                self.events.append(_apply_failure(failure, self.engines, k * period))
+                loop = None
+            if loop is None:
+                loop = self._build_loop()
+            stop = min(n, k + loop.chunk_steps, pending[0][0] if pending else n)
+            z, done = self._stretch(loop, z, k, stop)
+            if done < stop - k:
+                loop = None  # a CubeSat's limit changed: rebuild from the step after
+            k += done
+
+    def _build_loop(self) -> LoopStep:
+        self.allocator.update_from_state(self.engines)
+        loop = build_loop_step(
+            self.model,
+            self.parameters,
+            self.controller,
+            self.allocator.authority_polytope(),
+            **self.loop_options,
+        )
+        self.compiled = self.compiled or loop.compiled
+        return loop
+
+    def _stretch(self, loop: LoopStep, z: np.ndarray, k: int, stop: int) -> tuple[np.ndarray, int]:
+        """Periods k .. stop - 1, cut short where the engines change; (state, periods done)."""
+        z_all, y_all = loop.roll(z, self._inputs(loop.chunk_steps, k, stop), self.parameters)
         z_all = z_all[:, : stop - k]
         y_all = y_all[:, : stop - k].T
-        applied = applied_torque(y_all[:, 0:3], y_all[:, 3])
-        allocation = allocator.allocate_series(applied)
-        point_solves += allocation.point_solves
-        done, stage_events = engines.advance_series(allocation.thrust_N, period)
+        applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
+        allocation = self.allocator.allocate_series(applied)
+        self.point_solves += allocation.point_solves
+        done, stage_events = self.engines.advance_series(allocation.thrust_N, self.period)
         for index, event in stage_events:
-            events.append(_depleted(event, (k + index) * period + event.time_s))
-        if done < stop - k:
-            loop = None  # a CubeSat's limit changed: rebuild from the step after
-        outputs[k : k + done] = y_all[:done]
-        applied_all[k : k + done] = applied[:done]
-        thrust[k : k + done] = allocation.thrust_N[:done]
-        states[k + 1 : k + done + 1] = z_all[: model.layout.size, :done].T
-        z = z_all[:, done - 1]
-        k += done
+            self.events.append(_depleted(event, (k + index) * self.period + event.time_s))
+        self.outputs[k : k + done] = y_all[:done]
+        self.applied[k : k + done] = applied[:done]
+        self.thrust[k : k + done] = allocation.thrust_N[:done]
+        self.states[k + 1 : k + done + 1] = z_all[: self.model.layout.size, :done].T
+        return z_all[:, done - 1], done
 
-    torque = thrust @ allocator.torque_map.T
-    demand, scale = outputs[:, 0:3], outputs[:, 3]
-    residual = float(np.abs(torque - applied_all).max()) if n else 0.0
-    authority = float(np.abs(allocator.authority_polytope().vertices).max()) if n else 1.0
-    if residual > ALLOCATION_TOLERANCE * authority:
-        raise SimulationError(
-            f"the allocator's torque differs from the applied torque by {residual:.3g} N m"
+    def _inputs(self, chunk_steps: int, k: int, stop: int) -> np.ndarray:
+        """The step inputs of periods k .. stop - 1, padded to ``chunk_steps`` columns."""
+        reference, used = self.reference, stop - k
+        inputs = np.zeros((StepInput.SIZE, chunk_steps))
+        inputs[StepInput.TIME_S, :used] = reference.time_s[k:stop]
+        inputs[StepInput.REFERENCE_BN, :used] = reference.quaternion_BN[k:stop].T
+        if reference.feedforward_Nm is not None:
+            inputs[StepInput.FEEDFORWARD_NM, :used] = reference.feedforward_Nm[k:stop].T
+        # Padding periods: identity reference, results unused.
+        inputs[StepInput.REFERENCE_BN.start, used:] = 1.0
+        return inputs
+
+    def result(self, fuel_start_kg: np.ndarray, wall_time_s: float) -> ClosedLoopResult:
+        """The run's series and figures; checks the allocator met every applied torque."""
+        model, reference, n = self.model, self.reference, self.n
+        torque = self.thrust @ self.allocator.torque_map.T
+        residual = float(np.abs(torque - self.applied).max()) if n else 0.0
+        polytope = self.allocator.authority_polytope()
+        authority = float(np.abs(polytope.vertices).max()) if n else 1.0
+        if residual > ALLOCATION_TOLERANCE * authority:
+            raise SimulationError(
+                f"the allocator's torque differs from the applied torque by {residual:.3g} N m"
+            )
+        error = np.asarray(
+            model.attitude_error.map(n + 1)(
+                reference.quaternion_BN.T, self.states[:, model.layout.q].T
+            )
+        ).T
+        p = Parameters.from_vector(model.parameter_layout, self.parameters)
+        return ClosedLoopResult(
+            time_s=reference.time_s,
+            state=self.states,
+            rate_rad_s=self.states[:, model.layout.omega],
+            reference_BN=reference.quaternion_BN,
+            error_rad=error,
+            measured_error_rad=self.outputs[:, StepOutput.MEASURED_ERROR_RAD],
+            demand_Nm=self.outputs[:, StepOutput.DEMAND_NM],
+            torque_Nm=torque,
+            force_N=self.thrust @ self.allocator.force_map.T,
+            scale=self.outputs[:, StepOutput.SCALE],
+            thrust_N=self.thrust,
+            disturbance_Nm=np.asarray(model.disturbance.map(n)(reference.time_s[:-1])).T,
+            propulsion=self.engines,
+            fuel_start_kg=fuel_start_kg,
+            events=self.events,
+            parameters=p.to_dict(),
+            control_period_s=self.period,
+            total_mass_kg=p.mass_kg,
+            allocation_residual_Nm=residual,
+            point_solves=self.point_solves,
+            wall_time_s=wall_time_s,
+            info={"compiled_step": self.compiled},
+            slew_window_s=(
+                None
+                if reference.slew is None
+                else (reference.start_s, reference.start_s + reference.slew.duration_s)
+            ),
         )
-    q_index = model.layout.q
-    error = np.asarray(
-        model.attitude_error.map(n + 1)(reference.quaternion_BN.T, states[:, q_index].T)
-    ).T
-    disturbance = np.asarray(model.disturbance.map(n)(times[:-1])).T
-    return ClosedLoopResult(
-        time_s=times,
-        state=states,
-        rate_rad_s=states[:, model.layout.omega],
-        reference_BN=reference.quaternion_BN,
-        error_rad=error,
-        measured_error_rad=outputs[:, 4:7],
-        demand_Nm=demand,
-        torque_Nm=torque,
-        force_N=thrust @ allocator.force_map.T,
-        scale=scale,
-        thrust_N=thrust,
-        disturbance_Nm=disturbance,
-        propulsion=engines,
-        fuel_start_kg=fuel_start,
-        events=events,
-        parameters=dict(zip(model.parameter_names, map(float, p), strict=True)),
-        control_period_s=period,
-        total_mass_kg=float(model.parameter_layout.mass_kg(p)),
-        allocation_residual_Nm=residual,
-        point_solves=point_solves,
-        wall_time_s=time.perf_counter() - started,
-        info={"compiled_step": compiled},
-        slew_window_s=(
-            None
-            if reference.slew is None
-            else (reference.start_s, reference.start_s + reference.slew.duration_s)
-        ),
-    )
 
 
 def _initial_state(model: Model, reference: Reference) -> np.ndarray:
