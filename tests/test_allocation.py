@@ -360,6 +360,9 @@ def test_failed_stage_hands_over_and_state_round_trips(
     state.fail_stage(2, 0)
     state.fail_cubesat(7)
     assert state.active_stage[2] == 1 and state.active_stage[7] == problem.engine.stages
+    # What a user reads numbers CubeSats and stages from 1.
+    written = state.to_dict()
+    assert written["failed_cubesats"] == [8] and written["failed_stages"] == [[3, 1]]
     restored = PropulsionState.from_problem(problem, geometry).updated_from_dict(
         json.loads(json.dumps(state.to_dict()))
     )
@@ -423,6 +426,12 @@ def test_bad_propulsion_steps_are_named_errors(problem: Problem, geometry: Geome
         state.advance(thrust, 1.0)
     with pytest.raises(AllocationError, match="unknown"):
         state.updated_from_dict({"fuel": 1})
+    # Ids in a state file are 1-based: 0 is out of range, n_cubesats is the last.
+    with pytest.raises(AllocationError, match=r"CubeSat 0 out of range 1\.\.24"):
+        state.updated_from_dict({"failed_cubesats": [0]})
+    with pytest.raises(AllocationError, match=r"stage 4 out of range 1\.\.3"):
+        state.updated_from_dict({"failed_stages": [[1, 4]]})
+    assert state.updated_from_dict({"failed_cubesats": [24]}).failed_cubesats[23]
 
 
 # ----------------------------------------------------------------------------- command line
@@ -450,7 +459,7 @@ def test_cli_json_has_the_documented_fields(tmp_path) -> None:
     assert payload["feasible"] is True and payload["solver"] == "daqp"
 
     state_file = tmp_path / "state.json"
-    state_file.write_text(json.dumps({"failed_cubesats": [3], "failed_stages": [[4, 0]]}))
+    state_file.write_text(json.dumps({"failed_cubesats": [4], "failed_stages": [[5, 1]]}))
     result = runner.invoke(
         main,
         ["allocate", "--torque-mNm", "20", "0", "0", "--failed", "18",
@@ -460,8 +469,9 @@ def test_cli_json_has_the_documented_fields(tmp_path) -> None:
     payload = json.loads(result.output)
     assert payload["feasible"] is False and 0 < payload["scale"] < 1
     assert payload["thrust_mN"][3] == 0 and payload["thrust_mN"][17] == 0
-    # CLI ids are 1-based (index 17 is CubeSat 18); the state file holds 0-based indices.
-    assert payload["failed_cubesats"] == [4, 18] and payload["active_stage"][4] == 1
+    # Ids are 1-based everywhere (index 17 is CubeSat 18), the state file's too: CubeSat 5
+    # lost stage 1, so stage 2 fires.
+    assert payload["failed_cubesats"] == [4, 18] and payload["active_stage"][4] == 2
     assert payload["force_demand_mN"] is None
 
     text = runner.invoke(main, ["allocate", "--torque-mNm", "1", "2", "3"])

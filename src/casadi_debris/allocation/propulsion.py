@@ -437,16 +437,24 @@ class PropulsionState:
     # ------------------------------------------------------------------ serialisation
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain data (lists) for JSON, SI units in the key names."""
+        """Plain data (lists) for JSON, SI units in the key names.
+
+        As everything a user reads, CubeSats and stages are numbered from 1:
+        ``failed_cubesats`` lists CubeSat ids, ``failed_stages`` [CubeSat, stage]
+        pairs; the rows of ``propellant_kg`` and ``firing_time_s`` are CubeSats 1..n
+        and their columns stages 1..m.
+        """
         return {
             "propellant_kg": self.propellant_kg.tolist(),
             "firing_time_s": self.firing_time_s.tolist(),
-            "failed_cubesats": np.flatnonzero(self.failed_cubesats).tolist(),
-            "failed_stages": [list(map(int, pair)) for pair in np.argwhere(self.failed_stages)],
+            "failed_cubesats": (np.flatnonzero(self.failed_cubesats) + 1).tolist(),
+            "failed_stages": [[int(c) + 1, int(s) + 1] for c, s in np.argwhere(self.failed_stages)],
         }
 
     def updated_from_dict(self, data: dict[str, Any]) -> PropulsionState:
         """A copy with the entries present in ``data`` (as :meth:`to_dict` writes) replaced.
+
+        CubeSat and stage ids in ``data`` are 1-based, as :meth:`to_dict` writes them.
 
         Raises
         ------
@@ -469,19 +477,25 @@ class PropulsionState:
                 values = _matrix(data[key], key, self.n_stages, self.n_cubesats)
                 setattr(state, key, values)
         for cubesat in data.get("failed_cubesats", []):
-            state.fail_cubesat(_index(cubesat, "failed_cubesats"))
+            state.fail_cubesat(_id(cubesat, "failed_cubesats", "CubeSat", self.n_cubesats))
         for pair in data.get("failed_stages", []):
             if not isinstance(pair, list | tuple) or len(pair) != 2:
                 raise AllocationError("failed_stages entries must be [cubesat, stage] pairs")
-            state.fail_stage(_index(pair[0], "failed_stages"), _index(pair[1], "failed_stages"))
+            state.fail_stage(
+                _id(pair[0], "failed_stages", "CubeSat", self.n_cubesats),
+                _id(pair[1], "failed_stages", "stage", self.n_stages),
+            )
         state._check()
         return state
 
 
-def _index(value: Any, name: str) -> int:
+def _id(value: Any, name: str, what: str, count: int) -> int:
+    """The 0-based index of a 1-based id read from a user's file."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
         raise AllocationError(f"{name} entries must be integers, got {value!r}")
-    return int(value)
+    if not 1 <= value <= count:
+        raise AllocationError(f"{name}: {what} {value} out of range 1..{count}")
+    return int(value) - 1
 
 
 def _vector(values: Any, name: str) -> np.ndarray:

@@ -116,7 +116,10 @@ def _payload(
         "scale": result.scale,
         "thrust_mN": result.thrust_N * MN_PER_N,
         "thrust_limit_mN": limits * MN_PER_N,
-        "active_stage": state.active_stage,
+        # 1-based; None where a CubeSat has no stage left.
+        "active_stage": [
+            None if stage >= state.n_stages else int(stage) + 1 for stage in state.active_stage
+        ],
         "failed_cubesats": [int(i) + 1 for i in (limits == 0).nonzero()[0]],
         "torque_demand_mNm": result.demand_torque_Nm * MN_PER_N,
         "torque_achieved_mNm": result.torque_Nm * MN_PER_N,
@@ -160,7 +163,7 @@ def _text(payload: dict[str, Any], faces: list[str]) -> str:
             strict=True,
         )
     ):
-        stage_text = "-" if limit == 0 else str(int(stage))
+        stage_text = "-" if limit == 0 or stage is None else str(stage)
         lines.append(f"  {index + 1:7d}  {face:>4}  {stage_text:>5}  {thrust:9.4f}  {limit:8.4f}")
     return "\n".join(lines)
 
@@ -198,7 +201,7 @@ def _text(payload: dict[str, Any], faces: list[str]) -> str:
     type=click.Path(path_type=Path, dir_okay=False),
     default=None,
     help="JSON propulsion state (propellant_kg, firing_time_s, failed_cubesats, failed_stages;"
-    " CubeSats by 0-based index, as in the Python API).",
+    " CubeSats and stages numbered from 1, as PropulsionState.to_dict writes them).",
 )
 @click.option(
     "--solver",
