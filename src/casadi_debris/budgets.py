@@ -91,35 +91,59 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
         ``stage_life_h``.
     """
     geometry = geometry or build_geometry(problem)
-    engine, constants = problem.engine, problem.constants
-    g0 = constants.standard_gravity_m_s2
     propellant = problem_stage_propellant_kg(problem)
-    per_face = problem.cubesats.per_face
-    n_cubesats = len(geometry.cubesats)
-    mass = geometry.mass_kg
+    dv_face = _combined_body_dv(problem, geometry, propellant, problem.cubesats.per_face)
+    return [
+        *_stage_items(problem, propellant),
+        *_rocket_equation_items(problem, geometry, propellant),
+        _transfer_item(problem),
+        *_detumble_items(problem, geometry, dv_face),
+    ]
 
-    def dv(n_stages: int) -> float:
-        return rocket_dv(engine.isp_s, g0, mass, n_stages * propellant)
 
-    dv_face = dv(per_face)
-    transfer = problem.transfer
-    authority = torque_authority(geometry)
-    rate = problem.detumble.initial_rate_rad_s
-    detumble_s = detumble_time_s(geometry.inertia_hub_cubesats_kgm2, rate, authority)
-    detumble_full_s = detumble_time_s(geometry.inertia_total_kgm2, rate, authority)
-    life_s = engine.stage_life_h * SECONDS_PER_HOUR
+def _combined_body_dv(
+    problem: Problem, geometry: Geometry, propellant_kg: float, n_stages: int
+) -> float:
+    """Rocket-equation Δv of the combined body burning ``n_stages`` stages [m/s]."""
+    return rocket_dv(
+        problem.engine.isp_s,
+        problem.constants.standard_gravity_m_s2,
+        geometry.mass_kg,
+        n_stages * propellant_kg,
+    )
+
+
+def _stage_items(problem: Problem, propellant_kg: float) -> list[BudgetItem]:
+    """Propellant and life of one stage."""
+    engine = problem.engine
     return [
         BudgetItem(
             "stage_propellant_kg",
-            propellant,
+            propellant_kg,
             f"thrust {engine.thrust_per_stage_mN} mN x {engine.stage_life_h:g} h"
             f" / (Isp {engine.isp_s:g} s g0)",
         ),
         BudgetItem("stage_life_h", engine.stage_life_h, "problem file (engine.stage_life_h)"),
+    ]
+
+
+def _rocket_equation_items(
+    problem: Problem, geometry: Geometry, propellant_kg: float
+) -> list[BudgetItem]:
+    """Δv of the combined body (one face or all, one stage or all) and of a lone CubeSat."""
+    engine = problem.engine
+    per_face = problem.cubesats.per_face
+    n_cubesats = len(geometry.cubesats)
+
+    def dv(n_stages: int) -> float:
+        return _combined_body_dv(problem, geometry, propellant_kg, n_stages)
+
+    return [
         BudgetItem(
             "dv_one_stage_one_face_m_s",
-            dv_face,
-            f"rocket equation, {per_face} CubeSats x 1 stage, {mass:.1f} kg combined body",
+            dv(per_face),
+            f"rocket equation, {per_face} CubeSats x 1 stage,"
+            f" {geometry.mass_kg:.1f} kg combined body",
         ),
         BudgetItem(
             "dv_three_stages_one_face_m_s",
@@ -138,21 +162,44 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
         ),
         BudgetItem(
             "dv_cubesat_one_stage_m_s",
-            rocket_dv(engine.isp_s, g0, problem.cubesats.mass_kg, propellant),
+            rocket_dv(
+                engine.isp_s,
+                problem.constants.standard_gravity_m_s2,
+                problem.cubesats.mass_kg,
+                propellant_kg,
+            ),
             f"rocket equation, one {problem.cubesats.mass_kg:g} kg CubeSat alone, 1 stage",
         ),
-        BudgetItem(
-            "dv_transfer_m_s",
-            edelbaum_dv(
-                constants.earth_mu_km3_s2,
-                constants.earth_radius_km + transfer.from_altitude_km,
-                constants.earth_radius_km + transfer.to_altitude_km,
-                math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
-            ),
-            f"Edelbaum, circular {transfer.from_altitude_km:g} km /"
-            f" {transfer.from_inclination_deg:g} deg -> {transfer.to_altitude_km:g} km /"
-            f" {transfer.to_inclination_deg:g} deg",
+    ]
+
+
+def _transfer_item(problem: Problem) -> BudgetItem:
+    """Edelbaum Δv of the problem's orbit transfer."""
+    constants, transfer = problem.constants, problem.transfer
+    return BudgetItem(
+        "dv_transfer_m_s",
+        edelbaum_dv(
+            constants.earth_mu_km3_s2,
+            constants.earth_radius_km + transfer.from_altitude_km,
+            constants.earth_radius_km + transfer.to_altitude_km,
+            math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
         ),
+        f"Edelbaum, circular {transfer.from_altitude_km:g} km /"
+        f" {transfer.from_inclination_deg:g} deg -> {transfer.to_altitude_km:g} km /"
+        f" {transfer.to_inclination_deg:g} deg",
+    )
+
+
+def _detumble_items(
+    problem: Problem, geometry: Geometry, one_face_dv_m_s: float
+) -> list[BudgetItem]:
+    """Detumble time (paper's inertia and full rigid one) and the Δv share it uses."""
+    authority = torque_authority(geometry)
+    rate = problem.detumble.initial_rate_rad_s
+    detumble_s = detumble_time_s(geometry.inertia_hub_cubesats_kgm2, rate, authority)
+    detumble_full_s = detumble_time_s(geometry.inertia_total_kgm2, rate, authority)
+    life_s = problem.engine.stage_life_h * SECONDS_PER_HOUR
+    return [
         BudgetItem(
             "detumble_time_h",
             detumble_s / SECONDS_PER_HOUR,
@@ -165,7 +212,7 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
         ),
         BudgetItem(
             "detumble_dv_m_s",
-            dv_face * detumble_s / life_s,
+            one_face_dv_m_s * detumble_s / life_s,
             "share of the one-face stage dv the detumble firing time uses (paper's accounting)",
         ),
     ]
