@@ -1,6 +1,7 @@
 """Allocation benchmark: time per call per back-end, batch throughput, saturation quality.
 
-Prints JSON. Not a test: numbers depend on the machine and its load.
+Prints JSON (``--record``: also to ``docs/benchmarks/allocation.json``, see
+``recording.py``). Not a test: numbers depend on the machine and its load.
 
 - ``per_call``: median and p99 wall time of one ``Allocator.allocate`` call
   (Python included, as a user sees it) and of the back-end alone, for
@@ -23,12 +24,15 @@ Prints JSON. Not a test: numbers depend on the machine and its load.
   sets), its authority polytope built beforehand and timed on its own.
 
 Usage: python benchmarks/allocation.py [--calls N] [--solvers daqp,osqp] [--series-steps K]
+       [--series-repeats R] [--quick] [--record] [--out FILE] [--note TEXT]
+
+``--quick``: 300 demands per back-end and case, a 2000-step history, 3 series runs
+(default: 2000, 12,000 and 5).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
 
@@ -38,6 +42,7 @@ from scipy.optimize import linprog
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PseudoInverseAllocator, available_solvers
 from casadi_debris.geometry import build_geometry
+from recording import Recording, add_options, resolve
 
 US_PER_S = 1e6
 MN_PER_N = 1e3
@@ -161,13 +166,20 @@ def series_benchmark(problem, geometry, authority: dict[str, float], steps: int,
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--calls", type=int, default=2000, help="demands per back-end and case")
+    parser.add_argument("--calls", type=int, help="demands per back-end and case (2000)")
     parser.add_argument("--solvers", default=None, help="comma-separated (default: all)")
     parser.add_argument(
-        "--series-steps", type=int, default=12_000, help="steps of the allocate_series history"
+        "--series-steps", type=int, help="steps of the allocate_series history (12,000)"
     )
-    parser.add_argument("--series-repeats", type=int, default=5, help="allocate_series runs")
+    parser.add_argument("--series-repeats", type=int, help="allocate_series runs (5)")
+    add_options(parser, "allocation", "300 demands, 2000 steps, 3 series runs")
     args = parser.parse_args()
+    recording = Recording("allocation", args, ("daqp", "osqp", "qpsolvers", "clarabel"))
+    settings = resolve(
+        args,
+        full={"calls": 2000, "series_steps": 12_000, "series_repeats": 5},
+        quick={"calls": 300, "series_steps": 2000, "series_repeats": 3},
+    )
 
     problem = load_problem()
     geometry = build_geometry(problem)
@@ -230,24 +242,23 @@ def main() -> None:
     tiny = tiny_benchmark(problem, geometry, rng, min(500, args.calls))
     series = series_benchmark(problem, geometry, authority, args.series_steps, args.series_repeats)
 
-    print(
-        json.dumps(
-            {
-                "problem": problem.name,
-                "engines": reference.n_engines,
-                "seed": SEED,
-                "per_call": per_call,
-                "batch": {
-                    "demands": len(mixed),
-                    "solves_per_s": len(mixed) / batch.wall_time_s,
-                    "wall_time_s": batch.wall_time_s,
-                },
-                "saturation": saturation,
-                "tiny": tiny,
-                "series": series,
+    recording.finish(
+        settings,
+        {
+            "problem": problem.name,
+            "engines": reference.n_engines,
+            "seed": SEED,
+            "solvers": solvers,
+            "per_call": per_call,
+            "batch": {
+                "demands": len(mixed),
+                "solves_per_s": len(mixed) / batch.wall_time_s,
+                "wall_time_s": batch.wall_time_s,
             },
-            indent=2,
-        )
+            "saturation": saturation,
+            "tiny": tiny,
+            "series": series,
+        },
     )
 
 

@@ -1,6 +1,10 @@
 """Benchmark of the closed-loop simulation and the corner Monte Carlo; prints JSON.
 
-Usage: python benchmarks/simulation.py [--repeat N] [--corners N] [--workers 1,2] [--out FILE]
+Usage: python benchmarks/simulation.py [--repeat N] [--corners N] [--workers 1,2]
+       [--scipy-s S] [--quick] [--record] [--out FILE] [--note TEXT]
+
+``--record`` also writes ``docs/benchmarks/simulation.json`` (see ``recording.py``).
+``--quick``: 1 repeat, 16 corners, 5 s of the scipy loop (default: 3, 256 and 20).
 
 Measured in one run (ratios are what to compare across machines):
 
@@ -16,7 +20,7 @@ Measured in one run (ratios are what to compare across machines):
 - ``montecarlo_wall_s``: ``--corners`` corner cases of the slew with 1 and
   2 workers (256 = the paper's set), virtual machine and compiled.
 
-Targets from issue 6: <= 40 us per closed-loop step; 256 corners <= 90 s on
+The design's targets: <= 40 us per closed-loop step; 256 corners <= 90 s on
 2 cores.
 """
 
@@ -25,10 +29,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import statistics
 import time
-from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -36,7 +38,6 @@ from scipy.integrate import solve_ivp
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.model import build_model
-from casadi_debris.report.common import json_ready, write_json_atomic
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
@@ -47,6 +48,7 @@ from casadi_debris.simulation import (
     scenario_reference,
     simulate,
 )
+from recording import Recording, add_options, resolve
 
 DEG_PER_RAD = 180.0 / np.pi
 
@@ -81,12 +83,19 @@ def scipy_loop(problem, model, controller, reference, seconds: float) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--corners", type=int, default=256)
+    parser.add_argument("--repeat", type=int, help="runs of each timing, median kept (3)")
+    parser.add_argument("--corners", type=int, help="corner cases of the Monte Carlo (256)")
     parser.add_argument("--workers", default="1,2")
-    parser.add_argument("--scipy-s", type=float, default=20.0)
-    parser.add_argument("--out", type=Path)
+    parser.add_argument("--scipy-s", type=float, help="seconds of the scipy loop (20)")
+    add_options(parser, "simulation", "1 repeat, 16 corners, 5 s of the scipy loop")
     args = parser.parse_args()
+    recording = Recording("simulation", args)
+    settings = resolve(
+        args,
+        full={"repeat": 3, "corners": 256, "scipy_s": 20.0},
+        quick={"repeat": 1, "corners": 16, "scipy_s": 5.0},
+    )
+    settings["workers"] = args.workers
     os.environ.setdefault("OMP_NUM_THREADS", "1")
 
     problem = load_problem(default_problem_path().parent / "paper_slew.toml")
@@ -160,7 +169,6 @@ def main() -> None:
     closed_us = statistics.median(whole) / steps * 1e6
     closed_c_us = statistics.median(whole_c) / steps * 1e6
     report = {
-        "machine": {"python": platform.python_version(), "cpus": os.cpu_count()},
         "steps_paper_slew": steps,
         "step_us": step_vm * 1e6,
         "step_us_compiled": None if step_c is None else step_c * 1e6,
@@ -176,9 +184,7 @@ def main() -> None:
         "montecarlo_wall_s": campaign,
         "targets": {"closed_loop_step_us": 40.0, "montecarlo_256_wall_s_2_cores": 90.0},
     }
-    print(json.dumps(json_ready(report), indent=2))
-    if args.out:
-        write_json_atomic(args.out, report)
+    recording.finish(settings, report)
 
 
 if __name__ == "__main__":

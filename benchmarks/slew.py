@@ -1,6 +1,9 @@
 """Benchmark of the slew methods on the paper's 180 deg z slew; prints JSON.
 
-Usage: python benchmarks/slew.py [--repeat N] [--out FILE]
+Usage: python benchmarks/slew.py [--repeat N] [--quick] [--record] [--out FILE] [--note TEXT]
+
+``--record`` also writes ``docs/benchmarks/slew.json`` (see ``recording.py``).
+``--quick``: each method once (default: 3 times).
 
 For each method: duration, fuel, residual vibration on the full flexible
 model, and the medians of the solve time (the profile's ``solve_time_s``: the
@@ -13,22 +16,19 @@ time-optimal slew <= 5 s to solve; flexible within 1.10 x the limit.
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import platform
 import statistics
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 from casadi_debris import load_problem
-from casadi_debris.report.common import json_ready, write_json_atomic
 from casadi_debris.slew import (
     SlewProfile,
     bang_bang_slew,
     fuel_optimal_slew,
     time_optimal_slew,
 )
+from recording import Recording, add_options, resolve
 
 PAPER_DURATION_S = 1228.0
 PAPER_FUEL_KG = 2.8e-4
@@ -49,9 +49,11 @@ def measure(
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, default=3)
-    parser.add_argument("--out", type=Path)
+    parser.add_argument("--repeat", type=int, help="runs of each method, medians kept (3)")
+    add_options(parser, "slew", "each method once")
     args = parser.parse_args()
+    recording = Recording("slew", args)
+    settings = resolve(args, full={"repeat": 3}, quick={"repeat": 1})
     problem = load_problem()
     z, pi = "z", math.pi
     cases = {
@@ -108,9 +110,7 @@ def main() -> None:
                 results[name][key] = profile.settings[key]
     limit = profile.limit_duration_s  # every method's profile carries the same rigid limit
     payload = {
-        "benchmark": "slew",
         "problem": problem.name,
-        "machine": platform.platform(),
         "slew": "180 deg about z, rest to rest",
         "limit_duration_s": limit,
         "paper": {"duration_s": PAPER_DURATION_S, "fuel_kg": PAPER_FUEL_KG},
@@ -126,9 +126,7 @@ def main() -> None:
         },
         "methods": results,
     }
-    if args.out:
-        write_json_atomic(args.out, payload)
-    print(json.dumps(json_ready(payload), indent=2))
+    recording.finish(settings, payload)
 
 
 if __name__ == "__main__":

@@ -1,6 +1,10 @@
 """Solve times of the optimal slews over four slews, not one; prints JSON.
 
-Usage: python benchmarks/slew_battery.py [--out FILE]
+Usage: python benchmarks/slew_battery.py [--slews z_180deg,x_90deg,...] [--quick] [--record]
+       [--out FILE] [--note TEXT]
+
+``--record`` also writes ``docs/benchmarks/slew_battery.json`` (see ``recording.py``).
+``--quick``: two of the slews, 180 deg about z and 45 deg about y (default: all four).
 
 IPOPT's path on these nonconvex problems moves with small changes (local optima
 of the thruster-level slews differ by up to 0.15 %, iteration counts by 2-5x),
@@ -14,16 +18,13 @@ the rigid eigenaxis limit of their slew.
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import platform
 from collections.abc import Callable
-from pathlib import Path
 
 from casadi_debris import load_problem
 from casadi_debris.config import Problem
-from casadi_debris.report.common import json_ready, write_json_atomic
 from casadi_debris.slew import SlewProfile, bang_bang_slew, fuel_optimal_slew, time_optimal_slew
+from recording import Recording, add_options, resolve
 
 SLEWS = {
     "z_180deg": ("z", math.pi),
@@ -65,13 +66,17 @@ def methods(problem: Problem) -> dict[str, Callable[[str | tuple, float], SlewPr
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--out", type=Path)
+    parser.add_argument("--slews", help=f"comma-separated, of {', '.join(SLEWS)} (all)")
+    add_options(parser, "slew_battery", "180 deg about z and 45 deg about y")
     args = parser.parse_args()
+    recording = Recording("slew_battery", args)
+    settings = resolve(args, full={"slews": ",".join(SLEWS)}, quick={"slews": "z_180deg,y_45deg"})
+    slews = {name: SLEWS[name] for name in args.slews.split(",")}
     problem = load_problem()
     results = {}
     for name, solve in methods(problem).items():
         per_slew = {}
-        for slew, (axis, angle) in SLEWS.items():
+        for slew, (axis, angle) in slews.items():
             profile = solve(axis, angle)
             per_slew[slew] = {
                 "duration_s": profile.duration_s,
@@ -87,15 +92,11 @@ def main() -> None:
             "within_target": sum(t <= TARGET_S for t in times),
         }
     payload = {
-        "benchmark": "slew_battery",
         "problem": problem.name,
-        "machine": platform.platform(),
         "target_solve_time_s": TARGET_S,
         "methods": results,
     }
-    if args.out:
-        write_json_atomic(args.out, payload)
-    print(json.dumps(json_ready(payload), indent=2))
+    recording.finish(settings, payload)
 
 
 if __name__ == "__main__":

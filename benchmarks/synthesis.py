@@ -3,11 +3,14 @@
 Prints JSON: wall time of each D-K step, of the whole synthesis and of the
 margin sweep with 1 and 2 worker processes (their ratio measured in the same run),
 with the load average before each sweep (the machine may be busy with other work).
-Targets (issue 3): synthesis <= 60 s, margin sweep <= 30 s on 2 cores.
+The design's targets: synthesis <= 60 s, margin sweep <= 30 s on 2 cores.
 
-    python benchmarks/synthesis.py [--samples 3000] [--sweep-only]
+    python benchmarks/synthesis.py [--samples 3000] [--sweep-only] [--quick] [--record]
+        [--out FILE] [--note TEXT]
 
 ``--sweep-only`` skips the synthesis and sweeps the shipped controller.
+``--record`` also writes ``docs/benchmarks/synthesis.json`` (see ``recording.py``).
+``--quick``: a 300-sample sweep (default: 3000); the synthesis is the same.
 """
 
 from __future__ import annotations
@@ -24,6 +27,9 @@ from casadi_debris.config import Problem, default_controller_path
 from casadi_debris.robust.analysis import margin_study
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import design_controller
+from recording import Recording, add_options, resolve
+
+TARGETS = {"synthesis_s": 60.0, "margin_sweep_s_2_workers": 30.0}  # the design's, on 2 cores
 
 
 def margin_sweeps(problem: Problem, controller: control.StateSpace, samples: int) -> dict:
@@ -48,17 +54,18 @@ def margin_sweeps(problem: Problem, controller: control.StateSpace, samples: int
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--samples", type=int, default=3000)
+    parser.add_argument("--samples", type=int, help="plants of the margin sweep (3000)")
     parser.add_argument("--sweep-only", action="store_true", help="sweep the shipped controller")
+    add_options(parser, "synthesis", "a 300-sample sweep")
     args = parser.parse_args()
+    recording = Recording("synthesis", args, ("control", "slycot"))
+    settings = resolve(args, full={"samples": 3000}, quick={"samples": 300})
+    settings["sweep_only"] = args.sweep_only
     problem = load_problem()
     if args.sweep_only:
         record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
-        result = {
-            "cpu_count": os.cpu_count(),
-            **margin_sweeps(problem, record.reduced, args.samples),
-        }
-        print(json.dumps(result, indent=1))
+        sweeps = margin_sweeps(problem, record.reduced, args.samples)
+        recording.finish(settings, {**sweeps, "targets": TARGETS})
         return
     steps = []
     start = time.perf_counter()
@@ -67,28 +74,26 @@ def main() -> None:
     )
     synthesis_s = time.perf_counter() - start
     sweeps = margin_sweeps(problem, design.record.reduced, args.samples)
-    print(
-        json.dumps(
-            {
-                "cpu_count": os.cpu_count(),
-                "synthesis_s": synthesis_s,
-                "stage_times_s": design.timings_s,
-                "dk_iterations": [
-                    {
-                        "index": it.index,
-                        "d_order": it.d_order,
-                        "mu_peak": it.mu_peak,
-                        "time_s": it.time_s,
-                    }
-                    for stage, it, _ in steps
-                    if it is not None
-                ],
-                "mu_peak": design.summary()["mu_peak"],
-                "mu_peak_reduced": design.summary()["mu_peak_reduced"],
-                **sweeps,
-            },
-            indent=1,
-        )
+    recording.finish(
+        settings,
+        {
+            "synthesis_s": synthesis_s,
+            "stage_times_s": design.timings_s,
+            "dk_iterations": [
+                {
+                    "index": it.index,
+                    "d_order": it.d_order,
+                    "mu_peak": it.mu_peak,
+                    "time_s": it.time_s,
+                }
+                for stage, it, _ in steps
+                if it is not None
+            ],
+            "mu_peak": design.summary()["mu_peak"],
+            "mu_peak_reduced": design.summary()["mu_peak_reduced"],
+            **sweeps,
+            "targets": TARGETS,
+        },
     )
 
 
