@@ -32,11 +32,17 @@ The slew's check on the full nonlinear model measures what they change.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TypeVar
 
 import casadi as ca
 import numpy as np
 
 from casadi_debris.model import Model
+
+# One kind of CasADi matrix throughout a call: numbers (DM) when marching a profile,
+# symbols (SX, MX) when building a constraint. CasADi does not mix SX and MX.
+Expression = TypeVar("Expression", ca.DM, ca.SX, ca.MX)
+Symbolic = TypeVar("Symbolic", ca.SX, ca.MX)
 
 
 @dataclass(frozen=True)
@@ -64,11 +70,11 @@ class ModalResponse:
 
     def step(
         self,
-        real: ca.DM | ca.SX | ca.MX,
-        imag: ca.DM | ca.SX | ca.MX,
-        step_s: float | ca.SX | ca.MX,
-        inputs: ca.DM | ca.SX | ca.MX | np.ndarray,
-    ) -> tuple[ca.DM | ca.SX | ca.MX, ca.DM | ca.SX | ca.MX]:
+        real: Expression,
+        imag: Expression,
+        step_s: float | Expression,
+        inputs: Expression | np.ndarray,
+    ) -> tuple[Expression, Expression]:
         """xi (Re, Im; k x 1 each) after one interval with the input held.
 
         xi+ = Phi xi + (Phi - 1) / lambda  w^T B u,  Phi = exp(lambda h).
@@ -111,7 +117,7 @@ class ModalResponse:
             real, imag = self.step(real, imag, float(step_s), u)
         return np.array(real).ravel(), np.array(imag).ravel()
 
-    def energy(self, real: ca.DM | ca.MX, imag: ca.DM | ca.MX) -> ca.DM | ca.MX:
+    def energy(self, real: Expression, imag: Expression) -> Expression:
         """Vibration energy (J) of the modal coordinates ``real + i imag``."""
         r = ca.vertcat(real, imag)
         return 0.5 * r.T @ ca.DM(self.energy_form) @ r
@@ -124,9 +130,7 @@ def _small_angle_state(model: Model, z: ca.SX) -> ca.SX:
     return ca.vertcat(q, z[3 : model.layout.size - 5], q)
 
 
-def vibration_energy_expression(
-    model: Model, state: ca.SX | ca.MX, parameters: np.ndarray
-) -> ca.SX | ca.MX:
+def vibration_energy_expression(model: Model, state: Symbolic, parameters: np.ndarray) -> Symbolic:
     """Symbolic :func:`~casadi_debris.slew.profile.vibration_energy` of a full state (J)."""
     lay = model.layout
     mass = np.array(model.mass_matrix(parameters))

@@ -149,10 +149,10 @@ class VibrationBound:
             )
 
         march = ca.Function("modal_step", [xi, h, u], [step(xi)])
-        path = [np.zeros(2 * k)]
+        nodes = [np.zeros(2 * k)]
         for step_s, control in zip(guess[0], guess[1].T, strict=True):
-            path.append(np.array(march(path[-1], step_s, control)).ravel())
-        path = np.array(path).T
+            nodes.append(np.array(march(nodes[-1], step_s, control)).ravel())
+        path = np.array(nodes).T  # (2k, N + 1)
         # xi's size: the largest of the guess, at least what alone holds half the limit.
         floor = np.sqrt(self.limit_J / np.diag(response.energy_form))
         scale = np.maximum(np.max(np.abs(path), axis=1), floor)
