@@ -188,7 +188,8 @@ def _piecewise_motion(timing: BangBangTiming, angle_rad: float, t: ca.SX) -> ca.
         start_values.append((theta, rate))
         theta += rate * length + a0 * length**2 / 2.0 + (a1 - a0) * length**2 / 6.0
         rate += (a0 + a1) * length / 2.0
-    motion = ca.vertcat(angle_rad, 0.0, 0.0)  # after the end: at rest on target
+    # After the end: at rest on target, a constant (DM) until the first piece wraps it.
+    motion: ca.DM | ca.SX = ca.vertcat(angle_rad, 0.0, 0.0)
     for (start, length, a0, a1), (theta0, rate0) in reversed(
         list(zip(segments, start_values, strict=True))
     ):

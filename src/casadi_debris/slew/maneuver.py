@@ -70,7 +70,7 @@ def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.concatenate([scalar, vector], axis=-1)
 
 
-def axis_vector(axis: str | Sequence[float]) -> np.ndarray:
+def axis_vector(axis: str | Sequence[float] | np.ndarray) -> np.ndarray:
     """Unit vector of ``"x"``, ``"-z"``, ... or of three numbers, shape (3,)."""
     if isinstance(axis, str):
         name = axis.strip().lower()
@@ -90,7 +90,7 @@ def axis_vector(axis: str | Sequence[float]) -> np.ndarray:
     return vector / norm
 
 
-def _unit_quaternion(q: Sequence[float], name: str) -> np.ndarray:
+def _unit_quaternion(q: Sequence[float] | np.ndarray, name: str) -> np.ndarray:
     array = np.asarray(q, dtype=float)
     if array.shape != (4,) or not np.all(np.isfinite(array)):
         raise InputShapeError(f"{name}: expected four finite numbers (scalar first), got {q!r}")
@@ -101,19 +101,19 @@ def _unit_quaternion(q: Sequence[float], name: str) -> np.ndarray:
 
 
 def slew_about_axis(
-    axis: str | Sequence[float],
+    axis: str | Sequence[float] | np.ndarray,
     angle_rad: float,
-    q_initial_BN: Sequence[float] = (1.0, 0.0, 0.0, 0.0),
+    q_initial_BN: Sequence[float] | np.ndarray = (1.0, 0.0, 0.0, 0.0),
 ) -> SlewTarget:
     """Rest-to-rest rotation by ``angle_rad`` about a body axis.
 
     Parameters
     ----------
-    axis : str or sequence of 3 floats
+    axis : str, or sequence or array of 3 floats
         ``"x"``, ``"y"``, ``"z"`` (optionally with a sign) or a vector in B.
     angle_rad : float
         Rotation angle in (0, pi] rad; larger turns are the short way about -axis.
-    q_initial_BN : sequence of 4 floats
+    q_initial_BN : sequence or array of 4 floats
         Starting attitude (scalar first).
     """
     e = axis_vector(axis)
@@ -128,7 +128,9 @@ def slew_about_axis(
     return SlewTarget(q0, quaternion_multiply(q0, rotation), e, angle)
 
 
-def slew_between(q_initial_BN: Sequence[float], q_final_BN: Sequence[float]) -> SlewTarget:
+def slew_between(
+    q_initial_BN: Sequence[float] | np.ndarray, q_final_BN: Sequence[float] | np.ndarray
+) -> SlewTarget:
     """Rest-to-rest slew between two attitudes, the short way round.
 
     The eigenaxis and angle follow from q_rel = q_i^-1 (x) q_f with its sign chosen
