@@ -72,13 +72,15 @@ def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.nda
     # Per sample: [f (n_engines), s+ (3), s- (3)]; a shortfall costs more than all engines at full
     # thrust on the shortest lever arm would.
     penalty = 1e3 * float(np.sum(limits)) / scale
-    block = sp.hstack([sp.csr_matrix(torque_map), sp.identity(3), -sp.identity(3)])
+    # COO is what hstack builds from mixed formats anyway; naming it types the kron below.
+    block = sp.hstack([sp.csr_matrix(torque_map), sp.identity(3), -sp.identity(3)], format="coo")
     width = n_engines + 6
     a_eq = sp.kron(sp.identity(active.size, format="csr"), block, format="csr")
     cost = np.tile(np.concatenate([np.ones(n_engines), penalty * np.ones(6)]), active.size)
     upper = np.tile(np.concatenate([limits, np.full(6, np.inf)]), active.size)
     # Solved in mN and mNm: in N the thrusts (~1e-4) sit at HiGHS's feasibility tolerance.
-    result = linprog(
+    # scipy-stubs types A_eq as dense and bounds as tuples; HiGHS takes sparse and an (n, 2) array.
+    result = linprog(  # type: ignore[call-overload]
         cost,
         A_eq=a_eq,
         b_eq=torque[active].ravel() * MILLI,

@@ -14,8 +14,9 @@ equations themselves, so that IPOPT starts with only the end conditions to fix.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeAlias
 
 import casadi as ca
 import numpy as np
@@ -30,7 +31,9 @@ COLLOCATION_DEGREE = 3
 RIGID_INTERVALS = 40
 REGULARISATION = 1e-6
 ACCEPTED_STATUS = ("Solve_Succeeded", "Solved_To_Acceptable_Level")
-IPOPT_OPTIONS = {
+# The values CasADi's solver options take here (its own option type also allows nesting).
+SolverOptions: TypeAlias = Mapping[str, bool | int | float | str]
+IPOPT_OPTIONS: SolverOptions = {
     "expand": True,
     "print_time": False,
     "ipopt.print_level": 0,
@@ -40,11 +43,11 @@ IPOPT_OPTIONS = {
 }
 # The modal solve starts from the shaped rigid optimum: a small initial barrier keeps
 # IPOPT from first pushing every saturated control to mid-range.
-WARM_START_OPTIONS = {"ipopt.mu_init": 1e-3}
+WARM_START_OPTIONS: SolverOptions = {"ipopt.mu_init": 1e-3}
 # At thruster level 24 thrusts per interval give six numbers; with the monotone barrier
 # update IPOPT reaches the barrier floor while still far from the optimum and crawls
 # (z slew: 133 iterations, 3.3 s; four test slews: 1.4 to 3.3 s against 0.9 to 1.3 s).
-THRUSTER_OPTIONS = {"ipopt.mu_strategy": "adaptive"}
+THRUSTER_OPTIONS: SolverOptions = {"ipopt.mu_strategy": "adaptive"}
 
 
 class SlewNotConvergedError(SlewInfeasibleError):
@@ -421,7 +424,7 @@ class _RadauNlp:
         return np.clip(scaled * self.u_scale, self.lower_u, self.upper_u)
 
 
-def solve_with_ipopt(opti: ca.Opti, options: dict[str, Any]) -> tuple[Any, str]:
+def solve_with_ipopt(opti: ca.Opti, options: SolverOptions) -> tuple[Any, str]:
     """Solve with IPOPT: the solution's ``value`` function and the return status.
 
     ``options`` are added to ``IPOPT_OPTIONS``.
