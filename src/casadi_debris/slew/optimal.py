@@ -116,10 +116,20 @@ class _SlewSolver:
     def _solve_rigid(
         self, fuel: bool, duration_s: float | None
     ) -> tuple[NlpSolution, InitialGuess]:
-        """The rigid OCP from the eigenaxis bang-bang; its solution and the guess."""
+        """The rigid OCP from the eigenaxis bang-bang; its solution and the guess.
+
+        ``duration_s`` is the length of a fuel-optimal slew (required then); a
+        time-optimal one ignores it.
+        """
         ocp = self.ocp
-        reference = self.references.at(duration_s if fuel else ocp.limit_duration_s)
-        total_s = duration_s if duration_s is not None and fuel else reference.duration_s
+        if fuel:
+            if duration_s is None:
+                raise ValueError("a fuel-optimal slew needs its duration_s")
+            reference = self.references.at(duration_s)
+            total_s = duration_s
+        else:
+            reference = self.references.at(ocp.limit_duration_s)
+            total_s = reference.duration_s
         guess = bang_bang_guess(ocp, reference, fuel, total_s)
         solution = transcribe_and_solve(
             ocp,
@@ -152,14 +162,14 @@ class _SlewSolver:
         """
         ocp = self.ocp
         started = time.perf_counter()
-        if ocp.flexible_model is not None:
-            shaper_times, shaper_amplitudes, shaped_frequencies = self.shaper()
-            if fuel and duration_s is not None:  # the shaper stretches the rigid profile
-                duration_s = duration_s - float(shaper_times[-1])
+        shaper = self.shaper() if ocp.flexible_model is not None else None
+        if shaper is not None and fuel and duration_s is not None:
+            duration_s = duration_s - float(shaper[0][-1])  # the shaper stretches the profile
         solution, _ = self._solve_rigid(fuel, duration_s)
         solve_time = time.perf_counter() - started
         settings: dict[str, Any] = {}
-        if ocp.flexible_model is not None:
+        if shaper is not None:
+            shaper_times, shaper_amplitudes, shaped_frequencies = shaper
             knots, controls = shape(
                 solution.knots_s, solution.controls, shaper_times, shaper_amplitudes
             )
