@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -11,6 +12,7 @@ from scipy.interpolate import CubicHermiteSpline
 from casadi_debris.config import Problem, SlewReference
 from casadi_debris.errors import ProblemFileError, SlewInfeasibleError
 from casadi_debris.slew import (
+    SlewOptions,
     SlewProfile,
     bang_bang_slew,
     fuel_optimal_slew,
@@ -73,7 +75,6 @@ def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) ->
 
 def _slew_of(problem: Problem, settings: SlewReference, sample_s: float) -> SlewProfile:
     angle = math.radians(settings.angle_deg)
-    common = {"sample_s": sample_s, "check_vibration": False}
     if settings.method == "bang-bang":
         return bang_bang_slew(
             problem,
@@ -81,20 +82,30 @@ def _slew_of(problem: Problem, settings: SlewReference, sample_s: float) -> Slew
             angle,
             duration_s=settings.duration_s,
             torque_fraction=settings.torque_fraction,
-            **common,
+            sample_s=sample_s,
+            check_vibration=False,
         )
-    options: dict = {}
-    if settings.torque_fraction is not None:
-        options["torque_fraction"] = settings.torque_fraction
-    if settings.thrusters:
-        options.update(thrusters=True, zero_net_force=True)
+    options = SlewOptions(
+        thrusters=settings.thrusters,
+        zero_net_force=settings.thrusters,
+        sample_s=sample_s,
+        check_vibration=False,
+    )
+    if settings.torque_fraction is not None:  # else the slew's own default
+        options = dataclasses.replace(options, torque_fraction=settings.torque_fraction)
     if settings.method == "time-optimal":
         # A duration is the slew's deadline: the optimum must not be longer.
         return time_optimal_slew(
-            problem, settings.axis, angle, duration_s=settings.duration_s, **options, **common
+            problem, settings.axis, angle, duration_s=settings.duration_s, options=options
+        )
+    if settings.duration_s is None:  # the loader refuses it; a table built in Python may not
+        raise ProblemFileError(
+            "simulation.slew.duration_s",
+            "missing: a fuel-optimal slew needs its duration",
+            problem.source,
         )
     return fuel_optimal_slew(
-        problem, settings.axis, angle, duration_s=float(settings.duration_s), **options, **common
+        problem, settings.axis, angle, duration_s=float(settings.duration_s), options=options
     )
 
 
