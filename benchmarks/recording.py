@@ -27,6 +27,7 @@ import json
 import os
 import platform
 import resource
+import shlex
 import subprocess
 import sys
 import time
@@ -124,6 +125,19 @@ def _own_cpu_s() -> float:
     return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
 
 
+def _command() -> str:
+    """The command line, quoted as for a shell, without ``--note`` (kept on its own)."""
+    options, skip = [], False
+    for word in sys.argv[1:]:
+        if skip or word == "--note":
+            skip = not skip
+            continue
+        if not word.startswith("--note="):
+            options.append(word)
+    script = Path(sys.argv[0]).resolve().relative_to(ROOT).as_posix()
+    return shlex.join(["python", script, *options])
+
+
 class Recording:
     """Started when a benchmark starts; :meth:`finish` prints and writes its JSON."""
 
@@ -147,9 +161,8 @@ class Recording:
             other_share = max(0.0, other_s) / capacity_s
             steal_share = (machine_now[1] - self.machine_cpu[1]) / capacity_s
         changed = _git("status", "--porcelain", "--", *CODE_PATHS)
-        command = ["python", Path(sys.argv[0]).resolve().relative_to(ROOT).as_posix()]
         run = {
-            "command": " ".join([*command, *sys.argv[1:]]),
+            "command": _command(),
             "mode": "quick" if self.args.quick else "full",
             "settings": settings,
             "date": self.started.isoformat(timespec="seconds"),
