@@ -36,11 +36,12 @@ def describe_model(problem: Problem) -> dict[str, Any]:
     model = build_model(problem)
     geometry = model.geometry
     modes = []
-    by_name = {m.name: m for m in problem.arrays.modes}
+    with_modes = sorted({a for a, _ in model.layout.mode_labels})  # array numbers, from 1
     for assembled in assembled_modes(model):
-        cantilever = by_name[assembled["dominant_mode"]]
-        integrals = shape_integrals(cantilever.kind, cantilever.order)
         share = assembled["array_share"]
+        array = problem.arrays[with_modes[int(np.argmax(share))] - 1]
+        cantilever = next(m for m in array.modes if m.name == assembled["dominant_mode"])
+        integrals = shape_integrals(cantilever.kind, cantilever.order)
         carrying = [str(i + 1) for i, s in enumerate(share) if s > 0.1]
         phase = assembled["in_phase"]
         modes.append(
@@ -51,7 +52,7 @@ def describe_model(problem: Problem) -> dict[str, Any]:
                 "symmetry": "-" if phase is None else ("in-phase" if phase else "anti-phase"),
                 "omega_rad_s": cantilever.omega_rad_s,
                 "omega_free_rad_s": assembled["omega_rad_s"],
-                "zeta": problem.arrays.damping_ratio,
+                "zeta": array.damping_ratio,
                 "zeta_free": assembled["zeta"],
                 "mass_fraction": integrals.mass_fraction if cantilever.kind == "bending" else 0.0,
                 "root_inertia_fraction": (
@@ -63,13 +64,14 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         )
     thrusters = [
         {
-            "cubesat": mount.index + 1,
-            "face": mount.face,
-            "position_m": _rounded(mount.position_m),
-            "direction": _rounded(mount.direction),
-            "max_thrust_mN": mount.max_thrust_N * MN_PER_N,
+            "engine": engine.index + 1,
+            "cubesat": engine.cubesat + 1,
+            "face": geometry.cubesats[engine.cubesat].face,
+            "position_m": _rounded(engine.position_m),
+            "direction": _rounded(engine.direction),
+            "max_thrust_mN": engine.max_thrust_N * MN_PER_N,
         }
-        for mount in geometry.cubesats
+        for engine in geometry.engines
     ]
     return {
         "problem": problem.name,
@@ -79,7 +81,7 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         "cog_m": _rounded(geometry.cog_corner_m),
         "inertia_hub_cubesats_kgm2": _rounded(geometry.inertia_hub_cubesats_kgm2),
         "inertia_total_kgm2": _rounded(geometry.inertia_total_kgm2),
-        "array_angle_deg": problem.arrays.angle_deg,
+        "array_angle_deg": [array.angle_deg for array in problem.arrays],
         "torque_max_mNm": {k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
         "torque_max_zero_force_mNm": {
             k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
@@ -100,10 +102,33 @@ def _paper_cells(key: str, ours: Any, show_paper: bool) -> list[str]:
 
 def model_text(summary: dict[str, Any], show_paper: bool) -> str:
     """Readable tables of :func:`describe_model`'s output."""
+    headers = (
+        ["quantity", "toolkit", "paper", "check"] if show_paper else ["quantity", "value", "", ""]
+    )
+    parts = [
+        f"Problem {summary['problem']} ({summary['problem_path']})",
+        "",
+        format_table(headers, _quantity_rows(summary, show_paper)),
+        "",
+        "Flexible modes (array angles "
+        + ", ".join(f"{angle:g}" for angle in summary["array_angle_deg"])
+        + " deg; "
+        "omega = cantilever, omega_free = assembled free-floating body)",
+        _modes_table(summary["modes"]),
+        "",
+        "Engines (body frame B, origin at the CoG; direction = unit force on the body)",
+        _thrusters_table(summary["thrusters"]),
+    ]
+    return "\n".join(parts)
+
+
+def _quantity_rows(summary: dict[str, Any], show_paper: bool) -> list[list[Any]]:
+    """Mass, CoG, inertia and torque authority, each with the paper's figure when shown."""
     torque = summary["torque_max_mNm"]
     torque_pos = [torque["+x"], torque["+y"], torque["+z"]]
+    torque_neg = [torque["-x"], torque["-y"], torque["-z"]]
     inertia_hc = np.array(summary["inertia_hub_cubesats_kgm2"])
-    rows = [
+    return [
         [
             "total mass [kg]",
             summary["mass_kg"],
@@ -129,8 +154,8 @@ def model_text(summary: dict[str, Any], show_paper: bool) -> str:
         ],
         [
             "max torque -x,-y,-z [mNm]",
-            [torque["-x"], torque["-y"], torque["-z"]],
-            *_paper_cells("torque_max_mNm", [torque["-x"], torque["-y"], torque["-z"]], show_paper),
+            torque_neg,
+            *_paper_cells("torque_max_mNm", torque_neg, show_paper),
         ],
         [
             "  same with zero net force",
@@ -139,54 +164,45 @@ def model_text(summary: dict[str, Any], show_paper: bool) -> str:
             "",
         ],
     ]
-    parts = [
-        f"Problem {summary['problem']} ({summary['problem_path']})",
-        "",
-        format_table(
-            ["quantity", "toolkit", "paper", "check"]
-            if show_paper
-            else ["quantity", "value", "", ""],
-            rows,
-        ),
-        "",
-        f"Flexible modes (array angle {summary['array_angle_deg']:g} deg; "
-        "omega = cantilever, omega_free = assembled free-floating body)",
-        format_table(
+
+
+# Header next to the summary key it shows, so that the two cannot drift apart.
+_MODE_COLUMNS = (
+    ("array", "array"),
+    ("mode", "name"),
+    ("symmetry", "symmetry"),
+    ("omega [rad/s]", "omega_rad_s"),
+    ("omega_free [rad/s]", "omega_free_rad_s"),
+    ("zeta", "zeta"),
+    ("mass frac", "mass_fraction"),
+    ("root inertia frac", "root_inertia_fraction"),
+)
+
+
+def _modes_table(modes: list[dict[str, Any]]) -> str:
+    """The assembled flexible modes with their cantilever origin."""
+    return format_table(
+        [header for header, _ in _MODE_COLUMNS],
+        [[mode[key] for _, key in _MODE_COLUMNS] for mode in modes],
+    )
+
+
+def _thrusters_table(thrusters: list[dict[str, Any]]) -> str:
+    """Each CubeSat engine: face, position, force direction and thrust."""
+    return format_table(
+        ["engine", "cubesat", "face", "position [m]", "direction", "max thrust [mN]"],
+        [
             [
-                "array",
-                "mode",
-                "symmetry",
-                "omega [rad/s]",
-                "omega_free [rad/s]",
-                "zeta",
-                "mass frac",
-                "root inertia frac",
-            ],
-            [
-                [
-                    m["array"],
-                    m["name"],
-                    m["symmetry"],
-                    m["omega_rad_s"],
-                    m["omega_free_rad_s"],
-                    m["zeta"],
-                    m["mass_fraction"],
-                    m["root_inertia_fraction"],
-                ]
-                for m in summary["modes"]
-            ],
-        ),
-        "",
-        "Engines (body frame B, origin at the CoG; direction = unit force on the body)",
-        format_table(
-            ["cubesat", "face", "position [m]", "direction", "max thrust [mN]"],
-            [
-                [t["cubesat"], t["face"], t["position_m"], t["direction"], t["max_thrust_mN"]]
-                for t in summary["thrusters"]
-            ],
-        ),
-    ]
-    return "\n".join(parts)
+                t["engine"],
+                t["cubesat"],
+                t["face"] or "-",
+                t["position_m"],
+                t["direction"],
+                t["max_thrust_mN"],
+            ]
+            for t in thrusters
+        ],
+    )
 
 
 def _offdiag(matrix: np.ndarray) -> list[float]:
