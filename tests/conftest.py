@@ -45,5 +45,6 @@ def model(problem: Problem) -> Model:
 @pytest.fixture(scope="session")
 def undamped_problem(paper_data: dict[str, Any]) -> Problem:
     data = copy.deepcopy(paper_data)
-    data["arrays"]["damping_ratio"] = 0.0
+    for array in data["arrays"]:
+        array["damping_ratio"] = 0.0
     return problem_from_dict(data, "undamped")

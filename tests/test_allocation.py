@@ -333,9 +333,9 @@ def test_first_stage_switches_at_the_analytic_time(problem: Problem, geometry: G
 
 def test_cubesat_drops_out_after_its_last_stage(problem: Problem, geometry: Geometry) -> None:
     state = PropulsionState.from_problem(problem, geometry)
-    life_s = problem.engine.stage_life_h * 3600.0
+    life_s = problem.engines[5].stage_life_h * 3600.0
     thrust = np.zeros(N_CUBESATS)
-    thrust[5] = state.stage_thrust_N[0]
+    thrust[5] = state.stage_thrust_N[5, 0]
     events = state.advance(thrust, 4 * life_s)
     assert [e.stage for e in events] == [0, 1, 2]
     assert [e.next_stage for e in events] == [1, 2, None]

@@ -212,7 +212,7 @@ def test_engines_on_two_parallel_faces_only_make_a_flat_set_and_are_refused(
     geometry: Geometry, faces: tuple[str, str], free_force: bool
 ) -> None:
     # Thrust along +-a only: every torque r x f is normal to a.
-    alive = np.array([mount.face in faces for mount in geometry.cubesats])
+    alive = np.array([geometry.cubesats[e.cubesat].face in faces for e in geometry.engines])
     limits = np.where(alive, max_thrust_N(geometry), 0.0)
     assert _is_flat(geometry, limits, free_force)
     with pytest.raises(AllocationError, match="flat"):

@@ -171,7 +171,7 @@ def test_series_after_failures_matches_allocate(
 
     # Back to the nominal limits: the first answers again (thrust where the demand
     # is met; at the edge with the force free it depends on the pull-in, see above).
-    allocator.set_max_thrust(np.array([m.max_thrust_N for m in geometry.cubesats]))
+    allocator.set_max_thrust(np.array([e.max_thrust_N for e in geometry.engines]))
     again = allocator.allocate_series(torques, free_force=free_force)
     np.testing.assert_array_equal(again.scale, before.scale)
     compared = before.scale == 1.0 if free_force else slice(None)

@@ -164,9 +164,16 @@ def _cli(*args: str) -> tuple[int, str]:
     return result.exit_code, result.stderr
 
 
-MODE_ORDER_9 = "[[arrays.modes]]\nname = 'b9'\nkind = 'bending'\norder = 9\nomega_rad_s = 50.0\n"
+ONE_ARRAY = (
+    "[[arrays]]\nhinge_corner_m = [0.4, 1.4, 0.0]\ndirection = '-z'\nmass_kg = 42.0\n"
+    "length_m = 2.5\nwidth_m = 2.0\ninertia_kgm2 = [17.0, 62.0, 80.0]\nangle_deg = 0.0\n"
+    "damping_ratio = 0.005\n"
+)
+MODE_ORDER_9 = (
+    ONE_ARRAY + "[[arrays.modes]]\nname = 'b9'\nkind = 'bending'\norder = 9\nomega_rad_s = 50.0\n"
+)
 BAD_FILES = {
-    "numeric-string": ('[cubesats]\nmass_kg = "5"\n', "cubesats.mass_kg"),
+    "numeric-string": ('[cubesat_layout]\nmass_kg = "5"\n', "cubesat_layout.mass_kg"),
     "bool": ("[hub]\nmass_kg = true\n", "hub.mass_kg"),
     "nan": ("[hub]\nmass_kg = nan\n", "hub.mass_kg"),
     "inf-array": ("[hub]\nsize_m = [0.75, inf, 1.0]\n", "hub.size_m"),
@@ -178,8 +185,9 @@ BAD_FILES = {
     "corners": ("[montecarlo]\ncorner_array_angles = 100000\n", "montecarlo.corner_array_angles"),
     "seed": ("[montecarlo]\nseed = 99999999999\n", "montecarlo.seed"),
     "zero-hub": ("[hub]\nsize_m = [0.0, 0.0, 0.0]\n", "hub.size_m"),
-    "empty-hinges": ("[arrays]\nhinges_corner_m = []\ndirections = []\n", "arrays.hinges_corner_m"),
-    "mode-order": (MODE_ORDER_9, "arrays.modes[0].order"),
+    "empty-hinge": (ONE_ARRAY.replace("[0.4, 1.4, 0.0]", "[]"), "arrays[0].hinge_corner_m"),
+    "old-arrays-table": ("[arrays]\nmass_kg = 42.0\n", "arrays"),
+    "mode-order": (MODE_ORDER_9, "arrays[0].modes[0].order"),
     "nesting": ("hub = 5\n", "hub"),
     "name-path": ('name = "../../somewhere"\n', "name"),
 }

@@ -72,7 +72,7 @@ def leaves(paper_data: dict[str, Any]) -> list[tuple[str, Any]]:
 
 def test_every_number_of_the_paper_is_found(leaves):
     keys = {key for key, _ in leaves}
-    assert {"hub.mass_kg", "arrays.modes[2].omega_rad_s", "montecarlo.seed"} <= keys
+    assert {"hub.mass_kg", "arrays[1].modes[2].omega_rad_s", "montecarlo.seed"} <= keys
     assert len(keys) > 50
 
 
@@ -100,9 +100,9 @@ def test_every_number_refuses_bad_values_naming_its_key(paper_data, leaves, bad,
 
 def test_numeric_strings_are_not_numbers(fresh_data):
     # "5" used to be read as 5.0 (np.array("5", dtype=float)): a 173 kg body.
-    fresh_data["cubesats"]["mass_kg"] = "5"
-    _refused(fresh_data, "cubesats.mass_kg", "not a string")
-    fresh_data["cubesats"]["mass_kg"] = 3.5
+    fresh_data["cubesat_layout"]["mass_kg"] = "5"
+    _refused(fresh_data, "cubesat_layout.mass_kg", "not a string")
+    fresh_data["cubesat_layout"]["mass_kg"] = 3.5
     fresh_data["hub"]["size_m"] = [0.75, "3", 1.0]
     _refused(fresh_data, "hub.size_m", "not strings")
 
@@ -128,11 +128,12 @@ def test_integers_must_be_integers(fresh_data):
         ("hub.mass_kg", 1e308, "at most 1e+06"),
         ("hub.size_m", [0.75, 0.0, 1.0], "at least 0.01"),
         ("hub.inertia_kgm2", [[1e-9, 0, 0], [0, 1e-9, 0], [0, 0, 1e-9]], "below 1e-06"),
-        ("arrays.modes[0].order", 7, "at most 6"),
-        ("arrays.modes[0].omega_rad_s", 1e308, "at most 10000"),
-        ("arrays.hinges_corner_m", [], "1 to 16 entries"),
-        ("arrays.directions", [], "1 to 16 entries"),
-        ("arrays.angle_deg", 1e308, "at most 360"),
+        ("arrays[0].modes[0].order", 7, "at most 6"),
+        ("arrays[1].modes[0].omega_rad_s", 1e308, "at most 10000"),
+        ("arrays[0].hinge_corner_m", [0.4, 1.4, 1e308], "at most 200"),
+        ("arrays[0].direction", [0.0, 0.0, -1e308], "at least -1000"),
+        ("arrays[0].angle_deg", 1e308, "at most 360"),
+        ("cubesat_layout.per_face", 10**6, "at most 256"),
         ("engine.thrust_per_stage_mN", 5e-324, "at least 1e-06"),
         ("engine.stages", 10**20, "at most 16"),
         ("detumble.initial_rate_rad_s", [1.0, 100.0, 1.0], "at most 10"),
@@ -165,9 +166,11 @@ def test_wrong_nesting_names_the_table(fresh_data, table):
         ("hub.size_m", {"x": 1.0}, "shape (3,)"),
         ("hub.inertia_kgm2", [75.0, 40.0, 80.0], "shape (3, 3)"),
         ("hub.mass_kg", [500.0], "a number"),
-        ("arrays.modes", [], "non-empty array of tables"),
-        ("arrays.modes", {"name": "bending1"}, "non-empty array of tables"),
-        ("arrays.modes", [1.0], "must be a table"),
+        ("arrays[0].modes", {"name": "bending1"}, "non-empty array of tables"),
+        ("arrays[0].modes", [1.0], "must be a table"),
+        ("arrays", {"mass_kg": 42.0}, "must be an array of tables"),
+        ("arrays", [1.0], "must be a table"),
+        ("arrays[0].hinge_corner_m", [0.4, 1.4], "shape (3,)"),
         ("simulation", [], "must be a table"),
         ("simulation.slew", {}, "only allowed"),
         ("simulation.failures", [{"time_s": 1.0, "cubesat": 1}] * 1001, "at most 1000"),
@@ -182,7 +185,7 @@ def test_propellant_heavier_than_the_cubesat_is_refused(fresh_data):
     # 3 stages x 0.64 mN x 500 h / (1000 s g0) = 0.35 kg; 5000 h is 3.5 kg, the CubeSat's mass.
     fresh_data["engine"]["stage_life_h"] = 5000.0
     message = _refused(fresh_data, "engine.stage_life_h", "below the CubeSat's mass")
-    assert "3.524 kg" in message and "cubesats.mass_kg" in message
+    assert "3.524 kg" in message and "cubesat_layout.mass_kg" in message
     fresh_data["engine"]["stage_life_h"] = 4900.0
     assert problem_from_dict(fresh_data).engine.stage_life_h == 4900.0
 
@@ -190,8 +193,8 @@ def test_propellant_heavier_than_the_cubesat_is_refused(fresh_data):
 def test_propellant_check_counts_every_stage(fresh_data):
     fresh_data["engine"]["stages"] = 16  # 16 x 0.1175 kg = 1.88 kg < 3.5 kg
     problem_from_dict(fresh_data)
-    fresh_data["cubesats"]["mass_kg"] = 1.8
-    _refused(fresh_data, "engine.stage_life_h", "16 stage(s)")
+    fresh_data["cubesat_layout"]["mass_kg"] = 1.8
+    _refused(fresh_data, "engine.stage_life_h", "1.88 kg")
 
 
 def test_runs_are_bounded_as_a_whole(fresh_data):
@@ -212,8 +215,8 @@ def test_integration_step_must_resolve_the_fastest_dynamics(fresh_data):
     assert "integrator_steps >= 25" in message
     fresh_data["simulation"]["integrator_steps"] = 25
     problem_from_dict(fresh_data)
-    fresh_data["arrays"]["modes"][2]["omega_rad_s"] = 60.0  # now the fastest
-    _refused(fresh_data, "simulation.integrator_steps", "arrays.modes[2].omega_rad_s")
+    fresh_data["arrays"][1]["modes"][2]["omega_rad_s"] = 60.0  # now the fastest
+    _refused(fresh_data, "simulation.integrator_steps", "arrays[1].modes[2].omega_rad_s")
     fresh_data["simulation"]["control_rate_hz"] = 0.01  # 1000 steps cannot make it
     _refused(fresh_data, "simulation.integrator_steps", "raise control_rate_hz")
 
@@ -240,8 +243,8 @@ def test_labels_are_accepted(fresh_data, name):
 
 
 def test_mode_names_are_labels(fresh_data):
-    fresh_data["arrays"]["modes"][0]["name"] = "../bending"
-    _refused(fresh_data, "arrays.modes[0].name", "label")
+    fresh_data["arrays"][0]["modes"][0]["name"] = "../bending"
+    _refused(fresh_data, "arrays[0].modes[0].name", "label")
 
 
 @pytest.mark.parametrize(

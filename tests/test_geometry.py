@@ -7,8 +7,8 @@ import itertools
 import numpy as np
 import pytest
 
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES
-from casadi_debris.geometry import max_thrust_N, signed_axis_vector, torque_authority
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, signed_axis_vector
+from casadi_debris.geometry import max_thrust_N, torque_authority
 from casadi_debris.report.paper import paper_figure
 
 # The paper's figures and accepted tolerances (casadi_debris/data/paper_reference.toml).
@@ -41,7 +41,7 @@ def test_torque_authority_against_paper(geometry):
 def test_cog_by_hand(problem, geometry):
     # Hub and CubeSats centred on the hub centre; arrays' CoGs at (0.4, 1.4) and
     # symmetric in z: only 84 kg of arrays pull the CoG off the hub centre.
-    arrays_kg = 2 * problem.arrays.mass_kg
+    arrays_kg = sum(array.mass_kg for array in problem.arrays)
     expected = np.array(
         [0.375 + arrays_kg * (0.4 - 0.375) / 668.0, 1.5 + arrays_kg * (1.4 - 1.5) / 668.0, 0.5]
     )
@@ -59,7 +59,9 @@ def test_cubesats_on_faces_thrusting_inward(problem, geometry):
         for mount in mounts:
             corner = mount.position_m + geometry.cog_corner_m
             assert corner[axis] == pytest.approx(size[axis] if face[0] == "+" else 0.0)
-            np.testing.assert_array_equal(mount.direction, -normal)
+            (engine,) = (geometry.engines[i] for i in mount.engines)
+            np.testing.assert_array_equal(engine.direction, -normal)
+            np.testing.assert_array_equal(engine.position_m, mount.position_m)
             others = [a for a in range(3) if a != axis]
             # 10 % of the half edge in from the edges
             inset = np.minimum(corner[others], size[others] - corner[others])
@@ -67,10 +69,11 @@ def test_cubesats_on_faces_thrusting_inward(problem, geometry):
 
 
 def test_torque_map_is_lever_cross_force(geometry):
-    for i, mount in enumerate(geometry.cubesats):
+    for i, engine in enumerate(geometry.engines):
         np.testing.assert_allclose(
-            geometry.torque_map[:, i], np.cross(mount.position_m, mount.direction)
+            geometry.torque_map[:, i], np.cross(engine.position_m, engine.direction)
         )
+        np.testing.assert_array_equal(geometry.force_map[:, i], engine.direction)
 
 
 def _dual_authority(torque_map, force_map, limits, axis, sign, zero_force):
@@ -170,5 +173,5 @@ def test_full_rigid_inertia_adds_arrays(problem, geometry):
     # About z (the hinge axis) each array adds its length-axis inertia plus m d^2 for its
     # CoG's distance d from the combined CoG in the x-y plane.
     dx, dy = 0.4 - geometry.cog_corner_m[0], 1.4 - geometry.cog_corner_m[1]
-    expected = 2 * (17.0 + problem.arrays.mass_kg * (dx**2 + dy**2))
+    expected = 2 * (17.0 + problem.arrays[0].mass_kg * (dx**2 + dy**2))
     assert geometry.inertia_arrays_kgm2[2, 2] == pytest.approx(expected, rel=1e-12)

@@ -24,10 +24,11 @@ def _free_free_frequencies(model, p):
     effective = np.eye(len(coupling)) - coupling @ np.linalg.solve(rigid, coupling.T)
     scale = model.parameter_layout.bending_frequency_scale(p)
     omegas = []
-    for mode in model.problem.arrays.modes:
-        first_bending = (mode.kind, mode.order) == ("bending", 1)
-        omegas.append(mode.omega_rad_s * (scale if first_bending else 1.0))
-    stiffness = np.diag(np.tile(omegas, model.problem.arrays.count) ** 2)
+    for array in model.problem.arrays:
+        for mode in array.modes:
+            first_bending = (mode.kind, mode.order) == ("bending", 1)
+            omegas.append(mode.omega_rad_s * (scale if first_bending else 1.0))
+    stiffness = np.diag(np.array(omegas) ** 2)
     return np.sort(np.sqrt(scipy.linalg.eigh(stiffness, effective, eigvals_only=True)))
 
 
@@ -75,7 +76,7 @@ def test_truncation_moves_first_flexible_pole_less_than_two_percent(model, probl
 
 @pytest.mark.parametrize("angle_deg", [0.0, 45.0, 90.0, 160.0])
 def test_free_free_frequencies_match_generalised_eigenproblem(model, angle_deg):
-    p = model.parameters(array_angle_rad=math.radians(angle_deg))
+    p = model.parameters(array_angle_offset_rad=math.radians(angle_deg))
     from_plant = flexible_frequencies(linearize(model, p))
     independent = _free_free_frequencies(model, p)
     # |lambda| of a lightly damped pole equals the undamped frequency to O(zeta^2)
@@ -89,7 +90,7 @@ def test_free_free_above_cantilever_and_moving_with_array_angle(model):
         assert mode["omega_rad_s"] >= cantilever[mode["dominant_mode"]] * (1 - 1e-9)
     anti_phase = {}
     for angle in (0.0, 90.0):
-        p = model.parameters(array_angle_rad=math.radians(angle))
+        p = model.parameters(array_angle_offset_rad=math.radians(angle))
         bending = [m for m in assembled_modes(model, p) if m["dominant_mode"] == "bending1"]
         anti_phase[angle] = next(m["omega_rad_s"] for m in bending if m["in_phase"] is False)
     # At 0 deg the arrays bend along x and the anti-phase mode rocks the body about y
@@ -125,5 +126,5 @@ def test_design_units_scale_the_plant(model):
 
 def test_reused_function_gives_the_same_plant(model):
     fn = linearization_function(model)
-    p = model.parameters(array_angle_rad=1.0, inertia_scale_z=0.83)
+    p = model.parameters(array_angle_offset_rad=1.0, inertia_scale_z=0.83)
     np.testing.assert_allclose(linearize(model, p, function=fn).A, linearize(model, p).A)

@@ -54,7 +54,7 @@ def test_function_names_and_shapes(model):
 def test_energy_and_momentum_conserved_without_damping(undamped_problem):
     model = build_model(undamped_problem)
     lay = model.layout
-    p = model.parameters(array_angle_rad=0.7)
+    p = model.parameters(array_angle_offset_rad=0.7)
     x0 = model.initial_state(quaternion=[0.9, 0.1, -0.3, 0.2], rate_rad_s=[0.02, -0.03, 0.01])
     # Deflect the arrays; at rest in eta_dot and v, so the linear momentum is zero.
     x0[lay.eta] = [0.02, -0.01, 0.005, -0.015, 0.01, 0.002]

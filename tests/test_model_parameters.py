@@ -19,7 +19,7 @@ def test_layout_names_follow_the_debris():
         "inertia_scale_y",
         "inertia_scale_z",
         "mass_kg",
-        "array_angle_rad",
+        "array_angle_offset_rad",
         "bending_frequency_scale",
     )
     rigid = ParameterLayout(has_array_angle=False, has_bending_scale=False)
@@ -31,14 +31,14 @@ def test_layout_reads_entries_of_a_vector_by_name():
     p = np.array([1.1, 1.2, 1.3, 668.0, 0.5, 0.9])
     np.testing.assert_array_equal(PAPER.inertia_scale(p), [1.1, 1.2, 1.3])
     assert PAPER.mass_kg(p) == 668.0
-    assert PAPER.array_angle_rad(p) == 0.5
+    assert PAPER.array_angle_offset_rad(p) == 0.5
     assert PAPER.bending_frequency_scale(p) == 0.9
 
 
 def test_round_trip_vector_and_mapping():
     p = np.array([1.17, 0.83, 1.0, 534.4, -math.pi, 1.2])
     named = Parameters.from_vector(PAPER, p)
-    assert named.mass_kg == 534.4 and named.array_angle_rad == -math.pi
+    assert named.mass_kg == 534.4 and named.array_angle_offset_rad == -math.pi
     np.testing.assert_array_equal(named.to_vector(), p)
     assert Parameters.from_mapping(PAPER, named.to_dict()) == named
 
@@ -61,7 +61,7 @@ def test_replace_changes_only_the_named_entry():
             lambda b: Parameters.from_mapping(
                 ParameterLayout(has_array_angle=False, has_bending_scale=False), b.to_dict()
             ),
-            "unknown ['array_angle_rad', 'bending_frequency_scale']",
+            "unknown ['array_angle_offset_rad', 'bending_frequency_scale']",
         ),
     ],
 )
@@ -79,7 +79,8 @@ def test_model_nominal_matches_the_problem(problem):
     model = build_model(problem, modes="first")
     nominal = model.nominal
     assert nominal.mass_kg == pytest.approx(build_geometry(problem).mass_kg)
-    assert nominal.array_angle_rad == pytest.approx(math.radians(problem.arrays.angle_deg))
+    # The offset from each array's own nominal angle (the problem's arrays say theirs).
+    assert nominal.array_angle_offset_rad == 0.0
     assert model.parameter_layout == ParameterLayout.for_problem(problem)
     # Every model of a problem shares one layout, whichever modes it keeps.
     assert build_model(problem, modes="all").parameter_names == model.parameter_names

@@ -214,7 +214,8 @@ def test_advance_sum_rejects_thrust_outside_limits() -> None:
     before = state.copy()
     over = np.zeros((4, 3))
     over[2, 1] = FULL_THRUST_N * (1 + 1e-6)
-    with pytest.raises(AllocationError, match="CubeSat 1"):
+    # Engines are numbered from 1 in messages: index 1 is engine 2.
+    with pytest.raises(AllocationError, match="engine 2:"):
         state.advance_sum(over, DT_S)
     negative = np.zeros((4, 3))
     negative[1, 0] = -1e-6
@@ -222,7 +223,7 @@ def test_advance_sum_rejects_thrust_outside_limits() -> None:
         state.advance_sum(negative, DT_S)
     failed = np.zeros((4, 3))
     failed[0, 2] = 1e-6  # a failed CubeSat's limit is 0
-    with pytest.raises(AllocationError, match="CubeSat 2"):
+    with pytest.raises(AllocationError, match="engine 3:"):
         state.advance_sum(failed, DT_S)
     np.testing.assert_array_equal(state.propellant_kg, before.propellant_kg)
     np.testing.assert_array_equal(state.firing_time_s, before.firing_time_s)

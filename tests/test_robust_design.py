@@ -7,6 +7,7 @@ import json
 import numpy as np
 import pytest
 
+import casadi_debris
 from casadi_debris.config import default_controller_path
 from casadi_debris.errors import SynthesisError
 from casadi_debris.model import build_model, linearize
@@ -44,7 +45,7 @@ def shipped_plant(problem, shipped):
 
 
 def test_shipped_controller_belongs_to_the_shipped_problem(problem, shipped):
-    assert shipped.problem_sha256 == problem.sha256
+    assert shipped.problem_sha256 == problem.plant_sha256
     assert REDUCED_ORDER.accepts(shipped.reduced.nstates)
     assert shipped.full is not None and shipped.full.nstates > shipped.reduced.nstates
 
@@ -77,7 +78,9 @@ def test_quick_design_is_consistent(problem):
     assert recomputed.peak == pytest.approx(summary["mu_peak_reduced"], rel=1e-9)
     data = design.record.to_dict()
     assert data["mu_per_iteration"][0] == pytest.approx(design.musyn.hinf_gamma_first, rel=0.02)
-    assert data["problem_sha256"] == problem.sha256 and data["seed"] == problem.uncertainty.seed
+    assert data["problem_sha256"] == problem.plant_sha256
+    assert data["seed"] == problem.uncertainty.seed
+    assert data["toolkit_version"] == casadi_debris.__version__
 
 
 def test_full_synthesis_reproduces_the_shipped_design(problem, shipped):

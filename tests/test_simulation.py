@@ -108,7 +108,8 @@ def engine_maps(problem: Problem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     CubeSats at the four corners of every face (inset by the edge margin),
     faces in the order +x, -x, +y, -y, +z, -z, thrusting along the inward normal.
     """
-    hub, sats, arrays = problem.hub, problem.cubesats, problem.arrays
+    hub, sats, arrays = problem.hub, problem.cubesat_layout, problem.arrays
+    assert sats is not None and sats.kind == "face_corners"
     centre = hub.size_m / 2.0
     positions, directions = [], []
     for face in SIGNED_AXES:
@@ -127,11 +128,9 @@ def engine_maps(problem: Problem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
                 directions.append(direction)
     masses = [hub.mass_kg] + [sats.mass_kg] * len(positions)
     points = [hub.cog_corner_m, *positions]
-    for hinge, name in zip(arrays.hinges_corner_m, arrays.directions, strict=True):
-        unit = np.zeros(3)
-        unit[AXIS_NAMES.index(name[1])] = 1.0 if name[0] == "+" else -1.0
-        masses.append(arrays.mass_kg)
-        points.append(hinge + 0.5 * arrays.length_m * unit)
+    for array in arrays:
+        masses.append(array.mass_kg)
+        points.append(array.hinge_corner_m + 0.5 * array.length_m * array.direction)
     cog = sum(m * p for m, p in zip(masses, points, strict=True)) / sum(masses)
     r = np.array(positions) - cog
     force = np.array(directions).T
@@ -503,7 +502,7 @@ def corner(model: Model, problem: Problem, signs: tuple[int, ...], angle_deg: fl
         inertia_scale_y=1.0 + signs[1] * u.inertia_fraction,
         inertia_scale_z=1.0 + signs[2] * u.inertia_fraction,
         mass_kg=nominal["mass_kg"] * (1.0 + signs[3] * u.mass_fraction),
-        array_angle_rad=math.radians(angle_deg),
+        array_angle_offset_rad=math.radians(angle_deg),
         bending_frequency_scale=1.0 + signs[4] * u.bending_frequency_fraction,
     )
 
@@ -647,11 +646,12 @@ def test_stage_runs_dry_when_predicted(
     ]
     assert time == pytest.approx(predicted, abs=1e-9)
     # It keeps firing on stage 2, at the same limit.
-    assert staging_start.stage_thrust_N[1] == staging_start.stage_thrust_N[0]
+    stages = staging_start.stage_thrust_N[STAGING_CUBESAT]
+    assert stages[1] == stages[0]
     after = thrust[math.floor(predicted / dt) + 1 :]
     assert after.max() > 0 and after.max() <= stage_limit_N(slew_problem)
     propellant = staging_run.propulsion.propellant_kg[STAGING_CUBESAT]
-    capacity = staging_start.stage_capacity_kg
+    capacity = staging_start.stage_capacity_kg[STAGING_CUBESAT]
     assert propellant[0] == 0.0
     burnt = thrust.sum() * dt / exhaust
     np.testing.assert_allclose(

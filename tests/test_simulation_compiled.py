@@ -25,7 +25,7 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
     model = build_model(problem)
     record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
-    corner = model.parameters(inertia_scale_z=1.17, array_angle_rad=0.8)
+    corner = model.parameters(inertia_scale_z=1.17, array_angle_offset_rad=0.8)
     runs = [
         simulate(
             problem,

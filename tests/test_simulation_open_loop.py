@@ -39,8 +39,10 @@ def parallel_axis(mass_kg: float, offset_m: np.ndarray) -> np.ndarray:
 
 def independent_inertia(problem: Problem) -> np.ndarray:
     """Full rigid inertia about the combined CoG, summed part by part (theta_SA = 0)."""
-    hub, sats, arrays = problem.hub, problem.cubesats, problem.arrays
-    assert arrays.angle_deg == 0.0  # the array inertia below is written for theta_SA = 0
+    hub, sats, arrays = problem.hub, problem.cubesat_layout, problem.arrays
+    assert sats is not None and sats.kind == "face_corners"
+    # The array inertia below is written for theta_SA = 0.
+    assert all(array.angle_deg == 0.0 for array in arrays)
     centre = hub.size_m / 2.0
     parts = [(hub.mass_kg, hub.cog_corner_m, hub.inertia_kgm2)]
     for face in SIGNED_AXES:
@@ -59,14 +61,13 @@ def independent_inertia(problem: Problem) -> np.ndarray:
                 position[u] += s1 * (1 - sats.edge_margin_fraction) * centre[u]
                 position[w] += s2 * (1 - sats.edge_margin_fraction) * centre[w]
                 parts.append((sats.mass_kg, position, own))
-    for hinge, direction in zip(arrays.hinges_corner_m, arrays.directions, strict=True):
-        axis = AXIS_NAMES.index(direction[1])
-        unit = np.zeros(3)
-        unit[axis] = 1.0 if direction[0] == "+" else -1.0
+    for array in arrays:
         # theta_SA = 0: normal along x, length along the hinge axis (z), width along y.
-        assert axis == 2
-        own = np.diag([arrays.inertia_kgm2[2], arrays.inertia_kgm2[1], arrays.inertia_kgm2[0]])
-        parts.append((arrays.mass_kg, hinge + 0.5 * arrays.length_m * unit, own))
+        assert abs(array.direction[2]) == 1.0
+        moments = array.inertia_kgm2
+        own = np.diag([moments[2], moments[1], moments[0]])
+        cog = array.hinge_corner_m + 0.5 * array.length_m * array.direction
+        parts.append((array.mass_kg, cog, own))
     mass = sum(m for m, _, _ in parts)
     cog = sum(m * r for m, r, _ in parts) / mass
     return sum(own + parallel_axis(m, r - cog) for m, r, own in parts)

@@ -30,7 +30,7 @@ def modal_energy(problem: Problem, model: Any, state: np.ndarray) -> float:
     p = model.nominal_parameters
     mass = np.array(model.mass_matrix(p))
     nu = np.concatenate([state[lay.v], state[lay.omega], state[lay.eta_dot]])
-    by_name = {mode.name: mode.omega_rad_s for mode in problem.arrays.modes}
+    by_name = {mode.name: mode.omega_rad_s for mode in problem.arrays[0].modes}
     omegas = np.array([by_name[name] for _, name in lay.mode_labels])
     strain = 0.5 * np.sum((omegas * state[lay.eta]) ** 2)
     mu = mass[:6] @ nu

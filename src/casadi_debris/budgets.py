@@ -1,17 +1,25 @@
 """Δv, propellant, lifetime, transfer and detumble budgets (paper, Section II.E).
 
 Every figure comes with a one-line "how" so the table says how it was computed.
+
+The paper counts Δv per hub face: the four CubeSats of a face push the body
+along its inward normal. In general the engines are grouped by the direction
+of their force (a *thrust direction*; the paper's swarm has six, four engines
+each): to push the debris along a direction, the body is turned so that the
+engines of that direction fire. ``one face`` in a key reads as the weakest
+direction's engines.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
 
 from casadi_debris.allocation import stage_propellant_kg
-from casadi_debris.config import AXIS_NAMES, Problem
+from casadi_debris.config import AXIS_NAMES, Engine, Problem
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
 from casadi_debris.units import M_PER_KM, MN_PER_N, SECONDS_PER_HOUR
 
@@ -21,15 +29,64 @@ def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_k
     return isp_s * g0_m_s2 * math.log(initial_mass_kg / (initial_mass_kg - propellant_kg))
 
 
-def problem_stage_propellant_kg(problem: Problem) -> float:
-    """Propellant of one iESE stage of the problem's engine: thrust x life / (Isp g0) [kg]."""
-    engine = problem.engine
+def engine_stage_propellant_kg(engine: Engine, standard_gravity_m_s2: float) -> float:
+    """Propellant of one stage of an engine: thrust x life / (Isp g0) [kg]."""
     return stage_propellant_kg(
         engine.thrust_per_stage_mN / MN_PER_N,
         engine.stage_life_h * SECONDS_PER_HOUR,
         engine.isp_s,
-        problem.constants.standard_gravity_m_s2,
+        standard_gravity_m_s2,
     )
+
+
+def problem_stage_propellant_kg(problem: Problem) -> float:
+    """Propellant of one stage of the problem's first engine [kg]."""
+    return engine_stage_propellant_kg(problem.engines[0], problem.constants.standard_gravity_m_s2)
+
+
+def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:
+    """The engines grouped by the direction of their force: (unit direction, engine indices).
+
+    Directions within 1e-6 of each other are one; in order of first appearance.
+    """
+    groups: list[tuple[np.ndarray, list[int]]] = []
+    for engine in geometry.engines:
+        for direction, members in groups:
+            if np.linalg.norm(direction - engine.direction) < 1e-6:
+                members.append(engine.index)
+                break
+        else:
+            groups.append((engine.direction, [engine.index]))
+    return groups
+
+
+def burn_dv_m_s(problem: Problem, initial_mass_kg: float, stages: dict[int, int]) -> float:
+    """Rocket-equation Δv of burning the given stages of the given engines [m/s].
+
+    Parameters
+    ----------
+    problem : Problem
+    initial_mass_kg : float
+    stages : dict
+        Engine index (0-based) -> number of its stages burnt (at most its own).
+
+    With engines of several Isp the effective Isp is the propellant-weighted
+    mean (total impulse over total propellant).
+    """
+    g0 = problem.constants.standard_gravity_m_s2
+    engines = problem.engines
+    burnt = {
+        index: min(count, engines[index].stages) * engine_stage_propellant_kg(engines[index], g0)
+        for index, count in stages.items()
+    }
+    propellant = sum(burnt.values())
+    isp_values = {engines[index].isp_s for index in burnt}
+    isp = (
+        isp_values.pop()
+        if len(isp_values) == 1
+        else sum(engines[i].isp_s * kg for i, kg in burnt.items()) / propellant
+    )
+    return rocket_dv(isp, g0, initial_mass_kg, propellant)
 
 
 def edelbaum_dv(
@@ -91,84 +148,80 @@ def compute_budgets(problem: Problem, geometry: Geometry | None = None) -> list[
         ``stage_life_h``.
     """
     geometry = geometry or build_geometry(problem)
-    propellant = problem_stage_propellant_kg(problem)
-    dv_face = _combined_body_dv(problem, geometry, propellant, problem.cubesats.per_face)
+    weakest = _weakest_direction(problem, geometry)
+    dv_face = burn_dv_m_s(problem, geometry.mass_kg, dict.fromkeys(weakest, 1))
     return [
-        *_stage_items(problem, propellant),
-        *_rocket_equation_items(problem, geometry, propellant),
+        *_stage_items(problem),
+        *_rocket_equation_items(problem, geometry, weakest),
         _transfer_item(problem),
         *_detumble_items(problem, geometry, dv_face),
     ]
 
 
-def _combined_body_dv(
-    problem: Problem, geometry: Geometry, propellant_kg: float, n_stages: int
-) -> float:
-    """Rocket-equation Δv of the combined body burning ``n_stages`` stages [m/s]."""
-    return rocket_dv(
-        problem.engine.isp_s,
-        problem.constants.standard_gravity_m_s2,
-        geometry.mass_kg,
-        n_stages * propellant_kg,
+def _weakest_direction(problem: Problem, geometry: Geometry) -> list[int]:
+    """The engines of the thrust direction with the least one-stage Δv."""
+    groups = [members for _, members in thrust_directions(geometry)]
+    return min(groups, key=lambda g: burn_dv_m_s(problem, geometry.mass_kg, dict.fromkeys(g, 1)))
+
+
+def _stage_items(problem: Problem) -> list[BudgetItem]:
+    """Propellant and life of one stage (of engine 1, if the engines differ)."""
+    engine = problem.engines[0]
+    which = (
+        ""
+        if len({(e.thrust_per_stage_mN, e.stage_life_h, e.isp_s) for e in problem.engines}) == 1
+        else ", engine 1"
     )
-
-
-def _stage_items(problem: Problem, propellant_kg: float) -> list[BudgetItem]:
-    """Propellant and life of one stage."""
-    engine = problem.engine
     return [
         BudgetItem(
             "stage_propellant_kg",
-            propellant_kg,
+            problem_stage_propellant_kg(problem),
             f"thrust {engine.thrust_per_stage_mN} mN x {engine.stage_life_h:g} h"
-            f" / (Isp {engine.isp_s:g} s g0)",
+            f" / (Isp {engine.isp_s:g} s g0){which}",
         ),
-        BudgetItem("stage_life_h", engine.stage_life_h, "problem file (engine.stage_life_h)"),
+        BudgetItem("stage_life_h", engine.stage_life_h, f"problem file (stage_life_h){which}"),
     ]
 
 
 def _rocket_equation_items(
-    problem: Problem, geometry: Geometry, propellant_kg: float
+    problem: Problem, geometry: Geometry, weakest: list[int]
 ) -> list[BudgetItem]:
-    """Δv of the combined body (one face or all, one stage or all) and of a lone CubeSat."""
-    engine = problem.engine
-    per_face = problem.cubesats.per_face
-    n_cubesats = len(geometry.cubesats)
+    """Δv of the combined body (one direction or all, one stage or all) and of a lone CubeSat."""
+    engines = range(len(geometry.engines))
+    stages = max(e.stages for e in problem.engines)
+    n_directions = len(thrust_directions(geometry))
 
-    def dv(n_stages: int) -> float:
-        return _combined_body_dv(problem, geometry, propellant_kg, n_stages)
+    def dv(members: Iterable[int], count: int) -> float:
+        return burn_dv_m_s(problem, geometry.mass_kg, dict.fromkeys(members, count))
 
+    cubesat = problem.cubesats[0]
     return [
         BudgetItem(
             "dv_one_stage_one_face_m_s",
-            dv(per_face),
-            f"rocket equation, {per_face} CubeSats x 1 stage,"
+            dv(weakest, 1),
+            f"rocket equation, {len(weakest)} engines of the weakest thrust direction x 1 stage,"
             f" {geometry.mass_kg:.1f} kg combined body",
         ),
         BudgetItem(
             "dv_three_stages_one_face_m_s",
-            dv(per_face * engine.stages),
-            f"rocket equation, {per_face} CubeSats x {engine.stages} stages",
+            dv(weakest, stages),
+            f"rocket equation, {len(weakest)} engines x all ({stages}) stages",
         ),
         BudgetItem(
             "dv_one_stage_all_faces_m_s",
-            dv(n_cubesats),
-            f"rocket equation, all {n_cubesats} CubeSats x 1 stage (body turned face by face)",
+            dv(engines, 1),
+            f"rocket equation, all {len(engines)} engines x 1 stage (body turned to each of"
+            f" {n_directions} thrust directions)",
         ),
         BudgetItem(
             "dv_all_stages_all_faces_m_s",
-            dv(n_cubesats * engine.stages),
-            f"rocket equation, {n_cubesats} CubeSats x {engine.stages} stages",
+            dv(engines, stages),
+            f"rocket equation, {len(engines)} engines x all stages",
         ),
         BudgetItem(
             "dv_cubesat_one_stage_m_s",
-            rocket_dv(
-                engine.isp_s,
-                problem.constants.standard_gravity_m_s2,
-                problem.cubesats.mass_kg,
-                propellant_kg,
-            ),
-            f"rocket equation, one {problem.cubesats.mass_kg:g} kg CubeSat alone, 1 stage",
+            burn_dv_m_s(problem, cubesat.mass_kg, {geometry.cubesats[0].engines[0]: 1}),
+            f"rocket equation, CubeSat 1 ({cubesat.mass_kg:g} kg) alone, its first engine, 1 stage",
         ),
     ]
 
@@ -198,7 +251,7 @@ def _detumble_items(
     rate = problem.detumble.initial_rate_rad_s
     detumble_s = detumble_time_s(geometry.inertia_hub_cubesats_kgm2, rate, authority)
     detumble_full_s = detumble_time_s(geometry.inertia_total_kgm2, rate, authority)
-    life_s = problem.engine.stage_life_h * SECONDS_PER_HOUR
+    life_s = problem.engines[0].stage_life_h * SECONDS_PER_HOUR
     return [
         BudgetItem(
             "detumble_time_h",

@@ -217,13 +217,20 @@ class Allocator(SolvePaths):
         limits = (
             state.max_thrust_N()
             if state is not None
-            else np.array([m.max_thrust_N for m in geometry.cubesats])
+            else np.array([e.max_thrust_N for e in geometry.engines])
         )
+        isp = {engine.isp_s for engine in problem.engines}
+        if len(isp) > 1:
+            # Least total thrust is least fuel only when every engine has one Isp.
+            raise AllocationError(
+                f"engines with different Isp ({sorted(isp)} s): the allocator's least-fuel "
+                "objective needs one Isp for all engines"
+            )
         return cls(
             geometry.torque_map,
             geometry.force_map,
             limits,
-            exhaust_velocity_m_s=problem.engine.isp_s * problem.constants.standard_gravity_m_s2,
+            exhaust_velocity_m_s=isp.pop() * problem.constants.standard_gravity_m_s2,
             solver=solver,
             saturation=saturation,
             geometry=geometry,
@@ -233,7 +240,7 @@ class Allocator(SolvePaths):
 
     @property
     def n_engines(self) -> int:
-        """Number of engines (CubeSats)."""
+        """Number of engines (columns of the maps)."""
         return self.torque_map.shape[1]
 
     @property

@@ -124,7 +124,7 @@ def authority_polytope(
     >>> from casadi_debris import load_problem
     >>> from casadi_debris.geometry import build_geometry
     >>> g = build_geometry(load_problem())
-    >>> limits = [c.max_thrust_N for c in g.cubesats]
+    >>> limits = [e.max_thrust_N for e in g.engines]
     >>> polytope = authority_polytope(g.torque_map, g.force_map, limits)
     >>> round(float(polytope.scale([1.0, 0.0, 0.0])) * 1e3, 3)  # mNm about +x
     4.608

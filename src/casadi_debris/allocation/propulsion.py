@@ -1,15 +1,21 @@
-"""Staged iESE engines: propellant, firing time, active stage and failures per CubeSat.
+"""Staged iESE engines: propellant, firing time, active stage and failures per engine.
 
-Each CubeSat carries ``n_stages`` electrospray stages fired one after the
-other (paper, Section II.D). A stage holds the propellant it burns in its
-rated life at full thrust,
+Each engine carries its own electrospray stages, fired one after the other
+(paper, Section II.D). A stage holds the propellant it burns in its rated life
+at full thrust,
 
     m_stage = F_stage * t_life / (Isp * g0),
 
 and burns ``F / (Isp g0)`` kilograms per second at thrust ``F``. When the
 active stage runs dry the next healthy stage takes over (within the same
-time step, at the instant of depletion); when every stage of a CubeSat is
-spent or failed, the CubeSat drops out of the allocation (limit 0).
+time step, at the instant of depletion); when every stage of an engine is
+spent or failed, the engine drops out of the allocation (limit 0).
+
+Engines belong to CubeSats (the paper's have one each). Failures are per
+CubeSat, as a user schedules them: a failed CubeSat takes all its engines out,
+a failed stage that stage of each of its engines. Engines with fewer stages
+than the most of any have stages of zero capacity in the remaining columns,
+which never fire.
 
 A commanded thrust is assumed to be held through a stage switch, limited
 to the thrust of the stage that takes over.
@@ -23,9 +29,15 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
+from casadi_debris.allocation.state_input import (
+    checked_id,
+    engine_stage_matrix,
+    per_engine,
+    per_stage,
+)
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError, InputShapeError
-from casadi_debris.geometry import Geometry, build_geometry
+from casadi_debris.geometry import Geometry
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 # Propellant below this fraction of a stage's load counts as spent: it avoids
@@ -36,6 +48,7 @@ THRUST_LIMIT_RTOL = 1e-9
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
+IntArray = npt.NDArray[np.int_]
 
 
 def stage_propellant_kg(
@@ -59,19 +72,23 @@ def stage_propellant_kg(
 
 @dataclass(frozen=True)
 class StageEvent:
-    """A stage of one CubeSat ran dry during :meth:`PropulsionState.advance`.
+    """A stage of one engine ran dry during :meth:`PropulsionState.advance`.
 
     Attributes
     ----------
+    engine : int
+        0-based.
     cubesat : int
+        Its CubeSat, 0-based.
     stage : int
         The stage that was depleted (0-based).
     time_s : float
         When, from the start of the step [s].
     next_stage : int or None
-        The stage that took over; None when the CubeSat has none left.
+        The stage that took over; None when the engine has none left.
     """
 
+    engine: int
     cubesat: int
     stage: int
     time_s: float
@@ -80,20 +97,22 @@ class StageEvent:
 
 @dataclass(eq=False, init=False)
 class PropulsionState:
-    """Propellant, firing time and failures of every CubeSat's stages.
+    """Propellant, firing time and failures of every engine's stages.
 
     Attributes
     ----------
-    stage_thrust_N : ndarray, shape (n_stages,)
+    stage_thrust_N : ndarray, shape (n_engines, n_stages)
         Full thrust of each stage [N].
-    exhaust_velocity_m_s : float
-        Isp g0 [m/s]; mass flow is thrust / exhaust velocity.
-    stage_capacity_kg : ndarray, shape (n_stages,)
-        Propellant of a full stage [kg].
-    propellant_kg : ndarray, shape (n_cubesats, n_stages)
+    exhaust_velocity_m_s : ndarray, shape (n_engines,)
+        Isp g0 of each engine [m/s]; mass flow is thrust / exhaust velocity.
+    stage_capacity_kg : ndarray, shape (n_engines, n_stages)
+        Propellant of a full stage [kg] (0 for stages an engine does not have).
+    propellant_kg : ndarray, shape (n_engines, n_stages)
         Propellant left [kg].
-    firing_time_s : ndarray, shape (n_cubesats, n_stages)
+    firing_time_s : ndarray, shape (n_engines, n_stages)
         Time each stage has fired with non-zero thrust [s].
+    engine_cubesat : ndarray of int, shape (n_engines,)
+        The CubeSat (0-based) each engine belongs to.
     failed_cubesats : ndarray of bool, shape (n_cubesats,)
     failed_stages : ndarray of bool, shape (n_cubesats, n_stages)
 
@@ -106,34 +125,42 @@ class PropulsionState:
     """
 
     stage_thrust_N: FloatArray
-    exhaust_velocity_m_s: float
+    exhaust_velocity_m_s: FloatArray
     stage_capacity_kg: FloatArray
     propellant_kg: FloatArray
     firing_time_s: FloatArray
+    engine_cubesat: IntArray
     failed_cubesats: BoolArray
     failed_stages: BoolArray
 
-    # Written out, not generated: the last three arguments may be omitted (no firing
-    # time, no failures) while the attributes are always arrays.
+    # Written out, not generated: the optional arguments default to one engine per
+    # CubeSat, no firing time and no failures, while the attributes are always arrays.
     def __init__(
         self,
         stage_thrust_N: npt.ArrayLike,
-        exhaust_velocity_m_s: float,
+        exhaust_velocity_m_s: npt.ArrayLike,
         stage_capacity_kg: npt.ArrayLike,
         propellant_kg: npt.ArrayLike,
         firing_time_s: npt.ArrayLike | None = None,
         failed_cubesats: npt.ArrayLike | None = None,
         failed_stages: npt.ArrayLike | None = None,
+        engine_cubesat: npt.ArrayLike | None = None,
     ) -> None:
-        self.exhaust_velocity_m_s = exhaust_velocity_m_s
-        self.stage_thrust_N = _vector(stage_thrust_N, "stage_thrust_N")
-        self.stage_capacity_kg = _vector(stage_capacity_kg, "stage_capacity_kg")
-        n_stages = len(self.stage_thrust_N)
-        self.propellant_kg = _matrix(propellant_kg, "propellant_kg", n_stages)
-        n_cubesats = len(self.propellant_kg)
+        self.propellant_kg = engine_stage_matrix(propellant_kg, "propellant_kg", None)
+        n_engines, n_stages = self.propellant_kg.shape
+        shape = (n_engines, n_stages)
+        self.stage_thrust_N = per_stage(stage_thrust_N, "stage_thrust_N", shape)
+        self.stage_capacity_kg = per_stage(stage_capacity_kg, "stage_capacity_kg", shape)
+        self.exhaust_velocity_m_s = per_engine(exhaust_velocity_m_s, n_engines)
         if firing_time_s is None:
-            firing_time_s = np.zeros_like(self.propellant_kg)
-        self.firing_time_s = _matrix(firing_time_s, "firing_time_s", n_stages, n_cubesats)
+            firing_time_s = np.zeros(shape)
+        self.firing_time_s = engine_stage_matrix(
+            firing_time_s, "firing_time_s", n_stages, n_engines
+        )
+        self.engine_cubesat = (
+            np.arange(n_engines) if engine_cubesat is None else np.array(engine_cubesat, dtype=int)
+        )
+        n_cubesats = int(self.engine_cubesat.max()) + 1 if n_engines else 0
         if failed_cubesats is None:
             failed_cubesats = np.zeros(n_cubesats, dtype=bool)
         if failed_stages is None:
@@ -144,7 +171,16 @@ class PropulsionState:
 
     def _check(self) -> None:
         """Shapes agree, values in range (after construction, and after an update)."""
-        n_stages, n_cubesats = len(self.stage_thrust_N), len(self.propellant_kg)
+        n_engines, n_stages = self.propellant_kg.shape
+        if self.engine_cubesat.shape != (n_engines,) or (
+            n_engines
+            and not np.array_equal(np.unique(self.engine_cubesat), np.arange(self.n_cubesats))
+        ):
+            raise InputShapeError(
+                f"engine_cubesat must give each of the {n_engines} engines a CubeSat, "
+                "numbering the CubeSats 0, 1, ... without gaps"
+            )
+        n_cubesats = self.n_cubesats
         if self.failed_cubesats.shape != (n_cubesats,):
             raise InputShapeError(
                 f"failed_cubesats must have shape ({n_cubesats},), got {self.failed_cubesats.shape}"
@@ -154,12 +190,9 @@ class PropulsionState:
                 f"failed_stages must have shape ({n_cubesats}, {n_stages}), "
                 f"got {self.failed_stages.shape}"
             )
-        if len(self.stage_capacity_kg) != n_stages:
-            raise InputShapeError(
-                f"stage_capacity_kg needs one entry per stage ({n_stages}), "
-                f"got {len(self.stage_capacity_kg)}"
-            )
-        if not np.isfinite(self.exhaust_velocity_m_s) or self.exhaust_velocity_m_s <= 0:
+        if not np.all(np.isfinite(self.exhaust_velocity_m_s)) or np.any(
+            self.exhaust_velocity_m_s <= 0
+        ):
             raise AllocationError(
                 f"exhaust_velocity_m_s must be positive, got {self.exhaust_velocity_m_s}"
             )
@@ -178,101 +211,139 @@ class PropulsionState:
 
     @classmethod
     def from_problem(cls, problem: Problem, geometry: Geometry | None = None) -> PropulsionState:
-        """Every CubeSat of the problem with full, healthy stages.
+        """Every engine of the problem with full, healthy stages.
 
         Parameters
         ----------
         problem : Problem
-            Engine data: stages, thrust per stage, Isp, stage life; g0.
+            Engine data (stages, thrust per stage, Isp, stage life per engine) and g0.
         geometry : Geometry, optional
-            Gives the number of CubeSats (built from ``problem`` if omitted).
+            Unused (the engines come from ``problem``); kept for callers that pass it.
         """
-        geometry = geometry or build_geometry(problem)
-        engine = problem.engine
-        thrust_N = engine.thrust_per_stage_mN / MN_PER_N
+        del geometry
+        engines = problem.engines
         g0 = problem.constants.standard_gravity_m_s2
-        capacity = stage_propellant_kg(
-            thrust_N, engine.stage_life_h * SECONDS_PER_HOUR, engine.isp_s, g0
-        )
-        n_cubesats = len(geometry.cubesats)
+        n_stages = max(engine.stages for engine in engines)
+        thrust = np.zeros((len(engines), n_stages))
+        capacity = np.zeros((len(engines), n_stages))
+        for row, engine in enumerate(engines):
+            thrust_N = engine.thrust_per_stage_mN / MN_PER_N
+            thrust[row, : engine.stages] = thrust_N
+            capacity[row, : engine.stages] = stage_propellant_kg(
+                thrust_N, engine.stage_life_h * SECONDS_PER_HOUR, engine.isp_s, g0
+            )
+        # Stages an engine lacks have no thrust either: give them the first stage's, so
+        # that limits stay finite; with no propellant they never fire.
+        thrust = np.where(capacity > 0, thrust, thrust[:, :1])
         return cls(
-            stage_thrust_N=np.full(engine.stages, thrust_N),
-            exhaust_velocity_m_s=engine.isp_s * g0,
-            stage_capacity_kg=np.full(engine.stages, capacity),
-            propellant_kg=np.full((n_cubesats, engine.stages), capacity),
+            stage_thrust_N=thrust,
+            exhaust_velocity_m_s=np.array([engine.isp_s * g0 for engine in engines]),
+            stage_capacity_kg=capacity,
+            propellant_kg=capacity.copy(),
+            engine_cubesat=problem.engine_cubesats,
         )
 
     def copy(self) -> PropulsionState:
         """An independent copy."""
         return PropulsionState(
             self.stage_thrust_N.copy(),
-            self.exhaust_velocity_m_s,
+            self.exhaust_velocity_m_s.copy(),
             self.stage_capacity_kg.copy(),
             self.propellant_kg.copy(),
             self.firing_time_s.copy(),
             self.failed_cubesats.copy(),
             self.failed_stages.copy(),
+            self.engine_cubesat.copy(),
         )
 
     # ------------------------------------------------------------------ queries
 
     @property
-    def n_cubesats(self) -> int:
-        """Number of CubeSats."""
+    def n_engines(self) -> int:
+        """Number of engines (rows)."""
         return len(self.propellant_kg)
 
     @property
+    def n_cubesats(self) -> int:
+        """Number of CubeSats."""
+        return int(self.engine_cubesat.max()) + 1 if len(self.engine_cubesat) else 0
+
+    @property
     def n_stages(self) -> int:
-        """Stages per CubeSat."""
-        return len(self.stage_thrust_N)
+        """Stages of the engine with the most (columns)."""
+        return int(self.propellant_kg.shape[1])
 
     def _usable(self) -> BoolArray:
-        """Stages that can still fire, shape (n_cubesats, n_stages)."""
+        """Stages that can still fire, shape (n_engines, n_stages)."""
+        owner = self.engine_cubesat
         usable: BoolArray = (
             (self.propellant_kg > DEPLETED_FRACTION * self.stage_capacity_kg)
-            & ~self.failed_stages
-            & ~self.failed_cubesats[:, None]
+            & ~self.failed_stages[owner]
+            & ~self.failed_cubesats[owner][:, None]
         )
         return usable
 
     @property
     def active_stage(self) -> np.ndarray:
-        """Index of the stage each CubeSat fires now, ``n_stages`` when none is left, shape (n,)."""
+        """Index of the stage each engine fires now, ``n_stages`` when none is left, shape (n,)."""
         usable = self._usable()
         return np.where(usable.any(axis=1), np.argmax(usable, axis=1), self.n_stages)
 
     @property
     def available(self) -> np.ndarray:
-        """CubeSats that can fire, bool, shape (n_cubesats,)."""
+        """Engines that can fire, bool, shape (n_engines,)."""
         return np.asarray(self._usable().any(axis=1))
 
     def max_thrust_N(self) -> np.ndarray:
-        """Thrust limit of each CubeSat's active stage (0 when it has none), shape (n,) [N]."""
+        """Thrust limit of each engine's active stage (0 when it has none), shape (n,) [N]."""
         active = self.active_stage
-        limits = np.zeros(self.n_cubesats)
-        firing = active < self.n_stages
-        limits[firing] = self.stage_thrust_N[active[firing]]
+        limits = np.zeros(self.n_engines)
+        firing = np.flatnonzero(active < self.n_stages)
+        limits[firing] = self.stage_thrust_N[firing, active[firing]]
         return limits
 
     @property
     def fuel_used_kg(self) -> np.ndarray:
-        """Propellant burnt per CubeSat and stage, shape (n_cubesats, n_stages) [kg]."""
-        return self.stage_capacity_kg[None, :] - self.propellant_kg
+        """Propellant burnt per engine and stage, shape (n_engines, n_stages) [kg]."""
+        return self.stage_capacity_kg - self.propellant_kg
+
+    def per_cubesat(self, values: np.ndarray) -> np.ndarray:
+        """Sum per-engine values (first axis, or the last for a series) over each CubeSat's engines.
+
+        Parameters
+        ----------
+        values : ndarray, shape (n_engines, ...) or (k, n_engines)
+            ``(k, n_engines)`` is taken as a series (engines along the last axis)
+            when its first axis is not the engines'.
+
+        Returns
+        -------
+        ndarray, shape (n_cubesats, ...) or (k, n_cubesats)
+        """
+        values = np.asarray(values, dtype=float)
+        if values.shape[0] == self.n_engines:
+            summed = np.zeros((self.n_cubesats, *values.shape[1:]))
+            np.add.at(summed, self.engine_cubesat, values)
+            return summed
+        summed = np.zeros((*values.shape[:-1], self.n_cubesats))
+        for engine, cubesat in enumerate(self.engine_cubesat):
+            summed[..., cubesat] += values[..., engine]
+        return summed
 
     def remaining_life_s(self) -> np.ndarray:
-        """Full-thrust firing time left in each CubeSat's usable stages, shape (n,) [s]."""
-        mass_flow = self.stage_thrust_N / self.exhaust_velocity_m_s
+        """Full-thrust firing time left in each engine's usable stages, shape (n,) [s]."""
+        mass_flow = self.stage_thrust_N / self.exhaust_velocity_m_s[:, None]
         return np.sum(np.where(self._usable(), self.propellant_kg / mass_flow, 0.0), axis=1)
 
     # ------------------------------------------------------------------ changes
 
     def fail_cubesat(self, cubesat: int) -> None:
-        """Take a whole CubeSat out (all its stages)."""
+        """Take a whole CubeSat out (all its engines and stages); ``cubesat`` 0-based."""
         self._check_index(cubesat)
         self.failed_cubesats[cubesat] = True
 
     def fail_stage(self, cubesat: int, stage: int) -> None:
-        """Take one stage of a CubeSat out; the next healthy stage becomes active."""
+        """Take one stage of each of a CubeSat's engines out; the next healthy stage takes over."""
         self._check_index(cubesat)
         if not 0 <= stage < self.n_stages:
             raise AllocationError(f"stage {stage} out of range 0..{self.n_stages - 1}")
@@ -283,20 +354,20 @@ class PropulsionState:
             raise AllocationError(f"CubeSat {cubesat} out of range 0..{self.n_cubesats - 1}")
 
     def advance(self, thrust_N: np.ndarray, dt_s: float) -> list[StageEvent]:
-        """Fire every CubeSat's active stage at the given thrust for ``dt_s``.
+        """Fire every engine's active stage at the given thrust for ``dt_s``.
 
         Parameters
         ----------
-        thrust_N : array_like, shape (n_cubesats,)
+        thrust_N : array_like, shape (n_engines,)
             Thrust held over the step [N]; within each active stage's limit,
-            zero for CubeSats that cannot fire.
+            zero for engines that cannot fire.
         dt_s : float
             Step length [s], non-negative.
 
         Returns
         -------
         list of StageEvent
-            Stages that ran dry during the step, in time order per CubeSat.
+            Stages that ran dry during the step, in time order per engine.
 
         Raises
         ------
@@ -304,7 +375,7 @@ class PropulsionState:
             Wrong shape, NaN or infinite values.
         AllocationError
             Negative thrust or step, thrust above a limit, or thrust asked
-            of a CubeSat that cannot fire.
+            of an engine that cannot fire.
         """
         thrust = self._checked_thrust(thrust_N, dt_s, series=False)
         limits = self.max_thrust_N()
@@ -312,19 +383,19 @@ class PropulsionState:
         if np.any(over):
             worst = int(np.argmax(np.where(over, thrust - limits, -np.inf)))
             raise AllocationError(
-                f"CubeSat {worst}: thrust {thrust[worst] * MN_PER_N:.6g} mN above its active "
+                f"engine {worst + 1}: thrust {thrust[worst] * MN_PER_N:.6g} mN above its active "
                 f"stage limit {limits[worst] * MN_PER_N:.6g} mN"
             )
         thrust = np.minimum(thrust, limits)
         events: list[StageEvent] = []
-        for cubesat in np.flatnonzero(thrust > 0):
-            events.extend(self._burn(int(cubesat), float(thrust[cubesat]), float(dt_s)))
+        for engine in np.flatnonzero(thrust > 0):
+            events.extend(self._burn(int(engine), float(thrust[engine]), float(dt_s)))
         return events
 
     def _checked_thrust(self, thrust_N: Any, dt_s: float, *, series: bool) -> np.ndarray:
         """Thrust as an array of shape (n,) or (k, n), finite and non-negative, like dt_s."""
         thrust = np.asarray(thrust_N, dtype=float)
-        n = self.n_cubesats
+        n = self.n_engines
         if series:
             good, want = thrust.ndim == 2 and thrust.shape[1] == n, f"(k, {n})"
         else:
@@ -343,17 +414,17 @@ class PropulsionState:
         """Fire a history of thrusts, each held for ``dt_s``, as :meth:`advance` would step by step.
 
         Steps in which no stage runs dry are applied all at once (sums per
-        CubeSat); a step in which one does goes through :meth:`advance`.
+        engine); a step in which one does goes through :meth:`advance`.
 
         Parameters
         ----------
-        thrust_N : ndarray, shape (k, n_cubesats)
-            Thrust of every CubeSat in each step [N].
+        thrust_N : ndarray, shape (k, n_engines)
+            Thrust of every engine in each step [N].
         dt_s : float
             Step length [s].
         stop_on_limit_change : bool
-            Stop after the first step that changes a CubeSat's thrust limit
-            (a CubeSat spent, or a stage of other thrust taking over): the
+            Stop after the first step that changes an engine's thrust limit
+            (an engine spent, or a stage of other thrust taking over): the
             thrust after it was planned with the old limits.
 
         Returns
@@ -373,7 +444,7 @@ class PropulsionState:
             # What an active stage can burn before :meth:`_burn` calls it spent.
             left = np.array(
                 [
-                    self.propellant_kg[i, a] - DEPLETED_FRACTION * self.stage_capacity_kg[a]
+                    self.propellant_kg[i, a] - DEPLETED_FRACTION * self.stage_capacity_kg[i, a]
                     if a < self.n_stages and usable[i, a]
                     else np.inf
                     for i, a in enumerate(active)
@@ -395,42 +466,44 @@ class PropulsionState:
         return done, events
 
     def advance_sum(self, thrust_N: np.ndarray, dt_s: float) -> None:
-        """Fire steps in which no stage runs dry: propellant and firing time summed per CubeSat."""
+        """Fire steps in which no stage runs dry: propellant and firing time summed per engine."""
         limits = self.max_thrust_N()
         if np.any(thrust_N > limits * (1.0 + THRUST_LIMIT_RTOL)) or np.any(thrust_N < 0):
             worst = np.unravel_index(np.argmax(thrust_N - limits), thrust_N.shape)
             raise AllocationError(
-                f"CubeSat {worst[1]}: thrust {thrust_N[worst] * MN_PER_N:.6g} mN outside "
+                f"engine {worst[1] + 1}: thrust {thrust_N[worst] * MN_PER_N:.6g} mN outside "
                 f"0 .. {limits[worst[1]] * MN_PER_N:.6g} mN"
             )
         active = self.active_stage
         firing = active < self.n_stages
         rows = np.flatnonzero(firing)
         self.propellant_kg[rows, active[rows]] -= (
-            np.minimum(thrust_N, limits).sum(axis=0)[rows] * dt_s / self.exhaust_velocity_m_s
+            np.minimum(thrust_N, limits).sum(axis=0)[rows] * dt_s / self.exhaust_velocity_m_s[rows]
         )
         self.firing_time_s[rows, active[rows]] += (thrust_N[:, rows] > 0).sum(axis=0) * dt_s
 
-    def _burn(self, cubesat: int, thrust_N: float, dt_s: float) -> list[StageEvent]:
-        """Burn one CubeSat's stages in order for ``dt_s``, switching at depletion."""
+    def _burn(self, engine: int, thrust_N: float, dt_s: float) -> list[StageEvent]:
+        """Burn one engine's stages in order for ``dt_s``, switching at depletion."""
         events = []
         elapsed = 0.0
-        stage = int(self.active_stage[cubesat])
+        stage = int(self.active_stage[engine])
+        exhaust = float(self.exhaust_velocity_m_s[engine])
         while elapsed < dt_s and stage < self.n_stages:
-            mass_flow = min(thrust_N, float(self.stage_thrust_N[stage])) / self.exhaust_velocity_m_s
-            left = float(self.propellant_kg[cubesat, stage])
+            mass_flow = min(thrust_N, float(self.stage_thrust_N[engine, stage])) / exhaust
+            left = float(self.propellant_kg[engine, stage])
             burn_s = min(dt_s - elapsed, left / mass_flow)
-            self.propellant_kg[cubesat, stage] = left - mass_flow * burn_s
-            self.firing_time_s[cubesat, stage] += burn_s
+            self.propellant_kg[engine, stage] = left - mass_flow * burn_s
+            self.firing_time_s[engine, stage] += burn_s
             elapsed += burn_s
-            if self.propellant_kg[cubesat, stage] > DEPLETED_FRACTION * float(
-                self.stage_capacity_kg[stage]
+            if self.propellant_kg[engine, stage] > DEPLETED_FRACTION * float(
+                self.stage_capacity_kg[engine, stage]
             ):
                 break
-            self.propellant_kg[cubesat, stage] = 0.0
-            next_stage = int(self.active_stage[cubesat])
+            self.propellant_kg[engine, stage] = 0.0
+            next_stage = int(self.active_stage[engine])
             taken_over = next_stage if next_stage < self.n_stages else None
-            events.append(StageEvent(cubesat, stage, elapsed, taken_over))
+            cubesat = int(self.engine_cubesat[engine])
+            events.append(StageEvent(engine, cubesat, stage, elapsed, taken_over))
             stage = next_stage
         return events
 
@@ -441,8 +514,8 @@ class PropulsionState:
 
         As everything a user reads, CubeSats and stages are numbered from 1:
         ``failed_cubesats`` lists CubeSat ids, ``failed_stages`` [CubeSat, stage]
-        pairs; the rows of ``propellant_kg`` and ``firing_time_s`` are CubeSats 1..n
-        and their columns stages 1..m.
+        pairs; the rows of ``propellant_kg`` and ``firing_time_s`` are engines 1..n
+        (one per CubeSat in the paper's swarm) and their columns stages 1..m.
         """
         return {
             "propellant_kg": self.propellant_kg.tolist(),
@@ -474,51 +547,16 @@ class PropulsionState:
         state = self.copy()
         for key in ("propellant_kg", "firing_time_s"):
             if key in data:
-                values = _matrix(data[key], key, self.n_stages, self.n_cubesats)
+                values = engine_stage_matrix(data[key], key, self.n_stages, self.n_engines)
                 setattr(state, key, values)
         for cubesat in data.get("failed_cubesats", []):
-            state.fail_cubesat(_id(cubesat, "failed_cubesats", "CubeSat", self.n_cubesats))
+            state.fail_cubesat(checked_id(cubesat, "failed_cubesats", "CubeSat", self.n_cubesats))
         for pair in data.get("failed_stages", []):
             if not isinstance(pair, list | tuple) or len(pair) != 2:
                 raise AllocationError("failed_stages entries must be [cubesat, stage] pairs")
             state.fail_stage(
-                _id(pair[0], "failed_stages", "CubeSat", self.n_cubesats),
-                _id(pair[1], "failed_stages", "stage", self.n_stages),
+                checked_id(pair[0], "failed_stages", "CubeSat", self.n_cubesats),
+                checked_id(pair[1], "failed_stages", "stage", self.n_stages),
             )
         state._check()
         return state
-
-
-def _id(value: Any, name: str, what: str, count: int) -> int:
-    """The 0-based index of a 1-based id read from a user's file."""
-    if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise AllocationError(f"{name} entries must be integers, got {value!r}")
-    if not 1 <= value <= count:
-        raise AllocationError(f"{name}: {what} {value} out of range 1..{count}")
-    return int(value) - 1
-
-
-def _vector(values: Any, name: str) -> np.ndarray:
-    try:
-        array = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InputShapeError(f"{name} must be numbers") from None
-    if array.ndim != 1 or len(array) == 0:
-        raise InputShapeError(f"{name} must be a non-empty vector, got shape {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise InputShapeError(f"{name} must be finite")
-    return array
-
-
-def _matrix(values: Any, name: str, n_stages: int, n_cubesats: int | None = None) -> np.ndarray:
-    try:
-        array = np.array(values, dtype=float)
-    except (TypeError, ValueError):
-        raise InputShapeError(f"{name} must be numbers") from None
-    rows = n_cubesats if n_cubesats is not None else (len(array) if array.ndim == 2 else -1)
-    if array.shape != (rows, n_stages):
-        want = f"({n_cubesats if n_cubesats is not None else 'n_cubesats'}, {n_stages})"
-        raise InputShapeError(f"{name} must have shape {want}, got {array.shape}")
-    if not np.all(np.isfinite(array)):
-        raise InputShapeError(f"{name} must be finite")
-    return array

@@ -109,6 +109,8 @@ def _payload(
     authority_Nm: dict[str, float],
 ) -> dict[str, Any]:
     limits = allocator.max_thrust_N
+    firing = {int(c) for c, limit in zip(state.engine_cubesat, limits, strict=True) if limit > 0}
+    dead = [cubesat + 1 for cubesat in range(state.n_cubesats) if cubesat not in firing]
     return {
         "problem": problem_name,
         "feasible": result.feasible,
@@ -116,11 +118,12 @@ def _payload(
         "scale": result.scale,
         "thrust_mN": result.thrust_N * MN_PER_N,
         "thrust_limit_mN": limits * MN_PER_N,
-        # 1-based; None where a CubeSat has no stage left.
+        # Per engine, ids 1-based; a stage None where the engine has none left.
+        "engine_cubesat": (state.engine_cubesat + 1).tolist(),
         "active_stage": [
             None if stage >= state.n_stages else int(stage) + 1 for stage in state.active_stage
         ],
-        "failed_cubesats": [int(i) + 1 for i in (limits == 0).nonzero()[0]],
+        "failed_cubesats": dead,
         "torque_demand_mNm": result.demand_torque_Nm * MN_PER_N,
         "torque_achieved_mNm": result.torque_Nm * MN_PER_N,
         "force_demand_mN": None
@@ -135,7 +138,7 @@ def _payload(
     }
 
 
-def _text(payload: dict[str, Any], faces: list[str]) -> str:
+def _text(payload: dict[str, Any], faces: list[str | None]) -> str:
     def triple(values: Any) -> str:
         return "[" + ", ".join(f"{v:+.4f}" for v in values) + "]"
 
@@ -152,11 +155,11 @@ def _text(payload: dict[str, Any], faces: list[str]) -> str:
         "  authority (mNm)  "
         + ", ".join(f"{k} {v:.3f}" for k, v in payload["torque_authority_mNm"].items()),
         "",
-        "  cubesat  face  stage  thrust_mN  limit_mN",
+        "  engine  cubesat  face  stage  thrust_mN  limit_mN",
     ]
-    for index, (face, thrust, limit, stage) in enumerate(
+    for index, (cubesat, thrust, limit, stage) in enumerate(
         zip(
-            faces,
+            payload["engine_cubesat"],
             payload["thrust_mN"],
             payload["thrust_limit_mN"],
             payload["active_stage"],
@@ -164,7 +167,11 @@ def _text(payload: dict[str, Any], faces: list[str]) -> str:
         )
     ):
         stage_text = "-" if limit == 0 or stage is None else str(stage)
-        lines.append(f"  {index + 1:7d}  {face:>4}  {stage_text:>5}  {thrust:9.4f}  {limit:8.4f}")
+        face = faces[cubesat - 1] or "-"
+        lines.append(
+            f"  {index + 1:6d}  {cubesat:7d}  {face:>4}  {stage_text:>5}  {thrust:9.4f}"
+            f"  {limit:8.4f}"
+        )
     return "\n".join(lines)
 
 

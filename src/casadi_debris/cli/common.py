@@ -59,7 +59,14 @@ controller_option = click.option(
     "controller_path",
     type=click.Path(path_type=Path, dir_okay=False),
     default=None,
-    help="Controller file written by synthesize [the shipped paper controller].",
+    help="Controller file written by synthesize [the shipped paper controller, for the paper's "
+    "plant only].",
+)
+allow_mismatch_option = click.option(
+    "--allow-mismatch",
+    is_flag=True,
+    help="Fly a controller designed for another plant (a robustness study); the summary "
+    "records both plants' hashes.",
 )
 MAX_WORKERS = 256
 """Local worker processes at most (one per core of a large node)."""

@@ -7,6 +7,7 @@ from pathlib import Path
 import click
 
 from casadi_debris.cli.common import (
+    allow_mismatch_option,
     comma_list,
     controller_option,
     echo_json,
@@ -29,6 +30,7 @@ from casadi_debris.report.common import format_table
     help=f"Slew methods to compare on slew problems, comma-separated ({', '.join(SLEW_METHODS)}).",
 )
 @controller_option
+@allow_mismatch_option
 @click.option(
     "--out",
     type=click.Path(path_type=Path, file_okay=False),
@@ -42,6 +44,7 @@ def compare(
     problem_files: tuple[Path, ...],
     methods: str | None,
     controller_path: Path | None,
+    allow_mismatch: bool,
     out: Path,
     overwrite: bool,
     as_json: bool,
@@ -64,7 +67,13 @@ def compare(
             say(f"  {label} ...")
 
     summary = compare_variants(
-        problems, chosen, controller_path, out, overwrite=overwrite, progress=progress
+        problems,
+        chosen,
+        controller_path,
+        out,
+        overwrite=overwrite,
+        progress=progress,
+        allow_mismatch=allow_mismatch,
     )
     rows = summary["variants"]
     if as_json:

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 import click
 
 from casadi_debris.cli.common import (
+    allow_mismatch_option,
     comma_list,
     controller_option,
     echo_json,
@@ -149,6 +150,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 @main.command()
 @problem_argument
 @controller_option
+@allow_mismatch_option
 @click.option(
     "--samples",
     type=in_range(MARGIN_SAMPLES),
@@ -173,6 +175,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 def margins(
     problem_file: Path | None,
     controller_path: Path | None,
+    allow_mismatch: bool,
     samples: int,
     seed: int | None,
     out_dir: Path | None,
@@ -182,17 +185,12 @@ def margins(
 ) -> None:
     """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
     from casadi_debris.report.robust import margin_report
-    from casadi_debris.workflows.controller import load_controller
+    from casadi_debris.workflows.controller import controller_for
 
     problem = load_problem(problem_file)
-    record, path = load_controller(controller_path)
+    record, path = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     folder = out_dir or default_run_folder("margins", problem.name)
     check_output_folder(folder, overwrite=overwrite)
-    if record.problem_sha256 and record.problem_sha256 != problem.sha256:
-        say(
-            f"note: {path.name} was designed for another problem file "
-            f"(sha256 {record.problem_sha256[:12]}...); analysing it on {problem.name} anyway"
-        )
 
     def progress(done: int, total: int) -> None:
         say(f"  {done}/{total} sampled plants")

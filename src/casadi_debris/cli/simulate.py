@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from casadi_debris.cli.common import (
+    allow_mismatch_option,
     controller_option,
     echo_json,
     friendly_errors,
@@ -124,6 +125,7 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
 )
 @controller_option
+@allow_mismatch_option
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNGs.")
 @overwrite_option
@@ -138,6 +140,7 @@ def simulate(
     rigid: bool,
     duration_s: float | None,
     controller_path: Path | None,
+    allow_mismatch: bool,
     out: Path | None,
     no_plots: bool,
     overwrite: bool,
@@ -165,9 +168,9 @@ def simulate(
     from casadi_debris.simulation import scenario_reference
     from casadi_debris.simulation import simulate as run_simulation
     from casadi_debris.workflows.campaign import one_case, run_summary
-    from casadi_debris.workflows.controller import load_controller
+    from casadi_debris.workflows.controller import controller_for
 
-    record, resolved = load_controller(controller_path)
+    record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     model = build_model(problem)
     case = one_case(problem, model, corner, sample, seed)
     reference = scenario_reference(problem)
@@ -175,7 +178,7 @@ def simulate(
     result = run_simulation(
         problem, model, record.reduced, reference, parameters=case.parameters, allocator=allocator
     )
-    summary = run_summary(problem, case, result, resolved)
+    summary = run_summary(problem, case, result, resolved, record)
     if out is not None:
         with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
             summary["out_dir"] = str(out.absolute())
@@ -267,6 +270,7 @@ def cases_progress(label: str) -> Callable[[int, int], None]:
     "a scheduler you trust.",
 )
 @controller_option
+@allow_mismatch_option
 @click.option(
     "--no-jit",
     is_flag=True,
@@ -289,6 +293,7 @@ def montecarlo(
     workers: int,
     scheduler: str | None,
     controller_path: Path | None,
+    allow_mismatch: bool,
     no_jit: bool,
     out: Path | None,
     overwrite: bool,
@@ -320,6 +325,7 @@ def montecarlo(
             scheduler=scheduler,
             jit=not no_jit,
             overwrite=overwrite,
+            allow_mismatch=allow_mismatch,
             progress=None if as_json or is_quiet() else cases_progress(problem.name),
         )
     except CampaignInterrupted as interrupted:

@@ -29,24 +29,28 @@ across tables) and :mod:`~casadi_debris.config.loader` (files and ``extends``).
 from __future__ import annotations
 
 from casadi_debris.config.checks import TRIANGLE_TOLERANCE, check_inertia
+from casadi_debris.config.layouts import signed_axis_vector
 from casadi_debris.config.loader import default_controller_path, default_problem_path, load_problem
 from casadi_debris.config.reader import problem_from_dict
 from casadi_debris.config.runs import with_duration
 from casadi_debris.config.schema import (
     AXIS_NAMES,
     DEFAULT_MONTECARLO,
+    DEFAULT_REQUIREMENTS,
     DEFAULT_SIMULATION,
     MODE_KINDS,
     REFERENCE_KINDS,
     SIGNED_AXES,
     SLEW_METHODS,
-    Arrays,
+    Array,
     AxisName,
     Constants,
-    CubeSats,
+    CubeSat,
+    CubeSatLayout,
     Detumble,
     Disturbance,
     Engine,
+    EngineDefaults,
     FailureEvent,
     Hub,
     Mode,
@@ -55,6 +59,7 @@ from casadi_debris.config.schema import (
     Orbit,
     Problem,
     ReferenceKind,
+    Requirements,
     Sensor,
     SignedAxis,
     Simulation,
@@ -68,19 +73,22 @@ from casadi_debris.config.schema import (
 __all__ = [
     "AXIS_NAMES",
     "DEFAULT_MONTECARLO",
+    "DEFAULT_REQUIREMENTS",
     "DEFAULT_SIMULATION",
     "MODE_KINDS",
     "REFERENCE_KINDS",
     "SIGNED_AXES",
     "SLEW_METHODS",
     "TRIANGLE_TOLERANCE",
-    "Arrays",
+    "Array",
     "AxisName",
     "Constants",
-    "CubeSats",
+    "CubeSat",
+    "CubeSatLayout",
     "Detumble",
     "Disturbance",
     "Engine",
+    "EngineDefaults",
     "FailureEvent",
     "Hub",
     "Mode",
@@ -89,6 +97,7 @@ __all__ = [
     "Orbit",
     "Problem",
     "ReferenceKind",
+    "Requirements",
     "Sensor",
     "SignedAxis",
     "Simulation",
@@ -102,5 +111,6 @@ __all__ = [
     "default_problem_path",
     "load_problem",
     "problem_from_dict",
+    "signed_axis_vector",
     "with_duration",
 ]

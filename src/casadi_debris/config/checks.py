@@ -56,20 +56,61 @@ def check_inertia(inertia: np.ndarray, key: str, source: str | None = None) -> N
         )
 
 
-def check_on_face(
-    t: Table, name: str, point: np.ndarray, direction: str, hub_size: np.ndarray
-) -> None:
-    """A hinge must sit on the hub face whose outward normal is its array's direction."""
-    axis = AXIS_NAMES.index(direction[1])
-    face = hub_size[axis] if direction[0] == "+" else 0.0
+def _faces_holding(point: np.ndarray, hub_size: np.ndarray) -> list[tuple[int, float]]:
+    """The hub faces (axis, outward sign) the point lies on, within round-off."""
     tolerance = 1e-9 * float(np.max(hub_size))
-    others = [a for a in range(3) if a != axis]
-    on_face = abs(point[axis] - face) <= tolerance and all(
-        -tolerance <= point[a] <= hub_size[a] + tolerance for a in others
-    )
-    if not on_face:
+    inside = [-tolerance <= point[a] <= hub_size[a] + tolerance for a in range(3)]
+    faces = []
+    for axis in range(3):
+        others = [a for a in range(3) if a != axis]
+        if not all(inside[a] for a in others):
+            continue
+        if abs(point[axis]) <= tolerance:
+            faces.append((axis, -1.0))
+        if abs(point[axis] - hub_size[axis]) <= tolerance:
+            faces.append((axis, +1.0))
+    return faces
+
+
+def check_on_surface(
+    t: Table, name: str, point: np.ndarray, direction: np.ndarray, hub_size: np.ndarray
+) -> None:
+    """A hinge must sit on a hub face, and its array extend outward from that face.
+
+    Raises naming ``name`` (the hinge) when the point is on no face, and
+    ``direction`` when the array would extend into the hub.
+    """
+    faces = _faces_holding(point, hub_size)
+    spans = f"(hub spans 0 .. {hub_size.tolist()} m)"
+    if not faces:
+        raise t.error(t.key(name), f"{point.tolist()} m is not on the hub's surface {spans}")
+    if not any(sign * direction[axis] > 1e-9 for axis, sign in faces):
         raise t.error(
-            f"{t.path}.{name}",
-            f"{list(point)} m is not on the hub face {direction} "
-            f"(hub spans 0 .. {list(hub_size)} m); an array extends outward from its face",
+            t.key("direction"),
+            f"{direction.tolist()} points into the hub from the hinge at {point.tolist()} m; "
+            "an array extends outward from the face its hinge is on",
+        )
+
+
+def check_outside_hub(
+    t: Table, name: str, point: np.ndarray, face: str | None, hub_size: np.ndarray
+) -> None:
+    """A CubeSat's CoG cannot lie inside the hub, and lies on or beyond its ``face`` if given."""
+    tolerance = 1e-9 * float(np.max(hub_size))
+    if np.all(point > tolerance) and np.all(point < hub_size - tolerance):
+        raise t.error(
+            t.key(name), f"{point.tolist()} m lies inside the hub (0 .. {hub_size.tolist()} m)"
+        )
+    if face is None:
+        return
+    axis = AXIS_NAMES.index(face[1])
+    plane = hub_size[axis] if face[0] == "+" else 0.0
+    beyond = point[axis] >= plane - tolerance if face[0] == "+" else point[axis] <= tolerance
+    others = [a for a in range(3) if a != axis]
+    within = all(-tolerance <= point[a] <= hub_size[a] + tolerance for a in others)
+    if not (beyond and within):
+        raise t.error(
+            t.key(name),
+            f"{point.tolist()} m is not on or above the hub face {face} "
+            f"(hub spans 0 .. {hub_size.tolist()} m)",
         )

@@ -109,6 +109,9 @@ STANDOFF_M = Range(0.0, 200.0)
 """[0, 200] m: height of a CubeSat's centre of gravity above its face."""
 POSITION_M = nonnegative(200.0)
 """[0, 200] m: points in the hub-corner frame (then checked against the hub's own size)."""
+CUBESAT_POSITION_M = symmetric(400.0)
+"""|x| <= 400 m per axis: a CubeSat's CoG in the hub-corner frame (outside the hub, so it may
+lie below 0 on the -x, -y, -z faces)."""
 INERTIA_KGM2 = symmetric(1e9)
 """|I_ij| <= 1e9 kg m^2: the ISS is about 1e8 kg m^2; then checked positive definite."""
 PRINCIPAL_INERTIA_KGM2 = Range(1e-6, 1e9)
@@ -124,6 +127,21 @@ MAX_ARRAYS = 16
 """At most 16 arrays (hinges): each adds its modes' states to the model."""
 MAX_MODES = 16
 """At most 16 modes per array: each adds two states per array to the model."""
+MAX_CUBESATS = 256
+"""At most 256 docked CubeSats: each engine is a column of the allocator's QP, solved every
+control period."""
+MAX_ENGINES_PER_CUBESAT = 16
+"""At most 16 engines per CubeSat (a 2U with differential firing has a handful)."""
+MAX_ENGINES = 512
+"""At most 512 engines in all: the allocator's QP grows with every one."""
+OFFSET_M = symmetric(10.0)
+"""|offset| <= 10 m per axis: an engine point relative to its CubeSat's centre of gravity."""
+DIRECTION = symmetric(1e3)
+"""|component| <= 1000 for a direction vector (then normalised; it must not be zero)."""
+POINTING_ARCSEC = Range(1e-3, 1e6)
+"""[0.001, 1e6] arcsec: a pointing requirement (the paper: 60)."""
+SLEW_ERROR_DEG = Range(1e-6, 180.0)
+"""[1e-6, 180] deg: the largest attitude error allowed during a slew (the paper: 0.6)."""
 
 # ------------------------------------------------------------------ engines
 STAGES = Range(1, 16)

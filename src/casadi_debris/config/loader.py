@@ -34,6 +34,26 @@ def _merge(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, An
     return merged
 
 
+# A child file's CubeSats replace the parent's, however either gives them.
+_ALTERNATIVES = {"cubesats": "cubesat_layout", "cubesat_layout": "cubesats"}
+
+
+def merge_problem(base: Mapping[str, Any], child: Mapping[str, Any]) -> dict[str, Any]:
+    """A child problem file over its parent (``extends``).
+
+    Tables merge key by key; arrays (``[[arrays]]``, ``[[cubesats]]``, any list)
+    and scalars are replaced whole. A child that gives its CubeSats (as a
+    ``[[cubesats]]`` list or a ``[cubesat_layout]``) drops the parent's, in
+    either form.
+    """
+    trimmed = {
+        key: value
+        for key, value in base.items()
+        if not any(key == _ALTERNATIVES.get(given) for given in child)
+    }
+    return _merge(trimmed, child)
+
+
 class UnreadableFileError(CasadiDebrisError):
     """Why a file given by the user cannot be read (the caller adds which file it was)."""
 
@@ -129,7 +149,7 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
         return data, raw
     base, base_raw = _read_toml(_parent_path(path, parent, chain), (*chain, path))
     try:
-        return _merge(base, data), base_raw + raw
+        return merge_problem(base, data), base_raw + raw
     except RecursionError:
         raise ProblemFileError("", "tables nested too deeply", str(path)) from None
 

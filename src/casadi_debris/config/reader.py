@@ -16,18 +16,20 @@ from casadi_debris.config.bodies import (
     check_propellant,
     read_arrays,
     read_cubesats,
-    read_engine,
+    read_engine_defaults,
     read_hub,
 )
 from casadi_debris.config.runs import check_integration_step, read_montecarlo, read_simulation
 from casadi_debris.config.schema import (
     DEFAULT_MONTECARLO,
+    DEFAULT_REQUIREMENTS,
     DEFAULT_SIMULATION,
     Constants,
     Detumble,
     Disturbance,
     Orbit,
     Problem,
+    Requirements,
     Sensor,
     Transfer,
     Uncertainty,
@@ -81,6 +83,15 @@ def _read_weights(t: Table) -> Weights:
     )
     t.done()
     return weights
+
+
+def _read_requirements(t: Table) -> Requirements:
+    requirements = Requirements(
+        pointing_arcsec=t.number("pointing_arcsec", limits.POINTING_ARCSEC),
+        slew_error_deg=t.number("slew_error_deg", limits.SLEW_ERROR_DEG),
+    )
+    t.done()
+    return requirements
 
 
 def _read_detumble(t: Table) -> Detumble:
@@ -146,19 +157,22 @@ def problem_from_dict(
     name = top.label("name")
     description = top.prose("description")
     hub = read_hub(top.table("hub"))
-    arrays = read_arrays(top.table("arrays"), hub.size_m)
-    cubesats = read_cubesats(top.table("cubesats"))
-    engine = read_engine(top.table("engine"))
+    arrays = read_arrays(top, hub.size_m)
+    engine = read_engine_defaults(top.table("engine"))
+    cubesats, layout = read_cubesats(top, hub.size_m, engine)
     sensor = _read_sensor(top.table("sensor"))
     constants = _read_numbers(top.table("constants"), Constants, CONSTANTS_RANGES)
-    check_propellant(top, engine, cubesats, constants)
+    check_propellant(top, cubesats, layout, constants.standard_gravity_m_s2)
     simulation_table = _optional_table(top, "simulation", DEFAULT_SIMULATION)
     simulation = read_simulation(
-        simulation_table, n_cubesats=6 * cubesats.per_face, n_stages=engine.stages
+        simulation_table,
+        n_cubesats=len(cubesats),
+        n_stages=max(e.stages for c in cubesats for e in c.engines),
     )
     fast_rates = {"sensor.star_tracker_bandwidth_rad_s": sensor.star_tracker_bandwidth_rad_s}
-    for i, mode in enumerate(arrays.modes):
-        fast_rates[f"arrays.modes[{i}].omega_rad_s"] = mode.omega_rad_s
+    for a, array in enumerate(arrays):
+        for i, mode in enumerate(array.modes):
+            fast_rates[f"arrays[{a}].modes[{i}].omega_rad_s"] = mode.omega_rad_s
     check_integration_step(simulation_table, simulation, fast_rates)
     problem = Problem(
         name=name,
@@ -166,7 +180,9 @@ def problem_from_dict(
         hub=hub,
         arrays=arrays,
         cubesats=cubesats,
+        cubesat_layout=layout,
         engine=engine,
+        requirements=_read_requirements(_optional_table(top, "requirements", DEFAULT_REQUIREMENTS)),
         disturbance=_read_disturbance(top.table("disturbance")),
         sensor=sensor,
         uncertainty=_read_uncertainty(top.table("uncertainty")),

@@ -22,7 +22,7 @@ import casadi as ca
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.config import Problem
+from casadi_debris.config import Mode, Problem
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.model.flexible_body import (
@@ -103,7 +103,7 @@ class Model:
     def parameters(self, **values: float) -> np.ndarray:
         """Parameter vector: nominal, with the named entries replaced.
 
-        Example: ``model.parameters(array_angle_rad=0.5, inertia_scale_x=1.17)``.
+        Example: ``model.parameters(array_angle_offset_rad=0.5, inertia_scale_x=1.17)``.
         """
         return self.nominal.replace(**values).to_vector()
 
@@ -136,18 +136,31 @@ def _vector(values: npt.ArrayLike, size: int, name: str) -> np.ndarray:
     return array
 
 
-def select_modes(problem: Problem, modes: str | Sequence[str] = "all") -> tuple:
-    """The problem's modes kept in a model: ``"all"``, ``"first"`` or a list of names."""
-    available = problem.arrays.modes
+def select_modes(
+    problem: Problem, modes: str | Sequence[str] = "all"
+) -> tuple[tuple[Mode, ...], ...]:
+    """The modes kept in a model, one tuple per array.
+
+    Parameters
+    ----------
+    problem : Problem
+    modes : "all", "first" or sequence of str
+        ``"all"``: every mode of every array; ``"first"``: each array's first
+        bending mode; a list of names: the modes of those names, in each array
+        that has them (a name no array has is an error).
+    """
     if modes == "all":
-        return available
+        return tuple(array.modes for array in problem.arrays)
     if modes == "first":
-        return tuple(m for m in available if (m.kind, m.order) == ("bending", 1))
-    names = [m.name for m in available]
+        return tuple(
+            tuple(m for m in array.modes if (m.kind, m.order) == ("bending", 1))
+            for array in problem.arrays
+        )
+    names = {m.name for array in problem.arrays for m in array.modes}
     unknown = [n for n in modes if n not in names]
     if unknown:
-        raise ModelError(f"unknown modes {unknown}; the problem has {names}")
-    return tuple(m for m in available if m.name in modes)
+        raise ModelError(f"unknown modes {unknown}; the problem's arrays have {sorted(names)}")
+    return tuple(tuple(m for m in array.modes if m.name in modes) for array in problem.arrays)
 
 
 def build_model(problem: Problem, modes: str | Sequence[str] = "all") -> Model:
@@ -157,8 +170,9 @@ def build_model(problem: Problem, modes: str | Sequence[str] = "all") -> Model:
     ----------
     problem : Problem
     modes : "all", "first" or sequence of str
-        Cantilever modes kept per array. ``"first"`` keeps the first bending
-        mode only (the paper's truncation, a 10-state attitude plant).
+        Cantilever modes kept (see :func:`select_modes`). ``"first"`` keeps each
+        array's first bending mode only (the paper's truncation, a 10-state
+        attitude plant).
 
     Returns
     -------

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-from casadi_debris.config import Mode, Problem
+from casadi_debris.config import Array, Mode, Problem
 from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
 from casadi_debris.model.cantilever import shape_integrals
 from casadi_debris.model.parameters import ParameterLayout, Parameters
@@ -160,18 +160,19 @@ class FlexibleBodyEquations:
     ----------
     problem : Problem
     geometry : Geometry
-    modes : tuple of Mode
-        The cantilever modes kept per array (all of the problem's by default).
+    modes : tuple of tuple of Mode
+        The cantilever modes kept, one tuple per array.
     """
 
-    def __init__(self, problem: Problem, geometry: Geometry, modes: tuple[Mode, ...]) -> None:
+    def __init__(
+        self, problem: Problem, geometry: Geometry, modes: tuple[tuple[Mode, ...], ...]
+    ) -> None:
         self.problem = problem
         self.geometry = geometry
         self.modes = modes
-        n_arrays = problem.arrays.count
         self.layout = StateLayout(
-            n_eta=n_arrays * len(modes),
-            mode_labels=tuple((a + 1, m.name) for a in range(n_arrays) for m in modes),
+            n_eta=sum(len(kept) for kept in modes),
+            mode_labels=tuple((a + 1, m.name) for a, kept in enumerate(modes) for m in kept),
         )
         self.parameters = ParameterLayout.for_problem(problem)
 
@@ -182,9 +183,7 @@ class FlexibleBodyEquations:
             layout=layout,
             inertia_scale=(1.0, 1.0, 1.0),
             mass_kg=self.geometry.mass_kg,
-            array_angle_rad=(
-                math.radians(self.problem.arrays.angle_deg) if layout.has_array_angle else None
-            ),
+            array_angle_offset_rad=0.0 if layout.has_array_angle else None,
             bending_frequency_scale=1.0 if layout.has_bending_scale else None,
         )
 
@@ -193,38 +192,40 @@ class FlexibleBodyEquations:
         scale = ca.sqrt(self.parameters.inertia_scale(p))
         hub_cubesats = ca.DM(self.geometry.inertia_hub_cubesats_kgm2) * (scale @ scale.T)
         arrays = sum(
-            array_rigid_inertia(self.problem, hinge, direction, self._angle(p))
-            for hinge, direction in zip(
-                self.geometry.hinges_m, self.geometry.array_directions, strict=True
-            )
+            (
+                array_rigid_inertia(array, hinge, self._angle(array, p))
+                for array, hinge in zip(self.problem.arrays, self.geometry.hinges_m, strict=True)
+            ),
+            ca.SX.zeros(3, 3),
         )
         return hub_cubesats + arrays
 
-    def _angle(self, p: ca.SX) -> ca.SX:
-        """The arrays' angle (0 for a debris without arrays, where nothing uses it)."""
-        return self.parameters.array_angle_rad(p) if self.parameters.has_array_angle else ca.SX(0)
+    def _angle(self, array: Array, p: ca.SX) -> ca.SX:
+        """An array's angle theta_SA: its nominal angle plus the parameters' offset."""
+        return math.radians(array.angle_deg) + self.parameters.array_angle_offset_rad(p)
 
-    def participation(self, angle: ca.SX) -> tuple[ca.SX, ca.SX]:
+    def participation(self, p: ca.SX) -> tuple[ca.SX, ca.SX]:
         """Translational and rotational (about the CoG) modal participation, (n_eta, 3) each."""
-        arrays = self.problem.arrays
-        sqrt_mass = math.sqrt(arrays.mass_kg)
         rows_t, rows_r = [], []
-        for hinge, direction in zip(
-            self.geometry.hinges_m, self.geometry.array_directions, strict=True
+        for array, hinge, kept in zip(
+            self.problem.arrays, self.geometry.hinges_m, self.modes, strict=True
         ):
-            e_length, _, normal = array_axes(direction, angle)
-            for mode in self.modes:
+            if not kept:
+                continue
+            e_length, _, normal = array_axes(array.direction, self._angle(array, p))
+            sqrt_mass = math.sqrt(array.mass_kg)
+            for mode in kept:
                 integrals = shape_integrals(mode.kind, mode.order)
                 translation: ca.SX | ca.DM
                 rotation: ca.SX | ca.DM
                 if mode.kind == "bending":
                     translation = sqrt_mass * integrals.first * normal
                     rotation = ca.cross(ca.DM(hinge), translation) + (
-                        sqrt_mass * arrays.length_m * integrals.moment * ca.cross(e_length, normal)
+                        sqrt_mass * array.length_m * integrals.moment * ca.cross(e_length, normal)
                     )
                 else:  # torsion: twist about the length axis, no net translation
                     translation = ca.DM.zeros(3)
-                    rotation = math.sqrt(arrays.inertia_kgm2[0]) * integrals.first * e_length
+                    rotation = math.sqrt(array.inertia_kgm2[0]) * integrals.first * e_length
                 rows_t.append(translation.T)
                 rows_r.append(rotation.T)
         if not rows_t:  # rigid model: no modes kept
@@ -233,17 +234,24 @@ class FlexibleBodyEquations:
 
     def modal_frequencies(self, p: ca.SX) -> ca.SX:
         """Cantilever frequency of each modal coordinate [rad/s], (n_eta, 1)."""
-        per_array = [
+        frequencies = [
             m.omega_rad_s * self.parameters.bending_frequency_scale(p)
             if (m.kind, m.order) == ("bending", 1)
             else ca.SX(m.omega_rad_s)
-            for m in self.modes
+            for kept in self.modes
+            for m in kept
         ]
-        return ca.vertcat(*(per_array * self.problem.arrays.count)) if per_array else ca.SX(0, 1)
+        return ca.vertcat(*frequencies) if frequencies else ca.SX(0, 1)
+
+    def damping_ratios(self) -> ca.DM:
+        """Damping ratio of each modal coordinate (its array's), (n_eta, 1)."""
+        arrays = zip(self.problem.arrays, self.modes, strict=True)
+        ratios = [array.damping_ratio for array, kept in arrays for _ in kept]
+        return ca.DM(ratios) if ratios else ca.DM(0, 1)
 
     def mass_matrix(self, p: ca.SX) -> ca.SX:
         """Generalised mass matrix for nu = [v, omega, eta_dot], (6 + n_eta) square."""
-        pt, hr = self.participation(self._angle(p))
+        pt, hr = self.participation(p)
         n = self.layout.n_eta
         top = ca.horzcat(self.parameters.mass_kg(p) * ca.SX.eye(3), ca.SX.zeros(3, 3), pt.T)
         middle = ca.horzcat(ca.SX.zeros(3, 3), self.rigid_inertia(p), hr.T)
@@ -257,11 +265,11 @@ class FlexibleBodyEquations:
         eta, eta_dot, q_st = x[lay.eta], x[lay.eta_dot], x[lay.q_st]
         torque, disturbance, force = u[0:3], u[3:6], u[6:9]
 
-        pt, hr = self.participation(self._angle(p))
+        pt, hr = self.participation(p)
         inertia = self.rigid_inertia(p)
         mass = self.parameters.mass_kg(p)
         frequencies = self.modal_frequencies(p)
-        zeta = self.problem.arrays.damping_ratio
+        zeta = self.damping_ratios()
 
         linear_momentum = mass * v + pt.T @ eta_dot
         angular_momentum = inertia @ omega + hr.T @ eta_dot
@@ -303,7 +311,7 @@ class FlexibleBodyEquations:
         is zero (a free body started with p = 0 keeps p = 0).
         """
         lay = self.layout
-        pt, hr = self.participation(self._angle(p))
+        pt, hr = self.participation(p)
         eta_dot = x[lay.eta_dot]
         rotation = rotation_matrix(x[lay.q])
         linear = self.parameters.mass_kg(p) * x[lay.v] + pt.T @ eta_dot

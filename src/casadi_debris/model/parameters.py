@@ -11,8 +11,9 @@ Entries, in order:
   hub-and-CubeSats inertia about each body axis (the diagonal scales by them, a
   product of inertia by the square root of the two factors), 1 nominal;
 - ``mass_kg``: total mass [kg];
-- ``array_angle_rad``: the arrays' angle about their hinge axes [rad], shared
-  by every array (the paper's theta_SA), present when the debris has arrays;
+- ``array_angle_offset_rad``: turn of every array about its hinge axis away from
+  its nominal angle [rad] (the paper's theta_SA, whose nominal is 0), one for
+  all arrays, present when the debris has arrays;
 - ``bending_frequency_scale``: factor on every array's first bending frequency,
   1 nominal, present when the model keeps a first bending mode.
 
@@ -21,7 +22,7 @@ Example
 >>> from casadi_debris import load_problem
 >>> from casadi_debris.model import build_model
 >>> model = build_model(load_problem())
->>> corner = model.nominal.replace(mass_kg=700.0, array_angle_rad=0.5)
+>>> corner = model.nominal.replace(mass_kg=700.0, array_angle_offset_rad=0.5)
 >>> p = corner.to_vector()  # for model.dynamics(x, u, p)
 """
 
@@ -69,8 +70,10 @@ class ParameterLayout:
         It depends on the problem only, so that one parameter vector (a Monte
         Carlo case, say) fits both the design model and the simulation model.
         """
-        arrays = problem.arrays.count > 0
-        bending = any((m.kind, m.order) == ("bending", 1) for m in problem.arrays.modes)
+        arrays = len(problem.arrays) > 0
+        bending = any(
+            (m.kind, m.order) == ("bending", 1) for array in problem.arrays for m in array.modes
+        )
         return cls(has_array_angle=arrays, has_bending_scale=arrays and bending)
 
     @property
@@ -78,7 +81,7 @@ class ParameterLayout:
         """Entry names, in vector order."""
         names = [*INERTIA_SCALE_NAMES, "mass_kg"]
         if self.has_array_angle:
-            names.append("array_angle_rad")
+            names.append("array_angle_offset_rad")
         if self.has_bending_scale:
             names.append("bending_frequency_scale")
         return tuple(names)
@@ -105,9 +108,9 @@ class ParameterLayout:
         """Total mass entry of ``p`` [kg]."""
         return p[3]
 
-    def array_angle_rad(self, p: Indexable) -> Any:
-        """Arrays' angle entry of ``p`` [rad]."""
-        return p[self.index("array_angle_rad")]
+    def array_angle_offset_rad(self, p: Indexable) -> Any:
+        """Arrays' angle offset entry of ``p`` [rad]."""
+        return p[self.index("array_angle_offset_rad")]
 
     def bending_frequency_scale(self, p: Indexable) -> Any:
         """First-bending frequency factor of ``p``."""
@@ -125,8 +128,9 @@ class Parameters:
         Factors on the hub-and-CubeSats inertia about x, y, z.
     mass_kg : float
         Total mass [kg].
-    array_angle_rad : float or None
-        Arrays' angle about their hinge axes [rad]; None without arrays.
+    array_angle_offset_rad : float or None
+        Turn of the arrays about their hinge axes from their nominal angles
+        [rad]; None without arrays.
     bending_frequency_scale : float or None
         Factor on the first bending frequencies; None without a bending mode.
     """
@@ -134,7 +138,7 @@ class Parameters:
     layout: ParameterLayout
     inertia_scale: tuple[float, float, float]
     mass_kg: float
-    array_angle_rad: float | None = None
+    array_angle_offset_rad: float | None = None
     bending_frequency_scale: float | None = None
 
     def __post_init__(self) -> None:
@@ -144,7 +148,7 @@ class Parameters:
         if self.mass_kg <= 0.0 or min(self.inertia_scale) <= 0.0:
             raise ModelError("parameters mass_kg and inertia_scale_* must be positive")
         for name, present in (
-            ("array_angle_rad", self.layout.has_array_angle),
+            ("array_angle_offset_rad", self.layout.has_array_angle),
             ("bending_frequency_scale", self.layout.has_bending_scale),
         ):
             if (getattr(self, name) is not None) != present:
@@ -155,8 +159,8 @@ class Parameters:
     def items(self) -> list[tuple[str, float]]:
         """(name, value) pairs in vector order."""
         values = [*self.inertia_scale, self.mass_kg]
-        if self.array_angle_rad is not None:
-            values.append(self.array_angle_rad)
+        if self.array_angle_offset_rad is not None:
+            values.append(self.array_angle_offset_rad)
         if self.bending_frequency_scale is not None:
             values.append(self.bending_frequency_scale)
         return list(zip(self.layout.names, map(float, values), strict=True))
@@ -195,7 +199,7 @@ class Parameters:
             layout=layout,
             inertia_scale=(scale[0], scale[1], scale[2]),
             mass_kg=float(values["mass_kg"]),
-            array_angle_rad=_optional(values, "array_angle_rad"),
+            array_angle_offset_rad=_optional(values, "array_angle_offset_rad"),
             bending_frequency_scale=_optional(values, "bending_frequency_scale"),
         )
 

@@ -36,11 +36,12 @@ def describe_model(problem: Problem) -> dict[str, Any]:
     model = build_model(problem)
     geometry = model.geometry
     modes = []
-    by_name = {m.name: m for m in problem.arrays.modes}
+    with_modes = sorted({a for a, _ in model.layout.mode_labels})  # array numbers, from 1
     for assembled in assembled_modes(model):
-        cantilever = by_name[assembled["dominant_mode"]]
-        integrals = shape_integrals(cantilever.kind, cantilever.order)
         share = assembled["array_share"]
+        array = problem.arrays[with_modes[int(np.argmax(share))] - 1]
+        cantilever = next(m for m in array.modes if m.name == assembled["dominant_mode"])
+        integrals = shape_integrals(cantilever.kind, cantilever.order)
         carrying = [str(i + 1) for i, s in enumerate(share) if s > 0.1]
         phase = assembled["in_phase"]
         modes.append(
@@ -51,7 +52,7 @@ def describe_model(problem: Problem) -> dict[str, Any]:
                 "symmetry": "-" if phase is None else ("in-phase" if phase else "anti-phase"),
                 "omega_rad_s": cantilever.omega_rad_s,
                 "omega_free_rad_s": assembled["omega_rad_s"],
-                "zeta": problem.arrays.damping_ratio,
+                "zeta": array.damping_ratio,
                 "zeta_free": assembled["zeta"],
                 "mass_fraction": integrals.mass_fraction if cantilever.kind == "bending" else 0.0,
                 "root_inertia_fraction": (
@@ -63,13 +64,14 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         )
     thrusters = [
         {
-            "cubesat": mount.index + 1,
-            "face": mount.face,
-            "position_m": _rounded(mount.position_m),
-            "direction": _rounded(mount.direction),
-            "max_thrust_mN": mount.max_thrust_N * MN_PER_N,
+            "engine": engine.index + 1,
+            "cubesat": engine.cubesat + 1,
+            "face": geometry.cubesats[engine.cubesat].face,
+            "position_m": _rounded(engine.position_m),
+            "direction": _rounded(engine.direction),
+            "max_thrust_mN": engine.max_thrust_N * MN_PER_N,
         }
-        for mount in geometry.cubesats
+        for engine in geometry.engines
     ]
     return {
         "problem": problem.name,
@@ -79,7 +81,7 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         "cog_m": _rounded(geometry.cog_corner_m),
         "inertia_hub_cubesats_kgm2": _rounded(geometry.inertia_hub_cubesats_kgm2),
         "inertia_total_kgm2": _rounded(geometry.inertia_total_kgm2),
-        "array_angle_deg": problem.arrays.angle_deg,
+        "array_angle_deg": [array.angle_deg for array in problem.arrays],
         "torque_max_mNm": {k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
         "torque_max_zero_force_mNm": {
             k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
@@ -108,8 +110,7 @@ def model_text(summary: dict[str, Any], show_paper: bool) -> str:
         "",
         format_table(headers, _quantity_rows(summary, show_paper)),
         "",
-        f"Flexible modes (array angle {summary['array_angle_deg']:g} deg; "
-        "omega = cantilever, omega_free = assembled free-floating body)",
+        _modes_heading(summary["array_angle_deg"]),
         _modes_table(summary["modes"]),
         "",
         "Engines (body frame B, origin at the CoG; direction = unit force on the body)",
@@ -175,6 +176,16 @@ _MODE_COLUMNS = (
 )
 
 
+def _modes_heading(angles_deg: list[float]) -> str:
+    if not angles_deg:
+        return "Flexible modes: none (a rigid debris, no arrays)"
+    return (
+        "Flexible modes (array angles "
+        + ", ".join(f"{angle:g}" for angle in angles_deg)
+        + " deg; omega = cantilever, omega_free = assembled free-floating body)"
+    )
+
+
 def _modes_table(modes: list[dict[str, Any]]) -> str:
     """The assembled flexible modes with their cantilever origin."""
     return format_table(
@@ -186,9 +197,16 @@ def _modes_table(modes: list[dict[str, Any]]) -> str:
 def _thrusters_table(thrusters: list[dict[str, Any]]) -> str:
     """Each CubeSat engine: face, position, force direction and thrust."""
     return format_table(
-        ["cubesat", "face", "position [m]", "direction", "max thrust [mN]"],
+        ["engine", "cubesat", "face", "position [m]", "direction", "max thrust [mN]"],
         [
-            [t["cubesat"], t["face"], t["position_m"], t["direction"], t["max_thrust_mN"]]
+            [
+                t["engine"],
+                t["cubesat"],
+                t["face"] or "-",
+                t["position_m"],
+                t["direction"],
+                t["max_thrust_mN"],
+            ]
             for t in thrusters
         ],
     )

@@ -22,6 +22,12 @@ MAX_ENTRY = 1e12
 REQUIRED_KEYS = ("A", "B", "C", "D", "mu_peak", "mu_peak_reduced", "order_full", "order_reduced")
 
 
+def _toolkit_version() -> str:
+    from casadi_debris import __version__  # the package root; imported late, it imports config
+
+    return __version__
+
+
 @dataclass(frozen=True, eq=False)
 class ControllerRecord:
     """Reduced controller plus how it was obtained.
@@ -35,10 +41,13 @@ class ControllerRecord:
     mu_peak, mu_peak_reduced : float
         Peak robust-performance mu of the full and reduced controllers.
     problem_sha256 : str
+        The plant it was designed for (:attr:`casadi_debris.config.Problem.plant_sha256`).
     seed : int
         Seed of the uncertainty samples the weight was fitted on.
     details : dict
         Everything else worth keeping (weights, mu per iteration, timings).
+    toolkit_version : str
+        The casadi_debris version that designed it ("" when the file does not say).
     """
 
     reduced: control.StateSpace
@@ -48,6 +57,7 @@ class ControllerRecord:
     problem_sha256: str
     seed: int
     details: dict[str, Any] = field(default_factory=dict)
+    toolkit_version: str = field(default_factory=_toolkit_version)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict: the reduced A, B, C, D at the top level, as rows."""
@@ -62,6 +72,7 @@ class ControllerRecord:
             "order_reduced": self.reduced.nstates,
             "problem_sha256": self.problem_sha256,
             "seed": self.seed,
+            "toolkit_version": self.toolkit_version,
         }
         if self.full is not None:
             payload["full"] = _matrices(self.full)
@@ -87,7 +98,15 @@ class ControllerRecord:
                 raise ProblemFileError(key, f"must be a non-negative number, got {value!r}", source)
         reduced = _system(data, "", source)
         full = _system(data["full"], "full.", source) if "full" in data else None
-        known = {"format_version", "input", "output", "full", "problem_sha256", "seed"}
+        known = {
+            "format_version",
+            "input",
+            "output",
+            "full",
+            "problem_sha256",
+            "seed",
+            "toolkit_version",
+        }
         details = {k: v for k, v in data.items() if k not in known and k not in REQUIRED_KEYS}
         return cls(
             reduced=reduced,
@@ -97,6 +116,7 @@ class ControllerRecord:
             problem_sha256=str(data.get("problem_sha256", "")),
             seed=int(data.get("seed", 0)),
             details=details,
+            toolkit_version=str(data.get("toolkit_version", "")),
         )
 
 

@@ -146,12 +146,18 @@ def weight_fit_grid(problem: Problem) -> np.ndarray:
     the band from half the lowest to 2.5 times the highest first-bending
     frequency of the uncertainty set is sampled linearly.
     """
-    first = next(m for m in problem.arrays.modes if (m.kind, m.order) == ("bending", 1))
+    first = [
+        m.omega_rad_s
+        for array in problem.arrays
+        for m in array.modes
+        if (m.kind, m.order) == ("bending", 1)
+    ]
+    coarse = np.logspace(-3, 2, 300)
+    if not first:  # a rigid debris: nothing narrow to resolve
+        return coarse
     spread = problem.uncertainty.bending_frequency_fraction
-    band = np.linspace(
-        0.5 * first.omega_rad_s * (1 - spread), 2.5 * first.omega_rad_s * (1 + spread), 1500
-    )
-    return np.unique(np.concatenate([np.logspace(-3, 2, 300), band]))
+    band = np.linspace(0.5 * min(first) * (1 - spread), 2.5 * max(first) * (1 + spread), 1500)
+    return np.unique(np.concatenate([coarse, band]))
 
 
 def design_controller(
@@ -219,7 +225,7 @@ def design_controller(
         full=musyn.controller,
         mu_peak=musyn.mu_peak,
         mu_peak_reduced=mu_reduced.peak,
-        problem_sha256=problem.sha256,
+        problem_sha256=problem.plant_sha256,
         seed=samples.seed,
         details={
             "hinf_gamma_first": musyn.hinf_gamma_first,

@@ -72,7 +72,7 @@ def corner_cases(problem: Problem, model: Model) -> list[Case]:
     if not layout.has_array_angle:
         z_all = np.array(list(itertools.product((-1.0, 1.0), repeat=layout.size)))
     else:
-        angle_index = layout.index("array_angle_rad")
+        angle_index = layout.index("array_angle_offset_rad")
         others = list(itertools.product((-1.0, 1.0), repeat=layout.size - 1))
         z_all = np.array(
             [

@@ -64,6 +64,9 @@ class RunEvent:
     switched : bool
         Whether the stage that fires changed (a depleted stage always; a failed
         stage only when it was the one firing).
+    engine : int or None
+        The engine whose stage ran dry (0-based), for a CubeSat with several;
+        None otherwise.
     """
 
     time_s: float
@@ -72,11 +75,14 @@ class RunEvent:
     stage: int | None = None
     next_stage: int | None = None
     switched: bool = False
+    engine: int | None = None
 
     @property
     def text(self) -> str:
-        """The event in words, CubeSats and stages numbered from 1."""
+        """The event in words, CubeSats, engines and stages numbered from 1."""
         who = f"CubeSat {self.cubesat + 1}"
+        if self.engine is not None:
+            who += f" engine {self.engine + 1}"
         if self.kind == "cubesat_failed":
             return f"{who} failed"
         if self.kind == "stage_failed":
@@ -90,6 +96,7 @@ class RunEvent:
             "time_s": self.time_s,
             "kind": self.kind,
             "cubesat": self.cubesat + 1,
+            "engine": None if self.engine is None else self.engine + 1,
             "stage": None if self.stage is None else self.stage + 1,
             "next_stage": None if self.next_stage is None else self.next_stage + 1,
             "stage_switch": self.switched,
@@ -124,7 +131,7 @@ class ClosedLoopResult:
         Net force of the thrust (zero to round-off).
     scale : ndarray, shape (n,)
         Saturation factor alpha (1: demand met).
-    thrust_N : ndarray, shape (n, n_cubesats)
+    thrust_N : ndarray, shape (n, n_engines)
     disturbance_Nm : ndarray, shape (n, 3)
         At the start of each step.
     propulsion : PropulsionState
@@ -170,7 +177,23 @@ class ClosedLoopResult:
     @property
     def fuel_per_cubesat_kg(self) -> np.ndarray:
         """Propellant burnt by each CubeSat during the run, shape (n_cubesats,) [kg]."""
+        return self.propulsion.per_cubesat(self.fuel_per_engine_kg)
+
+    @property
+    def fuel_per_engine_kg(self) -> np.ndarray:
+        """Propellant burnt by each engine during the run, shape (n_engines,) [kg]."""
         return (self.fuel_start_kg - self.propulsion.propellant_kg).sum(axis=1)
+
+    @property
+    def exhaust_velocity_m_s(self) -> float:
+        """The engines' exhaust velocity, or the fuel-weighted mean when they differ [m/s]."""
+        exhaust = self.propulsion.exhaust_velocity_m_s
+        if np.all(exhaust == exhaust[0]):
+            return float(exhaust[0])
+        fuel = self.fuel_per_engine_kg
+        if fuel.sum() <= 0.0:
+            return float(np.mean(exhaust))
+        return float(np.sum(fuel * exhaust) / fuel.sum())
 
     def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
         """First instant after which every error component stays inside ``band_rad``.
@@ -188,14 +211,19 @@ class ClosedLoopResult:
         """Figures of the run, units in the keys."""
         fuel = self.fuel_per_cubesat_kg
         fuel_kg = float(fuel.sum())
-        exhaust = self.propulsion.exhaust_velocity_m_s
+        exhaust = self.exhaust_velocity_m_s
         max_error = float(np.abs(self.error_rad).max())
         settle = self.settle_time_s()
         slew: dict[str, Any] = {}
         if self.slew_window_s is not None:
             start, end = self.slew_window_s
             inside = (self.time_s[:-1] >= start) & (self.time_s[:-1] < end)
-            burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
+            engines = self.propulsion.exhaust_velocity_m_s
+            if np.all(engines == engines[0]):
+                burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
+            else:
+                impulse = self.thrust_N[inside].sum(axis=0) * self.control_period_s
+                burnt = float(np.sum(impulse / engines))
             slew = {"slew_start_s": start, "slew_end_s": end, "fuel_slew_kg": float(burnt)}
         return {
             "max_error_deg": math.degrees(max_error),
@@ -227,9 +255,16 @@ class ClosedLoopResult:
         }
 
 
-def _depleted(event: StageEvent, time_s: float) -> RunEvent:
+def _depleted(event: StageEvent, time_s: float, propulsion: PropulsionState) -> RunEvent:
+    several = int(np.sum(propulsion.engine_cubesat == event.cubesat)) > 1
     return RunEvent(
-        time_s, "stage_depleted", event.cubesat, event.stage, event.next_stage, switched=True
+        time_s,
+        "stage_depleted",
+        event.cubesat,
+        event.stage,
+        event.next_stage,
+        switched=True,
+        engine=event.engine if several else None,
     )
 
 
@@ -238,16 +273,18 @@ def _apply_failure(failure: FailureEvent, propulsion: PropulsionState, time_s: f
     if failure.stage is None:
         propulsion.fail_cubesat(cubesat)
         return RunEvent(time_s, "cubesat_failed", cubesat)
-    before = int(propulsion.active_stage[cubesat])
+    engines = np.flatnonzero(propulsion.engine_cubesat == cubesat)
+    before = propulsion.active_stage[engines]
     propulsion.fail_stage(cubesat, failure.stage)
-    after = int(propulsion.active_stage[cubesat])
+    after = propulsion.active_stage[engines]
+    firing = after[after < propulsion.n_stages]
     return RunEvent(
         time_s,
         "stage_failed",
         cubesat,
         failure.stage,
-        None if after == propulsion.n_stages else after,
-        switched=after != before and before == failure.stage,
+        int(firing.min()) if len(firing) else None,
+        switched=bool(np.any((after != before) & (before == failure.stage))),
     )
 
 
@@ -364,7 +401,7 @@ class _Rollout:
         self.states = np.zeros((self.n + 1, self.model.layout.size))
         self.outputs = np.zeros((self.n, StepOutput.SIZE))
         self.applied = np.zeros((self.n, 3))
-        self.thrust = np.zeros((self.n, self.engines.n_cubesats))
+        self.thrust = np.zeros((self.n, self.engines.n_engines))
         self.events: list[RunEvent] = []
         self.point_solves = 0
         self.compiled = False
@@ -416,7 +453,8 @@ class _Rollout:
         self.point_solves += allocation.point_solves
         done, stage_events = self.engines.advance_series(allocation.thrust_N, self.period)
         for index, event in stage_events:
-            self.events.append(_depleted(event, (k + index) * self.period + event.time_s))
+            time_s = (k + index) * self.period + event.time_s
+            self.events.append(_depleted(event, time_s, self.engines))
         self.outputs[k : k + done] = y_all[:done]
         self.applied[k : k + done] = applied[:done]
         self.thrust[k : k + done] = allocation.thrust_N[:done]

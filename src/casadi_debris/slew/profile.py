@@ -209,8 +209,10 @@ def residual_vibration(
     """
     model = build_model(problem, "all") if flexible_model is None else flexible_model
     p = model.nominal_parameters if parameters is None else parameters
-    lowest = min(mode.omega_rad_s for mode in problem.arrays.modes)
-    window = RESIDUAL_WINDOW_PERIODS * 2.0 * math.pi / lowest
+    frequencies = [mode.omega_rad_s for array in problem.arrays for mode in array.modes]
+    if not frequencies:  # a rigid debris: nothing rings after the slew
+        frequencies = [math.inf]
+    window = RESIDUAL_WINDOW_PERIODS * 2.0 * math.pi / min(frequencies)
     after = duration_s + np.linspace(0.0, window, 401)
     grid = np.unique(np.concatenate([[0.0], knots_s[knots_s < duration_s], after]))
     states = simulate(model, input_function, grid, model.initial_state(target.q_initial_BN), p)

@@ -32,8 +32,18 @@ MILLI = 1e3  # N -> mN, N m -> mNm inside the LP
 
 
 def exhaust_velocity_m_s(problem: Problem) -> float:
-    """Effective exhaust velocity I_sp g0 of the iESE, m/s."""
-    return problem.engine.isp_s * problem.constants.standard_gravity_m_s2
+    """Effective exhaust velocity I_sp g0 of the engines, m/s.
+
+    Raises
+    ------
+    ValueError
+        When the engines' Isp differ: least total thrust, which the slews
+        minimise, is least fuel only for one Isp.
+    """
+    isp = {engine.isp_s for engine in problem.engines}
+    if len(isp) > 1:
+        raise ValueError(f"the slews' fuel needs one Isp for all engines, got {sorted(isp)} s")
+    return isp.pop() * problem.constants.standard_gravity_m_s2
 
 
 def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -33,6 +33,7 @@ from casadi_debris.model import Model, build_model
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
 from casadi_debris.report.simulation import campaign_summary, torque_limits_mNm, write_campaign
+from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
     Case,
@@ -49,7 +50,7 @@ from casadi_debris.simulation import (
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
 from casadi_debris.simulation.monte_carlo import SchedulerError
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows.controller import controller_for
 
 LOGGER = logging.getLogger(__name__)
 
@@ -133,12 +134,18 @@ def one_case(
 
 
 def run_summary(
-    problem: Problem, case: Case, result: ClosedLoopResult, controller_path: Path
+    problem: Problem,
+    case: Case,
+    result: ClosedLoopResult,
+    controller_path: Path,
+    record: ControllerRecord | None = None,
 ) -> dict[str, Any]:
-    """A run's figures plus what identifies it (case, seed, files)."""
+    """A run's figures plus what identifies it (case, seed, files, the plants)."""
     return {
         "problem": problem.name,
         "problem_sha256": problem.sha256,
+        "plant_sha256": problem.plant_sha256,
+        "controller_plant_sha256": None if record is None else record.problem_sha256,
         "case_id": case.case_id,
         "seed": case.seed,
         "controller_path": str(controller_path),
@@ -170,6 +177,7 @@ def run_campaign_folder(
     jit: bool = True,
     overwrite: bool = False,
     progress: Progress | None = None,
+    allow_mismatch: bool = False,
 ) -> dict[str, Any]:
     """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
 
@@ -177,7 +185,8 @@ def run_campaign_folder(
     ----------
     problem : Problem
     controller_path : str or Path, optional
-        Controller file (default the shipped paper controller).
+        Controller file (default the shipped paper controller, for the paper's plant only:
+        see :func:`~casadi_debris.workflows.controller.controller_for`).
     selection : CaseSelection
     out : str or Path
         Campaign folder; see :mod:`casadi_debris.report.campaign_folder` for
@@ -192,6 +201,8 @@ def run_campaign_folder(
         Replace an existing campaign folder this toolkit wrote.
     progress : callable, optional
         Called as cases finish (see :data:`Progress`).
+    allow_mismatch : bool
+        Fly a controller designed for another plant.
 
     Returns
     -------
@@ -209,7 +220,7 @@ def run_campaign_folder(
     if scheduler is not None:
         check_scheduler_address(scheduler)
     check_output_folder(out, overwrite=overwrite)
-    record, resolved = load_controller(controller_path)
+    record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     model = build_model(problem)
     cases = selection.cases(problem, model)
     reference = scenario_reference(problem)
@@ -220,6 +231,8 @@ def run_campaign_folder(
         outcomes = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
         how = {
             "controller_path": str(resolved),
+            "plant_sha256": problem.plant_sha256,
+            "controller_plant_sha256": record.problem_sha256,
             "workers": workers,
             "scheduler": scheduler,
             "resumed_cases": len(done),

@@ -25,7 +25,7 @@ from casadi_debris.model import build_model
 from casadi_debris.report.compare import write_comparison
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation import scenario_reference, simulate
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows.controller import controller_for
 
 LOGGER = logging.getLogger(__name__)
 
@@ -62,7 +62,7 @@ def compare_row(label: str, problem: Problem, controller: Any) -> dict[str, Any]
     summary = result.summary()
     left_kg = float(result.propulsion.propellant_kg.sum())
     mass_now = result.total_mass_kg - summary["fuel_kg"]
-    exhaust = result.propulsion.exhaust_velocity_m_s
+    exhaust = result.exhaust_velocity_m_s
     return {
         "variant": label,
         "problem": problem.name,
@@ -85,6 +85,7 @@ def compare_variants(
     *,
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
+    allow_mismatch: bool = False,
 ) -> dict[str, Any]:
     """Run the nominal closed loop of every variant and write the comparison into ``out``.
 
@@ -94,13 +95,18 @@ def compare_variants(
     methods : sequence of str, optional
         Slew methods to fly on each slew problem (default: each problem's own).
     controller_path : str or Path, optional
-        Controller file (default the shipped paper controller).
+        Controller file (default the shipped paper controller). It must have been
+        designed for every variant's plant (see
+        :func:`~casadi_debris.workflows.controller.controller_for`) unless
+        ``allow_mismatch``.
     out : str or Path
         Results folder (see :class:`~casadi_debris.report.folders.RunFolder`).
     overwrite : bool
         Replace a results folder this toolkit wrote.
     progress : callable, optional
         ``progress(label)`` as each variant starts.
+    allow_mismatch : bool
+        Fly the controller on variants whose plant it was not designed for.
 
     Returns
     -------
@@ -115,7 +121,11 @@ def compare_variants(
             f"--methods: unknown {', '.join(unknown)}; choose from {', '.join(SLEW_METHODS)}"
         )
     out = Path(out)
-    record, resolved = load_controller(controller_path)
+    # Every variant checked before any is flown.
+    checked = [controller_for(p, controller_path, allow_mismatch=allow_mismatch) for p in problems]
+    if not checked:
+        raise InputShapeError("compare needs at least one problem")
+    record, resolved = checked[0]
     check_output_folder(out, overwrite=overwrite)
     rows = []
     chosen = [cast(SlewMethod, m) for m in methods] if methods else None  # checked above
@@ -124,7 +134,13 @@ def compare_variants(
         if progress is not None:
             progress(label)
         rows.append(compare_row(label, problem, record.reduced))
-    summary = {"controller_path": str(resolved), "variants": rows, "out_dir": str(out.absolute())}
+    summary = {
+        "controller_path": str(resolved),
+        "controller_plant_sha256": record.problem_sha256,
+        "plant_sha256": {problem.name: problem.plant_sha256 for problem in problems},
+        "variants": rows,
+        "out_dir": str(out.absolute()),
+    }
     with RunFolder.claim(out, overwrite=overwrite, command="compare") as staging:
         write_comparison(staging, rows, summary)
     return summary

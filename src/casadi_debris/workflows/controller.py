@@ -1,14 +1,23 @@
-"""Controller files: the shipped paper design, or one written by ``synthesize``."""
+"""Controller files: the shipped paper design, or one written by ``synthesize``.
+
+A controller file records the plant it was designed for
+(:attr:`casadi_debris.config.Problem.plant_sha256`). :func:`controller_for`
+gives the controller to fly on a problem and refuses one designed for another
+plant unless told to fly it anyway.
+"""
 
 from __future__ import annotations
 
 import json
+import logging
 from pathlib import Path
 
-from casadi_debris.config import default_controller_path, limits
+from casadi_debris.config import Problem, default_controller_path, limits
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.robust.controller import ControllerRecord
+
+LOGGER = logging.getLogger(__name__)
 
 
 def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, Path]:
@@ -42,3 +51,59 @@ def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, P
     if not isinstance(data, dict):
         raise ProblemFileError("", "a controller file holds a JSON object", str(resolved))
     return ControllerRecord.from_dict(data, str(resolved)), resolved
+
+
+class ControllerMismatchError(ProblemFileError):
+    """The controller was designed for another plant than the problem's."""
+
+
+def controller_for(
+    problem: Problem, path: str | Path | None = None, *, allow_mismatch: bool = False
+) -> tuple[ControllerRecord, Path]:
+    """The controller to fly on ``problem``, checked against the plant it was designed for.
+
+    Parameters
+    ----------
+    problem : Problem
+    path : str or Path, optional
+        A controller file. Without one, the shipped paper controller, and only
+        for a problem whose plant is the paper's.
+    allow_mismatch : bool
+        Fly a controller designed for another plant anyway (a robustness study).
+
+    Returns
+    -------
+    ControllerRecord
+    Path
+        The file read, absolute.
+
+    Raises
+    ------
+    ControllerMismatchError
+        The plants differ (or the file records none) and ``allow_mismatch`` is false,
+        or no file was given for a problem that is not the paper's.
+    """
+    record, resolved = load_controller(path)
+    plant = problem.plant_sha256
+    if record.problem_sha256 == plant:
+        return record, resolved
+    if path is None:
+        raise ControllerMismatchError(
+            "--controller",
+            f"the shipped controller was designed for the paper's plant, and {problem.name} "
+            "describes another; design one for it (casadi-debris synthesize PROBLEM --out "
+            "controller.json) and pass --controller controller.json",
+        )
+    if not allow_mismatch:
+        designed = record.problem_sha256[:12] or "no recorded plant"
+        raise ControllerMismatchError(
+            "--controller",
+            f"{resolved.name} was designed for another plant (sha256 {designed}) than "
+            f"{problem.name}'s ({plant[:12]}); pass --allow-mismatch to fly it anyway",
+        )
+    LOGGER.warning(
+        "flying %s, designed for another plant, on %s (--allow-mismatch)",
+        resolved.name,
+        problem.name,
+    )
+    return record, resolved

@@ -1,0 +1,104 @@
+"""Which controller flies on which problem: the plant hash and the mismatch rule."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris import load_problem
+from casadi_debris.cli import main
+from casadi_debris.config import default_controller_path, default_problem_path
+from casadi_debris.geometry import build_geometry
+from casadi_debris.workflows.controller import ControllerMismatchError, controller_for
+
+PROBLEMS = default_problem_path().parent
+
+
+def _write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+@pytest.fixture
+def heavy(tmp_path: Path) -> Path:
+    return _write(
+        tmp_path / "heavy.toml",
+        f'extends = "{PROBLEMS / "paper_slew.toml"}"\nname = "heavy"\n[hub]\nmass_kg = 600.0\n',
+    )
+
+
+def test_runs_and_comments_do_not_change_the_plant(tmp_path: Path) -> None:
+    paper = load_problem()
+    # The shipped slew and pointing problems change only the runs: one plant.
+    for name in ("paper_slew.toml", "paper_pointing.toml"):
+        assert load_problem(PROBLEMS / name).plant_sha256 == paper.plant_sha256
+    renamed = _write(
+        tmp_path / "renamed.toml",
+        f'# a comment\nextends = "{default_problem_path()}"\nname = "renamed"\n'
+        "[simulation]\nduration_s = 100.0\n[orbit]\naltitude_km = 700.0\n",
+    )
+    other = load_problem(renamed)
+    assert other.sha256 != paper.sha256 and other.plant_sha256 == paper.plant_sha256
+
+
+def test_a_layout_and_the_list_it_expands_to_are_one_plant(tmp_path: Path) -> None:
+    paper = load_problem()
+    lines = [f'extends = "{default_problem_path()}"', 'name = "explicit"']
+    for cubesat in paper.cubesats:
+        lines += [
+            "[[cubesats]]",
+            f"position_corner_m = {cubesat.position_corner_m.tolist()}",
+            f"mass_kg = {cubesat.mass_kg!r}",
+            f"inertia_kgm2 = {cubesat.inertia_kgm2.tolist()}",
+            f'face = "{cubesat.face}"',
+        ]
+        for engine in cubesat.engines:
+            lines += ["[[cubesats.engines]]", f"direction = {engine.direction.tolist()}"]
+    explicit = load_problem(_write(tmp_path / "explicit.toml", "\n".join(lines) + "\n"))
+    assert explicit.cubesat_layout is None and len(explicit.cubesats) == 24
+    assert explicit.plant_sha256 == paper.plant_sha256
+    ours, theirs = build_geometry(explicit), build_geometry(paper)
+    assert (ours.torque_map == theirs.torque_map).all()
+    assert (ours.inertia_total_kgm2 == theirs.inertia_total_kgm2).all()
+
+
+def test_the_shipped_controller_flies_only_on_the_papers_plant(heavy: Path) -> None:
+    record, path = controller_for(load_problem(PROBLEMS / "paper_slew.toml"))
+    assert path == default_controller_path() and record.problem_sha256
+    with pytest.raises(ControllerMismatchError, match="synthesize"):
+        controller_for(load_problem(heavy))
+
+
+def test_a_controller_for_another_plant_needs_allow_mismatch(heavy: Path) -> None:
+    problem = load_problem(heavy)
+    with pytest.raises(ControllerMismatchError, match="--allow-mismatch"):
+        controller_for(problem, default_controller_path())
+    record, _ = controller_for(problem, default_controller_path(), allow_mismatch=True)
+    assert record.problem_sha256 == load_problem().plant_sha256 != problem.plant_sha256
+
+
+def test_a_controller_file_without_a_plant_is_a_mismatch(tmp_path: Path) -> None:
+    data = json.loads(default_controller_path().read_text())
+    del data["problem_sha256"]
+    bare = _write(tmp_path / "bare.json", json.dumps(data))
+    with pytest.raises(ControllerMismatchError, match="no recorded plant"):
+        controller_for(load_problem(), bare)
+
+
+@pytest.mark.parametrize("command", ["simulate", "margins", "montecarlo"])
+def test_commands_refuse_a_mismatch_in_one_line(heavy: Path, tmp_path: Path, command: str) -> None:
+    result = CliRunner().invoke(main, [command, str(heavy), "--out", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and "--controller" in lines[0] and "synthesize" in lines[0]
+    assert not (tmp_path / "out").exists()
+
+
+def test_compare_refuses_a_variant_of_another_plant(heavy: Path, tmp_path: Path) -> None:
+    args = ["compare", str(PROBLEMS / "paper_slew.toml"), str(heavy), "--out", str(tmp_path / "c")]
+    result = CliRunner().invoke(main, args)
+    assert result.exit_code == 2 and "heavy" in result.stderr
+    assert not (tmp_path / "c").exists()
