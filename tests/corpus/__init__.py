@@ -35,6 +35,10 @@ nothing written outside the run's folder (its three parent folders are listed
 before and after) and no file present before the run changed, no process left
 behind, and the expectation above.
 
+:mod:`.values` is the other corpus, run in-process by
+``tests/test_config_corpus.py``: every value of the shipped problems replaced by
+each of a fixed list of bad values.
+
 Run the whole corpus and print the counts::
 
     python -m tests.corpus --report [--fast] [--jobs 2] [--only ID,...] [--json FILE]
