@@ -40,7 +40,7 @@ import threading
 import time
 import traceback
 import uuid
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
@@ -136,7 +136,7 @@ class ItemFailure(Generic[T]):
         Raises
         ------
         Exception
-            The item's own exception, or a :class:`RuntimeError` that names
+            The item's own exception, or a ``RuntimeError`` that names
             it when it could not be sent back.
         """
         error = self.exception
@@ -244,7 +244,7 @@ class MapResults(Generic[T, R]):
     result kills the local workers still running and cancels what is left.
     """
 
-    def __init__(self, stream: Iterator[ItemResult[T, R] | ItemFailure[T]]) -> None:
+    def __init__(self, stream: Generator[ItemResult[T, R] | ItemFailure[T], None, None]) -> None:
         self._stream = stream
 
     def __iter__(self) -> Iterator[ItemResult[T, R] | ItemFailure[T]]:
@@ -255,9 +255,7 @@ class MapResults(Generic[T, R]):
 
     def close(self) -> None:
         """Stop: kill the workers still running (nothing happens once every result is in)."""
-        close = getattr(self._stream, "close", None)
-        if close is not None:
-            close()
+        self._stream.close()
 
     def __enter__(self) -> MapResults[T, R]:
         return self
@@ -296,13 +294,14 @@ class _Raised:
     exception: Exception | None
 
     @classmethod
-    def capture(cls, error: Exception, *, sendable: bool) -> _Raised:
+    def capture(cls, error: Exception, *, crosses: bool) -> _Raised:
+        """What ``error`` was; ``crosses``: it goes to another process (kept only if it pickles)."""
         kind = type(error)
         name = kind.__qualname__
         if kind.__module__ not in ("builtins", "__main__"):
             name = f"{kind.__module__}.{name}"
         text = "".join(traceback.format_exception(error))
-        return cls(name, str(error), text, _sendable(error) if sendable else error)
+        return cls(name, str(error), text, _sendable(error) if crosses else error)
 
 
 @dataclass(frozen=True)
@@ -332,7 +331,7 @@ class _Slot:
         try:
             worker.context = job.initializer()
         except Exception as error:
-            worker.start_error = _Raised.capture(error, sendable=True)
+            worker.start_error = _Raised.capture(error, crosses=True)
         self.worker = worker
         return worker
 
@@ -357,13 +356,13 @@ def _sendable(error: Exception) -> Exception | None:
     return error
 
 
-def _call(worker: _Worker, item: Any, *, sendable: bool) -> _Succeeded | _Raised | _StartFailed:
+def _call(worker: _Worker, item: Any, *, crosses: bool) -> _Succeeded | _Raised | _StartFailed:
     if worker.start_error is not None:
         return _StartFailed(worker.start_error)
     try:
         return _Succeeded(worker.job.function(worker.context, item))
     except Exception as error:
-        return _Raised.capture(error, sendable=sendable)
+        return _Raised.capture(error, crosses=crosses)
 
 
 def _start_local_worker(job: _Job, parent_pid: int) -> None:
@@ -382,11 +381,11 @@ def _run_local_item(item: Any) -> _Succeeded | _Raised | _StartFailed:
     worker = _SLOT.worker
     if worker is None:  # the pool always runs its initializer first
         raise RuntimeError("parallel_map: a worker ran an item before its initializer")
-    return _call(worker, item, sendable=True)
+    return _call(worker, item, crosses=True)
 
 
 def _run_dask_item(job: _Job, item: Any) -> _Succeeded | _Raised | _StartFailed:
-    return _call(_SLOT.worker_for(job), item, sendable=True)
+    return _call(_SLOT.worker_for(job), item, crosses=True)
 
 
 def _die_with_parent(parent_pid: int) -> None:
@@ -445,17 +444,17 @@ def _outcome(
 
 def _serial_map(
     job: _Job, items: list[Any], names: Callable[[Any], str] | None
-) -> Iterator[Outcome]:
+) -> Generator[Outcome, None, None]:
     if not items:
         return
     worker = _Worker(job, job.initializer())  # its exception is the caller's to see
     for index, item in enumerate(items):
-        yield _outcome(index, item, _call(worker, item, sendable=False), names)
+        yield _outcome(index, item, _call(worker, item, crosses=False), names)
 
 
 def _process_map(
     job: _Job, items: list[Any], workers: int, names: Callable[[Any], str] | None
-) -> Iterator[Outcome]:
+) -> Generator[Outcome, None, None]:
     pool = ProcessPoolExecutor(
         max_workers=workers, initializer=_start_local_worker, initargs=(job, os.getpid())
     )
@@ -484,7 +483,7 @@ def _returned(future: Future[Any]) -> _Succeeded | _Raised | _StartFailed:
     except BrokenProcessPool:
         raise
     except Exception as error:  # the item or its result could not be sent across
-        return _Raised.capture(error, sendable=False)
+        return _Raised.capture(error, crosses=False)
     return result
 
 
@@ -501,7 +500,7 @@ def _kill_worker(pid: int) -> None:
 
 def _dask_map(
     job: _Job, items: list[Any], scheduler: str, names: Callable[[Any], str] | None
-) -> Iterator[Outcome]:
+) -> Generator[Outcome, None, None]:
     try:
         from distributed import Client, as_completed
     except ImportError as exc:
@@ -526,7 +525,7 @@ def _dask_map(
             try:
                 returned = future.result()
             except Exception as error:  # the item or its result could not be sent across
-                returned = _Raised.capture(error, sendable=False)
+                returned = _Raised.capture(error, crosses=False)
             yield _outcome(index, items[index], returned, names)
     except BaseException:
         client.cancel(list(futures))

@@ -150,7 +150,7 @@ def margin_study(
         Modes of the analysis plants (default all).
     workers : int
         Processes for the samples (1: in this process); see
-        :func:`~casadi_debris.parallel.parallel_map`.
+        ``casadi_debris.parallel.parallel_map``.
     progress : callable, optional
         ``progress(done, total)`` after each batch, in completion order.
 

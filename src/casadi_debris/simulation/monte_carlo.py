@@ -3,7 +3,7 @@
 A campaign runs :func:`~casadi_debris.simulation.simulate` for each
 :class:`~casadi_debris.simulation.cases.Case` on local processes (default),
 or on a Dask cluster when a scheduler address is given, through
-:func:`~casadi_debris.parallel.parallel_map`. Each case returns
+``casadi_debris.parallel.parallel_map``. Each case returns
 its summary and its :class:`Bands`: the minimum and maximum of the attitude
 error and the torque over consecutive time bins, per body axis, small enough
 to keep for hundreds of cases and exact as an envelope at the bin resolution
@@ -360,7 +360,7 @@ def run_campaign(
     """Run cases, in parallel, calling ``on_result`` as each finishes.
 
     A case that raises is recorded as a :class:`CaseFailure` and the others
-    go on (see :func:`~casadi_debris.parallel.parallel_map`, which also says
+    go on (see ``casadi_debris.parallel.parallel_map``, which also says
     what local workers do: own process group, death with this process, one
     BLAS thread, killed on Ctrl-C).
 
