@@ -1,6 +1,6 @@
 """Bad input through the command line: no traceback, no exit 3, no hang, nothing written outside.
 
-The corpus is generated (seeded) by ``tests/bad_input_corpus.py``: mutated
+The corpus is generated (seeded) by the package ``tests/corpus/``: mutated
 problem files and bad invocations of every command, each entry a test id. Every
 entry runs in a forked child with a timeout; the checks are listed there. The
 fast subset (about 150 problem files and 70 invocations that fail before any
@@ -8,7 +8,7 @@ long computation) is in the default selection; the whole corpus is ``slow``::
 
     pytest tests/test_bad_input_corpus.py -m slow
 
-The counts for the whole corpus: ``python -m tests.bad_input_corpus --report``.
+The counts for the whole corpus: ``python -m tests.corpus --report``.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from collections import Counter
 
 import pytest
 
-from bad_input_corpus import (
+from corpus import (
     Entry,
     EntryResult,
     corpus,
@@ -60,7 +60,7 @@ def _explain(result: EntryResult) -> str:
     for run in result.runs:
         tail = (run.stderr.strip().splitlines() or [""])[-3:]
         lines.append(f"  [{' '.join(run.args)}] exit {run.code}; stderr: {' | '.join(tail)[:400]}")
-    lines.append(f"  reproduce: python -m tests.bad_input_corpus --materialize {entry.id} DIR")
+    lines.append(f"  reproduce: python -m tests.corpus --materialize {entry.id} DIR")
     return "\n".join(lines)
 
 

@@ -1,8 +1,9 @@
-"""Campaign pieces: named bands per time bin, their envelope, and cases that do not
-depend on the case a worker ran before."""
+"""Campaign pieces: named bands per time bin, their envelope, cases that do not
+depend on the case a worker ran before, and failed cases recorded."""
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -15,9 +16,17 @@ from casadi_debris.simulation import (
     CampaignSetup,
     Envelope,
     corner_cases,
+    run_campaign,
     scenario_reference,
 )
-from casadi_debris.simulation.monte_carlo import Bands, Extremes, bin_bands, run_case
+from casadi_debris.simulation.monte_carlo import (
+    Bands,
+    CaseFailure,
+    CasesFailedError,
+    Extremes,
+    bin_bands,
+    run_case,
+)
 from casadi_debris.workflows.controller import load_controller
 
 
@@ -84,9 +93,39 @@ def test_a_case_is_the_same_whatever_the_worker_ran_before(tmp_path: Path) -> No
     record, _ = load_controller(None)
     setup = CampaignSetup.create(problem, record.reduced, scenario_reference(problem), jit=False)
     corners = corner_cases(problem, model)
-    alone = run_case(setup, corners[255])
-    run_case(setup, corners[0])
-    again = run_case(setup, corners[255])
+    # One model for the three, as a worker keeps it for all its cases.
+    alone = run_case(setup, corners[255], model=model)
+    run_case(setup, corners[0], model=model)
+    again = run_case(setup, corners[255], model=model)
     one, two = alone.bands.to_arrays(), again.bands.to_arrays()
     assert all(np.array_equal(one[k], two[k]) for k in one)
     assert alone.summary["fuel_per_cubesat_kg"] == again.summary["fuel_per_cubesat_kg"]
+
+
+def test_a_failed_case_is_recorded_and_the_campaign_goes_on(tmp_path: Path) -> None:
+    path = tmp_path / "short.toml"
+    path.write_text(
+        f'extends = "{default_problem_path().parent / "paper_slew.toml"}"\n'
+        'name = "short"\n[simulation]\nduration_s = 30.0\n'
+    )
+    problem = load_problem(path)
+    model = build_model(problem)
+    record, _ = load_controller(None)
+    setup = CampaignSetup.create(problem, record.reduced, scenario_reference(problem), jit=False)
+    corners = corner_cases(problem, model)
+    # A plant that goes non-finite: its torque demand is refused by the allocator.
+    broken = dataclasses.replace(corners[1], parameters=np.full_like(corners[1].parameters, np.nan))
+    cases = [corners[0], broken, corners[2]]
+    failures: list[CaseFailure] = []
+    done = run_campaign(setup, cases, workers=2, on_failure=failures.append)
+    assert [o.case.case_id for o in done] == ["corner-0000", "corner-0002"]
+    assert [f.case.case_id for f in failures] == ["corner-0001"]
+    assert failures[0].error_type.endswith("DemandError") and "finite" in failures[0].message
+    assert "Traceback" in failures[0].traceback
+    assert failures[0].summary()["case_id"] == "corner-0001"
+    # Without a place for failures, they are raised once every other case has finished.
+    seen: list[str] = []
+    with pytest.raises(CasesFailedError, match="corner-0001") as raised:
+        run_campaign(setup, cases, workers=1, on_result=lambda o: seen.append(o.case.case_id))
+    assert seen == ["corner-0000", "corner-0002"]
+    assert [f.case.case_id for f in raised.value.failures] == ["corner-0001"]

@@ -11,6 +11,9 @@ While it runs, a campaign lives in ``<out>.partial/``:
   as named float64 arrays ``error_rad_min``, ..., so that a resumed campaign
   is bit-exact) then ``cases/<id>.json`` (the summary, written last: the
   marker of a whole case).
+- ``cases/<id>.failed.json``: a case that raised (its identity, the
+  exception and the worker's traceback). A resume runs it again, and a case
+  that then finishes drops the file; a finished campaign keeps the others.
 - ``.jit/``: the compiled control step of every worker, removed at the end.
 
 When every case is in, the tables and ``campaign.nc`` (every case as labelled
@@ -44,7 +47,7 @@ from casadi_debris.report.folders import (
     write_marker,
 )
 from casadi_debris.simulation import Case, CaseOutcome
-from casadi_debris.simulation.monte_carlo import Bands
+from casadi_debris.simulation.monte_carlo import Bands, CaseFailure
 
 PARTIAL_SUFFIX = ".partial"
 RECORD_NAME = "campaign.json"
@@ -243,6 +246,15 @@ class CampaignFolder:
 
         write_atomically(cases / f"{outcome.case.case_id}.npz", save)
         write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
+        (cases / f"{outcome.case.case_id}.failed.json").unlink(missing_ok=True)
+
+    def write_failure(self, failure: CaseFailure) -> Path:
+        """A case that raised, as ``cases/<id>.failed.json`` (a resume runs it again)."""
+        cases = self.partial / "cases"
+        cases.mkdir(exist_ok=True)
+        path = cases / f"{failure.case.case_id}.failed.json"
+        write_json_atomic(path, failure.summary())
+        return path
 
     def finished_cases(self, cases: list[Case]) -> dict[str, CaseOutcome]:
         """Cases of ``cases`` already written (both files present and readable)."""

@@ -6,9 +6,9 @@ in design units, so the check covers what the truncated design plant left out.
 
 from __future__ import annotations
 
+import functools
 import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass
 
 import control
@@ -17,6 +17,7 @@ import numpy as np
 from casadi_debris.config import Problem, limits
 from casadi_debris.errors import SynthesisError
 from casadi_debris.model import build_model, linearization_function, linearize
+from casadi_debris.parallel import ItemFailure, parallel_map
 from casadi_debris.robust.margins import (
     CHANNELS,
     LoopAtATime,
@@ -121,15 +122,8 @@ class _SampledMargins:
         return sampled, unstable
 
 
-_WORKER: dict[str, _SampledMargins] = {}  # a worker process's own _SampledMargins
-
-
-def _start_worker(problem: Problem, matrices: tuple[np.ndarray, ...], modes: str) -> None:
-    _WORKER["margins"] = _SampledMargins(problem, matrices, modes)
-
-
-def _worker_margins(parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return _WORKER["margins"](parameters)
+def _margins_of(margins: _SampledMargins, parameters: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    return margins(parameters)
 
 
 def margin_study(
@@ -155,14 +149,18 @@ def margin_study(
     modes : str
         Modes of the analysis plants (default all).
     workers : int
-        Processes for the samples (1: in this process).
+        Processes for the samples (1: in this process); see
+        ``casadi_debris.parallel.parallel_map``.
     progress : callable, optional
-        ``progress(done, total)`` after each batch.
+        ``progress(done, total)`` after each batch, in completion order.
 
     Raises
     ------
     SynthesisError
         ``samples`` outside :data:`limits.MARGIN_SAMPLES` or ``seed`` outside 0 .. 2**32 - 1.
+    Exception
+        What the margins of a sampled plant raised (the other workers are
+        stopped): one plant without margins makes the study unusable.
     """
     for name, value, allowed in (
         ("samples", samples, limits.MARGIN_SAMPLES),
@@ -179,28 +177,29 @@ def margin_study(
     drawn = sample_uncertainty(problem, model, samples, seed)
     batches = np.array_split(drawn.parameters, max(1, min(len(drawn.parameters) // 50, 60)))
     matrices = tuple(np.asarray(m) for m in control.ssdata(controller))
-    results = []
-    if workers <= 1:
-        sampled_margins = _SampledMargins(problem, matrices, modes)
-        for batch in batches:
-            results.append(sampled_margins(batch))
+    results: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(batches)
+    done = 0
+    with parallel_map(
+        _margins_of,
+        batches,
+        functools.partial(_SampledMargins, problem, matrices, modes),
+        workers=max(1, workers),  # 0 or less has always meant "in this process"
+    ) as finished:
+        for item in finished:
+            if isinstance(item, ItemFailure):
+                # A plant whose margins cannot be computed makes the study unusable.
+                item.reraise()
+            results[item.index] = item.value
+            done += len(item.item)
             if progress:
-                progress(sum(len(r[1]) for r in results), len(drawn.parameters))
-    else:
-        with ProcessPoolExecutor(
-            max_workers=workers, initializer=_start_worker, initargs=(problem, matrices, modes)
-        ) as pool:
-            futures = [pool.submit(_worker_margins, b) for b in batches]
-            for future in futures:
-                results.append(future.result())
-                if progress:
-                    progress(sum(len(r[1]) for r in results), len(drawn.parameters))
+                progress(done, len(drawn.parameters))
+    parts = [r for r in results if r is not None]
     return MarginStudy(
         nominal=nominal,
         nominal_disk=nominal_disk,
         samples=drawn,
-        sampled=np.concatenate([r[0] for r in results]),
-        unstable=np.concatenate([r[1] for r in results]),
+        sampled=np.concatenate([r[0] for r in parts]),
+        unstable=np.concatenate([r[1] for r in parts]),
         modes=modes,
         time_s=time.perf_counter() - start,
     )

@@ -12,7 +12,8 @@ Example
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -186,40 +187,29 @@ def design_controller(
             progress(stage, iteration)
 
     timings: dict[str, float] = {}
-    start = time.perf_counter()
-    model = build_model(problem, modes=settings.modes)
-    samples = sample_uncertainty(problem, model, settings.samples, settings.seed)
-    grid = weight_fit_grid(problem)
-    bound = diagonal_cover(relative_errors(model, samples.parameters, grid))
-    timings["samples_s"] = time.perf_counter() - start
+    with _timed(timings, "samples_s"):
+        model, samples, grid, bound = _sampled_relative_errors(problem, settings)
     report("samples")
 
-    start = time.perf_counter()
-    weight = fit_uncertainty_weight(grid, bound)
-    performance = performance_weights(problem)
-    design_plant = linearize(model, sensor=True, units="deg_mNm")
-    plant = generalized_plant(design_plant, weight.system, performance)
-    timings["weight_s"] = time.perf_counter() - start
+    with _timed(timings, "weight_s"):
+        weight, performance, plant = _weighted_plant(problem, model, grid, bound)
     report("weight")
 
-    start = time.perf_counter()
-    omega = np.logspace(-4, 2, settings.mu_points)
-    musyn = dk_iteration(
-        plant,
-        omega,
-        d_orders=settings.d_orders,
-        max_iterations=settings.max_iterations,
-        progress=lambda it: report("dk", it),
-    )
-    timings["dk_s"] = time.perf_counter() - start
+    with _timed(timings, "dk_s"):
+        omega = np.logspace(-4, 2, settings.mu_points)
+        musyn = dk_iteration(
+            plant,
+            omega,
+            d_orders=settings.d_orders,
+            max_iterations=settings.max_iterations,
+            progress=lambda it: report("dk", it),
+        )
 
-    start = time.perf_counter()
-    reduced = reduce_controller(musyn.controller, settings.reduced_order)
-    _, mu_reduced = closed_loop_mu(plant, reduced, omega)
-    timings["reduce_s"] = time.perf_counter() - start
+    with _timed(timings, "reduce_s"):
+        reduced = reduce_controller(musyn.controller, settings.reduced_order)
+        _, mu_reduced = closed_loop_mu(plant, reduced, omega)
     report("reduce")
 
-    weights = problem.weights
     record = ControllerRecord(
         reduced=reduced,
         full=musyn.controller,
@@ -227,28 +217,7 @@ def design_controller(
         mu_peak_reduced=mu_reduced.peak,
         problem_sha256=problem.plant_sha256,
         seed=samples.seed,
-        details={
-            "hinf_gamma_first": musyn.hinf_gamma_first,
-            "mu_per_iteration": [it.mu_peak for it in musyn.iterations],
-            "d_order_per_iteration": [it.d_order for it in musyn.iterations],
-            "uncertainty_weight": {
-                "form": "k (s^2 + 2 zeta_z w_z s + w_z^2) / (s^2 + 2 zeta_p w_p s + w_p^2)",
-                "coefficients_k_wz_zetaz_wp_zetap": weight.coefficients.tolist(),
-                "fit_margin": weight.margin.tolist(),
-                "samples": len(samples.parameters),
-            },
-            "weights": {
-                "closed_loop_bandwidth_rad_s": weights.closed_loop_bandwidth_rad_s,
-                "epsilon": weights.epsilon,
-                "control_rolloff_rad_s": weights.control_rolloff_rad_s,
-                "control_rolloff_high_frequency_gain": weights.control_rolloff_high_frequency_gain,
-                "error_scaling_deg": weights.error_scaling_deg.tolist(),
-                "control_scaling_mNm": weights.control_scaling_mNm.tolist(),
-                "disturbance_scaling_mNm": weights.disturbance_scaling_mNm.tolist(),
-            },
-            "design_plant_modes": settings.modes,
-            "timings_s": timings,
-        },
+        details=_record_details(problem, settings, samples, weight, musyn, timings),
     )
     return ControllerDesign(
         problem=problem,
@@ -265,3 +234,72 @@ def design_controller(
         record=record,
         timings_s=timings,
     )
+
+
+@contextmanager
+def _timed(timings: dict[str, float], key: str) -> Iterator[None]:
+    """Store the wall time of the block under ``timings[key]`` [s] (not if it raises)."""
+    start = time.perf_counter()
+    yield
+    timings[key] = time.perf_counter() - start
+
+
+def _sampled_relative_errors(
+    problem: Problem, settings: SynthesisSettings
+) -> tuple[Model, UncertaintySamples, np.ndarray, np.ndarray]:
+    """The design model, its uncertainty samples, the fit grid and the bound W must cover."""
+    model = build_model(problem, modes=settings.modes)
+    samples = sample_uncertainty(problem, model, settings.samples, settings.seed)
+    grid = weight_fit_grid(problem)
+    bound = diagonal_cover(relative_errors(model, samples.parameters, grid))
+    return model, samples, grid, bound
+
+
+def _weighted_plant(
+    problem: Problem, model: Model, grid: np.ndarray, bound: np.ndarray
+) -> tuple[UncertaintyWeight, PerformanceWeights, GeneralizedPlant]:
+    """The fitted uncertainty weight, the performance weights and the generalised plant."""
+    weight = fit_uncertainty_weight(grid, bound)
+    performance = performance_weights(problem)
+    design_plant = linearize(model, sensor=True, units="deg_mNm")
+    plant = generalized_plant(design_plant, weight.system, performance)
+    return weight, performance, plant
+
+
+def _record_details(
+    problem: Problem,
+    settings: SynthesisSettings,
+    samples: UncertaintySamples,
+    weight: UncertaintyWeight,
+    musyn: MusynResult,
+    timings: dict[str, float],
+) -> dict[str, Any]:
+    """How the controller was designed, as its file records it."""
+    return {
+        "hinf_gamma_first": musyn.hinf_gamma_first,
+        "mu_per_iteration": [it.mu_peak for it in musyn.iterations],
+        "d_order_per_iteration": [it.d_order for it in musyn.iterations],
+        "uncertainty_weight": {
+            "form": "k (s^2 + 2 zeta_z w_z s + w_z^2) / (s^2 + 2 zeta_p w_p s + w_p^2)",
+            "coefficients_k_wz_zetaz_wp_zetap": weight.coefficients.tolist(),
+            "fit_margin": weight.margin.tolist(),
+            "samples": len(samples.parameters),
+        },
+        "weights": _weight_settings(problem),
+        "design_plant_modes": settings.modes,
+        "timings_s": timings,
+    }
+
+
+def _weight_settings(problem: Problem) -> dict[str, Any]:
+    """The problem's performance-weight settings, as the controller file records them."""
+    weights = problem.weights
+    return {
+        "closed_loop_bandwidth_rad_s": weights.closed_loop_bandwidth_rad_s,
+        "epsilon": weights.epsilon,
+        "control_rolloff_rad_s": weights.control_rolloff_rad_s,
+        "control_rolloff_high_frequency_gain": weights.control_rolloff_high_frequency_gain,
+        "error_scaling_deg": weights.error_scaling_deg.tolist(),
+        "control_scaling_mNm": weights.control_scaling_mNm.tolist(),
+        "disturbance_scaling_mNm": weights.disturbance_scaling_mNm.tolist(),
+    }

@@ -25,7 +25,7 @@ import numpy as np
 
 from casadi_debris.errors import SynthesisError
 from casadi_debris.robust.dscale import fit_d_scale, inverse
-from casadi_debris.robust.hinf import hinf_synthesis
+from casadi_debris.robust.hinf import HinfResult, hinf_synthesis
 from casadi_debris.robust.interconnect import GeneralizedPlant, static_gain
 from casadi_debris.robust.mu import MuBound, mu_upper_bound
 from casadi_debris.robust.uncertainty import frequency_response
@@ -106,6 +106,42 @@ def _scaled(plant: GeneralizedPlant, d_scale: control.StateSpace) -> control.Sta
     return left * bare * right
 
 
+@dataclass(frozen=True, eq=False)
+class _Trial:
+    """A controller designed against one D-scale order, with its unscaled closed loop."""
+
+    d_order: int
+    synthesis: HinfResult
+    responses: np.ndarray
+    mu: MuBound
+
+
+def _d_step(
+    plant: GeneralizedPlant,
+    omega: np.ndarray,
+    d_orders: Sequence[int],
+    responses: np.ndarray,
+    mu: MuBound,
+) -> _Trial | None:
+    """One D-K step: D-scales of each order fitted to the current closed loop, a
+    controller for each, and the one of lowest peak mu (None if every order failed)."""
+    trials = []
+    for order in d_orders:
+        d_scale = fit_d_scale(omega, responses, mu.mu, mu.scales[:, 0], plant.blocks[0], order)
+        try:
+            result = hinf_synthesis(
+                _scaled(plant, d_scale),
+                plant.n_measurements,
+                plant.n_controls,
+                gamma_start=mu.peak,
+            )
+            trial_responses, trial_mu = closed_loop_mu(plant, result.controller, omega)
+        except SynthesisError:
+            continue
+        trials.append(_Trial(order, result, trial_responses, trial_mu))
+    return min(trials, key=lambda trial: trial.mu.peak, default=None)
+
+
 def dk_iteration(
     plant: GeneralizedPlant,
     omega: np.ndarray,
@@ -147,54 +183,32 @@ def dk_iteration(
     iterations = [record]
     if progress:
         progress(record)
-    best = (mu.peak, first.controller, mu)
-    current_responses, current_mu = responses, mu
+    best_controller, best_mu = first.controller, mu
     for index in range(1, max_iterations + 1):
         step_start = time.perf_counter()
-        candidates = []
-        for order in d_orders:
-            d_scale = fit_d_scale(
-                omega,
-                current_responses,
-                current_mu.mu,
-                current_mu.scales[:, 0],
-                plant.blocks[0],
-                order,
-            )
-            try:
-                result = hinf_synthesis(
-                    _scaled(plant, d_scale),
-                    plant.n_measurements,
-                    plant.n_controls,
-                    gamma_start=current_mu.peak,
-                )
-                trial_responses, trial_mu = closed_loop_mu(plant, result.controller, omega)
-            except SynthesisError:
-                continue
-            candidates.append((trial_mu.peak, order, result, trial_responses, trial_mu))
-        if not candidates:
+        trial = _d_step(plant, omega, d_orders, responses, mu)
+        if trial is None:
             break
-        peak, order, result, trial_responses, trial_mu = min(candidates, key=lambda c: c[0])
         record = Iteration(
             index,
-            order,
-            result.gamma,
-            peak,
-            result.controller.nstates,
+            trial.d_order,
+            trial.synthesis.gamma,
+            trial.mu.peak,
+            trial.synthesis.controller.nstates,
             time.perf_counter() - step_start,
         )
         iterations.append(record)
         if progress:
             progress(record)
-        improved = peak < best[0] * (1.0 - tolerance)
-        if peak < best[0]:
-            best = (peak, result.controller, trial_mu)
+        improved = trial.mu.peak < best_mu.peak * (1.0 - tolerance)
+        if trial.mu.peak < best_mu.peak:
+            best_controller, best_mu = trial.synthesis.controller, trial.mu
         if not improved:
             break
-        current_responses, current_mu = trial_responses, trial_mu
+        responses, mu = trial.responses, trial.mu
     return MusynResult(
-        controller=best[1],
-        mu=best[2],
+        controller=best_controller,
+        mu=best_mu,
         omega=omega,
         iterations=iterations,
         hinf_gamma_first=first.gamma,

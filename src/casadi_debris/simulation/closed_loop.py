@@ -25,9 +25,9 @@ so computing it after the stretch changes nothing in the loop.
 
 from __future__ import annotations
 
-import atexit
 import gc
 import hashlib
+import logging
 import os
 import shutil
 import tempfile
@@ -42,6 +42,7 @@ from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.model import Model
 from casadi_debris.processes import process_alive
+from casadi_debris.simulation.jit_cache import CompileError, compiled_function
 from casadi_debris.units import DEG_PER_RAD, NM_PER_MNM
 
 # Relative pull-in of a saturated torque so that it lies strictly inside the
@@ -70,10 +71,15 @@ class StepOutput:
 
 
 JIT_FLAGS = ("-O2",)
+# Campaigns still announce a build folder of their own under this name, with
+# this prefix in the system's temporary folder; the compiled step no longer
+# goes there but to the machine's cache (jit_cache), which campaigns share.
 JIT_FOLDER_ENV = "CASADI_DEBRIS_JIT_FOLDER"
 JIT_PREFIX = "casadi_debris_jit_"  # then the owner's process id: stale ones are found
 MODAL_ROUND_OFF = 1e-13
 CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
+
+LOGGER = logging.getLogger(__name__)
 
 
 class SimulationError(CasadiDebrisError):
@@ -288,10 +294,13 @@ def build_loop_step(
     chunk_steps : int
         Periods per ``rollout`` call.
     jit : bool
-        Compile the step to C with the system's C compiler (RK4 only), once
-        per process for a given model, controller and authority; about ten
-        times faster per step, a few seconds to compile. Falls back to the
-        virtual machine when no compiler is found or compiling fails.
+        Run the step as C compiled by the system's C compiler (RK4 only):
+        about ten times faster per step. The library is compiled once per
+        machine (a few seconds) and kept in the cache folder of
+        :mod:`~casadi_debris.simulation.jit_cache`; other processes load it
+        from there, and each process keeps it for a given model, controller
+        and authority. Falls back to the virtual machine, with a logged
+        warning, when no compiler is found or compiling fails.
 
     Returns
     -------
@@ -302,16 +311,13 @@ def build_loop_step(
         if compiler is not None:
             key = _jit_key(model, controller, polytope, integrator_steps, chunk_steps)
             if key not in _JIT_STEPS:
-                try:
-                    _JIT_STEPS[key] = _compiled(
-                        _loop_step(model, None, controller, polytope, integrator_steps, "rk4"),
-                        compiler,
-                        model,
-                        controller,
-                        chunk_steps,
-                    )
-                except RuntimeError:
-                    _JIT_STEPS[key] = None  # compiling failed: the virtual machine serves
+                _JIT_STEPS[key] = _compiled(
+                    _loop_step(model, None, controller, polytope, integrator_steps, "rk4"),
+                    compiler,
+                    model,
+                    controller,
+                    chunk_steps,
+                )
             cached = _JIT_STEPS[key]
             if cached is not None:
                 return cached
@@ -354,76 +360,37 @@ def _compiled(
     model: Model,
     controller: DiscreteController,
     chunk_steps: int,
-) -> LoopStep:
-    folder = _jit_folder()
-    options: dict[str, bool | str | dict[str, str | list[str]]] = {
-        "jit": True,
-        "compiler": "shell",
-        "jit_name": "loop_step",
-        "jit_options": {
-            "compiler": compiler,
-            "flags": list(JIT_FLAGS),
-            "directory": f"{folder}{os.sep}",
-        },
-    }
+) -> LoopStep | None:
+    """The step as C, from the machine's cache (compiled into it if needed); None if it fails."""
+    _remove_stale_jit_folders()
     inputs = [ca.SX.sym(step.name_in(i), step.sparsity_in(i)) for i in range(step.n_in())]
-    # The compiler's own temporaries go to the JIT folder too, so that a killed
-    # run leaves nothing in the system's temporary folder.
-    previous = os.environ.get("TMPDIR")
-    os.environ["TMPDIR"] = str(folder)
+    # The Function that CasADi's own JIT compiled before the cache: the same C
+    # and flags, so the same numbers to the last bit.
+    function = ca.Function("loop_step_c", inputs, step.call(inputs))
     try:
-        compiled = ca.Function("loop_step_c", inputs, step.call(inputs), options)
-    finally:
-        if previous is None:
-            os.environ.pop("TMPDIR", None)
-        else:
-            os.environ["TMPDIR"] = previous
+        compiled = compiled_function(function, compiler, JIT_FLAGS)
+    except CompileError as exc:
+        LOGGER.warning("the control step runs on CasADi's virtual machine: %s", exc)
+        return None
     return LoopStep.of(compiled, model, controller, chunk_steps, compiled=True)
 
 
-def _jit_folder() -> Path:
-    """The folder for the generated C and libraries.
-
-    A campaign names it through ``JIT_FOLDER_ENV`` (inherited by its worker
-    processes, which leave without running exit handlers) and removes it;
-    otherwise a private temporary folder, removed at exit.
-    """
-    given = os.environ.get(JIT_FOLDER_ENV)
-    if given:
-        folder = Path(given)
-        folder.mkdir(parents=True, exist_ok=True)
-        return folder
-    if "folder" not in _JIT_FOLDER:
-        _remove_stale_jit_folders()
-        folder = Path(tempfile.mkdtemp(prefix=f"{JIT_PREFIX}{os.getpid()}_"))
-        atexit.register(_remove_jit_folder, folder)
-        _JIT_FOLDER["folder"] = folder
-    return _JIT_FOLDER["folder"]
-
-
 def release_compiled_steps() -> None:
-    """Drop this process's compiled steps; CasADi deletes their files then.
-
-    Call before removing a JIT folder that this process compiled into.
-    """
+    """Drop this process's compiled steps (their libraries stay in the cache)."""
     _JIT_STEPS.clear()
     gc.collect()
 
 
 def _remove_stale_jit_folders() -> None:
-    """Remove the JIT folders that killed processes left in the temporary folder."""
+    """Remove the JIT folders that killed processes left in the temporary folder.
+
+    Older versions compiled there, and a killed campaign still leaves its
+    (now empty) build folder.
+    """
     for folder in Path(tempfile.gettempdir()).glob(f"{JIT_PREFIX}*_*"):
         owner = folder.name.removeprefix(JIT_PREFIX).split("_")[0]
         if owner.isdigit() and not process_alive(int(owner)) and folder.is_dir():
             shutil.rmtree(folder, ignore_errors=True)
-
-
-def _remove_jit_folder(folder: Path) -> None:
-    release_compiled_steps()
-    shutil.rmtree(folder, ignore_errors=True)
-
-
-_JIT_FOLDER: dict[str, Path] = {}
 
 
 def _loop_step(

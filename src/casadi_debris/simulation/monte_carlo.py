@@ -2,31 +2,28 @@
 
 A campaign runs :func:`~casadi_debris.simulation.simulate` for each
 :class:`~casadi_debris.simulation.cases.Case` on local processes (default),
-or on a Dask cluster when a scheduler address is given. Each case returns
+or on a Dask cluster when a scheduler address is given, through
+``casadi_debris.parallel.parallel_map``. Each case returns
 its summary and its :class:`Bands`: the minimum and maximum of the attitude
 error and the torque over consecutive time bins, per body axis, small enough
 to keep for hundreds of cases and exact as an envelope at the bin resolution
 (the summary's maxima are exact at every step).
 
 Results come back through a callback as they finish, so the caller (the
-CLI) can show progress and write each case to disk; cases already on disk
-are passed as ``skip`` to resume an interrupted campaign. Nothing here
-writes files.
+CLI) can show progress and write each case to disk; to resume an
+interrupted campaign it leaves out the cases already on disk. A case that
+raises is recorded as a :class:`CaseFailure` (through another callback) and
+the campaign goes on. Nothing here writes files.
 """
 
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import ctypes.util
+import functools
 import math
 import os
-import signal
 import tempfile
-import threading
-import time
 from collections.abc import Callable, Iterable, Iterator, Mapping
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -37,6 +34,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.model import Model, build_model
+from casadi_debris.parallel import ItemFailure, SchedulerUnavailableError, parallel_map
 from casadi_debris.simulation.cases import Case
 from casadi_debris.simulation.closed_loop import (
     JIT_FOLDER_ENV,
@@ -52,6 +50,23 @@ MAX_BINS = 2000
 
 class SchedulerError(SimulationError):
     """The Dask scheduler asked for cannot be used (not installed, not reachable)."""
+
+
+class CasesFailedError(SimulationError):
+    """Cases raised while they ran (every other case ran to its end).
+
+    Attributes
+    ----------
+    failures : list of CaseFailure
+    """
+
+    def __init__(self, failures: list[CaseFailure]) -> None:
+        first = failures[0]
+        super().__init__(
+            f"{len(failures)} case(s) failed, the first {first.case.case_id}: "
+            f"{first.error_type}: {first.message}"
+        )
+        self.failures = failures
 
 
 @dataclass(frozen=True, eq=False)
@@ -215,6 +230,40 @@ class CaseOutcome:
     bands: Bands
 
 
+@dataclass(frozen=True, eq=False)
+class CaseFailure:
+    """A case that raised while it ran: the campaign records it and goes on.
+
+    Attributes
+    ----------
+    case : Case
+        The case (its seed and index re-run it alone).
+    error_type : str
+        Qualified name of the exception's class.
+    message : str
+    traceback : str
+        As the worker formatted it.
+    """
+
+    case: Case
+    error_type: str
+    message: str
+    traceback: str
+
+    def summary(self) -> dict[str, Any]:
+        """The case's identity and what it raised, for JSON."""
+        return {
+            "case_id": self.case.case_id,
+            "kind": self.case.kind,
+            "index": self.case.index,
+            "seed": self.case.seed,
+            "normalized": self.case.normalized.tolist(),
+            "error_type": self.error_type,
+            "message": self.message,
+            "traceback": self.traceback,
+        }
+
+
 def bin_bands(setup: CampaignSetup, result: ClosedLoopResult) -> Bands:
     """Min/max of the error and the torque per time bin of ``setup``."""
     n_bins = setup.n_bins
@@ -236,24 +285,23 @@ def _extremes(values: np.ndarray, bins: np.ndarray, n_bins: int) -> Extremes:
     return Extremes(low, high)
 
 
-# Per-process cache: the model of the campaign's problem, built once.
-_WORKER: dict[str, Any] = {}
+def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) -> CaseOutcome:
+    """Simulate one case of a campaign.
 
-
-def _worker_parts(problem: Problem) -> tuple[Model, Allocator]:
-    key = f"{problem.sha256}:{problem.name}:{id(problem)}"
-    if _WORKER.get("key") != key:
-        _WORKER.update(key=key, model=build_model(problem))
-    model = _WORKER["model"]
+    Parameters
+    ----------
+    setup : CampaignSetup
+    case : Case
+    model : Model, optional
+        The model of ``setup.problem``, when it is already built (a worker
+        builds it once for all its cases, see :class:`CaseRunner`).
+    """
+    if model is None:
+        model = build_model(setup.problem)
     # A fresh allocator (about 1 ms) for every case: its QP workspaces keep the
     # last solution as a warm start, which would make a case's last bits depend
     # on the case the worker ran before it, and a resumed campaign differ.
-    return model, Allocator.from_problem(problem, model.geometry)
-
-
-def run_case(setup: CampaignSetup, case: Case) -> CaseOutcome:
-    """Simulate one case of a campaign (what each worker runs)."""
-    model, allocator = _worker_parts(setup.problem)
+    allocator = Allocator.from_problem(setup.problem, model.geometry)
     result = simulate(
         setup.problem,
         model,
@@ -274,45 +322,29 @@ def run_case(setup: CampaignSetup, case: Case) -> CaseOutcome:
     return CaseOutcome(case, summary, bin_bands(setup, result))
 
 
-_SETUP: dict[str, CampaignSetup] = {}
-_PARENT_WATCH_S = 1.0
-_PR_SET_PDEATHSIG = 1
+class CaseRunner:
+    """What a campaign's worker keeps: the setup and the model of its problem, built once.
 
-
-def _die_with_parent(parent_pid: int) -> None:
-    """Make this worker end when the campaign's process ends, however it ends.
-
-    A killed parent (SIGKILL included) cannot stop its workers itself: on
-    Linux the kernel sends them SIGKILL (``prctl(PR_SET_PDEATHSIG)``); a
-    watcher thread covers other systems by checking the parent's id.
+    Parameters
+    ----------
+    setup : CampaignSetup
     """
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-    except (OSError, AttributeError):
-        pass
-    if os.getppid() != parent_pid:  # the parent died before the line above
-        os._exit(1)
 
-    def watch() -> None:
-        while True:
-            time.sleep(_PARENT_WATCH_S)
-            if os.getppid() != parent_pid:
-                os._exit(1)
+    def __init__(self, setup: CampaignSetup) -> None:
+        self.setup = setup
+        self.model = build_model(setup.problem)
 
-    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
+    def __call__(self, case: Case) -> CaseOutcome:
+        """Simulate ``case`` (see :func:`run_case`)."""
+        return run_case(self.setup, case, model=self.model)
 
 
-def _init_process(setup: CampaignSetup, parent_pid: int) -> None:
-    # A group of its own: Ctrl-C reaches the parent alone, which decides what to do,
-    # and the parent can stop a worker together with the compiler it may be running.
-    os.setpgrp()
-    _die_with_parent(parent_pid)
-    _SETUP["setup"] = setup
+def _run_with(runner: CaseRunner, case: Case) -> CaseOutcome:
+    return runner(case)
 
 
-def _run_in_process(case: Case) -> CaseOutcome:
-    return run_case(_SETUP["setup"], case)
+def _case_id(case: Case) -> str:
+    return case.case_id
 
 
 def run_campaign(
@@ -322,9 +354,15 @@ def run_campaign(
     workers: int = 1,
     scheduler: str | None = None,
     on_result: Callable[[CaseOutcome], None] | None = None,
+    on_failure: Callable[[CaseFailure], None] | None = None,
     build_folder: Path | None = None,
 ) -> list[CaseOutcome]:
     """Run cases, in parallel, calling ``on_result`` as each finishes.
+
+    A case that raises is recorded as a :class:`CaseFailure` and the others
+    go on (see ``casadi_debris.parallel.parallel_map``, which also says
+    what local workers do: own process group, death with this process, one
+    BLAS thread, killed on Ctrl-C).
 
     Parameters
     ----------
@@ -337,6 +375,10 @@ def run_campaign(
         ``distributed`` package (``pip install 'casadi_debris[dask]'``).
     on_result : callable, optional
         Called with each :class:`CaseOutcome` in completion order.
+    on_failure : callable, optional
+        Called with each :class:`CaseFailure` in completion order. Without
+        it, failed cases raise :class:`CasesFailedError` once every other
+        case has finished.
     build_folder : Path, optional
         Where the compiled control steps go (default: a private temporary
         folder, removed at the end). The caller removes a folder it gives.
@@ -344,24 +386,49 @@ def run_campaign(
     Returns
     -------
     list of CaseOutcome
-        In the order of ``cases``.
+        The cases that finished, in the order of ``cases``.
+
+    Raises
+    ------
+    SimulationError
+        ``workers`` below 1.
+    SchedulerError
+        ``scheduler`` cannot be used.
+    CasesFailedError
+        Cases failed and there is no ``on_failure``.
     """
     cases = list(cases)
     if workers < 1:
         raise SimulationError(f"workers must be at least 1, got {workers}")
-    with _build_folder(build_folder) as folder:
-        if scheduler is not None:
-            finished = _dask_outcomes(setup, cases, scheduler)
-        elif workers == 1 or len(cases) <= 1:
-            finished = (run_case(setup, case) for case in cases)
-        else:
-            finished = _process_outcomes(setup, cases, min(workers, len(cases)), folder)
-        by_id: dict[str, CaseOutcome] = {}
-        for outcome in finished:
-            by_id[outcome.case.case_id] = outcome
-            if on_result is not None:
-                on_result(outcome)
-    return [by_id[case.case_id] for case in cases]
+    by_id: dict[str, CaseOutcome] = {}
+    failures: list[CaseFailure] = []
+    try:
+        with (
+            _build_folder(build_folder),
+            parallel_map(
+                _run_with,
+                cases,
+                functools.partial(CaseRunner, setup),
+                workers=workers,
+                scheduler=scheduler,
+                item_id=_case_id,
+            ) as finished,
+        ):
+            for item in finished:
+                if isinstance(item, ItemFailure):
+                    failure = CaseFailure(item.item, item.error_type, item.message, item.traceback)
+                    failures.append(failure)
+                    if on_failure is not None:
+                        on_failure(failure)
+                    continue
+                by_id[item.value.case.case_id] = item.value
+                if on_result is not None:
+                    on_result(item.value)
+    except SchedulerUnavailableError as exc:
+        raise SchedulerError(str(exc)) from exc
+    if failures and on_failure is None:
+        raise CasesFailedError(failures)
+    return [by_id[case.case_id] for case in cases if case.case_id in by_id]
 
 
 @contextlib.contextmanager
@@ -387,62 +454,6 @@ def _build_folder(given: Path | None) -> Iterator[Path]:
                 os.environ.pop(JIT_FOLDER_ENV, None)
             else:
                 os.environ[JIT_FOLDER_ENV] = previous
-
-
-def _process_outcomes(
-    setup: CampaignSetup, cases: list[Case], workers: int, build_folder: Path
-) -> Iterator[CaseOutcome]:
-    # One thread per process: CasADi and BLAS would otherwise compete for the cores.
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
-    pool = ProcessPoolExecutor(
-        max_workers=workers, initializer=_init_process, initargs=(setup, os.getpid())
-    )
-    try:
-        pending = {pool.submit(_run_in_process, case) for case in cases}
-        while pending:
-            done, pending = wait(pending, return_when=FIRST_COMPLETED)
-            for future in done:
-                yield future.result()
-    except BaseException:
-        # Interrupted (Ctrl-C) or failed: stop the cases under way instead of waiting.
-        for process in list(getattr(pool, "_processes", {}).values()):
-            _kill_worker(process.pid)
-        pool.shutdown(wait=True, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
-
-
-def _kill_worker(pid: int) -> None:
-    """Kill a worker and what it runs (its process group), or the worker alone."""
-    try:
-        if os.getpgid(pid) == pid:
-            os.killpg(pid, signal.SIGKILL)
-            return
-        os.kill(pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass  # already gone
-
-
-def _dask_outcomes(
-    setup: CampaignSetup, cases: list[Case], scheduler: str
-) -> Iterator[CaseOutcome]:
-    try:
-        from distributed import Client, as_completed
-    except ImportError as exc:
-        raise SchedulerError(
-            "the Dask 'distributed' package is needed: pip install 'casadi_debris[dask]'"
-        ) from exc
-    try:
-        client = Client(scheduler, timeout="10s")
-    except OSError as exc:
-        raise SchedulerError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from exc
-    try:
-        shared = client.scatter(setup, broadcast=True)
-        futures = [client.submit(run_case, shared, case, pure=False) for case in cases]
-        for future in as_completed(futures):
-            yield future.result()
-    finally:
-        client.close()
 
 
 @dataclass(eq=False)

@@ -49,7 +49,7 @@ from casadi_debris.simulation import (
     simulate,
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
-from casadi_debris.simulation.monte_carlo import SchedulerError
+from casadi_debris.simulation.monte_carlo import CaseFailure, CasesFailedError, SchedulerError
 from casadi_debris.workflows.controller import controller_for
 
 LOGGER = logging.getLogger(__name__)
@@ -215,6 +215,10 @@ def run_campaign_folder(
         ``out`` cannot be written, or ``out.partial`` holds another campaign or is in use.
     CampaignInterrupted
         On Ctrl-C; the finished cases stay for a resume.
+    CasesFailedError
+        Every case raised (a case that raises is otherwise recorded in
+        ``cases/<id>.failed.json`` and the summary's ``failed_cases``, and
+        the campaign goes on without it).
     """
     out = Path(out)
     if scheduler is not None:
@@ -228,7 +232,9 @@ def run_campaign_folder(
     identity = _identity(setup, cases, resolved)
     with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
         done = folder.finished_cases(cases)
-        outcomes = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
+        outcomes, failures = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
+        if not outcomes:
+            raise CasesFailedError(failures)  # nothing to summarise; the folder stays
         how = {
             "controller_path": str(resolved),
             "plant_sha256": problem.plant_sha256,
@@ -238,6 +244,10 @@ def run_campaign_folder(
             "resumed_cases": len(done),
             "compiled_step": bool(jit and c_compiler()),
             "out_dir": str(out.absolute()),
+            "failed_cases": [
+                {"case_id": f.case.case_id, "error_type": f.error_type, "message": f.message}
+                for f in failures
+            ],
         }
         summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
         folder.finish()
@@ -309,8 +319,12 @@ def _run_missing(
     workers: int,
     scheduler: str | None,
     progress: Progress | None,
-) -> list[CaseOutcome]:
-    """Run the cases not in ``done``, writing each as it finishes; all outcomes, in order."""
+) -> tuple[list[CaseOutcome], list[CaseFailure]]:
+    """Run the cases not in ``done``, writing each as it finishes.
+
+    Returns every finished case (resumed or run), in campaign order, and the
+    cases of this run that raised (each recorded in the folder as it fails).
+    """
     resumed = dict(done)
     todo = [c for c in cases if c.case_id not in resumed]
     LOGGER.info(
@@ -321,12 +335,26 @@ def _run_missing(
         len(todo),
     )
     finished: dict[str, CaseOutcome] = {}
+    failures: list[CaseFailure] = []
 
     def keep(outcome: CaseOutcome) -> None:
         folder.write_case(outcome)
         finished[outcome.case.case_id] = outcome
         if progress is not None:
-            progress(len(finished), len(todo))
+            progress(len(finished) + len(failures), len(todo))
+
+    def record(failure: CaseFailure) -> None:
+        path = folder.write_failure(failure)
+        failures.append(failure)
+        LOGGER.warning(
+            "%s failed (%s: %s); the campaign goes on without it (traceback in cases/%s)",
+            failure.case.case_id,
+            failure.error_type,
+            failure.message,
+            path.name,
+        )
+        if progress is not None:
+            progress(len(finished) + len(failures), len(todo))
 
     if progress is not None:
         progress(0, len(todo))
@@ -337,6 +365,7 @@ def _run_missing(
             workers=workers,
             scheduler=scheduler,
             on_result=keep,
+            on_failure=record,
             build_folder=folder.build_folder,
         )
     except KeyboardInterrupt:
@@ -345,4 +374,4 @@ def _run_missing(
     except SchedulerError as exc:
         raise InputShapeError(f"--scheduler: {exc}") from None
     every = {**resumed, **finished}
-    return [every[c.case_id] for c in cases]
+    return [every[c.case_id] for c in cases if c.case_id in every], failures

@@ -108,6 +108,35 @@ def _campaign(
     )
 
 
+def _corner_campaigns(
+    plan: Plan,
+    slew_problem: Problem,
+    pointing_problem: Problem,
+    controller_path: Path,
+    staging: Path,
+    workers: int,
+    stage: Callable[[str], Progress | None],
+) -> dict[str, dict[str, Any]]:
+    """The slew, then the pointing campaign, each announced by ``stage``; the slew's
+    summary carries the reference duration its rows are judged against."""
+    campaigns = {
+        name: _campaign(
+            campaign_problem,
+            controller_path,
+            cases,
+            staging / name,
+            workers,
+            stage(f"{name} Monte Carlo"),
+        )
+        for name, campaign_problem, cases in (
+            ("slew", slew_problem, plan.slew_cases),
+            ("pointing", pointing_problem, plan.pointing_cases),
+        )
+    }
+    campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
+    return campaigns
+
+
 def _slew_duration_s(slew_problem: Problem) -> float | None:
     """The reference duration of the paper's slew problem [s]."""
     slew = slew_problem.simulation.slew
@@ -186,35 +215,35 @@ def reproduce_paper(
             staging / "margins",
             out_dir=out / "margins",
         )
-        campaigns = {
-            name: _campaign(
-                campaign_problem,
-                controller_path,
-                cases,
-                staging / name,
-                workers,
-                stage(f"{name} Monte Carlo"),
-            )
-            for name, campaign_problem, cases in (
-                ("slew", slew_problem, plan.slew_cases),
-                ("pointing", pointing_problem, plan.pointing_cases),
-            )
-        }
-        campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
-        limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
-        rows = reproduction_rows(
-            model_summary,
-            budgets,
-            _controller_figures(record),
-            margins,
-            campaigns["slew"],
-            campaigns["pointing"],
-            limits,
+        campaigns = _corner_campaigns(
+            plan, slew_problem, pointing_problem, controller_path, staging, workers, stage
         )
+        rows = _rows(problem, model_summary, budgets, record, margins, campaigns)
         how = {"controller_path": str(controller_path), "quick": quick, "workers": workers}
         summary = _summary(problem, rows, how, time.perf_counter() - started, out)
         _write_report(staging, rows, summary)
     return summary
+
+
+def _rows(
+    problem: Problem,
+    model_summary: dict[str, Any],
+    budgets: dict[str, float],
+    record: ControllerRecord,
+    margins: dict[str, Any],
+    campaigns: dict[str, dict[str, Any]],
+) -> list[ReproductionRow]:
+    """The paper's table: each stage's results next to the paper's figures."""
+    limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
+    return reproduction_rows(
+        model_summary,
+        budgets,
+        _controller_figures(record),
+        margins,
+        campaigns["slew"],
+        campaigns["pointing"],
+        limits,
+    )
 
 
 def _summary(
