@@ -342,27 +342,18 @@ def simulate(
     started = time.perf_counter()
     period = _control_period(reference)
     p = model.nominal_parameters if parameters is None else np.asarray(parameters, dtype=float)
-    engines = (
-        PropulsionState.from_problem(problem, model.geometry)
-        if propulsion is None
-        else propulsion.copy()
-    )
+    engines = PropulsionState.from_problem(problem) if propulsion is None else propulsion.copy()
     fuel_start = engines.propellant_kg.copy()
-    if allocator is None:
-        allocator = Allocator.from_problem(problem, model.geometry, state=engines)
+    steps = problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
     rollout = _Rollout(
         model=model,
         reference=reference,
         parameters=p,
         controller=discretize_controller(controller, period),
         engines=engines,
-        allocator=allocator,
+        allocator=allocator or Allocator.from_problem(problem, model.geometry, state=engines),
         loop_options={
-            "integrator_steps": (
-                problem.simulation.integrator_steps
-                if integrator_steps is None
-                else integrator_steps
-            ),
+            "integrator_steps": steps,
             "integrator": integrator,
             "chunk_steps": chunk_steps,
             "jit": jit,
