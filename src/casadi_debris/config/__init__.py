@@ -7,7 +7,8 @@ shipped ``problems/paper.toml``), checks every key and returns a
 
 A problem file may start from another one with ``extends = "paper.toml"``
 (path relative to the file): its tables are merged key by key, arrays and
-scalars replaced whole.
+scalars replaced whole (an ``[[arrays]]`` or ``[[cubesats]]`` list whole; a child
+that gives its CubeSats, as a list or a ``[cubesat_layout]``, drops the parent's).
 
 Example
 -------
