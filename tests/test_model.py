@@ -118,6 +118,35 @@ def test_rigid_model_matches_euler_equations(problem):
     np.testing.assert_allclose(states[rigid.layout.omega], reference[4:], atol=1e-10)
 
 
+def test_debris_without_arrays_is_a_rigid_body(tmp_path):
+    from casadi_debris import load_problem
+    from casadi_debris.config import default_problem_path
+    from casadi_debris.geometry import build_geometry
+
+    child = tmp_path / "rigid.toml"
+    child.write_text(f'extends = "{default_problem_path()}"\nname = "rigid"\narrays = []\n')
+    problem = load_problem(child)
+    rigid = build_model(problem)  # every mode of every array: there are none
+    assert rigid.layout.n_eta == 0
+    assert rigid.parameter_names == (
+        "inertia_scale_x",
+        "inertia_scale_y",
+        "inertia_scale_z",
+        "mass_kg",
+    )
+    # Reference inertia from the geometry's part-by-part sum, not from the model.
+    inertia = build_geometry(problem).inertia_total_kgm2
+    q0, w0 = (
+        np.array([0.9, 0.1, -0.3, 0.3]) / np.linalg.norm([0.9, 0.1, -0.3, 0.3]),
+        np.array([0.03, 0.05, -0.04]),
+    )
+    times = np.linspace(0.0, 400.0, 41)
+    states = _integrate(rigid, rigid.initial_state(q0, w0), rigid.nominal_parameters, times)
+    reference = _euler_rigid(inertia, q0, w0, times)
+    np.testing.assert_allclose(states[rigid.layout.q], reference[:4], atol=1e-8)
+    np.testing.assert_allclose(states[rigid.layout.omega], reference[4:], atol=1e-10)
+
+
 def test_torque_and_force_enter_as_newton_euler(model):
     """At rest, the instantaneous response to a torque is the inverse of the Schur complement."""
     p = model.nominal_parameters
