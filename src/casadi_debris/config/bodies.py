@@ -7,7 +7,9 @@ number by :mod:`~casadi_debris.config.limits` and returns a frozen dataclass of
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 
@@ -124,15 +126,20 @@ def read_arrays(top: Table, hub_size: np.ndarray) -> tuple[Array, ...]:
     return tuple(read_array(a, hub_size) for a in top.tables("arrays", limits.MAX_ARRAYS))
 
 
+def _stage_values(t: Table) -> dict[str, Any]:
+    """The stages, emitters, thrust, Isp and life of an engine (``[engine]`` or one engine)."""
+    return {
+        "stages": t.integer("stages", limits.STAGES),
+        "emitters_per_stage": t.integer("emitters_per_stage", limits.EMITTERS_PER_STAGE),
+        "thrust_per_stage_mN": t.number("thrust_per_stage_mN", limits.THRUST_MN),
+        "isp_s": t.number("isp_s", limits.ISP_S),
+        "stage_life_h": t.number("stage_life_h", limits.STAGE_LIFE_H),
+    }
+
+
 def read_engine_defaults(t: Table) -> EngineDefaults:
     """``[engine]``: the stages, thrust, Isp and life of engines that do not say otherwise."""
-    engine = EngineDefaults(
-        stages=t.integer("stages", limits.STAGES),
-        emitters_per_stage=t.integer("emitters_per_stage", limits.EMITTERS_PER_STAGE),
-        thrust_per_stage_mN=t.number("thrust_per_stage_mN", limits.THRUST_MN),
-        isp_s=t.number("isp_s", limits.ISP_S),
-        stage_life_h=t.number("stage_life_h", limits.STAGE_LIFE_H),
-    )
+    engine = EngineDefaults(**_stage_values(t))
     t.done()
     return engine
 
@@ -141,11 +148,7 @@ def _read_engine(t: Table) -> Engine:
     engine = Engine(
         direction=read_direction(t, "direction"),
         offset_m=t.array("offset_m", (3,), limits.OFFSET_M),
-        stages=t.integer("stages", limits.STAGES),
-        emitters_per_stage=t.integer("emitters_per_stage", limits.EMITTERS_PER_STAGE),
-        thrust_per_stage_mN=t.number("thrust_per_stage_mN", limits.THRUST_MN),
-        isp_s=t.number("isp_s", limits.ISP_S),
-        stage_life_h=t.number("stage_life_h", limits.STAGE_LIFE_H),
+        **_stage_values(t),
     )
     t.done()
     return engine
@@ -163,7 +166,7 @@ def _read_cubesat(t: Table, hub_size: np.ndarray, defaults: EngineDefaults) -> C
         limits.PRINCIPAL_INERTIA_KGM2 if principal else limits.INERTIA_KGM2,
     )
     check_inertia(inertia, t.key("inertia_kgm2"), t.source)
-    engine_defaults = {"offset_m": [0.0, 0.0, 0.0], **_defaults_dict(defaults)}
+    engine_defaults = {"offset_m": [0.0, 0.0, 0.0], **dataclasses.asdict(defaults)}
     engines = tuple(
         _read_engine(Table({**engine_defaults, **e.data}, e.path, e.source))
         for e in t.tables("engines", limits.MAX_ENGINES_PER_CUBESAT)
@@ -177,16 +180,6 @@ def _read_cubesat(t: Table, hub_size: np.ndarray, defaults: EngineDefaults) -> C
     )
     t.done()
     return cubesat
-
-
-def _defaults_dict(defaults: EngineDefaults) -> dict[str, float | int]:
-    return {
-        "stages": defaults.stages,
-        "emitters_per_stage": defaults.emitters_per_stage,
-        "thrust_per_stage_mN": defaults.thrust_per_stage_mN,
-        "isp_s": defaults.isp_s,
-        "stage_life_h": defaults.stage_life_h,
-    }
 
 
 def read_layout(t: Table) -> CubeSatLayout:

@@ -19,6 +19,7 @@ possible, the c columns along the longer face edge.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -106,16 +107,9 @@ def _engines(layout: CubeSatLayout, face: str, defaults: EngineDefaults) -> tupl
             direction = np.zeros(3)
             direction[axis] = sign
             directions.append(direction)
+    stage_values = dataclasses.asdict(defaults)
     return tuple(
-        Engine(
-            direction=direction,
-            offset_m=np.zeros(3),
-            stages=defaults.stages,
-            emitters_per_stage=defaults.emitters_per_stage,
-            thrust_per_stage_mN=defaults.thrust_per_stage_mN,
-            isp_s=defaults.isp_s,
-            stage_life_h=defaults.stage_life_h,
-        )
+        Engine(direction=direction, offset_m=np.zeros(3), **stage_values)
         for direction in directions
     )
 
