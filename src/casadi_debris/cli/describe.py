@@ -1,4 +1,4 @@
-"""``casadi-debris model`` and ``casadi-debris budget``: describe the combined system."""
+"""``casadi-debris model``, ``budget`` and ``schema``: describe the combined system and the file."""
 
 from __future__ import annotations
 
@@ -53,3 +53,17 @@ def budget(problem_file: Path | None, as_json: bool) -> None:
     else:
         label = f"{problem.name} ({problem.source})"
         click.echo(budget_text(items, label, problem.name == PAPER_PROBLEM_NAME))
+
+
+@main.command()
+@friendly_errors
+def schema() -> None:
+    """Print the JSON Schema of problem files (draft 2020-12), for editors and tools.
+
+    Taken from the loader's own readers: every key with its type, shape, range and
+    choices. The loader still checks what a schema cannot (a hinge on the hub,
+    propellant below its CubeSat's mass, which keys may be left out).
+    """
+    from casadi_debris.config.json_schema import problem_schema
+
+    echo_json(problem_schema())

@@ -60,6 +60,7 @@ def read_direction(t: Table, name: str) -> np.ndarray:
     """A signed axis (``"+x"`` ... ``"-z"``) or a 3-vector, returned as a unit vector."""
     value = t.raw(name)
     if isinstance(value, str):
+        t.record(name, kind="text", choices=SIGNED_AXES)
         if value not in SIGNED_AXES:
             raise t.error(
                 t.key(name),

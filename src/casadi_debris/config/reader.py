@@ -197,6 +197,7 @@ def problem_from_dict(
         sha256=sha256,
     )
     if "extends" in data:  # followed by the loader, which checked it
+        top.record("extends", kind="text", choices=None)
         top.taken.add("extends")
     top.done()
     return problem

@@ -11,7 +11,9 @@ from __future__ import annotations
 import json
 import math
 import re
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any, TypeVar, overload
 
 import numpy as np
@@ -23,6 +25,27 @@ from casadi_debris.errors import ProblemFileError
 Choice = TypeVar("Choice", bound=str)
 
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]{1,64}")
+# What the readers asked of each key, while :func:`recording` is on (for the JSON Schema).
+_RECORDER: ContextVar[list[tuple[str, dict[str, Any]]] | None] = ContextVar(
+    "casadi_debris_table_recorder", default=None
+)
+
+
+@contextmanager
+def recording() -> Iterator[list[tuple[str, dict[str, Any]]]]:
+    """Collect (dotted key, what was asked of it) for every key the readers take meanwhile.
+
+    ``kind`` is one of table, tables, text, label, prose, texts, boolean, integer, array,
+    with the range, shape, choices or count the reader checked.
+    """
+    calls: list[tuple[str, dict[str, Any]]] = []
+    token = _RECORDER.set(calls)
+    try:
+        yield calls
+    finally:
+        _RECORDER.reset(token)
+
+
 _SHOWN_CHARS = 60
 _ALLOWED_CONTROL = "\n\t"
 
@@ -83,6 +106,12 @@ class Table:
         """The error for ``key`` (dotted) in this table's file."""
         return ProblemFileError(key, message, self.source)
 
+    def record(self, name: str, **spec: Any) -> None:
+        """Note what a reader asks of ``name`` (only while :func:`recording` is on)."""
+        calls = _RECORDER.get()
+        if calls is not None:
+            calls.append((self.key(name), spec))
+
     def has(self, name: str) -> bool:
         """Whether the (optional) key ``name`` is given."""
         return name in self.data
@@ -96,10 +125,12 @@ class Table:
 
     def table(self, name: str) -> Table:
         """The sub-table ``name``."""
+        self.record(name, kind="table")
         return Table(self.raw(name), self.key(name), self.source)
 
     def tables(self, name: str, max_count: int) -> list[Table]:
         """The array of tables ``name``: one to ``max_count`` of them."""
+        self.record(name, kind="tables", max_count=max_count)
         value = self.raw(name)
         if not isinstance(value, list) or not value:
             raise self.error(self.key(name), "must be a non-empty array of tables")
@@ -113,6 +144,7 @@ class Table:
     def text(self, name: str, choices: tuple[Choice, ...]) -> Choice: ...
     def text(self, name: str, choices: tuple[str, ...] | None = None) -> str:
         """A string, one of ``choices`` when given."""
+        self.record(name, kind="text", choices=choices)
         value = self.raw(name)
         if not isinstance(value, str):
             raise self.error(self.key(name), f"must be a string, got {show(value)}")
@@ -124,6 +156,7 @@ class Table:
 
     def label(self, name: str) -> str:
         """A name used as a label (and in folder names): see ``limits.NAME_PATTERN``."""
+        self.record(name, kind="label", pattern=NAME_PATTERN)
         value = self.text(name)
         if not re.fullmatch(NAME_PATTERN, value):
             raise self.error(
@@ -135,6 +168,7 @@ class Table:
 
     def prose(self, name: str) -> str:
         """Free text of bounded length without control characters (tabs, newlines allowed)."""
+        self.record(name, kind="prose", max_length=MAX_DESCRIPTION_CHARS)
         value = self.text(name)
         if len(value) > MAX_DESCRIPTION_CHARS:
             raise self.error(
@@ -147,6 +181,7 @@ class Table:
 
     def texts(self, name: str, choices: tuple[Choice, ...], max_count: int) -> tuple[Choice, ...]:
         """An array of one to ``max_count`` strings, each among ``choices``."""
+        self.record(name, kind="texts", choices=choices, max_count=max_count)
         value = self.raw(name)
         if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
             raise self.error(self.key(name), f"must be an array of strings, got {show(value)}")
@@ -161,6 +196,7 @@ class Table:
 
     def boolean(self, name: str) -> bool:
         """true or false."""
+        self.record(name, kind="boolean")
         value = self.raw(name)
         if not isinstance(value, bool):
             raise self.error(self.key(name), f"must be true or false, got {show(value)}")
@@ -168,6 +204,7 @@ class Table:
 
     def integer(self, name: str, bounds: Range) -> int:
         """A TOML integer (not a float, not a string, not true/false) within ``bounds``."""
+        self.record(name, kind="integer", bounds=bounds)
         value = self.raw(name)
         if isinstance(value, bool):
             raise self.error(self.key(name), "must be an integer, not true/false")
@@ -210,6 +247,7 @@ class Table:
         ndarray
             Read-only floats.
         """
+        self.record(name, kind="array", shape=shape, bounds=bounds, max_rows=max_rows)
         key = self.key(name)
         value = self.raw(name)
         self._check_structure(key, value, value, shape, max_rows)
