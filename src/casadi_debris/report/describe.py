@@ -88,6 +88,7 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         },
         "modes": modes,
         "thrusters": thrusters,
+        "notes": _notes(problem, model.parameter_names),
     }
 
 
@@ -115,8 +116,25 @@ def model_text(summary: dict[str, Any], show_paper: bool) -> str:
         "",
         "Engines (body frame B, origin at the CoG; direction = unit force on the body)",
         _thrusters_table(summary["thrusters"]),
+        *(f"note: {note}" for note in summary["notes"]),
     ]
     return "\n".join(parts)
+
+
+def _notes(problem: Problem, parameter_names: tuple[str, ...]) -> list[str]:
+    """What the problem file gives that this debris does not use."""
+    unused = []
+    if "array_angle_offset_rad" not in parameter_names:
+        unused.append(f"uncertainty.array_angle_deg ({problem.uncertainty.array_angle_deg:g})")
+    if "bending_frequency_scale" not in parameter_names:
+        fraction = problem.uncertainty.bending_frequency_fraction
+        unused.append(f"uncertainty.bending_frequency_fraction ({fraction:g})")
+    if not unused:
+        return []
+    why = "has no arrays" if not problem.arrays else "has no first bending mode"
+    return [
+        f"{' and '.join(unused)} dropped: this debris {why}, so the model has no such parameter"
+    ]
 
 
 def _quantity_rows(summary: dict[str, Any], show_paper: bool) -> list[list[Any]]:
