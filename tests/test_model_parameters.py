@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
 import pytest
 
-from casadi_debris.errors import InputShapeError, ModelError
+from casadi_debris import load_problem
+from casadi_debris.errors import InputShapeError, ModelError, ProblemFileError
 from casadi_debris.model import ParameterLayout, Parameters
 
 PAPER = ParameterLayout()
@@ -22,7 +24,7 @@ def test_layout_names_follow_the_debris():
         "array_angle_offset_rad",
         "bending_frequency_scale",
     )
-    rigid = ParameterLayout(has_array_angle=False, has_bending_scale=False)
+    rigid = ParameterLayout(array_angles=0, has_bending_scale=False)
     assert rigid.names == ("inertia_scale_x", "inertia_scale_y", "inertia_scale_z", "mass_kg")
     assert rigid.size == 4
 
@@ -59,7 +61,7 @@ def test_replace_changes_only_the_named_entry():
         (lambda b: Parameters.from_vector(PAPER, [1, 1, 1]), "expected 6 numbers"),
         (
             lambda b: Parameters.from_mapping(
-                ParameterLayout(has_array_angle=False, has_bending_scale=False), b.to_dict()
+                ParameterLayout(array_angles=0, has_bending_scale=False), b.to_dict()
             ),
             "unknown ['array_angle_offset_rad', 'bending_frequency_scale']",
         ),
@@ -84,3 +86,41 @@ def test_model_nominal_matches_the_problem(problem):
     assert model.parameter_layout == ParameterLayout.for_problem(problem)
     # Every model of a problem shares one layout, whichever modes it keeps.
     assert build_model(problem, modes="all").parameter_names == model.parameter_names
+
+
+def _independent(paper_data, angles: int = 2):
+    from casadi_debris.config import problem_from_dict
+
+    data = copy.deepcopy(paper_data)
+    data["uncertainty"]["independent_array_angles"] = True
+    data["montecarlo"] = {"corner_array_angles": angles, "samples": 10, "seed": 1}
+    return problem_from_dict(data)
+
+
+def test_independent_array_angles_are_one_parameter_per_array(paper_data):
+    from casadi_debris.model import build_model
+    from casadi_debris.simulation import corner_cases
+
+    problem = _independent(paper_data)
+    model = build_model(problem, modes="first")
+    names = model.parameter_names
+    assert names[4:6] == ("array1_angle_offset_rad", "array2_angle_offset_rad")
+    # The same turn of both arrays is the shared offset of the paper's model.
+    shared = build_model(load_problem(), modes="first")
+    both = model.parameters(array1_angle_offset_rad=0.6, array2_angle_offset_rad=0.6)
+    np.testing.assert_array_equal(
+        np.array(model.mass_matrix(both)),
+        np.array(shared.mass_matrix(shared.parameters(array_angle_offset_rad=0.6))),
+    )
+    apart = model.parameters(array1_angle_offset_rad=0.6, array2_angle_offset_rad=-0.6)
+    assert not np.allclose(np.array(model.mass_matrix(apart)), np.array(model.mass_matrix(both)))
+    # Corners: 2 angles per array, 2^2 x 2^5, every angle pair with every extreme.
+    corners = corner_cases(problem, model)
+    assert len(corners) == 4 * 32
+    pairs = {tuple(case.normalized[4:6]) for case in corners}
+    assert pairs == {(a, b) for a in (-1.0, 0.0) for b in (-1.0, 0.0)}
+
+
+def test_too_many_independent_corners_are_refused(paper_data):
+    with pytest.raises(ProblemFileError, match=r"montecarlo\.corner_array_angles: .* 16\^2"):
+        _independent(paper_data, angles=16)

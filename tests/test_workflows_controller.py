@@ -102,3 +102,11 @@ def test_compare_refuses_a_variant_of_another_plant(heavy: Path, tmp_path: Path)
     result = CliRunner().invoke(main, args)
     assert result.exit_code == 2 and "heavy" in result.stderr
     assert not (tmp_path / "c").exists()
+
+
+def test_an_optional_setting_at_its_default_is_the_same_plant(tmp_path: Path) -> None:
+    paper = load_problem()
+    body = f'extends = "{default_problem_path()}"\n[uncertainty]\nindependent_array_angles = '
+    same = load_problem(_write(tmp_path / "same.toml", body + "false\n"))
+    other = load_problem(_write(tmp_path / "other.toml", body + "true\n"))
+    assert same.plant_sha256 == paper.plant_sha256 != other.plant_sha256

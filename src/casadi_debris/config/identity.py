@@ -36,7 +36,13 @@ PLANT_FIELDS = (
 def _plain(value: Any) -> Any:
     """JSON-ready values: dataclasses by field, arrays as float lists, numbers as floats."""
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
-        return {f.name: _plain(getattr(value, f.name)) for f in dataclasses.fields(value)}
+        # A field left at its default is left out, so that adding an optional setting to
+        # the toolkit does not change the hash of a plant that does not use it.
+        return {
+            f.name: _plain(getattr(value, f.name))
+            for f in dataclasses.fields(value)
+            if f.default is dataclasses.MISSING or getattr(value, f.name) != f.default
+        }
     if isinstance(value, np.ndarray):
         return _plain(value.tolist())
     if isinstance(value, list | tuple):

@@ -213,6 +213,9 @@ MAX_FAILURES = 1000
 """At most 1000 failure events (the paper's 24 CubeSats x 3 stages have 96 to lose)."""
 CORNER_ARRAY_ANGLES = Range(1, 64)
 """1 to 64 array angles in the corner set: 2^5 x 64 = 2048 corner cases (the paper: 8, 256)."""
+MAX_CORNER_CASES = 4096
+"""At most 4096 corner cases (with one angle per array, corner_array_angles^n_arrays x 2^5):
+a corner campaign of the paper's slew takes about 2 s a case on two cores, 2 h for 4096."""
 MONTECARLO_SAMPLES = Range(1, 100_000)
 """1 to 100 000 random closed-loop cases: about a day on two cores at one second a case."""
 

@@ -64,6 +64,9 @@ def _read_uncertainty(t: Table) -> Uncertainty:
         ),
         samples=t.integer("samples", limits.UNCERTAINTY_SAMPLES),
         seed=t.integer("seed", limits.SEED),
+        independent_array_angles=(
+            t.boolean("independent_array_angles") if t.has("independent_array_angles") else False
+        ),
     )
     t.done()
     return uncertainty
@@ -128,6 +131,21 @@ def _optional_table(top: Table, name: str, defaults: Mapping[str, Any]) -> Table
     if not isinstance(given, Mapping):
         raise top.error(top.key(name), f"must be a table, got {show(given)}")
     return Table({**defaults, **given}, top.key(name), top.source)
+
+
+def _check_corner_count(top: Table, problem: Problem) -> None:
+    """Independent array angles multiply the corner set: keep it a campaign one can run."""
+    arrays = len(problem.arrays)
+    if not (problem.uncertainty.independent_array_angles and arrays > 1):
+        return
+    count = problem.montecarlo.corner_array_angles**arrays * 2**5
+    if count > limits.MAX_CORNER_CASES:
+        raise top.error(
+            "montecarlo.corner_array_angles",
+            f"with independent angles for {arrays} arrays the corner set has "
+            f"{problem.montecarlo.corner_array_angles}^{arrays} x 2^5 = {count} cases, at most "
+            f"{limits.MAX_CORNER_CASES}; lower corner_array_angles",
+        )
 
 
 def problem_from_dict(
@@ -196,6 +214,7 @@ def problem_from_dict(
         source=source or "<dict>",
         sha256=sha256,
     )
+    _check_corner_count(top, problem)
     if "extends" in data:  # followed by the loader, which checked it
         top.record("extends", kind="text", choices=None)
         top.taken.add("extends")

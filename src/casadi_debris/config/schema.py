@@ -252,7 +252,8 @@ class Uncertainty:
     """Half-ranges of the uncertainty set (relative or absolute as named).
 
     ``samples`` (1 to 10 000) models fit the uncertainty weight, drawn with
-    ``seed`` (0 to 2^32 - 1).
+    ``seed`` (0 to 2^32 - 1). With ``independent_array_angles`` every array's angle
+    is its own uncertain parameter (default: one angle offset for all arrays).
     """
 
     inertia_fraction: float
@@ -261,6 +262,7 @@ class Uncertainty:
     bending_frequency_fraction: float
     samples: int
     seed: int
+    independent_array_angles: bool = False
 
 
 @dataclass(frozen=True, eq=False)

@@ -51,7 +51,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-from casadi_debris.config import Array, Mode, Problem
+from casadi_debris.config import Mode, Problem
 from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
 from casadi_debris.model.cantilever import shape_integrals
 from casadi_debris.model.parameters import ParameterLayout, Parameters
@@ -183,7 +183,7 @@ class FlexibleBodyEquations:
             layout=layout,
             inertia_scale=(1.0, 1.0, 1.0),
             mass_kg=self.geometry.mass_kg,
-            array_angle_offset_rad=0.0 if layout.has_array_angle else None,
+            array_angle_offsets_rad=(0.0,) * layout.array_angles,
             bending_frequency_scale=1.0 if layout.has_bending_scale else None,
         )
 
@@ -193,26 +193,29 @@ class FlexibleBodyEquations:
         hub_cubesats = ca.DM(self.geometry.inertia_hub_cubesats_kgm2) * (scale @ scale.T)
         arrays = sum(
             (
-                array_rigid_inertia(array, hinge, self._angle(array, p))
-                for array, hinge in zip(self.problem.arrays, self.geometry.hinges_m, strict=True)
+                array_rigid_inertia(array, hinge, self._angle(index, p))
+                for index, (array, hinge) in enumerate(
+                    zip(self.problem.arrays, self.geometry.hinges_m, strict=True)
+                )
             ),
             ca.SX.zeros(3, 3),
         )
         return hub_cubesats + arrays
 
-    def _angle(self, array: Array, p: ca.SX) -> ca.SX:
-        """An array's angle theta_SA: its nominal angle plus the parameters' offset."""
-        return math.radians(array.angle_deg) + self.parameters.array_angle_offset_rad(p)
+    def _angle(self, index: int, p: ca.SX) -> ca.SX:
+        """Array ``index``'s angle theta_SA: its nominal angle plus the parameters' offset."""
+        nominal = math.radians(self.problem.arrays[index].angle_deg)
+        return nominal + self.parameters.array_angle_offset_rad(p, index)
 
     def participation(self, p: ca.SX) -> tuple[ca.SX, ca.SX]:
         """Translational and rotational (about the CoG) modal participation, (n_eta, 3) each."""
         rows_t, rows_r = [], []
-        for array, hinge, kept in zip(
-            self.problem.arrays, self.geometry.hinges_m, self.modes, strict=True
+        for index, (array, hinge, kept) in enumerate(
+            zip(self.problem.arrays, self.geometry.hinges_m, self.modes, strict=True)
         ):
             if not kept:
                 continue
-            e_length, _, normal = array_axes(array.direction, self._angle(array, p))
+            e_length, _, normal = array_axes(array.direction, self._angle(index, p))
             sqrt_mass = math.sqrt(array.mass_kg)
             for mode in kept:
                 integrals = shape_integrals(mode.kind, mode.order)

@@ -13,7 +13,9 @@ Entries, in order:
 - ``mass_kg``: total mass [kg];
 - ``array_angle_offset_rad``: turn of every array about its hinge axis away from
   its nominal angle [rad] (the paper's theta_SA, whose nominal is 0), one for
-  all arrays, present when the debris has arrays;
+  all arrays, present when the debris has arrays; or, when the uncertainty set
+  asks for independent array angles, ``array1_angle_offset_rad``,
+  ``array2_angle_offset_rad``, ... one per array;
 - ``bending_frequency_scale``: factor on every array's first bending frequency,
   1 nominal, present when the model keeps a first bending mode.
 
@@ -54,14 +56,19 @@ class ParameterLayout:
 
     Attributes
     ----------
-    has_array_angle : bool
-        Whether ``p`` holds the arrays' angle (the debris has arrays).
+    array_angles : int
+        How many array-angle entries ``p`` holds: 0 (no arrays), 1 (one offset for
+        every array, the default) or one per array (``per_array``).
     has_bending_scale : bool
         Whether ``p`` holds the first-bending frequency factor.
+    per_array : bool
+        One angle entry per array (``array1_angle_offset_rad``, ...), when the
+        uncertainty set asks for independent array angles.
     """
 
-    has_array_angle: bool = True
+    array_angles: int = 1
     has_bending_scale: bool = True
+    per_array: bool = False
 
     @classmethod
     def for_problem(cls, problem: Problem) -> ParameterLayout:
@@ -70,18 +77,33 @@ class ParameterLayout:
         It depends on the problem only, so that one parameter vector (a Monte
         Carlo case, say) fits both the design model and the simulation model.
         """
-        arrays = len(problem.arrays) > 0
+        n_arrays = len(problem.arrays)
+        per_array = n_arrays > 0 and problem.uncertainty.independent_array_angles
         bending = any(
             (m.kind, m.order) == ("bending", 1) for array in problem.arrays for m in array.modes
         )
-        return cls(has_array_angle=arrays, has_bending_scale=arrays and bending)
+        return cls(
+            array_angles=n_arrays if per_array else min(n_arrays, 1),
+            has_bending_scale=bending,
+            per_array=per_array,
+        )
+
+    @property
+    def has_array_angle(self) -> bool:
+        """Whether ``p`` holds array angles at all (the debris has arrays)."""
+        return self.array_angles > 0
+
+    @property
+    def angle_names(self) -> tuple[str, ...]:
+        """The array-angle entries' names, in vector order."""
+        if self.per_array:
+            return tuple(f"array{k}_angle_offset_rad" for k in range(1, self.array_angles + 1))
+        return ("array_angle_offset_rad",) * min(self.array_angles, 1)
 
     @property
     def names(self) -> tuple[str, ...]:
         """Entry names, in vector order."""
-        names = [*INERTIA_SCALE_NAMES, "mass_kg"]
-        if self.has_array_angle:
-            names.append("array_angle_offset_rad")
+        names = [*INERTIA_SCALE_NAMES, "mass_kg", *self.angle_names]
         if self.has_bending_scale:
             names.append("bending_frequency_scale")
         return tuple(names)
@@ -108,9 +130,9 @@ class ParameterLayout:
         """Total mass entry of ``p`` [kg]."""
         return p[3]
 
-    def array_angle_offset_rad(self, p: Indexable) -> Any:
-        """Arrays' angle offset entry of ``p`` [rad]."""
-        return p[self.index("array_angle_offset_rad")]
+    def array_angle_offset_rad(self, p: Indexable, array: int = 0) -> Any:
+        """Angle offset of array ``array`` (0-based) in ``p`` [rad]; the shared one by default."""
+        return p[4 + (array if self.per_array else 0)]
 
     def bending_frequency_scale(self, p: Indexable) -> Any:
         """First-bending frequency factor of ``p``."""
@@ -128,9 +150,9 @@ class Parameters:
         Factors on the hub-and-CubeSats inertia about x, y, z.
     mass_kg : float
         Total mass [kg].
-    array_angle_offset_rad : float or None
-        Turn of the arrays about their hinge axes from their nominal angles
-        [rad]; None without arrays.
+    array_angle_offsets_rad : tuple of float
+        Turn of the arrays about their hinge axes from their nominal angles [rad]:
+        none without arrays, one shared by every array, or one per array.
     bending_frequency_scale : float or None
         Factor on the first bending frequencies; None without a bending mode.
     """
@@ -138,7 +160,7 @@ class Parameters:
     layout: ParameterLayout
     inertia_scale: tuple[float, float, float]
     mass_kg: float
-    array_angle_offset_rad: float | None = None
+    array_angle_offsets_rad: tuple[float, ...] = ()
     bending_frequency_scale: float | None = None
 
     def __post_init__(self) -> None:
@@ -147,23 +169,23 @@ class Parameters:
                 raise ModelError(f"parameter {name} must be finite, got {value}")
         if self.mass_kg <= 0.0 or min(self.inertia_scale) <= 0.0:
             raise ModelError("parameters mass_kg and inertia_scale_* must be positive")
-        for name, present in (
-            ("array_angle_offset_rad", self.layout.has_array_angle),
-            ("bending_frequency_scale", self.layout.has_bending_scale),
-        ):
-            if (getattr(self, name) is not None) != present:
-                raise ModelError(
-                    f"parameter {name}: {'needed' if present else 'not part of'} this model"
-                )
+
+    @property
+    def array_angle_offset_rad(self) -> float:
+        """The arrays' shared angle offset [rad] (a ModelError when there is none)."""
+        if self.layout.per_array or not self.array_angle_offsets_rad:
+            raise ModelError("this model has no single array angle offset")
+        return self.array_angle_offsets_rad[0]
 
     def items(self) -> list[tuple[str, float]]:
         """(name, value) pairs in vector order."""
-        values = [*self.inertia_scale, self.mass_kg]
-        if self.array_angle_offset_rad is not None:
-            values.append(self.array_angle_offset_rad)
+        values = [*self.inertia_scale, self.mass_kg, *self.array_angle_offsets_rad]
         if self.bending_frequency_scale is not None:
             values.append(self.bending_frequency_scale)
-        return list(zip(self.layout.names, map(float, values), strict=True))
+        names = self.layout.names
+        if len(values) != len(names):
+            raise ModelError(f"parameters: expected {', '.join(names)}, got {len(values)} values")
+        return list(zip(names, map(float, values), strict=True))
 
     def to_dict(self) -> dict[str, float]:
         """Values by name (for JSON)."""
@@ -195,12 +217,13 @@ class Parameters:
                 f"this model has {', '.join(layout.names)}"
             )
         scale = tuple(float(values[name]) for name in INERTIA_SCALE_NAMES)
+        bending = values.get("bending_frequency_scale")
         return cls(
             layout=layout,
             inertia_scale=(scale[0], scale[1], scale[2]),
             mass_kg=float(values["mass_kg"]),
-            array_angle_offset_rad=_optional(values, "array_angle_offset_rad"),
-            bending_frequency_scale=_optional(values, "bending_frequency_scale"),
+            array_angle_offsets_rad=tuple(float(values[n]) for n in layout.angle_names),
+            bending_frequency_scale=None if bending is None else float(bending),
         )
 
     def replace(self, **values: float) -> Parameters:
@@ -210,7 +233,3 @@ class Parameters:
             self.layout.index(name)  # names the known entries if ``name`` is not one
             merged[name] = float(value)
         return Parameters.from_mapping(self.layout, merged)
-
-
-def _optional(values: Mapping[str, float], name: str) -> float | None:
-    return float(values[name]) if name in values else None

@@ -60,7 +60,8 @@ def half_ranges(problem: Problem, layout: ParameterLayout) -> dict[str, tuple[st
     u = problem.uncertainty
     ranges = {name: ("relative", u.inertia_fraction) for name in INERTIA_SCALE_NAMES}
     ranges["mass_kg"] = ("relative", u.mass_fraction)
-    ranges["array_angle_offset_rad"] = ("absolute", np.radians(u.array_angle_deg))
+    for name in layout.angle_names:
+        ranges[name] = ("absolute", np.radians(u.array_angle_deg))
     ranges["bending_frequency_scale"] = ("relative", u.bending_frequency_fraction)
     return {name: ranges[name] for name in layout.names}
 

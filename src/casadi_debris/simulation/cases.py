@@ -69,18 +69,18 @@ def corner_angles(problem: Problem) -> np.ndarray:
 def corner_cases(problem: Problem, model: Model) -> list[Case]:
     """Every combination of the uncertainty extremes (the paper's 256)."""
     layout = model.parameter_layout
-    if not layout.has_array_angle:
-        z_all = np.array(list(itertools.product((-1.0, 1.0), repeat=layout.size)))
-    else:
-        angle_index = layout.index("array_angle_offset_rad")
-        others = list(itertools.product((-1.0, 1.0), repeat=layout.size - 1))
-        z_all = np.array(
-            [
-                np.insert(np.array(combo), angle_index, angle)
-                for angle in corner_angles(problem)
-                for combo in others
-            ]
-        )
+    first = layout.index(layout.angle_names[0]) if layout.has_array_angle else layout.size
+    n_angles = layout.array_angles
+    others = list(itertools.product((-1.0, 1.0), repeat=layout.size - n_angles))
+    angles = list(itertools.product(corner_angles(problem), repeat=n_angles))
+    # Angles outermost, so that the paper's corner numbering stays what it was.
+    z_all = np.array(
+        [
+            np.concatenate([combo[:first], angle, combo[first:]])
+            for angle in angles
+            for combo in others
+        ]
+    )
     p_all = parameters_from_normalized(problem, model, z_all)
     return [
         Case(f"corner-{i:04d}", "corner", i, None, z_all[i], p_all[i]) for i in range(len(z_all))
