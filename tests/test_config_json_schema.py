@@ -83,7 +83,13 @@ def test_what_the_loader_refuses_the_schema_refuses(
 
 @pytest.mark.parametrize(
     ("path", "value"),
-    [(("hub", "mass_kg"), 600), (("arrays",), []), (("arrays", 0, "direction"), [0, 0, -1.0])],
+    [
+        (("hub", "mass_kg"), 600),
+        (("arrays",), []),
+        (("arrays", 0, "direction"), [0, 0, -1.0]),
+        (("uncertainty", "independent_array_angles"), False),
+        (("cubesat_layout", "side_engines"), 4),
+    ],
 )
 def test_what_the_loader_accepts_the_schema_accepts(
     validator: Any, paper_data: dict[str, Any], path: tuple[Any, ...], value: Any

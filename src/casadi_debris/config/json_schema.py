@@ -39,6 +39,8 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
             "failures": [{"time_s": 1.0, "cubesat": 1, "stage": 1}],
         },
         "requirements": {"pointing_arcsec": 60.0, "slew_error_deg": 0.6},
+        "uncertainty": {"independent_array_angles": True},
+        "montecarlo": {"corner_array_angles": 2},
     }
     engine = {"direction": [0.0, 0.0, -1.0], "offset_m": [0.0, 0.0, 0.0], "stages": 1}
     engine |= {"emitters_per_stage": 32, "thrust_per_stage_mN": 0.64, "isp_s": 1000.0}
