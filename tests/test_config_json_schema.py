@@ -98,3 +98,33 @@ def test_what_the_loader_accepts_the_schema_accepts(
     _set(data, path, value)
     problem_from_dict(data)
     assert validator.is_valid(data), [e.message for e in validator.iter_errors(data)]
+
+
+def _schema_keys(schema: Any) -> set[str]:
+    keys: set[str] = set()
+    if isinstance(schema, dict):
+        keys |= set(schema.get("properties", {}))
+        for value in schema.values():
+            keys |= _schema_keys(value)
+    elif isinstance(schema, list):
+        for value in schema:
+            keys |= _schema_keys(value)
+    return keys
+
+
+def test_every_optional_key_a_reader_takes_is_in_the_schema() -> None:
+    # The schema is read from example problems: an optional key no example sets would
+    # be missing, and tables allow no other keys, so such a file would be refused.
+    import re
+    from pathlib import Path
+
+    import casadi_debris.config
+
+    sources = Path(casadi_debris.config.__file__).parent.glob("*.py")
+    optional = {
+        name
+        for source in sources
+        for name in re.findall(r'\b(?:t|top)\.has\("([a-z_]+)"\)', source.read_text())
+    }
+    assert optional >= {"independent_array_angles", "side_engines", "modes"}
+    assert optional <= _schema_keys(problem_schema())
