@@ -25,12 +25,8 @@ import numpy.typing as npt
 from casadi_debris.config import Mode, Problem
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.geometry import Geometry, build_geometry
-from casadi_debris.model.flexible_body import (
-    INPUT_NAMES,
-    FlexibleBodyEquations,
-    StateLayout,
-    attitude_error_vector,
-)
+from casadi_debris.model.attitude import attitude_error_vector
+from casadi_debris.model.flexible_body import INPUT_NAMES, FlexibleBodyEquations, StateLayout
 from casadi_debris.model.parameters import ParameterLayout, Parameters
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 

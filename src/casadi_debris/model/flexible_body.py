@@ -53,6 +53,7 @@ import casadi as ca
 
 from casadi_debris.config import Mode, Problem
 from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
+from casadi_debris.model.attitude import attitude_error_vector, quaternion_product, rotation_matrix
 from casadi_debris.model.cantilever import shape_integrals
 from casadi_debris.model.parameters import ParameterLayout, Parameters
 
@@ -67,35 +68,6 @@ INPUT_NAMES = (
     "force_y_N",
     "force_z_N",
 )
-
-
-def quaternion_product(a: ca.SX, b: ca.SX) -> ca.SX:
-    """Hamilton product a (x) b of scalar-first quaternions, shape (4, 1)."""
-    a0, av = a[0], a[1:4]
-    b0, bv = b[0], b[1:4]
-    return ca.vertcat(a0 * b0 - ca.dot(av, bv), a0 * bv + b0 * av + ca.cross(av, bv))
-
-
-def quaternion_conjugate(q: ca.SX) -> ca.SX:
-    """Inverse of a unit quaternion."""
-    return ca.vertcat(q[0], -q[1:4])
-
-
-def attitude_error_vector(q_reference: ca.SX, q: ca.SX) -> ca.SX:
-    """Doubled vector part of q_ref^-1 (x) q, short way round, shape (3, 1).
-
-    Equals the small rotation angles [Phi, Theta, Psi] (rad) from the
-    reference to the attitude for small errors; well defined for 180 deg.
-    """
-    error = quaternion_product(quaternion_conjugate(q_reference), q)
-    return 2.0 * ca.if_else(error[0] >= 0, 1.0, -1.0) * error[1:4]
-
-
-def rotation_matrix(q: ca.SX) -> ca.SX:
-    """Direction cosine matrix taking B components to N components, shape (3, 3)."""
-    q0, qv = q[0], q[1:4]
-    skew = ca.skew(qv)
-    return (q0**2 - ca.dot(qv, qv)) * ca.SX.eye(3) + 2 * (qv @ qv.T) + 2 * q0 * skew
 
 
 @dataclass(frozen=True)

@@ -11,12 +11,12 @@ from scipy.interpolate import CubicHermiteSpline
 
 from casadi_debris.config import Problem, SlewReference
 from casadi_debris.errors import ProblemFileError, SlewInfeasibleError
+from casadi_debris.model.attitude import quaternion_rate
 from casadi_debris.slew import (
     SlewOptions,
     SlewProfile,
     bang_bang_slew,
     fuel_optimal_slew,
-    quaternion_multiply,
     time_optimal_slew,
 )
 
@@ -128,8 +128,7 @@ def sample_reference(
         quaternion = np.tile([1.0, 0.0, 0.0, 0.0], (len(time_s), 1))
         return Reference(time_s, quaternion, None, start_s)
     local = np.clip(time_s - start_s, slew.time_s[0], slew.time_s[-1])
-    rate = np.hstack([np.zeros((len(slew.time_s), 1)), slew.rate_rad_s])
-    derivative = 0.5 * quaternion_multiply(slew.quaternion_BN, rate)
+    derivative = quaternion_rate(slew.quaternion_BN, slew.rate_rad_s)
     spline = CubicHermiteSpline(slew.time_s, slew.quaternion_BN, derivative, axis=0)
     quaternion = spline(local)
     quaternion /= np.linalg.norm(quaternion, axis=1, keepdims=True)

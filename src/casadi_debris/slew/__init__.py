@@ -16,12 +16,11 @@
   flexible model.
 """
 
+from casadi_debris.model.attitude import euler_angles_321, quaternion_multiply
 from casadi_debris.slew.bang_bang import BangBangTiming, bang_bang_slew, bang_bang_timing
 from casadi_debris.slew.maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
-    euler_angles_321,
-    quaternion_multiply,
     rigid_limit_duration,
     slew_about_axis,
     slew_between,

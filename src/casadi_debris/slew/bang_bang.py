@@ -51,12 +51,12 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.model import Model, build_model
+from casadi_debris.model.attitude import axis_angle_quaternion, quaternion_multiply
 from casadi_debris.slew.maneuver import (
     SlewTarget,
     check_positive,
     check_torque_fraction,
     eigenaxis_acceleration_limit,
-    quaternion_multiply,
     rigid_limit_duration,
     slew_about_axis,
     torque_limits,
@@ -230,9 +230,7 @@ def _eigenaxis_functions(
 def _about_axis(goal: SlewTarget, angle_rad: np.ndarray) -> np.ndarray:
     """Attitudes q_BN (scalar first, shape (n, 4)) turned from the initial one by
     ``angle_rad`` (shape (n,)) about the eigenaxis."""
-    half = angle_rad[:, None] / 2.0
-    rotation = np.hstack([np.cos(half), np.sin(half) * goal.axis_B])
-    return quaternion_multiply(np.broadcast_to(goal.q_initial_BN, rotation.shape), rotation)
+    return quaternion_multiply(goal.q_initial_BN, axis_angle_quaternion(goal.axis_B, angle_rad))
 
 
 def bang_bang_slew(

@@ -36,6 +36,12 @@ import numpy as np
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import Geometry, torque_authority
+from casadi_debris.model.attitude import (
+    axis_angle_quaternion,
+    error_quaternion,
+    quaternion_axis_angle,
+    quaternion_multiply,
+)
 
 QUATERNION_TOLERANCE = 1e-9
 
@@ -59,15 +65,6 @@ class SlewTarget:
     q_final_BN: np.ndarray
     axis_B: np.ndarray
     angle_rad: float
-
-
-def quaternion_multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a (x) b of scalar-first quaternions; broadcasts over leading axes."""
-    a0, av = a[..., :1], a[..., 1:]
-    b0, bv = b[..., :1], b[..., 1:]
-    scalar = a0 * b0 - np.sum(av * bv, axis=-1, keepdims=True)
-    vector = a0 * bv + b0 * av + np.cross(av, bv)
-    return np.concatenate([scalar, vector], axis=-1)
 
 
 def axis_vector(axis: str | Sequence[float] | np.ndarray) -> np.ndarray:
@@ -124,8 +121,7 @@ def slew_about_axis(
         )
     angle = min(angle_rad, math.pi)
     q0 = _unit_quaternion(q_initial_BN, "q_initial_BN")
-    rotation = np.concatenate([[math.cos(angle / 2)], math.sin(angle / 2) * e])
-    return SlewTarget(q0, quaternion_multiply(q0, rotation), e, angle)
+    return SlewTarget(q0, quaternion_multiply(q0, axis_angle_quaternion(e, angle)), e, angle)
 
 
 def slew_between(
@@ -133,19 +129,15 @@ def slew_between(
 ) -> SlewTarget:
     """Rest-to-rest slew between two attitudes, the short way round.
 
-    The eigenaxis and angle follow from q_rel = q_i^-1 (x) q_f with its sign chosen
-    so that q_rel,0 >= 0 (angle <= pi).
+    The eigenaxis and angle are those of q_rel = q_i^-1 (x) q_f taken the short
+    way round (angle <= pi).
     """
     q0 = _unit_quaternion(q_initial_BN, "q_initial_BN")
     qf = _unit_quaternion(q_final_BN, "q_final_BN")
-    relative = quaternion_multiply(q0 * np.array([1.0, -1.0, -1.0, -1.0]), qf)
-    if relative[0] < 0:
-        relative = -relative
-    sine = float(np.linalg.norm(relative[1:]))
-    if sine < QUATERNION_TOLERANCE:
+    axis, angle = quaternion_axis_angle(error_quaternion(q0, qf))
+    if math.sin(float(angle) / 2.0) < QUATERNION_TOLERANCE:
         raise InputShapeError("q_final_BN: equals q_initial_BN, nothing to slew")
-    angle = 2.0 * math.atan2(sine, relative[0])
-    return slew_about_axis(relative[1:] / sine, angle, q0)
+    return slew_about_axis(axis, float(angle), q0)
 
 
 def check_torque_fraction(torque_fraction: float) -> None:
@@ -201,16 +193,3 @@ def eigenaxis_acceleration_limit(
 def rigid_limit_duration(angle_rad: float, alpha_max_rad_s2: float) -> float:
     """Rest-to-rest eigenaxis bang-bang time 2 sqrt(Theta / alpha_max), s."""
     return 2.0 * math.sqrt(angle_rad / alpha_max_rad_s2)
-
-
-def euler_angles_321(quaternion_BN: np.ndarray) -> np.ndarray:
-    """Roll, pitch, yaw [Phi, Theta, Psi] (rad) of the 3-2-1 sequence; shape (..., 3).
-
-    Yaw and roll in (-pi, pi], pitch in [-pi/2, pi/2] (Wie, eq. 5.68 ff.).
-    """
-    q = np.asarray(quaternion_BN, dtype=float)
-    q0, q1, q2, q3 = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    roll = np.arctan2(2 * (q0 * q1 + q2 * q3), 1 - 2 * (q1**2 + q2**2))
-    pitch = np.arcsin(np.clip(2 * (q0 * q2 - q3 * q1), -1.0, 1.0))
-    yaw = np.arctan2(2 * (q0 * q3 + q1 * q2), 1 - 2 * (q2**2 + q3**2))
-    return np.stack([roll, pitch, yaw], axis=-1)

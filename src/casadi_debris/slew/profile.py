@@ -35,7 +35,8 @@ from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry
 from casadi_debris.model import Model, build_model
-from casadi_debris.slew.maneuver import SlewTarget, euler_angles_321
+from casadi_debris.model.attitude import euler_angles_321
+from casadi_debris.slew.maneuver import SlewTarget
 from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
 
 RESIDUAL_WINDOW_PERIODS = 10.0
