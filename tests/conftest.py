@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import copy
+import os
+import shutil
+import tempfile
 import tomllib
 from typing import Any
 
@@ -12,6 +15,19 @@ from casadi_debris import load_problem
 from casadi_debris.config import Problem, default_problem_path, problem_from_dict
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.model import Model, build_model
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """Keep the tests' compiled control steps out of the user's cache folder.
+
+    One folder per test session (workers and subprocesses inherit it through the
+    environment), removed when the session ends; a test that sets
+    its own folder still wins.
+    """
+    if "CASADI_DEBRIS_JIT_CACHE" not in os.environ:
+        folder = tempfile.mkdtemp(prefix="casadi_debris-test-jit-")
+        os.environ["CASADI_DEBRIS_JIT_CACHE"] = folder
+        config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
 
 
 @pytest.fixture(scope="session")
