@@ -173,8 +173,14 @@ def _quantity_rows(summary: dict[str, Any], show_paper: bool) -> list[list[Any]]
             *_paper_cells("torque_max_mNm", torque_neg, show_paper),
         ],
         [
-            "  same with zero net force",
+            "  zero net force, +x,+y,+z",
             [summary["torque_max_zero_force_mNm"][k] for k in ("+x", "+y", "+z")],
+            "",
+            "",
+        ],
+        [
+            "  zero net force, -x,-y,-z",
+            [summary["torque_max_zero_force_mNm"][k] for k in ("-x", "-y", "-z")],
             "",
             "",
         ],
