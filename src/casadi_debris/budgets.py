@@ -63,15 +63,15 @@ def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:
 def burn_dv_m_s(problem: Problem, initial_mass_kg: float, stages: dict[int, int]) -> float:
     """Rocket-equation Δv of burning the given stages of the given engines [m/s].
 
+    With engines of several Isp the effective Isp is the propellant-weighted
+    mean (total impulse over total propellant).
+
     Parameters
     ----------
     problem : Problem
     initial_mass_kg : float
     stages : dict
         Engine index (0-based) -> number of its stages burnt (at most its own).
-
-    With engines of several Isp the effective Isp is the propellant-weighted
-    mean (total impulse over total propellant).
     """
     g0 = problem.constants.standard_gravity_m_s2
     engines = problem.engines
