@@ -3,7 +3,7 @@
 The corpus is generated (seeded) by the package ``tests/corpus/``: mutated
 problem files and bad invocations of every command, each entry a test id. Every
 entry runs in a forked child with a timeout; the checks are listed there. The
-fast subset (about 150 problem files and 70 invocations that fail before any
+fast subset (about 190 problem files and 70 invocations that fail before any
 long computation) is in the default selection; the whole corpus is ``slow``::
 
     pytest tests/test_bad_input_corpus.py -m slow
@@ -114,10 +114,46 @@ def test_corpus_is_large_seeded_and_covers_every_command() -> None:
     assert len({e.id for e in ENTRIES}) == len(ENTRIES)
 
 
+def _numbers(data: object, path: tuple = ()) -> list[tuple]:
+    """Paths of every number in parsed TOML (list indices included)."""
+    if isinstance(data, dict):
+        return [p for key, value in data.items() for p in _numbers(value, (*path, key))]
+    if isinstance(data, list):
+        return [p for i, value in enumerate(data) for p in _numbers(value, (*path, i))]
+    return [path] if isinstance(data, int | float) and not isinstance(data, bool) else []
+
+
+def test_every_number_of_the_paper_and_of_a_cubesat_list_is_mutated() -> None:
+    """Every number of paper.toml and of the list's first CubeSat is NaN in some ``P`` entry.
+
+    The numbers include ``arrays[1].modes[2].omega_rad_s``, ``cubesat_layout.mass_kg``,
+    ``requirements.pointing_arcsec`` and ``cubesats[0].engines[0].isp_s``; each
+    ``[[arrays]]`` entry and a mode are deleted too.
+    """
+    from corpus.expectations import dotted
+    from corpus.shipped import load_shipped, paper_cubesat_list
+
+    descriptions = {e.description for e in ENTRIES if e.id[0] == "P"}
+    paper = load_shipped("paper")
+    wanted = [f"paper.toml: {dotted(p)} = nan" for p in _numbers(paper)]
+    cubesat = paper_cubesat_list()["cubesats"][0]
+    wanted += [
+        f"paper.toml, CubeSats as a list: {dotted(('cubesats', 0, *p))} = nan"
+        for p in _numbers(cubesat)
+    ]
+    wanted += [f"paper.toml: arrays[{i}] deleted" for i in range(len(paper["arrays"]))]
+    wanted += ["paper.toml: arrays[1].modes[2] deleted", "paper.toml: arrays = []"]
+    assert not [w for w in wanted if w not in descriptions]
+    for key in ("cubesat_layout.per_face", "requirements.slew_error_deg", "arrays[1].direction"):
+        assert any(key in d for d in descriptions), key
+
+
 def test_toml_writer_round_trips_the_shipped_problems() -> None:
-    for path in sorted(problems_dir().glob("*.toml")):
+    for path in sorted(problems_dir().rglob("*.toml")):  # the gallery's [[cubesats.engines]] too
         with path.open("rb") as handle:
             data = tomllib.load(handle)
         assert tomllib.loads(toml_dumps(data)) == data
     odd = {"a": 'x\n"y"\\\x00\x7f', "b": [1, 2.5, True], "t": {"u": [{"v": 1}], "w": {}}}
     assert tomllib.loads(toml_dumps(odd)) == odd
+    nested = {"a": [{"b": {"c": 1}, "d": [{"e": [{"f": 2}]}], "g": [1, {"h": 3}]}], "i": []}
+    assert tomllib.loads(toml_dumps(nested)) == nested

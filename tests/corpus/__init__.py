@@ -6,15 +6,24 @@ the input:
 * ``P…`` problem files (:mod:`.problem_files`): the shipped problems
   (``paper.toml``, and the ``[simulation]`` part of ``paper_slew.toml`` and
   ``paper_pointing.toml``) flattened, one mutation applied (:mod:`.mutations`:
-  deleted keys, zero, negative, NaN, inf, 1e308, 10**18, numeric strings,
-  bools, wrong lengths, wrong nesting, unknown keys, path-like ``name``),
-  written back as TOML. ``C…`` are the children (``extends``) with one of their
-  own keys mutated, ``X…`` broken ``extends`` (:mod:`.extends`: missing,
-  directory, circular, FIFO, devices, a huge file, deep chains), ``M…`` values
-  each in range but wrong together (:mod:`.semantic`) and ``S…`` broken TOML
+  deleted keys and entries of ``[[arrays]]`` and ``[[arrays.modes]]``, zero,
+  negative, NaN, inf, 1e308, 10**18, numeric strings, bools, flipped switches,
+  wrong lengths, wrong nesting, unknown keys, path-like ``name``, unsigned
+  axes), written back as TOML; then the paper with its ``[cubesat_layout]``
+  written out as the ``[[cubesats]]`` list it expands to, the list and its first
+  CubeSat and engine mutated the same way. ``C…`` are the children
+  (``extends``) with one of their own keys mutated and overrides of the paper's
+  tables (the CubeSats and arrays a child replaces whole), ``X…`` broken
+  ``extends`` (:mod:`.extends`: missing, directory, circular, FIFO, devices, a
+  huge file, deep chains), ``M…`` values each in range but wrong together, the
+  rules of the CubeSat list and layout, the old single ``[arrays]`` and
+  ``[cubesats]`` tables, and problems that are not the paper's plant through
+  the commands that fly a controller (:mod:`.semantic`), and ``S…`` broken TOML
   (:mod:`.syntax`). Each is run as ``model FILE --json`` and
   ``budget FILE --json`` (and, for ``[simulation]`` keys and names, through
-  ``simulate`` with a two-second run or ``margins`` with two samples);
+  ``simulate`` with a two-second run or ``margins`` with two samples; a
+  mutation that changes the plant never reaches a command that flies the
+  paper's controller unless that is what the entry tests);
 * ``K…`` bad invocations of every command (:mod:`.invocations`,
   :mod:`.options`, :mod:`.output_folders`, :mod:`.controllers_tables`):
   option values out of range or of the wrong type, wrong arity, missing or

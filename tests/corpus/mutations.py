@@ -13,6 +13,11 @@ from typing import Any
 from .expectations import (
     DELETE_EITHER,
     DELETE_OK,
+    DROP_LAST_OK,
+    DUPLICATE_ITEM,
+    EMPTY_ARRAY_OK,
+    EMPTY_TABLE_OK,
+    FLIP_OK,
     HUGE_INT_EITHER,
     NEGATIVE_OK,
     TINY_REJECT,
@@ -20,6 +25,7 @@ from .expectations import (
     ZERO_OK,
     Path_,
     dotted,
+    item_key,
     plain_key,
 )
 from .toml_writer import is_table_array
@@ -108,7 +114,8 @@ def _number_mutations(path: Path_, value: Any) -> Iterator[Change]:
 def _list_mutations(path: Path_, value: list[Any]) -> Iterator[Change]:
     """Wrong lengths and nesting of a list of numbers or strings."""
     yield "empty-list", "[]", [], "reject"
-    yield "drop-last", f"last of {len(value)} dropped", value[:-1], "reject"
+    drop_expect = "ok" if plain_key(path) in DROP_LAST_OK else "reject"
+    yield "drop-last", f"last of {len(value)} dropped", value[:-1], drop_expect
     yield "append", "one more element", [*value, copy.deepcopy(value[-1])], "reject"
     yield "scalar-for-list", f"{value[0]!r} (no list)", copy.deepcopy(value[0]), "reject"
     yield "extra-nesting", "[[...]]", [copy.deepcopy(value)], "reject"
@@ -158,6 +165,29 @@ def _string_mutations(path: Path_, value: str) -> Iterator[Change]:
     yield "number-for-string", "5", 5, "reject"
     yield "bool-for-string", "true", True, "reject"
     yield "upper-case", repr(value.upper()), value.upper(), "either"
+    if value in _SIGNED_AXES:
+        yield "unsigned-axis", repr(value[1]), value[1], "reject"
+    if value in _SIGNED_AXES and key.endswith(".direction"):  # an axis or a 3-vector
+        yield "axis-as-vector", f"{_axis_vector(value)}", _axis_vector(value), "ok"
+        yield "zero-vector", "[0.0, 0.0, 0.0]", [0.0, 0.0, 0.0], "reject"
+
+
+_SIGNED_AXES = ("+x", "-x", "+y", "-y", "+z", "-z")
+
+
+def _axis_vector(axis: str) -> list[float]:
+    """``"-z"`` as ``[0.0, 0.0, -1.0]``."""
+    vector = [0.0, 0.0, 0.0]
+    vector["xyz".index(axis[1])] = 1.0 if axis[0] == "+" else -1.0
+    return vector
+
+
+def _bool_mutations(path: Path_, value: bool) -> Iterator[Change]:
+    """A switch flipped, or given as a number or a string."""
+    flipped = "true" if not value else "false"
+    yield "flip-bool", flipped, not value, "ok" if plain_key(path) in FLIP_OK else "reject"
+    yield "number-for-bool", "1", 1, "reject"
+    yield "string-for-bool", f'"{str(value).lower()}"', str(value).lower(), "reject"
 
 
 def _table_mutations(path: Path_, value: dict[str, Any]) -> Iterator[Change]:
@@ -165,7 +195,7 @@ def _table_mutations(path: Path_, value: dict[str, Any]) -> Iterator[Change]:
     yield "number-for-table", "1", 1, "reject"
     yield "string-for-table", '"x"', "x", "reject"
     yield "list-for-table", "[]", [], "reject"
-    yield "empty-table", "{}", {}, "ok" if key in ("simulation", "montecarlo") else "reject"
+    yield "empty-table", "{}", {}, "ok" if key in EMPTY_TABLE_OK else "reject"
     unknown = dict(value)
     unknown["bogus_key"] = 1.0
     yield "unknown-key", "bogus_key = 1.0 added", unknown, "reject"
@@ -177,17 +207,19 @@ def _table_mutations(path: Path_, value: dict[str, Any]) -> Iterator[Change]:
         yield "upper-case-key", f"{first} -> {first.upper()}", upper, "reject"
 
 
+def _is_item(path: Path_, data: dict[str, Any]) -> bool:
+    """Is ``path`` an entry of an array of tables (``arrays[1]``, ``arrays[0].modes[2]``)?"""
+    return isinstance(path[-1], int) and is_table_array(get_path(data, path[:-1]))
+
+
 def _delete_expect(path: Path_, data: dict[str, Any]) -> str:
-    key = plain_key(path)
+    key = item_key(path) if _is_item(path, data) else plain_key(path)
     if key in DELETE_OK:
         return "ok"
     if key in DELETE_EITHER:
         return "either"
     if key == "simulation.reference":
         return "reject" if "slew" in data.get("simulation", {}) else "ok"
-    if path[:2] == ("arrays", "modes") and len(path) == 3:
-        mode = data["arrays"]["modes"][path[2]]
-        return "reject" if (mode["kind"], mode["order"]) == ("bending", 1) else "ok"
     return "reject"
 
 
@@ -197,6 +229,9 @@ def _changes(path: Path_, value: Any) -> Iterator[tuple[str, str, Any, str]]:
     if _is_number(value):
         for op, desc, new, expect in _number_mutations(path, value):
             yield op, f"{key} = {desc}", new, expect
+    elif isinstance(value, bool):
+        for op, desc, new, expect in _bool_mutations(path, value):
+            yield op, f"{key} = {desc}", new, expect
     elif isinstance(value, str):
         for op, desc, new, expect in _string_mutations(path, value):
             yield op, f"{key} = {desc}", new, expect
@@ -204,24 +239,30 @@ def _changes(path: Path_, value: Any) -> Iterator[tuple[str, str, Any, str]]:
         for op, desc, new, expect in _list_mutations(path, value):
             yield op, f"{key}: {desc}", new, expect
     elif is_table_array(value):
+        plain = plain_key(path)
         yield "table-for-array", f"{key}: one table", copy.deepcopy(value[0]), "reject"
-        yield "empty-array", f"{key} = []", [], "reject"
+        empty_expect = "ok" if plain in EMPTY_ARRAY_OK else "reject"
+        yield "empty-array", f"{key} = []", [], empty_expect
         dup = [*copy.deepcopy(value), copy.deepcopy(value[0])]
-        yield "duplicate-item", f"{key}: first entry twice", dup, "reject"
+        dup_expect = DUPLICATE_ITEM.get(plain, "reject")
+        yield "duplicate-item", f"{key}: first entry twice", dup, dup_expect
     elif isinstance(value, dict):
         for op, desc, new, expect in _table_mutations(path, value):
             yield op, f"[{key}] {desc}", new, expect
 
 
-def mutations(data: dict[str, Any]) -> Iterator[tuple[str, Path_, str, Any, str]]:
-    """(op, path, description, new value or DELETE, expectation) for every node."""
+def mutations(
+    data: dict[str, Any], under: Path_ = ()
+) -> Iterator[tuple[str, Path_, str, Any, str]]:
+    """(op, path, description, new value or DELETE, expectation) for every node.
+
+    Keys and entries of arrays of tables are deleted too; with ``under``, only
+    the nodes on that path and below it.
+    """
     for path, value in _leaves(data):
-        if not path:
+        if not path or path[: len(under)] != under[: len(path)]:
             continue
-        deletable = isinstance(path[-1], str) or (
-            path[:2] == ("arrays", "modes") and len(path) == 3
-        )
-        if deletable:
+        if isinstance(path[-1], str) or _is_item(path, data):
             desc = f"{dotted(path)} deleted"
             yield "delete", path, desc, DELETE, _delete_expect(path, data)
         for op, desc, new, expect in _changes(path, value):

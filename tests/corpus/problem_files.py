@@ -2,9 +2,11 @@
 
 ``P…``: the paper flattened (and the ``[simulation]`` part of ``paper_slew`` and
 ``paper_pointing`` flattened onto it), one node changed or deleted, written back
-as TOML; unknown and misplaced keys; empty files. ``C…``: the children, which
+as TOML; unknown and misplaced keys; empty files; then the paper with its
+``[cubesat_layout]`` written out as a ``[[cubesats]]`` list, every node of the
+list and of its first CubeSat and engine mutated. ``C…``: the children, which
 ``extends`` the paper, with one of their own keys mutated, and overrides of the
-paper's keys in a child.
+paper's keys in a child (the CubeSats and arrays a child replaces whole).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from typing import Any
 from .entry import Entry, FileSpec
 from .expectations import Path_, key_names, plain_key
 from .mutations import DELETE, apply_mutation, get_path, mutations, same_value
-from .shipped import CHILDREN, flattened, load_shipped, problems_dir
+from .shipped import CHILDREN, flattened, load_shipped, paper_cubesat_list, problems_dir
 from .toml_writer import toml_dumps
 
 
@@ -84,9 +86,11 @@ def _paper_whole_file_entries(files: _Files) -> None:
     for op, desc, extra, path in top_extra:
         files.add(f"paper.toml: {desc}", toml_dumps({**paper, **extra}), path, op)
     moved = copy.deepcopy(paper)
-    moved["cubesats"]["isp_s"] = moved["engine"].pop("isp_s")
-    desc = "paper.toml: engine.isp_s moved into [cubesats]"
-    files.add(desc, toml_dumps(moved), ("cubesats", "isp_s"), "misplaced-key")
+    moved["cubesat_layout"]["isp_s"] = moved["engine"].pop("isp_s")
+    desc = "paper.toml: engine.isp_s moved into [cubesat_layout]"
+    # [engine] is read first: its missing isp_s may be named before the stray one.
+    names = ("cubesat_layout.isp_s", "engine.isp_s")
+    files.add(desc, toml_dumps(moved), None, "misplaced-key", names=names)
     for desc, text, op in (
         ("empty file", "", "empty-file"),
         ("only a name", 'name = "x"\n', "only-name"),
@@ -94,11 +98,24 @@ def _paper_whole_file_entries(files: _Files) -> None:
         files.add(desc, text, None, op, names=tuple(paper))
 
 
+def _cubesat_list_entries(files: _Files) -> None:
+    """The paper's CubeSats as a ``[[cubesats]]`` list: the list, its first CubeSat mutated."""
+    data = paper_cubesat_list()
+    desc = "paper.toml with its 24 CubeSats as a [[cubesats]] list, unchanged (control)"
+    files.add(desc, toml_dumps(data), None, "none", "ok")
+    for op, path, desc, new, expect in mutations(data, under=("cubesats", 0)):
+        if new is not DELETE and same_value(new, get_path(data, path)):
+            continue
+        text = toml_dumps(apply_mutation(data, path, new))
+        files.add(f"paper.toml, CubeSats as a list: {desc}", text, path, op, expect)
+
+
 def problem_entries() -> list[Entry]:
     """Mutated problem files: the paper flattened, the children's ``[simulation]`` on it."""
     files = _Files("P")
     _paper_node_entries(files)
     _paper_whole_file_entries(files)
+    _cubesat_list_entries(files)
     return files.entries
 
 
@@ -129,37 +146,88 @@ def _child_mutation_entries(files: _Files) -> None:
             files.add(f"{base}.toml (extends the paper): {desc}", text, path, op, expect)
 
 
-_OVERRIDES: tuple[tuple[str, dict[str, Any], tuple[str, ...]], ...] = (
-    ("[hub] mass_kg = -1 in the child", {"hub": {"mass_kg": -1.0}}, ("hub.mass_kg",)),
-    ("hub = 5 in the child", {"hub": 5}, ("hub",)),
-    ("[engine] bogus = 1 in the child", {"engine": {"bogus": 1}}, ("engine.bogus",)),
-    ('[cubesats] mass_kg = "3.5"', {"cubesats": {"mass_kg": "3.5"}}, ("cubesats.mass_kg",)),
-    ("arrays.modes = [] in the child", {"arrays": {"modes": []}}, ("arrays.modes",)),
-)
+def _overrides() -> list[tuple[str, dict[str, Any], str, tuple[str, ...]]]:
+    """(description, the child's tables, expectation, names), in a fixed order.
+
+    A child's ``[[arrays]]`` list replaces the paper's whole list, and its CubeSats
+    (a ``[[cubesats]]`` list or a ``[cubesat_layout]``) the paper's in either form;
+    a ``[cubesat_layout]`` over the paper's layout merges key by key.
+    """
+    paper = load_shipped("paper")
+    no_hinge = {k: v for k, v in paper["arrays"][0].items() if k != "hinge_corner_m"}
+    rigid = {k: v for k, v in paper["arrays"][0].items() if k != "modes"}
+    two = paper_cubesat_list()["cubesats"][:2]
+    old_cubesats = {"per_face": 4, "mass_kg": 3.5, "inertia_kgm2": [0.0513, 0.0513, 0.0082]}
+    return [
+        ("[hub] mass_kg = -1 in the child", {"hub": {"mass_kg": -1.0}}, "reject", ("hub.mass_kg",)),
+        ("hub = 5 in the child", {"hub": 5}, "reject", ("hub",)),
+        ("[engine] bogus = 1 in the child", {"engine": {"bogus": 1}}, "reject", ("engine.bogus",)),
+        (
+            '[cubesat_layout] mass_kg = "3.5"',
+            {"cubesat_layout": {"mass_kg": "3.5"}},
+            "reject",
+            ("cubesat_layout.mass_kg",),
+        ),
+        (
+            "[[arrays]] of one array without hinge_corner_m (the list replaces the paper's)",
+            {"arrays": [no_hinge]},
+            "reject",
+            ("arrays[0].hinge_corner_m",),
+        ),
+        (
+            "hub.mass_kg = 450 (valid override, control)",
+            {"hub": {"mass_kg": 450.0}},
+            "ok",
+            (),
+        ),
+        (
+            "the old [cubesats] table (per_face, mass_kg, inertia_kgm2)",
+            {"cubesats": old_cubesats},
+            "reject",
+            ("cubesats",),
+        ),
+        (
+            "[cubesat_layout] per_face = 2 (merged into the paper's face_corners layout)",
+            {"cubesat_layout": {"per_face": 2}},
+            "reject",
+            ("cubesat_layout.per_face",),
+        ),
+        (
+            "[[cubesats]] list and [cubesat_layout] both",
+            {"cubesats": two, "cubesat_layout": {"mass_kg": 3.0}},
+            "reject",
+            ("cubesats", "cubesat_layout"),
+        ),
+        (
+            "[[cubesats]] of two CubeSats (replaces the paper's layout, control)",
+            {"cubesats": two},
+            "ok",
+            (),
+        ),
+        ("arrays = [] (a rigid debris, control)", {"arrays": []}, "ok", ()),
+        (
+            "[[arrays]] of one array without modes (a rigid appendage, control)",
+            {"arrays": [rigid]},
+            "ok",
+            (),
+        ),
+    ]
 
 
 def _child_override_entries(files: _Files) -> None:
-    """Overrides of the paper's keys in a child, and a valid one (control)."""
+    """Overrides of the paper's keys in a child, valid ones as controls."""
     paper_path = str(problems_dir() / "paper.toml")
-    for desc, body, names in _OVERRIDES:
+    for desc, body, expect, names in _overrides():
         text = toml_dumps({"extends": paper_path, "name": "child", **body})
         files.add(
             f"child of the paper: {desc}",
             text,
             None,
             "override",
+            expect,
             names=names,
             category="child-override",
         )
-    text = toml_dumps({"extends": paper_path, "name": "child", "hub": {"mass_kg": 450.0}})
-    files.add(
-        "child of the paper: hub.mass_kg = 450 (valid override, control)",
-        text,
-        None,
-        "override",
-        "ok",
-        category="child-override",
-    )
 
 
 def child_entries() -> list[Entry]:

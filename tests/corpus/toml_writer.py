@@ -61,13 +61,17 @@ def is_table_array(value: Any) -> bool:
 
 
 def toml_dumps(data: dict[str, Any]) -> str:
-    """TOML text for parsed TOML data (tables as headers, arrays of tables as [[...]])."""
+    """TOML text for parsed TOML data (tables as headers, arrays of tables as [[...]]).
+
+    An entry of an array of tables is written like a table, its own tables and
+    arrays of tables under it (``[[arrays]]`` then ``[[arrays.modes]]``).
+    """
     lines: list[str] = []
 
-    def table(prefix: tuple[str, ...], body: dict[str, Any]) -> None:
+    def table(prefix: tuple[str, ...], body: dict[str, Any], header: str = "[{}]") -> None:
         if prefix:
             lines.append("")
-            lines.append("[" + ".".join(toml_key(k) for k in prefix) + "]")
+            lines.append(header.format(".".join(toml_key(k) for k in prefix)))
         for key, value in body.items():
             if not isinstance(value, dict) and not is_table_array(value):
                 lines.append(f"{toml_key(key)} = {toml_value(value)}")
@@ -77,10 +81,7 @@ def toml_dumps(data: dict[str, Any]) -> str:
         for key, value in body.items():
             if is_table_array(value):
                 for item in value:
-                    lines.append("")
-                    lines.append("[[" + ".".join(toml_key(k) for k in (*prefix, key)) + "]]")
-                    for k, v in item.items():
-                        lines.append(f"{toml_key(k)} = {toml_value(v)}")
+                    table((*prefix, key), item, "[[{}]]")
 
     table((), data)
     return "\n".join(lines) + "\n"

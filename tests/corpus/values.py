@@ -1,9 +1,11 @@
 """The in-process corpus: every value of the shipped problems replaced by each bad value.
 
 Generated from ``paper.toml`` and ``paper_slew.toml`` (flattened onto the paper
-by the package's own merge): every value replaced by zero, negative, NaN, inf,
-1e308, subnormal, huge integers, strings, booleans, wrong shapes and nestings;
-every key deleted; unknown keys; broken ``extends``. Run by
+by the package's own merge), and from the paper with its CubeSats as a
+``[[cubesats]]`` list (``paper_list``: the list and its first CubeSat only, the
+other 23 are alike): every value replaced by zero, negative, NaN, inf, 1e308,
+subnormal, huge integers, strings, booleans, wrong shapes and nestings; every
+key deleted; unknown keys; broken ``extends``. Run by
 ``tests/test_config_corpus.py`` through ``model`` and ``budget`` in-process.
 Case ids: ``<problem>:<dotted path>=<index of the bad value>``, ``:deleted``,
 ``:unknown``, ``:short``, ``:long``, and ``extends=<i>``.
@@ -17,7 +19,7 @@ import math
 from collections.abc import Iterator
 from typing import Any
 
-from .shipped import flattened, problems_dir
+from .shipped import flattened, paper_cubesat_list, problems_dir
 from .toml_writer import is_table_array, toml_dumps
 
 BAD_VALUES: list[Any] = [
@@ -64,9 +66,14 @@ def _with(data: dict[str, Any], path: tuple, value: Any = None, delete: bool = F
     return changed
 
 
-def _node_cases(origin: str, data: dict[str, Any]) -> Iterator[tuple[str, str]]:
-    """Every node of one problem: each bad value, deleted, an unknown key, lengths."""
+def _node_cases(origin: str, data: dict[str, Any], under: tuple = ()) -> Iterator[tuple[str, str]]:
+    """Every node of one problem: each bad value, deleted, an unknown key, lengths.
+
+    With ``under``, only the nodes on that path and below it.
+    """
     for path, original in _paths(data):
+        if path[: len(under)] != under[: len(path)]:
+            continue
         label = f"{origin}:{'.'.join(map(str, path))}"
         for i, bad in enumerate(BAD_VALUES):
             if bad != original or type(bad) is not type(original):
@@ -88,6 +95,7 @@ def value_cases() -> list[tuple[str, str]]:
     cases: list[tuple[str, str]] = []
     for origin in ("paper", "paper_slew"):
         cases.extend(_node_cases(origin, flattened(origin)))
+    cases.extend(_node_cases("paper_list", paper_cubesat_list(), under=("cubesats", 0)))
     paper = problems_dir() / "paper.toml"
     for i, target in enumerate(["absent.toml", ".", "SELF", 5, "", str(paper) + "\\u0000"]):
         value = json.dumps(target) if isinstance(target, str) else str(target)
