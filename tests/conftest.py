@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import copy
+import logging
 import os
 import shutil
 import tempfile
 import tomllib
+from collections.abc import Iterator
 from typing import Any
 
 import pytest
@@ -28,6 +30,21 @@ def pytest_configure(config: pytest.Config) -> None:
         folder = tempfile.mkdtemp(prefix="casadi_debris-test-jit-")
         os.environ["CASADI_DEBRIS_JIT_CACHE"] = folder
         config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
+
+
+@pytest.fixture(autouse=True)
+def _toolkit_logger_restored() -> Iterator[None]:
+    """Undo what a command run in-process does to the toolkit's logger.
+
+    The command line gives the ``casadi_debris`` logger its own stderr handler and
+    stops it propagating; a later test reading records through ``caplog`` (which
+    listens at the root) would otherwise see none.
+    """
+    logger = logging.getLogger("casadi_debris")
+    handlers, propagate, level = list(logger.handlers), logger.propagate, logger.level
+    yield
+    logger.handlers[:] = handlers
+    logger.propagate, logger.level = propagate, level
 
 
 @pytest.fixture(scope="session")
