@@ -71,7 +71,7 @@ BAD_VALUES = [
     ("arrays[1].damping_ratio", 1.5, "below"),
     ("arrays[0].direction", "+w", "signed axis"),
     ("arrays[0].direction", [0.0, 0.0, 0.0], "must not be zero"),
-    ("arrays[0].direction", "+z", "points into"),
+    ("arrays[0].direction", "+z", "does not point out of the hub"),
     ("arrays[0].hinge_corner_m", [0.4, 1.4, 0.3], "not on the hub's surface"),
     ("arrays[1].hinge_corner_m", [0.4, 5.0, 1.0], "not on the hub's surface"),
     ("cubesat_layout.per_face", 3, "face_corners places 4"),

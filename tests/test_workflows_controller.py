@@ -56,7 +56,11 @@ def test_a_layout_and_the_list_it_expands_to_are_one_plant(tmp_path: Path) -> No
             f'face = "{cubesat.face}"',
         ]
         for engine in cubesat.engines:
-            lines += ["[[cubesats.engines]]", f"direction = {engine.direction.tolist()}"]
+            # Written as the signed axis a user would type: the layout's directions carry
+            # -0.0 components, which must not make it another plant.
+            axis = "xyz"[int(abs(engine.direction).argmax())]
+            sign = "+" if engine.direction.sum() > 0 else "-"
+            lines += ["[[cubesats.engines]]", f'direction = "{sign}{axis}"']
     explicit = load_problem(_write(tmp_path / "explicit.toml", "\n".join(lines) + "\n"))
     assert explicit.cubesat_layout is None and len(explicit.cubesats) == 24
     assert explicit.plant_sha256 == paper.plant_sha256

@@ -87,8 +87,8 @@ def check_on_surface(
     if not any(sign * direction[axis] > 1e-9 for axis, sign in faces):
         raise t.error(
             t.key("direction"),
-            f"{direction.tolist()} points into the hub from the hinge at {point.tolist()} m; "
-            "an array extends outward from the face its hinge is on",
+            f"{direction.tolist()} does not point out of the hub from the hinge at "
+            f"{point.tolist()} m; an array extends outward from the face its hinge is on",
         )
 
 

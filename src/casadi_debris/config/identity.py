@@ -50,7 +50,7 @@ def _plain(value: Any) -> Any:
     if isinstance(value, bool) or value is None or isinstance(value, str):
         return value
     if isinstance(value, int | float | np.number):
-        return repr(float(value))  # 3 and 3.0 are one plant
+        return repr(float(value) + 0.0)  # 3 and 3.0 are one plant, and so are -0.0 and 0.0
     raise TypeError(f"cannot hash {type(value).__name__}")
 
 
