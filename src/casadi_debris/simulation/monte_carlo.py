@@ -400,8 +400,6 @@ def run_campaign(
     cases = list(cases)
     if workers < 1:
         raise SimulationError(f"workers must be at least 1, got {workers}")
-    by_id: dict[str, CaseOutcome] = {}
-    failures: list[CaseFailure] = []
     try:
         with (
             _build_folder(build_folder),
@@ -414,21 +412,33 @@ def run_campaign(
                 item_id=_case_id,
             ) as finished,
         ):
-            for item in finished:
-                if isinstance(item, ItemFailure):
-                    failure = CaseFailure(item.item, item.error_type, item.message, item.traceback)
-                    failures.append(failure)
-                    if on_failure is not None:
-                        on_failure(failure)
-                    continue
-                by_id[item.value.case.case_id] = item.value
-                if on_result is not None:
-                    on_result(item.value)
+            by_id, failures = _collect(finished, on_result, on_failure)
     except SchedulerUnavailableError as exc:
         raise SchedulerError(str(exc)) from exc
     if failures and on_failure is None:
         raise CasesFailedError(failures)
     return [by_id[case.case_id] for case in cases if case.case_id in by_id]
+
+
+def _collect(
+    finished: Iterable[Any],
+    on_result: Callable[[CaseOutcome], None] | None,
+    on_failure: Callable[[CaseFailure], None] | None,
+) -> tuple[dict[str, CaseOutcome], list[CaseFailure]]:
+    """Outcomes by case id and the failures, calling back on each as it comes."""
+    by_id: dict[str, CaseOutcome] = {}
+    failures: list[CaseFailure] = []
+    for item in finished:
+        if isinstance(item, ItemFailure):
+            failure = CaseFailure(item.item, item.error_type, item.message, item.traceback)
+            failures.append(failure)
+            if on_failure is not None:
+                on_failure(failure)
+            continue
+        by_id[item.value.case.case_id] = item.value
+        if on_result is not None:
+            on_result(item.value)
+    return by_id, failures
 
 
 @contextlib.contextmanager

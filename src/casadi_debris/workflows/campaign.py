@@ -185,12 +185,11 @@ def run_campaign_folder(
     ----------
     problem : Problem
     controller_path : str or Path, optional
-        Controller file (default the shipped paper controller, for the paper's plant only:
-        see :func:`~casadi_debris.workflows.controller.controller_for`).
+        Controller file (default the shipped one; see
+        :func:`~casadi_debris.workflows.controller.controller_for`).
     selection : CaseSelection
     out : str or Path
-        Campaign folder; see :mod:`casadi_debris.report.campaign_folder` for
-        what it holds and how a resume is checked.
+        Campaign folder (see :mod:`casadi_debris.report.campaign_folder`).
     workers : int
         Local processes.
     scheduler : str, optional
@@ -216,9 +215,8 @@ def run_campaign_folder(
     CampaignInterrupted
         On Ctrl-C; the finished cases stay for a resume.
     CasesFailedError
-        Every case raised (a case that raises is otherwise recorded in
-        ``cases/<id>.failed.json`` and the summary's ``failed_cases``, and
-        the campaign goes on without it).
+        Every case raised (otherwise a raising case is recorded in
+        ``cases/<id>.failed.json`` and ``failed_cases``, and the rest go on).
     """
     out = Path(out)
     if scheduler is not None:
@@ -227,8 +225,7 @@ def run_campaign_folder(
     record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     model = build_model(problem)
     cases = selection.cases(problem, model)
-    reference = scenario_reference(problem)
-    setup = CampaignSetup.create(problem, record.reduced, reference, jit=jit)
+    setup = CampaignSetup.create(problem, record.reduced, scenario_reference(problem), jit=jit)
     identity = _identity(setup, cases, resolved)
     with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
         done = folder.finished_cases(cases)
@@ -244,14 +241,20 @@ def run_campaign_folder(
             "resumed_cases": len(done),
             "compiled_step": bool(jit and c_compiler()),
             "out_dir": str(out.absolute()),
-            "failed_cases": [
-                {"case_id": f.case.case_id, "error_type": f.error_type, "message": f.message}
-                for f in failures
-            ],
+            "failed_cases": [_failure_record(f) for f in failures],
         }
         summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
         folder.finish()
     return summary
+
+
+def _failure_record(failure: CaseFailure) -> dict[str, str]:
+    """A failed case as the summary lists it."""
+    return {
+        "case_id": failure.case.case_id,
+        "error_type": failure.error_type,
+        "message": failure.message,
+    }
 
 
 def _summarise_and_write(
