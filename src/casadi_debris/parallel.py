@@ -120,6 +120,8 @@ class ItemFailure(Generic[T]):
     exception : Exception or None
         The exception itself when it could be sent back from the worker
         (:meth:`reraise` raises it), None when it cannot be pickled.
+    remote : bool
+        Whether it was raised in another process (a worker).
     """
 
     index: int
@@ -129,6 +131,7 @@ class ItemFailure(Generic[T]):
     message: str
     traceback: str
     exception: Exception | None = field(default=None, repr=False, compare=False)
+    remote: bool = False
 
     def reraise(self) -> NoReturn:
         """Raise the item's exception in this process (its worker's traceback as its cause).
@@ -142,7 +145,7 @@ class ItemFailure(Generic[T]):
         error = self.exception
         if error is None:
             error = RuntimeError(f"item {self.item_id}: {self.error_type}: {self.message}")
-        if error.__traceback__ is None:  # raised in another process
+        if self.remote or error.__traceback__ is None:  # raised in another process
             raise error from RemoteError(self.traceback)
         raise error
 
@@ -418,6 +421,8 @@ def _outcome(
     item: Any,
     returned: _Succeeded | _Raised | _StartFailed,
     names: Callable[[Any], str] | None,
+    *,
+    remote: bool = True,
 ) -> Outcome:
     if isinstance(returned, _StartFailed):
         raised = returned.raised
@@ -434,6 +439,7 @@ def _outcome(
             returned.message,
             returned.traceback,
             returned.exception,
+            remote,
         )
     return ItemResult(index, item, returned.value)
 
@@ -445,7 +451,7 @@ def _serial_map(
         return
     worker = _Worker(job, job.initializer())  # its exception is the caller's to see
     for index, item in enumerate(items):
-        yield _outcome(index, item, _call(worker, item, crosses=False), names)
+        yield _outcome(index, item, _call(worker, item, crosses=False), names, remote=False)
 
 
 def _process_map(
