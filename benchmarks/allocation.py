@@ -22,6 +22,8 @@ Prints JSON (``--record``: also to ``docs/benchmarks/allocation.json``, see
   loop of ``allocate`` calls over the same history, per step, in the same
   run; each series run starts from a fresh allocator (no remembered active
   sets), its authority polytope built beforehand and timed on its own.
+- ``engines_scaling``: ``allocate`` (DAQP) with the paper's 24 engines and with 48
+  (eight CubeSats on a grid on each face), medians and their ratio in one run.
 
 Usage: python benchmarks/allocation.py [--calls N] [--solvers daqp,osqp] [--series-steps K]
        [--series-repeats R] [--quick] [--record] [--out FILE] [--note TEXT]
@@ -35,12 +37,14 @@ from __future__ import annotations
 import argparse
 import math
 import time
+import tomllib
 
 import numpy as np
 from scipy.optimize import linprog
 
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PseudoInverseAllocator, available_solvers
+from casadi_debris.config import default_problem_path, problem_from_dict
 from casadi_debris.geometry import build_geometry
 from recording import Recording, add_options, resolve
 
@@ -164,6 +168,25 @@ def series_benchmark(problem, geometry, authority: dict[str, float], steps: int,
     }
 
 
+def engines_scaling(problem, rng: np.random.Generator, calls: int) -> dict:
+    """Median ``allocate`` time (DAQP) with the paper's 24 engines and with 48, in one run.
+
+    The 48-engine swarm is the paper's debris with eight CubeSats on a grid on each face
+    (``face_grid``, main engines only); demands are 0.9 of each swarm's weakest axis.
+    """
+    data = tomllib.loads(default_problem_path().read_text())
+    data["cubesat_layout"] |= {"kind": "face_grid", "per_face": 8}
+    timings = {}
+    for label, swarm in (("24", problem), ("48", problem_from_dict(data, "48 engines"))):
+        allocator = Allocator.from_problem(swarm)
+        torques = demands(rng, calls, min(allocator.torque_authority().values()), 0.9)
+        allocator.allocate(torques[0])
+        wall, _ = time_calls(allocator.allocate, torques)
+        timings[label] = {"engines": allocator.n_engines, **percentiles_us(wall)}
+    timings["ratio_48_to_24"] = timings["48"]["median_us"] / timings["24"]["median_us"]
+    return timings
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--calls", type=int, help="demands per back-end and case (2000)")
@@ -241,6 +264,7 @@ def main() -> None:
 
     tiny = tiny_benchmark(problem, geometry, rng, min(500, args.calls))
     series = series_benchmark(problem, geometry, authority, args.series_steps, args.series_repeats)
+    scaling = engines_scaling(problem, rng, args.calls)
 
     recording.finish(
         settings,
@@ -258,6 +282,7 @@ def main() -> None:
             "saturation": saturation,
             "tiny": tiny,
             "series": series,
+            "engines_scaling": scaling,
         },
     )
 
