@@ -18,10 +18,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.allocation import stage_propellant_kg
-from casadi_debris.config import AXIS_NAMES, Engine, Problem
+from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
-from casadi_debris.units import M_PER_KM, MN_PER_N, SECONDS_PER_HOUR
+from casadi_debris.units import M_PER_KM, SECONDS_PER_HOUR
 
 
 def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_kg: float) -> float:
@@ -29,19 +28,9 @@ def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_k
     return isp_s * g0_m_s2 * math.log(initial_mass_kg / (initial_mass_kg - propellant_kg))
 
 
-def engine_stage_propellant_kg(engine: Engine, standard_gravity_m_s2: float) -> float:
-    """Propellant of one stage of an engine: thrust x life / (Isp g0) [kg]."""
-    return stage_propellant_kg(
-        engine.thrust_per_stage_mN / MN_PER_N,
-        engine.stage_life_h * SECONDS_PER_HOUR,
-        engine.isp_s,
-        standard_gravity_m_s2,
-    )
-
-
 def problem_stage_propellant_kg(problem: Problem) -> float:
     """Propellant of one stage of the problem's first engine [kg]."""
-    return engine_stage_propellant_kg(problem.engines[0], problem.constants.standard_gravity_m_s2)
+    return problem.engines[0].stage_propellant_kg(problem.constants.standard_gravity_m_s2)
 
 
 def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:
@@ -76,7 +65,7 @@ def burn_dv_m_s(problem: Problem, initial_mass_kg: float, stages: dict[int, int]
     g0 = problem.constants.standard_gravity_m_s2
     engines = problem.engines
     burnt = {
-        index: min(count, engines[index].stages) * engine_stage_propellant_kg(engines[index], g0)
+        index: min(count, engines[index].stages) * engines[index].stage_propellant_kg(g0)
         for index, count in stages.items()
     }
     propellant = sum(burnt.values())

@@ -38,7 +38,7 @@ from casadi_debris.allocation.state_input import (
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.geometry import Geometry
-from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
+from casadi_debris.units import MN_PER_N
 
 # Propellant below this fraction of a stage's load counts as spent: it avoids
 # a stage that lingers on a rounding residue for one more step.
@@ -229,9 +229,7 @@ class PropulsionState:
         for row, engine in enumerate(engines):
             thrust_N = engine.thrust_per_stage_mN / MN_PER_N
             thrust[row, : engine.stages] = thrust_N
-            capacity[row, : engine.stages] = stage_propellant_kg(
-                thrust_N, engine.stage_life_h * SECONDS_PER_HOUR, engine.isp_s, g0
-            )
+            capacity[row, : engine.stages] = engine.stage_propellant_kg(g0)
         # Stages an engine lacks have no thrust either: give them the first stage's, so
         # that limits stay finite; with no propellant they never fire.
         thrust = np.where(capacity > 0, thrust, thrust[:, :1])

@@ -256,9 +256,9 @@ def check_propellant(
 ) -> None:
     """Refuse CubeSats whose engines' propellant (all stages) is not below the CubeSat's mass.
 
-    A stage burns ``thrust x life / (Isp g0)`` [kg] (as
-    :func:`casadi_debris.allocation.stage_propellant_kg` computes it); a
-    CubeSat carries that for every stage of every engine. It cannot weigh more
+    A stage burns ``thrust x life / (Isp g0)`` [kg]
+    (:meth:`~casadi_debris.config.Engine.stage_propellant_kg`); a CubeSat
+    carries that for every stage of every engine. It cannot weigh more
     than the CubeSat itself, and the rocket equation's logarithm would fail if it
     did.
 

@@ -14,7 +14,7 @@ from typing import Literal
 import numpy as np
 
 from casadi_debris.config.identity import plant_sha256
-from casadi_debris.units import N_PER_MN, SECONDS_PER_HOUR
+from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
 SignedAxis = Literal["+x", "-x", "+y", "-y", "+z", "-z"]
@@ -130,11 +130,14 @@ class Engine:
     stage_life_h: float
 
     def stage_propellant_kg(self, standard_gravity_m_s2: float) -> float:
-        """Propellant one stage burns over its life: thrust x life / (Isp g0) [kg]."""
-        thrust_N = self.thrust_per_stage_mN * N_PER_MN
-        return (
-            thrust_N * self.stage_life_h * SECONDS_PER_HOUR / (self.isp_s * standard_gravity_m_s2)
-        )
+        """Propellant one stage burns over its life: thrust x life / (Isp g0) [kg].
+
+        The one statement of a stage's load: the loader's propellant check, the
+        propulsion state's capacities and the budgets all take it from here.
+        """
+        thrust_N = self.thrust_per_stage_mN / MN_PER_N
+        life_s = self.stage_life_h * SECONDS_PER_HOUR
+        return thrust_N * life_s / (self.isp_s * standard_gravity_m_s2)
 
 
 @dataclass(frozen=True, eq=False)
