@@ -37,7 +37,7 @@ from casadi_debris.allocation.authority import AuthorityPolytope, authority_poly
 from casadi_debris.allocation.backends import UnknownSolverError, available_solvers
 from casadi_debris.allocation.baseline import PseudoInverseAllocator
 from casadi_debris.allocation.demand import DemandError
-from casadi_debris.allocation.propulsion import PropulsionState, StageEvent, stage_propellant_kg
+from casadi_debris.allocation.propulsion import PropulsionState, StageEvent
 
 __all__ = [
     "DEFAULT_SOLVER",
@@ -56,5 +56,4 @@ __all__ = [
     "UnknownSolverError",
     "authority_polytope",
     "available_solvers",
-    "stage_propellant_kg",
 ]

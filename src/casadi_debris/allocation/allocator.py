@@ -70,7 +70,7 @@ from casadi_debris.allocation.scaled_qp import ScaledQp
 from casadi_debris.allocation.series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError
-from casadi_debris.geometry import Geometry, build_geometry
+from casadi_debris.geometry import Geometry, build_geometry, max_thrust_N
 
 __all__ = [
     "DEFAULT_SOLVER",
@@ -214,11 +214,7 @@ class Allocator(SolvePaths):
         saturation : {"scale", "least_squares"}
         """
         geometry = geometry or build_geometry(problem)
-        limits = (
-            state.max_thrust_N()
-            if state is not None
-            else np.array([e.max_thrust_N for e in geometry.engines])
-        )
+        limits = state.max_thrust_N() if state is not None else max_thrust_N(geometry)
         isp = {engine.isp_s for engine in problem.engines}
         if len(isp) > 1:
             # Least total thrust is least fuel only when every engine has one Isp.

@@ -122,9 +122,9 @@ def authority_polytope(
     Example
     -------
     >>> from casadi_debris import load_problem
-    >>> from casadi_debris.geometry import build_geometry
+    >>> from casadi_debris.geometry import build_geometry, max_thrust_N
     >>> g = build_geometry(load_problem())
-    >>> limits = [e.max_thrust_N for e in g.engines]
+    >>> limits = max_thrust_N(g)
     >>> polytope = authority_polytope(g.torque_map, g.force_map, limits)
     >>> round(float(polytope.scale([1.0, 0.0, 0.0])) * 1e3, 3)  # mNm about +x
     4.608

@@ -51,25 +51,6 @@ BoolArray = npt.NDArray[np.bool_]
 IntArray = npt.NDArray[np.int_]
 
 
-def stage_propellant_kg(
-    thrust_N: float, life_s: float, isp_s: float, standard_gravity_m_s2: float
-) -> float:
-    """Propellant of one stage: thrust x life / (Isp g0) [kg].
-
-    Parameters
-    ----------
-    thrust_N : float
-        Full thrust of the stage [N].
-    life_s : float
-        Rated firing life at full thrust [s].
-    isp_s : float
-        Specific impulse [s].
-    standard_gravity_m_s2 : float
-        g0 [m/s^2].
-    """
-    return thrust_N * life_s / (isp_s * standard_gravity_m_s2)
-
-
 @dataclass(frozen=True)
 class StageEvent:
     """A stage of one engine ran dry during :meth:`PropulsionState.advance`.
