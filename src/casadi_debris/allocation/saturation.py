@@ -13,7 +13,7 @@ simplex solves both LPs (:func:`rescue`).
 from __future__ import annotations
 
 import time
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -151,31 +151,15 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
     AllocationError
         HiGHS found no solution either.
     """
-    from scipy.optimize import linprog
-
     start = time.perf_counter()
     n = qp.n
     rows = qp.rows(free_force)
     a_eq = np.hstack([rows, -target[:, None]])
     bounds = [*zip(np.zeros(n), qp.upper, strict=True), (0.0, 1.0)]
-    zeros = np.zeros(len(rows))
     largest_alpha_cost = np.append(np.zeros(n), -1.0)
-    best = linprog(
-        largest_alpha_cost,
-        A_eq=a_eq,
-        b_eq=zeros,
-        bounds=bounds,
-        method="highs",
-        options={
-            "primal_feasibility_tolerance": RESCUE_TOLERANCE,
-            "dual_feasibility_tolerance": RESCUE_TOLERANCE,
-        },
-    )
+    best = _highs(largest_alpha_cost, a_eq, bounds, tight=True)
     if best.status != 0:
-        # HiGHS' default tolerances.
-        best = linprog(
-            largest_alpha_cost, A_eq=a_eq, b_eq=zeros, bounds=bounds, method="highs", options={}
-        )
+        best = _highs(largest_alpha_cost, a_eq, bounds, tight=False)
     if best.status != 0 or best.x is None:
         raise AllocationError(
             f"{qp.solver} and the HiGHS rescue found no allocation for "
@@ -183,8 +167,26 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
         )
     alpha = float(best.x[-1])
     bounds[-1] = (alpha * (1.0 - BOUNDARY_BACKOFF[-1]), 1.0)
-    frugal = linprog(
-        np.append(np.ones(n), 0.0),
+    frugal = _highs(np.append(np.ones(n), 0.0), a_eq, bounds, tight=True)
+    x = frugal.x if frugal.status == 0 and frugal.x is not None else best.x
+    alpha = float(np.clip(x[-1], 0.0, 1.0))
+    if alpha * float(np.abs(target).max()) <= ALPHA_RESOLUTION:
+        return np.zeros(n), 0.0, time.perf_counter() - start
+    return x[:n], alpha, time.perf_counter() - start
+
+
+def _highs(
+    cost: np.ndarray, a_eq: np.ndarray, bounds: list[tuple[float, float]], *, tight: bool
+) -> Any:
+    """HiGHS on ``min cost x, a_eq x = 0`` within ``bounds``: the rescue's tight tolerances,
+    or HiGHS' defaults."""
+    from scipy.optimize import linprog  # imported when a rescue is needed, not at start-up
+
+    zeros = np.zeros(a_eq.shape[0])
+    if not tight:
+        return linprog(cost, A_eq=a_eq, b_eq=zeros, bounds=bounds, method="highs", options={})
+    return linprog(
+        cost,
         A_eq=a_eq,
         b_eq=zeros,
         bounds=bounds,
@@ -194,11 +196,6 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
             "dual_feasibility_tolerance": RESCUE_TOLERANCE,
         },
     )
-    x = frugal.x if frugal.status == 0 and frugal.x is not None else best.x
-    alpha = float(np.clip(x[-1], 0.0, 1.0))
-    if alpha * float(np.abs(target).max()) <= ALPHA_RESOLUTION:
-        return np.zeros(n), 0.0, time.perf_counter() - start
-    return x[:n], alpha, time.perf_counter() - start
 
 
 def least_squares(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSolution:
