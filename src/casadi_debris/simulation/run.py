@@ -186,14 +186,11 @@ class ClosedLoopResult:
 
     @property
     def exhaust_velocity_m_s(self) -> float:
-        """The engines' exhaust velocity, or the fuel-weighted mean when they differ [m/s]."""
+        """The engines' one exhaust velocity [m/s] (the allocator flies one Isp only)."""
         exhaust = self.propulsion.exhaust_velocity_m_s
-        if np.all(exhaust == exhaust[0]):
-            return float(exhaust[0])
-        fuel = self.fuel_per_engine_kg
-        if fuel.sum() <= 0.0:
-            return float(np.mean(exhaust))
-        return float(np.sum(fuel * exhaust) / fuel.sum())
+        if not np.all(exhaust == exhaust[0]):
+            raise SimulationError("the run's engines have different Isp; the allocator needs one")
+        return float(exhaust[0])
 
     def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
         """First instant after which every error component stays inside ``band_rad``.
@@ -218,12 +215,7 @@ class ClosedLoopResult:
         if self.slew_window_s is not None:
             start, end = self.slew_window_s
             inside = (self.time_s[:-1] >= start) & (self.time_s[:-1] < end)
-            engines = self.propulsion.exhaust_velocity_m_s
-            if np.all(engines == engines[0]):
-                burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
-            else:
-                impulse = self.thrust_N[inside].sum(axis=0) * self.control_period_s
-                burnt = float(np.sum(impulse / engines))
+            burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
             slew = {"slew_start_s": start, "slew_end_s": end, "fuel_slew_kg": float(burnt)}
         return {
             "max_error_deg": math.degrees(max_error),
