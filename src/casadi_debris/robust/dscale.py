@@ -76,10 +76,17 @@ def _fit_block(
     lower = np.concatenate([[float(np.min(log_d)) - GAIN_MARGIN], np.full(2 * order, low)])
     upper = np.concatenate([[float(np.max(log_d)) + GAIN_MARGIN], np.full(2 * order, high)])
     root = np.sqrt(weight)
+
+    def residual(t: np.ndarray) -> np.ndarray:
+        return root * (_log_magnitude(t, log_omega, order) - log_d)
+
+    def jacobian(t: np.ndarray) -> np.ndarray:
+        return root[:, None] * _log_magnitude_jacobian(t, log_omega, order)
+
     fit = least_squares(
-        lambda t: root * (_log_magnitude(t, log_omega, order) - log_d),
+        residual,
         theta,
-        jac=lambda t: root[:, None] * _log_magnitude_jacobian(t, log_omega, order),
+        jac=jacobian,
         bounds=(lower, upper),
         method="trf",
         x_scale="jac",

@@ -4,16 +4,17 @@
 seconds, or fail, on D-scaled plants; a fixed-gamma solve (SB10AD, job 4)
 takes milliseconds. Whether such a solve succeeds depends on how the
 realisation is scaled: a D-scaled plant's raw realisation (cond(A) ~ 1e24)
-fails everywhere, while a minimal and balanced one of a plant with a
+fails everywhere, while a minimal and A-balanced one of a plant with a
 near-integrator (the distillation column's performance weight, pole at
 -1e-6 rad/s) returns controllers whose loop is 40 times worse than the
 gamma they were built for. So each gamma is tried on several realisations of
-the same transfer function (real Schur form, as given, minimal and balanced,
-diagonally balanced), the one that last worked first, and a solve only counts when the
-controller it returns, closed around the plant *as given*, is stable with an
-H-infinity norm at most ``(1 + NORM_SLACK)`` gamma. The controller returned is
-the smallest-norm verified controller met on the way, and its norm is the
-closed loop's, recomputed, never the gamma it was built for.
+the same transfer function (system-balanced then in real Schur form; minimal
+and system-balanced; as given; minimal in Schur form), the one that last
+worked first, and a solve only counts when the controller it returns, closed
+around the plant *as given*, is stable with an H-infinity norm at most
+``(1 + NORM_SLACK)`` gamma. The controller returned is the smallest-norm
+verified controller met on the way, and its norm is the closed loop's,
+recomputed, never the gamma it was built for.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ GAMMA_CEILING = 1e8
 # failed solve that did not report itself.
 NORM_SLACK = 0.05
 TIGHT = 1e-3
+NORM_TOLERANCE = 1e-5  # relative accuracy of the verifying H-infinity norms (AB13DD)
 
 _log = logging.getLogger(__name__)
 
@@ -56,7 +58,7 @@ class HinfResult:
         Its H-infinity norm (achieved, recomputed on the plant as given).
     realisation : str
         Realisation of the plant the controller was computed on ("schur",
-        "as given", "minimal" or "balanced").
+        "minimal", "as given" or "minimal schur").
     """
 
     controller: control.StateSpace
@@ -106,13 +108,43 @@ def well_conditioned(system: control.StateSpace) -> control.StateSpace:
     return balanced(control.minreal(system, verbose=False))
 
 
+def system_balanced(system: control.StateSpace) -> control.StateSpace:
+    """Diagonal balancing of the whole system matrix [[A, B], [C, 0]] (SLICOT TB01ID).
+
+    Balancing A alone leaves a (block) diagonal A as it is, however badly its
+    states are scaled against B and C; the system matrix pins them down.
+
+    Parameters
+    ----------
+    system : control.StateSpace
+
+    Returns
+    -------
+    control.StateSpace
+        Same transfer function, states scaled by powers of 2.
+    """
+    if system.nstates == 0 or system.ninputs == 0 or system.noutputs == 0:
+        return system
+    _, a, b, c, _ = slycot.tb01id(
+        system.nstates,
+        system.ninputs,
+        system.noutputs,
+        0.0,
+        np.array(system.A, dtype=float),
+        np.array(system.B, dtype=float),
+        np.array(system.C, dtype=float),
+        job="A",
+    )
+    return control.ss(a, b, c, system.D)
+
+
 def schur(system: control.StateSpace) -> control.StateSpace:
     """Real Schur realisation: A upper quasi-triangular by an orthogonal change of state.
 
     Orthogonal, so no entry grows; the modes come out ordered and decoupled
     below the diagonal, which is what lets SB10AD solve plants whose realisation
-    as composed (weights, D-scales in companion or cascade form) returns central
-    controllers far from the gamma they were built for.
+    as composed (weights, D-scales) returns central controllers far from the gamma
+    they were built for.
 
     Parameters
     ----------
@@ -128,22 +160,35 @@ def schur(system: control.StateSpace) -> control.StateSpace:
     return control.ss(triangular, basis.T @ system.B, system.C @ basis, system.D)
 
 
+def _minimal(system: control.StateSpace) -> control.StateSpace:
+    return system_balanced(control.minreal(system, verbose=False))
+
+
 _REALISATIONS: dict[str, Callable[[control.StateSpace], control.StateSpace]] = {
-    "schur": schur,
+    "schur": lambda system: schur(system_balanced(system)),
+    "minimal": _minimal,
     "as given": lambda system: system,
-    "balanced": balanced,
-    "minimal": well_conditioned,
+    "minimal schur": lambda system: schur(_minimal(system)),
 }
 
 
 class _Solver:
     """Fixed-gamma solves of one plant over its realisations, verified on the plant as given."""
 
-    def __init__(self, plant: control.StateSpace, n_measurements: int, n_controls: int) -> None:
+    def __init__(
+        self,
+        plant: control.StateSpace,
+        n_measurements: int,
+        n_controls: int,
+        first: str | None = None,
+    ) -> None:
         self.plant = plant
         self.n_measurements = n_measurements
         self.n_controls = n_controls
         self.order = list(_REALISATIONS)
+        if first in self.order:
+            self.order.remove(first)
+            self.order.insert(0, first)
         self._built: dict[str, control.StateSpace | None] = {}
 
     def realisation(self, name: str) -> control.StateSpace | None:
@@ -159,7 +204,7 @@ class _Solver:
         closed = self.plant.lft(controller, self.n_controls, self.n_measurements)
         if closed.nstates and np.max(np.linalg.eigvals(closed.A).real) >= 0:
             return None
-        norm = float(control.linfnorm(closed)[0])
+        norm = float(control.linfnorm(closed, tol=NORM_TOLERANCE)[0])
         if not np.isfinite(norm):
             return None
         return HinfResult(controller, closed, norm, name)
@@ -217,6 +262,7 @@ def hinf_synthesis(
     *,
     gamma_start: float = 1.0,
     tolerance: float = 0.01,
+    first_realisation: str | None = None,
 ) -> HinfResult:
     """Smallest-gamma H-infinity controller, to a relative ``tolerance``.
 
@@ -231,6 +277,9 @@ def hinf_synthesis(
         First gamma tried; multiplied by 4 until feasible.
     tolerance : float
         Relative width of the final bisection interval.
+    first_realisation : str, optional
+        Realisation to try first ("schur", "minimal", "as given", "minimal schur"),
+        e.g. the one that worked on the previous plant of a D-K iteration.
 
     Returns
     -------
@@ -250,7 +299,7 @@ def hinf_synthesis(
     >>> bool(result.gamma > 0)
     True
     """
-    solver = _Solver(plant, n_measurements, n_controls)
+    solver = _Solver(plant, n_measurements, n_controls, first_realisation)
     upper = gamma_start
     found, best = solver.at(upper)
     while found is None:

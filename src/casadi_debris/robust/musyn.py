@@ -121,8 +121,8 @@ class _Problem:
     n_controls: int
 
     @property
-    def sizes(self) -> np.ndarray:
-        return expanded(self.structure)[0]
+    def sizes(self) -> list[int]:
+        return [int(k) for k in expanded(self.structure)[0]]
 
     def closed_loop_mu(
         self, controller: control.StateSpace, omega: np.ndarray
@@ -192,6 +192,7 @@ def _d_step(
     d_orders: Sequence[int],
     responses: np.ndarray,
     mu: MuBound,
+    realisation: str | None = None,
 ) -> _Trial | None:
     """One D-K step: D-scales of each order fitted to the current closed loop, a
     controller for each, and the one of lowest peak mu (None if every order failed)."""
@@ -204,7 +205,9 @@ def _d_step(
                 problem.n_measurements,
                 problem.n_controls,
                 gamma_start=mu.peak,
+                first_realisation=realisation,
             )
+            realisation = result.realisation
             trial_responses, trial_mu = problem.closed_loop_mu(result.controller, omega)
         except SynthesisError as error:
             _log.debug("D-scale order %d: %s", order, error)
@@ -221,6 +224,7 @@ def dk_iteration(
     max_iterations: int = 8,
     tolerance: float = 0.005,
     progress: Callable[[Iteration], None] | None = None,
+    patience: int = 1,
 ) -> MusynResult:
     """mu-synthesis by D-K iteration on the design's generalised plant.
 
@@ -238,12 +242,16 @@ def dk_iteration(
         Stop when the peak mu improves by less than this fraction.
     progress : callable, optional
         Called with each :class:`Iteration` as it completes.
+    patience : int
+        Steps in a row without improvement before stopping.
 
     Returns
     -------
     MusynResult
     """
-    return _iterate(_as_problem(plant), omega, d_orders, max_iterations, tolerance, progress)
+    return _iterate(
+        _as_problem(plant), omega, d_orders, max_iterations, tolerance, progress, patience
+    )
 
 
 def musyn(
@@ -257,6 +265,7 @@ def musyn(
     max_iterations: int = 10,
     tolerance: float = 0.005,
     progress: Callable[[Iteration], None] | None = None,
+    patience: int = 1,
 ) -> MusynResult:
     """mu-synthesis by D-K iteration on any generalised plant.
 
@@ -288,6 +297,9 @@ def musyn(
         Converged when the peak mu improves by less than this fraction.
     progress : callable, optional
         Called with each :class:`Iteration` as it completes.
+    patience : int
+        Steps in a row without improvement before stopping (more can leave a
+        stall at the cost of a step each).
 
     Returns
     -------
@@ -320,7 +332,9 @@ def musyn(
         raise SynthesisError("plant: musyn needs a continuous-time plant")
     grid = default_frequency_grid(plant) if omega is None else np.asarray(omega, dtype=float)
     problem = _Problem(control.ss(plant), structure, n_measurements, n_controls)
-    return _iterate(problem, grid, d_orders, max_iterations, tolerance, progress)
+    if isinstance(patience, bool) or not isinstance(patience, int) or patience < 1:
+        raise SynthesisError(f"patience: a positive integer, got {patience!r}")
+    return _iterate(problem, grid, d_orders, max_iterations, tolerance, progress, patience)
 
 
 def default_frequency_grid(plant: control.StateSpace, per_decade: int = 20) -> np.ndarray:
@@ -355,6 +369,7 @@ def _iterate(
     max_iterations: int,
     tolerance: float,
     progress: Callable[[Iteration], None] | None,
+    patience: int = 1,
 ) -> MusynResult:
     """The D-K loop: first H-infinity design, then D steps until a stop rule holds."""
     start = time.perf_counter()
@@ -367,10 +382,12 @@ def _iterate(
     if progress:
         progress(record)
     best_controller, best_mu = first.controller, mu
+    realisation = first.realisation
     reason = STOP_MAX_ITERATIONS
+    stalled = 0
     for index in range(1, max_iterations + 1):
         step_start = time.perf_counter()
-        trial = _d_step(problem, omega, d_orders, responses, mu)
+        trial = _d_step(problem, omega, d_orders, responses, mu, realisation)
         if trial is None:
             reason = STOP_K_STEP_FAILED
             break
@@ -388,10 +405,12 @@ def _iterate(
         improved = trial.mu.peak < best_mu.peak * (1.0 - tolerance)
         if trial.mu.peak < best_mu.peak:
             best_controller, best_mu = trial.synthesis.controller, trial.mu
-        if not improved:
+        stalled = 0 if improved else stalled + 1
+        if stalled >= patience:
             reason = STOP_CONVERGED
             break
         responses, mu = trial.responses, trial.mu
+        realisation = trial.synthesis.realisation
     if best_mu.peak > 1.0:
         _log.warning(
             "D-K iteration stopped (%s) after %d steps at peak mu %.4g > 1: robust "
