@@ -7,7 +7,9 @@ All in the paper's design units: attitude in deg, torque in mNm.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import control
 import numpy as np
@@ -66,6 +68,22 @@ def performance_weights(problem: Problem) -> PerformanceWeights:
         control_scaling=np.diag(w.control_scaling_mNm),
         disturbance_scaling=np.diag(w.disturbance_scaling_mNm),
     )
+
+
+def recorded_performance_weights(
+    problem: Problem, recorded: Mapping[str, Any]
+) -> PerformanceWeights:
+    """The weights a controller file records (``details["weights"]``), else the problem's.
+
+    A design may derive its Ve, Vu and Vd rather than take ``[weights]``
+    (:mod:`casadi_debris.robust.requirements`); its file records the ones it used.
+    """
+    weights = performance_weights(problem)
+    keys = ("error_scaling_deg", "control_scaling_mNm", "disturbance_scaling_mNm")
+    if not all(key in recorded for key in keys):
+        return weights
+    error, control, disturbance = (np.diag(np.asarray(recorded[k], dtype=float)) for k in keys)
+    return PerformanceWeights(weights.error, weights.control_effort, error, control, disturbance)
 
 
 @dataclass(frozen=True, eq=False)
