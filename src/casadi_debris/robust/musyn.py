@@ -320,6 +320,19 @@ def musyn(
     >>> round(result.mu_peak, 2), result.stop_reason  # doctest: +SKIP
     (1.04, 'converged')
     """
+    problem = _checked_problem(plant, blocks, n_measurements, n_controls, patience)
+    grid = default_frequency_grid(plant) if omega is None else np.asarray(omega, dtype=float)
+    return _iterate(problem, grid, d_orders, max_iterations, tolerance, progress, patience)
+
+
+def _checked_problem(
+    plant: control.StateSpace,
+    blocks: Sequence[BlockLike],
+    n_measurements: int,
+    n_controls: int,
+    patience: int,
+) -> _Problem:
+    """musyn's arguments, checked, as one problem."""
     structure = block_structure(blocks)
     n = total_size(structure)
     if plant.ninputs != n + n_controls or plant.noutputs != n + n_measurements:
@@ -330,11 +343,9 @@ def musyn(
         )
     if not plant.isctime():
         raise SynthesisError("plant: musyn needs a continuous-time plant")
-    grid = default_frequency_grid(plant) if omega is None else np.asarray(omega, dtype=float)
-    problem = _Problem(control.ss(plant), structure, n_measurements, n_controls)
     if isinstance(patience, bool) or not isinstance(patience, int) or patience < 1:
         raise SynthesisError(f"patience: a positive integer, got {patience!r}")
-    return _iterate(problem, grid, d_orders, max_iterations, tolerance, progress, patience)
+    return _Problem(control.ss(plant), structure, n_measurements, n_controls)
 
 
 def default_frequency_grid(plant: control.StateSpace, per_decade: int = 20) -> np.ndarray:
