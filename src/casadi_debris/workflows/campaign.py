@@ -204,9 +204,8 @@ def run_campaign_folder(
     allow_mismatch : bool
         Fly a controller designed for another plant.
     moved_to : (Path, Path), optional
-        ``(staging, final)`` when ``out`` and the controller file lie in a staging
-        folder that will be moved to ``final`` (a report being built): the summaries
-        record the paths they will have.
+        ``(staging, final)``: ``out`` and the controller lie in a report's staging
+        folder, moved to ``final`` later; the summaries record the final paths.
 
     Returns
     -------
@@ -237,20 +236,32 @@ def run_campaign_folder(
         outcomes, failures = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
         if not outcomes:
             raise CasesFailedError(failures)  # nothing to summarise; the folder stays
-        how = {
-            "controller_path": str(_final(resolved, moved_to)),
-            "plant_sha256": problem.plant_sha256,
-            "controller_plant_sha256": record.problem_sha256,
+        how = _identifying(problem, record, resolved, out, moved_to) | {
             "workers": workers,
             "scheduler": scheduler,
             "resumed_cases": len(done),
             "compiled_step": bool(jit and c_compiler()),
-            "out_dir": str(_final(out.absolute(), moved_to)),
             "failed_cases": [_failure_record(f) for f in failures],
         }
         summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
         folder.finish()
     return summary
+
+
+def _identifying(
+    problem: Problem,
+    record: ControllerRecord,
+    controller_path: Path,
+    out: Path,
+    moved_to: tuple[Path, Path] | None,
+) -> dict[str, str]:
+    """The files and plants a campaign summary names (paths as they will end up)."""
+    return {
+        "controller_path": str(_final(controller_path, moved_to)),
+        "plant_sha256": problem.plant_sha256,
+        "controller_plant_sha256": record.problem_sha256,
+        "out_dir": str(_final(out.absolute(), moved_to)),
+    }
 
 
 def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
