@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -205,8 +206,9 @@ class SlewRequest:
             sample_s=self.sample_s,
             flexible_method=self.flexible_method,
             seed=self.seed,
-            **({} if self.starts is None else {"starts": self.starts}),
         )
+        if self.starts is not None:  # else the library's default
+            options = dataclasses.replace(options, starts=self.starts)
         if self.method == "time-optimal":
             return time_optimal_slew(
                 problem, target=target, duration_s=self.duration_s, options=options

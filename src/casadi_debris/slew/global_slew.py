@@ -5,8 +5,8 @@ The order of the solve:
 1. multi-start collocation (:mod:`~casadi_debris.slew.multistart`): the
    eigenaxis bang-bang and seeded symmetry-breaking starts, in parallel;
 2. symmetric images: the shortest few distinct optima mapped by the slew's
-   (near) symmetries (half turns about body axes, time reversal at 180 deg) and
-   solved again, so that starts that went round the wrong way are not lost;
+   (near) symmetries (half turns about body axes) and solved again, so that
+   starts that went round the wrong way are not lost;
 3. switch times (:mod:`~casadi_debris.slew.switch_times`): the best solution's
    bang-bang structure with its switch times as the decision variables, and the
    result verified by integrating the bang-bang control with CVODES.
