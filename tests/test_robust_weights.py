@@ -56,3 +56,22 @@ def test_fit_covers_every_point_and_is_stable_minimum_phase(bumpy_bound):
         np.testing.assert_allclose(second_order_magnitude(c, omega), response[:, i], rtol=1e-9)
     # tight: somewhere the weight touches the bound
     assert np.all(weight.margin < 1.01)
+
+
+def test_flat_bound_gives_a_static_weight_without_states():
+    # A rigid debris' inertia and mass errors do not depend on frequency: the
+    # constant cover is exact, and a second-order fit could only add poles at 0 rad/s.
+    omega = np.logspace(-3, 2, 300)
+    levels = np.array([0.205, 0.21, 0.19])
+    weight = fit_uncertainty_weight(omega, np.tile(levels, (len(omega), 1)))
+    assert weight.system.nstates == 0
+    np.testing.assert_allclose(np.diag(weight.system.D), levels, rtol=1e-12)
+    np.testing.assert_allclose(weight.margin, 1.0, rtol=1e-12)
+
+
+def test_fitted_poles_and_zeros_stay_on_the_grid(bumpy_bound):
+    omega, bound = bumpy_bound
+    weight = fit_uncertainty_weight(omega, bound)
+    for _, wz, _, wp, _ in weight.coefficients:
+        assert omega[0] <= wz <= omega[-1]
+        assert omega[0] <= wp <= omega[-1]

@@ -72,7 +72,7 @@ def test_a_layout_and_the_list_it_expands_to_are_one_plant(tmp_path: Path) -> No
 def test_the_shipped_controller_flies_only_on_the_papers_plant(heavy: Path) -> None:
     record, path = controller_for(load_problem(PROBLEMS / "paper_slew.toml"))
     assert path == default_controller_path() and record.problem_sha256
-    with pytest.raises(ControllerMismatchError, match="synthesize"):
+    with pytest.raises(ControllerMismatchError, match="casadi-debris design"):
         controller_for(load_problem(heavy))
 
 
@@ -97,7 +97,7 @@ def test_commands_refuse_a_mismatch_in_one_line(heavy: Path, tmp_path: Path, com
     result = CliRunner().invoke(main, [command, str(heavy), "--out", str(tmp_path / "out")])
     assert result.exit_code == 2, result.output
     lines = result.stderr.strip().splitlines()
-    assert len(lines) == 1 and "--controller" in lines[0] and "synthesize" in lines[0]
+    assert len(lines) == 1 and "--controller" in lines[0] and "casadi-debris design" in lines[0]
     assert not (tmp_path / "out").exists()
 
 

@@ -217,14 +217,14 @@ def machine() -> str:
     )
 
 
-def rewrite_page(body: str) -> None:
-    """Replace what lies between the page's markers with ``body``."""
+def rewrite_page(body: str, begin: str = BEGIN, end: str = END) -> None:
+    """Replace what lies between the page's markers ``begin`` and ``end`` with ``body``."""
     text = PAGE.read_text(encoding="utf-8")
-    if text.count(BEGIN) != 1 or text.count(END) != 1 or text.index(BEGIN) > text.index(END):
-        raise SystemExit(f"{PAGE}: needs one line {BEGIN!r} and, after it, one {END!r}")
-    head, rest = text.split(BEGIN)
-    _, tail = rest.split(END)
-    PAGE.write_text(f"{head}{BEGIN}\n{body}\n{END}{tail}", encoding="utf-8")
+    if text.count(begin) != 1 or text.count(end) != 1 or text.index(begin) > text.index(end):
+        raise SystemExit(f"{PAGE}: needs one line {begin!r} and, after it, one {end!r}")
+    head, rest = text.split(begin)
+    _, tail = rest.split(end)
+    PAGE.write_text(f"{head}{begin}\n{body}\n{end}{tail}", encoding="utf-8")
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -14,6 +14,7 @@ from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     compare,  # compare
     describe,  # model, budget
+    design,  # design
     reproduce,  # reproduce
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo

@@ -41,6 +41,20 @@ def format_cell(value: Any) -> str:
     return "" if value is None else str(value)
 
 
+def format_figure(value: Any, digits: int = 4) -> str:
+    """A figure as a report prints it: 4 significant digits, " / " between components,
+    "—" for none, yes/no for a flag."""
+    if value is None:
+        return "—"
+    if isinstance(value, list | tuple | np.ndarray):
+        return " / ".join(format_figure(v, digits) for v in value)
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, int | np.integer):
+        return str(int(value))
+    return f"{float(value):.{digits}g}"
+
+
 def json_ready(value: Any) -> Any:
     """Convert numpy scalars/arrays (recursively) for ``json.dumps``; non-finite -> None."""
     if isinstance(value, dict):

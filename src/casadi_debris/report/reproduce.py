@@ -14,19 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from casadi_debris.report.common import format_figure
 from casadi_debris.report.paper import paper_figure
-
-
-def _fmt(value: Any, digits: int = 4) -> str:
-    if value is None:
-        return "—"
-    if isinstance(value, list | tuple | np.ndarray):
-        return " / ".join(_fmt(v, digits) for v in value)
-    if isinstance(value, bool):
-        return "yes" if value else "no"
-    if isinstance(value, int | np.integer):
-        return str(int(value))
-    return f"{float(value):.{digits}g}"
 
 
 @dataclass(frozen=True)
@@ -106,7 +95,7 @@ def paper_row(key: str, ours: Any, text: str | None = None, **title_fields: Any)
         result=figure.title.format(**title_fields),
         paper=figure.paper,
         accepted=figure.accepted,
-        ours=_fmt(ours) if text is None else text,
+        ours=format_figure(ours) if text is None else text,
         ours_values=values,
         reproduced=figure.accepts(values),
     )
@@ -175,7 +164,7 @@ def slew_rows(slew: dict[str, Any]) -> list[ReproductionRow]:
     ``slew`` is the slew campaign's summary (deg, kg) with ``slew_duration_s``.
     """
     nominal = slew["nominal"]
-    worst = _fmt(slew["worst"]["max_error_deg"]["value"])
+    worst = format_figure(slew["worst"]["max_error_deg"]["value"])
     return [
         paper_row("slew_max_error_deg", nominal["max_error_deg"]),
         paper_row("slew_fuel_kg", nominal["fuel_slew_kg"]),
@@ -207,7 +196,7 @@ def pointing_rows(pointing: dict[str, Any], torque_limits_mNm: np.ndarray) -> li
         paper_row(
             "pointing",
             [nominal, worst, pointing["cases"], torque_to_limit],
-            text=f"{_fmt(nominal)} / {_fmt(worst)} ({pointing['cases']} cases)",
+            text=f"{format_figure(nominal)} / {format_figure(worst)} ({pointing['cases']} cases)",
         )
     ]
 

@@ -24,7 +24,7 @@ from casadi_debris.robust.uncertainty import (
     relative_errors,
     sample_uncertainty,
 )
-from casadi_debris.robust.weights import performance_weights, weight_system
+from casadi_debris.robust.weights import recorded_performance_weights, weight_system
 
 
 def paper_margins() -> dict[str, float]:
@@ -126,7 +126,8 @@ def _margin_figures(
     omega = np.logspace(-4, 2, 300)
     if coefficients.shape == (3, 5):
         weight = weight_system(coefficients)
-        plant = generalized_plant(design_plant, weight, performance_weights(problem))
+        weights = recorded_performance_weights(problem, record.details.get("weights", {}))
+        plant = generalized_plant(design_plant, weight, weights)
         curves = {}
         if record.full is not None:
             curves[f"full order ({record.full.nstates})"] = closed_loop_mu(
@@ -144,8 +145,7 @@ def _margin_figures(
         robust_plots.plot_uncertainty_weight(
             folder / "uncertainty_weight.png", grid, bound, response, count
         )
-        performance = performance_weights(problem)
-        we = np.abs(frequency_response(performance.error, omega)[:, 0, 0])
+        we = np.abs(frequency_response(weights.error, omega)[:, 0, 0])
         w_max = np.max(
             np.abs(np.diagonal(frequency_response(weight, omega), axis1=1, axis2=2)), axis=1
         )

@@ -17,6 +17,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
+import control
 import numpy as np
 
 from casadi_debris.config import Problem, limits
@@ -106,6 +107,52 @@ class SynthesisSettings:
 
 
 @dataclass(frozen=True, eq=False)
+class UncertaintyFit:
+    """The design model, its sampled plants and the uncertainty weight that covers them.
+
+    It does not depend on the performance weights, so designs at several
+    performance levels share one.
+
+    Attributes
+    ----------
+    model : Model
+    samples : UncertaintySamples
+    grid : ndarray, shape (n_omega,)
+        Frequencies of the fit [rad/s].
+    bound : ndarray, shape (n_omega, 3)
+        What |W_i| must reach there.
+    weight : UncertaintyWeight
+    design_plant : control.StateSpace
+        Torque [mNm] to measured attitude [deg] of the nominal design model.
+    time_s : float
+        Wall time of sampling and fit [s].
+    """
+
+    model: Model
+    samples: UncertaintySamples
+    grid: np.ndarray
+    bound: np.ndarray
+    weight: UncertaintyWeight
+    design_plant: control.StateSpace
+    time_s: float
+
+
+def fit_uncertainty(problem: Problem, settings: SynthesisSettings | None = None) -> UncertaintyFit:
+    """Sample the problem's uncertainty set and fit the weight W that covers it."""
+    settings = settings or SynthesisSettings()
+    start = time.perf_counter()
+    model = build_model(problem, modes=settings.modes)
+    samples = sample_uncertainty(problem, model, settings.samples, settings.seed)
+    grid = weight_fit_grid(problem)
+    bound = diagonal_cover(relative_errors(model, samples.parameters, grid))
+    weight = fit_uncertainty_weight(grid, bound)
+    design_plant = linearize(model, sensor=True, units="deg_mNm")
+    return UncertaintyFit(
+        model, samples, grid, bound, weight, design_plant, time.perf_counter() - start
+    )
+
+
+@dataclass(frozen=True, eq=False)
 class ControllerDesign:
     """Everything a design produced."""
 
@@ -165,6 +212,9 @@ def design_controller(
     problem: Problem,
     settings: SynthesisSettings | None = None,
     progress: Callable[[str, Iteration | None], None] | None = None,
+    *,
+    performance: PerformanceWeights | None = None,
+    uncertainty: UncertaintyFit | None = None,
 ) -> ControllerDesign:
     """Run the whole robust design for a problem.
 
@@ -175,6 +225,10 @@ def design_controller(
     progress : callable, optional
         ``progress(stage, iteration)``: called at each stage ("samples",
         "weight", "hinf", "dk", "reduce") and after every D-K iteration.
+    performance : PerformanceWeights, optional
+        Instead of the problem's ``[weights]`` (e.g. :mod:`~casadi_debris.robust.requirements`).
+    uncertainty : UncertaintyFit, optional
+        A fit of this problem made before (:func:`fit_uncertainty` with the same settings).
 
     Returns
     -------
@@ -187,12 +241,12 @@ def design_controller(
             progress(stage, iteration)
 
     timings: dict[str, float] = {}
-    with _timed(timings, "samples_s"):
-        model, samples, grid, bound = _sampled_relative_errors(problem, settings)
+    if uncertainty is None:
+        uncertainty = fit_uncertainty(problem, settings)
+        timings["uncertainty_s"] = uncertainty.time_s
     report("samples")
-
-    with _timed(timings, "weight_s"):
-        weight, performance, plant = _weighted_plant(problem, model, grid, bound)
+    performance = performance or performance_weights(problem)
+    plant = generalized_plant(uncertainty.design_plant, uncertainty.weight.system, performance)
     report("weight")
 
     with _timed(timings, "dk_s"):
@@ -216,17 +270,17 @@ def design_controller(
         mu_peak=musyn.mu_peak,
         mu_peak_reduced=mu_reduced.peak,
         problem_sha256=problem.plant_sha256,
-        seed=samples.seed,
-        details=_record_details(problem, settings, samples, weight, musyn, timings),
+        seed=uncertainty.samples.seed,
+        details=_record_details(problem, settings, uncertainty, performance, musyn, timings),
     )
     return ControllerDesign(
         problem=problem,
         settings=settings,
-        model=model,
-        samples=samples,
-        weight_grid=grid,
-        weight_bound=bound,
-        weight=weight,
+        model=uncertainty.model,
+        samples=uncertainty.samples,
+        weight_grid=uncertainty.grid,
+        weight_bound=uncertainty.bound,
+        weight=uncertainty.weight,
         performance=performance,
         plant=plant,
         musyn=musyn,
@@ -244,37 +298,16 @@ def _timed(timings: dict[str, float], key: str) -> Iterator[None]:
     timings[key] = time.perf_counter() - start
 
 
-def _sampled_relative_errors(
-    problem: Problem, settings: SynthesisSettings
-) -> tuple[Model, UncertaintySamples, np.ndarray, np.ndarray]:
-    """The design model, its uncertainty samples, the fit grid and the bound W must cover."""
-    model = build_model(problem, modes=settings.modes)
-    samples = sample_uncertainty(problem, model, settings.samples, settings.seed)
-    grid = weight_fit_grid(problem)
-    bound = diagonal_cover(relative_errors(model, samples.parameters, grid))
-    return model, samples, grid, bound
-
-
-def _weighted_plant(
-    problem: Problem, model: Model, grid: np.ndarray, bound: np.ndarray
-) -> tuple[UncertaintyWeight, PerformanceWeights, GeneralizedPlant]:
-    """The fitted uncertainty weight, the performance weights and the generalised plant."""
-    weight = fit_uncertainty_weight(grid, bound)
-    performance = performance_weights(problem)
-    design_plant = linearize(model, sensor=True, units="deg_mNm")
-    plant = generalized_plant(design_plant, weight.system, performance)
-    return weight, performance, plant
-
-
 def _record_details(
     problem: Problem,
     settings: SynthesisSettings,
-    samples: UncertaintySamples,
-    weight: UncertaintyWeight,
+    uncertainty: UncertaintyFit,
+    performance: PerformanceWeights,
     musyn: MusynResult,
     timings: dict[str, float],
 ) -> dict[str, Any]:
     """How the controller was designed, as its file records it."""
+    weight = uncertainty.weight
     return {
         "hinf_gamma_first": musyn.hinf_gamma_first,
         "mu_per_iteration": [it.mu_peak for it in musyn.iterations],
@@ -283,23 +316,23 @@ def _record_details(
             "form": "k (s^2 + 2 zeta_z w_z s + w_z^2) / (s^2 + 2 zeta_p w_p s + w_p^2)",
             "coefficients_k_wz_zetaz_wp_zetap": weight.coefficients.tolist(),
             "fit_margin": weight.margin.tolist(),
-            "samples": len(samples.parameters),
+            "samples": len(uncertainty.samples.parameters),
         },
-        "weights": _weight_settings(problem),
+        "weights": _weight_settings(problem, performance),
         "design_plant_modes": settings.modes,
         "timings_s": timings,
     }
 
 
-def _weight_settings(problem: Problem) -> dict[str, Any]:
-    """The problem's performance-weight settings, as the controller file records them."""
+def _weight_settings(problem: Problem, performance: PerformanceWeights) -> dict[str, Any]:
+    """The performance weights the design used, as the controller file records them."""
     weights = problem.weights
     return {
         "closed_loop_bandwidth_rad_s": weights.closed_loop_bandwidth_rad_s,
         "epsilon": weights.epsilon,
         "control_rolloff_rad_s": weights.control_rolloff_rad_s,
         "control_rolloff_high_frequency_gain": weights.control_rolloff_high_frequency_gain,
-        "error_scaling_deg": weights.error_scaling_deg.tolist(),
-        "control_scaling_mNm": weights.control_scaling_mNm.tolist(),
-        "disturbance_scaling_mNm": weights.disturbance_scaling_mNm.tolist(),
+        "error_scaling_deg": np.diag(performance.error_scaling).tolist(),
+        "control_scaling_mNm": np.diag(performance.control_scaling).tolist(),
+        "disturbance_scaling_mNm": np.diag(performance.disturbance_scaling).tolist(),
     }

@@ -7,7 +7,9 @@ All in the paper's design units: attitude in deg, torque in mNm.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import control
 import numpy as np
@@ -18,6 +20,10 @@ from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
 
 W_ORDER = 2
+# Damping ratios a fitted pole or zero pair may take.
+MIN_DAMPING, MAX_DAMPING = 1e-4, 1e3
+# Mean log excess by which a second-order channel must beat the constant cover.
+STATIC_PREFERENCE = 1e-3
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +70,22 @@ def performance_weights(problem: Problem) -> PerformanceWeights:
     )
 
 
+def recorded_performance_weights(
+    problem: Problem, recorded: Mapping[str, Any]
+) -> PerformanceWeights:
+    """The weights a controller file records (``details["weights"]``), else the problem's.
+
+    A design may derive its Ve, Vu and Vd rather than take ``[weights]``
+    (:mod:`casadi_debris.robust.requirements`); its file records the ones it used.
+    """
+    weights = performance_weights(problem)
+    keys = ("error_scaling_deg", "control_scaling_mNm", "disturbance_scaling_mNm")
+    if not all(key in recorded for key in keys):
+        return weights
+    error, control, disturbance = (np.diag(np.asarray(recorded[k], dtype=float)) for k in keys)
+    return PerformanceWeights(weights.error, weights.control_effort, error, control, disturbance)
+
+
 @dataclass(frozen=True, eq=False)
 class UncertaintyWeight:
     """Fitted diagonal input-multiplicative uncertainty weight.
@@ -97,10 +119,22 @@ def second_order_magnitude(coefficients: np.ndarray, omega: np.ndarray) -> np.nd
         return np.abs(k * (s**2 + 2 * zz * wz * s + wz**2) / (s**2 + 2 * zp * wp * s + wp**2))
 
 
+def is_static(coefficients: np.ndarray) -> bool:
+    """Whether one channel's zeros cancel its poles, so W_i is the constant k."""
+    _, wz, zz, wp, zp = coefficients
+    return bool(wz == wp and zz == zp)
+
+
 def weight_system(coefficients: np.ndarray) -> control.StateSpace:
-    """Diagonal W(s) from per-channel [k, w_z, zeta_z, w_p, zeta_p], shape (3, 5)."""
+    """Diagonal W(s) from per-channel [k, w_z, zeta_z, w_p, zeta_p], shape (3, 5).
+
+    A channel whose zeros equal its poles is realised as the static gain k (no states):
+    a cancelling pole pair would sit in the generalised plant as an uncontrollable mode.
+    """
     channels = [
-        control.ss(control.tf([k, 2 * zz * wz * k, k * wz**2], [1.0, 2 * zp * wp, wp**2]))
+        control.ss([], [], [], [[k]])
+        if is_static(np.array([k, wz, zz, wp, zp]))
+        else control.ss(control.tf([k, 2 * zz * wz * k, k * wz**2], [1.0, 2 * zp * wp, wp**2]))
         for k, wz, zz, wp, zp in np.asarray(coefficients, dtype=float)
     ]
     return control.append(*channels)
@@ -111,7 +145,11 @@ def _fit_channel(omega: np.ndarray, bound: np.ndarray) -> np.ndarray:
 
     Minimises the mean of log(|W| / d) subject to |W| >= d on the grid
     (SLSQP from several starts: the pole's frequency and damping decide which
-    resonance band the weight can cover).
+    resonance band the weight can cover). A fit whose pole or zero frequency
+    leaves the grid is discarded: outside it the fit cannot see them, and a pole
+    driven towards 0 rad/s would leave the generalised plant unstabilisable.
+    When the constant max(d) covers as tightly (a flat bound, as a rigid
+    debris' inertia and mass errors give), the channel is that constant.
     """
     log_bound = np.log(bound)
     low, high = bound[0], bound[-1]
@@ -127,7 +165,11 @@ def _fit_channel(omega: np.ndarray, bound: np.ndarray) -> np.ndarray:
     def mean_log_excess(theta: npt.NDArray[np.float64]) -> float:
         return float(np.mean(log_excess(theta)))
 
-    best = None
+    frequencies = (math.log(omega[0]), math.log(omega[-1]))
+    dampings = (math.log(MIN_DAMPING), math.log(MAX_DAMPING))
+    lower = np.array([-np.inf, frequencies[0], dampings[0], frequencies[0], dampings[0]])
+    upper = np.array([np.inf, frequencies[1], dampings[1], frequencies[1], dampings[1]])
+    best: tuple[float, np.ndarray] | None = None
     for pole in (0.5 * peak_at, peak_at, 2.0 * peak_at):
         for damping in (0.01, 0.1, 0.5):
             gain = max(bound.max() * 2 * damping, high)
@@ -145,10 +187,13 @@ def _fit_channel(omega: np.ndarray, bound: np.ndarray) -> np.ndarray:
             # Lift the gain until every point is covered (SLSQP stops within tolerance).
             theta[0] += max(0.0, -float(np.min(log_magnitude(theta) - log_bound)))
             cost = float(np.mean(log_magnitude(theta) - log_bound))
-            if np.all(np.isfinite(theta)) and (best is None or cost < best[0]):
+            inside = bool(np.all(theta >= lower) and np.all(theta <= upper))
+            if inside and np.isfinite(cost) and (best is None or cost < best[0]):
                 best = (cost, theta)
-    if best is None:
-        raise SynthesisError("the uncertainty weight fit failed on every start")
+    static_cost = float(np.mean(log_bound.max() - log_bound))
+    # A dynamic channel must beat the constant by more than the fit's noise.
+    if best is None or best[0] > static_cost - STATIC_PREFERENCE:
+        return np.array([bound.max(), 1.0, 1.0, 1.0, 1.0])
     return np.exp(best[1])
 
 

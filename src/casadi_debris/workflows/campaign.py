@@ -178,6 +178,7 @@ def run_campaign_folder(
     overwrite: bool = False,
     progress: Progress | None = None,
     allow_mismatch: bool = False,
+    moved_to: tuple[Path, Path] | None = None,
 ) -> dict[str, Any]:
     """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
 
@@ -202,6 +203,10 @@ def run_campaign_folder(
         Called as cases finish (see :data:`Progress`).
     allow_mismatch : bool
         Fly a controller designed for another plant.
+    moved_to : (Path, Path), optional
+        ``(staging, final)`` when ``out`` and the controller file lie in a staging
+        folder that will be moved to ``final`` (a report being built): the summaries
+        record the paths they will have.
 
     Returns
     -------
@@ -233,19 +238,30 @@ def run_campaign_folder(
         if not outcomes:
             raise CasesFailedError(failures)  # nothing to summarise; the folder stays
         how = {
-            "controller_path": str(resolved),
+            "controller_path": str(_final(resolved, moved_to)),
             "plant_sha256": problem.plant_sha256,
             "controller_plant_sha256": record.problem_sha256,
             "workers": workers,
             "scheduler": scheduler,
             "resumed_cases": len(done),
             "compiled_step": bool(jit and c_compiler()),
-            "out_dir": str(out.absolute()),
+            "out_dir": str(_final(out.absolute(), moved_to)),
             "failed_cases": [_failure_record(f) for f in failures],
         }
         summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
         folder.finish()
     return summary
+
+
+def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
+    """Where ``path`` will be once a staging folder is moved (``(staging, final)``)."""
+    if moved_to is None:
+        return path
+    staging, final = (Path(p).absolute() for p in moved_to)
+    try:
+        return final / Path(path).absolute().relative_to(staging)
+    except ValueError:
+        return path
 
 
 def _failure_record(failure: CaseFailure) -> dict[str, str]:
@@ -369,7 +385,6 @@ def _run_missing(
             scheduler=scheduler,
             on_result=keep,
             on_failure=record,
-            build_folder=folder.build_folder,
         )
     except KeyboardInterrupt:
         kept = len(resumed) + len(finished)

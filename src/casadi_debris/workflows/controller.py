@@ -15,6 +15,7 @@ from pathlib import Path
 from casadi_debris.config import Problem, default_controller_path, limits
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import ProblemFileError
+from casadi_debris.report.folders import default_run_folder
 from casadi_debris.robust.controller import ControllerRecord
 
 LOGGER = logging.getLogger(__name__)
@@ -91,8 +92,8 @@ def controller_for(
         raise ControllerMismatchError(
             "--controller",
             f"the shipped controller was designed for the paper's plant, and {problem.name} "
-            "describes another; design one for it (casadi-debris synthesize PROBLEM --out "
-            "controller.json) and pass --controller controller.json",
+            "describes another; design one for it (casadi-debris design PROBLEM.toml) and pass "
+            f"--controller {default_run_folder('design', problem.name) / 'controller.json'}",
         )
     if not allow_mismatch:
         designed = record.problem_sha256[:12] or "no recorded plant"

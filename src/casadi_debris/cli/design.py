@@ -1,0 +1,99 @@
+"""``casadi-debris design``: the paper's method on the user's problem, verified and reported."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+import click
+
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    in_range,
+    is_quiet,
+    json_option,
+    main,
+    overwrite_option,
+    problem_argument,
+    say,
+    workers_option,
+)
+from casadi_debris.cli.simulate import cases_progress
+from casadi_debris.config import limits, load_problem
+from casadi_debris.report.common import format_table
+from casadi_debris.report.folders import check_output_folder, default_run_folder
+
+TABLE_KEYS = ("result", "required", "ours", "verdict")
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path, file_okay=False),
+    default=None,
+    help="Report folder [runs/design-<problem>].",
+)
+@click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run.")
+@click.option(
+    "--samples",
+    type=in_range(limits.UNCERTAINTY_SAMPLES),
+    default=None,
+    help="Models for the uncertainty-weight fit [problem's].",
+)
+@click.option(
+    "--seed", type=in_range(limits.SEED), default=None, help="Seed of those models [problem's]."
+)
+@workers_option
+@overwrite_option
+@json_option
+@friendly_errors
+def design(
+    problem_file: Path | None,
+    out: Path | None,
+    quick: bool,
+    samples: int | None,
+    seed: int | None,
+    workers: int,
+    overwrite: bool,
+    as_json: bool,
+) -> None:
+    """Design a robust controller for the problem and verify it against its [requirements]:
+    weights from its authority, disturbance and pointing requirement, D-K mu-synthesis
+    (searching the best guaranteed pointing when the requirement cannot be met), reduction,
+    margins over sampled plants, slew and pointing corner campaigns; writes controller.json
+    and report.md."""
+    from casadi_debris.robust.design import SynthesisSettings
+    from casadi_debris.workflows.design import design_for_problem
+
+    problem = load_problem(problem_file)
+    folder = out or default_run_folder("design", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
+    settings = SynthesisSettings(samples=samples, seed=seed)
+
+    def progress(stage: str) -> Callable[[int, int], None] | None:
+        if as_json or is_quiet():
+            return None
+        say(stage)
+        return cases_progress(f"  {stage}") if stage.endswith("Monte Carlo") else None
+
+    summary = design_for_problem(
+        problem,
+        folder,
+        quick=quick,
+        settings=settings,
+        workers=workers,
+        overwrite=overwrite,
+        progress=progress,
+    )
+    if as_json:
+        echo_json(summary)
+        return
+    rows = [[row[key] for key in TABLE_KEYS] for row in summary["rows"]]
+    click.echo(format_table(list(TABLE_KEYS), rows))
+    click.echo(
+        f"{summary['requirements_met']} of {summary['requirements']} requirements met; "
+        f"controller: {folder.absolute() / 'controller.json'}; "
+        f"report: {folder.absolute() / 'report.md'} ({summary['time_s']:.0f} s)"
+    )

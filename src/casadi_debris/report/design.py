@@ -1,0 +1,242 @@
+"""``report.md`` of ``casadi-debris design``: each figure of the design and its verification
+beside the requirement it is judged against.
+
+The requirements are the problem's ``[requirements]`` (pointing, slew error),
+mu <= 1 (a guarantee at all), and conventional stability margins (6 dB and
+30 deg over the sampled plants, no unstable sample).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.config import Problem
+from casadi_debris.report.common import format_figure
+from casadi_debris.robust.performance_search import DesignSearch
+
+GAIN_MARGIN_DB = 6.0
+PHASE_MARGIN_DEG = 30.0
+"""Conventional least margins of an attitude loop over the sampled plants."""
+
+
+@dataclass(frozen=True)
+class RequirementRow:
+    """One figure against its requirement.
+
+    Parameters
+    ----------
+    key : str
+        Stable name for scripts (``"pointing_arcsec"``).
+    result : str
+        The row's title, with its unit.
+    required : str
+        The requirement as printed.
+    ours : str
+        Our figure as printed.
+    values : tuple of float or None
+        Our numbers, in the title's unit.
+    met : bool or None
+        Whether the requirement is met (None: shown, not judged).
+    """
+
+    key: str
+    result: str
+    required: str
+    ours: str
+    values: tuple[float | None, ...]
+    met: bool | None
+
+    @property
+    def verdict(self) -> str:
+        """✅/❌ with words, "—" when not judged."""
+        if self.met is None:
+            return "—"
+        return "✅ met" if self.met else "❌ not met"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The row for ``summary.json``."""
+        return {
+            "key": self.key,
+            "result": self.result,
+            "required": self.required,
+            "ours": self.ours,
+            "verdict": self.verdict,
+            "met": self.met,
+            "values": list(self.values),
+        }
+
+
+def _row(
+    key: str, result: str, required: str, values: Any, met: bool | None, text: str | None = None
+) -> RequirementRow:
+    numbers = tuple(
+        None if v is None else float(v) for v in np.ravel(np.asarray(values, dtype=object))
+    )
+    return RequirementRow(
+        key,
+        result,
+        required,
+        text or format_figure(values),
+        numbers,
+        None if met is None else bool(met),
+    )
+
+
+def _at_most(values: Any, bound: float) -> bool:
+    numbers = np.ravel(np.asarray(values, dtype=object))
+    return all(v is not None and float(v) <= bound for v in numbers)
+
+
+def _nominal_and_worst(campaign: dict[str, Any], key: str) -> list[float]:
+    """A figure of a campaign's nominal run and its worst corner."""
+    return [campaign["nominal"][key], campaign["worst"][key]["value"]]
+
+
+def requirement_rows(
+    problem: Problem,
+    search: DesignSearch,
+    margins: dict[str, Any],
+    campaigns: dict[str, dict[str, Any]],
+    torque_limits_mNm: np.ndarray,
+) -> list[RequirementRow]:
+    """The design's table (margins as from :func:`~casadi_debris.report.robust.margin_report`,
+    campaigns as from :func:`~casadi_debris.workflows.campaign.run_campaign_folder`): the
+    judged rows, then :func:`information_rows`."""
+    chosen = search.chosen
+    pointing_req = problem.requirements.pointing_arcsec
+    slew_req = problem.requirements.slew_error_deg
+    guaranteed = chosen.guaranteed_pointing_arcsec
+    pointing = _nominal_and_worst(campaigns["pointing"], "max_error_arcsec")
+    slew = _nominal_and_worst(campaigns["slew"], "max_error_deg")
+    sampled = margins["sampled_min"]
+    margin_values = [sampled[k] for k in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")]
+    unstable = margins["unstable_samples"]
+    return [
+        _row("mu_peak", "μ, full / reduced controller", "≤ 1",
+             [chosen.mu_peak, chosen.mu_peak_reduced], chosen.mu_peak_reduced <= 1.0),
+        _row("guaranteed_pointing_arcsec", "guaranteed pointing x / y / z [arcsec]",
+             f"≤ {pointing_req:g}", list(guaranteed) if guaranteed else [None],
+             guaranteed is not None and _at_most(guaranteed, pointing_req),
+             None if guaranteed else "none (μ > 1)"),
+        _row("pointing_arcsec", "pointing error, nominal / worst corner [arcsec]",
+             f"≤ {pointing_req:g}", pointing, _at_most(pointing, pointing_req)),
+        _row("slew_max_error_deg", "slew error, nominal / worst corner [deg]",
+             f"≤ {slew_req:g}", slew, _at_most(slew, slew_req)),
+        _row("margins_sampled", f"margins over {margins['samples']} sampled plants [dB, deg, s]",
+             f"≥ {GAIN_MARGIN_DB:g} dB, ≥ {PHASE_MARGIN_DEG:g}° (conventional)", margin_values,
+             margin_values[0] >= GAIN_MARGIN_DB and margin_values[1] >= PHASE_MARGIN_DEG),
+        _row("unstable_samples", "unstable sampled loops", "0", unstable, unstable == 0),
+        *information_rows(search, campaigns, torque_limits_mNm),
+    ]  # fmt: skip
+
+
+def information_rows(
+    search: DesignSearch, campaigns: dict[str, dict[str, Any]], torque_limits_mNm: np.ndarray
+) -> list[RequirementRow]:
+    """Figures shown beside the requirements, not judged: torque use, fuel, settling, order."""
+    torque_ratio = max(
+        float(np.max(np.asarray(c["max_torque_mNm"], dtype=float) / torque_limits_mNm))
+        for c in campaigns.values()
+    )
+    slew = campaigns["slew"]
+    orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
+    return [
+        _row("torque_to_limit", "peak torque / authority, slew and pointing", "—",
+             torque_ratio, None),
+        _row("slew_fuel_kg", "slew propellant, nominal / worst corner [kg]", "—",
+             _nominal_and_worst(slew, "fuel_kg"), None),
+        _row("slew_settle_time_s", "settling time after the slew, worst corner [s]", "—",
+             slew["worst"]["settle_time_s"]["value"], None),
+        _row("controller_order", "controller order, full / reduced", "—", orders, None),
+    ]  # fmt: skip
+
+
+@dataclass(frozen=True)
+class DesignFigures:
+    """Figures of a design folder that exist, as (title, relative path)."""
+
+    entries: tuple[tuple[str, str], ...]
+
+    CANDIDATES = (
+        ("Slew: error and torque, corner envelope shaded", "slew/envelope.png"),
+        ("Pointing: error and torque, corner envelope shaded", "pointing/envelope.png"),
+        ("μ of the robust-performance problem", "margins/mu.png"),
+        ("Uncertainty weight W over the sampled relative errors", "margins/uncertainty_weight.png"),
+        ("Loop shapes", "margins/loop_shapes.png"),
+        ("Margins over sampled plants", "margins/margins.png"),
+    )
+
+    @classmethod
+    def present_in(cls, folder: Path) -> DesignFigures:
+        """The candidates found in ``folder``."""
+        return cls(tuple((t, p) for t, p in cls.CANDIDATES if (folder / p).exists()))
+
+
+def _attempts_table(search: DesignSearch) -> list[str]:
+    lines = [
+        "| Ve / required | Ve [deg] | μ full | μ reduced | guaranteed pointing [arcsec] "
+        "| D-K steps |",
+        "|---|---|---|---|---|---|",
+    ]
+    required_ve = search.scalings.error_deg[0] / search.scalings.ve_ratio
+    for a in search.attempts:
+        guaranteed = (
+            "none (μ > 1)"
+            if a.guaranteed_pointing_arcsec is None
+            else format_figure(max(a.guaranteed_pointing_arcsec))
+        )
+        lines.append(
+            f"| {a.ve_ratio:.3g} | {required_ve * a.ve_ratio:.4g} | {a.mu_peak:.4f} | "
+            f"{a.mu_peak_reduced:.4f} | {guaranteed} | {a.iterations} |"
+        )
+    return lines
+
+
+def design_markdown(
+    problem: Problem,
+    search: DesignSearch,
+    rows: list[RequirementRow],
+    summary: dict[str, Any],
+    figures: DesignFigures,
+) -> str:
+    """The report: requirements table, how the performance level was found, figures."""
+    scalings = search.scalings
+    lines = [
+        f"# Controller design for {problem.name}",
+        "",
+        f"{summary['requirements_met']} of {summary['requirements']} requirements met "
+        f"({summary['time_s']:.0f} s). Controller: `controller.json` "
+        f"(plant sha256 {problem.plant_sha256[:12]}).",
+        "",
+        "| result | required | ours | verdict |",
+        "|---|---|---|---|",
+        *[f"| {r.result} | {r.required} | {r.ours} | {r.verdict} |" for r in rows],
+        "",
+        "## Weights",
+        "",
+        f"- Vu = {format_figure(scalings.control_mNm.tolist())} mNm: the torque authority "
+        "per axis with zero net force (smaller sign).",
+        f"- Vd = {format_figure(scalings.disturbance_mNm.tolist())} mNm: 1 % of Vu, shaped by "
+        "the disturbance amplitudes.",
+        f"- Ve = {format_figure(scalings.error_deg.tolist())} deg: {scalings.ve_ratio:.3g} x the "
+        "level whose robust-performance bound is the pointing requirement.",
+        "- We and Wu: the problem's `[weights]` dynamic weights.",
+        "",
+        "The guaranteed pointing is the steady error under the problem's sine disturbance "
+        "that μ ≤ 1 bounds for every plant the fitted uncertainty weight covers: "
+        "μ Ve ‖Vd⁻¹ A‖ / |We(jω_d)| per axis. It holds for the sampled set as the weight "
+        "covers it (a complex cover of real parameters: conservative), not for the "
+        "transient of a slew, which the corner campaign checks.",
+        "",
+        "## Performance level",
+        "",
+        *_attempts_table(search),
+        "",
+    ]
+    for title, path in figures.entries:
+        lines += [f"## {title}", "", f"![{title}]({path})", ""]
+    return "\n".join(lines)

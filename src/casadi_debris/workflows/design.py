@@ -1,0 +1,262 @@
+"""The paper's method on the user's problem: design, verify, fly, with a report against
+the problem's ``[requirements]``.
+
+Scalings from the problem (:mod:`casadi_debris.robust.requirements`), D-K
+mu-synthesis and reduction with a search of the performance level when the
+requirement cannot be guaranteed (:mod:`casadi_debris.robust.performance_search`),
+margins over sampled plants, and the slew and pointing corner campaigns. ``report.md`` puts each
+figure beside the requirement it is judged against.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.workflows.design import design_for_problem
+>>> summary = design_for_problem(load_problem("problems/gallery/one_array.toml"),
+...                              "runs/design-one_array", quick=True)  # doctest: +SKIP
+>>> summary["requirements_met"], summary["requirements"]  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.config import Problem, with_duration
+from casadi_debris.config.schema import AXIS_NAMES, Simulation, SlewReference
+from casadi_debris.geometry import build_geometry
+from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report.design import DesignFigures, design_markdown, requirement_rows
+from casadi_debris.report.folders import RunFolder
+from casadi_debris.report.robust import margin_report
+from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.robust.design import SynthesisSettings
+from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
+from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
+from casadi_debris.slew.maneuver import rigid_limit_duration
+from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
+from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
+from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows.reproduce import FULL, QUICK, Plan
+
+LOGGER = logging.getLogger(__name__)
+
+StageProgress = Callable[[str], Progress | None]
+"""``progress(line)`` as each stage starts; may return a case counter for a campaign."""
+
+SLEW_ANGLE_DEG = 180.0
+SLEW_TORQUE_SHARE = 2.0 / 3.0
+"""The verification slew's bang-bang uses this share of what the disturbance leaves of
+the authority, the rest being the feedback's: ``(2/3)(1 - A_i / tau_i)``, 0.56 about the
+paper's z (its 1228 s slew: 0.561)."""
+QUICK_REFINEMENTS = 1
+"""Bisections of the performance search in a quick run (Ve within a factor 1.41)."""
+SLEW_RUN_FACTOR = 1.25
+"""Run length over the slew's, for the settling (the paper: 1500 s for 1228 s)."""
+
+
+def verification_problems(problem: Problem, plan: Plan = FULL) -> tuple[Problem, Problem]:
+    """The slew and the pointing run a design is verified on.
+
+    The slew is the problem's own ``[simulation.slew]`` when it has one, else
+    180 deg about the slowest axis by a bang-bang at the torque fraction of
+    :data:`SLEW_TORQUE_SHARE`. The pointing run
+    holds the attitude for one disturbance period (shortened by a quick plan).
+    Scheduled failures are left out: the design is verified on the whole swarm.
+    """
+    simulation = replace(problem.simulation, failures=())
+    if simulation.reference == "slew":
+        slew_problem = replace(problem, simulation=simulation)
+    else:
+        slew_problem = _default_slew(problem, simulation)
+    hold = replace(simulation, reference="hold", slew=None)
+    period_s = SECONDS_PER_MINUTE * problem.disturbance.period_min
+    pointing_problem = with_duration(
+        replace(problem, simulation=hold),
+        plan.pointing_duration_s or period_s,
+        "verification pointing run",
+    )
+    return slew_problem, pointing_problem
+
+
+def _default_slew(problem: Problem, simulation: Simulation) -> Problem:
+    """``problem`` flying 180 deg about its slowest axis (see :func:`verification_problems`)."""
+    geometry = build_geometry(problem)
+    authority_Nm = authority_per_axis_mNm(geometry) * NM_PER_MNM
+    disturbance_Nm = np.abs(problem.disturbance.amplitude_mNm) * NM_PER_MNM
+    fraction = SLEW_TORQUE_SHARE * (1.0 - disturbance_Nm / authority_Nm)
+    acceleration = fraction * authority_Nm / np.diag(geometry.inertia_total_kgm2)
+    axis = int(np.argmin(acceleration))
+    slew = SlewReference(
+        axis=AXIS_NAMES[axis],
+        angle_deg=SLEW_ANGLE_DEG,
+        method="bang-bang",
+        start_s=0.0,
+        duration_s=None,
+        torque_fraction=float(fraction[axis]),
+    )
+    slew_s = rigid_limit_duration(math.radians(SLEW_ANGLE_DEG), float(acceleration[axis]))
+    return with_duration(
+        replace(problem, simulation=replace(simulation, reference="slew", slew=slew)),
+        math.ceil(SLEW_RUN_FACTOR * slew_s),
+        "verification slew",
+    )
+
+
+def design_for_problem(
+    problem: Problem,
+    out: str | Path,
+    *,
+    quick: bool = False,
+    settings: SynthesisSettings | None = None,
+    workers: int = 1,
+    overwrite: bool = False,
+    progress: StageProgress | None = None,
+) -> dict[str, Any]:
+    """Design a controller for ``problem`` and verify it into the folder ``out``.
+
+    Parameters
+    ----------
+    problem : Problem
+    out : str or Path
+        Report folder: ``controller.json``, ``report.md``, ``summary.json``,
+        ``margins/``, ``slew/``, ``pointing/``.
+    quick : bool
+        Fewer sampled plants and corners, a shorter pointing run and a coarser search
+        of the performance level.
+    settings : SynthesisSettings, optional
+    workers : int
+        Local processes for the campaigns.
+    overwrite : bool
+        Replace a report folder this toolkit wrote.
+    progress : callable, optional
+        As :func:`~casadi_debris.workflows.reproduce.reproduce_paper`'s.
+
+    Returns
+    -------
+    dict
+        What ``summary.json`` holds: ``rows`` (each requirement with ``met``),
+        ``requirements_met`` of ``requirements``, ``attempts``, ``scalings``,
+        ``controller_path``, ...
+    """
+    started = time.perf_counter()
+    plan = QUICK if quick else FULL
+    out = Path(out)
+
+    def stage(name: str) -> Any:
+        LOGGER.info(name)
+        return None if progress is None else progress(name)
+
+    derived_scalings(problem)  # refuses a problem no controller can be designed for, first
+    slew_problem, pointing_problem = verification_problems(problem, plan)
+    with RunFolder.claim(out, overwrite=overwrite, command="design") as staging:
+        stage("designing the controller (D-K iteration)")
+        refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
+        search = search_design(problem, settings, stage, refinements=refinements)
+        controller_path = write_json_atomic(staging / "controller.json", _record(search).to_dict())
+        margins, campaigns = _verify(
+            problem, (slew_problem, pointing_problem), controller_path, staging, out, plan,
+            workers, stage,
+        )  # fmt: skip
+        limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
+        rows = requirement_rows(problem, search, margins, campaigns, limits)
+        summary = _summary(problem, search, rows, campaigns, out, started)
+        summary |= {
+            "quick": quick,
+            "workers": workers,
+            "controller_path": str(out / "controller.json"),
+        }
+        figures = DesignFigures.present_in(staging)
+        (staging / "report.md").write_text(design_markdown(problem, search, rows, summary, figures))
+        write_json_atomic(staging / "summary.json", summary)
+    return summary
+
+
+def _verify(
+    problem: Problem,
+    runs: tuple[Problem, Problem],
+    controller_path: Path,
+    staging: Path,
+    out: Path,
+    plan: Plan,
+    workers: int,
+    stage: Callable[[str], Any],
+) -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
+    """Margins over sampled plants, then the slew and the pointing corner campaigns."""
+    record, controller_path = load_controller(controller_path)
+    stage(f"margins over {plan.margin_samples} sampled plants")
+    margins = margin_report(
+        problem,
+        record,
+        controller_path,
+        plan.margin_samples,
+        None,
+        staging / "margins",
+        out_dir=out / "margins",
+    )
+    campaigns = {}
+    for name, campaign_problem, cases in zip(
+        ("slew", "pointing"), runs, (plan.slew_cases, plan.pointing_cases), strict=True
+    ):
+        campaigns[name] = run_campaign_folder(
+            campaign_problem,
+            controller_path,
+            CaseSelection(corners=True, max_cases=cases),
+            staging / name,
+            workers=workers,
+            progress=stage(f"{name} Monte Carlo"),
+            moved_to=(staging, out),
+        )
+    return margins, campaigns
+
+
+def _record(search: DesignSearch) -> Any:
+    """The chosen design's controller record, with the scalings and the search in its details."""
+    record = search.design.record
+    details = {
+        **record.details,
+        "derived_scalings": search.scalings.to_dict(),
+        "performance_search": [a.to_dict() for a in search.attempts],
+    }
+    return replace(record, details=details)
+
+
+def _summary(
+    problem: Problem,
+    search: DesignSearch,
+    rows: list[Any],
+    campaigns: dict[str, dict[str, Any]],
+    out: Path,
+    started: float,
+) -> dict[str, Any]:
+    """What ``summary.json`` holds."""
+    judged = [row for row in rows if row.met is not None]
+    chosen = search.chosen
+    return {
+        "problem": problem.name,
+        "problem_sha256": problem.sha256,
+        "plant_sha256": problem.plant_sha256,
+        "requirements_met": sum(row.met is True for row in judged),
+        "requirements": len(judged),
+        "mu_peak": chosen.mu_peak,
+        "mu_peak_reduced": chosen.mu_peak_reduced,
+        "guaranteed_pointing_arcsec": None
+        if chosen.guaranteed_pointing_arcsec is None
+        else list(chosen.guaranteed_pointing_arcsec),
+        "required_pointing_arcsec": problem.requirements.pointing_arcsec,
+        "scalings": search.scalings.to_dict(),
+        "attempts": [a.to_dict() for a in search.attempts],
+        "seed": search.design.samples.seed,
+        "slew": {key: campaigns["slew"].get(key) for key in ("cases", "worst", "nominal")},
+        "pointing": {key: campaigns["pointing"].get(key) for key in ("cases", "worst", "nominal")},
+        "rows": [row.to_dict() for row in rows],
+        "time_s": time.perf_counter() - started,
+        "out_dir": str(out.absolute()),
+    }

@@ -1,0 +1,71 @@
+"""The design workflow: what a design is verified on, and its command's bad input."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+from click.testing import CliRunner
+
+from casadi_debris import load_problem
+from casadi_debris.cli import main
+from casadi_debris.config import default_problem_path
+from casadi_debris.workflows.design import SLEW_RUN_FACTOR, verification_problems
+from casadi_debris.workflows.reproduce import QUICK
+
+PROBLEMS = default_problem_path().parent
+
+
+def test_a_hold_problem_is_verified_on_a_slew_about_its_slowest_axis(problem, geometry):
+    slew_problem, pointing_problem = verification_problems(problem)
+    slew = slew_problem.simulation.slew
+    assert slew is not None and slew.angle_deg == 180.0 and slew.method == "bang-bang"
+    # by hand: the share of the authority the disturbance leaves, over the inertia
+    authority = np.array([4.608, 2.016, 4.32])  # mNm, zero net force (model --json)
+    fraction = (2 / 3) * (1 - 0.7 / authority)
+    acceleration = fraction * authority * 1e-3 / np.diag(geometry.inertia_total_kgm2)
+    assert slew.axis == "xyz"[int(np.argmin(acceleration))] == "y"
+    assert math.isclose(slew.torque_fraction, fraction[1], rel_tol=1e-3)
+    bang_bang_s = 2 * math.sqrt(math.pi / acceleration[1])
+    assert math.isclose(
+        slew_problem.simulation.duration_s, SLEW_RUN_FACTOR * bang_bang_s, rel_tol=1e-3
+    )
+    assert pointing_problem.simulation.reference == "hold"
+    assert pointing_problem.simulation.duration_s == problem.disturbance.period_min * 60
+    assert slew_problem.plant_sha256 == pointing_problem.plant_sha256 == problem.plant_sha256
+
+
+def test_a_slew_problem_keeps_its_own_slew_and_failures_are_left_out():
+    paper_slew = load_problem(PROBLEMS / "paper_slew.toml")
+    slew_problem, pointing_problem = verification_problems(paper_slew, QUICK)
+    assert slew_problem.simulation.slew == paper_slew.simulation.slew
+    assert slew_problem.simulation.duration_s == paper_slew.simulation.duration_s
+    assert pointing_problem.simulation.duration_s == QUICK.pointing_duration_s
+    assert slew_problem.simulation.failures == ()
+
+
+def test_design_refuses_a_disturbance_the_swarm_cannot_overcome(tmp_path: Path):
+    problem_file = tmp_path / "weak.toml"
+    problem_file.write_text(
+        f'extends = "{(PROBLEMS / "paper.toml").as_posix()}"\nname = "weak"\n'
+        "[disturbance]\namplitude_mNm = [0.7, 3.0, 0.7]\nperiod_min = 98.5\n"
+        "phase_deg = [0.0, 0.0, 0.0]\n"
+    )
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["design", str(problem_file), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    lines = result.output.strip().splitlines()
+    assert (
+        len(lines) == 1 and "disturbance.amplitude_mNm" in lines[0] and "y (2.02 mNm)" in lines[0]
+    )
+    assert not out.exists()
+
+
+def test_design_refuses_an_existing_folder_it_did_not_write(tmp_path: Path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    result = CliRunner().invoke(main, ["design", "--out", str(out)])
+    assert result.exit_code == 2
+    assert (out / "notes.txt").read_text() == "keep me"
