@@ -106,7 +106,7 @@ def mu_bounds(
     blocks: Sequence[BlockLike],
     *,
     upper: UpperMethod = "auto",
-    restarts: int = 3,
+    restarts: int = 2,
     seed: int = 0,
 ) -> MuBounds:
     """Upper and lower bounds of the mixed real/complex structured singular value.

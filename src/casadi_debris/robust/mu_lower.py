@@ -34,7 +34,7 @@ from scipy.optimize import minimize
 from casadi_debris.robust.blocks import Block
 
 _REAL_TOL = 1e-7  # an eigenvalue is real when |Im| <= this times |lambda|
-_LOCAL_SOLVES = 2
+_LOCAL_SOLVES = 1
 
 
 @dataclass(frozen=True)
@@ -184,7 +184,14 @@ def lower_bound(
         # The local solve costs most: run it from the two ends of largest relaxed radius.
         radius = [float(np.max(np.abs(np.linalg.eigvals(matrix @ d)))) for d in ends]
         order = np.argsort(radius)[::-1][:_LOCAL_SOLVES]
-        ends = [_local_solve(matrix, layout, _project(layout, ends[k])) for k in order]
+        projected = [_project(layout, ends[k]) for k in order]
+        # A projection that already reaches the relaxed radius is optimal: skip its solve.
+        ends = [
+            d
+            if evaluate(matrix, layout, d)[0] >= (1 - 1e-9) * radius[k]
+            else _local_solve(matrix, layout, d)
+            for k, d in zip(order, projected, strict=True)
+        ]
     best: tuple[float, np.ndarray] = (0.0, np.zeros_like(matrix))
     for delta in ends:
         candidate = evaluate(matrix, layout, delta)
@@ -283,7 +290,7 @@ def _local_solve(matrix: np.ndarray, layout: _Layout, delta: np.ndarray) -> np.n
         method="SLSQP",
         bounds=bounds,
         constraints=constraints,
-        options={"maxiter": 100, "ftol": 1e-12},
+        options={"maxiter": 60, "ftol": 1e-12},
     )
     return _unpack(result.x, layout)[1] if np.all(np.isfinite(result.x)) else delta
 
