@@ -26,6 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import scipy.linalg
@@ -264,8 +265,8 @@ def _local_solve(matrix: np.ndarray, layout: _Layout, delta: np.ndarray) -> np.n
         grad = _det_gradient(matrix, layout, x)
         return grad.real[None] if all_real else np.vstack([grad.real, grad.imag])
 
-    constraints = [{"type": "eq", "fun": singular, "jac": singular_jac}]
-    bounds = [(0.0, None)]
+    constraints: list[dict[str, Any]] = [{"type": "eq", "fun": singular, "jac": singular_jac}]
+    bounds: list[tuple[float, float | None]] = [(0.0, None)]
     i = 1
     for kind, part in layout.blocks():
         size = part.stop - part.start
@@ -283,8 +284,8 @@ def _local_solve(matrix: np.ndarray, layout: _Layout, delta: np.ndarray) -> np.n
                 }
             )
         i += 4 * size
-    result = minimize(
-        lambda x: x[0],
+    result = minimize(  # type: ignore[call-overload]
+        lambda x: float(x[0]),
         x0,
         jac=lambda x: np.eye(len(x))[0],
         method="SLSQP",
