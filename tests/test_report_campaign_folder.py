@@ -79,10 +79,8 @@ def test_cases_come_back_bit_exact_and_temporaries_of_the_dead_are_cleaned(
     stale.write_bytes(b"half")
     stale_table = partial_folder(out) / f".campaign.nc.casadi-debris-{dead}-0b.tmp"
     stale_table.write_bytes(b"half")
-    (partial_folder(out) / ".jit").mkdir()
     with CampaignFolder.open(out, _record()) as folder:
         assert not stale.exists() and not stale_table.exists()
-        assert not folder.build_folder.exists()
         found = folder.finished_cases([o.case for o in written])
         for outcome in written:
             again = found[outcome.case.case_id]

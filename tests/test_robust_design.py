@@ -84,12 +84,13 @@ def test_quick_design_is_consistent(problem):
 
 
 def test_full_synthesis_reproduces_the_shipped_design(problem, shipped):
-    """The paper's mu-synthesis, redone: robust performance reached, as shipped."""
+    """The paper's mu-synthesis, redone: robust performance reached, at least as well as
+    the shipped design (a resynthesis may find a lower mu; it must not lose ground)."""
     design = design_controller(problem)
     summary = design.summary()
     assert MU_PEAK.accepts([summary["mu_peak"], summary["mu_peak_reduced"]]), summary
     assert REDUCED_ORDER.accepts(summary["order_reduced"]), summary["order_reduced"]
-    assert summary["mu_peak"] == pytest.approx(shipped.mu_peak, rel=0.02)
+    assert summary["mu_peak"] <= shipped.mu_peak * 1.02, (summary["mu_peak"], shipped.mu_peak)
 
 
 @pytest.mark.parametrize(

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from casadi_debris.config import default_problem_path, load_problem
+from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import build_model
 from casadi_debris.workflows.campaign import (
@@ -72,3 +72,22 @@ def test_a_campaign_runs_from_python_and_reports_progress(short_slew, tmp_path: 
     written = json.loads((tmp_path / "mc" / "summary.json").read_text())
     assert written["worst"] == json.loads(json.dumps(summary["worst"]))
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mc"]
+
+
+def test_a_campaign_in_a_staging_folder_records_its_final_paths(short_slew, tmp_path: Path):
+    problem, _ = short_slew
+    staging, final = tmp_path / ".report.new", tmp_path / "report"
+    controller = staging / "controller.json"
+    staging.mkdir()
+    controller.write_bytes(default_controller_path().read_bytes())
+    summary = run_campaign_folder(
+        problem,
+        controller,
+        CaseSelection(samples=1, seed=3),
+        staging / "slew",
+        moved_to=(staging, final),
+    )
+    assert summary["out_dir"] == str((final / "slew").absolute())
+    assert summary["controller_path"] == str((final / "controller.json").absolute())
+    nominal = json.loads((staging / "slew" / "nominal" / "summary.json").read_text())
+    assert nominal["controller_path"] == summary["controller_path"]

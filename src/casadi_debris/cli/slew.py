@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass
@@ -82,13 +83,61 @@ def summary_text(summary: dict[str, Any]) -> str:
     ]
     if "flexible_method" in summary:
         rows.insert(6, ["flexible method", summary["flexible_method"]])
+    if "starts" in summary:
+        optima = ", ".join(f"{value:.6g}" for value in summary["local_optima_s"])
+        rows += [
+            ["starts agreeing", f"{summary['starts_agreeing']} of {summary['starts']}"],
+            ["local optima [s]", optima],
+            ["switch-time refinement", summary["refinement"]],
+        ]
+        if "verification_attitude_error_rad" in summary:
+            residual = summary["verification_attitude_error_rad"]
+            rows.append(["verification residual [rad]", f"{residual:.2g}"])
     if "torque_fraction" in summary:
         rows.insert(4, ["torque fraction", f"{summary['torque_fraction']:.4f}"])
     return format_table(["figure", "value"], rows)
 
 
 AXIS_CHOICES = ("x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z")
+
+
+class AxisParam(click.ParamType):
+    """A slew axis: a body axis letter (``z``, ``-x``) or three numbers ``a,b,c`` (any
+    non-zero vector, normalised by the slew functions)."""
+
+    name = "axis"
+
+    def convert(
+        self, value: Any, param: click.Parameter | None, ctx: click.Context | None
+    ) -> str | tuple[float, float, float]:
+        if isinstance(value, tuple):
+            return value
+        text = str(value).strip().lower()
+        if text in AXIS_CHOICES:
+            return text
+        parts = text.split(",")
+        try:
+            numbers = tuple(float(part) for part in parts)
+        except ValueError:
+            self.fail(
+                f"expected x, y, z (optionally signed) or three numbers a,b,c, got {value!r}",
+                param,
+                ctx,
+            )
+        if len(numbers) != 3:
+            self.fail(f"expected three numbers a,b,c, got {len(numbers)} in {value!r}", param, ctx)
+        if not all(math.isfinite(number) for number in numbers):
+            self.fail(f"must be three finite numbers, got {value!r}", param, ctx)
+        if not any(numbers):
+            self.fail(f"must not be the zero vector, got {value!r}", param, ctx)
+        return (numbers[0], numbers[1], numbers[2])
+
+    def get_metavar(self, param: click.Parameter, ctx: click.Context | None = None) -> str:
+        return "[x|y|z|-x|-y|-z|A,B,C]"
+
+
 MAX_RATE_DEG_S = 1e4
+MAX_STARTS = 1000
 MIN_SAMPLE_S = 1e-3
 # The slew functions name their parameters; the command line names its options.
 OPTION_OF_PARAMETER = {
@@ -106,7 +155,7 @@ OPTION_OF_PARAMETER = {
 class SlewRequest:
     """What ``casadi-debris slew`` was asked for, in its options' units."""
 
-    axis: str
+    axis: str | tuple[float, float, float]
     angle_deg: float
     method: str
     duration_s: float | None
@@ -118,6 +167,8 @@ class SlewRequest:
     thrusters: bool
     zero_net_force: bool
     sample_s: float
+    starts: int | None = None
+    seed: int = 0
 
     def solve(self, problem: Problem) -> SlewProfile:
         """The profile of the chosen method."""
@@ -154,7 +205,10 @@ class SlewRequest:
             torque_fraction=1.0 if self.torque_fraction is None else self.torque_fraction,
             sample_s=self.sample_s,
             flexible_method=self.flexible_method,
+            seed=self.seed,
         )
+        if self.starts is not None:  # else the library's default
+            options = dataclasses.replace(options, starts=self.starts)
         if self.method == "time-optimal":
             return time_optimal_slew(
                 problem, target=target, duration_s=self.duration_s, options=options
@@ -183,10 +237,10 @@ def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeEr
 @problem_argument
 @click.option(
     "--axis",
-    type=click.Choice(AXIS_CHOICES, case_sensitive=False),
+    type=AxisParam(),
     default="z",
     show_default=True,
-    help="Slew axis.",
+    help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1.",
 )
 @click.option(
     "--angle-deg",
@@ -243,6 +297,18 @@ def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeEr
     show_default=True,
     help="Output spacing.",
 )
+@click.option(
+    "--starts",
+    type=click.IntRange(1, MAX_STARTS),
+    help="Time-optimal (torque level): initial guesses of the global search (default 16).",
+)
+@click.option(
+    "--seed",
+    type=click.IntRange(0, None),
+    default=0,
+    show_default=True,
+    help="Seed of the random initial guesses.",
+)
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
 @overwrite_option
 @json_option
@@ -261,6 +327,8 @@ def slew(
     thrusters: bool,
     zero_net_force: bool,
     sample_s: float,
+    starts: int | None,
+    seed: int,
     out: Path | None,
     overwrite: bool,
     as_json: bool,
@@ -285,6 +353,8 @@ def slew(
         thrusters,
         zero_net_force,
         sample_s,
+        starts,
+        seed,
     )
     try:
         profile = request.solve(problem)

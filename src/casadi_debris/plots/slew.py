@@ -1,12 +1,14 @@
-"""Figures of a slew profile: attitude, rate, torque (and engine thrust) against time."""
+"""Figures of slew profiles: attitude, rate, torque (and engine thrust) against time."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
+from casadi_debris.model.attitude import error_quaternion, quaternion_axis_angle
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.slew import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
@@ -61,6 +63,46 @@ def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
         f"{kind}: {np.degrees(profile.target.angle_rad):.0f} deg in {profile.duration_s:.1f} s, "
         f"fuel {profile.fuel_kg:.3g} kg"
     )
+    for axis in axes:
+        axis.grid(True, linestyle=":")
+    return save_figure(figure, path)
+
+
+def plot_slew_comparison(profiles: Mapping[str, SlewProfile], path: Path) -> Path:
+    """Write a PNG of several slews side by side: the torque about each body axis (N m)
+    and the angle turned from the start (deg), against time (s).
+
+    Parameters
+    ----------
+    profiles : mapping of str to SlewProfile
+        Each slew by its legend label (duration added).
+    path : Path
+    """
+    figure, axes = plt.subplots(4, 1, figsize=(8, 8), sharex=True)
+    styles = ("-", "--", ":", "-.")
+    for (label, profile), style in zip(profiles.items(), styles * len(profiles), strict=False):
+        time = profile.time_s
+        for index, axis in enumerate("xyz"):
+            axes[index].step(
+                time,
+                profile.torque_Nm[:, index],
+                where="post",
+                linestyle=style,
+                color=AXIS_COLOURS[axis],
+            )
+        turned = np.degrees(
+            quaternion_axis_angle(
+                error_quaternion(profile.target.q_initial_BN, profile.quaternion_BN)
+            )[1]
+        )
+        axes[3].plot(
+            time, turned, linestyle=style, color="0.2", label=f"{label}: {profile.duration_s:.4f} s"
+        )
+    for index, axis in enumerate("xyz"):
+        axes[index].set_ylabel(f"torque {axis} [N m]")
+    axes[3].set_ylabel("angle turned [deg]")
+    axes[3].set_xlabel("time [s]")
+    axes[3].legend(loc="best", fontsize="small")
     for axis in axes:
         axis.grid(True, linestyle=":")
     return save_figure(figure, path)

@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -52,7 +51,6 @@ from casadi_debris.simulation.monte_carlo import Bands, CaseFailure
 PARTIAL_SUFFIX = ".partial"
 RECORD_NAME = "campaign.json"
 LOCK_NAME = ".lock"
-BUILD_FOLDER_NAME = ".jit"
 
 
 def partial_folder(out: Path) -> Path:
@@ -223,14 +221,8 @@ class CampaignFolder:
             )
 
     def _clean(self) -> None:
-        shutil.rmtree(self.build_folder, ignore_errors=True)
         clean_stale_folder(self.partial)
         clean_stale_folder(self.partial / "cases")
-
-    @property
-    def build_folder(self) -> Path:
-        """Where the workers compile the control step."""
-        return self.partial / BUILD_FOLDER_NAME
 
     def write_case(self, outcome: CaseOutcome) -> None:
         """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
@@ -275,7 +267,6 @@ class CampaignFolder:
 
     def finish(self, command: str = "montecarlo") -> Path:
         """Move the complete campaign to ``out`` (replacing an old one only with overwrite)."""
-        shutil.rmtree(self.build_folder, ignore_errors=True)
         (self.partial / LOCK_NAME).unlink(missing_ok=True)
         write_marker(self.partial, command)
         return move_into_place(self.partial, self.out, overwrite=self.overwrite)
@@ -296,5 +287,4 @@ class CampaignFolder:
         trace: TracebackType | None,
     ) -> None:
         if self.partial.exists():
-            shutil.rmtree(self.build_folder, ignore_errors=True)
             self.release()

@@ -71,11 +71,10 @@ class StepOutput:
 
 
 JIT_FLAGS = ("-O2",)
-# Campaigns still announce a build folder of their own under this name, with
-# this prefix in the system's temporary folder; the compiled step no longer
-# goes there but to the machine's cache (jit_cache), which campaigns share.
-JIT_FOLDER_ENV = "CASADI_DEBRIS_JIT_FOLDER"
-JIT_PREFIX = "casadi_debris_jit_"  # then the owner's process id: stale ones are found
+# Older versions compiled each campaign's step into a folder with this prefix in the
+# system's temporary folder (then the owner's process id); the step now goes to the
+# machine's cache (jit_cache), and stale folders of those versions are still removed.
+JIT_PREFIX = "casadi_debris_jit_"
 MODAL_ROUND_OFF = 1e-13
 CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
 

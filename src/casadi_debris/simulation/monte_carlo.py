@@ -18,14 +18,10 @@ the campaign goes on. Nothing here writes files.
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import math
-import os
-import tempfile
-from collections.abc import Callable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, fields
-from pathlib import Path
 from typing import Any
 
 import control
@@ -37,8 +33,6 @@ from casadi_debris.model import Model, build_model
 from casadi_debris.parallel import ItemFailure, SchedulerUnavailableError, parallel_map
 from casadi_debris.simulation.cases import Case
 from casadi_debris.simulation.closed_loop import (
-    JIT_FOLDER_ENV,
-    JIT_PREFIX,
     SimulationError,
     release_compiled_steps,
 )
@@ -355,7 +349,6 @@ def run_campaign(
     scheduler: str | None = None,
     on_result: Callable[[CaseOutcome], None] | None = None,
     on_failure: Callable[[CaseFailure], None] | None = None,
-    build_folder: Path | None = None,
 ) -> list[CaseOutcome]:
     """Run cases, in parallel, calling ``on_result`` as each finishes.
 
@@ -379,9 +372,6 @@ def run_campaign(
         Called with each :class:`CaseFailure` in completion order. Without
         it, failed cases raise :class:`CasesFailedError` once every other
         case has finished.
-    build_folder : Path, optional
-        Where the compiled control steps go (default: a private temporary
-        folder, removed at the end). The caller removes a folder it gives.
 
     Returns
     -------
@@ -401,20 +391,19 @@ def run_campaign(
     if workers < 1:
         raise SimulationError(f"workers must be at least 1, got {workers}")
     try:
-        with (
-            _build_folder(build_folder),
-            parallel_map(
-                _run_with,
-                cases,
-                functools.partial(CaseRunner, setup),
-                workers=workers,
-                scheduler=scheduler,
-                item_id=_case_id,
-            ) as finished,
-        ):
+        with parallel_map(
+            _run_with,
+            cases,
+            functools.partial(CaseRunner, setup),
+            workers=workers,
+            scheduler=scheduler,
+            item_id=_case_id,
+        ) as finished:
             by_id, failures = _collect(finished, on_result, on_failure)
     except SchedulerUnavailableError as exc:
         raise SchedulerError(str(exc)) from exc
+    finally:
+        release_compiled_steps()
     if failures and on_failure is None:
         raise CasesFailedError(failures)
     return [by_id[case.case_id] for case in cases if case.case_id in by_id]
@@ -439,31 +428,6 @@ def _collect(
         if on_result is not None:
             on_result(item.value)
     return by_id, failures
-
-
-@contextlib.contextmanager
-def _build_folder(given: Path | None) -> Iterator[Path]:
-    """The JIT folder of this campaign, announced to this process and its workers."""
-    with contextlib.ExitStack() as stack:
-        if given is None:
-            folder = Path(
-                stack.enter_context(
-                    tempfile.TemporaryDirectory(prefix=f"{JIT_PREFIX}{os.getpid()}_")
-                )
-            )
-        else:
-            folder = Path(given)
-            folder.mkdir(parents=True, exist_ok=True)
-        previous = os.environ.get(JIT_FOLDER_ENV)
-        os.environ[JIT_FOLDER_ENV] = str(folder)
-        try:
-            yield folder
-        finally:
-            release_compiled_steps()
-            if previous is None:
-                os.environ.pop(JIT_FOLDER_ENV, None)
-            else:
-                os.environ[JIT_FOLDER_ENV] = previous
 
 
 @dataclass(eq=False)

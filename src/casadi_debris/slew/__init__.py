@@ -8,6 +8,10 @@
   transcribed in :mod:`~casadi_debris.slew.transcription`, started from
   :mod:`~casadi_debris.slew.initial_guess`, the flexible end in
   :mod:`~casadi_debris.slew.modal_window`.
+- :mod:`~casadi_debris.slew.global_slew`: time-optimal rigid slews searched
+  globally (:mod:`~casadi_debris.slew.multistart`, switch times refined in
+  :mod:`~casadi_debris.slew.switch_times`), of a problem or of a plain
+  :class:`~casadi_debris.slew.rigid_body.RigidBody`.
 - :mod:`~casadi_debris.slew.shaper`: the zero-vibration input shaper.
 - :mod:`~casadi_debris.slew.modal`: the array modes' response to held inputs, in
   closed form.
@@ -30,10 +34,12 @@ from casadi_debris.slew.optimal import fuel_optimal_slew, time_optimal_slew
 from casadi_debris.slew.options import SlewOptions
 from casadi_debris.slew.profile import SlewProfile, simulate
 from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
+from casadi_debris.slew.rigid_body import RigidBody
 from casadi_debris.slew.shaper import shape, zero_vibration_shaper
 
 __all__ = [
     "BangBangTiming",
+    "RigidBody",
     "SlewOptions",
     "SlewProfile",
     "SlewTarget",

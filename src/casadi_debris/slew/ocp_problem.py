@@ -67,6 +67,8 @@ class SlewOcp:
         ``options.flexible``, the one with all modes (else None).
     parameters : ndarray
         The models' nominal parameters.
+    inertia : ndarray, shape (3, 3)
+        The full rigid inertia at the nominal parameters, kg m^2.
     lower, upper : ndarray, shape (3,)
         Per-axis torque box, N m.
     alpha_max : float
@@ -93,9 +95,9 @@ class SlewOcp:
         self.geometry = self.rigid_model.geometry
         self.parameters = self.rigid_model.nominal_parameters
         self.lower, self.upper = torque_limits(self.geometry, options.torque_fraction)
-        inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
+        self.inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
         self.alpha_max = eigenaxis_acceleration_limit(
-            inertia, target.axis_B, self.lower, self.upper
+            self.inertia, target.axis_B, self.lower, self.upper
         )
         self.limit_duration_s = rigid_limit_duration(target.angle_rad, self.alpha_max)
         self.f_max = max_thrust_N(self.geometry)

@@ -35,6 +35,11 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.slew.global_slew import (
+    global_time_optimal,
+    rigid_body_profile,
+    search_settings,
+)
 from casadi_debris.slew.initial_guess import (
     BangBangReferences,
     InitialGuess,
@@ -53,6 +58,7 @@ from casadi_debris.slew.ocp_problem import SlewOcp
 from casadi_debris.slew.ocp_solution import slew_profile
 from casadi_debris.slew.options import SlewOptions
 from casadi_debris.slew.profile import SlewProfile, residual_vibration
+from casadi_debris.slew.rigid_body import RigidBody
 from casadi_debris.slew.shaper import shape, zero_vibration_shaper
 from casadi_debris.slew.transcription import (
     RIGID_INTERVALS,
@@ -63,6 +69,7 @@ from casadi_debris.slew.transcription import (
 )
 
 __all__ = [
+    "RigidBody",
     "SlewOptions",
     "fuel_optimal_slew",
     "shape",
@@ -84,6 +91,7 @@ class _SlewSolver:
     def __init__(self, ocp: SlewOcp) -> None:
         self.ocp = ocp
         self.references = BangBangReferences(ocp)
+        self.report: dict[str, Any] = {}
         self._shaper: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def shaper(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -119,7 +127,9 @@ class _SlewSolver:
         """The rigid OCP from the eigenaxis bang-bang; its solution and the guess.
 
         ``duration_s`` is the length of a fuel-optimal slew (required then); a
-        time-optimal one ignores it.
+        time-optimal one ignores it. A time-optimal torque-level slew is the rigid
+        body's, searched globally (:mod:`casadi_debris.slew.global_slew`); its report
+        is kept in ``self.report``.
         """
         ocp = self.ocp
         if fuel:
@@ -131,6 +141,15 @@ class _SlewSolver:
             reference = self.references.at(ocp.limit_duration_s)
             total_s = reference.duration_s
         guess = bang_bang_guess(ocp, reference, fuel, total_s)
+        if not fuel and not ocp.thrusters and not ocp.options.single_axis:
+            found = global_time_optimal(
+                RigidBody(ocp.inertia, ocp.upper, ocp.lower),
+                ocp.target,
+                search_settings(ocp.options, self._bulk_intervals()),
+            )
+            self.report = found.report
+            solution = NlpSolution(found.knots_s, found.torque_Nm, found.status, 0.0)
+            return solution, guess
         solution = transcribe_and_solve(
             ocp,
             fuel=fuel,
@@ -167,13 +186,14 @@ class _SlewSolver:
             duration_s = duration_s - float(shaper[0][-1])  # the shaper stretches the profile
         solution, _ = self._solve_rigid(fuel, duration_s)
         solve_time = time.perf_counter() - started
-        settings: dict[str, Any] = {}
+        settings: dict[str, Any] = {**self.report, "control_intervals": self._bulk_intervals()}
         if shaper is not None:
             shaper_times, shaper_amplitudes, shaped_frequencies = shaper
             knots, controls = shape(
                 solution.knots_s, solution.controls, shaper_times, shaper_amplitudes
             )
             settings = {
+                **settings,
                 "flexible_method": method,
                 "rigid_duration_s": float(solution.knots_s[-1]),
                 "shaped_frequencies_rad_s": shaped_frequencies,
@@ -225,6 +245,7 @@ class _SlewSolver:
             vibration=VibrationBound.of(ocp, ENERGY_MARGIN * limit),
         )
         settings = {
+            **{f"rigid_{key}": value for key, value in self.report.items()},
             "flexible_method": "ocp",
             "window_s": window_s,
             "window_intervals": WINDOW_INTERVALS,
@@ -256,7 +277,7 @@ class _SlewSolver:
 
 
 def time_optimal_slew(
-    problem: Problem,
+    problem: Problem | RigidBody,
     axis: str | Sequence[float] = "z",
     angle_rad: float = math.pi,
     *,
@@ -267,11 +288,20 @@ def time_optimal_slew(
 ) -> SlewProfile:
     """Minimum-time rest-to-rest slew (free final time, nonlinear attitude dynamics).
 
+    Torque-level rigid slews (and every slew of a :class:`RigidBody`) are searched
+    globally: several starts, in parallel, then the best one's switch times refined
+    and verified by integration (:mod:`casadi_debris.slew.global_slew`); the
+    settings report the starts, the local optima found and the verification
+    residual, and a ``logging`` warning says when starts disagree.
+
     Parameters
     ----------
-    problem : Problem
+    problem : Problem or RigidBody
+        The debris and its swarm, or a plain rigid body (an inertia and a torque box:
+        rigid, torque level; ``fuel_kg`` is then nan, there being no engines).
     axis, angle_rad
-        Eigenaxis and angle in (0, pi] rad (ignored when ``target`` is given).
+        Eigenaxis (``"x"``, ``"-y"``, or any three numbers, normalised) and angle in
+        (0, pi] rad (ignored when ``target`` is given).
     target : SlewTarget, optional
         Any rest-to-rest attitude pair.
     duration_s : float, optional
@@ -280,9 +310,7 @@ def time_optimal_slew(
         How the slew is modelled, solved and checked (default ``SlewOptions()``).
     **settings
         Any field of :class:`SlewOptions` by name (``flexible``, ``thrusters``,
-        ``zero_net_force``, ``torque_fraction``, ``single_axis``, ``intervals``,
-        ``residual_energy_fraction``, ``sample_s``, ``check_vibration``,
-        ``flexible_method``), in place of the value in ``options``.
+        ``starts``, ...), in place of the value in ``options``.
 
     Returns
     -------
@@ -302,10 +330,19 @@ def time_optimal_slew(
     >>> slew = time_optimal_slew(load_problem(), "z", math.pi, check_vibration=False)
     >>> round(slew.duration_s)
     903
+
+    The benchmark of Bilimoria & Wie (1993), J = I and |u_i| <= 1:
+
+    >>> body = RigidBody(inertia_kgm2=np.eye(3), torque_max_Nm=(1, 1, 1))
+    >>> slew = time_optimal_slew(body, axis=(0, 0, 1), angle_rad=math.pi, workers=1)
+    >>> round(slew.duration_s, 4), round(slew.limit_duration_s, 4)
+    (3.2431, 3.5449)
     """
     options = SlewOptions.merged("time_optimal_slew", options, settings)
     if duration_s is not None:
         _check_finite_duration(duration_s)
+    if isinstance(problem, RigidBody):
+        return _rigid_body_slew(problem, axis, angle_rad, target, duration_s, options)
     solver = _solver(problem, axis, angle_rad, target, options)
     fastest = solver.solve(
         fuel=False, duration_s=None, check_vibration=options.check_vibration and duration_s is None
@@ -316,16 +353,15 @@ def time_optimal_slew(
     if not options.check_vibration:
         return fastest
     # The deadline is met: now the (long) check on the flexible model.
-    ocp = solver.ocp
+    return _vibration_checked(problem, solver.ocp, fastest)
+
+
+def _vibration_checked(problem: Problem, ocp: SlewOcp, slew: SlewProfile) -> SlewProfile:
+    """``slew`` with the vibration it leaves on the full flexible model."""
     vibration, energy = residual_vibration(
-        problem,
-        ocp.target,
-        fastest.input_function,
-        fastest.time_s,
-        fastest.duration_s,
-        ocp.flexible_model,
+        problem, ocp.target, slew.input_function, slew.time_s, slew.duration_s, ocp.flexible_model
     )
-    return dataclasses.replace(fastest, residual_vibration_rad=vibration, residual_energy_J=energy)
+    return dataclasses.replace(slew, residual_vibration_rad=vibration, residual_energy_J=energy)
 
 
 def fuel_optimal_slew(
@@ -360,6 +396,11 @@ def fuel_optimal_slew(
     210
     """
     options = SlewOptions.merged("fuel_optimal_slew", options, settings)
+    if isinstance(problem, RigidBody):
+        raise InputShapeError(
+            "problem: a fuel-optimal slew needs a Problem (a RigidBody has no engines to "
+            "burn propellant)"
+        )
     if options.single_axis:
         raise InputShapeError("single_axis applies to time-optimal slews only")
     _check_finite_duration(duration_s)
@@ -370,6 +411,43 @@ def fuel_optimal_slew(
             duration_s, solver.solve(fuel=False, duration_s=None, check_vibration=False)
         )
     return solver.solve(fuel=True, duration_s=duration_s, check_vibration=options.check_vibration)
+
+
+def _rigid_body_slew(
+    body: RigidBody,
+    axis: str | Sequence[float],
+    angle_rad: float,
+    target: SlewTarget | None,
+    duration_s: float | None,
+    options: SlewOptions,
+) -> SlewProfile:
+    """The time-optimal slew of a plain rigid body, searched globally."""
+    for name in ("flexible", "thrusters", "single_axis"):
+        if getattr(options, name):
+            raise InputShapeError(
+                f"{name}: applies to the slew of a Problem (a RigidBody has no arrays, "
+                "no engines, and is searched on all three axes)"
+            )
+    goal = slew_about_axis(axis, angle_rad) if target is None else target
+    started = time.perf_counter()
+    scaled = body.scaled(options.torque_fraction)
+    intervals = options.intervals or RIGID_INTERVALS
+    found = global_time_optimal(scaled, goal, search_settings(options, intervals))
+    profile = rigid_body_profile(
+        scaled,
+        goal,
+        found,
+        sample_s=options.sample_s,
+        solve_time_s=time.perf_counter() - started,
+        settings={
+            "torque_fraction": options.torque_fraction,
+            "control_intervals": intervals,
+            "single_axis": False,
+        },
+    )
+    if duration_s is not None:
+        _check_not_below(duration_s, profile)
+    return profile
 
 
 def _solver(

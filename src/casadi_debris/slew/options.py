@@ -10,6 +10,7 @@ thruster level, how fine, how checked) is a :class:`SlewOptions`, shared by
 from __future__ import annotations
 
 import dataclasses
+import numbers
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,6 +20,7 @@ from casadi_debris.slew.maneuver import check_positive, check_torque_fraction
 DEFAULT_RESIDUAL_ENERGY_FRACTION = 0.01
 DEFAULT_SAMPLE_S = 1.0
 FLEXIBLE_METHODS = ("ocp", "shaper")
+DEFAULT_STARTS = 16
 
 
 @dataclass(frozen=True)
@@ -59,6 +61,17 @@ class SlewOptions:
         Flexible only: ``"ocp"`` solves with the modal states (falling back to the
         shaper, and saying so in ``settings["flexible_method"]``, if IPOPT fails);
         ``"shaper"`` passes the rigid optimum through a zero-vibration shaper.
+    starts : int
+        Time-optimal rigid slews at torque level (and a :class:`RigidBody`'s): how many
+        initial guesses (>= 1; the first is the eigenaxis bang-bang, the others
+        symmetry-breaking ones, :mod:`casadi_debris.slew.global_slew`).
+    seed : int
+        Seed of the random starts (>= 0), recorded in the settings.
+    workers : int, optional
+        Processes for the starts (>= 1); default two when there are at least four
+        starts and two cores, in the main process only.
+    refine : bool
+        Refine the best start's switch times and verify them by integration.
 
     Examples
     --------
@@ -77,6 +90,10 @@ class SlewOptions:
     sample_s: float = DEFAULT_SAMPLE_S
     check_vibration: bool = True
     flexible_method: str = "ocp"
+    starts: int = DEFAULT_STARTS
+    seed: int = 0
+    workers: int | None = None
+    refine: bool = True
 
     def __post_init__(self) -> None:
         check_torque_fraction(self.torque_fraction)
@@ -85,6 +102,10 @@ class SlewOptions:
         intervals = self.intervals
         if intervals is not None and (intervals < 2 or intervals % 2):
             raise InputShapeError(f"intervals: must be an even number >= 2, got {intervals}")
+        _check_count("starts", self.starts, 1)
+        _check_count("seed", self.seed, 0)
+        if self.workers is not None:
+            _check_count("workers", self.workers, 1)
         if self.single_axis and self.thrusters:
             raise InputShapeError("single_axis applies to torque-level slews only")
         if self.zero_net_force and not self.thrusters:
@@ -121,3 +142,9 @@ class SlewOptions:
             if name not in known:
                 raise TypeError(f"{caller}() got an unexpected keyword argument {name!r}")
         return dataclasses.replace(cls() if options is None else options, **keywords)
+
+
+def _check_count(name: str, value: int, least: int) -> None:
+    """Raise unless ``value`` is an integer (not a bool) of at least ``least``, naming it."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or value < least:
+        raise InputShapeError(f"{name}: must be an integer >= {least}, got {value!r}")

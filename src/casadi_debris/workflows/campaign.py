@@ -178,6 +178,7 @@ def run_campaign_folder(
     overwrite: bool = False,
     progress: Progress | None = None,
     allow_mismatch: bool = False,
+    moved_to: tuple[Path, Path] | None = None,
 ) -> dict[str, Any]:
     """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
 
@@ -202,6 +203,9 @@ def run_campaign_folder(
         Called as cases finish (see :data:`Progress`).
     allow_mismatch : bool
         Fly a controller designed for another plant.
+    moved_to : (Path, Path), optional
+        ``(staging, final)``: ``out`` and the controller lie in a report's staging
+        folder, moved to ``final`` later; the summaries record the final paths.
 
     Returns
     -------
@@ -232,20 +236,43 @@ def run_campaign_folder(
         outcomes, failures = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
         if not outcomes:
             raise CasesFailedError(failures)  # nothing to summarise; the folder stays
-        how = {
-            "controller_path": str(resolved),
-            "plant_sha256": problem.plant_sha256,
-            "controller_plant_sha256": record.problem_sha256,
+        how = _identifying(problem, record, resolved, out, moved_to) | {
             "workers": workers,
             "scheduler": scheduler,
             "resumed_cases": len(done),
             "compiled_step": bool(jit and c_compiler()),
-            "out_dir": str(out.absolute()),
             "failed_cases": [_failure_record(f) for f in failures],
         }
         summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
         folder.finish()
     return summary
+
+
+def _identifying(
+    problem: Problem,
+    record: ControllerRecord,
+    controller_path: Path,
+    out: Path,
+    moved_to: tuple[Path, Path] | None,
+) -> dict[str, str]:
+    """The files and plants a campaign summary names (paths as they will end up)."""
+    return {
+        "controller_path": str(_final(controller_path, moved_to)),
+        "plant_sha256": problem.plant_sha256,
+        "controller_plant_sha256": record.problem_sha256,
+        "out_dir": str(_final(out.absolute(), moved_to)),
+    }
+
+
+def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
+    """Where ``path`` will be once a staging folder is moved (``(staging, final)``)."""
+    if moved_to is None:
+        return path
+    staging, final = (Path(p).absolute() for p in moved_to)
+    try:
+        return final / Path(path).absolute().relative_to(staging)
+    except ValueError:
+        return path
 
 
 def _failure_record(failure: CaseFailure) -> dict[str, str]:
@@ -369,7 +396,6 @@ def _run_missing(
             scheduler=scheduler,
             on_result=keep,
             on_failure=record,
-            build_folder=folder.build_folder,
         )
     except KeyboardInterrupt:
         kept = len(resumed) + len(finished)

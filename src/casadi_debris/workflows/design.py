@@ -212,6 +212,7 @@ def _verify(
             staging / name,
             workers=workers,
             progress=stage(f"{name} Monte Carlo"),
+            moved_to=(staging, out),
         )
     return margins, campaigns
 

@@ -100,11 +100,19 @@ def _campaign(
     folder: Path,
     workers: int,
     progress: Progress | None,
+    moved_to: tuple[Path, Path],
 ) -> dict[str, Any]:
-    """One of the paper's corner campaigns (``cases`` spread evenly, None: all)."""
+    """One of the paper's corner campaigns (``cases`` spread evenly, None: all), in a
+    report folder being built (``moved_to``: its staging folder and where it will be)."""
     selection = CaseSelection(corners=True, max_cases=cases)
     return run_campaign_folder(
-        problem, controller_path, selection, folder, workers=workers, progress=progress
+        problem,
+        controller_path,
+        selection,
+        folder,
+        workers=workers,
+        progress=progress,
+        moved_to=moved_to,
     )
 
 
@@ -116,6 +124,7 @@ def _corner_campaigns(
     staging: Path,
     workers: int,
     stage: Callable[[str], Progress | None],
+    out: Path,
 ) -> dict[str, dict[str, Any]]:
     """The slew, then the pointing campaign, each announced by ``stage``; the slew's
     summary carries the reference duration its rows are judged against."""
@@ -127,6 +136,7 @@ def _corner_campaigns(
             staging / name,
             workers,
             stage(f"{name} Monte Carlo"),
+            (staging, out),
         )
         for name, campaign_problem, cases in (
             ("slew", slew_problem, plan.slew_cases),
@@ -216,7 +226,7 @@ def reproduce_paper(
             out_dir=out / "margins",
         )
         campaigns = _corner_campaigns(
-            plan, slew_problem, pointing_problem, controller_path, staging, workers, stage
+            plan, slew_problem, pointing_problem, controller_path, staging, workers, stage, out
         )
         rows = _rows(problem, model_summary, budgets, record, margins, campaigns)
         how = {"controller_path": str(controller_path), "quick": quick, "workers": workers}
