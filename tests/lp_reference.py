@@ -68,6 +68,31 @@ def least_fuel_N(
     return float(result.fun) * unit if result.status == 0 else None
 
 
+def least_mass_flow_kg_s(
+    geometry: Geometry,
+    limits_N: np.ndarray,
+    exhaust_velocity_m_s: np.ndarray,
+    torque_Nm: np.ndarray,
+    force_N: np.ndarray | None,
+) -> float | None:
+    """Least propellant mass flow ``sum f_i / c_i`` [kg/s] meeting the wrench exactly, or
+    None when infeasible.
+
+    The cost is posed as ``c_min / c_i`` (of order one: HiGHS' dual tolerance is absolute).
+    """
+    target, unit = scaled_wrench(torque_Nm, force_N)
+    smallest = float(np.min(exhaust_velocity_m_s))
+    result = linprog(
+        smallest / np.asarray(exhaust_velocity_m_s, dtype=float),
+        A_eq=wrench_rows(geometry, force_N is None),
+        b_eq=target,
+        bounds=_thrust_bounds(limits_N, unit),
+        method="highs",
+        options=HIGHS_OPTIONS,
+    )
+    return float(result.fun) * unit / smallest if result.status == 0 else None
+
+
 def reaches(
     geometry: Geometry, limits_N: np.ndarray, torque_Nm: np.ndarray, force_N: np.ndarray | None
 ) -> bool:

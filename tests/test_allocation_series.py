@@ -90,7 +90,7 @@ def check_series(
     np.testing.assert_array_equal(series.torque_Nm, series.thrust_N @ geometry.torque_map.T)
     np.testing.assert_allclose(
         series.fuel_rate_kg_s,
-        series.thrust_N.sum(axis=1) / allocator.exhaust_velocity_m_s,
+        series.thrust_N @ (1.0 / allocator.exhaust_velocity_m_s),
         rtol=1e-12,
     )
 

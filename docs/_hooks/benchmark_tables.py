@@ -166,6 +166,17 @@ def allocation_other(data: Data) -> str:
             f"{tiny['highs_fallbacks']} HiGHS fallbacks",
         ],
     ]
+    scaling = data.get("engines_scaling")
+    if scaling:  # recordings before it was measured have none
+        rows.append(
+            [
+                f"`allocate` with {scaling['48']['engines']} engines against "
+                f"{scaling['24']['engines']} (feasible demands, same run)",
+                f"{num(scaling['48']['median_us'])} µs against "
+                f"{num(scaling['24']['median_us'])} µs median: "
+                f"{num(scaling['ratio_48_to_24'])} times",
+            ]
+        )
     return table(["figure", "measured"], rows, "ll")
 
 

@@ -162,6 +162,17 @@ _FAILED = [
     (",".join(str(i) for i in range(1, 25)), "either"),
 ]
 
+# CUBESAT:ENGINE pairs; the paper's CubeSats have one engine each.
+_FAILED_ENGINES = [
+    ("1:2", "reject"),
+    ("25:1", "reject"),
+    ("0:1", "reject"),
+    ("1", "reject"),
+    ("1:a", "reject"),
+    ("", "reject"),
+    ("3:1", "ok"),
+]
+
 
 def _allocate_demand_entries(inv: Invocations) -> None:
     """``--torque-mNm`` and ``--force-mN`` (fast: no long computation whatever it does)."""
@@ -198,6 +209,16 @@ def allocate_entries(inv: Invocations) -> None:
     for value, expect in _FAILED:
         fast = value in ("0", "25", "a")
         inv.option("allocate", "--failed", [value], f"--failed {value!r}", expect=expect, fast=fast)
+    for value, expect in _FAILED_ENGINES:
+        fast = value in ("1:2", "25:1")
+        inv.option(
+            "allocate",
+            "--failed-engines",
+            [value],
+            f"--failed-engines {value!r}",
+            expect=expect,
+            fast=fast,
+        )
     for value in ("junk", "", "nan"):
         inv.option("allocate", "--solver", [value], f"--solver {value!r}", fast=value == "junk")
     inv.option("allocate", "--saturation", ["junk"], "--saturation junk", fast=True)

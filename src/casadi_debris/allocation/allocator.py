@@ -9,9 +9,10 @@ unless given; left free on request):
 
 1. **exact, least fuel** -- if the demand can be met,
 
-       minimise sum(f)   subject to  B f = tau,  F f = phi,  0 <= f <= f_max.
+       minimise sum(f_i / c_i)   subject to  B f = tau,  F f = phi,  0 <= f <= f_max,
 
-   Every engine has the same Isp, so sum(f) is the mass flow times Isp g0.
+   the propellant mass flow, ``c_i = Isp_i g0`` each engine's exhaust
+   velocity. With one Isp for every engine this is the least total thrust.
 2. **saturation, direction kept** (default when 1 is infeasible) -- the
    largest ``alpha`` in [0, 1] with ``B f = alpha tau, F f = alpha phi``, then
    problem 1 at ``alpha tau, alpha phi`` (least fuel among the maximisers).
@@ -42,7 +43,10 @@ solve.
 
 Scaling: thrust in units of the largest limit, torque rows in units of the
 largest lever arm times that limit, force rows likewise, so all QP data are
-of order one whatever the problem's units.
+of order one whatever the problem's units. The fuel weight of engine ``i`` is
+``c_max / c_i`` (1 for the engines of highest Isp, more for the others):
+proportional to its mass flow per newton, and never below the weight of 1
+against which the proximal term is sized.
 
 Failed or spent engines keep their column with an upper bound of zero: the
 solver workspaces are set up once and only their bounds change.
@@ -59,6 +63,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import numpy.typing as npt
 
 from casadi_debris.allocation import batch
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
@@ -102,8 +107,9 @@ class Allocator(SolvePaths):
         Force on the body per newton of each engine [N / N].
     max_thrust_N : ndarray, shape (n,)
         Thrust limit of each engine's active stage [N]; 0 removes an engine.
-    exhaust_velocity_m_s : float
-        Isp g0 of the engines [m/s], for the fuel rate.
+    exhaust_velocity_m_s : float or array_like, shape (n,)
+        Isp g0 of the engines [m/s], one for all or one per engine: the
+        least-fuel objective weights each engine's thrust by its inverse.
     solver : str
         QP back-end, one of :func:`~casadi_debris.allocation.available_solvers`.
     saturation : {"scale", "least_squares"}
@@ -133,7 +139,7 @@ class Allocator(SolvePaths):
         force_map: np.ndarray,
         max_thrust_N: np.ndarray,
         *,
-        exhaust_velocity_m_s: float,
+        exhaust_velocity_m_s: float | npt.ArrayLike,
         solver: str = DEFAULT_SOLVER,
         saturation: SaturationMode = "scale",
         geometry: Geometry | None = None,
@@ -151,13 +157,13 @@ class Allocator(SolvePaths):
             raise AllocationError(
                 f"unknown saturation mode {saturation!r}; one of {', '.join(SATURATION_MODES)}"
             )
-        if not np.isfinite(exhaust_velocity_m_s) or exhaust_velocity_m_s <= 0:
-            raise AllocationError(
-                f"exhaust_velocity_m_s must be positive, got {exhaust_velocity_m_s}"
-            )
+        exhaust = _exhaust_velocities(exhaust_velocity_m_s, n)
         self.torque_map = torque_map
         self.force_map = force_map
-        self.exhaust_velocity_m_s = float(exhaust_velocity_m_s)
+        self.exhaust_velocity_m_s = exhaust
+        # One Isp: the fuel rate stays sum(f) / c, bit for bit the single-Isp formula.
+        self._uniform_exhaust = float(exhaust[0]) if np.all(exhaust == exhaust[0]) else None
+        self._mass_flow_per_N = 1.0 / exhaust
         self.saturation = saturation
         self.geometry = geometry
         limits = self._checked_limits(max_thrust_N)
@@ -184,6 +190,8 @@ class Allocator(SolvePaths):
             limits / self._thrust_ref_N,
             solver,
             self._torque_ref_Nm,
+            # Mass flow per unit thrust relative to the best engine: exactly 1 for one Isp.
+            float(exhaust.max()) / exhaust,
         )
         self.solver = solver
         self._polytopes: dict[bool, AuthorityPolytope] = {}
@@ -215,18 +223,12 @@ class Allocator(SolvePaths):
         """
         geometry = geometry or build_geometry(problem)
         limits = state.max_thrust_N() if state is not None else max_thrust_N(geometry)
-        isp = {engine.isp_s for engine in problem.engines}
-        if len(isp) > 1:
-            # Least total thrust is least fuel only when every engine has one Isp.
-            raise AllocationError(
-                f"engines with different Isp ({sorted(isp)} s): the allocator's least-fuel "
-                "objective needs one Isp for all engines"
-            )
+        g0 = problem.constants.standard_gravity_m_s2
         return cls(
             geometry.torque_map,
             geometry.force_map,
             limits,
-            exhaust_velocity_m_s=isp.pop() * problem.constants.standard_gravity_m_s2,
+            exhaust_velocity_m_s=np.array([engine.isp_s * g0 for engine in problem.engines]),
             solver=solver,
             saturation=saturation,
             geometry=geometry,
@@ -238,6 +240,28 @@ class Allocator(SolvePaths):
     def n_engines(self) -> int:
         """Number of engines (columns of the maps)."""
         return self.torque_map.shape[1]
+
+    def fuel_rate_kg_s(self, thrust_N: npt.ArrayLike) -> Any:
+        """Propellant mass flow ``sum_i f_i / c_i`` of a thrust or of each row of a series.
+
+        Parameters
+        ----------
+        thrust_N : array_like, shape (n,) or (k, n)
+            Thrust per engine [N].
+
+        Returns
+        -------
+        float or ndarray, shape (k,)
+            [kg/s].
+        """
+        thrust = np.asarray(thrust_N, dtype=float)
+        if self._uniform_exhaust is None:
+            rate = thrust @ self._mass_flow_per_N
+        elif thrust.ndim > 1:
+            rate = thrust @ np.ones(thrust.shape[-1]) / self._uniform_exhaust
+        else:
+            rate = np.add.reduce(thrust) / self._uniform_exhaust
+        return float(rate) if thrust.ndim == 1 else rate
 
     @property
     def max_thrust_N(self) -> np.ndarray:
@@ -455,3 +479,18 @@ class Allocator(SolvePaths):
         finally:
             self.saturation = saturation
         return authority
+
+
+def _exhaust_velocities(exhaust_velocity_m_s: float | npt.ArrayLike, n: int) -> np.ndarray:
+    """One exhaust velocity per engine [m/s], shape (n,), finite and positive."""
+    exhaust = np.array(exhaust_velocity_m_s, dtype=float)
+    if exhaust.ndim == 0:
+        exhaust = np.full(n, float(exhaust))
+    if exhaust.shape != (n,):
+        raise InputShapeError(
+            f"exhaust_velocity_m_s must be a number or one per engine ({n}), "
+            f"got shape {exhaust.shape}"
+        )
+    if not np.all(np.isfinite(exhaust)) or np.any(exhaust <= 0):
+        raise AllocationError(f"exhaust_velocity_m_s must be positive, got {exhaust}")
+    return exhaust

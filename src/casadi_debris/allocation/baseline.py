@@ -110,7 +110,7 @@ class PseudoInverseAllocator:
             feasible=error <= FEASIBLE_RTOL * max(np.sqrt(norm2), 1e-300),
             scale=float(achieved @ torque / norm2) if norm2 > 0 else 1.0,
             mode="pseudo_inverse",
-            fuel_rate_kg_s=float(thrust.sum()) / allocator.exhaust_velocity_m_s,
+            fuel_rate_kg_s=allocator.fuel_rate_kg_s(thrust),
             solver="pseudo_inverse",
             iterations=0,
             solve_time_s=elapsed,

@@ -85,7 +85,7 @@ def allocate_series(allocator: Allocator, torques_Nm: Any, free_force: bool) -> 
         targets = np.hstack([targets, np.zeros_like(targets)])
     series_qp = allocator._series_qps.get(free_force)
     if series_qp is None:
-        series_qp = PiecewiseAffineQp(qp.rows(free_force), qp.upper, EXACT_PROXIMAL)
+        series_qp = PiecewiseAffineQp(qp.rows(free_force), qp.upper, EXACT_PROXIMAL, qp.cost)
         allocator._series_qps[free_force] = series_qp
 
     def solve_point(target: np.ndarray) -> np.ndarray:
@@ -113,7 +113,7 @@ def allocate_series(allocator: Allocator, torques_Nm: Any, free_force: bool) -> 
         torque_Nm=achieved.torque_Nm,
         force_N=achieved.force_N,
         scale=scale,
-        fuel_rate_kg_s=achieved.total_N / allocator.exhaust_velocity_m_s,
+        fuel_rate_kg_s=allocator.fuel_rate_kg_s(thrust),
         point_solves=point_solves + len(redo),
         wall_time_s=time.perf_counter() - start,
     )

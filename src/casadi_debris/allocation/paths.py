@@ -62,7 +62,8 @@ class SolvePaths:
 
     torque_map: np.ndarray
     force_map: np.ndarray
-    exhaust_velocity_m_s: float
+    _uniform_exhaust: float | None  # the engines' one exhaust velocity [m/s], if one
+    _mass_flow_per_N: np.ndarray  # (n,) 1 / c_i [kg/s per N]
     saturation: SaturationMode
     solver: str
     _qp: ScaledQp
@@ -372,7 +373,9 @@ class SolvePaths:
             feasible,
             scale + 0.0,  # no -0.0 from a clipped alpha
             mode,
-            total_N / self.exhaust_velocity_m_s,
+            total_N / self._uniform_exhaust
+            if self._uniform_exhaust is not None
+            else float(thrust @ self._mass_flow_per_N),
             f"{self.solver}+highs" if rescued else self.solver,
             iterations,
             solve_time_s,

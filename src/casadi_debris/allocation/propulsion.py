@@ -11,9 +11,10 @@ active stage runs dry the next healthy stage takes over (within the same
 time step, at the instant of depletion); when every stage of an engine is
 spent or failed, the engine drops out of the allocation (limit 0).
 
-Engines belong to CubeSats (the paper's have one each). Failures are per
-CubeSat, as a user schedules them: a failed CubeSat takes all its engines out,
-a failed stage that stage of each of its engines. Engines with fewer stages
+Engines belong to CubeSats (the paper's have one each). Failures are
+scheduled per CubeSat: a failed CubeSat takes all its engines out, a failed
+stage that stage of each of its engines, a failed engine that engine alone
+(the CubeSat's other engines keep firing). Engines with fewer stages
 than the most of any have stages of zero capacity in the remaining columns,
 which never fire.
 
@@ -96,6 +97,7 @@ class PropulsionState:
         The CubeSat (0-based) each engine belongs to.
     failed_cubesats : ndarray of bool, shape (n_cubesats,)
     failed_stages : ndarray of bool, shape (n_cubesats, n_stages)
+    failed_engines : ndarray of bool, shape (n_engines,)
 
     Example
     -------
@@ -113,6 +115,7 @@ class PropulsionState:
     engine_cubesat: IntArray
     failed_cubesats: BoolArray
     failed_stages: BoolArray
+    failed_engines: BoolArray
 
     # Written out, not generated: the optional arguments default to one engine per
     # CubeSat, no firing time and no failures, while the attributes are always arrays.
@@ -126,6 +129,7 @@ class PropulsionState:
         failed_cubesats: npt.ArrayLike | None = None,
         failed_stages: npt.ArrayLike | None = None,
         engine_cubesat: npt.ArrayLike | None = None,
+        failed_engines: npt.ArrayLike | None = None,
     ) -> None:
         self.propellant_kg = engine_stage_matrix(propellant_kg, "propellant_kg", None)
         n_engines, n_stages = self.propellant_kg.shape
@@ -148,6 +152,10 @@ class PropulsionState:
             failed_stages = np.zeros((n_cubesats, n_stages), dtype=bool)
         self.failed_cubesats = np.array(failed_cubesats, dtype=bool)
         self.failed_stages = np.array(failed_stages, dtype=bool)
+        self.failed_engines = np.array(
+            np.zeros(n_engines, dtype=bool) if failed_engines is None else failed_engines,
+            dtype=bool,
+        )
         self._check()
 
     def _check(self) -> None:
@@ -170,6 +178,10 @@ class PropulsionState:
             raise InputShapeError(
                 f"failed_stages must have shape ({n_cubesats}, {n_stages}), "
                 f"got {self.failed_stages.shape}"
+            )
+        if self.failed_engines.shape != (n_engines,):
+            raise InputShapeError(
+                f"failed_engines must have shape ({n_engines},), got {self.failed_engines.shape}"
             )
         if not np.all(np.isfinite(self.exhaust_velocity_m_s)) or np.any(
             self.exhaust_velocity_m_s <= 0
@@ -233,6 +245,7 @@ class PropulsionState:
             self.failed_cubesats.copy(),
             self.failed_stages.copy(),
             self.engine_cubesat.copy(),
+            self.failed_engines.copy(),
         )
 
     # ------------------------------------------------------------------ queries
@@ -259,6 +272,7 @@ class PropulsionState:
             (self.propellant_kg > DEPLETED_FRACTION * self.stage_capacity_kg)
             & ~self.failed_stages[owner]
             & ~self.failed_cubesats[owner][:, None]
+            & ~self.failed_engines[:, None]
         )
         return usable
 
@@ -327,6 +341,21 @@ class PropulsionState:
         if not 0 <= stage < self.n_stages:
             raise AllocationError(f"stage {stage} out of range 0..{self.n_stages - 1}")
         self.failed_stages[cubesat, stage] = True
+
+    def engine_index(self, cubesat: int, engine: int) -> int:
+        """Row of a CubeSat's ``engine``-th engine (both 0-based), in the order the problem
+        lists them."""
+        self._check_index(cubesat)
+        rows = np.flatnonzero(self.engine_cubesat == cubesat)
+        if not 0 <= engine < len(rows):
+            raise AllocationError(
+                f"CubeSat {cubesat + 1} has engines 1..{len(rows)}, got engine {engine + 1}"
+            )
+        return int(rows[engine])
+
+    def fail_engine(self, cubesat: int, engine: int) -> None:
+        """Take one engine of a CubeSat out (0-based, its ``engine``-th); the others fire on."""
+        self.failed_engines[self.engine_index(cubesat, engine)] = True
 
     def _check_index(self, cubesat: int) -> None:
         if not 0 <= cubesat < self.n_cubesats:
@@ -493,14 +522,20 @@ class PropulsionState:
 
         As everything a user reads, CubeSats and stages are numbered from 1:
         ``failed_cubesats`` lists CubeSat ids, ``failed_stages`` [CubeSat, stage]
-        pairs; the rows of ``propellant_kg`` and ``firing_time_s`` are engines 1..n
-        (one per CubeSat in the paper's swarm) and their columns stages 1..m.
+        pairs, ``failed_engines`` [CubeSat, engine of that CubeSat] pairs; the rows of
+        ``propellant_kg`` and ``firing_time_s`` are engines 1..n (one per CubeSat in
+        the paper's swarm) and their columns stages 1..m.
         """
         return {
             "propellant_kg": self.propellant_kg.tolist(),
             "firing_time_s": self.firing_time_s.tolist(),
             "failed_cubesats": (np.flatnonzero(self.failed_cubesats) + 1).tolist(),
             "failed_stages": [[int(c) + 1, int(s) + 1] for c, s in np.argwhere(self.failed_stages)],
+            "failed_engines": [
+                [int(c) + 1, int(np.sum(self.engine_cubesat[:row] == c)) + 1]
+                for row, c in enumerate(self.engine_cubesat)
+                if self.failed_engines[row]
+            ],
         }
 
     def updated_from_dict(self, data: dict[str, Any]) -> PropulsionState:
@@ -515,7 +550,13 @@ class PropulsionState:
         InputShapeError
             Arrays of the wrong shape or non-finite.
         """
-        known = {"propellant_kg", "firing_time_s", "failed_cubesats", "failed_stages"}
+        known = {
+            "propellant_kg",
+            "firing_time_s",
+            "failed_cubesats",
+            "failed_stages",
+            "failed_engines",
+        }
         if not isinstance(data, dict):
             raise AllocationError("a propulsion state must be a JSON object")
         unknown = sorted(set(data) - known)
@@ -537,5 +578,11 @@ class PropulsionState:
                 checked_id(pair[0], "failed_stages", "CubeSat", self.n_cubesats),
                 checked_id(pair[1], "failed_stages", "stage", self.n_stages),
             )
+        for pair in data.get("failed_engines", []):
+            if not isinstance(pair, list | tuple) or len(pair) != 2:
+                raise AllocationError("failed_engines entries must be [cubesat, engine] pairs")
+            cubesat = checked_id(pair[0], "failed_engines", "CubeSat", self.n_cubesats)
+            count = int(np.sum(self.engine_cubesat == cubesat))
+            state.fail_engine(cubesat, checked_id(pair[1], "failed_engines", "engine", count))
         state._check()
         return state

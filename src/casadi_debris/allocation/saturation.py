@@ -167,7 +167,7 @@ def rescue(qp: ScaledQp, target: np.ndarray, free_force: bool) -> tuple[np.ndarr
         )
     alpha = float(best.x[-1])
     bounds[-1] = (alpha * (1.0 - BOUNDARY_BACKOFF[-1]), 1.0)
-    frugal = _highs(np.append(np.ones(n), 0.0), a_eq, bounds, tight=True)
+    frugal = _highs(np.append(qp.cost, 0.0), a_eq, bounds, tight=True)
     x = frugal.x if frugal.status == 0 and frugal.x is not None else best.x
     alpha = float(np.clip(x[-1], 0.0, 1.0))
     if alpha * float(np.abs(target).max()) <= ALPHA_RESOLUTION:

@@ -8,7 +8,8 @@ solver is of order one.
 Stages, each a QP of fixed structure whose data change only in ``b_eq``,
 ``a_eq`` or ``c`` between calls, and in ``ub`` when the limits change:
 
-- ``"exact"``: least fuel, ``min eps/2 |u|^2 + 1'u`` s.t. ``A u = b``, ``0 <= u <= u_max``;
+- ``"exact"``: least fuel, ``min eps/2 |u|^2 + w'u`` s.t. ``A u = b``, ``0 <= u <= u_max``,
+  ``w`` each engine's mass flow per unit thrust relative to the best (1 for one Isp);
 - ``"scale"``: largest alpha, ``min eps/2 |(u, alpha)|^2 - alpha`` s.t.
   ``A u - alpha b = 0``, ``0 <= u <= u_max``, ``0 <= alpha <= 1``;
 - ``"least_squares"``: ``min 1/2 |B u - tau|^2`` (plus a tiny proximal term)
@@ -63,6 +64,8 @@ class ScaledQp:
         QP back-end name (see :func:`~casadi_debris.allocation.available_solvers`).
     torque_ref_Nm : float
         ``tau_ref``, only to state a target in N m in an error message.
+    cost : ndarray, shape (n,), optional
+        Fuel weight ``w`` of each engine, ``c_max / c_i`` (at least 1); default 1 each.
     """
 
     def __init__(
@@ -72,8 +75,10 @@ class ScaledQp:
         upper: np.ndarray,
         solver: str,
         torque_ref_Nm: float,
+        cost: np.ndarray | None = None,
     ) -> None:
         self.torque = scaled_torque
+        self.cost = np.ones(scaled_torque.shape[1]) if cost is None else np.asarray(cost, float)
         self.force = scaled_force
         self.wrench = np.vstack([scaled_torque, scaled_force])
         self.solver = solver
@@ -131,7 +136,7 @@ class ScaledQp:
             workspace = make_backend(
                 self.solver,
                 EXACT_PROXIMAL * np.eye(n),
-                np.ones(n),
+                self.cost,
                 rows,
                 np.zeros(len(rows)),
                 np.zeros(n),

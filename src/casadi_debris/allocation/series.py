@@ -2,15 +2,17 @@
 
 The least-fuel QP of :mod:`casadi_debris.allocation.allocator`,
 
-    minimise  eps/2 |u|^2 + 1^T u   subject to  A u = b,  0 <= u <= u_max,
+    minimise  eps/2 |u|^2 + w^T u   subject to  A u = b,  0 <= u <= u_max,
+
+``w`` each engine's fuel weight (1 for every engine when they share one Isp),
 
 is strictly convex, so its solution is a piecewise-affine function of the
 target ``b`` (a multi-parametric QP): on each region the same engines sit at
 zero (set L), at their limit (set U) and in between (set F). Its KKT
 conditions, with multipliers lambda (equalities) and mu (bounds), are
 
-    eps u_F + 1 + A_F^T lambda = 0,           A u = b,
-    mu_L = 1 + A_L^T lambda >= 0,             mu_U = -(eps u_max_U + 1 + A_U^T lambda) >= 0,
+    eps u_F + w_F + A_F^T lambda = 0,         A u = b,
+    mu_L = w_L + A_L^T lambda >= 0,           mu_U = -(eps u_max_U + w_U + A_U^T lambda) >= 0,
     0 <= u_F <= u_max_F.
 
 Engines facing each other make ``A_F`` rank deficient, so lambda is not
@@ -81,12 +83,21 @@ class PiecewiseAffineQp:
         Upper bounds (scaled), non-negative.
     proximal : float
         eps of the proximal term.
+    cost : ndarray, shape (n,), optional
+        Fuel weight ``w`` of each engine; default 1 each.
     """
 
-    def __init__(self, a_eq: np.ndarray, upper: np.ndarray, proximal: float) -> None:
+    def __init__(
+        self,
+        a_eq: np.ndarray,
+        upper: np.ndarray,
+        proximal: float,
+        cost: np.ndarray | None = None,
+    ) -> None:
         self.a_eq = np.asarray(a_eq, dtype=float)
         self.upper = np.asarray(upper, dtype=float)
         self.proximal = float(proximal)
+        self.cost = np.ones(len(self.upper)) if cost is None else np.asarray(cost, dtype=float)
         self._cache: OrderedDict[bytes, _Region] = OrderedDict()
         self._stacked: tuple | None = None
 
@@ -103,22 +114,22 @@ class PiecewiseAffineQp:
         labels = self.labels_of(u)
         free, lower, at_upper = labels == FREE, labels == LOWER, labels == UPPER
         a_free = a[:, free]
-        # lambda*: A_F^T lambda = -(1 + eps u_F), maximising the least bound multiplier s.
+        # lambda*: A_F^T lambda = -(w_F + eps u_F), maximising the least bound multiplier s.
         n_rows = len(a)
         # A failed engine (0 <= u <= 0) is fixed: its bound multiplier may take either
         # sign, so it gets no sign condition (as a free engine, but held at 0).
         fixed = self.upper <= ACTIVE_TOLERANCE
         sign = np.where(fixed, 0.0, np.where(lower, 1.0, np.where(at_upper, -1.0, 0.0)))
         bounded = ~free & ~fixed
-        # mu_i = sign_i (1 + a_i . lambda + eps u_max_i [i in U]) >= s
-        mu_constant = sign * (1.0 + np.where(at_upper, eps * self.upper, 0.0))
+        # mu_i = sign_i (w_i + a_i . lambda + eps u_max_i [i in U]) >= s
+        mu_constant = sign * (self.cost + np.where(at_upper, eps * self.upper, 0.0))
         a_ub = np.hstack([-(sign[bounded, None] * a[:, bounded].T), np.ones((bounded.sum(), 1))])
         result = linprog(
             np.append(np.zeros(n_rows), -1.0),
             A_ub=a_ub,
             b_ub=mu_constant[bounded],
             A_eq=np.hstack([a_free.T, np.zeros((free.sum(), 1))]) if free.any() else None,
-            b_eq=-(1.0 + eps * u[free]) if free.any() else None,
+            b_eq=-(self.cost[free] + eps * u[free]) if free.any() else None,
             bounds=[(None, None)] * n_rows + [(None, 1.0)],
             method="highs",
         )

@@ -56,6 +56,33 @@ def _failed_indices(text: str | None, count: int) -> list[int]:
     return [i - 1 for i in ids]
 
 
+def _failed_engines(text: str | None, state: PropulsionState) -> list[tuple[int, int]]:
+    """0-based (CubeSat, engine of that CubeSat) of ``CUBESAT:ENGINE`` pairs, ids from 1."""
+    if text is None:
+        return []
+    pairs = []
+    for part in comma_list(text, "--failed-engines", "3:2,17:1"):
+        cubesat, _, engine = part.partition(":")
+        try:
+            pair = (int(cubesat), int(engine))
+        except ValueError:
+            raise AllocationError(
+                "--failed-engines takes comma-separated CUBESAT:ENGINE pairs such as 3:2,17:1 "
+                f"(the engine counted among its CubeSat's own); got {part!r}"
+            ) from None
+        if not 1 <= pair[0] <= state.n_cubesats:
+            raise AllocationError(
+                f"--failed-engines {part}: CubeSat ids run from 1 to {state.n_cubesats}"
+            )
+        count = int((state.engine_cubesat == pair[0] - 1).sum())
+        if not 1 <= pair[1] <= count:
+            raise AllocationError(
+                f"--failed-engines {part}: CubeSat {pair[0]} has engines 1..{count}"
+            )
+        pairs.append((pair[0] - 1, pair[1] - 1))
+    return pairs
+
+
 def _demand_message(
     error: DemandError,
     torque_mNm: tuple[float, float, float],
@@ -76,11 +103,9 @@ def _demand_message(
     )
 
 
-def _no_engine(error: Exception, failed: str | None, stage_state: Path | None) -> AllocationError:
-    """No engine left: name the options that took them out."""
-    given = " and ".join(
-        name for name, value in (("--failed", failed), ("--stage-state", stage_state)) if value
-    )
+def _no_engine(error: Exception, options: dict[str, Any]) -> AllocationError:
+    """No engine left: name the options (given ones of ``{name: value}``) that took them out."""
+    given = " and ".join(name for name, value in options.items() if value)
     return AllocationError(f"{given or 'the problem'}: {error}")
 
 
@@ -124,6 +149,8 @@ def _payload(
             None if stage >= state.n_stages else int(stage) + 1 for stage in state.active_stage
         ],
         "failed_cubesats": dead,
+        # [CubeSat, engine of that CubeSat], 1-based, for engines failed on their own.
+        "failed_engines": state.to_dict()["failed_engines"],
         "torque_demand_mNm": result.demand_torque_Nm * MN_PER_N,
         "torque_achieved_mNm": result.torque_Nm * MN_PER_N,
         "force_demand_mN": None
@@ -204,11 +231,19 @@ def _text(payload: dict[str, Any], faces: list[str | None]) -> str:
     help="Failed CubeSats by id (1..24, as `casadi-debris model` lists them).",
 )
 @click.option(
+    "--failed-engines",
+    default=None,
+    metavar="C:E,...",
+    help="Failed engines as CUBESAT:ENGINE pairs, the engine counted among its CubeSat's own"
+    " (cubesat_engine in `casadi-debris model --json`); the CubeSat's other engines fire on.",
+)
+@click.option(
     "--stage-state",
     type=click.Path(path_type=Path, dir_okay=False),
     default=None,
-    help="JSON propulsion state (propellant_kg, firing_time_s, failed_cubesats, failed_stages;"
-    " CubeSats and stages numbered from 1, as PropulsionState.to_dict writes them).",
+    help="JSON propulsion state (propellant_kg, firing_time_s, failed_cubesats, failed_stages,"
+    " failed_engines; CubeSats, stages and engines numbered from 1, as PropulsionState.to_dict"
+    " writes them).",
 )
 @click.option(
     "--solver",
@@ -231,6 +266,7 @@ def allocate(
     force_mN: tuple[float, float, float] | None,
     free_force: bool,
     failed: str | None,
+    failed_engines: str | None,
     stage_state: Path | None,
     solver: str,
     saturation: str,
@@ -249,6 +285,13 @@ def allocate(
     state = _read_state(stage_state, PropulsionState.from_problem(problem, geometry))
     for index in _failed_indices(failed, len(geometry.cubesats)):
         state.fail_cubesat(index)
+    for cubesat, engine in _failed_engines(failed_engines, state):
+        state.fail_engine(cubesat, engine)
+    took_out = {
+        "--failed": failed,
+        "--failed-engines": failed_engines,
+        "--stage-state": stage_state,
+    }
     try:
         allocator = Allocator.from_problem(
             problem,
@@ -260,7 +303,7 @@ def allocate(
     except UnknownSolverError as error:
         raise AllocationError(f"--solver: {error}") from None
     except NoEngineError as error:
-        raise _no_engine(error, failed, stage_state) from None
+        raise _no_engine(error, took_out) from None
     force_N = None if force_mN is None else [f / MN_PER_N for f in force_mN]
     try:
         result = allocator.allocate(
@@ -269,7 +312,7 @@ def allocate(
     except DemandError as error:
         raise AllocationError(_demand_message(error, torque_mNm, force_mN)) from None
     except NoEngineError as error:
-        raise _no_engine(error, failed, stage_state) from None
+        raise _no_engine(error, took_out) from None
     authority = allocator.torque_authority(free_force=free_force)
     payload = _payload(problem.name, result, allocator, state, authority)
     if as_json:

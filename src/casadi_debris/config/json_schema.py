@@ -36,7 +36,10 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
         "simulation": {
             "reference": "slew",
             "slew": slew,
-            "failures": [{"time_s": 1.0, "cubesat": 1, "stage": 1}],
+            "failures": [
+                {"time_s": 1.0, "cubesat": 1, "stage": 1},
+                {"time_s": 2.0, "cubesat": 2, "engine": 1},
+            ],
         },
         "requirements": {"pointing_arcsec": 60.0, "slew_error_deg": 0.6},
         "uncertainty": {"independent_array_angles": True},

@@ -184,7 +184,7 @@ def problem_from_dict(
     simulation_table = _optional_table(top, "simulation", DEFAULT_SIMULATION)
     simulation = read_simulation(
         simulation_table,
-        n_cubesats=len(cubesats),
+        engines_per_cubesat=[len(c.engines) for c in cubesats],
         n_stages=max(e.stages for c in cubesats for e in c.engines),
     )
     fast_rates = {"sensor.star_tracker_bandwidth_rad_s": sensor.star_tracker_bandwidth_rad_s}

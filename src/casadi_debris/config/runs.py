@@ -10,7 +10,7 @@ NaN).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 from casadi_debris.config import limits
@@ -55,14 +55,33 @@ def read_slew(t: Table, run_duration_s: float) -> SlewReference:
     return slew
 
 
-def read_failure(t: Table, n_cubesats: int, n_stages: int) -> FailureEvent:
-    """One ``[[simulation.failures]]`` entry; CubeSats and stages numbered from 1."""
-    cubesat = t.integer("cubesat", limits.Range(1, n_cubesats))
+def read_failure(t: Table, engines_per_cubesat: Sequence[int], n_stages: int) -> FailureEvent:
+    """One ``[[simulation.failures]]`` entry; CubeSats, stages and engines numbered from 1.
+
+    ``engine`` counts the CubeSat's own engines (1 to ``engines_per_cubesat[cubesat - 1]``).
+    """
+    cubesat = t.integer("cubesat", limits.Range(1, len(engines_per_cubesat)))
     stage = t.integer("stage", limits.Range(1, n_stages)) if t.has("stage") else None
+    engine = None
+    if t.has("engine"):
+        # Recorded against the largest count any CubeSat may have (the JSON Schema's
+        # bound); this CubeSat's own count is checked next.
+        engine = t.integer("engine", limits.Range(1, limits.MAX_ENGINES_PER_CUBESAT))
+        count = engines_per_cubesat[cubesat - 1]
+        if engine > count:
+            raise t.error(
+                t.key("engine"),
+                f"CubeSat {cubesat} has {count} engine(s), numbered 1..{count}; got {engine}",
+            )
+        if stage is not None:
+            raise t.error(
+                t.key("engine"), "give stage or engine, not both (a stage fails on every engine)"
+            )
     event = FailureEvent(
         time_s=t.number("time_s", limits.Range(0.0, limits.DURATION_S.high)),
         cubesat=cubesat - 1,
         stage=None if stage is None else stage - 1,
+        engine=None if engine is None else engine - 1,
     )
     t.done()
     return event
@@ -115,7 +134,7 @@ def with_duration(problem: Problem, duration_s: float, field: str = "duration_s"
     return replace(problem, simulation=replace(simulation, duration_s=float(duration_s)))
 
 
-def read_simulation(t: Table, n_cubesats: int, n_stages: int) -> Simulation:
+def read_simulation(t: Table, engines_per_cubesat: Sequence[int], n_stages: int) -> Simulation:
     """``[simulation]``: length, sampling, reference and failures of a closed-loop run."""
     reference = t.text("reference", REFERENCE_KINDS)
     has_slew = t.has("slew")
@@ -131,7 +150,8 @@ def read_simulation(t: Table, n_cubesats: int, n_stages: int) -> Simulation:
         raise t.error(t.key(violation[0]), violation[1])
     failures = (
         tuple(
-            read_failure(f, n_cubesats, n_stages) for f in t.tables("failures", limits.MAX_FAILURES)
+            read_failure(f, engines_per_cubesat, n_stages)
+            for f in t.tables("failures", limits.MAX_FAILURES)
         )
         if t.has("failures")
         else ()

@@ -337,15 +337,18 @@ class SlewReference:
 
 @dataclass(frozen=True, eq=False)
 class FailureEvent:
-    """A CubeSat (or one of its stages) lost at a given time (``[[simulation.failures]]``).
+    """A CubeSat, one of its stages or one of its engines lost at a given time
+    (``[[simulation.failures]]``).
 
-    Indices are 0-based here; the file numbers CubeSats and stages from 1, as
-    ``casadi-debris model`` lists them.
+    Indices are 0-based here; the file numbers CubeSats, stages and engines from 1,
+    ``engine`` counting the CubeSat's own engines in the order the problem lists
+    them (``cubesat_engine`` in ``casadi-debris model --json``).
     """
 
     time_s: float
     cubesat: int
     stage: int | None
+    engine: int | None = None
 
 
 @dataclass(frozen=True, eq=False)

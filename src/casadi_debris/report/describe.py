@@ -66,6 +66,12 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         {
             "engine": engine.index + 1,
             "cubesat": engine.cubesat + 1,
+            # Its number among its CubeSat's own engines: what a failure's `engine` names.
+            "cubesat_engine": sum(
+                e.cubesat == engine.cubesat for e in geometry.engines[: engine.index]
+            )
+            + 1,
+            "isp_s": problem.engines[engine.index].isp_s,
             "face": geometry.cubesats[engine.cubesat].face,
             "position_m": _rounded(engine.position_m),
             "direction": _rounded(engine.direction),

@@ -43,7 +43,7 @@ ALLOCATION_TOLERANCE = 1e-8
 DEFAULT_CHUNK_STEPS = 1000
 
 
-EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed")
+EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed", "engine_failed")
 
 
 @dataclass(frozen=True)
@@ -54,19 +54,19 @@ class RunEvent:
     ----------
     time_s : float
         When [s].
-    kind : {"stage_depleted", "stage_failed", "cubesat_failed"}
+    kind : {"stage_depleted", "stage_failed", "cubesat_failed", "engine_failed"}
     cubesat : int
         0-based (``text`` and the summary number CubeSats from 1).
     stage : int or None
-        The stage depleted or failed (0-based); None for a whole CubeSat.
+        The stage depleted or failed (0-based); None for a whole CubeSat or engine.
     next_stage : int or None
         The stage firing afterwards; None when the CubeSat has none left.
     switched : bool
         Whether the stage that fires changed (a depleted stage always; a failed
         stage only when it was the one firing).
     engine : int or None
-        The engine whose stage ran dry (0-based), for a CubeSat with several;
-        None otherwise.
+        The engine that failed or whose stage ran dry, counted among its
+        CubeSat's own engines (0-based), for a CubeSat with several; None otherwise.
     """
 
     time_s: float
@@ -83,7 +83,7 @@ class RunEvent:
         who = f"CubeSat {self.cubesat + 1}"
         if self.engine is not None:
             who += f" engine {self.engine + 1}"
-        if self.kind == "cubesat_failed":
+        if self.kind in ("cubesat_failed", "engine_failed"):
             return f"{who} failed"
         if self.kind == "stage_failed":
             return f"{who}: stage {_number(self.stage)} failed"
@@ -186,11 +186,20 @@ class ClosedLoopResult:
 
     @property
     def exhaust_velocity_m_s(self) -> float:
-        """The engines' one exhaust velocity [m/s] (the allocator flies one Isp only)."""
+        """Effective exhaust velocity of the propellant burnt [m/s].
+
+        The engines' one exhaust velocity when they share an Isp; otherwise the
+        mean over the engines weighted by the propellant each burnt (total
+        impulse over total propellant, the velocity the rocket equation takes
+        for the run's Delta v), or their plain mean if nothing was burnt.
+        """
         exhaust = self.propulsion.exhaust_velocity_m_s
-        if not np.all(exhaust == exhaust[0]):
-            raise SimulationError("the run's engines have different Isp; the allocator needs one")
-        return float(exhaust[0])
+        if np.all(exhaust == exhaust[0]):
+            return float(exhaust[0])
+        fuel = self.fuel_per_engine_kg
+        if fuel.sum() <= 0.0:
+            return float(np.mean(exhaust))
+        return float(np.sum(fuel * exhaust) / fuel.sum())
 
     def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
         """First instant after which every error component stays inside ``band_rad``.
@@ -215,7 +224,12 @@ class ClosedLoopResult:
         if self.slew_window_s is not None:
             start, end = self.slew_window_s
             inside = (self.time_s[:-1] >= start) & (self.time_s[:-1] < end)
-            burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
+            engines = self.propulsion.exhaust_velocity_m_s
+            if np.all(engines == engines[0]):
+                burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
+            else:
+                impulse_Ns = self.thrust_N[inside].sum(axis=0) * self.control_period_s
+                burnt = float(np.sum(impulse_Ns / engines))
             slew = {"slew_start_s": start, "slew_end_s": end, "fuel_slew_kg": float(burnt)}
         return {
             "max_error_deg": math.degrees(max_error),
@@ -248,7 +262,8 @@ class ClosedLoopResult:
 
 
 def _depleted(event: StageEvent, time_s: float, propulsion: PropulsionState) -> RunEvent:
-    several = int(np.sum(propulsion.engine_cubesat == event.cubesat)) > 1
+    siblings = np.flatnonzero(propulsion.engine_cubesat == event.cubesat)
+    several = len(siblings) > 1
     return RunEvent(
         time_s,
         "stage_depleted",
@@ -256,12 +271,15 @@ def _depleted(event: StageEvent, time_s: float, propulsion: PropulsionState) -> 
         event.stage,
         event.next_stage,
         switched=True,
-        engine=event.engine if several else None,
+        engine=int(np.searchsorted(siblings, event.engine)) if several else None,
     )
 
 
 def _apply_failure(failure: FailureEvent, propulsion: PropulsionState, time_s: float) -> RunEvent:
     cubesat = failure.cubesat
+    if failure.engine is not None:
+        propulsion.fail_engine(cubesat, failure.engine)
+        return RunEvent(time_s, "engine_failed", cubesat, engine=failure.engine)
     if failure.stage is None:
         propulsion.fail_cubesat(cubesat)
         return RunEvent(time_s, "cubesat_failed", cubesat)

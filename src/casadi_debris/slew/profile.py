@@ -37,7 +37,7 @@ from casadi_debris.geometry import Geometry
 from casadi_debris.model import Model, build_model
 from casadi_debris.model.attitude import euler_angles_321
 from casadi_debris.slew.maneuver import SlewTarget
-from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
+from casadi_debris.slew.propellant import fuel_weights, least_fuel_thrust, propellant_kg
 
 RESIDUAL_WINDOW_PERIODS = 10.0
 INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 200000}
@@ -282,9 +282,10 @@ def finish_profile(
         edges = np.unique(np.concatenate([time_s, knots_s]))
         middles = 0.5 * (edges[:-1] + edges[1:])
         middle_torque = np.array(input_function.map(len(middles))(middles)).T[:, :N_TORQUE]
-        middle_thrust, shortfall = least_fuel_thrust(geometry, middle_torque)
+        weights = fuel_weights(problem)
+        middle_thrust, shortfall = least_fuel_thrust(geometry, middle_torque, weights)
         fuel = propellant_kg(problem, middle_thrust, np.diff(edges))
-        thrust = least_fuel_thrust(geometry, torque)[0]
+        thrust = least_fuel_thrust(geometry, torque, weights)[0]
         settings = {
             **settings,
             "engine_torque_shortfall_Nm": float(np.max(np.linalg.norm(shortfall, axis=1))),

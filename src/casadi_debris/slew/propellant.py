@@ -4,7 +4,10 @@ Torque-level profiles (bang-bang, torque-level OCPs) leave open which engines
 fire. Their propellant is counted with the *least-fuel* thrust that produces
 each torque sample exactly, a linear programme per sample
 
-    minimise  1^T f   subject to  B f = tau,  0 <= f <= f_max,
+    minimise  w^T f   subject to  B f = tau,  0 <= f <= f_max,
+
+with w_i = 1 when every engine has one Isp (least total thrust) and
+w_i = c_max / c_i otherwise (c_i = I_sp,i g0: least mass flow),
 
 with B the geometry's torque map (3 x n_engines, N m per N) and f_max the
 thrust of each engine's active stage; the net force is left free (the paper
@@ -12,7 +15,7 @@ counts torque only). All samples are solved together as one block-diagonal LP
 (HiGHS). The mass flow of an engine of specific impulse I_sp is f / (I_sp g0),
 so the propellant of a thrust history is
 
-    m = (1 / (I_sp g0)) * sum_k sum_i f_ik * dt_k.
+    m = sum_i (1 / (I_sp,i g0)) * sum_k f_ik * dt_k.
 
 This is a lower bound for the torque profile (any other allocation burns more);
 thruster-level OCPs carry their thrust and use the second formula directly.
@@ -46,8 +49,19 @@ def exhaust_velocity_m_s(problem: Problem) -> float:
     return isp.pop() * problem.constants.standard_gravity_m_s2
 
 
-def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Least total thrust per torque sample, every engine within 0 <= f <= f_max.
+def fuel_weights(problem: Problem) -> np.ndarray | None:
+    """Propellant per newton of each engine relative to the best, ``c_max / c_i``, shape
+    (n_engines,); None when every engine has one Isp (least thrust is then least fuel)."""
+    isp = np.array([engine.isp_s for engine in problem.engines])
+    if np.all(isp == isp[0]):
+        return None
+    return isp.max() / isp
+
+
+def least_fuel_thrust(
+    geometry: Geometry, torque_Nm: np.ndarray, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """Least-fuel thrust per torque sample, every engine within 0 <= f <= f_max.
 
     Samples the engines cannot produce (a per-axis torque box is larger than
     the engines' torque set) get the best effort: the LP is elastic,
@@ -60,6 +74,9 @@ def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.nda
     geometry : Geometry
     torque_Nm : ndarray, shape (n, 3)
         Torque samples in B.
+    weights : ndarray, shape (n_engines,), optional
+        Cost per newton of each engine, :func:`fuel_weights` (at least 1); default 1
+        each, the least total thrust.
 
     Returns
     -------
@@ -81,12 +98,13 @@ def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.nda
         return thrust, np.zeros_like(torque)
     # Per sample: [f (n_engines), s+ (3), s- (3)]; a shortfall costs more than all engines at full
     # thrust on the shortest lever arm would.
-    penalty = 1e3 * float(np.sum(limits)) / scale
+    cost_f = np.ones(n_engines) if weights is None else np.asarray(weights, dtype=float)
+    penalty = 1e3 * float(np.sum(cost_f * limits)) / scale
     # COO is what hstack builds from mixed formats anyway; naming it types the kron below.
     block = sp.hstack([sp.csr_matrix(torque_map), sp.identity(3), -sp.identity(3)], format="coo")
     width = n_engines + 6
     a_eq = sp.kron(sp.identity(active.size, format="csr"), block, format="csr")
-    cost = np.tile(np.concatenate([np.ones(n_engines), penalty * np.ones(6)]), active.size)
+    cost = np.tile(np.concatenate([cost_f, penalty * np.ones(6)]), active.size)
     upper = np.tile(np.concatenate([limits, np.full(6, np.inf)]), active.size)
     # Solved in mN and mNm: in N the thrusts (~1e-4) sit at HiGHS's feasibility tolerance.
     # scipy-stubs types A_eq as dense and bounds as tuples; HiGHS takes sparse and an (n, 2) array.
@@ -105,7 +123,7 @@ def least_fuel_thrust(geometry: Geometry, torque_Nm: np.ndarray) -> tuple[np.nda
 
 
 def propellant_kg(problem: Problem, thrust_N: np.ndarray, durations_s: np.ndarray) -> float:
-    """Propellant of piecewise-constant thrust: sum_k sum_i f_ik dt_k / (I_sp g0), kg.
+    """Propellant of piecewise-constant thrust: sum_i sum_k f_ik dt_k / (I_sp,i g0), kg.
 
     Parameters
     ----------
@@ -115,6 +133,11 @@ def propellant_kg(problem: Problem, thrust_N: np.ndarray, durations_s: np.ndarra
     durations_s : ndarray, shape (n,)
         Interval lengths.
     """
+    if fuel_weights(problem) is not None:
+        g0 = problem.constants.standard_gravity_m_s2
+        exhaust = np.array([engine.isp_s * g0 for engine in problem.engines])
+        impulse_Ns = np.asarray(durations_s) @ np.asarray(thrust_N)
+        return float(np.sum(impulse_Ns / exhaust))
     impulse = float(np.sum(np.asarray(thrust_N).sum(axis=1) * np.asarray(durations_s)))
     return impulse / exhaust_velocity_m_s(problem)
 

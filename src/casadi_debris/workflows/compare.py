@@ -18,6 +18,8 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any, cast
 
+import numpy as np
+
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import SLEW_METHODS, Problem, SlewMethod
 from casadi_debris.errors import InputShapeError
@@ -63,6 +65,11 @@ def compare_row(label: str, problem: Problem, controller: Any) -> dict[str, Any]
     left_kg = float(result.propulsion.propellant_kg.sum())
     mass_now = result.total_mass_kg - summary["fuel_kg"]
     exhaust = result.exhaust_velocity_m_s
+    engines = result.propulsion.exhaust_velocity_m_s
+    if left_kg > 0.0 and not np.all(engines == engines[0]):
+        # Engines of different Isp: the propellant left leaves at its own engines' velocity.
+        left_per_engine = result.propulsion.propellant_kg.sum(axis=1)
+        exhaust = float(np.sum(left_per_engine * engines) / left_kg)
     return {
         "variant": label,
         "problem": problem.name,
