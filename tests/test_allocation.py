@@ -189,7 +189,9 @@ def test_every_installed_back_end_is_selectable_and_keeps_limits(
         allocator = Allocator.from_problem(problem, geometry, solver=solver)
         for scale in (1.0, 10.0):
             result = allocator.allocate(scale * demand)
-            assert result.solver == solver
+            # A back-end whose answer fails the allocator's own check is rescued by HiGHS
+            # and says so ("scs+highs": SCS is a first-order solver, accurate to ~1e-4).
+            assert result.solver in (solver, f"{solver}+highs")
             assert np.all(result.thrust_N >= 0) and np.all(
                 result.thrust_N <= allocator.max_thrust_N
             )

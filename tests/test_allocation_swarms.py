@@ -99,7 +99,12 @@ def _largest_multiple(geometry, limits: np.ndarray, direction: np.ndarray) -> fl
 
 
 @pytest.mark.filterwarnings("ignore")
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(
+    max_examples=40,
+    deadline=None,
+    suppress_health_check=[HealthCheck.too_slow],
+    derandomize=True,  # reproducible in CI: a failing swarm is a finding, not noise
+)
 @given(
     cubesats=st.lists(cubesat, min_size=1, max_size=40),
     axis=st.sampled_from(SIGNED_AXES),
