@@ -23,6 +23,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem, load_problem, problem_from_dict
 from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import Geometry, build_geometry
+from casadi_debris.slew.propellant import axis_fuel_rates, fuel_weights
 from lp_reference import least_mass_flow_kg_s
 
 TWIN_ISP_S = 250.0
@@ -208,3 +209,25 @@ def test_allocate_takes_failed_engines_by_cubesat_and_engine() -> None:
         assert refused.exit_code == 2
         [line] = refused.output.strip().splitlines()
         assert "--failed-engines" in line and words in line
+
+
+def test_the_slews_fuel_rates_per_axis_weigh_engines_by_their_isp(twins) -> None:
+    # The torque-level fuel objective's cost per N m about each signed axis is the least
+    # mass flow for that torque (an LP over the engines, here), in best-engine newtons.
+    problem, geometry, _ = twins
+    weights = fuel_weights(problem)
+    assert weights is not None and set(np.round(weights, 12)) == {1.0, 4.0}
+    plus, minus = axis_fuel_rates(geometry, weights)
+    c = exhaust(problem)
+    limits = np.array([engine.max_thrust_N for engine in geometry.engines])
+    small = 1e-4
+    for axis in range(3):
+        for sign, rate in ((1.0, plus[axis]), (-1.0, minus[axis])):
+            torque = np.zeros(3)
+            torque[axis] = sign * small
+            mass_flow = least_mass_flow_kg_s(geometry, limits, c, torque, None)
+            assert rate == pytest.approx(mass_flow * c.max() / small, rel=1e-6)
+    # the twins are never worth it for a small torque: same rates as the iESE alone
+    alone_plus, alone_minus = axis_fuel_rates(geometry)
+    np.testing.assert_allclose(plus, alone_plus, rtol=1e-6)
+    np.testing.assert_allclose(minus, alone_minus, rtol=1e-6)

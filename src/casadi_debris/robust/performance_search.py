@@ -39,7 +39,7 @@ MIN_VE_RATIO = 0.25
 most 4 times tighter (the paper's hand-tuned roll Ve is 0.24 times the requirement's
 level on its plant), at most 64 times looser."""
 REFINEMENTS = 3
-"""Bisections (in log Ve) after the doubling found a guarantee: within 2^(1/8), 9 %."""
+"""Bisections (in log Ve) between the last failure and the first success: within 2^(1/8)."""
 
 
 @dataclass(frozen=True)

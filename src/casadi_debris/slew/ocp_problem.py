@@ -43,7 +43,7 @@ from casadi_debris.slew.maneuver import (
     torque_limits,
 )
 from casadi_debris.slew.options import SlewOptions
-from casadi_debris.slew.propellant import axis_fuel_rates
+from casadi_debris.slew.propellant import axis_fuel_rates, fuel_weights
 
 # Rows of the model input [tau (3), tau_d (3), F (3)] the controls act on.
 TORQUE_ROWS = [0, 1, 2]
@@ -150,16 +150,21 @@ class SlewOcp:
         return (controls[:, 0:3] - controls[:, 3:6] if fuel else controls), None
 
     def fuel_rates(self, u_scale: np.ndarray) -> np.ndarray:
-        """Propellant weight of each (scaled) control in the fuel objective, largest 1.
+        """Propellant weight of each (scaled) control in the fuel objective, largest 1;
+        engines of different Isp weigh by their mass flow per newton.
 
         Parameters
         ----------
         u_scale : ndarray, shape (n_u,)
             The controls' scale, SI.
         """
+        weights = fuel_weights(self.problem)  # c_max / c_i; None for one Isp
         if self.thrusters:
-            return u_scale / np.max(u_scale) / len(u_scale)  # sum f_i / (n f_max)
-        plus, minus = axis_fuel_rates(self.geometry)
+            if weights is None:
+                return u_scale / np.max(u_scale) / len(u_scale)  # sum f_i / (n f_max)
+            rates = weights * u_scale
+            return rates / np.max(rates) / len(u_scale)
+        plus, minus = axis_fuel_rates(self.geometry, weights)
         rates = np.concatenate([plus, minus]) * u_scale
         return rates / np.max(rates)
 

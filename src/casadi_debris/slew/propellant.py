@@ -142,15 +142,20 @@ def propellant_kg(problem: Problem, thrust_N: np.ndarray, durations_s: np.ndarra
     return impulse / exhaust_velocity_m_s(problem)
 
 
-def axis_fuel_rates(geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:
+def axis_fuel_rates(
+    geometry: Geometry, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Least thrust per unit torque about each signed axis, N per N m: (plus, minus), (3,) each.
 
     The cost coefficients c_i of the torque-level fuel objective
     sum_i c_i^+ tau_i^+ + c_i^- tau_i^- (tau = tau^+ - tau^-), taken at a small
-    torque so that no engine bound is active.
+    torque so that no engine bound is active. With ``weights`` (:func:`fuel_weights`)
+    the thrust is the least-fuel one and is counted in fuel-equivalent newtons.
     """
     torque_map = geometry.torque_map
     small = 1e-6 * float(np.min(np.abs(torque_map[np.abs(torque_map) > 0])))
     samples = np.vstack([small * np.eye(3), -small * np.eye(3)])
-    thrust = least_fuel_thrust(geometry, samples)[0].sum(axis=1) / small
+    thrust_N = least_fuel_thrust(geometry, samples, weights)[0]
+    cost = thrust_N if weights is None else thrust_N * weights
+    thrust = cost.sum(axis=1) / small
     return thrust[:3], thrust[3:]
