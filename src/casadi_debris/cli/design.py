@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import click
@@ -11,15 +10,13 @@ from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
     in_range,
-    is_quiet,
     json_option,
     main,
     overwrite_option,
     problem_argument,
-    say,
     workers_option,
 )
-from casadi_debris.cli.simulate import cases_progress
+from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import limits, load_problem
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import check_output_folder, default_run_folder
@@ -72,12 +69,6 @@ def design(
     check_output_folder(folder, overwrite=overwrite)
     settings = SynthesisSettings(samples=samples, seed=seed)
 
-    def progress(stage: str) -> Callable[[int, int], None] | None:
-        if as_json or is_quiet():
-            return None
-        say(stage)
-        return cases_progress(f"  {stage}") if stage.endswith("Monte Carlo") else None
-
     summary = design_for_problem(
         problem,
         folder,
@@ -85,7 +76,7 @@ def design(
         settings=settings,
         workers=workers,
         overwrite=overwrite,
-        progress=progress,
+        progress=stage_progress(as_json),
     )
     if as_json:
         echo_json(summary)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from pathlib import Path
 
 import click
@@ -10,14 +9,12 @@ import click
 from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
-    is_quiet,
     json_option,
     main,
     overwrite_option,
-    say,
     workers_option,
 )
-from casadi_debris.cli.simulate import cases_progress
+from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.report.common import format_table
 
 TABLE_KEYS = ("result", "paper", "accepted", "ours", "verdict")
@@ -45,19 +42,13 @@ def reproduce(
     paper next to ours."""
     from casadi_debris.workflows.reproduce import reproduce_paper
 
-    def progress(stage: str) -> Callable[[int, int], None] | None:
-        if as_json or is_quiet():
-            return None
-        say(f"{stage} ...")
-        return cases_progress(f"  {stage}")
-
     summary = reproduce_paper(
         out,
         quick=quick,
         resynthesize=resynthesize,
         workers=workers,
         overwrite=overwrite,
-        progress=progress,
+        progress=stage_progress(as_json),
     )
     if as_json:
         echo_json(summary)

@@ -246,6 +246,19 @@ def cases_progress(label: str) -> Callable[[int, int], None]:
     return show
 
 
+def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] | None]:
+    """A workflow's ``progress(stage)``: each stage announced on stderr (not with ``--json``
+    or ``-q``), a campaign's ("... Monte Carlo") given a case counter."""
+
+    def progress(stage: str) -> Callable[[int, int], None] | None:
+        if as_json or is_quiet():
+            return None
+        say(stage)
+        return cases_progress(f"  {stage}") if stage.endswith("Monte Carlo") else None
+
+    return progress
+
+
 @main.command()
 @problem_argument
 @click.option("--corners", is_flag=True, help="Every corner of the uncertainty set (default).")
