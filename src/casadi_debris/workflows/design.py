@@ -35,16 +35,21 @@ from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.design import DesignFigures, design_markdown, requirement_rows
 from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.robust import margin_report
 from casadi_debris.report.simulation import torque_limits_mNm
 from casadi_debris.robust.design import SynthesisSettings
 from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
 from casadi_debris.slew.maneuver import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
-from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
+from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller
-from casadi_debris.workflows.reproduce import FULL, QUICK, Plan
+from casadi_debris.workflows.reproduce import (
+    FULL,
+    QUICK,
+    Plan,
+    corner_campaigns,
+    report_margins,
+)
 
 LOGGER = logging.getLogger(__name__)
 
@@ -161,10 +166,11 @@ def design_for_problem(
         refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
         search = search_design(problem, settings, stage, refinements=refinements)
         controller_path = write_json_atomic(staging / "controller.json", _record(search).to_dict())
-        margins, campaigns = _verify(
-            problem, (slew_problem, pointing_problem), controller_path, staging, out, plan,
-            workers, stage,
-        )  # fmt: skip
+        record, controller_path = load_controller(controller_path)
+        folders = (staging, out)
+        margins = report_margins(problem, record, controller_path, plan, folders, stage)
+        runs = (slew_problem, pointing_problem)
+        campaigns = corner_campaigns(plan, runs, controller_path, folders, workers, stage)
         limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
         rows = requirement_rows(problem, search, margins, campaigns, limits)
         summary = _summary(problem, search, rows, campaigns, out, started)
@@ -177,44 +183,6 @@ def design_for_problem(
         (staging / "report.md").write_text(design_markdown(problem, search, rows, summary, figures))
         write_json_atomic(staging / "summary.json", summary)
     return summary
-
-
-def _verify(
-    problem: Problem,
-    runs: tuple[Problem, Problem],
-    controller_path: Path,
-    staging: Path,
-    out: Path,
-    plan: Plan,
-    workers: int,
-    stage: Callable[[str], Any],
-) -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
-    """Margins over sampled plants, then the slew and the pointing corner campaigns."""
-    record, controller_path = load_controller(controller_path)
-    stage(f"margins over {plan.margin_samples} sampled plants")
-    margins = margin_report(
-        problem,
-        record,
-        controller_path,
-        plan.margin_samples,
-        None,
-        staging / "margins",
-        out_dir=out / "margins",
-    )
-    campaigns = {}
-    for name, campaign_problem, cases in zip(
-        ("slew", "pointing"), runs, (plan.slew_cases, plan.pointing_cases), strict=True
-    ):
-        campaigns[name] = run_campaign_folder(
-            campaign_problem,
-            controller_path,
-            CaseSelection(corners=True, max_cases=cases),
-            staging / name,
-            workers=workers,
-            progress=stage(f"{name} Monte Carlo"),
-            moved_to=(staging, out),
-        )
-    return margins, campaigns
 
 
 def _record(search: DesignSearch) -> Any:

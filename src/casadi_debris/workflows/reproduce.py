@@ -102,8 +102,8 @@ def _campaign(
     progress: Progress | None,
     moved_to: tuple[Path, Path],
 ) -> dict[str, Any]:
-    """One of the paper's corner campaigns (``cases`` spread evenly, None: all), in a
-    report folder being built (``moved_to``: its staging folder and where it will be)."""
+    """One corner campaign (``cases`` spread evenly, None: all), in a report folder being
+    built (``moved_to``: its staging folder and where it will be)."""
     selection = CaseSelection(corners=True, max_cases=cases)
     return run_campaign_folder(
         problem,
@@ -116,19 +116,35 @@ def _campaign(
     )
 
 
-def _corner_campaigns(
+def corner_campaigns(
     plan: Plan,
-    slew_problem: Problem,
-    pointing_problem: Problem,
+    runs: tuple[Problem, Problem],
     controller_path: Path,
-    staging: Path,
+    folders: tuple[Path, Path],
     workers: int,
     stage: Callable[[str], Progress | None],
-    out: Path,
 ) -> dict[str, dict[str, Any]]:
-    """The slew, then the pointing campaign, each announced by ``stage``; the slew's
-    summary carries the reference duration its rows are judged against."""
-    campaigns = {
+    """The slew, then the pointing corner campaign of a report, each announced by ``stage``.
+
+    Parameters
+    ----------
+    plan : Plan
+    runs : (Problem, Problem)
+        The slew and the pointing problem.
+    controller_path : Path
+    folders : (Path, Path)
+        The report's staging folder and where it will end up.
+    workers : int
+    stage : callable
+        ``stage(name)`` as each campaign starts; may return a case counter.
+
+    Returns
+    -------
+    dict
+        ``{"slew": summary, "pointing": summary}``.
+    """
+    staging, _ = folders
+    return {
         name: _campaign(
             campaign_problem,
             controller_path,
@@ -136,15 +152,34 @@ def _corner_campaigns(
             staging / name,
             workers,
             stage(f"{name} Monte Carlo"),
-            (staging, out),
+            folders,
         )
-        for name, campaign_problem, cases in (
-            ("slew", slew_problem, plan.slew_cases),
-            ("pointing", pointing_problem, plan.pointing_cases),
+        for name, campaign_problem, cases in zip(
+            ("slew", "pointing"), runs, (plan.slew_cases, plan.pointing_cases), strict=True
         )
     }
-    campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
-    return campaigns
+
+
+def report_margins(
+    problem: Problem,
+    record: ControllerRecord,
+    controller_path: Path,
+    plan: Plan,
+    folders: tuple[Path, Path],
+    stage: Callable[[str], Progress | None],
+) -> dict[str, Any]:
+    """The margin study of a report into ``margins/`` (``folders``: staging and final)."""
+    staging, out = folders
+    stage(f"margins over {plan.margin_samples} sampled plants")
+    return margin_report(
+        problem,
+        record,
+        controller_path,
+        plan.margin_samples,
+        None,
+        staging / "margins",
+        out_dir=out / "margins",
+    )
 
 
 def _slew_duration_s(slew_problem: Problem) -> float | None:
@@ -215,19 +250,10 @@ def reproduce_paper(
         if resynthesize:
             stage("synthesising the controller (D-K iteration)")
         record, controller_path = _controller(problem, staging if resynthesize else None)
-        stage(f"margins over {plan.margin_samples} sampled plants")
-        margins = margin_report(
-            problem,
-            record,
-            controller_path,
-            plan.margin_samples,
-            None,
-            staging / "margins",
-            out_dir=out / "margins",
-        )
-        campaigns = _corner_campaigns(
-            plan, slew_problem, pointing_problem, controller_path, staging, workers, stage, out
-        )
+        margins = report_margins(problem, record, controller_path, plan, (staging, out), stage)
+        runs = (slew_problem, pointing_problem)
+        campaigns = corner_campaigns(plan, runs, controller_path, (staging, out), workers, stage)
+        campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
         rows = _rows(problem, model_summary, budgets, record, margins, campaigns)
         how = {"controller_path": str(controller_path), "quick": quick, "workers": workers}
         summary = _summary(problem, rows, how, time.perf_counter() - started, out)
