@@ -10,6 +10,8 @@ independent LP over ``sum f_i / (Isp_i g0)`` finds.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings
@@ -50,32 +52,28 @@ mixed_engine = st.builds(
     engine,
     st.sampled_from([250.0, 1000.0, 1000.0, 3000.0]) | st.floats(100.0, 5000.0),
 )
-mixed_cubesat = st.builds(
-    lambda face, u, v, engines: {
-        "position_corner_m": _position_on_face(face, u, v),
-        "mass_kg": 3.0,
-        "inertia_kgm2": [0.05, 0.05, 0.01],
-        "face": face,
-        "engines": engines,
-    },
-    st.sampled_from(SIGNED_AXES),
-    unit,
-    unit,
-    st.lists(mixed_engine, min_size=1, max_size=4),
-)
-cubesat = st.builds(
-    lambda face, u, v, engines: {
-        "position_corner_m": _position_on_face(face, u, v),
-        "mass_kg": 3.0,
-        "inertia_kgm2": [0.05, 0.05, 0.01],
-        "face": face,
-        "engines": engines,
-    },
-    st.sampled_from(SIGNED_AXES),
-    unit,
-    unit,
-    st.lists(engine, min_size=1, max_size=4),
-)
+
+
+def _cubesats(engines: st.SearchStrategy[dict[str, Any]]) -> st.SearchStrategy[dict[str, Any]]:
+    """A CubeSat on a random point of a random face, with 1 to 4 engines drawn from
+    ``engines``."""
+    return st.builds(
+        lambda face, u, v, drawn: {
+            "position_corner_m": _position_on_face(face, u, v),
+            "mass_kg": 3.0,
+            "inertia_kgm2": [0.05, 0.05, 0.01],
+            "face": face,
+            "engines": drawn,
+        },
+        st.sampled_from(SIGNED_AXES),
+        unit,
+        unit,
+        st.lists(engines, min_size=1, max_size=4),
+    )
+
+
+mixed_cubesat = _cubesats(mixed_engine)
+cubesat = _cubesats(engine)
 
 
 def _problem(paper_data: dict, cubesats: list[dict]) -> object:

@@ -15,7 +15,7 @@ from typing import Any
 import click
 
 from casadi_debris import __version__
-from casadi_debris.config.limits import Range
+from casadi_debris.config.limits import SEED, UNCERTAINTY_SAMPLES, Range
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.report.common import json_ready
 
@@ -143,6 +143,19 @@ def in_range(allowed: Range) -> click.ParamType:
     return BoundedFloat(
         allowed.low, allowed.high, low_open=allowed.low_open, high_open=allowed.high_open
     )
+
+
+def uncertainty_sample_options(command: Callable[..., Any]) -> Callable[..., Any]:
+    """``--samples`` and ``--seed`` of a design's uncertainty-weight fit."""
+    command = click.option(
+        "--seed", type=in_range(SEED), default=None, help="Seed of those models [problem's]."
+    )(command)
+    return click.option(
+        "--samples",
+        type=in_range(UNCERTAINTY_SAMPLES),
+        default=None,
+        help="Models for the uncertainty-weight fit W [problem's].",
+    )(command)
 
 
 class OneLineErrorGroup(click.Group):

@@ -9,15 +9,15 @@ import click
 from casadi_debris.cli.common import (
     echo_json,
     friendly_errors,
-    in_range,
     json_option,
     main,
     overwrite_option,
     problem_argument,
+    uncertainty_sample_options,
     workers_option,
 )
 from casadi_debris.cli.simulate import stage_progress
-from casadi_debris.config import limits, load_problem
+from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import check_output_folder, default_run_folder
 
@@ -33,15 +33,7 @@ TABLE_KEYS = ("result", "required", "ours", "verdict")
     help="Report folder [runs/design-<problem>].",
 )
 @click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run.")
-@click.option(
-    "--samples",
-    type=in_range(limits.UNCERTAINTY_SAMPLES),
-    default=None,
-    help="Models for the uncertainty-weight fit [problem's].",
-)
-@click.option(
-    "--seed", type=in_range(limits.SEED), default=None, help="Seed of those models [problem's]."
-)
+@uncertainty_sample_options
 @workers_option
 @overwrite_option
 @json_option

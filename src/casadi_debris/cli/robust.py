@@ -19,6 +19,7 @@ from casadi_debris.cli.common import (
     overwrite_option,
     problem_argument,
     say,
+    uncertainty_sample_options,
 )
 from casadi_debris.config import limits, load_problem
 from casadi_debris.config.limits import (
@@ -71,15 +72,7 @@ from casadi_debris.report.folders import (
     show_default=True,
     help=f"D-scale orders tried at each step (1 to {MAX_D_ORDERS_TRIED} of {D_ORDER}).",
 )
-@click.option(
-    "--samples",
-    type=in_range(limits.UNCERTAINTY_SAMPLES),
-    default=None,
-    help="Models for the W fit [problem's].",
-)
-@click.option(
-    "--seed", type=in_range(limits.SEED), default=None, help="Seed of those models [problem's]."
-)
+@uncertainty_sample_options
 @overwrite_option
 @json_option
 @friendly_errors
