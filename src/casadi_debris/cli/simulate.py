@@ -99,6 +99,22 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     return times, torque * NM_PER_MNM
 
 
+def read_parameters_file(path: Path) -> tuple[Any, str]:
+    """The ``parameters`` mapping of a JSON file and the case id it gives (default its stem)."""
+    import json
+
+    try:
+        data = json.loads(read_regular_file(path).decode("utf-8"))
+    except UnreadableFileError as exc:
+        raise InputShapeError(f"--parameters {path}: {exc}") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise InputShapeError(f"--parameters {path}: not JSON ({exc})") from None
+    if not isinstance(data, dict) or "parameters" not in data:
+        raise InputShapeError(f"--parameters {path}: expected an object with 'parameters'")
+    case_id = data.get("case_id", path.stem)
+    return data["parameters"], case_id if isinstance(case_id, str) else path.stem
+
+
 @main.command()
 @problem_argument
 @click.option(
@@ -113,6 +129,13 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     "--seed",
     type=in_range(limits.SEED),
     help="Seed of --sample (default the problem's montecarlo.seed).",
+)
+@click.option(
+    "--parameters",
+    "parameters_file",
+    type=click.Path(path_type=Path, dir_okay=False),
+    help='Run at the parameters of a JSON file ({"parameters": {name: value}}, as '
+    "worstcase writes them).",
 )
 @click.option(
     "--open-loop",
@@ -136,6 +159,7 @@ def simulate(
     corner: int | None,
     sample: int | None,
     seed: int | None,
+    parameters_file: Path | None,
     open_loop: Path | None,
     rigid: bool,
     duration_s: float | None,
@@ -167,12 +191,17 @@ def simulate(
     from casadi_debris.report.simulation import torque_limits_mNm, write_run
     from casadi_debris.simulation import scenario_reference
     from casadi_debris.simulation import simulate as run_simulation
-    from casadi_debris.workflows.campaign import one_case, run_summary
+    from casadi_debris.workflows.campaign import one_case, parameters_case, run_summary
     from casadi_debris.workflows.controller import controller_for
 
     record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     model = build_model(problem)
-    case = one_case(problem, model, corner, sample, seed)
+    if parameters_file is not None:
+        if corner is not None or sample is not None:
+            raise InputShapeError("give one of --corner, --sample and --parameters")
+        case = parameters_case(problem, model, *read_parameters_file(parameters_file))
+    else:
+        case = one_case(problem, model, corner, sample, seed)
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(

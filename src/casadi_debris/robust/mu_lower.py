@@ -181,6 +181,7 @@ def lower_bound(
     if warm is not None and np.any(warm):
         starts.insert(0, warm / np.linalg.norm(warm, 2))
     ends = [_power_iteration(matrix, layout, start, iterations) for start in starts]
+    complex_only = _complex_only(matrix, layout, iterations) if layout.has_real else None
     if layout.has_real:
         # The local solve costs most: run it from the two ends of largest relaxed radius.
         radius = [float(np.max(np.abs(np.linalg.eigvals(matrix @ d)))) for d in ends]
@@ -193,12 +194,32 @@ def lower_bound(
             else _local_solve(matrix, layout, d)
             for k, d in zip(order, projected, strict=True)
         ]
+    if complex_only is not None:
+        # Real blocks at zero: at least the complex blocks' own mu (a nominal performance
+        # level), which the relaxed iteration, with every real block at +-1, can miss.
+        ends += [complex_only, _local_solve(matrix, layout, complex_only)]
     best: tuple[float, np.ndarray] = (0.0, np.zeros_like(matrix))
     for delta in ends:
         candidate = evaluate(matrix, layout, delta)
         if candidate[0] > best[0]:
             best = candidate
     return best
+
+
+def _complex_only(matrix: np.ndarray, layout: _Layout, iterations: int) -> np.ndarray | None:
+    """Power iteration over the complex blocks alone, the real blocks at zero, phased so
+    that the leading eigenvalue of M Delta is real (None without complex blocks)."""
+    parts = [part for kind, part in layout.blocks() if kind == "complex"]
+    if not parts:
+        return None
+    index = np.concatenate([np.arange(p.start, p.stop) for p in parts])
+    sub = _Layout.of([Block("complex", p.stop - p.start) for p in parts])
+    sub_matrix = matrix[np.ix_(index, index)]
+    sub_delta = _power_iteration(sub_matrix, sub, np.eye(sub.n, dtype=complex), iterations)
+    lam = _leading(sub_matrix @ sub_delta)[0]
+    delta = np.zeros_like(matrix)
+    delta[np.ix_(index, index)] = sub_delta * (np.exp(-1j * np.angle(lam)) if lam else 1.0)
+    return delta
 
 
 def _project(layout: _Layout, delta: np.ndarray) -> np.ndarray:

@@ -98,6 +98,49 @@ def parameters_from_normalized(
     return p.reshape(np.shape(normalized))
 
 
+def normalized_from_parameters(
+    problem: Problem, model: Model, parameters: np.ndarray
+) -> np.ndarray:
+    """Positions in the uncertainty box of model parameter vectors (inverse of
+    :func:`parameters_from_normalized`; outside -1 .. 1 for parameters outside the box).
+
+    Parameters
+    ----------
+    parameters : ndarray, shape (n, n_parameters) or (n_parameters,)
+
+    Returns
+    -------
+    ndarray, same shape
+    """
+    layout = model.parameter_layout
+    p = np.atleast_2d(np.asarray(parameters, dtype=float))
+    nominal = model.nominal_parameters
+    z = np.zeros_like(p)
+    for index, (kind, half) in enumerate(half_ranges(problem, layout).values()):
+        if kind == "relative":
+            z[:, index] = (p[:, index] / nominal[index] - 1.0) / half if half else 0.0
+        else:
+            z[:, index] = (p[:, index] - nominal[index]) / half if half else 0.0
+    return z.reshape(np.shape(parameters))
+
+
+FULL_CIRCLE_DEG = 180.0
+
+
+def corner_angles(problem: Problem, count: int | None = None) -> np.ndarray:
+    """Normalised array-angle positions of the corner set, shape (count,).
+
+    ``count`` defaults to ``montecarlo.corner_array_angles``. With a +-180 deg
+    range the two extremes are one attitude of the arrays, so the angles are
+    spaced by 360 deg / count; for a smaller range they run from one extreme
+    to the other, both included.
+    """
+    count = problem.montecarlo.corner_array_angles if count is None else count
+    if problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
+        return -1.0 + 2.0 * np.arange(count) / count
+    return np.linspace(-1.0, 1.0, count) if count > 1 else np.zeros(1)
+
+
 def box_corners(n_parameters: int) -> np.ndarray:
     """All 2^n corners of the normalised uncertainty box, shape (2^n, n)."""
     return np.array(list(itertools.product((-1.0, 1.0), repeat=n_parameters)))

@@ -24,10 +24,18 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.model import Model
-from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.robust.uncertainty import corner_angles, parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError
 
-FULL_CIRCLE_DEG = 180.0
+__all__ = [
+    "Case",
+    "corner_angles",
+    "corner_case",
+    "corner_cases",
+    "nominal_case",
+    "sample_case",
+    "sample_cases",
+]
 
 
 @dataclass(frozen=True, eq=False)
@@ -56,14 +64,6 @@ class Case:
     seed: int | None
     normalized: np.ndarray
     parameters: np.ndarray
-
-
-def corner_angles(problem: Problem) -> np.ndarray:
-    """Normalised array-angle positions of the corner set, shape (count,)."""
-    count = problem.montecarlo.corner_array_angles
-    if problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
-        return -1.0 + 2.0 * np.arange(count) / count
-    return np.linspace(-1.0, 1.0, count) if count > 1 else np.zeros(1)
 
 
 def corner_cases(problem: Problem, model: Model) -> list[Case]:

@@ -28,12 +28,13 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
-from casadi_debris.errors import InputShapeError
-from casadi_debris.model import Model, build_model
+from casadi_debris.errors import InputShapeError, ModelError
+from casadi_debris.model import Model, Parameters, build_model
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
 from casadi_debris.report.simulation import campaign_summary, torque_limits_mNm, write_campaign
 from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.uncertainty import normalized_from_parameters
 from casadi_debris.simulation import (
     CampaignSetup,
     Case,
@@ -131,6 +132,31 @@ def one_case(
             problem, model, sample, problem.montecarlo.seed if seed is None else seed
         )
     return nominal_case(model)
+
+
+def parameters_case(problem: Problem, model: Model, values: Any, case_id: str) -> Case:
+    """A case at given parameter values: ``values`` maps every model parameter name
+    (``inertia_scale_x`` ... ``bending_frequency_scale``, SI) to its value, as the
+    ``parameters`` of a file that ``worstcase`` writes.
+
+    Raises
+    ------
+    InputShapeError
+        Not a mapping, unknown or missing names, or values that are not positive
+        finite numbers where they must be.
+    """
+    where = "--parameters: parameters"
+    if not isinstance(values, dict):
+        raise InputShapeError(f"{where}: expected an object of name: value")
+    if any(isinstance(v, bool) or not isinstance(v, int | float) for v in values.values()):
+        raise InputShapeError(f"{where}: every value must be a number")
+    try:
+        named = Parameters.from_mapping(model.parameter_layout, values)
+    except ModelError as exc:
+        raise InputShapeError(f"{where}: {exc}") from None
+    p = named.to_vector()
+    z = normalized_from_parameters(problem, model, p)
+    return Case(case_id, "parameters", 0, None, z, p)
 
 
 def run_summary(

@@ -1,0 +1,80 @@
+"""The closed loop of a controller around the real-parametric plant, with the performance channels.
+
+Signals as in :mod:`casadi_debris.robust.interconnect` (deg and mNm), with
+the parametric plant's real channels in place of the complex uncertainty
+block::
+
+    plant input  up = u + Vd w_d
+    [q; y]          = P_lft [w; up]        (w = z q per real block)
+    e               = Ve w_e - y,   u = K e
+    z_e             = We Ve^-1 e,   z_u = Wu Vu^-1 u
+
+The closed loop maps [w; w_e; w_d] to [q; z_e; z_u]. Robust stability is mu
+of its (q, w) part over the real blocks; robust performance is mu of the
+whole over the real blocks and one full complex 6 x 6 block.
+"""
+
+from __future__ import annotations
+
+import control
+import numpy as np
+
+from casadi_debris.robust.interconnect import static_gain
+from casadi_debris.robust.parametric import ParametricPlant
+from casadi_debris.robust.weights import PerformanceWeights
+
+N_PERFORMANCE = 6
+
+
+def _names(name: str, count: int) -> list[str]:
+    return [f"{name}[{i}]" for i in range(count)]
+
+
+def _named(system: control.StateSpace, inputs: str, outputs: str, name: str) -> control.StateSpace:
+    return control.ss(
+        system.A,
+        system.B,
+        system.C,
+        system.D,
+        inputs=_names(inputs, system.ninputs),
+        outputs=_names(outputs, system.noutputs),
+        name=name,
+    )
+
+
+def parametric_closed_loop(
+    plant: ParametricPlant, controller: control.StateSpace, weights: PerformanceWeights
+) -> control.StateSpace:
+    """Closed loop [w; w_e; w_d] -> [q; z_e; z_u] of ``controller`` around ``plant``.
+
+    Parameters
+    ----------
+    plant : ParametricPlant
+        In design units (torque mNm, attitude deg).
+    controller : control.StateSpace
+        Attitude error [deg] -> torque [mNm], u = K e.
+    weights : PerformanceWeights
+
+    Returns
+    -------
+    control.StateSpace
+        ``plant.n_real + 6`` inputs and outputs.
+    """
+    r = plant.n_real
+    error_weight = weights.error * static_gain(np.linalg.inv(weights.error_scaling))
+    effort_weight = weights.control_effort * static_gain(np.linalg.inv(weights.control_scaling))
+    parts = [
+        plant.system(),
+        _named(controller, "e", "u", "K"),
+        _named(error_weight, "e", "z_e", "We"),
+        _named(effort_weight, "u", "z_u", "Wu"),
+        _named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
+        _named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
+        control.summing_junction(["u", "d"], "up", dimension=3, name="plant_input"),
+        control.summing_junction(["r", "-y"], "e", dimension=3, name="error"),
+    ]
+    inputs = _names("w", r) + _names("w_e", 3) + _names("w_d", 3)
+    outputs = _names("q", r) + _names("z_e", 3) + _names("z_u", 3)
+    return control.interconnect(
+        parts, inplist=inputs, outlist=outputs, inputs=inputs, outputs=outputs, name="closed_loop"
+    )
