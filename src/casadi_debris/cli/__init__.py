@@ -19,6 +19,7 @@ from casadi_debris.cli import (  # noqa: F401
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo
     slew,  # slew
+    worstcase,  # worstcase
 )
 from casadi_debris.cli.common import main
 

@@ -242,7 +242,7 @@ def parametric_mu(
         Array angles of the grid (default the corner campaign's,
         ``montecarlo.corner_array_angles``); ignored without arrays.
     omega : ndarray, optional
-        Frequencies [rad/s] (default 40 from 1e-4 to 1e2).
+        Frequencies [rad/s] (default 30 from 1e-4 to 1e2).
     modes : str
         Modes of the analysis plant (default all: the plant ``simulate`` flies).
     lower_points : int
@@ -263,7 +263,7 @@ def parametric_mu(
         The nominal loop is unstable at an angle of the grid.
     """
     start = time.perf_counter()
-    omega = np.logspace(-4, 2, 40) if omega is None else np.asarray(omega, dtype=float)
+    omega = np.logspace(-4, 2, 30) if omega is None else np.asarray(omega, dtype=float)
     model = build_model(problem, modes=modes)
     function = linearization_function(model, sensor=True)
     positions = corner_angles(problem, angles) if model.parameter_layout.has_array_angle else [0.0]

@@ -1,0 +1,146 @@
+"""``casadi-debris worstcase``: real-parametric mu bounds and the worst slew in the box."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from casadi_debris.cli.common import (
+    allow_mismatch_option,
+    controller_option,
+    echo_json,
+    friendly_errors,
+    in_range,
+    is_quiet,
+    json_option,
+    main,
+    overwrite_option,
+    problem_argument,
+    say,
+)
+from casadi_debris.config import limits, load_problem
+from casadi_debris.report.common import format_table
+from casadi_debris.report.folders import default_run_folder
+
+
+@main.command()
+@problem_argument
+@controller_option
+@allow_mismatch_option
+@click.option(
+    "--budget",
+    type=click.IntRange(1, 1000),
+    default=50,
+    show_default=True,
+    help="Simulations of the search at most.",
+)
+@click.option(
+    "--seed", type=in_range(limits.SEED), default=0, show_default=True, help="Seed of the search."
+)
+@click.option(
+    "--angles",
+    type=click.IntRange(1, 64),
+    help="Array angles of the mu grid [the corner campaign's].",
+)
+@click.option("--no-mu", is_flag=True, help="Skip the mu bounds.")
+@click.option("--no-search", is_flag=True, help="Skip the search.")
+@click.option(
+    "--campaign",
+    type=click.Path(path_type=Path, file_okay=False, exists=True),
+    help="A finished corner campaign (montecarlo --out) to compare with and draw under the "
+    "worst run.",
+)
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path, file_okay=False),
+    help="Run folder [runs/worstcase-<problem>].",
+)
+@overwrite_option
+@json_option
+@friendly_errors
+def worstcase(
+    problem_file: Path | None,
+    controller_path: Path | None,
+    allow_mismatch: bool,
+    budget: int,
+    seed: int,
+    angles: int | None,
+    no_mu: bool,
+    no_search: bool,
+    campaign: Path | None,
+    out: Path | None,
+    overwrite: bool,
+    as_json: bool,
+) -> None:
+    """Worst cases of the controller over the uncertainty box.
+
+    Robust stability and performance mu with the parameters kept real (upper
+    and lower bounds, the gap, the worst perturbation as parameters), then a
+    local search through the closed loop for the run of largest attitude error
+    (paper_slew.toml: the 180 deg slew). Writes summary.json,
+    worst_parameters.json and mu_*_parameters.json (for simulate --parameters),
+    evaluations.csv and worstcase.png.
+    """
+    from casadi_debris.workflows.worstcase import run_worstcase_folder
+
+    problem = load_problem(problem_file)
+    folder = out or default_run_folder("worstcase", problem.name)
+
+    def progress(stage: str):  # type: ignore[no-untyped-def]
+        if as_json or is_quiet():
+            return None
+        say(stage)
+        return lambda done, error: say(
+            f"\r  {done}/{budget} runs, last {error:.4f} deg", newline=False
+        )
+
+    summary = run_worstcase_folder(
+        problem,
+        controller_path,
+        folder,
+        overwrite=overwrite,
+        campaign=campaign,
+        budget=budget,
+        seed=seed,
+        angles=angles,
+        with_mu=not no_mu,
+        with_search=not no_search,
+        allow_mismatch=allow_mismatch,
+        progress=progress,
+    )
+    if as_json:
+        echo_json(summary)
+        return
+    if not is_quiet():
+        say("")
+    rows = []
+    for kind in ("stability", "performance"):
+        entry = summary.get("mu", {}).get(kind)
+        if entry:
+            rows.append(
+                [
+                    f"mu robust {kind}",
+                    f"{entry['mu_lower']:.4f} .. {entry['mu_upper']:.4f}",
+                    f"gap {entry['gap']:.1%}",
+                ]
+            )
+    if "search" in summary:
+        found = summary["search"]
+        rows.append(
+            [
+                "worst max error [deg]",
+                f"{found['max_error_deg']:.4f}",
+                f"{found['simulations']} runs",
+            ]
+        )
+    if "campaign" in summary:
+        rows.append(
+            [
+                "corner campaign worst [deg]",
+                f"{summary['campaign']['worst_max_error_deg']:.4f}",
+                ", ".join(summary["campaign"]["worst_cases"][:2]),
+            ]
+        )
+    click.echo(format_table(["figure", "value", "note"], rows))
+    click.echo(f"written to {summary['out_dir']}")

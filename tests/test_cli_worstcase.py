@@ -1,0 +1,67 @@
+"""``worstcase`` and ``simulate --parameters`` on the command line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris.cli import main
+from casadi_debris.config import default_problem_path
+
+SLEW = default_problem_path().parent / "paper_slew.toml"
+
+
+def invoke(*args: str) -> tuple[int, str, str]:
+    result = CliRunner().invoke(main, list(args), catch_exceptions=False)
+    return result.exit_code, result.stdout, result.stderr
+
+
+@pytest.fixture(scope="module")
+def short_slew(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    path = tmp_path_factory.mktemp("problems") / "short_slew.toml"
+    path.write_text(f'extends = "{SLEW}"\nname = "short_slew"\n[simulation]\nduration_s = 120.0\n')
+    return path
+
+
+@pytest.mark.parametrize(
+    ("content", "needle"),
+    [
+        ('{"parameters": {"mass_kg": 600}}', "missing"),
+        ('{"parameters": {"inertia_scale_x": "a"}}', "number"),
+        ("[1, 2]", "'parameters'"),
+        ("{not json", "not JSON"),
+    ],
+)
+def test_simulate_parameters_bad_file_is_one_line(
+    short_slew: Path, tmp_path: Path, content: str, needle: str
+) -> None:
+    bad = tmp_path / "bad.json"
+    bad.write_text(content)
+    code, out, err = invoke("simulate", str(short_slew), "--parameters", str(bad))
+    assert code == 2 and needle in err and "--parameters" in err
+    assert len(err.strip().splitlines()) == 1 and out == ""
+
+
+@pytest.mark.slow
+def test_worstcase_parameters_rerun_by_simulate_give_the_reported_error(
+    short_slew: Path, tmp_path: Path
+) -> None:
+    out = tmp_path / "wc"
+    code, stdout, err = invoke(
+        "worstcase", str(short_slew), "--no-mu", "--budget", "3", "--out", str(out), "--json"
+    )
+    assert code == 0, err
+    summary = json.loads(stdout)
+    assert summary["search"]["simulations"] <= 3
+    for name in ("summary.json", "worst_parameters.json", "evaluations.csv", "worstcase.png"):
+        assert (out / name).is_file()
+    code, stdout, err = invoke(
+        "simulate", str(short_slew), "--parameters", str(out / "worst_parameters.json"), "--json"
+    )
+    assert code == 0, err
+    rerun = json.loads(stdout)
+    assert rerun["case_id"] == "worstcase"
+    assert rerun["max_error_deg"] == pytest.approx(summary["search"]["max_error_deg"], rel=1e-9)
