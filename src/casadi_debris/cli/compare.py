@@ -75,9 +75,9 @@ def compare(
         progress=progress,
         allow_mismatch=allow_mismatch,
     )
-    rows = summary["variants"]
     if as_json:
         echo_json(summary)
         return
-    click.echo(format_table([t for _, t in COLUMNS], [[r[k] for k, _ in COLUMNS] for r in rows]))
-    click.echo(f"written to {summary['out_dir']}")
+    cells = [[getattr(row, key) for key, _ in COLUMNS] for row in summary.variants]
+    click.echo(format_table([title for _, title in COLUMNS], cells))
+    click.echo(f"written to {summary.out_dir}")

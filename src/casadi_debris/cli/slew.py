@@ -38,13 +38,11 @@ if TYPE_CHECKING:
 
 def summary_for_output(profile: SlewProfile, problem_name: str) -> dict[str, Any]:
     """The summary with display units (mNm, deg) in the keys that need them."""
-    summary = profile.summary()
-    summary["max_torque_mNm"] = summary.pop("max_torque_Nm") * MNM_PER_NM
+    summary = profile.summary().to_json()
     summary["angle_deg"] = math.degrees(summary.pop("angle_rad"))
-    if "engine_torque_shortfall_Nm" in summary:
-        summary["engine_torque_shortfall_mNm"] = (
-            summary.pop("engine_torque_shortfall_Nm") * MNM_PER_NM
-        )
+    for name in ("max_torque", "engine_torque_shortfall"):
+        if f"{name}_Nm" in summary:
+            summary[f"{name}_mNm"] = np.multiply(summary.pop(f"{name}_Nm"), MNM_PER_NM).tolist()
     return {"problem": problem_name, **summary}
 
 

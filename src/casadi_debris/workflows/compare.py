@@ -24,7 +24,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import SLEW_METHODS, Problem, SlewMethod
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import build_model
-from casadi_debris.report.compare import write_comparison
+from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation import scenario_reference, simulate
 from casadi_debris.workflows.controller import controller_for
@@ -55,7 +55,7 @@ def variants(
     return chosen
 
 
-def compare_row(label: str, problem: Problem, controller: Any) -> dict[str, Any]:
+def compare_row(label: str, problem: Problem, controller: Any) -> VariantRow:
     """One variant's nominal closed-loop run, reduced to the budget figures."""
     model = build_model(problem)
     reference = scenario_reference(problem)
@@ -63,25 +63,25 @@ def compare_row(label: str, problem: Problem, controller: Any) -> dict[str, Any]
     result = simulate(problem, model, controller, reference, allocator=allocator)
     summary = result.summary()
     left_kg = float(result.propulsion.propellant_kg.sum())
-    mass_now = result.total_mass_kg - summary["fuel_kg"]
+    mass_now = result.total_mass_kg - summary.fuel_kg
     exhaust = result.exhaust_velocity_m_s
     engines = result.propulsion.exhaust_velocity_m_s
     if left_kg > 0.0 and not np.all(engines == engines[0]):
         # Engines of different Isp: the propellant left leaves at its own engines' velocity.
         left_per_engine = result.propulsion.propellant_kg.sum(axis=1)
         exhaust = float(np.sum(left_per_engine * engines) / left_kg)
-    return {
-        "variant": label,
-        "problem": problem.name,
-        "fuel_kg": summary["fuel_kg"],
-        "fuel_worst_cubesat_kg": summary["fuel_worst_cubesat_kg"],
-        "dv_left_m_s": exhaust * math.log(mass_now / (mass_now - left_kg)),
-        "stage_switches": summary["stage_switches"],
-        "slew_duration_s": None if reference.slew is None else reference.slew.duration_s,
-        "max_error_deg": summary["max_error_deg"],
-        "torque_saturated_s": summary["torque_saturated_s"],
-        "failed_cubesats": int(result.propulsion.failed_cubesats.sum()),
-    }
+    return VariantRow(
+        variant=label,
+        problem=problem.name,
+        fuel_kg=summary.fuel_kg,
+        fuel_worst_cubesat_kg=summary.fuel_worst_cubesat_kg,
+        dv_left_m_s=exhaust * math.log(mass_now / (mass_now - left_kg)),
+        stage_switches=summary.stage_switches,
+        slew_duration_s=None if reference.slew is None else reference.slew.duration_s,
+        max_error_deg=summary.max_error_deg,
+        torque_saturated_s=summary.torque_saturated_s,
+        failed_cubesats=int(result.propulsion.failed_cubesats.sum()),
+    )
 
 
 def compare_variants(
@@ -93,7 +93,7 @@ def compare_variants(
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
     allow_mismatch: bool = False,
-) -> dict[str, Any]:
+) -> Comparison:
     """Run the nominal closed loop of every variant and write the comparison into ``out``.
 
     Parameters
@@ -117,10 +117,10 @@ def compare_variants(
 
     Returns
     -------
-    dict
-        ``controller_path``, ``variants`` (one row per variant: fuel total and
-        worst CubeSat [kg], Δv left [m/s], stage switches, slew time [s], max
-        error [deg], saturated time [s]) and ``out_dir``.
+    Comparison
+        One row per variant (fuel total and worst CubeSat [kg], Δv left [m/s],
+        stage switches, slew time [s], max error [deg], saturated time [s]),
+        the controller and the folder.
     """
     unknown = sorted(set(methods or ()) - set(SLEW_METHODS))
     if unknown:
@@ -141,13 +141,13 @@ def compare_variants(
         if progress is not None:
             progress(label)
         rows.append(compare_row(label, problem, record.reduced))
-    summary = {
-        "controller_path": str(resolved),
-        "controller_plant_sha256": record.problem_sha256,
-        "plant_sha256": {problem.name: problem.plant_sha256 for problem in problems},
-        "variants": rows,
-        "out_dir": str(out.absolute()),
-    }
+    summary = Comparison(
+        controller_path=str(resolved),
+        controller_plant_sha256=record.problem_sha256,
+        plant_sha256={problem.name: problem.plant_sha256 for problem in problems},
+        variants=tuple(rows),
+        out_dir=str(out.absolute()),
+    )
     with RunFolder.claim(out, overwrite=overwrite, command="compare") as staging:
-        write_comparison(staging, rows, summary)
+        write_comparison(staging, summary)
     return summary
