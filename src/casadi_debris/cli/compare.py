@@ -56,7 +56,7 @@ def compare(
     switches, slew time and max error: comparison.csv, comparison.md and
     fuel.png in --out.
     """
-    from casadi_debris.report.compare import COLUMNS
+    from casadi_debris.report.compare import COLUMNS, cell
     from casadi_debris.workflows.compare import compare_variants
 
     chosen = None if methods is None else comma_list(methods, "--methods", "bang-bang,time-optimal")
@@ -78,6 +78,7 @@ def compare(
     if as_json:
         echo_json(summary)
         return
-    cells = [[getattr(row, key) for key, _ in COLUMNS] for row in summary.variants]
+    cells = [[cell(row, key) for key, _ in COLUMNS] for row in summary.variants]
     click.echo(format_table([title for _, title in COLUMNS], cells))
+    click.echo(f"fuel over the common window: the first {summary.window_s:.6g} s of every run")
     click.echo(f"written to {summary.out_dir}")
