@@ -52,9 +52,11 @@ def compare(
     """Compare fuel budgets of problem variants (placements, failures, slew methods).
 
     Runs the nominal closed loop of every PROBLEM.toml (and every --methods
-    slew) and tabulates fuel (total and worst CubeSat), Δv left, stage
-    switches, slew time and max error: comparison.csv, comparison.md and
-    fuel.png in --out.
+    slew) and tabulates fuel (over each run, over the window all flew, during
+    the slew, worst CubeSat), Δv left, stage switches, slew time, max error and
+    its verdict against the problem's requirements: comparison.csv,
+    comparison.md, comparison.png and summary.json in --out. A variant whose
+    run fails says why in its row.
     """
     from casadi_debris.report.compare import COLUMNS, cell
     from casadi_debris.workflows.compare import compare_variants
