@@ -97,6 +97,28 @@ class QpSolution(NamedTuple):
         return self.x
 
 
+class QpData(NamedTuple):
+    """The data of one QP: minimise ``1/2 x' h x + c' x`` subject to ``a_eq x = b_eq``,
+    ``lb <= x <= ub``.
+
+    Attributes
+    ----------
+    h : ndarray, shape (n, n)
+        Positive definite Hessian.
+    c : ndarray, shape (n,)
+    a_eq : ndarray, shape (m, n)
+    b_eq : ndarray, shape (m,)
+    lb, ub : ndarray, shape (n,)
+    """
+
+    h: np.ndarray
+    c: np.ndarray
+    a_eq: np.ndarray
+    b_eq: np.ndarray
+    lb: np.ndarray
+    ub: np.ndarray
+
+
 class QpBackend:
     """A QP workspace of fixed structure: what every back-end shares.
 
@@ -108,9 +130,8 @@ class QpBackend:
 
     name: str
 
-    def __init__(
-        self, b_eq: np.ndarray, lb: np.ndarray, ub: np.ndarray, *, equalities_first: bool
-    ) -> None:
+    def __init__(self, data: QpData, *, equalities_first: bool) -> None:
+        b_eq, lb, ub = data.b_eq, data.lb, data.ub
         m, n = len(b_eq), len(lb)
         self._rows = slice(0, m) if equalities_first else slice(n, n + m)
         self._box = slice(m, m + n) if equalities_first else slice(0, n)
@@ -167,27 +188,15 @@ def available_solvers() -> tuple[str, ...]:
     return native + forced + others
 
 
-def make_backend(
-    name: str,
-    h: np.ndarray,
-    c: np.ndarray,
-    a_eq: np.ndarray,
-    b_eq: np.ndarray,
-    lb: np.ndarray,
-    ub: np.ndarray,
-) -> QpBackend:
+def make_backend(name: str, data: QpData) -> QpBackend:
     """Set up a QP workspace on the named back-end.
 
     Parameters
     ----------
     name : str
         One of :func:`available_solvers`.
-    h : ndarray, shape (n, n)
-        Positive definite Hessian.
-    c : ndarray, shape (n,)
-    a_eq : ndarray, shape (m, n)
-    b_eq : ndarray, shape (m,)
-    lb, ub : ndarray, shape (n,)
+    data : QpData
+        The problem at set-up; later calls change its data, never its shapes.
 
     Raises
     ------
@@ -201,10 +210,10 @@ def make_backend(
             "(others: pip install qpsolvers[<solver>])"
         )
     if name == "daqp":
-        return DaqpBackend(h, c, a_eq, b_eq, lb, ub)
+        return DaqpBackend(data)
     if name == "osqp":
-        return OsqpBackend(h, c, a_eq, b_eq, lb, ub)
-    return QpsolversBackend(name.removeprefix(QPSOLVERS_PREFIX), h, c, a_eq, b_eq, lb, ub)
+        return OsqpBackend(data)
+    return QpsolversBackend(name.removeprefix(QPSOLVERS_PREFIX), data)
 
 
 class DaqpBackend(QpBackend):
@@ -212,19 +221,12 @@ class DaqpBackend(QpBackend):
 
     name = "daqp"
 
-    def __init__(
-        self,
-        h: np.ndarray,
-        c: np.ndarray,
-        a_eq: np.ndarray,
-        b_eq: np.ndarray,
-        lb: np.ndarray,
-        ub: np.ndarray,
-    ) -> None:
+    def __init__(self, data: QpData) -> None:
         import daqp
 
         # DAQP takes simple bounds first, then the rows of A, in one pair of vectors.
-        super().__init__(b_eq, lb, ub, equalities_first=False)
+        super().__init__(data, equalities_first=False)
+        h, c, a_eq, b_eq, _, _ = data
         n = len(c)
         self._a = np.ascontiguousarray(a_eq, dtype=float)
         # The same minimiser with a Hessian of unit size: with H = eps I (eps = 1e-3)
@@ -281,18 +283,11 @@ class OsqpBackend(QpBackend):
 
     name = "osqp"
 
-    def __init__(
-        self,
-        h: np.ndarray,
-        c: np.ndarray,
-        a_eq: np.ndarray,
-        b_eq: np.ndarray,
-        lb: np.ndarray,
-        ub: np.ndarray,
-    ) -> None:
+    def __init__(self, data: QpData) -> None:
         import osqp
         from scipy import sparse
 
+        h, c, a_eq, b_eq, _, _ = data
         n = len(c)
         self._n = n
         self._m = len(b_eq)
@@ -308,7 +303,7 @@ class OsqpBackend(QpBackend):
         a_full = sparse.csc_matrix(
             (self._stacked_values(a_eq), self._indices, self._indptr), shape=(m + n, n)
         )
-        super().__init__(b_eq, lb, ub, equalities_first=True)
+        super().__init__(data, equalities_first=True)
         self._solver = osqp.OSQP()
         self._solver.setup(
             sparse.triu(sparse.csc_matrix(h), format="csc"),
@@ -377,17 +372,9 @@ class OsqpBackend(QpBackend):
 class QpsolversBackend(QpBackend):
     """Any solver qpsolvers knows, through :func:`qpsolvers.solve_problem` (converted per call)."""
 
-    def __init__(
-        self,
-        solver: str,
-        h: np.ndarray,
-        c: np.ndarray,
-        a_eq: np.ndarray,
-        b_eq: np.ndarray,
-        lb: np.ndarray,
-        ub: np.ndarray,
-    ) -> None:
-        super().__init__(b_eq, lb, ub, equalities_first=True)
+    def __init__(self, solver: str, data: QpData) -> None:
+        super().__init__(data, equalities_first=True)
+        h, c, a_eq, _, _, _ = data
         self.name = QPSOLVERS_PREFIX + solver if solver in NATIVE_SOLVERS else solver
         self._solver = solver
         self._h = np.array(h, dtype=float)
