@@ -350,8 +350,8 @@ def test_slew_error_is_consistent_and_within_paper(
     angle_deg = np.degrees(error_angle_rad(nominal_slew.reference_BN, q))
     assert PAPER_SLEW_MAX_ERROR.accepts(angle_deg.max())
     summary = nominal_slew.summary()
-    assert summary["max_error_deg"] == pytest.approx(np.degrees(np.abs(expected).max()), rel=1e-12)
-    assert PAPER_SLEW_MAX_ERROR.accepts(summary["max_error_deg"])
+    assert summary.max_error_deg == pytest.approx(np.degrees(np.abs(expected).max()), rel=1e-12)
+    assert PAPER_SLEW_MAX_ERROR.accepts(summary.max_error_deg)
 
 
 def test_slew_fuel_and_bookkeeping(nominal_slew: ClosedLoopResult, slew_problem: Problem) -> None:
@@ -360,14 +360,14 @@ def test_slew_fuel_and_bookkeeping(nominal_slew: ClosedLoopResult, slew_problem:
         nominal_slew.fuel_per_cubesat_kg, fuel, rtol=1e-12, atol=propellant_atol(nominal_slew)
     )
     summary = nominal_slew.summary()
-    assert summary["fuel_kg"] == pytest.approx(fuel.sum(), rel=1e-12)
+    assert summary.fuel_kg == pytest.approx(fuel.sum(), rel=1e-12)
     # The paper's figure is the fuel of the slew itself (the run goes on to settle).
     dt = nominal_slew.control_period_s
     end = slew_problem.simulation.slew.start_s + slew_problem.simulation.slew.duration_s
     inside = np.arange(len(nominal_slew.thrust_N)) < round(end / dt)
     exhaust = slew_problem.engine.isp_s * slew_problem.constants.standard_gravity_m_s2
     fuel_slew = nominal_slew.thrust_N[inside].sum() * dt / exhaust
-    assert summary["fuel_slew_kg"] == pytest.approx(fuel_slew, rel=1e-12)
+    assert summary.fuel_slew_kg == pytest.approx(fuel_slew, rel=1e-12)
     assert PAPER_SLEW_FUEL.accepts(fuel_slew)
     # Nothing runs dry in the nominal slew: every CubeSat stays on stage 1.
     propulsion = nominal_slew.propulsion
@@ -480,7 +480,7 @@ def pointing_checks(result: ClosedLoopResult, model: Model, problem: Problem) ->
 def test_pointing_nominal(nominal_pointing, pointing_model, pointing_problem, maps) -> None:
     error = pointing_checks(nominal_pointing, pointing_model, pointing_problem)
     assert PAPER_POINTING_ERROR.accepts(error)
-    assert PAPER_POINTING_ERROR.accepts(nominal_pointing.summary()["max_error_arcsec"])
+    assert PAPER_POINTING_ERROR.accepts(nominal_pointing.summary().max_error_arcsec)
     # The disturbance is what the loop fights: 0.7 mNm amplitude per axis.
     amplitude = pointing_problem.disturbance.amplitude_mNm * 1e-3
     np.testing.assert_allclose(
@@ -567,7 +567,7 @@ def test_failed_engines_stop(
     ]
     # CubeSat 1 was firing stage 1: its failure hands over to stage 2, a switch.
     assert [e.switched for e in failure_run.events] == [False, False, True]
-    assert failure_run.summary()["stage_switches"] == 1
+    assert failure_run.summary().stage_switches == 1
     # Identical to the nominal run up to the failure.
     np.testing.assert_array_equal(failure_run.thrust_N[:step], nominal_slew.thrust_N[:step])
     np.testing.assert_array_equal(failure_run.state[: step + 1], nominal_slew.state[: step + 1])
@@ -577,7 +577,7 @@ def test_failed_engines_stop(
     np.testing.assert_array_equal(failure_run.thrust_N[step:, [16, 18]], 0.0)
     assert_engines_within_limits(failure_run, failure_problem)
     assert failure_run.propulsion.failed_cubesats[[16, 18]].all()
-    assert PAPER_SLEW_MAX_ERROR.accepts(failure_run.summary()["max_error_deg"])
+    assert PAPER_SLEW_MAX_ERROR.accepts(failure_run.summary().max_error_deg)
 
 
 def test_failed_stage_hands_over(failure_run: ClosedLoopResult, failure_problem: Problem) -> None:
@@ -625,7 +625,7 @@ def test_failures_full_slew(slew_model, controller, slew_reference) -> None:
     result = simulate(problem, slew_model, controller, slew_reference)
     step = round(FAILURE_TIME_S / result.control_period_s)
     np.testing.assert_array_equal(result.thrust_N[step:, [16, 18]], 0.0)
-    assert PAPER_SLEW_MAX_ERROR.accepts(result.summary()["max_error_deg"])
+    assert PAPER_SLEW_MAX_ERROR.accepts(result.summary().max_error_deg)
 
 
 # --------------------------------------------------------------------------- staging
@@ -695,7 +695,7 @@ def test_staging_run_still_tracks(
     assert PAPER_SLEW_MAX_ERROR.accepts(np.degrees(angle.max()))
     times = [e.time_s for e in staging_run.events]
     assert times == sorted(times)
-    assert staging_run.summary()["stage_switches"] == 4
+    assert staging_run.summary().stage_switches == 4
 
 
 # --------------------------------------------------------------------------- bad input

@@ -22,6 +22,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.records import Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
     DATASET_NAME,
@@ -29,7 +30,7 @@ from casadi_debris.report.campaign_dataset import (
     write_campaign_dataset,
 )
 from casadi_debris.report.campaign_folder import CampaignRecord
-from casadi_debris.report.common import json_ready, write_csv, write_json_atomic
+from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
@@ -82,7 +83,7 @@ def run_figures_options(problem: Problem) -> dict[str, Any]:
 def write_run(
     folder: Path,
     result: ClosedLoopResult,
-    summary: dict[str, Any],
+    summary: Record,
     problem: Problem,
     limits_mNm: np.ndarray,
     *,
@@ -116,20 +117,29 @@ ENVELOPE_COLUMNS = {
 }
 
 
+def normalized_column(parameter: str) -> str:
+    """The cases.csv column of a parameter's place in the uncertainty box, -1 .. 1: a
+    pure number, so without the parameter's unit (``mass_kg`` -> ``normalized_mass``)."""
+    for unit in ("_kg", "_rad"):
+        parameter = parameter.removesuffix(unit)
+    return f"normalized_{parameter}"
+
+
 def campaign_summary(
     problem: Problem, setup: CampaignSetup, outcomes: list[CaseOutcome], extra: dict[str, Any]
 ) -> dict[str, Any]:
     """Worst case of every figure over the campaign, and which case it was."""
-    summaries = [o.summary for o in outcomes]
-    fuels = [s["fuel_kg"] for s in summaries]
+    runs = [o.summary.run for o in outcomes]
+    case_ids = [o.case.case_id for o in outcomes]
+    fuels = [run.fuel_kg for run in runs]
 
     def worst(key: str) -> dict[str, Any]:
-        values = [s[key] for s in summaries]
+        values = [getattr(run, key) for run in runs]
         if any(v is None for v in values):
-            missing = [s["case_id"] for s, v in zip(summaries, values, strict=True) if v is None]
+            missing = [c for c, v in zip(case_ids, values, strict=True) if v is None]
             return {"value": None, "case_id": missing[0], "cases_without": len(missing)}
         index = int(np.argmax(values))
-        return {"value": values[index], "case_id": summaries[index]["case_id"]}
+        return {"value": values[index], "case_id": case_ids[index]}
 
     return {
         "problem": problem.name,
@@ -146,7 +156,7 @@ def campaign_summary(
                 "torque_saturated_s",
             )
         },
-        "max_torque_mNm": np.max([s["max_torque_mNm"] for s in summaries], axis=0).tolist(),
+        "max_torque_mNm": np.max([run.max_torque_mNm for run in runs], axis=0).tolist(),
         "fuel_kg_range": [min(fuels), max(fuels)],
         "envelope_bin_s": setup.bin_s,
         **extra,
@@ -173,7 +183,7 @@ def write_campaign(
     setup: CampaignSetup,
     outcomes: list[CaseOutcome],
     nominal: ClosedLoopResult,
-    nominal_summary: dict[str, Any],
+    nominal_summary: Record,
     limits_mNm: np.ndarray,
     summary: dict[str, Any],
     record: CampaignRecord,
@@ -191,9 +201,10 @@ def write_campaign(
     write_json_atomic(folder / "summary.json", summary)
     with (folder / "cases.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow([*CASE_COLUMNS, *(f"normalized_{n}" for n in nominal.parameters)])
+        writer.writerow([*CASE_COLUMNS, *(normalized_column(n) for n in nominal.parameters)])
         for outcome in outcomes:
-            row = [json_ready(outcome.summary.get(c)) for c in CASE_COLUMNS]
+            flat = outcome.summary.to_json()
+            row = [flat.get(c) for c in CASE_COLUMNS]
             writer.writerow([*row, *outcome.case.normalized.tolist()])
     write_csv(folder / "envelope.csv", envelope_columns(envelope))
     write_campaign_dataset(
