@@ -311,8 +311,8 @@ DROPOUT_STAGE_KG = 3.0e-7
 
 
 @pytest.fixture(scope="module")
-def staging_start(slew_problem: Problem, slew_model: Model) -> PropulsionState:
-    state = PropulsionState.from_problem(slew_problem, slew_model.geometry)
+def staging_start(slew_problem: Problem) -> PropulsionState:
+    state = PropulsionState.from_problem(slew_problem)
     state.propellant_kg[STAGING_CUBESAT, 0] = STAGING_FIRST_STAGE_KG
     state.propellant_kg[DROPOUT_CUBESAT, :] = DROPOUT_STAGE_KG
     return state
