@@ -38,7 +38,7 @@ def test_projection_clips_the_box_and_wraps_a_full_turn_angle() -> None:
 def _max_error(problem, model, controller, reference, p) -> float:
     allocator = Allocator.from_problem(problem, model.geometry)
     run = simulate(problem, model, controller, reference, parameters=p, allocator=allocator)
-    return float(run.summary()["max_error_deg"])
+    return float(run.summary().max_error_deg)
 
 
 @pytest.mark.slow

@@ -200,7 +200,7 @@ class _Objective:
             allocator=allocator,
             jit=self.jit,
         )
-        error = float(result.summary()["max_error_deg"])
+        error = float(result.summary().max_error_deg)
         evaluation = Evaluation(len(self.evaluations), source, z.copy(), p, error)
         self.evaluations.append(evaluation)
         if self.best is None or error > self.best.max_error_deg * (1.0 + IMPROVEMENT):
