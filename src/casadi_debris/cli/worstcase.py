@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -114,6 +115,12 @@ def worstcase(
         return
     if not is_quiet():
         say("")
+    click.echo(format_table(["figure", "value", "note"], _rows(summary)))
+    click.echo(f"written to {summary['out_dir']}")
+
+
+def _rows(summary: dict[str, Any]) -> list[list[str]]:
+    """The table the command prints: the bounds, the search, the campaign's worst."""
     rows = []
     for kind in ("stability", "performance"):
         entry = summary.get("mu", {}).get(kind)
@@ -142,5 +149,4 @@ def worstcase(
                 ", ".join(summary["campaign"]["worst_cases"][:2]),
             ]
         )
-    click.echo(format_table(["figure", "value", "note"], rows))
-    click.echo(f"written to {summary['out_dir']}")
+    return rows

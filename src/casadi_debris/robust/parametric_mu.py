@@ -267,30 +267,20 @@ def parametric_mu(
     model = build_model(problem, modes=modes)
     function = linearization_function(model, sensor=True)
     positions = corner_angles(problem, angles) if model.parameter_layout.has_array_angle else [0.0]
-    grids = {
-        kind: _Grid(
-            np.zeros((len(positions), len(omega))), np.zeros((len(positions), len(omega))), [], []
+    shape = (len(positions), len(omega))
+    grids = {kind: _Grid(np.zeros(shape), np.zeros(shape), [], []) for kind in KINDS}
+    loop = (controller, weights)
+    search = (lower_points, seed)
+    plants = [
+        _analyse_angle(problem, model, function, a, z, loop, omega, grids, search)
+        for a, z in enumerate(positions)
+    ]
+    results = {
+        kind: RealMuBounds(
+            grid.upper, grid.lower, _worst(grid, plants, omega), _tighten(grid, lmi_points)
         )
-        for kind in KINDS
+        for kind, grid in grids.items()
     }
-    plants = []
-    for a, angle in enumerate(positions):
-        plant = fit_parametric_plant(problem, model, angle, function=function)
-        closed = parametric_closed_loop(plant, controller, weights)
-        if np.any(np.linalg.eigvals(closed.A).real >= 0):
-            raise SynthesisError(f"the nominal closed loop is unstable at array angle {angle:+.3f}")
-        response = frequency_response(closed, omega)
-        plants.append(plant)
-        for kind, structure in _structures(plant).items():
-            grid = grids[kind]
-            m = response[:, : plant.n_real, : plant.n_real] if kind == "stability" else response
-            _fill(grid, a, m, structure, lower_points, seed)
-    results = {}
-    for kind, grid in grids.items():
-        tightened = _tighten(grid, lmi_points)
-        results[kind] = RealMuBounds(
-            grid.upper, grid.lower, _worst(grid, plants, positions, omega), tightened
-        )
     layout = model.parameter_layout
     return ParametricMu(
         real_names=plants[0].real_names,
@@ -327,6 +317,29 @@ def _balanced(m: np.ndarray, scalar_entries: int) -> np.ndarray:
             ok = (row > 0) & (col > 0)
             d[ok, i] *= np.sqrt(col[ok] / row[ok])
     return d
+
+
+def _analyse_angle(
+    problem: Problem,
+    model: Any,
+    function: Any,
+    a: int,
+    angle: float,
+    loop: tuple[control.StateSpace, PerformanceWeights],
+    omega: np.ndarray,
+    grids: dict[str, _Grid],
+    search: tuple[int, int],
+) -> ParametricPlant:
+    """Fit the plant at one angle, close the loop, fill both structures' grids at row a."""
+    plant = fit_parametric_plant(problem, model, angle, function=function)
+    closed = parametric_closed_loop(plant, *loop)
+    if np.any(np.linalg.eigvals(closed.A).real >= 0):
+        raise SynthesisError(f"the nominal closed loop is unstable at array angle {angle:+.3f}")
+    response = frequency_response(closed, omega)
+    for kind, structure in _structures(plant).items():
+        m = response[:, : plant.n_real, : plant.n_real] if kind == "stability" else response
+        _fill(grids[kind], a, m, structure, *search)
+    return plant
 
 
 def _fill(
@@ -372,7 +385,7 @@ def _tighten(grid: _Grid, points: int) -> int:
 
 
 def _worst(
-    grid: _Grid, plants: list[ParametricPlant], positions: Any, omega: np.ndarray
+    grid: _Grid, plants: list[ParametricPlant], omega: np.ndarray
 ) -> WorstPerturbation | None:
     if grid.best is None:
         return None
