@@ -27,18 +27,20 @@ INPUT_GROUPS = ("w_delta", "w_e", "w_d", "u")
 OUTPUT_GROUPS = ("z_delta", "z_e", "z_u", "e")
 
 
-def _signals(name: str) -> list[str]:
-    return [f"{name}[{i}]" for i in range(N_CHANNELS)]
+def signals(name: str, count: int = N_CHANNELS) -> list[str]:
+    """``name[0]`` .. ``name[count - 1]``: a vector signal's names for ``control.interconnect``."""
+    return [f"{name}[{i}]" for i in range(count)]
 
 
-def _named(system: control.StateSpace, inputs: str, outputs: str, name: str) -> control.StateSpace:
+def named(system: control.StateSpace, inputs: str, outputs: str, name: str) -> control.StateSpace:
+    """``system`` with vector signals ``inputs[..]`` and ``outputs[..]``, called ``name``."""
     return control.ss(
         system.A,
         system.B,
         system.C,
         system.D,
-        inputs=_signals(inputs),
-        outputs=_signals(outputs),
+        inputs=signals(inputs, system.ninputs),
+        outputs=signals(outputs, system.noutputs),
         name=name,
     )
 
@@ -93,18 +95,18 @@ def generalized_plant(
     error_weight = weights.error * static_gain(np.linalg.inv(weights.error_scaling))
     effort_weight = weights.control_effort * static_gain(np.linalg.inv(weights.control_scaling))
     parts = [
-        _named(plant, "up", "y", "plant"),
-        _named(uncertainty_weight, "w_delta", "w_out", "W"),
-        _named(error_weight, "e", "z_e", "We"),
-        _named(effort_weight, "u", "z_u", "Wu"),
-        _named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
-        _named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
+        named(plant, "up", "y", "plant"),
+        named(uncertainty_weight, "w_delta", "w_out", "W"),
+        named(error_weight, "e", "z_e", "We"),
+        named(effort_weight, "u", "z_u", "Wu"),
+        named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
+        named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
         control.summing_junction(["u", "d"], "z_delta", dimension=N_CHANNELS, name="plant_input"),
         control.summing_junction(["z_delta", "w_out"], "up", dimension=N_CHANNELS, name="delta"),
         control.summing_junction(["r", "-y"], "e", dimension=N_CHANNELS, name="error"),
     ]
-    inputs = [s for group in INPUT_GROUPS for s in _signals(group)]
-    outputs = [s for group in OUTPUT_GROUPS for s in _signals(group)]
+    inputs = [s for group in INPUT_GROUPS for s in signals(group)]
+    outputs = [s for group in OUTPUT_GROUPS for s in signals(group)]
     system = control.interconnect(
         parts,
         inplist=inputs,

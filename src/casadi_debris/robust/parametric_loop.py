@@ -19,27 +19,11 @@ from __future__ import annotations
 import control
 import numpy as np
 
-from casadi_debris.robust.interconnect import static_gain
+from casadi_debris.robust.interconnect import named, signals, static_gain
 from casadi_debris.robust.parametric import ParametricPlant
 from casadi_debris.robust.weights import PerformanceWeights
 
 N_PERFORMANCE = 6
-
-
-def _names(name: str, count: int) -> list[str]:
-    return [f"{name}[{i}]" for i in range(count)]
-
-
-def _named(system: control.StateSpace, inputs: str, outputs: str, name: str) -> control.StateSpace:
-    return control.ss(
-        system.A,
-        system.B,
-        system.C,
-        system.D,
-        inputs=_names(inputs, system.ninputs),
-        outputs=_names(outputs, system.noutputs),
-        name=name,
-    )
 
 
 def parametric_closed_loop(
@@ -65,16 +49,16 @@ def parametric_closed_loop(
     effort_weight = weights.control_effort * static_gain(np.linalg.inv(weights.control_scaling))
     parts = [
         plant.system(),
-        _named(controller, "e", "u", "K"),
-        _named(error_weight, "e", "z_e", "We"),
-        _named(effort_weight, "u", "z_u", "Wu"),
-        _named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
-        _named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
+        named(controller, "e", "u", "K"),
+        named(error_weight, "e", "z_e", "We"),
+        named(effort_weight, "u", "z_u", "Wu"),
+        named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
+        named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
         control.summing_junction(["u", "d"], "up", dimension=3, name="plant_input"),
         control.summing_junction(["r", "-y"], "e", dimension=3, name="error"),
     ]
-    inputs = _names("w", r) + _names("w_e", 3) + _names("w_d", 3)
-    outputs = _names("q", r) + _names("z_e", 3) + _names("z_u", 3)
+    inputs = signals("w", r) + signals("w_e", 3) + signals("w_d", 3)
+    outputs = signals("q", r) + signals("z_e", 3) + signals("z_u", 3)
     return control.interconnect(
         parts, inplist=inputs, outlist=outputs, inputs=inputs, outputs=outputs, name="closed_loop"
     )
