@@ -19,6 +19,7 @@ from casadi_debris.config.bodies import (
     read_engine_defaults,
     read_hub,
 )
+from casadi_debris.config.environment import read_environment, read_orbit
 from casadi_debris.config.runs import check_integration_step, read_montecarlo, read_simulation
 from casadi_debris.config.schema import (
     DEFAULT_MONTECARLO,
@@ -27,7 +28,6 @@ from casadi_debris.config.schema import (
     Constants,
     Detumble,
     Disturbance,
-    Orbit,
     Problem,
     Requirements,
     Sensor,
@@ -110,7 +110,6 @@ def _read_numbers(t: Table, cls: type, ranges: Mapping[str, limits.Range]) -> An
     return value
 
 
-ORBIT_RANGES = {"altitude_km": limits.ALTITUDE_KM, "inclination_deg": limits.INCLINATION_DEG}
 TRANSFER_RANGES = {
     "from_altitude_km": limits.ALTITUDE_KM,
     "from_inclination_deg": limits.INCLINATION_DEG,
@@ -205,12 +204,13 @@ def problem_from_dict(
         sensor=sensor,
         uncertainty=_read_uncertainty(top.table("uncertainty")),
         weights=_read_weights(top.table("weights")),
-        orbit=_read_numbers(top.table("orbit"), Orbit, ORBIT_RANGES),
+        orbit=read_orbit(top.table("orbit")),
         transfer=_read_numbers(top.table("transfer"), Transfer, TRANSFER_RANGES),
         detumble=_read_detumble(top.table("detumble")),
         constants=constants,
         simulation=simulation,
         montecarlo=read_montecarlo(_optional_table(top, "montecarlo", DEFAULT_MONTECARLO)),
+        environment=read_environment(top),
         source=source or "<dict>",
         sha256=sha256,
     )
