@@ -116,16 +116,42 @@ def _euler_deg(quaternion: np.ndarray) -> np.ndarray:
     return np.degrees(np.unwrap(euler_angles_321(quaternion), axis=0))
 
 
-def plot_fuel_comparison(
-    labels: list[str], total_kg: list[float], worst_kg: list[float], path: Path
+def plot_comparison(
+    labels: list[str],
+    panels: dict[str, list[float | None]],
+    bounds: dict[str, list[float | None]],
+    path: Path,
 ) -> Path:
-    """Bar chart of total and worst-CubeSat propellant per variant."""
-    figure, axes = plt.subplots(figsize=(max(5, 1.3 * len(labels)), 4))
+    """One bar chart per figure, the variants side by side.
+
+    Parameters
+    ----------
+    labels : list of str
+        The variants.
+    panels : dict
+        Panel title (with its unit) -> one value per variant (None: not there,
+        e.g. no slew, or the run failed; drawn as a gap marked "—").
+    bounds : dict
+        Panel title -> a requirement per variant, drawn as a red tick (None: none).
+    path : Path
+    """
+    figure, axes = plt.subplots(
+        len(panels), 1, figsize=(max(5.0, 1.1 * len(labels)), 1.9 * len(panels)), sharex=True
+    )
     x = np.arange(len(labels))
-    axes.bar(x - 0.2, np.array(total_kg) * 1e6, 0.4, label="total")
-    axes.bar(x + 0.2, np.array(worst_kg) * 1e6, 0.4, label="worst CubeSat")
-    axes.set_xticks(x, labels, rotation=20, ha="right")
-    axes.set_ylabel("propellant [mg]")
-    axes.legend()
-    axes.grid(True, axis="y", ls=":", color="0.6")
+    for ax, (title, values) in zip(np.atleast_1d(axes), panels.items(), strict=True):
+        heights = [np.nan if v is None else v for v in values]
+        ax.bar(x, heights, 0.6, color="C0")
+        for i, value in enumerate(values):
+            if value is None:
+                ax.annotate("—", (x[i], 0), ha="center", va="bottom", color="0.4")
+        for i, bound in enumerate(bounds.get(title, [])):
+            if bound is not None:
+                ax.hlines(bound, x[i] - 0.4, x[i] + 0.4, colors="C3", label="requirement")
+        ax.set_ylabel(title, fontsize=8)
+        ax.grid(True, axis="y", ls=":", color="0.6")
+        handles, names = ax.get_legend_handles_labels()
+        if handles:
+            ax.legend(handles[:1], names[:1], fontsize=7, loc="upper left")
+    np.atleast_1d(axes)[-1].set_xticks(x, labels, rotation=20, ha="right")
     return save_figure(figure, path)

@@ -46,6 +46,8 @@ def format_figure(value: Any, digits: int = 4) -> str:
     "—" for none, yes/no for a flag."""
     if value is None:
         return "—"
+    if isinstance(value, str):
+        return value
     if isinstance(value, list | tuple | np.ndarray):
         return " / ".join(format_figure(v, digits) for v in value)
     if isinstance(value, bool):

@@ -117,6 +117,14 @@ ENVELOPE_COLUMNS = {
 }
 
 
+def normalized_column(parameter: str) -> str:
+    """The cases.csv column of a parameter's place in the uncertainty box, -1 .. 1: a
+    pure number, so without the parameter's unit (``mass_kg`` -> ``normalized_mass``)."""
+    for unit in ("_kg", "_rad"):
+        parameter = parameter.removesuffix(unit)
+    return f"normalized_{parameter}"
+
+
 def campaign_summary(
     problem: Problem, setup: CampaignSetup, outcomes: list[CaseOutcome], extra: dict[str, Any]
 ) -> dict[str, Any]:
@@ -193,7 +201,7 @@ def write_campaign(
     write_json_atomic(folder / "summary.json", summary)
     with (folder / "cases.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow([*CASE_COLUMNS, *(f"normalized_{n}" for n in nominal.parameters)])
+        writer.writerow([*CASE_COLUMNS, *(normalized_column(n) for n in nominal.parameters)])
         for outcome in outcomes:
             flat = outcome.summary.to_json()
             row = [flat.get(c) for c in CASE_COLUMNS]

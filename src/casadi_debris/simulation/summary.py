@@ -133,8 +133,9 @@ def settle_time_s(
     return float(time_s[np.flatnonzero(outside)[-1] + 1])
 
 
-def _slew_fuel_kg(result: ClosedLoopResult, start_s: float, end_s: float) -> float:
-    """Propellant burnt between ``start_s`` and ``end_s`` [kg], each engine at its own Isp."""
+def fuel_between_kg(result: ClosedLoopResult, start_s: float, end_s: float) -> float:
+    """Propellant burnt in the steps starting in [``start_s``, ``end_s``) [kg], each
+    engine at its own Isp."""
     inside = (result.time_s[:-1] >= start_s) & (result.time_s[:-1] < end_s)
     impulse_Ns = result.thrust_N[inside].sum(axis=0) * result.control_period_s
     return float(np.sum(impulse_Ns / result.propulsion.exhaust_velocity_m_s))
@@ -159,7 +160,7 @@ def summarize(result: ClosedLoopResult) -> RunSummary:
         fuel_worst_cubesat_kg=float(fuel.max()),
         slew_start_s=start,
         slew_end_s=end,
-        fuel_slew_kg=None if start is None or end is None else _slew_fuel_kg(result, start, end),
+        fuel_slew_kg=None if start is None or end is None else fuel_between_kg(result, start, end),
         dv_used_m_s=result.exhaust_velocity_m_s * math.log(mass_kg / (mass_kg - fuel_kg)),
         torque_saturated_s=float(np.sum(result.scale < 1.0) * result.control_period_s),
         min_scale=float(result.scale.min()) if len(result.scale) else 1.0,
