@@ -115,3 +115,37 @@ def test_every_torque_on_matches_the_numeric_model(controller) -> None:
     np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-13)
     # The loop answered: the error stayed bounded (the step of the torques at t = 0 is a kick).
     assert result.summary().max_error_arcsec < 600.0
+
+
+def test_compiled_steps_of_problems_changed_in_memory_are_told_apart(controller) -> None:
+    # One file, one name: the environment and the sine decide the compiled step too.
+    from casadi_debris.allocation import Allocator
+    from casadi_debris.simulation import closed_loop, discretize_controller
+
+    paper = load_problem()
+    silent = dataclasses.replace(paper.disturbance, amplitude_mNm=np.zeros(3))
+    variants = [
+        paper,
+        _with_torques(paper, ("gravity_gradient",)),
+        _with_torques(paper, ENVIRONMENT_TORQUES),
+        dataclasses.replace(paper, disturbance=silent),
+    ]
+    discrete = discretize_controller(controller, 0.1)
+    keys = set()
+    for problem in variants:
+        model = build_model(problem)
+        polytope = Allocator.from_problem(problem, model.geometry).authority_polytope()
+        keys.add(closed_loop._jit_key(model, discrete, polytope, 4, 1000))
+    assert len(keys) == len(variants)
+
+
+@pytest.mark.slow
+def test_the_compiled_step_carries_the_environment(controller) -> None:
+    problem = _with_torques(load_problem(), ENVIRONMENT_TORQUES)
+    model = build_model(problem)
+    reference = sample_reference(0.1 * np.arange(301))
+    virtual = simulate(problem, model, controller, reference)
+    compiled = simulate(problem, model, controller, reference, jit=True)
+    assert compiled.compiled_step
+    np.testing.assert_allclose(compiled.state, virtual.state, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(compiled.disturbance_Nm, virtual.disturbance_Nm, atol=1e-15)

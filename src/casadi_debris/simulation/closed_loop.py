@@ -350,8 +350,10 @@ def _jit_key(
     digest = hashlib.sha256()
     problem = model.problem
     digest.update(f"{problem.sha256}|{problem.name}|{model.layout.size}".encode())
-    # The environment torques are part of the step: problems built in memory share a hash.
-    digest.update(f"{problem.environment!r}|{problem.orbit!r}|{problem.constants!r}".encode())
+    # Problems changed in memory keep their file's hash and name: the plant (with its
+    # disturbance) and the environment torques, both part of the step, are hashed too.
+    digest.update(f"{problem.plant_sha256}|{problem.environment!r}|{problem.orbit!r}".encode())
+    digest.update(f"{problem.constants!r}".encode())
     for array in (controller.A, controller.B, controller.C, controller.D):
         digest.update(np.ascontiguousarray(array).tobytes())
     digest.update(np.ascontiguousarray(polytope.normals).tobytes())
