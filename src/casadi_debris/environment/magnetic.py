@@ -47,7 +47,7 @@ def dipole_axis(
 def dipole_field_T(
     r_m: Vector, axis: Vector, field_equator_T: float, earth_radius_m: float
 ) -> Vector:
-    """B = B0 (R/|r|)^3 [k - 3 (k . r_hat) r_hat] [T], in the axes of ``r_m`` and ``axis``.
+    """B = B0 (R/|r|)^3 [k - 3 (k . r_hat) r_hat] in tesla, in the axes of ``r_m`` and ``axis``.
 
     Parameters
     ----------
