@@ -39,6 +39,7 @@ from casadi_debris.config import (
     load_problem,
     problem_from_dict,
 )
+from casadi_debris.geometry import torque_authority
 from casadi_debris.model import Model, build_model
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
@@ -310,8 +311,8 @@ DROPOUT_STAGE_KG = 3.0e-7
 
 
 @pytest.fixture(scope="module")
-def staging_start(slew_problem: Problem, slew_model: Model) -> PropulsionState:
-    state = PropulsionState.from_problem(slew_problem, slew_model.geometry)
+def staging_start(slew_problem: Problem) -> PropulsionState:
+    state = PropulsionState.from_problem(slew_problem)
     state.propellant_kg[STAGING_CUBESAT, 0] = STAGING_FIRST_STAGE_KG
     state.propellant_kg[DROPOUT_CUBESAT, :] = DROPOUT_STAGE_KG
     return state
@@ -597,6 +598,19 @@ def test_failed_stage_hands_over(failure_run: ClosedLoopResult, failure_problem:
         [(thrust[:step] > 0).sum() * dt, (thrust[step:] > 0).sum() * dt],
         rtol=1e-12,
     )
+
+
+def test_the_run_records_its_authority_before_and_after_the_failures(
+    failure_run: ClosedLoopResult, failure_problem: Problem, slew_model: Model
+) -> None:
+    geometry = slew_model.geometry
+    assert failure_run.authority_time_s.tolist() == [0.0, FAILURE_TIME_S]
+    alive = np.ones(len(geometry.engines), dtype=bool)
+    for row, failed in zip(failure_run.authority_Nm, ((), (16, 18)), strict=True):
+        alive[[e for c in failed for e in geometry.cubesats[c].engines]] = False
+        expected = torque_authority(geometry, zero_net_force=True, available=alive)
+        order = [f"{sign}{axis}" for axis in "xyz" for sign in "+-"]
+        np.testing.assert_allclose(row, [expected[k] for k in order], rtol=1e-7)
 
 
 def test_failures_change_fuel(

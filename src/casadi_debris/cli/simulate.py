@@ -168,7 +168,7 @@ def simulate(
         problem = with_duration(problem, duration_s, field="--duration-s")
     from casadi_debris.allocation import Allocator
     from casadi_debris.model import build_model
-    from casadi_debris.report.simulation import torque_limits_mNm, write_run
+    from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
     from casadi_debris.simulation import simulate as run_simulation
     from casadi_debris.workflows.campaign import one_case, run_summary
@@ -191,9 +191,8 @@ def simulate(
                 result,
                 summary,
                 problem,
-                torque_limits_mNm(allocator),
                 with_plots=not no_plots,
-                title=f"{problem.name} ({case.case_id})",
+                title=f"{figure_title(problem)} ({case.case_id})",
             )
     if as_json:
         echo_json(summary)

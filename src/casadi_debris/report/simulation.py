@@ -14,6 +14,7 @@ case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
 from __future__ import annotations
 
 import csv
+import re
 from pathlib import Path
 from typing import Any
 
@@ -21,6 +22,7 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
+from casadi_debris.geometry import build_geometry
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
 from casadi_debris.records import Record
 from casadi_debris.report.campaign_dataset import (
@@ -34,8 +36,6 @@ from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
-
-POINTING_REQUIREMENT_ARCSEC = 60.0
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
@@ -74,10 +74,11 @@ def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
 
 
 def run_figures_options(problem: Problem) -> dict[str, Any]:
-    """Error unit and requirement line: degrees for a slew, arcsec against 60 for a hold."""
+    """Error unit and requirement line: the slew error bound in degrees for a slew, the
+    pointing bound in arcsec for a hold (the problem's ``[requirements]``)."""
     if problem.simulation.reference == "hold":
-        return {"error_unit": "arcsec", "requirement_arcsec": POINTING_REQUIREMENT_ARCSEC}
-    return {"error_unit": "deg"}
+        return {"error_unit": "arcsec", "requirement": problem.requirements.pointing_arcsec}
+    return {"error_unit": "deg", "requirement": problem.requirements.slew_error_deg}
 
 
 def write_run(
@@ -85,7 +86,6 @@ def write_run(
     result: ClosedLoopResult,
     summary: Record,
     problem: Problem,
-    limits_mNm: np.ndarray,
     *,
     with_series: bool = True,
     with_plots: bool = True,
@@ -99,11 +99,30 @@ def write_run(
         plot_closed_loop(
             result,
             folder / "closed_loop.png",
-            torque_limits_mNm=limits_mNm,
-            title=title or problem.name,
+            title=title or figure_title(problem),
             **run_figures_options(problem),
         )
-        plot_thrust(result, folder / "thrust.png")
+        plot_thrust(result, folder / "thrust.png", engine_groups(problem), figure_title(problem))
+
+
+def figure_title(problem: Problem, width: int = 90) -> str:
+    """A figure's title: the problem's description up to its first full stop, on one line."""
+    line = " ".join(problem.description.split()) or problem.name
+    first = re.split(r"(?<!Fig)(?<!e\.g)\. ", line, maxsplit=1)[0]
+    return first if len(first) <= width else first[: width - 1] + "…"
+
+
+def engine_groups(problem: Problem) -> dict[str, list[tuple[int, str]]]:
+    """The engines by the face their CubeSat docks on, each labelled with its CubeSat's id
+    (and its own, for a CubeSat with several): the thrust figure's panels."""
+    groups: dict[str, list[tuple[int, str]]] = {}
+    for cubesat in build_geometry(problem).cubesats:
+        panel = f"CubeSats on the {cubesat.face} face" if cubesat.face else "other CubeSats"
+        several = len(cubesat.engines) > 1
+        for k, engine in enumerate(cubesat.engines):
+            label = f"CubeSat {cubesat.index + 1}" + (f" engine {k + 1}" if several else "")
+            groups.setdefault(panel, []).append((engine, label))
+    return groups
 
 
 # ----------------------------------------------------------------------------- campaigns
@@ -184,7 +203,6 @@ def write_campaign(
     outcomes: list[CaseOutcome],
     nominal: ClosedLoopResult,
     nominal_summary: Record,
-    limits_mNm: np.ndarray,
     summary: dict[str, Any],
     record: CampaignRecord,
 ) -> Envelope:
@@ -213,13 +231,12 @@ def write_campaign(
     )
     nominal_folder = folder / "nominal"
     nominal_folder.mkdir(exist_ok=True)
-    write_run(nominal_folder, nominal, nominal_summary, problem, limits_mNm)
+    write_run(nominal_folder, nominal, nominal_summary, problem)
     plot_closed_loop(
         nominal,
         folder / "envelope.png",
-        torque_limits_mNm=limits_mNm,
         envelope=envelope,
-        title=problem.name,
+        title=figure_title(problem),
         **run_figures_options(problem),
     )
     return envelope

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import control
@@ -156,6 +156,12 @@ class ClosedLoopResult:
         Start and end of the reference slew [s].
     compiled_step : bool or None
         Whether the control period ran as compiled C code.
+    authority_time_s : ndarray, shape (m,)
+        When the torque authority took each of its values: the start, and each
+        failure or depleted stage after which the loop was rebuilt [s].
+    authority_Nm : ndarray, shape (m, 6)
+        Largest pure torque at zero net force about +x, -x, +y, -y, +z, -z
+        (magnitudes) from each of those instants on [N m].
     """
 
     time_s: np.ndarray
@@ -181,6 +187,8 @@ class ClosedLoopResult:
     wall_time_s: float
     slew_window_s: tuple[float, float] | None = None
     compiled_step: bool | None = None
+    authority_time_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    authority_Nm: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
 
     @property
     def fuel_per_cubesat_kg(self) -> np.ndarray:
@@ -366,6 +374,7 @@ class _Rollout:
         self.events: list[RunEvent] = []
         self.point_solves = 0
         self.compiled = False
+        self.authority: list[tuple[float, np.ndarray]] = []
         self.allocator.update_from_state(self.engines)
 
     def run(self, failures: tuple[FailureEvent, ...]) -> None:
@@ -385,21 +394,19 @@ class _Rollout:
                 self.events.append(_apply_failure(failure, self.engines, k * period))
                 loop = None
             if loop is None:
-                loop = self._build_loop()
+                loop = self._build_loop(k * period)
             stop = min(n, k + loop.chunk_steps, pending[0][0] if pending else n)
             z, done = self._stretch(loop, z, k, stop)
             if done < stop - k:
                 loop = None  # a CubeSat's limit changed: rebuild from the step after
             k += done
 
-    def _build_loop(self) -> LoopStep:
+    def _build_loop(self, time_s: float) -> LoopStep:
         self.allocator.update_from_state(self.engines)
+        polytope = self.allocator.authority_polytope()
+        self.authority.append((time_s, polytope.axis_reach()))
         loop = build_loop_step(
-            self.model,
-            self.parameters,
-            self.controller,
-            self.allocator.authority_polytope(),
-            **self.loop_options,
+            self.model, self.parameters, self.controller, polytope, **self.loop_options
         )
         self.compiled = self.compiled or loop.compiled
         return loop
@@ -476,6 +483,8 @@ class _Rollout:
             point_solves=self.point_solves,
             wall_time_s=wall_time_s,
             compiled_step=self.compiled,
+            authority_time_s=np.array([t for t, _ in self.authority]),
+            authority_Nm=np.array([reach for _, reach in self.authority]).reshape(-1, 6),
             slew_window_s=(
                 None
                 if reference.slew is None

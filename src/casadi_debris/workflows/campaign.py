@@ -33,7 +33,7 @@ from casadi_debris.model import Model, build_model
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
-from casadi_debris.report.simulation import campaign_summary, torque_limits_mNm, write_campaign
+from casadi_debris.report.simulation import campaign_summary, write_campaign
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
@@ -341,7 +341,6 @@ def _summarise_and_write(
         outcomes,
         nominal,
         nominal_summary,
-        torque_limits_mNm(allocator),
         summary,
         identity,
     )
