@@ -44,7 +44,7 @@ def gravity_gradient_torque(
     >>> r = 7.0e6 * np.array([np.sqrt(0.5), 0.0, np.sqrt(0.5)])
     >>> tau = gravity_gradient_torque(np.diag([100.0, 200.0, 300.0]), r)
     >>> f"{tau[1]:.4g}"
-    '-0.0003487'
+    '-0.0003486'
     """
     radius = norm(r_m)
     return 3.0 * mu_m3_s2 / radius**5 * cross(r_m, matvec(inertia_kgm2, r_m))
