@@ -149,6 +149,7 @@ def _margin_report(margins: dict[str, Any]) -> MarginReport:
         problem="paper", problem_sha256="", controller_path="", controller_order=25,
         plant_sha256="", controller_plant_sha256="", analysis_plant_modes="all",
         nominal=Margins(**margins["nominal"]), sampled_min=Margins(**margins["sampled_min"]),
+        nominal_sampled_data=Margins(**margins["nominal"]), control_rate_hz=10.0,
         per_channel={}, disk_margin=DiskMargin(0.0, 0.0, 0.0), samples=margins["samples"],
         corner_samples=0, unstable_samples=0, seed=0, time_s=0.0, required={}, paper={},
         out_dir="",

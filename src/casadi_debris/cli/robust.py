@@ -207,7 +207,12 @@ def margins(
         echo_json(summary)
         return
     rows = []
-    for label, m in (("nominal", summary.nominal), ("sampled_min", summary.sampled_min)):
+    sampled_data = f"nominal, sampled at {summary.control_rate_hz:g} Hz"
+    for label, m in (
+        ("nominal", summary.nominal),
+        (sampled_data, summary.nominal_sampled_data),
+        ("sampled_min", summary.sampled_min),
+    ):
         rows.append([label, m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s])
     click.echo(f"Controller {path} ({record.reduced.nstates} states) on {problem.name}")
     click.echo(

@@ -18,6 +18,7 @@ from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margin_study
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import weight_fit_grid
 from casadi_debris.robust.interconnect import generalized_plant
+from casadi_debris.robust.margins import sampled_loop_at_a_time
 from casadi_debris.robust.musyn import closed_loop_mu
 from casadi_debris.robust.uncertainty import (
     diagonal_cover,
@@ -86,6 +87,10 @@ class MarginReport(Record):
         The array modes of the plants analysed.
     nominal, sampled_min : Margins
         Worst over the channels; over the stable sampled plants too.
+    nominal_sampled_data : Margins
+        The nominal loop as flown: plant and controller held and sampled at the
+        problem's control rate (worst over the channels).
+    control_rate_hz : float
     per_channel : dict
         ``"x"``, ``"y"``, ``"z"`` -> gain (and its upper and lower), phase and delay
         margins and the crossover of that loop, the others closed.
@@ -107,6 +112,8 @@ class MarginReport(Record):
     analysis_plant_modes: str
     nominal: Margins
     sampled_min: Margins
+    nominal_sampled_data: Margins
+    control_rate_hz: float
     per_channel: dict[str, dict[str, float]]
     disk_margin: DiskMargin
     samples: int
@@ -151,6 +158,8 @@ def margin_report(
         analysis_plant_modes=study.modes,
         nominal=Margins.worst(per_channel),
         sampled_min=Margins(**study.sampled_min()),
+        nominal_sampled_data=_sampled_data_margins(problem, record, study.modes),
+        control_rate_hz=problem.simulation.control_rate_hz,
         per_channel=per_channel,
         disk_margin=DiskMargin(alpha, disk_gain_db, disk_phase_deg),
         samples=len(study.samples.parameters),
@@ -175,6 +184,14 @@ def margin_report(
     if with_plots:
         _margin_figures(problem, record, study, staging)
     return summary
+
+
+def _sampled_data_margins(problem: Problem, record: ControllerRecord, modes: str) -> Margins:
+    """The nominal loop's margins held and sampled at the problem's control rate."""
+    plant = linearize(build_model(problem, modes=modes), sensor=True, units="deg_mNm")
+    period_s = 1.0 / problem.simulation.control_rate_hz
+    per_channel = margins_table(sampled_loop_at_a_time(plant, record.reduced, period_s))
+    return Margins.worst(per_channel)
 
 
 def _margin_figures(
