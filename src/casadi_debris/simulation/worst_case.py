@@ -115,8 +115,9 @@ def linear_screen(
     The plant is linearised about rest at each parameter set (torque [mNm] to
     attitude [deg], star tracker in the loop); the reference attitude enters
     as its rotation vector, the slew's feedforward and the disturbance as
-    torques at the plant input. Gyroscopic terms, saturation and the engines
-    are left out: a ranking, not a prediction.
+    torques at the plant input (the problem's sine; environment torques, which
+    depend on the attitude, are left out). Gyroscopic terms, saturation and the
+    engines are left out too: a ranking, not a prediction.
     """
     times = reference.time_s
     keep = np.unique(np.round(np.arange(times[0], times[-1], SCREEN_STEP_S) / _period(times)))
