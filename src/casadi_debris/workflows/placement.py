@@ -87,7 +87,7 @@ def run_placement(
         Counts of the Pareto sweep (none: no sweep).
     overwrite : bool
     progress : callable, optional
-        ``progress(line)`` as each stage starts.
+        ``progress(line)`` as the Pareto sweep starts (the one long stage).
 
     Returns
     -------
@@ -100,7 +100,6 @@ def run_placement(
     check_output_folder(out, overwrite=overwrite)
     say = progress or (lambda line: None)
     data = placement_data(problem, face_candidates(problem, grid, side_engine_options))
-    say(f"placing {settings.count[0]}..{settings.count[1]} of {data.n_candidates} candidates")
     study = optimise_placement(problem, settings, data=data)
     points: list[ParetoPoint] = []
     if pareto_counts:
