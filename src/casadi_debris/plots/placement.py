@@ -18,20 +18,28 @@ VIEWS = ((0, 1), (0, 2), (1, 2))
 ARROW_M = 0.25
 
 
+def _in_view(face: str | None, view: tuple[int, int]) -> bool:
+    """A face is drawn in the views that hold its normal (seen edge-on, thrust in plane)."""
+    return face is not None and "xyz".index(face[1]) in view
+
+
 def _draw_view(axis: plt.Axes, study: PlacementStudy, view: tuple[int, int]) -> None:
     first, second = view
     size = study.problem.hub.size_m
     axis.add_patch(Rectangle((0, 0), size[first], size[second], fill=False, edgecolor="0.3"))
-    everywhere = np.array([c.cubesat.position_corner_m for c in study.candidates.candidates])
+    shown = [c for c in study.candidates.candidates if _in_view(c.face, view)]
+    everywhere = np.array([c.cubesat.position_corner_m for c in shown]).reshape(-1, 3)
     axis.plot(
         everywhere[:, first],
         everywhere[:, second],
         ".",
-        color="0.8",
-        markersize=3,
+        color="0.75",
+        markersize=4,
         label="candidate mounts",
     )
-    own = np.array([c.position_corner_m for c in study.problem.cubesats])
+    own = np.array(
+        [c.position_corner_m for c in study.problem.cubesats if _in_view(c.face, view)]
+    ).reshape(-1, 3)
     axis.plot(
         own[:, first],
         own[:, second],
@@ -42,6 +50,8 @@ def _draw_view(axis: plt.Axes, study: PlacementStudy, view: tuple[int, int]) -> 
         label="input layout",
     )
     for candidate in study.chosen:
+        if not _in_view(candidate.face, view):
+            continue
         position = candidate.cubesat.position_corner_m
         axis.plot(position[first], position[second], "o", color="#1f5fbf", markersize=5)
         for engine in candidate.cubesat.engines:
@@ -60,11 +70,17 @@ def _draw_view(axis: plt.Axes, study: PlacementStudy, view: tuple[int, int]) -> 
     axis.margins(0.15)
 
 
+def _per_face(study: PlacementStudy) -> dict[str, int]:
+    faces = [c.face for c in study.chosen]
+    return {face: faces.count(face) for face in ("+x", "-x", "+y", "-y", "+z", "-z")}
+
+
 def plot_layout(study: PlacementStudy, path: Path) -> Path:
     """Write a PNG of the hub in three projections with the chosen CubeSats and their thrust.
 
-    Chosen CubeSats are blue dots with their engines' thrust on the body as red
-    arrows (in the projection's plane; a thrust along the viewing axis has none),
+    Each view shows the faces seen edge-on (x-y: the +-x and +-y faces, ...), so
+    every face appears in two views and its thrust lies in the plane. Chosen
+    CubeSats are blue dots with their engines' thrust on the body as red arrows,
     the input layout hollow squares, the other candidates grey dots. Hub-corner
     frame, metres.
     """
@@ -76,7 +92,9 @@ def plot_layout(study: PlacementStudy, path: Path) -> Path:
     figure.suptitle(
         f"{study.problem.name}: {metrics.count} CubeSats, worst {metrics.worst_axis} at "
         f"{metrics.worst_ratio:.3g} x the disturbance (input layout "
-        f"{study.input_layout.metrics.worst_ratio:.3g})"
+        f"{study.input_layout.metrics.worst_ratio:.3g})\nper face (mounts behind each "
+        "other along the viewing axis coincide): "
+        + ", ".join(f"{face} {n}" for face, n in _per_face(study).items() if n)
     )
     return save_figure(figure, path)
 
