@@ -30,7 +30,7 @@ from casadi_debris.studies.placement_candidates import (
 )
 from casadi_debris.studies.placement_data import bare_debris, placement_data
 from casadi_debris.studies.placement_metrics import placed_problem
-from casadi_debris.studies.placement_milp import PlacementSettings, solve_placement
+from casadi_debris.studies.placement_milp import PlacementSettings, meets_limits, solve_placement
 from casadi_debris.studies.placement_pareto import ParetoPoint, dominates, mark_front
 
 TOLERANCE = 1e-7
@@ -309,3 +309,16 @@ def test_zero_disturbance_is_refused(problem):
     )
     with pytest.raises(InputShapeError, match=r"disturbance\.amplitude_mNm"):
         placement_data(quiet, face_candidates(quiet, (2, 2)))
+
+
+def test_incumbent_is_kept_and_checked_against_the_limits(problem, robust_cases):
+    candidates, brute, bests = robust_cases
+    layouts = list(brute.layouts(5))
+    best = max(layouts, key=lambda s: brute.robust(s, 1))
+    data = placement_data(problem, candidates)
+    settings = PlacementSettings((5, 5), failures=1, max_extensive_variables=0)
+    solution = solve_placement(data, settings, incumbents=[best, (0, 1)])  # (0, 1): wrong count
+    assert solution.objective == pytest.approx(bests[1], rel=TOLERANCE)
+    assert solution.optimal
+    assert not meets_limits(data, settings, (0, 1))
+    assert meets_limits(data, settings, best)

@@ -8,8 +8,9 @@ On the paper's debris with the default candidates (4 x 4 mounts per face, 96 in
 all, the paper's 24 among them): the best worst-axis layouts of 12, 16, 20 and
 24 CubeSats, the Pareto sweep over 8, 12, ..., 24 CubeSats with the paper's
 layout on it, and the best worst-double-failure layouts of 24 CubeSats on the
-2 x 2, 3 x 3 and 4 x 4 grids. Writes ``docs/figures/placement_layout_24.png``,
-``docs/figures/placement_pareto.png`` and prints the numbers as JSON.
+3 x 3 and 4 x 4 grids (within the time limit: their gap is printed). Writes
+``docs/figures/placement_layout_24.png``, ``docs/figures/placement_pareto.png``
+and prints the numbers as JSON.
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ def brief(summary: dict) -> dict:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--double-time-limit", type=float, default=600.0)
+    parser.add_argument("--double-time-limit", type=float, default=300.0)
     parser.add_argument("--pareto-time-limit", type=float, default=60.0)
     args = parser.parse_args()
     problem = load_problem()
@@ -67,20 +68,14 @@ def main() -> None:
         )
         numbers["best_24"] = brief(summary)
         numbers["paper"] = {key: summary["input_layout"][key] for key in KEEP}
-        numbers["paper"]["worst_single_failure_ratio"] = None
         numbers["pareto"] = summary["pareto"]
         shutil.copy(root / "n24" / "layout.png", FIGURES / "placement_layout_24.png")
         shutil.copy(root / "n24" / "pareto.png", FIGURES / "placement_pareto.png")
-        for grid in (2, 3, 4):
-            settings = PlacementSettings(
-                (24, 24) if grid > 2 else (20, 20), failures=2,
-                time_limit_s=args.double_time_limit,
-            )  # fmt: skip
+        for grid in (3, 4):
+            settings = PlacementSettings((24, 24), failures=2, time_limit_s=args.double_time_limit)
             summary = run_placement(problem, root / f"double{grid}", settings, grid=(grid, grid))
             numbers[f"double_{grid}x{grid}"] = brief(summary)
-            numbers[f"double_{grid}x{grid}"]["paper_worst_double_ratio"] = summary["input_layout"][
-                "worst_failure"
-            ]["worst_ratio"]
+        numbers["paper_worst_double"] = summary["input_layout"]["worst_failure"]
     print(json.dumps(json_ready(numbers), indent=1))
 
 

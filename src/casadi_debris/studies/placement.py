@@ -132,7 +132,9 @@ def optimise_placement(
     if data is None:
         data = placement_data(problem, face_candidates(problem, grid, side_engine_options))
     candidates = data.candidates
-    solution = solve_placement(data, settings)
+    own = candidates.match(problem.cubesats)
+    # The input layout, when it is a candidate, is a known answer the search must not lose.
+    solution = solve_placement(data, settings, incumbents=[own] if own is not None else [])
     metrics = layout_metrics(problem, candidates.cubesats(solution.chosen), settings.slew_angle_deg)
     return PlacementStudy(
         problem=problem,

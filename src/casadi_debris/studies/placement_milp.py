@@ -34,6 +34,7 @@ import itertools
 import logging
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -43,7 +44,12 @@ from scipy.optimize import Bounds, LinearConstraint, milp
 
 from casadi_debris.config import SIGNED_AXES
 from casadi_debris.errors import InputShapeError
-from casadi_debris.studies.placement_authority import WorstFailures, signed_axis, worst_failures
+from casadi_debris.studies.placement_authority import (
+    WorstFailures,
+    layout_authority_Nm,
+    signed_axis,
+    worst_failures,
+)
 from casadi_debris.studies.placement_data import PlacementData
 
 LOGGER = logging.getLogger(__name__)
@@ -51,6 +57,9 @@ LOGGER = logging.getLogger(__name__)
 OBJECTIVES = {"worst-axis": 0, "worst-single-failure": 1, "worst-double-failure": 2}
 """Objective names and the number of failed CubeSats each guards against."""
 Method = Literal["extensive", "generated"]
+ROUND_SHARE = 3.0
+"""A generated round may take this share of the time left (1 / ROUND_SHARE)."""
+MIN_ROUND_S = 5.0
 GAP_ABSOLUTE = 1e-9
 """Bounds this close (in authority over disturbance) are equal."""
 Block = tuple[tuple[int, ...], int]
@@ -394,6 +403,20 @@ def _mounts(data: PlacementData, candidates: tuple[int, ...]) -> tuple[int, ...]
     return tuple(sorted(int(data.candidate_mount[c]) for c in candidates))
 
 
+def _judged(
+    data: PlacementData, chosen: tuple[int, ...], failures: int
+) -> tuple[float, tuple[int, ...], WorstFailures]:
+    """A layout's worst authority over disturbance over its failure sets, by LP."""
+    worst = worst_failures(data, chosen, failures)
+    return float(np.min(worst.ratio(data.disturbance_Nm))), chosen, worst
+
+
+def _new_blocks(data: PlacementData, worst: WorstFailures, blocks: list[Block]) -> list[Block]:
+    """The worst failure set per axis as blocks, those not in ``blocks`` yet."""
+    found = [(_mounts(data, s), a) for a, s in enumerate(worst.worst_set)]
+    return [b for b in dict.fromkeys(found) if b not in blocks]
+
+
 def _gap(upper: float, value: float) -> float:
     """Relative gap between the proven bound and the verified objective (0 when they meet)."""
     if upper - value <= GAP_ABSOLUTE:
@@ -417,13 +440,40 @@ def _first_blocks(data: PlacementData, settings: PlacementSettings) -> tuple[lis
     return [((), a) for a in range(len(SIGNED_AXES))], False
 
 
-def solve_placement(data: PlacementData, settings: PlacementSettings) -> PlacementSolution:
+def meets_limits(data: PlacementData, settings: PlacementSettings, chosen: tuple[int, ...]) -> bool:
+    """Whether a layout satisfies the programme's constraints (count, mounts, faces, limits)."""
+    mounts = data.candidate_mount[list(chosen)]
+    if not settings.count[0] <= len(chosen) <= settings.count[1] or len(set(mounts)) < len(chosen):
+        return False
+    faces = [data.candidates.candidates[c].face for c in chosen]
+    if any(faces.count(face) < settings.min_per_face for face in SIGNED_AXES):
+        return False
+    added = data.added_inertia_kgm2[list(chosen)].sum(axis=0)
+    if settings.max_added_inertia_kgm2 is not None and np.any(
+        added > np.asarray(settings.max_added_inertia_kgm2)
+    ):
+        return False
+    if settings.max_slew_s is None:
+        return True
+    gain = 4.0 * math.radians(settings.slew_angle_deg) / settings.max_slew_s**2
+    inertia = np.diag(data.inertia_bare_kgm2) + added
+    authority = layout_authority_Nm(data, chosen).reshape(3, 2).min(axis=1)
+    return bool(np.all(authority >= gain * inertia))
+
+
+def solve_placement(
+    data: PlacementData, settings: PlacementSettings, incumbents: Sequence[tuple[int, ...]] = ()
+) -> PlacementSolution:
     """Choose the CubeSats that maximise the worst authority over disturbance (see module).
 
     Parameters
     ----------
     data : PlacementData
     settings : PlacementSettings
+    incumbents : sequence of tuple of int
+        Known layouts (candidates, 0-based), e.g. the input problem's own: each
+        that meets the limits is a lower bound from the start, and its worst
+        failure sets seed the generated form. The answer is never worse than them.
 
     Returns
     -------
@@ -446,25 +496,28 @@ def solve_placement(data: PlacementData, settings: PlacementSettings) -> Placeme
     solves: list[MilpSolve] = []
     best: tuple[float, tuple[int, ...], WorstFailures] | None = None
     upper = math.inf
+    for known in (tuple(sorted(k)) for k in incumbents if meets_limits(data, settings, k)):
+        judged = _judged(data, known, settings.failures)
+        best = judged if best is None or judged[0] > best[0] else best
+        if not extensive:
+            blocks += _new_blocks(data, judged[2], blocks)
     for _ in range(1 if extensive else settings.max_rounds):
         remaining = settings.time_limit_s - (time.perf_counter() - began)
+        if not extensive:  # leave time for later rounds, whose relaxations are tighter
+            remaining = max(remaining / ROUND_SHARE, min(remaining, MIN_ROUND_S))
         record, y = solve_blocks(data, blocks, settings, remaining)
         solves.append(record)
         if record.status == 2:
             raise _infeasible(settings, record)
-        if y is None:
-            break
         if record.upper_bound is not None:
             upper = min(upper, record.upper_bound)
-        chosen = _chosen(y)
-        worst = worst_failures(data, chosen, settings.failures)
-        value = float(np.min(worst.ratio(data.disturbance_Nm)))
-        if best is None or value > best[0]:
-            best = (value, chosen, worst)
+        if y is None:
+            break
+        judged = _judged(data, _chosen(y), settings.failures)
+        best = judged if best is None or judged[0] > best[0] else best
         if extensive or upper - best[0] <= settings.mip_rel_gap * abs(upper) + GAP_ABSOLUTE:
             break
-        new = [(_mounts(data, s), a) for a, s in enumerate(worst.worst_set)]
-        new = [b for b in dict.fromkeys(new) if b not in blocks]
+        new = _new_blocks(data, judged[2], blocks)
         if not new or time.perf_counter() - began >= settings.time_limit_s:
             break
         blocks = blocks + new
