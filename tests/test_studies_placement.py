@@ -31,7 +31,7 @@ from casadi_debris.studies.placement_candidates import (
 from casadi_debris.studies.placement_data import bare_debris, placement_data
 from casadi_debris.studies.placement_metrics import placed_problem
 from casadi_debris.studies.placement_milp import PlacementSettings, meets_limits, solve_placement
-from casadi_debris.studies.placement_pareto import ParetoPoint, dominates, mark_front
+from casadi_debris.studies.placement_pareto import ParetoPoint, dominates, mark_front, pareto_front
 
 TOLERANCE = 1e-7
 
@@ -322,3 +322,25 @@ def test_incumbent_is_kept_and_checked_against_the_limits(problem, robust_cases)
     assert solution.optimal
     assert not meets_limits(data, settings, (0, 1))
     assert meets_limits(data, settings, best)
+
+
+def test_pareto_sweep_points_are_the_layouts_they_name(problem):
+    data = placement_data(problem, face_candidates(problem, (2, 2)))
+    points = pareto_front(problem, data, [12, 24], PlacementSettings((1, 1)), fractions=(0.98,))
+    assert points[-1].label == "input" and points[-1].chosen == tuple(range(24))
+    disturbance = np.abs(problem.disturbance.amplitude_mNm) * 1e-3
+    for point in points[:-1]:
+        chosen = data.candidates.cubesats(point.chosen)
+        authority = torque_authority(
+            build_geometry(placed_problem(problem, chosen)), zero_net_force=True
+        )
+        worst = min(authority[n] / disturbance["xyz".index(n[1])] for n in SIGNED_AXES)
+        assert point.metrics.worst_ratio == pytest.approx(worst, rel=1e-12)
+        assert point.metrics.count == len(point.chosen)
+        if point.max_slew_s is not None:
+            assert point.metrics.slowest_slew_s <= point.max_slew_s * (1 + 1e-6)
+    # With all 24 mounts taken there is one layout: the paper's, on the front.
+    at_24 = [p for p in points if p.metrics.count == 24]
+    paper = points[-1].metrics.worst_ratio
+    assert all(p.metrics.worst_ratio == pytest.approx(paper, rel=1e-9) for p in at_24)
+    assert points[-1].on_front

@@ -112,28 +112,31 @@ def _count_points(
     best = _point(problem, data, settings, f"N={count}")
     if best is None:
         return []
-    points = [best]
-    for fraction in fractions:
-        limit = fraction * best.metrics.slowest_slew_s
-        limited = _point(
-            problem,
-            data,
-            dataclasses.replace(settings, max_slew_s=limit),
-            f"N={count}, slew <= {limit:.0f} s",
+    slew_limited = [
+        (
+            f"N={count}, slew <= {f * best.metrics.slowest_slew_s:.0f} s",
+            dataclasses.replace(settings, max_slew_s=f * best.metrics.slowest_slew_s),
         )
-        if limited is None:
+        for f in fractions
+        if np.isfinite(best.metrics.slowest_slew_s)
+    ]
+    spread = [
+        (f"N={count}, >= {least} per face", dataclasses.replace(settings, min_per_face=least))
+        for least in range(1, min(MAX_PER_FACE, count // len(SIGNED_AXES)) + 1)
+    ]
+    return [best, *_tightening(problem, data, slew_limited), *_tightening(problem, data, spread)]
+
+
+def _tightening(
+    problem: Problem, data: PlacementData, variants: list[tuple[str, PlacementSettings]]
+) -> list[ParetoPoint]:
+    """The best layout under each of ever tighter settings, until none meets them."""
+    points = []
+    for label, settings in variants:
+        point = _point(problem, data, settings, label)
+        if point is None:
             break
-        points.append(limited)
-    for least in range(1, min(MAX_PER_FACE, count // len(SIGNED_AXES)) + 1):
-        spread = _point(
-            problem,
-            data,
-            dataclasses.replace(settings, min_per_face=least),
-            f"N={count}, >= {least} per face",
-        )
-        if spread is None:
-            break
-        points.append(spread)
+        points.append(point)
     return points
 
 
