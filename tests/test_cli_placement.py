@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -134,3 +136,17 @@ def test_bad_problem_file_names_the_field(runner, tmp_path):
     )
     assert result.exit_code == 2
     assert "disturbance.amplitude_mNm" in result.output and result.output.count("\n") == 1
+
+
+def test_solver_chatter_on_stdout_goes_to_stderr():
+    """HiGHS at times prints to file descriptor 1 from C; --json must stay parseable."""
+    code = (
+        "import os\n"
+        "from casadi_debris.cli.placement import solver_chatter_to_stderr\n"
+        "with solver_chatter_to_stderr():\n"
+        "    os.write(1, b'chatter\\n')\n"
+        "print('{}')\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(done.stdout) == {}
+    assert "chatter" in done.stderr

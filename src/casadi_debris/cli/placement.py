@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import click
@@ -176,20 +180,36 @@ def placement(
     )
     problem = load_problem(problem_file)
     folder = out or default_run_folder("placement", problem.name)
-    summary = run_placement(
-        problem,
-        folder,
-        settings,
-        grid=grid,
-        side_engine_options=sides,
-        pareto_counts=counts,
-        overwrite=overwrite,
-        progress=None if as_json else say,
-    )
+    with solver_chatter_to_stderr():
+        summary = run_placement(
+            problem,
+            folder,
+            settings,
+            grid=grid,
+            side_engine_options=sides,
+            pareto_counts=counts,
+            overwrite=overwrite,
+            progress=None if as_json else say,
+        )
     if as_json:
         echo_json(summary)
         return
     _print_summary(summary)
+
+
+@contextlib.contextmanager
+def solver_chatter_to_stderr() -> Iterator[None]:
+    """Send what C code prints to standard output (HiGHS does, at times) to stderr instead,
+    so that ``--json`` stays clean."""
+    sys.stdout.flush()
+    saved = os.dup(1)
+    try:
+        os.dup2(2, 1)
+        yield
+    finally:
+        sys.stdout.flush()
+        os.dup2(saved, 1)
+        os.close(saved)
 
 
 def _count(text: str) -> int:
