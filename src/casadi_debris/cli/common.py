@@ -93,7 +93,7 @@ def comma_list(text: str, option: str, example: str) -> list[str]:
     return parts
 
 
-def echo_json(payload: dict[str, Any]) -> None:
+def echo_json(payload: Any) -> None:
     """Print a result as indented JSON (numpy converted, non-finite as null)."""
     click.echo(json.dumps(json_ready(payload), indent=2))
 
