@@ -150,3 +150,10 @@ def test_solver_chatter_on_stdout_goes_to_stderr():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert json.loads(done.stdout) == {}
     assert "chatter" in done.stderr
+
+
+def test_objective_names_are_the_studies_own():
+    from casadi_debris.cli.placement import OBJECTIVE_NAMES
+    from casadi_debris.studies.placement_milp import OBJECTIVES
+
+    assert OBJECTIVE_NAMES == tuple(OBJECTIVES)
