@@ -156,4 +156,4 @@ def test_objective_names_are_the_studies_own():
     from casadi_debris.cli.placement import OBJECTIVE_NAMES
     from casadi_debris.studies.placement_milp import OBJECTIVES
 
-    assert OBJECTIVE_NAMES == tuple(OBJECTIVES)
+    assert tuple(OBJECTIVES) == OBJECTIVE_NAMES
