@@ -103,7 +103,7 @@ class PlacementSettings:
     slew_angle_deg: float = 180.0
     mip_rel_gap: float = 1e-6
     time_limit_s: float = 600.0
-    max_extensive_variables: int = 150_000
+    max_extensive_variables: int = 50_000
     max_rounds: int = 60
 
 
