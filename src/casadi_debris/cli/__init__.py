@@ -15,6 +15,7 @@ from casadi_debris.cli import (  # noqa: F401
     compare,  # compare
     describe,  # model, budget
     design,  # design
+    failures,  # failures
     reproduce,  # reproduce
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo
