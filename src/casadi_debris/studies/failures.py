@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -301,50 +301,55 @@ def failure_study(
     holding = holding_torque_Nm(problem, model)
     baseline = case_authority(problem, model.geometry, FailureCase(), holding)
     authorities = [case_authority(problem, model.geometry, c, holding) for c in cases]
-    every = [FailureCase(), *cases]
-    runs: dict[str, dict[str, RunVerdict]] = {c.case_id: {} for c in every}
-    corners: dict[str, dict[str, RunVerdict]] = {c.case_id: {} for c in every}
     flown = tuple(manoeuvres) if settings.closed_loop else ()
     if flown and controller is None:
         raise FailureStudyError("closed-loop runs need a controller")
-    for manoeuvre in flown:
-        counter = stage(f"{manoeuvre.name}, nominal plant: {len(every)} cases")
-        verdicts = fly_cases(
-            manoeuvre,
-            controller,
-            every,
-            [nominal_case(model)],
-            workers=settings.workers,
-            jit=settings.jit,
-            progress=counter,
-        )
-        for case_id, verdict in verdicts.items():
-            runs[case_id][manoeuvre.name] = verdict
-    results = [FailureCaseResult(a, runs[a.case.case_id]) for a in authorities]
+    every = [FailureCase(), *cases]
+    fly = _Flights(flown, controller, settings, stage)
+    runs = fly(every, [nominal_case(model)], f"nominal plant: {len(every)} cases")
+    results = [FailureCaseResult(a, runs.get(a.case.case_id, {})) for a in authorities]
     ranked = sorted(results, key=FailureCaseResult.rank_key)
     worst = [r.case for r in ranked[: settings.corner_sets]] if corner_plants else []
-    for manoeuvre in flown if worst else ():
-        counter = stage(
-            f"{manoeuvre.name}, {len(corner_plants)} corners of the {len(worst)} worst cases"
-        )
-        verdicts = fly_cases(
-            manoeuvre,
-            controller,
-            worst,
-            corner_plants,
-            workers=settings.workers,
-            jit=settings.jit,
-            progress=counter,
-        )
-        for case_id, verdict in verdicts.items():
-            corners[case_id][manoeuvre.name] = verdict
-    results = [FailureCaseResult(r.authority, r.runs, corners[r.case.case_id]) for r in ranked]
+    where = f"{len(corner_plants)} corners of the {len(worst)} worst cases"
+    corners = fly(worst, corner_plants, where) if worst else {}
+    results = [
+        FailureCaseResult(r.authority, r.runs, corners.get(r.case.case_id, {})) for r in ranked
+    ]
     return FailureStudy(
         problem=problem,
         settings=settings,
-        baseline=FailureCaseResult(baseline, runs["none"]),
+        baseline=FailureCaseResult(baseline, runs.get("none", {})),
         cases=tuple(sorted(results, key=FailureCaseResult.rank_key)),
         manoeuvres=flown,
         corner_plants=len(corner_plants) if worst else 0,
         wall_time_s=time.perf_counter() - started,
     )
+
+
+@dataclass(frozen=True, eq=False)
+class _Flights:
+    """Every manoeuvre flown by failure cases on plants, each announced as a stage."""
+
+    manoeuvres: tuple[Manoeuvre, ...]
+    controller: control.StateSpace | None
+    settings: FailureSettings
+    stage: Callable[[str], Any]
+
+    def __call__(
+        self, cases: Sequence[FailureCase], plants: Sequence[Case], where: str
+    ) -> dict[str, dict[str, RunVerdict]]:
+        """``{case id: {manoeuvre: verdict}}`` of ``cases`` on ``plants``."""
+        judged: dict[str, dict[str, RunVerdict]] = {c.case_id: {} for c in cases}
+        for manoeuvre in self.manoeuvres:
+            verdicts = fly_cases(
+                manoeuvre,
+                self.controller,
+                cases,
+                plants,
+                workers=self.settings.workers,
+                jit=self.settings.jit,
+                progress=self.stage(f"{manoeuvre.name}, {where}"),
+            )
+            for case_id, verdict in verdicts.items():
+                judged[case_id][manoeuvre.name] = verdict
+        return judged
