@@ -89,8 +89,8 @@ def main() -> None:
                 for stage, it, _ in steps
                 if it is not None
             ],
-            "mu_peak": design.summary()["mu_peak"],
-            "mu_peak_reduced": design.summary()["mu_peak_reduced"],
+            "mu_peak": design.summary().mu_peak,
+            "mu_peak_reduced": design.summary().mu_peak_reduced,
             **sweeps,
             "targets": TARGETS,
         },

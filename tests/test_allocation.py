@@ -287,8 +287,8 @@ def test_pseudo_inverse_baseline_is_exact_small_and_short_when_saturated(
 # ----------------------------------------------------------------------------- staging
 
 
-def test_stage_propellant_by_hand(problem: Problem, geometry: Geometry) -> None:
-    state = PropulsionState.from_problem(problem, geometry)
+def test_stage_propellant_by_hand(problem: Problem) -> None:
+    state = PropulsionState.from_problem(problem)
     # 0.64 mN x 500 h / (1000 s x 9.80665 m/s^2)
     np.testing.assert_allclose(state.stage_capacity_kg, 0.64e-3 * 500 * 3600 / 9806.65, rtol=1e-12)
     assert state.propellant_kg.shape == (N_CUBESATS, problem.engine.stages)
@@ -296,7 +296,7 @@ def test_stage_propellant_by_hand(problem: Problem, geometry: Geometry) -> None:
 
 
 def test_first_stage_switches_at_the_analytic_time(problem: Problem, geometry: Geometry) -> None:
-    state = PropulsionState.from_problem(problem, geometry)
+    state = PropulsionState.from_problem(problem)
     allocator = Allocator.from_problem(problem, geometry, state=state)
     thrust = allocator.allocate([1.2e-3, 0.6e-3, -1.0e-3]).thrust_N
     engine, g0 = problem.engine, problem.constants.standard_gravity_m_s2
@@ -335,7 +335,7 @@ def test_first_stage_switches_at_the_analytic_time(problem: Problem, geometry: G
 
 
 def test_cubesat_drops_out_after_its_last_stage(problem: Problem, geometry: Geometry) -> None:
-    state = PropulsionState.from_problem(problem, geometry)
+    state = PropulsionState.from_problem(problem)
     life_s = problem.engines[5].stage_life_h * 3600.0
     thrust = np.zeros(N_CUBESATS)
     thrust[5] = state.stage_thrust_N[5, 0]
@@ -356,17 +356,15 @@ def test_cubesat_drops_out_after_its_last_stage(problem: Problem, geometry: Geom
         assert found[name] == pytest.approx(expected[name], rel=TORQUE_RTOL)
 
 
-def test_failed_stage_hands_over_and_state_round_trips(
-    problem: Problem, geometry: Geometry
-) -> None:
-    state = PropulsionState.from_problem(problem, geometry)
+def test_failed_stage_hands_over_and_state_round_trips(problem: Problem) -> None:
+    state = PropulsionState.from_problem(problem)
     state.fail_stage(2, 0)
     state.fail_cubesat(7)
     assert state.active_stage[2] == 1 and state.active_stage[7] == problem.engine.stages
     # What a user reads numbers CubeSats and stages from 1.
     written = state.to_dict()
     assert written["failed_cubesats"] == [8] and written["failed_stages"] == [[3, 1]]
-    restored = PropulsionState.from_problem(problem, geometry).updated_from_dict(
+    restored = PropulsionState.from_problem(problem).updated_from_dict(
         json.loads(json.dumps(state.to_dict()))
     )
     np.testing.assert_array_equal(restored.active_stage, state.active_stage)
@@ -414,8 +412,8 @@ def test_bad_calls_are_named_errors(
     assert issubclass(NoEngineError, CasadiDebrisError)
 
 
-def test_bad_propulsion_steps_are_named_errors(problem: Problem, geometry: Geometry) -> None:
-    state = PropulsionState.from_problem(problem, geometry)
+def test_bad_propulsion_steps_are_named_errors(problem: Problem) -> None:
+    state = PropulsionState.from_problem(problem)
     with pytest.raises(InputShapeError):
         state.advance(np.zeros(5), 1.0)
     with pytest.raises(InputShapeError):

@@ -106,6 +106,19 @@ def test_scale_of_a_big_axis_demand_is_the_geometry_torque_authority(
         assert abs(found - expected[name]) <= RTOL * largest
 
 
+@pytest.mark.parametrize("failed", [(), (3, 17), (0, 1, 2, 3), (8, 9, 12, 13, 20)])
+def test_axis_reach_is_the_linear_programs_authority_per_signed_axis(
+    geometry: Geometry, failed: tuple[int, ...]
+) -> None:
+    limits = limits_with_failures(geometry, failed)
+    expected = torque_authority(geometry, zero_net_force=True, available=limits > 0)
+    polytope = authority_polytope(geometry.torque_map, geometry.force_map, limits)
+    reach = polytope.axis_reach()
+    largest = max(expected.values())
+    for k, name in enumerate(f"{sign}{axis}" for axis in AXIS_NAMES for sign in "+-"):
+        assert abs(reach[k] - expected[name]) <= RTOL * largest, name
+
+
 def test_allocator_polytope_is_cached_until_the_limits_change(
     problem: Problem, geometry: Geometry
 ) -> None:

@@ -19,6 +19,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.model import build_model
 from casadi_debris.report.folders import MARKER_NAME
+from casadi_debris.report.simulation import normalized_column
 
 PROBLEMS = default_problem_path().parent
 SIMULATE_KEYS = {
@@ -214,7 +215,8 @@ def test_montecarlo_writes_cases_envelope_and_nominal(campaign: Path) -> None:
 def _stored_value(ds: xr.Dataset, case_id: str, column: str) -> object:
     one = ds.sel(case=case_id)
     if column.startswith("normalized_"):
-        return one.normalized.sel(parameter=column.removeprefix("normalized_")).item()
+        [parameter] = [p for p in ds.parameter.values if normalized_column(p) == column]
+        return one.normalized.sel(parameter=parameter).item()
     return one[column].item()
 
 

@@ -18,8 +18,9 @@ from casadi_debris.report.campaign_dataset import (
     write_campaign_dataset,
 )
 from casadi_debris.report.campaign_folder import CampaignRecord
-from casadi_debris.simulation import Case, CaseOutcome
+from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
 from casadi_debris.simulation.monte_carlo import Bands, Extremes
+from run_summaries import zero_run_summary
 
 PARAMETERS = ("p1", "p2", "p3", "p4", "p5", "p6")
 N_BINS = 5
@@ -29,12 +30,15 @@ def _outcome(index: int, rng: np.random.Generator, seed: int | None) -> CaseOutc
     kind = "corner" if seed is None else "sample"
     case = Case(f"{kind}-{index:04d}", kind, index, seed, rng.uniform(-1, 1, 6), np.ones(6))
     values = rng.standard_normal((4, N_BINS, 3)) * 1e-7
-    summary = {name: float(rng.uniform()) for name in CASE_FIGURES}
-    summary["settle_time_s"] = None  # never settled: NaN in the dataset, empty in cases.csv
-    summary["max_torque_mNm"] = rng.uniform(size=3).tolist()
-    summary["fuel_per_cubesat_kg"] = rng.uniform(size=24).tolist()
+    figures = {name: float(rng.uniform()) for name in CASE_FIGURES}
+    figures["settle_time_s"] = None  # never settled: NaN in the dataset, empty in cases.csv
+    run = zero_run_summary(
+        **figures,
+        max_torque_mNm=tuple(rng.uniform(size=3)),
+        fuel_per_cubesat_kg=tuple(rng.uniform(size=24)),
+    )
     bands = Bands(Extremes(values[0], values[1]), Extremes(values[2], values[3]))
-    return CaseOutcome(case, summary, bands)
+    return CaseOutcome(case, CaseSummary(case.identity(), run), bands)
 
 
 def _record(seed: int | None, ids: list[str]) -> CampaignRecord:
@@ -94,10 +98,10 @@ def test_values_are_the_outcomes_bits_by_name() -> None:
             for bound in ("min", "max"):
                 stored = one[name].sel(bound=bound).values
                 assert np.array_equal(stored, getattr(extremes, bound)), (name, bound)
-        assert one.fuel_kg.item() == outcome.summary["fuel_kg"]
+        assert one.fuel_kg.item() == outcome.summary.run.fuel_kg
         assert one.seed.item() == 11 and one.kind.item() == "sample"
         assert np.array_equal(one.normalized.values, outcome.case.normalized)
-        assert one.fuel_per_cubesat_kg.values.tolist() == outcome.summary["fuel_per_cubesat_kg"]
+        assert tuple(one.fuel_per_cubesat_kg.values) == outcome.summary.run.fuel_per_cubesat_kg
     # Different units, so one variable each; one dimension for both on demand.
     stacked = ds[["error_rad", "torque_Nm"]].to_dataarray("quantity")
     assert stacked.dims == ("quantity", "case", "time", "bound", "axis")

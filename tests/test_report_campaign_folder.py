@@ -19,8 +19,9 @@ from casadi_debris.report.campaign_folder import (
     write_atomically,
 )
 from casadi_debris.report.folders import MARKER_NAME, OutputError
-from casadi_debris.simulation import Case, CaseOutcome
+from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
 from casadi_debris.simulation.monte_carlo import Bands, Extremes
+from run_summaries import zero_run_summary
 
 
 def _record(**changes) -> CampaignRecord:
@@ -47,7 +48,8 @@ def _outcome(index: int, rng: np.random.Generator) -> CaseOutcome:
     case = Case(f"sample-{index:04d}", "sample", index, 1, np.zeros(6), np.ones(6))
     values = rng.standard_normal((4, 5, 3)) * 1e-7  # not representable in float32
     bands = Bands(Extremes(values[0], values[1]), Extremes(values[2], values[3]))
-    return CaseOutcome(case, {"case_id": case.case_id, "max_error_deg": float(values.max())}, bands)
+    run = zero_run_summary(max_error_deg=float(values.max()), settle_time_s=None)
+    return CaseOutcome(case, CaseSummary(case.identity(), run), bands)
 
 
 def _same_bands(first: Bands, second: Bands) -> bool:

@@ -72,10 +72,10 @@ def test_quick_design_is_consistent(problem):
     settings = SynthesisSettings(samples=70, mu_points=40, d_orders=(1,), max_iterations=1)
     design = design_controller(problem, settings)
     summary = design.summary()
-    assert summary["w_fit_samples"] == 70 and summary["w_fit_margin"] >= 1.0 - 1e-9
-    assert summary["mu_peak"] <= design.musyn.iterations[0].mu_peak
+    assert summary.w_fit_samples == 70 and summary.w_fit_margin >= 1.0 - 1e-9
+    assert summary.mu_peak <= design.musyn.iterations[0].mu_peak
     _, recomputed = closed_loop_mu(design.plant, design.record.reduced, design.musyn.omega)
-    assert recomputed.peak == pytest.approx(summary["mu_peak_reduced"], rel=1e-9)
+    assert recomputed.peak == pytest.approx(summary.mu_peak_reduced, rel=1e-9)
     data = design.record.to_dict()
     assert data["mu_per_iteration"][0] == pytest.approx(design.musyn.hinf_gamma_first, rel=0.02)
     assert data["problem_sha256"] == problem.plant_sha256
@@ -88,9 +88,9 @@ def test_full_synthesis_reproduces_the_shipped_design(problem, shipped):
     the shipped design (a resynthesis may find a lower mu; it must not lose ground)."""
     design = design_controller(problem)
     summary = design.summary()
-    assert MU_PEAK.accepts([summary["mu_peak"], summary["mu_peak_reduced"]]), summary
-    assert REDUCED_ORDER.accepts(summary["order_reduced"]), summary["order_reduced"]
-    assert summary["mu_peak"] <= shipped.mu_peak * 1.02, (summary["mu_peak"], shipped.mu_peak)
+    assert MU_PEAK.accepts([summary.mu_peak, summary.mu_peak_reduced]), summary
+    assert REDUCED_ORDER.accepts(summary.order_reduced), summary.order_reduced
+    assert summary.mu_peak <= shipped.mu_peak * 1.02, (summary.mu_peak, shipped.mu_peak)
 
 
 @pytest.mark.parametrize(

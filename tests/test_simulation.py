@@ -39,6 +39,7 @@ from casadi_debris.config import (
     load_problem,
     problem_from_dict,
 )
+from casadi_debris.geometry import torque_authority
 from casadi_debris.model import Model, build_model
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
@@ -310,8 +311,8 @@ DROPOUT_STAGE_KG = 3.0e-7
 
 
 @pytest.fixture(scope="module")
-def staging_start(slew_problem: Problem, slew_model: Model) -> PropulsionState:
-    state = PropulsionState.from_problem(slew_problem, slew_model.geometry)
+def staging_start(slew_problem: Problem) -> PropulsionState:
+    state = PropulsionState.from_problem(slew_problem)
     state.propellant_kg[STAGING_CUBESAT, 0] = STAGING_FIRST_STAGE_KG
     state.propellant_kg[DROPOUT_CUBESAT, :] = DROPOUT_STAGE_KG
     return state
@@ -350,8 +351,8 @@ def test_slew_error_is_consistent_and_within_paper(
     angle_deg = np.degrees(error_angle_rad(nominal_slew.reference_BN, q))
     assert PAPER_SLEW_MAX_ERROR.accepts(angle_deg.max())
     summary = nominal_slew.summary()
-    assert summary["max_error_deg"] == pytest.approx(np.degrees(np.abs(expected).max()), rel=1e-12)
-    assert PAPER_SLEW_MAX_ERROR.accepts(summary["max_error_deg"])
+    assert summary.max_error_deg == pytest.approx(np.degrees(np.abs(expected).max()), rel=1e-12)
+    assert PAPER_SLEW_MAX_ERROR.accepts(summary.max_error_deg)
 
 
 def test_slew_fuel_and_bookkeeping(nominal_slew: ClosedLoopResult, slew_problem: Problem) -> None:
@@ -360,14 +361,14 @@ def test_slew_fuel_and_bookkeeping(nominal_slew: ClosedLoopResult, slew_problem:
         nominal_slew.fuel_per_cubesat_kg, fuel, rtol=1e-12, atol=propellant_atol(nominal_slew)
     )
     summary = nominal_slew.summary()
-    assert summary["fuel_kg"] == pytest.approx(fuel.sum(), rel=1e-12)
+    assert summary.fuel_kg == pytest.approx(fuel.sum(), rel=1e-12)
     # The paper's figure is the fuel of the slew itself (the run goes on to settle).
     dt = nominal_slew.control_period_s
     end = slew_problem.simulation.slew.start_s + slew_problem.simulation.slew.duration_s
     inside = np.arange(len(nominal_slew.thrust_N)) < round(end / dt)
     exhaust = slew_problem.engine.isp_s * slew_problem.constants.standard_gravity_m_s2
     fuel_slew = nominal_slew.thrust_N[inside].sum() * dt / exhaust
-    assert summary["fuel_slew_kg"] == pytest.approx(fuel_slew, rel=1e-12)
+    assert summary.fuel_slew_kg == pytest.approx(fuel_slew, rel=1e-12)
     assert PAPER_SLEW_FUEL.accepts(fuel_slew)
     # Nothing runs dry in the nominal slew: every CubeSat stays on stage 1.
     propulsion = nominal_slew.propulsion
@@ -480,7 +481,7 @@ def pointing_checks(result: ClosedLoopResult, model: Model, problem: Problem) ->
 def test_pointing_nominal(nominal_pointing, pointing_model, pointing_problem, maps) -> None:
     error = pointing_checks(nominal_pointing, pointing_model, pointing_problem)
     assert PAPER_POINTING_ERROR.accepts(error)
-    assert PAPER_POINTING_ERROR.accepts(nominal_pointing.summary()["max_error_arcsec"])
+    assert PAPER_POINTING_ERROR.accepts(nominal_pointing.summary().max_error_arcsec)
     # The disturbance is what the loop fights: 0.7 mNm amplitude per axis.
     amplitude = pointing_problem.disturbance.amplitude_mNm * 1e-3
     np.testing.assert_allclose(
@@ -567,7 +568,7 @@ def test_failed_engines_stop(
     ]
     # CubeSat 1 was firing stage 1: its failure hands over to stage 2, a switch.
     assert [e.switched for e in failure_run.events] == [False, False, True]
-    assert failure_run.summary()["stage_switches"] == 1
+    assert failure_run.summary().stage_switches == 1
     # Identical to the nominal run up to the failure.
     np.testing.assert_array_equal(failure_run.thrust_N[:step], nominal_slew.thrust_N[:step])
     np.testing.assert_array_equal(failure_run.state[: step + 1], nominal_slew.state[: step + 1])
@@ -577,7 +578,7 @@ def test_failed_engines_stop(
     np.testing.assert_array_equal(failure_run.thrust_N[step:, [16, 18]], 0.0)
     assert_engines_within_limits(failure_run, failure_problem)
     assert failure_run.propulsion.failed_cubesats[[16, 18]].all()
-    assert PAPER_SLEW_MAX_ERROR.accepts(failure_run.summary()["max_error_deg"])
+    assert PAPER_SLEW_MAX_ERROR.accepts(failure_run.summary().max_error_deg)
 
 
 def test_failed_stage_hands_over(failure_run: ClosedLoopResult, failure_problem: Problem) -> None:
@@ -597,6 +598,19 @@ def test_failed_stage_hands_over(failure_run: ClosedLoopResult, failure_problem:
         [(thrust[:step] > 0).sum() * dt, (thrust[step:] > 0).sum() * dt],
         rtol=1e-12,
     )
+
+
+def test_the_run_records_its_authority_before_and_after_the_failures(
+    failure_run: ClosedLoopResult, failure_problem: Problem, slew_model: Model
+) -> None:
+    geometry = slew_model.geometry
+    assert failure_run.authority_time_s.tolist() == [0.0, FAILURE_TIME_S]
+    alive = np.ones(len(geometry.engines), dtype=bool)
+    for row, failed in zip(failure_run.authority_Nm, ((), (16, 18)), strict=True):
+        alive[[e for c in failed for e in geometry.cubesats[c].engines]] = False
+        expected = torque_authority(geometry, zero_net_force=True, available=alive)
+        order = [f"{sign}{axis}" for axis in "xyz" for sign in "+-"]
+        np.testing.assert_allclose(row, [expected[k] for k in order], rtol=1e-7)
 
 
 def test_failures_change_fuel(
@@ -625,7 +639,7 @@ def test_failures_full_slew(slew_model, controller, slew_reference) -> None:
     result = simulate(problem, slew_model, controller, slew_reference)
     step = round(FAILURE_TIME_S / result.control_period_s)
     np.testing.assert_array_equal(result.thrust_N[step:, [16, 18]], 0.0)
-    assert PAPER_SLEW_MAX_ERROR.accepts(result.summary()["max_error_deg"])
+    assert PAPER_SLEW_MAX_ERROR.accepts(result.summary().max_error_deg)
 
 
 # --------------------------------------------------------------------------- staging
@@ -695,7 +709,7 @@ def test_staging_run_still_tracks(
     assert PAPER_SLEW_MAX_ERROR.accepts(np.degrees(angle.max()))
     times = [e.time_s for e in staging_run.events]
     assert times == sorted(times)
-    assert staging_run.summary()["stage_switches"] == 4
+    assert staging_run.summary().stage_switches == 4
 
 
 # --------------------------------------------------------------------------- bad input

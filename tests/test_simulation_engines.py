@@ -73,7 +73,7 @@ def test_the_failed_engine_stops_and_its_cubesat_fires_on(run: ClosedLoopResult)
     assert [(e.time_s, e.text) for e in run.events] == [
         (FAILURE_S, f"CubeSat {cubesat} engine 1 failed") for cubesat in FAILED
     ]
-    assert run.summary()["events"][0]["engine"] == 1
+    assert run.summary().events[0].engine == 1
     assert run.thrust_N[:step, MAIN_ROW].max() > 0.0
     np.testing.assert_array_equal(run.thrust_N[step:, MAIN_ROW], 0.0)
     assert run.propulsion.failed_engines[MAIN_ROW]
@@ -95,10 +95,10 @@ def test_each_engine_burns_at_its_own_isp(run: ClosedLoopResult, problem: Proble
     main_before = run.thrust_N[:step, MAIN_ROW].sum() * dt / c[MAIN_ROW]
     assert run.fuel_per_engine_kg[MAIN_ROW] == pytest.approx(main_before, rel=1e-12, abs=atol)
     summary = run.summary()
-    assert summary["fuel_kg"] == pytest.approx(float(burnt.sum()), rel=1e-12)
+    assert summary.fuel_kg == pytest.approx(float(burnt.sum()), rel=1e-12)
     effective = float(np.sum(burnt * c) / burnt.sum())
     assert run.exhaust_velocity_m_s == pytest.approx(effective, rel=1e-12)
     assert c.min() < effective < c.max()
     mass = run.total_mass_kg
     expected_dv = effective * math.log(mass / (mass - burnt.sum()))
-    assert summary["dv_used_m_s"] == pytest.approx(expected_dv, rel=1e-9)
+    assert summary.dv_used_m_s == pytest.approx(expected_dv, rel=1e-9)

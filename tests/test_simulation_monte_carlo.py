@@ -99,7 +99,7 @@ def test_a_case_is_the_same_whatever_the_worker_ran_before(tmp_path: Path) -> No
     again = run_case(setup, corners[255], model=model)
     one, two = alone.bands.to_arrays(), again.bands.to_arrays()
     assert all(np.array_equal(one[k], two[k]) for k in one)
-    assert alone.summary["fuel_per_cubesat_kg"] == again.summary["fuel_per_cubesat_kg"]
+    assert alone.summary.run.fuel_per_cubesat_kg == again.summary.run.fuel_per_cubesat_kg
 
 
 def test_a_failed_case_is_recorded_and_the_campaign_goes_on(tmp_path: Path) -> None:
@@ -122,7 +122,7 @@ def test_a_failed_case_is_recorded_and_the_campaign_goes_on(tmp_path: Path) -> N
     assert [f.case.case_id for f in failures] == ["corner-0001"]
     assert failures[0].error_type.endswith("DemandError") and "finite" in failures[0].message
     assert "Traceback" in failures[0].traceback
-    assert failures[0].summary()["case_id"] == "corner-0001"
+    assert failures[0].summary().identity.case_id == "corner-0001"
     # Without a place for failures, they are raised once every other case has finished.
     seen: list[str] = []
     with pytest.raises(CasesFailedError, match="corner-0001") as raised:

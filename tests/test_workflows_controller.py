@@ -5,13 +5,17 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 from click.testing import CliRunner
 
 from casadi_debris import load_problem
 from casadi_debris.cli import main
-from casadi_debris.config import default_controller_path, default_problem_path
+from casadi_debris.config import default_controller_path, default_problem_path, with_duration
+from casadi_debris.errors import ProblemFileError
 from casadi_debris.geometry import build_geometry
+from casadi_debris.model import build_model
+from casadi_debris.simulation import scenario_reference, simulate
 from casadi_debris.workflows.controller import ControllerMismatchError, controller_for
 
 PROBLEMS = default_problem_path().parent
@@ -84,12 +88,31 @@ def test_a_controller_for_another_plant_needs_allow_mismatch(heavy: Path) -> Non
     assert record.problem_sha256 == load_problem().plant_sha256 != problem.plant_sha256
 
 
-def test_a_controller_file_without_a_plant_is_a_mismatch(tmp_path: Path) -> None:
-    data = json.loads(default_controller_path().read_text())
-    del data["problem_sha256"]
-    bare = _write(tmp_path / "bare.json", json.dumps(data))
-    with pytest.raises(ControllerMismatchError, match="no recorded plant"):
-        controller_for(load_problem(), bare)
+def test_a_plain_state_space_file_is_flown_as_given(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
+    """A controller of the user's own: A, B, C, D and nothing else, no plant to check."""
+    shipped = json.loads(default_controller_path().read_text())
+    plain = _write(tmp_path / "plain.json", json.dumps({k: shipped[k] for k in "ABCD"}))
+    problem = load_problem("paper_slew")
+    with caplog.at_level("WARNING"):
+        record, _ = controller_for(problem, plain)
+    assert "records no plant" in caplog.text
+    assert record.mu_peak is None and record.full is None and record.problem_sha256 == ""
+    # The same matrices as the shipped file: the same closed-loop run, to the bit.
+    short = with_duration(problem, 30.0)
+    runs = [
+        simulate(short, build_model(short), r.reduced, scenario_reference(short))
+        for r in (record, controller_for(short)[0])
+    ]
+    assert np.array_equal(runs[0].error_rad, runs[1].error_rad)
+
+
+def test_a_plain_file_with_a_bad_matrix_names_it(tmp_path: Path) -> None:
+    shipped = json.loads(default_controller_path().read_text())
+    data = {k: shipped[k] for k in "ABCD"} | {"B": shipped["B"][:-1]}
+    with pytest.raises(ProblemFileError, match="B: must be"):
+        controller_for(load_problem(), _write(tmp_path / "bad.json", json.dumps(data)))
 
 
 @pytest.mark.parametrize("command", ["simulate", "margins", "montecarlo"])

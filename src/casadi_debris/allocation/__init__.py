@@ -26,18 +26,16 @@ Example
 from casadi_debris.allocation.allocator import (
     DEFAULT_SOLVER,
     SATURATION_MODES,
-    AllocationInternalError,
-    AllocationResult,
     Allocator,
-    BatchAllocation,
     NoEngineError,
-    SeriesAllocation,
 )
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
 from casadi_debris.allocation.backends import UnknownSolverError, available_solvers
 from casadi_debris.allocation.baseline import PseudoInverseAllocator
 from casadi_debris.allocation.demand import DemandError
+from casadi_debris.allocation.paths import AllocationInternalError
 from casadi_debris.allocation.propulsion import PropulsionState, StageEvent
+from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
 
 __all__ = [
     "DEFAULT_SOLVER",

@@ -68,7 +68,7 @@ import numpy.typing as npt
 from casadi_debris.allocation import batch
 from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
 from casadi_debris.allocation.demand import ABSURD_FACTOR, SMALLEST_SUBNORMAL, as_vector3
-from casadi_debris.allocation.paths import AllocationInternalError, SaturationMode, SolvePaths
+from casadi_debris.allocation.paths import SaturationMode, SolvePaths
 from casadi_debris.allocation.propulsion import PropulsionState
 from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
 from casadi_debris.allocation.scaled_qp import ScaledQp
@@ -77,16 +77,7 @@ from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.geometry import Geometry, build_geometry, max_thrust_N
 
-__all__ = [
-    "DEFAULT_SOLVER",
-    "SATURATION_MODES",
-    "AllocationInternalError",
-    "AllocationResult",
-    "Allocator",
-    "BatchAllocation",
-    "NoEngineError",
-    "SeriesAllocation",
-]
+__all__ = ["DEFAULT_SOLVER", "SATURATION_MODES", "Allocator", "NoEngineError"]
 
 SATURATION_MODES: tuple[SaturationMode, ...] = ("scale", "least_squares")
 DEFAULT_SOLVER = "daqp"
@@ -351,7 +342,7 @@ class Allocator(SolvePaths):
         :mod:`~casadi_debris.allocation.demand`); a demand of exactly zero gets
         exactly zero thrust. No NaN or inf is ever returned: an answer of the
         back-end that fails these checks is recomputed by HiGHS, and if that
-        fails too an :class:`AllocationInternalError` is raised.
+        fails too an :class:`~casadi_debris.allocation.paths.AllocationInternalError` is raised.
 
         Parameters
         ----------

@@ -57,6 +57,17 @@ class AuthorityPolytope:
     offsets: np.ndarray
     vertices: np.ndarray
 
+    def axis_reach(self) -> np.ndarray:
+        """Largest pure torque about +x, -x, +y, -y, +z, -z (magnitudes), shape (6,) [N m].
+
+        Along a unit direction d the polytope reaches ``min_{n_i . d > 0} b_i / (n_i . d)``.
+        """
+        directions = np.repeat(np.eye(3), 2, axis=0) * np.tile([1.0, -1.0], 3)[:, None]
+        reach = directions @ self.normals.T
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratios = np.where(reach > SUPPORT_RTOL, self.offsets / reach, np.inf)
+        return ratios.min(axis=1)
+
     def scale(self, torque_Nm: np.ndarray) -> np.ndarray:
         """Largest alpha in [0, 1] with ``alpha * tau`` reachable, for each row.
 

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import time
 import warnings
-from typing import Any, Literal, NamedTuple, Protocol
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 import numpy.typing as npt
@@ -97,10 +97,50 @@ class QpSolution(NamedTuple):
         return self.x
 
 
-class QpBackend(Protocol):
-    """A QP workspace of fixed structure."""
+class QpData(NamedTuple):
+    """The data of one QP: minimise ``1/2 x' h x + c' x`` subject to ``a_eq x = b_eq``,
+    ``lb <= x <= ub``.
+
+    Attributes
+    ----------
+    h : ndarray, shape (n, n)
+        Positive definite Hessian.
+    c : ndarray, shape (n,)
+    a_eq : ndarray, shape (m, n)
+    b_eq : ndarray, shape (m,)
+    lb, ub : ndarray, shape (n,)
+    """
+
+    h: np.ndarray
+    c: np.ndarray
+    a_eq: np.ndarray
+    b_eq: np.ndarray
+    lb: np.ndarray
+    ub: np.ndarray
+
+
+class QpBackend:
+    """A QP workspace of fixed structure: what every back-end shares.
+
+    The equality targets and the simple bounds are kept as the one pair of
+    lower/upper vectors the solver takes (``lower = upper = b_eq`` on the
+    equality rows), updated in place; a back-end hands the changed data to
+    its solver in :meth:`_load` and solves in :meth:`solve`.
+    """
 
     name: str
+
+    def __init__(self, data: QpData, *, equalities_first: bool) -> None:
+        b_eq, lb, ub = data.b_eq, data.lb, data.ub
+        m, n = len(b_eq), len(lb)
+        self._rows = slice(0, m) if equalities_first else slice(n, n + m)
+        self._box = slice(m, m + n) if equalities_first else slice(0, n)
+        self._lower = np.empty(m + n)
+        self._upper = np.empty(m + n)
+        self._lower[self._rows] = b_eq
+        self._upper[self._rows] = b_eq
+        self._lower[self._box] = lb
+        self._upper[self._box] = ub
 
     def update(
         self,
@@ -112,9 +152,23 @@ class QpBackend(Protocol):
         ub: np.ndarray | None = None,
     ) -> None:
         """Replace some of the problem data (same shapes as at set-up)."""
+        if b_eq is not None:
+            self._lower[self._rows] = b_eq
+            self._upper[self._rows] = b_eq
+        if lb is not None:
+            self._lower[self._box] = lb
+        if ub is not None:
+            self._upper[self._box] = ub
+        self._load(c, a_eq, bounds=b_eq is not None or lb is not None or ub is not None)
+
+    def _load(self, c: np.ndarray | None, a_eq: np.ndarray | None, *, bounds: bool) -> None:
+        """Hand the new cost and rows (those given) and, when ``bounds``, the bound vectors
+        to the solver."""
+        raise NotImplementedError
 
     def solve(self) -> QpSolution:
         """Solve the current problem, warm-started from the last solution where possible."""
+        raise NotImplementedError
 
 
 def available_solvers() -> tuple[str, ...]:
@@ -134,27 +188,15 @@ def available_solvers() -> tuple[str, ...]:
     return native + forced + others
 
 
-def make_backend(
-    name: str,
-    h: np.ndarray,
-    c: np.ndarray,
-    a_eq: np.ndarray,
-    b_eq: np.ndarray,
-    lb: np.ndarray,
-    ub: np.ndarray,
-) -> QpBackend:
+def make_backend(name: str, data: QpData) -> QpBackend:
     """Set up a QP workspace on the named back-end.
 
     Parameters
     ----------
     name : str
         One of :func:`available_solvers`.
-    h : ndarray, shape (n, n)
-        Positive definite Hessian.
-    c : ndarray, shape (n,)
-    a_eq : ndarray, shape (m, n)
-    b_eq : ndarray, shape (m,)
-    lb, ub : ndarray, shape (n,)
+    data : QpData
+        The problem at set-up; later calls change its data, never its shapes.
 
     Raises
     ------
@@ -168,34 +210,25 @@ def make_backend(
             "(others: pip install qpsolvers[<solver>])"
         )
     if name == "daqp":
-        return DaqpBackend(h, c, a_eq, b_eq, lb, ub)
+        return DaqpBackend(data)
     if name == "osqp":
-        return OsqpBackend(h, c, a_eq, b_eq, lb, ub)
-    return QpsolversBackend(name.removeprefix(QPSOLVERS_PREFIX), h, c, a_eq, b_eq, lb, ub)
+        return OsqpBackend(data)
+    return QpsolversBackend(name.removeprefix(QPSOLVERS_PREFIX), data)
 
 
-class DaqpBackend:
+class DaqpBackend(QpBackend):
     """DAQP workspace (``daqp.Model``): set up once, bounds and data updated in place."""
 
     name = "daqp"
 
-    def __init__(
-        self,
-        h: np.ndarray,
-        c: np.ndarray,
-        a_eq: np.ndarray,
-        b_eq: np.ndarray,
-        lb: np.ndarray,
-        ub: np.ndarray,
-    ) -> None:
+    def __init__(self, data: QpData) -> None:
         import daqp
 
-        n = len(c)
-        self._n = n
-        self._a = np.ascontiguousarray(a_eq, dtype=float)
         # DAQP takes simple bounds first, then the rows of A, in one pair of vectors.
-        self._upper = np.concatenate([ub, b_eq]).astype(float)
-        self._lower = np.concatenate([lb, b_eq]).astype(float)
+        super().__init__(data, equalities_first=False)
+        h, c, a_eq, b_eq, _, _ = data
+        n = len(c)
+        self._a = np.ascontiguousarray(a_eq, dtype=float)
         # The same minimiser with a Hessian of unit size: with H = eps I (eps = 1e-3)
         # DAQP leaves equality residuals of about 1e-12 of the target at
         # primal_tol 1e-10, with unit H about 1e-16 in as many iterations
@@ -217,33 +250,11 @@ class DaqpBackend:
             raise AllocationError(f"DAQP could not set up the allocation QP (exit flag {flag})")
         self._model.settings = {"primal_tol": DAQP_PRIMAL_TOLERANCE}
 
-    def update(
-        self,
-        *,
-        c: np.ndarray | None = None,
-        a_eq: np.ndarray | None = None,
-        b_eq: np.ndarray | None = None,
-        lb: np.ndarray | None = None,
-        ub: np.ndarray | None = None,
-    ) -> None:
-        n = self._n
-        if b_eq is not None and c is None and a_eq is None and lb is None and ub is None:
+    def _load(self, c: np.ndarray | None, a_eq: np.ndarray | None, *, bounds: bool) -> None:
+        if bounds and c is None and a_eq is None:
             # The hot path, one target per demand: only the equality rows change.
-            self._upper[n:] = b_eq
-            self._lower[n:] = b_eq
             self._model.update(bupper=self._upper, blower=self._lower)
             return
-        bounds_changed = False
-        if b_eq is not None:
-            self._upper[n:] = b_eq
-            self._lower[n:] = b_eq
-            bounds_changed = True
-        if lb is not None:
-            self._lower[:n] = lb
-            bounds_changed = True
-        if ub is not None:
-            self._upper[:n] = ub
-            bounds_changed = True
         if c is not None:
             self._c[:] = c
             self._c /= self._objective_scale
@@ -252,8 +263,8 @@ class DaqpBackend:
         self._model.update(
             f=self._c if c is not None else None,
             A=self._a if a_eq is not None else None,
-            bupper=self._upper if bounds_changed else None,
-            blower=self._lower if bounds_changed else None,
+            bupper=self._upper if bounds else None,
+            blower=self._lower if bounds else None,
         )
 
     def solve(self) -> QpSolution:
@@ -267,23 +278,16 @@ class DaqpBackend:
         return QpSolution(None, status, int(info["iterations"]), elapsed)
 
 
-class OsqpBackend:
+class OsqpBackend(QpBackend):
     """OSQP workspace (``osqp.OSQP``), warm-started, polished, tight tolerances."""
 
     name = "osqp"
 
-    def __init__(
-        self,
-        h: np.ndarray,
-        c: np.ndarray,
-        a_eq: np.ndarray,
-        b_eq: np.ndarray,
-        lb: np.ndarray,
-        ub: np.ndarray,
-    ) -> None:
+    def __init__(self, data: QpData) -> None:
         import osqp
         from scipy import sparse
 
+        h, c, a_eq, b_eq, _, _ = data
         n = len(c)
         self._n = n
         self._m = len(b_eq)
@@ -299,8 +303,7 @@ class OsqpBackend:
         a_full = sparse.csc_matrix(
             (self._stacked_values(a_eq), self._indices, self._indptr), shape=(m + n, n)
         )
-        self._lower = np.concatenate([b_eq, lb]).astype(float)
-        self._upper = np.concatenate([b_eq, ub]).astype(float)
+        super().__init__(data, equalities_first=True)
         self._solver = osqp.OSQP()
         self._solver.setup(
             sparse.triu(sparse.csc_matrix(h), format="csc"),
@@ -325,25 +328,9 @@ class OsqpBackend:
             osqp.SolverStatus.OSQP_PRIMAL_INFEASIBLE_INACCURATE,
         )
 
-    def update(
-        self,
-        *,
-        c: np.ndarray | None = None,
-        a_eq: np.ndarray | None = None,
-        b_eq: np.ndarray | None = None,
-        lb: np.ndarray | None = None,
-        ub: np.ndarray | None = None,
-    ) -> None:
-        m = self._m
-        if b_eq is not None:
-            self._lower[:m] = b_eq
-            self._upper[:m] = b_eq
-        if lb is not None:
-            self._lower[m:] = lb
-        if ub is not None:
-            self._upper[m:] = ub
+    def _load(self, c: np.ndarray | None, a_eq: np.ndarray | None, *, bounds: bool) -> None:
         kwargs: dict[str, np.ndarray] = {}
-        if b_eq is not None or lb is not None or ub is not None:
+        if bounds:
             kwargs["l"] = self._lower
             kwargs["u"] = self._upper
         if c is not None:
@@ -382,45 +369,24 @@ class OsqpBackend:
         return QpSolution(x, status, int(result.info.iter), elapsed)
 
 
-class QpsolversBackend:
+class QpsolversBackend(QpBackend):
     """Any solver qpsolvers knows, through :func:`qpsolvers.solve_problem` (converted per call)."""
 
-    def __init__(
-        self,
-        solver: str,
-        h: np.ndarray,
-        c: np.ndarray,
-        a_eq: np.ndarray,
-        b_eq: np.ndarray,
-        lb: np.ndarray,
-        ub: np.ndarray,
-    ) -> None:
+    def __init__(self, solver: str, data: QpData) -> None:
+        super().__init__(data, equalities_first=True)
+        h, c, a_eq, _, _, _ = data
         self.name = QPSOLVERS_PREFIX + solver if solver in NATIVE_SOLVERS else solver
         self._solver = solver
         self._h = np.array(h, dtype=float)
         self._c = np.array(c, dtype=float)
         self._a = np.array(a_eq, dtype=float)
-        self._b = np.array(b_eq, dtype=float)
-        self._lb = np.array(lb, dtype=float)
-        self._ub = np.array(ub, dtype=float)
         self._last: np.ndarray | None = None
 
-    def update(
-        self,
-        *,
-        c: np.ndarray | None = None,
-        a_eq: np.ndarray | None = None,
-        b_eq: np.ndarray | None = None,
-        lb: np.ndarray | None = None,
-        ub: np.ndarray | None = None,
-    ) -> None:
-        for target, value in ((self._c, c), (self._a, a_eq), (self._b, b_eq)):
-            if value is not None:
-                target[...] = value
-        if lb is not None:
-            self._lb[:] = lb
-        if ub is not None:
-            self._ub[:] = ub
+    def _load(self, c: np.ndarray | None, a_eq: np.ndarray | None, *, bounds: bool) -> None:
+        if c is not None:
+            self._c[:] = c
+        if a_eq is not None:
+            self._a[...] = a_eq
 
     def solve(self) -> QpSolution:
         import qpsolvers
@@ -432,9 +398,9 @@ class QpsolversBackend:
             self._h / objective_scale,
             self._c / objective_scale,
             A=self._a,
-            b=self._b,
-            lb=self._lb,
-            ub=self._ub,
+            b=self._lower[self._rows],
+            lb=self._lower[self._box],
+            ub=self._upper[self._box],
         )
         settings = GENERIC_SETTINGS.get(self._solver, {})
         start = time.perf_counter()

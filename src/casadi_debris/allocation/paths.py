@@ -101,17 +101,8 @@ class SolvePaths:
         if solution.status == "optimal":
             u, verified = qp.polish_checked(solution.optimal_x(), target, free_force)
             # polish has clipped u already.
-            return self._result(
-                u,
-                torque,
-                force,
-                True,
-                1.0,
-                "exact",
-                solution.iterations,
-                solution.solve_time_s,
-                clip=False,
-                verified=verified,
+            return self._exact(
+                u, torque, force, solution.iterations, solution.solve_time_s, verified=verified
             )
         return self._unreachable(
             target, size, 0, torque, force, solution.iterations, solution.solve_time_s
@@ -131,7 +122,7 @@ class SolvePaths:
         wrench = torque if force is None else np.concatenate((torque, force))
         if not wrench.any():
             # Exactly zero: exactly zero thrust (no solve, no round-off).
-            return self._result(np.zeros(self._qp.n), torque, force, True, 1.0, "exact", 0, 0.0)
+            return self._exact(np.zeros(self._qp.n), torque, force, 0, 0.0)
         reference = self._torque_ref if free_force else self._wrench_ref
         qp = self._qp
         exact = qp.workspace("exact", free_force)
@@ -148,18 +139,7 @@ class SolvePaths:
             if solution.status == "optimal":
                 u = qp.polish(solution.optimal_x(), target, free_force)
                 if k == 0 or level == SMALL_DEMAND_LEVELS[-1] or not self._qp.binds(u):
-                    return self._result(
-                        u,
-                        torque,
-                        force,
-                        True,
-                        1.0,
-                        "exact",
-                        iterations,
-                        solve_time,
-                        clip=False,
-                        exponent=k,
-                    )
+                    return self._exact(u, torque, force, iterations, solve_time, exponent=k)
             elif k == 0:
                 break
         # Not reachable at the smallest size tried: saturate from there.
@@ -249,24 +229,22 @@ class SolvePaths:
         if alpha <= 0.0:
             u = np.zeros(self._qp.n)  # whatever the solver left is round-off
         elif exponent == 0 and alpha >= 1.0:
-            return self._result(
-                u / alpha, torque, force, True, 1.0, "exact", iterations, solve_time_s, rescued
+            return self._exact(
+                u / alpha, torque, force, iterations, solve_time_s, rescued, clip=True
             )
         elif exponent > 0:
             # alpha 2**exponent may overflow: compare exponents, and divide by the
             # mantissa of alpha only (u / alpha could overflow for a subnormal alpha).
             mantissa, power = math.frexp(alpha)
             if power + exponent > 0:  # alpha 2**exponent >= 1
-                return self._result(
+                return self._exact(
                     u / mantissa,
                     torque,
                     force,
-                    True,
-                    1.0,
-                    "exact",
                     iterations,
                     solve_time_s,
                     rescued,
+                    clip=True,
                     exponent=power + exponent,
                 )
             # alpha 2**exponent < 1 and u already makes that fraction of the demand.
@@ -320,6 +298,36 @@ class SolvePaths:
                 "HiGHS gave a finite allocation within the promised accuracy"
             )
         return result
+
+    def _exact(
+        self,
+        u: np.ndarray,
+        torque: np.ndarray,
+        force: np.ndarray | None,
+        iterations: int,
+        solve_time_s: float,
+        rescued: bool = False,
+        *,
+        clip: bool = False,
+        exponent: int = 0,
+        verified: bool = False,
+    ) -> AllocationResult | None:
+        """:meth:`_result` of a demand met in full (feasible, scale 1, mode ``"exact"``);
+        ``u`` is taken as within its bounds unless ``clip``."""
+        return self._result(
+            u,
+            torque,
+            force,
+            True,
+            1.0,
+            "exact",
+            iterations,
+            solve_time_s,
+            rescued,
+            clip=clip,
+            exponent=exponent,
+            verified=verified,
+        )
 
     def _result(
         self,

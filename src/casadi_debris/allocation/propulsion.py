@@ -38,7 +38,6 @@ from casadi_debris.allocation.state_input import (
 )
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError, InputShapeError
-from casadi_debris.geometry import Geometry
 from casadi_debris.units import MN_PER_N
 
 # Propellant below this fraction of a stage's load counts as spent: it avoids
@@ -203,17 +202,14 @@ class PropulsionState:
     # ------------------------------------------------------------------ construction
 
     @classmethod
-    def from_problem(cls, problem: Problem, geometry: Geometry | None = None) -> PropulsionState:
+    def from_problem(cls, problem: Problem) -> PropulsionState:
         """Every engine of the problem with full, healthy stages.
 
         Parameters
         ----------
         problem : Problem
             Engine data (stages, thrust per stage, Isp, stage life per engine) and g0.
-        geometry : Geometry, optional
-            Unused (the engines come from ``problem``); kept for callers that pass it.
         """
-        del geometry
         engines = problem.engines
         g0 = problem.constants.standard_gravity_m_s2
         n_stages = max(engine.stages for engine in engines)

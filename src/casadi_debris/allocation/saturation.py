@@ -17,6 +17,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from casadi_debris.allocation.backends import QpSolution
 from casadi_debris.allocation.scaled_qp import ScaledQp
 from casadi_debris.errors import AllocationError
 
@@ -65,6 +66,18 @@ class StageSolution(NamedTuple):
     rescued: bool
     verified: bool = False
 
+    def after(self, first: QpSolution, scale: float, *, verified: bool) -> StageSolution:
+        """This least-fuel stage as the end of a two-stage solve begun by ``first``: alpha
+        times ``scale`` (what ``first`` found), the two stages' iterations and times summed."""
+        return StageSolution(
+            self.u,
+            scale * self.alpha,
+            first.iterations + self.iterations,
+            first.solve_time_s + self.solve_time_s,
+            self.rescued,
+            verified,
+        )
+
 
 def largest_alpha(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSolution:
     """The largest alpha in [0, 1] with ``alpha * target`` reachable, then its least-fuel thrust.
@@ -98,14 +111,7 @@ def largest_alpha(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSo
     if alpha * max(map(abs, target.tolist())) <= ALPHA_RESOLUTION:
         return StageSolution(np.zeros(qp.n), 0.0, solution.iterations, solution.solve_time_s, False)
     fuel = least_fuel_on_edge(qp, alpha * target, free_force)
-    return StageSolution(
-        fuel.u,
-        alpha * fuel.alpha,
-        solution.iterations + fuel.iterations,
-        solution.solve_time_s + fuel.solve_time_s,
-        fuel.rescued,
-        fuel.verified,
-    )
+    return fuel.after(solution, alpha, verified=fuel.verified)
 
 
 def least_fuel_on_edge(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSolution:
@@ -220,10 +226,4 @@ def least_squares(qp: ScaledQp, target: np.ndarray, free_force: bool) -> StageSo
     scale = float(achieved @ scaled_demand / norm2) if norm2 > 0 else 1.0
     settle = np.concatenate([achieved, target[3:]])
     fuel = least_fuel_on_edge(qp, settle, free_force)
-    return StageSolution(
-        fuel.u,
-        scale * fuel.alpha,
-        solution.iterations + fuel.iterations,
-        solution.solve_time_s + fuel.solve_time_s,
-        fuel.rescued,
-    )
+    return fuel.after(solution, scale, verified=False)

@@ -25,7 +25,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.allocation.backends import QpBackend, make_backend
+from casadi_debris.allocation.backends import QpBackend, QpData, make_backend
 
 # Proximal weight of the least-fuel QP, in scaled thrust units against a fuel
 # weight of 1 per engine: far below the reduced costs of the LP (order one),
@@ -133,8 +133,7 @@ class ScaledQp:
         n = self.n
         rows = self.torque if free_force else np.vstack([self.torque, self.force])
         if stage == "exact":
-            workspace = make_backend(
-                self.solver,
+            data = QpData(
                 EXACT_PROXIMAL * np.eye(n),
                 self.cost,
                 rows,
@@ -143,12 +142,10 @@ class ScaledQp:
                 self.upper,
             )
         elif stage == "scale":
-            a_eq = np.hstack([rows, np.zeros((len(rows), 1))])
-            workspace = make_backend(
-                self.solver,
+            data = QpData(
                 SCALE_PROXIMAL * np.eye(n + 1),
                 np.append(np.zeros(n), -1.0),
-                a_eq,
+                np.hstack([rows, np.zeros((len(rows), 1))]),
                 np.zeros(len(rows)),
                 np.zeros(n + 1),
                 np.append(self.upper, 1.0),
@@ -156,8 +153,7 @@ class ScaledQp:
         else:
             torque = self.torque
             force_rows = np.zeros((0, n)) if free_force else self.force
-            workspace = make_backend(
-                self.solver,
+            data = QpData(
                 torque.T @ torque + LEAST_SQUARES_PROXIMAL * np.eye(n),
                 np.zeros(n),
                 force_rows,
@@ -165,6 +161,7 @@ class ScaledQp:
                 np.zeros(n),
                 self.upper,
             )
+        workspace = make_backend(self.solver, data)
         self._workspaces[key] = workspace
         return workspace
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     compare,  # compare
-    describe,  # model, budget
+    describe,  # model, budget, schema, problems
     design,  # design
     failures,  # failures
     reproduce,  # reproduce

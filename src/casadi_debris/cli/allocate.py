@@ -267,7 +267,7 @@ def allocate(
         raise AllocationError("give either --force-mN or --free-force, not both")
     problem = load_problem(problem_file)
     geometry = build_geometry(problem)
-    state = _read_state(stage_state, PropulsionState.from_problem(problem, geometry))
+    state = _read_state(stage_state, PropulsionState.from_problem(problem))
     for index in failed_cubesat_indices(failed, len(geometry.cubesats)):
         state.fail_cubesat(index)
     for cubesat, engine in _failed_engines(failed_engines, state):

@@ -110,7 +110,7 @@ def failed_cubesat_indices(text: str | None, count: int) -> list[int]:
     return [i - 1 for i in ids]
 
 
-def echo_json(payload: dict[str, Any]) -> None:
+def echo_json(payload: Any) -> None:
     """Print a result as indented JSON (numpy converted, non-finite as null)."""
     click.echo(json.dumps(json_ready(payload), indent=2))
 

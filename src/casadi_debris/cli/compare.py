@@ -52,11 +52,13 @@ def compare(
     """Compare fuel budgets of problem variants (placements, failures, slew methods).
 
     Runs the nominal closed loop of every PROBLEM.toml (and every --methods
-    slew) and tabulates fuel (total and worst CubeSat), Δv left, stage
-    switches, slew time and max error: comparison.csv, comparison.md and
-    fuel.png in --out.
+    slew) and tabulates fuel (over each run, over the window all flew, during
+    the slew, worst CubeSat), Δv left, stage switches, slew time, max error and
+    its verdict against the problem's requirements: comparison.csv,
+    comparison.md, comparison.png and summary.json in --out. A variant whose
+    run fails says why in its row.
     """
-    from casadi_debris.report.compare import COLUMNS
+    from casadi_debris.report.compare import COLUMNS, cell
     from casadi_debris.workflows.compare import compare_variants
 
     chosen = None if methods is None else comma_list(methods, "--methods", "bang-bang,time-optimal")
@@ -75,9 +77,10 @@ def compare(
         progress=progress,
         allow_mismatch=allow_mismatch,
     )
-    rows = summary["variants"]
     if as_json:
         echo_json(summary)
         return
-    click.echo(format_table([t for _, t in COLUMNS], [[r[k] for k, _ in COLUMNS] for r in rows]))
-    click.echo(f"written to {summary['out_dir']}")
+    cells = [[cell(row, key) for key, _ in COLUMNS] for row in summary.variants]
+    click.echo(format_table([title for _, title in COLUMNS], cells))
+    click.echo(f"fuel over the common window: the first {summary.window_s:.6g} s of every run")
+    click.echo(f"written to {summary.out_dir}")

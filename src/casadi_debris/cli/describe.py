@@ -67,3 +67,33 @@ def schema() -> None:
     from casadi_debris.config.json_schema import problem_schema
 
     echo_json(problem_schema())
+
+
+@main.command()
+@json_option
+@friendly_errors
+def problems(as_json: bool) -> None:
+    """List the shipped problems: any command takes their name in place of a file.
+
+    ``casadi-debris simulate paper_slew`` flies the shipped paper_slew.toml, and a
+    problem file of yours may say ``extends = "paper_slew"`` from any folder. A file
+    of that name where the command runs is read first.
+    """
+    from casadi_debris.config import shipped_problems
+    from casadi_debris.report.common import format_table
+
+    rows = []
+    for name, path in shipped_problems().items():
+        problem = load_problem(path)
+        rows.append({"name": name, "description": problem.description, "path": str(path)})
+    if as_json:
+        echo_json({"problems": rows})
+        return
+    table = [[row["name"], _shortened(row["description"])] for row in rows]
+    click.echo(format_table(["name", "description"], table))
+
+
+def _shortened(text: str, width: int = 90) -> str:
+    """The description on one line, cut to ``width`` characters."""
+    line = " ".join(text.split())
+    return line if len(line) <= width else line[: width - 1] + "…"

@@ -7,7 +7,6 @@ from pathlib import Path
 import click
 
 from casadi_debris.cli.common import (
-    echo_json,
     friendly_errors,
     json_option,
     main,
@@ -16,9 +15,9 @@ from casadi_debris.cli.common import (
     uncertainty_sample_options,
     workers_option,
 )
+from casadi_debris.cli.reproduce import echo_verdicts
 from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import load_problem
-from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 TABLE_KEYS = ("result", "required", "ours", "verdict")
@@ -70,13 +69,12 @@ def design(
         overwrite=overwrite,
         progress=stage_progress(as_json),
     )
-    if as_json:
-        echo_json(summary)
-        return
-    rows = [[row[key] for key in TABLE_KEYS] for row in summary["rows"]]
-    click.echo(format_table(list(TABLE_KEYS), rows))
-    click.echo(
+    echo_verdicts(
+        summary,
+        summary["rows"],
+        TABLE_KEYS,
         f"{summary['requirements_met']} of {summary['requirements']} requirements met; "
         f"controller: {folder.absolute() / 'controller.json'}; "
-        f"report: {folder.absolute() / 'report.md'} ({summary['time_s']:.0f} s)"
+        f"report: {folder.absolute() / 'report.md'} ({summary['time_s']:.0f} s)",
+        as_json=as_json,
     )

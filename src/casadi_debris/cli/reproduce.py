@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -50,12 +51,28 @@ def reproduce(
         overwrite=overwrite,
         progress=stage_progress(as_json),
     )
+    echo_verdicts(
+        summary,
+        summary["table"],
+        TABLE_KEYS,
+        f"{summary['reproduced']} of {summary['rows']} rows reproduced; "
+        f"report: {out.absolute() / 'report.md'} ({summary['time_s']:.0f} s)",
+        as_json=as_json,
+    )
+
+
+def echo_verdicts(
+    summary: dict[str, Any],
+    rows: list[dict[str, Any]],
+    keys: tuple[str, ...],
+    closing: str,
+    *,
+    as_json: bool,
+) -> None:
+    """A checked run's summary as JSON, or its table of verdicts (columns ``keys`` of
+    ``rows``) and a closing line."""
     if as_json:
         echo_json(summary)
         return
-    rows = [[row[key] for key in TABLE_KEYS] for row in summary["table"]]
-    click.echo(format_table(list(TABLE_KEYS), rows))
-    click.echo(
-        f"{summary['reproduced']} of {summary['rows']} rows reproduced; "
-        f"report: {out.absolute() / 'report.md'} ({summary['time_s']:.0f} s)"
-    )
+    click.echo(format_table(list(keys), [[row[key] for key in keys] for row in rows]))
+    click.echo(closing)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -118,11 +119,11 @@ def synthesize(
     say(f"Synthesising for {problem.name} ...")
     design = design_controller(problem, settings, progress)
     written = write_json_atomic(out_path, design.record.to_dict())
-    summary = design.summary() | {"controller_path": str(written)}
+    summary = dataclasses.replace(design.summary(), controller_path=str(written))
     if as_json:
         echo_json(summary)
         return
-    rows = [[key, value] for key, value in summary.items()]
+    rows = [[key, value] for key, value in summary.to_json().items()]
     click.echo(format_table(["figure", "value"], rows))
 
 

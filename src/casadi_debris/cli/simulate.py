@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import sys
 from collections.abc import Callable
@@ -36,28 +37,31 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.workflows.campaign import RunRecord
+
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
 
 
-def summary_text(summary: dict[str, Any]) -> str:
-    settle = summary["settle_time_s"]
-    rows = [
-        ["case", summary.get("case_id", "")],
-        ["max error [deg]", f"{summary['max_error_deg']:.4g}"],
-        ["max error [arcsec]", f"{summary['max_error_arcsec']:.4g}"],
+def summary_text(summary: RunRecord) -> str:
+    run = summary.run
+    settle = run.settle_time_s
+    rows: list[list[Any]] = [
+        ["case", summary.case_id],
+        ["max error [deg]", f"{run.max_error_deg:.4g}"],
+        ["max error [arcsec]", f"{run.max_error_arcsec:.4g}"],
         ["settled (60 arcsec) at [s]", "not settled" if settle is None else f"{settle:.1f}"],
-        ["fuel [kg]", f"{summary['fuel_kg']:.4g}"],
+        ["fuel [kg]", f"{run.fuel_kg:.4g}"],
         *(
-            [["fuel during the slew [kg]", f"{summary['fuel_slew_kg']:.4g}"]]
-            if "fuel_slew_kg" in summary
+            [["fuel during the slew [kg]", f"{run.fuel_slew_kg:.4g}"]]
+            if run.fuel_slew_kg is not None
             else []
         ),
-        ["worst CubeSat fuel [kg]", f"{summary['fuel_worst_cubesat_kg']:.4g}"],
-        ["dv used [m/s]", f"{summary['dv_used_m_s']:.3g}"],
-        ["torque saturated [s]", f"{summary['torque_saturated_s']:.1f}"],
-        ["max torque x, y, z [mNm]", ", ".join(f"{v:.3g}" for v in summary["max_torque_mNm"])],
-        ["stage switches", summary["stage_switches"]],
-        ["wall time [s]", f"{summary['wall_time_s']:.2f}"],
+        ["worst CubeSat fuel [kg]", f"{run.fuel_worst_cubesat_kg:.4g}"],
+        ["dv used [m/s]", f"{run.dv_used_m_s:.3g}"],
+        ["torque saturated [s]", f"{run.torque_saturated_s:.1f}"],
+        ["max torque x, y, z [mNm]", ", ".join(f"{v:.3g}" for v in run.max_torque_mNm)],
+        ["stage switches", run.stage_switches],
+        ["wall time [s]", f"{run.wall_time_s:.2f}"],
     ]
     return format_table(["figure", "value"], rows)
 
@@ -175,7 +179,7 @@ def simulate(
         problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
     from casadi_debris.allocation import Allocator
     from casadi_debris.model import build_model
-    from casadi_debris.report.simulation import torque_limits_mNm, write_run
+    from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
     from casadi_debris.simulation import simulate as run_simulation
     from casadi_debris.workflows.campaign import one_case, run_summary
@@ -192,15 +196,14 @@ def simulate(
     summary = run_summary(problem, case, result, resolved, record)
     if out is not None:
         with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
-            summary["out_dir"] = str(out.absolute())
+            summary = dataclasses.replace(summary, out_dir=str(out.absolute()))
             write_run(
                 staging,
                 result,
                 summary,
                 problem,
-                torque_limits_mNm(allocator),
                 with_plots=not no_plots,
-                title=f"{problem.name} ({case.case_id})",
+                title=f"{figure_title(problem)} ({case.case_id})",
             )
     if as_json:
         echo_json(summary)

@@ -21,6 +21,7 @@ from casadi_debris.cli.common import (
     main,
     overwrite_option,
     problem_argument,
+    say,
 )
 from casadi_debris.config import Problem, limits, load_problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
@@ -38,13 +39,11 @@ if TYPE_CHECKING:
 
 def summary_for_output(profile: SlewProfile, problem_name: str) -> dict[str, Any]:
     """The summary with display units (mNm, deg) in the keys that need them."""
-    summary = profile.summary()
-    summary["max_torque_mNm"] = summary.pop("max_torque_Nm") * MNM_PER_NM
+    summary = profile.summary().to_json()
     summary["angle_deg"] = math.degrees(summary.pop("angle_rad"))
-    if "engine_torque_shortfall_Nm" in summary:
-        summary["engine_torque_shortfall_mNm"] = (
-            summary.pop("engine_torque_shortfall_Nm") * MNM_PER_NM
-        )
+    for name in ("max_torque", "engine_torque_shortfall"):
+        if f"{name}_Nm" in summary:
+            summary[f"{name}_mNm"] = np.multiply(summary.pop(f"{name}_Nm"), MNM_PER_NM).tolist()
     return {"problem": problem_name, **summary}
 
 
@@ -220,6 +219,45 @@ class SlewRequest:
         )
 
 
+def _problem_slew(
+    problem: Problem,
+    axis: str | tuple[float, float, float] | None,
+    angle_deg: float | None,
+    method: str | None,
+    timing: tuple[float | None, float | None],
+    thrusters: bool,
+) -> dict[str, Any]:
+    """The options left open (None) taken from the problem's slew, as SlewRequest fields.
+
+    The problem's ``[simulation.slew]`` (the slew ``simulate`` flies) gives the axis,
+    angle and method, and, when the slew is its own (no other axis, angle or method)
+    and neither is given, the duration and torque fraction; its thruster level for
+    an optimal method. Without one, 180 deg about z by the paper's bang-bang.
+    """
+    own = problem.simulation.slew
+    if own is None:
+        return {
+            "axis": axis or "z",
+            "angle_deg": 180.0 if angle_deg is None else angle_deg,
+            "method": method or "bang-bang",
+        }
+    if not (axis and angle_deg is not None and method):
+        say(f"Slew from {problem.name}'s [simulation.slew] where no option says otherwise.")
+    chosen = method or own.method
+    same = (axis or own.axis, own.angle_deg if angle_deg is None else angle_deg, chosen)
+    if same == (own.axis, own.angle_deg, own.method) and timing == (None, None):
+        timing = (own.duration_s, own.torque_fraction)
+    own_thrusters = own.thrusters and chosen != "bang-bang" and not thrusters
+    resolved: dict[str, Any] = {
+        "axis": axis or own.axis,
+        "angle_deg": own.angle_deg if angle_deg is None else angle_deg,
+        "method": chosen,
+        "duration_s": timing[0],
+        "torque_fraction": timing[1],
+    }
+    return resolved | ({"thrusters": True, "zero_net_force": True} if own_thrusters else {})
+
+
 def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeError:
     """The error with the option it is about in front (the library names its parameters)."""
     text = str(error)
@@ -238,32 +276,30 @@ def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeEr
 @click.option(
     "--axis",
     type=AxisParam(),
-    default="z",
-    show_default=True,
-    help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1.",
+    help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1 "
+    "[the problem's [simulation.slew], else z].",
 )
 @click.option(
     "--angle-deg",
     type=in_range(limits.SLEW_ANGLE_DEG),
-    default=180.0,
-    show_default=True,
-    help="Slew angle [deg].",
+    help="Slew angle [deg] [the problem's [simulation.slew], else 180].",
 )
 @click.option(
     "--method",
     type=click.Choice(["bang-bang", "time-optimal", "fuel-optimal"]),
-    default="bang-bang",
-    show_default=True,
+    help="[the problem's [simulation.slew], else bang-bang]",
 )
 @click.option(
     "--duration-s",
     type=in_range(limits.SLEW_DURATION_S),
-    help="Slew time (bang-bang, fuel-optimal); deadline for time-optimal.",
+    help="Slew time (bang-bang, fuel-optimal); deadline for time-optimal "
+    "[the problem's [simulation.slew], if it gives one].",
 )
 @click.option(
     "--torque-fraction",
     type=BoundedFloat(0.0, 1.0, low_open=True),
-    help="Share of the torque authority to use (default: 1, or what --duration-s needs).",
+    help="Share of the torque authority to use (default: the problem's [simulation.slew], "
+    "else 1, or what --duration-s needs).",
 )
 @click.option(
     "--rate-limit-deg-s",
@@ -315,9 +351,9 @@ def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeEr
 @friendly_errors
 def slew(
     problem_file: Path | None,
-    axis: str,
-    angle_deg: float,
-    method: str,
+    axis: str | tuple[float, float, float] | None,
+    angle_deg: float | None,
+    method: str | None,
     duration_s: float | None,
     torque_fraction: float | None,
     rate_limit_deg_s: float | None,
@@ -335,26 +371,32 @@ def slew(
 ) -> None:
     """Slew reference profile: the paper's bang-bang or a CasADi time/fuel-optimal slew.
 
+    A problem with a slew (``[simulation.slew]``, as simulate flies it) gives the
+    axis, angle, method, duration, torque fraction and thruster level of the options
+    not given; otherwise the defaults are 180 deg about z by the paper's bang-bang.
     Writes profile.csv, slew.png and summary.json to --out, prints the summary.
     """
     problem = load_problem(problem_file)
     if out is not None:
         check_output_folder(out, overwrite=overwrite)
+    given = {
+        "duration_s": duration_s,
+        "torque_fraction": torque_fraction,
+        "thrusters": thrusters,
+        "zero_net_force": zero_net_force,
+    }
+    chosen = _problem_slew(
+        problem, axis, angle_deg, method, (duration_s, torque_fraction), thrusters
+    )
     request = SlewRequest(
-        axis,
-        angle_deg,
-        method,
-        duration_s,
-        torque_fraction,
-        rate_limit_deg_s,
-        smoothing_s,
-        flexible,
-        flexible_method,
-        thrusters,
-        zero_net_force,
-        sample_s,
-        starts,
-        seed,
+        **(given | chosen),
+        rate_limit_deg_s=rate_limit_deg_s,
+        smoothing_s=smoothing_s,
+        flexible=flexible,
+        flexible_method=flexible_method,
+        sample_s=sample_s,
+        starts=starts,
+        seed=seed,
     )
     try:
         profile = request.solve(problem)

@@ -31,7 +31,13 @@ from __future__ import annotations
 
 from casadi_debris.config.checks import TRIANGLE_TOLERANCE, check_inertia
 from casadi_debris.config.layouts import signed_axis_vector
-from casadi_debris.config.loader import default_controller_path, default_problem_path, load_problem
+from casadi_debris.config.loader import (
+    default_controller_path,
+    default_problem_path,
+    load_problem,
+    problem_path,
+    shipped_problems,
+)
 from casadi_debris.config.reader import problem_from_dict
 from casadi_debris.config.runs import with_duration
 from casadi_debris.config.schema import (
@@ -112,6 +118,8 @@ __all__ = [
     "default_problem_path",
     "load_problem",
     "problem_from_dict",
+    "problem_path",
+    "shipped_problems",
     "signed_axis_vector",
     "with_duration",
 ]

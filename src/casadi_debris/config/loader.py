@@ -122,6 +122,8 @@ def _parent_path(path: Path, parent: Any, chain: tuple[Path, ...]) -> Path:
         )
     try:
         resolved = (path.parent / parent).resolve()
+        if not resolved.exists():
+            resolved = problem_path(parent).resolve()
     except (OSError, RuntimeError, ValueError):  # a symlink loop, a NUL byte
         raise ProblemFileError("extends", f"{show(parent)} is not a valid path", source) from None
     if resolved in (*chain, path):
@@ -141,7 +143,11 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
         data = _parse(raw)
     except UnreadableFileError as exc:
         if not chain:
-            message = "no such problem file" if str(exc) == "does not exist" else str(exc)
+            message = (
+                "no such problem file (nor a shipped problem: casadi-debris problems lists them)"
+                if str(exc) == "does not exist"
+                else str(exc)
+            )
             raise ProblemFileError("", message, str(path)) from None
         raise ProblemFileError("extends", f"{path} {exc}", str(chain[-1])) from None
     parent = data.get("extends")
@@ -152,6 +158,26 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
         return merge_problem(base, data), base_raw + raw
     except RecursionError:
         raise ProblemFileError("", "tables nested too deeply", str(path)) from None
+
+
+def shipped_problems() -> dict[str, Path]:
+    """The problem files shipped with the toolkit, by name (file name without ``.toml``).
+
+    The paper's (``paper``, ``paper_slew``, ``paper_pointing``) and the gallery's.
+    A command or an ``extends`` that names one of these, and no file of that name
+    exists where it looks, reads the shipped file.
+    """
+    root = Path(str(resources.files("casadi_debris") / "problems"))
+    return {path.stem: path for path in sorted(root.rglob("*.toml"))}
+
+
+def problem_path(name_or_path: str | Path) -> Path:
+    """The file ``name_or_path`` means: that file if it exists, else the shipped problem
+    of that name (``"paper_slew"`` or ``"paper_slew.toml"``), else the path as given."""
+    path = Path(name_or_path)
+    if path.exists() or len(path.parts) != 1 or path.suffix not in ("", ".toml"):
+        return path
+    return shipped_problems().get(path.name.removesuffix(".toml"), path)
 
 
 def default_problem_path() -> Path:
@@ -170,7 +196,8 @@ def load_problem(path: str | Path | None = None) -> Problem:
     Parameters
     ----------
     path : str or Path, optional
-        A TOML problem file; default the shipped ``problems/paper.toml``.
+        A TOML problem file, or the name of a shipped one (see
+        :func:`shipped_problems`); default the shipped ``problems/paper.toml``.
 
     Returns
     -------
@@ -186,7 +213,7 @@ def load_problem(path: str | Path | None = None) -> Problem:
         (named).
     """
     try:
-        resolved = Path(path).resolve() if path is not None else default_problem_path()
+        resolved = problem_path(path).resolve() if path is not None else default_problem_path()
     except (OSError, RuntimeError, ValueError):  # a symlink loop, a NUL byte
         raise ProblemFileError("", "is not a valid path", str(path)) from None
     data, raw = _read_toml(resolved)

@@ -48,12 +48,6 @@ def _read_disturbance(t: Table) -> Disturbance:
     return disturbance
 
 
-def _read_sensor(t: Table) -> Sensor:
-    sensor = Sensor(t.number("star_tracker_bandwidth_rad_s", limits.BANDWIDTH_RAD_S))
-    t.done()
-    return sensor
-
-
 def _read_uncertainty(t: Table) -> Uncertainty:
     uncertainty = Uncertainty(
         inertia_fraction=t.number("inertia_fraction", limits.FRACTION_BELOW_ONE),
@@ -88,15 +82,6 @@ def _read_weights(t: Table) -> Weights:
     return weights
 
 
-def _read_requirements(t: Table) -> Requirements:
-    requirements = Requirements(
-        pointing_arcsec=t.number("pointing_arcsec", limits.POINTING_ARCSEC),
-        slew_error_deg=t.number("slew_error_deg", limits.SLEW_ERROR_DEG),
-    )
-    t.done()
-    return requirements
-
-
 def _read_detumble(t: Table) -> Detumble:
     detumble = Detumble(t.array("initial_rate_rad_s", (3,), limits.RATE_RAD_S))
     t.done()
@@ -110,6 +95,11 @@ def _read_numbers(t: Table, cls: type, ranges: Mapping[str, limits.Range]) -> An
     return value
 
 
+SENSOR_RANGES = {"star_tracker_bandwidth_rad_s": limits.BANDWIDTH_RAD_S}
+REQUIREMENTS_RANGES = {
+    "pointing_arcsec": limits.POINTING_ARCSEC,
+    "slew_error_deg": limits.SLEW_ERROR_DEG,
+}
 ORBIT_RANGES = {"altitude_km": limits.ALTITUDE_KM, "inclination_deg": limits.INCLINATION_DEG}
 TRANSFER_RANGES = {
     "from_altitude_km": limits.ALTITUDE_KM,
@@ -178,7 +168,7 @@ def problem_from_dict(
     arrays = read_arrays(top, hub.size_m)
     engine = read_engine_defaults(top.table("engine"))
     cubesats, layout = read_cubesats(top, hub.size_m, engine)
-    sensor = _read_sensor(top.table("sensor"))
+    sensor: Sensor = _read_numbers(top.table("sensor"), Sensor, SENSOR_RANGES)
     constants = _read_numbers(top.table("constants"), Constants, CONSTANTS_RANGES)
     check_propellant(top, cubesats, layout, constants.standard_gravity_m_s2)
     simulation_table = _optional_table(top, "simulation", DEFAULT_SIMULATION)
@@ -200,7 +190,11 @@ def problem_from_dict(
         cubesats=cubesats,
         cubesat_layout=layout,
         engine=engine,
-        requirements=_read_requirements(_optional_table(top, "requirements", DEFAULT_REQUIREMENTS)),
+        requirements=_read_numbers(
+            _optional_table(top, "requirements", DEFAULT_REQUIREMENTS),
+            Requirements,
+            REQUIREMENTS_RANGES,
+        ),
         disturbance=_read_disturbance(top.table("disturbance")),
         sensor=sensor,
         uncertainty=_read_uncertainty(top.table("uncertainty")),

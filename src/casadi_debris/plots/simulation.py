@@ -12,7 +12,7 @@ from matplotlib.axes import Axes
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
-from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD
+from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
 ERROR_SCALE = {"deg": DEG_PER_RAD, "arcsec": ARCSEC_PER_RAD}
 ANGLE_LABELS = ("Φ", "Θ", "Ψ")
@@ -22,10 +22,9 @@ def plot_closed_loop(
     result: ClosedLoopResult,
     path: Path,
     *,
-    torque_limits_mNm: np.ndarray,
     envelope: Envelope | None = None,
     error_unit: str = "deg",
-    requirement_arcsec: float | None = None,
+    requirement: float | None = None,
     title: str = "",
 ) -> Path:
     """Reference, attitude error and torque against time.
@@ -36,13 +35,14 @@ def plot_closed_loop(
         The nominal run (solid lines).
     path : Path
         PNG to write.
-    torque_limits_mNm : ndarray, shape (3,)
-        Torque authority per axis (dotted at +-).
     envelope : Envelope, optional
         Min/max over the Monte-Carlo cases (shaded).
     error_unit : {"deg", "arcsec"}
-    requirement_arcsec : float, optional
-        Pointing requirement drawn at +- (dashed).
+    requirement : float, optional
+        The error requirement in ``error_unit``, drawn at +- (dashed).
+
+    The torque panel draws the run's own torque authority about each signed axis
+    (dotted, + and - apart), stepping where failures or spent stages change it.
     """
     scale = ERROR_SCALE[error_unit]
     figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
@@ -60,21 +60,49 @@ def plot_closed_loop(
         bottom.step(
             result.time_s[:-1], result.torque_Nm[:, i] * 1e3, where="post", color=colour, lw=1.0
         )
+        _draw_authority(bottom, result, i, colour)
+    if requirement is not None:
         for sign in (1, -1):
-            bottom.axhline(sign * torque_limits_mNm[i], color=colour, ls=":", lw=1.0)
-    if requirement_arcsec is not None and error_unit == "arcsec":
-        for sign in (1, -1):
-            middle.axhline(sign * requirement_arcsec, color="k", ls="--", lw=0.8)
+            label = f"requirement ±{requirement:g} {error_unit}" if sign > 0 else None
+            middle.axhline(sign * requirement, color="k", ls="--", lw=0.8, label=label)
+        middle.legend(loc="upper right", fontsize=8)
+    bottom.plot([], [], color="0.3", ls=":", lw=1.0, label="authority about +axis / -axis")
+    bottom.legend(loc="upper right", fontsize=8)
     middle.set_ylabel(f"error [{error_unit}]")
     bottom.set_ylabel("torque [mNm]")
     bottom.set_xlabel("time [s]")
     for axes in (top, middle, bottom):
         axes.grid(True, ls=":", color="0.6")
     if envelope is not None and envelope.count:
-        title = f"{title} (shaded: envelope of {envelope.count} cases)".strip()
+        title = f"{title}\n{_envelope_note(result, envelope, scale, error_unit)}".strip()
     if title:
         top.set_title(title)
     return save_figure(figure, path)
+
+
+def _envelope_note(
+    result: ClosedLoopResult, envelope: Envelope, scale: float, error_unit: str
+) -> str:
+    """What the shading shows, and its size when it is too thin to see."""
+    note = f"shaded: envelope of {envelope.count} cases"
+    if envelope.bands is None:
+        return note
+    error = envelope.bands.error_rad
+    spread = float(np.nanmax(np.where(np.isfinite(error.max), error.max - error.min, 0.0))) * scale
+    drawn = float(np.ptp(result.error_rad)) * scale
+    if spread < 0.01 * drawn:
+        note += f" (spread at most {spread:.2g} {error_unit}, below the line width)"
+    return note
+
+
+def _draw_authority(axes: Axes, result: ClosedLoopResult, axis: int, colour: str) -> None:
+    """Axis ``axis``'s authority, + above and - below, held from each change to the next."""
+    if not len(result.authority_time_s):
+        return
+    times = np.append(result.authority_time_s, result.time_s[-1])
+    for column, sign in ((2 * axis, 1.0), (2 * axis + 1, -1.0)):
+        values = sign * result.authority_Nm[:, column] * MNM_PER_NM
+        axes.step(times, np.append(values, values[-1]), where="post", color=colour, ls=":", lw=1.0)
 
 
 def _shade_envelope(error_axes: Axes, torque_axes: Axes, envelope: Envelope, scale: float) -> None:
@@ -97,17 +125,48 @@ def _shade_envelope(error_axes: Axes, torque_axes: Axes, envelope: Envelope, sca
             )
 
 
-def plot_thrust(result: ClosedLoopResult, path: Path) -> Path:
-    """Thrust of every CubeSat (mN) and propellant burnt per CubeSat."""
-    figure, (left, right) = plt.subplots(1, 2, figsize=(11, 4), width_ratios=(3, 1))
-    left.plot(result.time_s[:-1], result.thrust_N * 1e3, lw=0.6)
-    left.set_xlabel("time [s]")
-    left.set_ylabel("thrust per CubeSat [mN]")
-    left.grid(True, ls=":", color="0.6")
+def plot_thrust(
+    result: ClosedLoopResult,
+    path: Path,
+    groups: dict[str, list[tuple[int, str]]],
+    title: str = "",
+) -> Path:
+    """Thrust of every engine (mN), a panel per group of engines, and propellant per CubeSat.
+
+    Parameters
+    ----------
+    result : ClosedLoopResult
+    path : Path
+    groups : dict
+        Panel title (e.g. ``"+x face"``) -> (engine index, 0-based; its label, e.g.
+        ``"CubeSat 3"``) for every engine drawn there.
+    title : str
+    """
+    n_panels = len(groups) + 1
+    rows = (n_panels + 1) // 2
+    figure, axes = plt.subplots(rows, 2, figsize=(11, 2.6 * rows), squeeze=False)
+    flat = axes.ravel()
+    for ax, (name, engines) in zip(flat, groups.items(), strict=False):
+        for engine, label in engines:
+            lost = result.propulsion.failed_cubesats[result.propulsion.engine_cubesat[engine]]
+            label = f"{label} (failed)" if lost else label
+            ax.plot(result.time_s[:-1], result.thrust_N[:, engine] * MN_PER_N, lw=0.8, label=label)
+        ax.set_title(name, fontsize=9)
+        ax.set_ylabel("thrust [mN]")
+        ax.grid(True, ls=":", color="0.6")
+        ax.legend(fontsize=7, ncols=2, loc="upper right")
     fuel = result.fuel_per_cubesat_kg * 1e6
-    right.bar(np.arange(1, len(fuel) + 1), fuel, color="0.4")
-    right.set_xlabel("CubeSat")
-    right.set_ylabel("propellant used [mg]")
+    bars = flat[len(groups)]
+    bars.bar(np.arange(1, len(fuel) + 1), fuel, color="0.4")
+    bars.set_title("propellant burnt per CubeSat", fontsize=9)
+    bars.set_xlabel("CubeSat")
+    bars.set_ylabel("propellant [mg]")
+    for ax in flat[n_panels:]:
+        ax.set_visible(False)
+    for ax in flat[: len(groups)]:
+        ax.set_xlabel("time [s]")
+    if title:
+        figure.suptitle(title)
     return save_figure(figure, path)
 
 
@@ -116,16 +175,42 @@ def _euler_deg(quaternion: np.ndarray) -> np.ndarray:
     return np.degrees(np.unwrap(euler_angles_321(quaternion), axis=0))
 
 
-def plot_fuel_comparison(
-    labels: list[str], total_kg: list[float], worst_kg: list[float], path: Path
+def plot_comparison(
+    labels: list[str],
+    panels: dict[str, list[float | None]],
+    bounds: dict[str, list[float | None]],
+    path: Path,
 ) -> Path:
-    """Bar chart of total and worst-CubeSat propellant per variant."""
-    figure, axes = plt.subplots(figsize=(max(5, 1.3 * len(labels)), 4))
+    """One bar chart per figure, the variants side by side.
+
+    Parameters
+    ----------
+    labels : list of str
+        The variants.
+    panels : dict
+        Panel title (with its unit) -> one value per variant (None: not there,
+        e.g. no slew, or the run failed; drawn as a gap marked "—").
+    bounds : dict
+        Panel title -> a requirement per variant, drawn as a red tick (None: none).
+    path : Path
+    """
+    figure, axes = plt.subplots(
+        len(panels), 1, figsize=(max(5.0, 1.1 * len(labels)), 1.9 * len(panels)), sharex=True
+    )
     x = np.arange(len(labels))
-    axes.bar(x - 0.2, np.array(total_kg) * 1e6, 0.4, label="total")
-    axes.bar(x + 0.2, np.array(worst_kg) * 1e6, 0.4, label="worst CubeSat")
-    axes.set_xticks(x, labels, rotation=20, ha="right")
-    axes.set_ylabel("propellant [mg]")
-    axes.legend()
-    axes.grid(True, axis="y", ls=":", color="0.6")
+    for ax, (title, values) in zip(np.atleast_1d(axes), panels.items(), strict=True):
+        heights = [np.nan if v is None else v for v in values]
+        ax.bar(x, heights, 0.6, color="C0")
+        for i, value in enumerate(values):
+            if value is None:
+                ax.annotate("—", (x[i], 0), ha="center", va="bottom", color="0.4")
+        for i, bound in enumerate(bounds.get(title, [])):
+            if bound is not None:
+                ax.hlines(bound, x[i] - 0.4, x[i] + 0.4, colors="C3", label="requirement")
+        ax.set_ylabel(title, fontsize=8)
+        ax.grid(True, axis="y", ls=":", color="0.6")
+        handles, names = ax.get_legend_handles_labels()
+        if handles:
+            ax.legend(handles[:1], names[:1], fontsize=7, loc="upper left")
+    np.atleast_1d(axes)[-1].set_xticks(x, labels, rotation=20, ha="right")
     return save_figure(figure, path)

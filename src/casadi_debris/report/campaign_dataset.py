@@ -115,14 +115,16 @@ def campaign_dataset(
         for name, (units, text) in BAND_QUANTITIES.items()
     }
     for name, (units, text) in CASE_FIGURES.items():
-        values = np.array([_number(o.summary.get(name)) for o in outcomes], dtype=np.float64)
+        values = np.array(
+            [_number(getattr(o.summary.run, name)) for o in outcomes], dtype=np.float64
+        )
         data_vars[name] = ("case", values, {"units": units, "long_name": text})
     data_vars["max_torque_mNm"] = (
         ("case", "axis"),
-        np.array([o.summary["max_torque_mNm"] for o in outcomes], dtype=np.float64),
+        np.array([o.summary.run.max_torque_mNm for o in outcomes], dtype=np.float64),
         {"units": "mN m", "long_name": "largest torque magnitude over the run, per axis"},
     )
-    fuel = np.array([o.summary["fuel_per_cubesat_kg"] for o in outcomes], dtype=np.float64)
+    fuel = np.array([o.summary.run.fuel_per_cubesat_kg for o in outcomes], dtype=np.float64)
     data_vars["fuel_per_cubesat_kg"] = (
         ("case", "cubesat"),
         fuel,

@@ -45,7 +45,7 @@ from casadi_debris.report.folders import (
     temporary_path,
     write_marker,
 )
-from casadi_debris.simulation import Case, CaseOutcome
+from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
 from casadi_debris.simulation.monte_carlo import Bands, CaseFailure
 
 PARTIAL_SUFFIX = ".partial"
@@ -257,10 +257,10 @@ class CampaignFolder:
             if not (summary_path.exists() and bands_path.exists()):
                 continue
             try:
-                summary = json.loads(summary_path.read_text())
+                summary = CaseSummary.from_json(json.loads(summary_path.read_text()))
                 with np.load(bands_path) as data:
                     bands = Bands.from_arrays(data)
-            except (OSError, ValueError, KeyError):
+            except (OSError, ValueError, KeyError, TypeError):
                 continue  # a damaged case (or one of an older layout) is simply run again
             found[case.case_id] = CaseOutcome(case, summary, bands)
         return found

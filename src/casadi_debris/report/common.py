@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 import os
 from collections.abc import Sequence
 from pathlib import Path
@@ -15,6 +14,7 @@ from typing import Any
 
 import numpy as np
 
+from casadi_debris.records import Record, to_jsonable
 from casadi_debris.report.folders import temporary_path
 
 # ----------------------------------------------------------------------------- text
@@ -46,6 +46,8 @@ def format_figure(value: Any, digits: int = 4) -> str:
     "—" for none, yes/no for a flag."""
     if value is None:
         return "—"
+    if isinstance(value, str):
+        return value
     if isinstance(value, list | tuple | np.ndarray):
         return " / ".join(format_figure(v, digits) for v in value)
     if isinstance(value, bool):
@@ -56,18 +58,8 @@ def format_figure(value: Any, digits: int = 4) -> str:
 
 
 def json_ready(value: Any) -> Any:
-    """Convert numpy scalars/arrays (recursively) for ``json.dumps``; non-finite -> None."""
-    if isinstance(value, dict):
-        return {k: json_ready(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [json_ready(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return json_ready(value.tolist())
-    if isinstance(value, (np.floating, float)):
-        return float(value) if math.isfinite(value) else None
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
+    """``value`` for ``json.dumps``: records by field, numpy as lists, non-finite as None."""
+    return to_jsonable(value)
 
 
 def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
@@ -79,7 +71,7 @@ def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
     return path
 
 
-def write_json_atomic(path: str | Path, payload: dict[str, Any]) -> Path:
+def write_json_atomic(path: str | Path, payload: dict[str, Any] | Record) -> Path:
     """Write JSON so that ``path`` holds either the old file or the whole new one."""
     target = Path(path).resolve()
     target.parent.mkdir(parents=True, exist_ok=True)

@@ -14,6 +14,7 @@ case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
 from __future__ import annotations
 
 import csv
+import re
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,9 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
+from casadi_debris.geometry import build_geometry
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.records import Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
     DATASET_NAME,
@@ -29,12 +32,10 @@ from casadi_debris.report.campaign_dataset import (
     write_campaign_dataset,
 )
 from casadi_debris.report.campaign_folder import CampaignRecord
-from casadi_debris.report.common import json_ready, write_csv, write_json_atomic
+from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
-
-POINTING_REQUIREMENT_ARCSEC = 60.0
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
@@ -73,18 +74,18 @@ def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
 
 
 def run_figures_options(problem: Problem) -> dict[str, Any]:
-    """Error unit and requirement line: degrees for a slew, arcsec against 60 for a hold."""
+    """Error unit and requirement line: the slew error bound in degrees for a slew, the
+    pointing bound in arcsec for a hold (the problem's ``[requirements]``)."""
     if problem.simulation.reference == "hold":
-        return {"error_unit": "arcsec", "requirement_arcsec": POINTING_REQUIREMENT_ARCSEC}
-    return {"error_unit": "deg"}
+        return {"error_unit": "arcsec", "requirement": problem.requirements.pointing_arcsec}
+    return {"error_unit": "deg", "requirement": problem.requirements.slew_error_deg}
 
 
 def write_run(
     folder: Path,
     result: ClosedLoopResult,
-    summary: dict[str, Any],
+    summary: Record,
     problem: Problem,
-    limits_mNm: np.ndarray,
     *,
     with_series: bool = True,
     with_plots: bool = True,
@@ -98,11 +99,30 @@ def write_run(
         plot_closed_loop(
             result,
             folder / "closed_loop.png",
-            torque_limits_mNm=limits_mNm,
-            title=title or problem.name,
+            title=title or figure_title(problem),
             **run_figures_options(problem),
         )
-        plot_thrust(result, folder / "thrust.png")
+        plot_thrust(result, folder / "thrust.png", engine_groups(problem), figure_title(problem))
+
+
+def figure_title(problem: Problem, width: int = 90) -> str:
+    """A figure's title: the problem's description up to its first full stop, on one line."""
+    line = " ".join(problem.description.split()) or problem.name
+    first = re.split(r"(?<!Fig)(?<!e\.g)\. ", line, maxsplit=1)[0]
+    return first if len(first) <= width else first[: width - 1] + "…"
+
+
+def engine_groups(problem: Problem) -> dict[str, list[tuple[int, str]]]:
+    """The engines by the face their CubeSat docks on, each labelled with its CubeSat's id
+    (and its own, for a CubeSat with several): the thrust figure's panels."""
+    groups: dict[str, list[tuple[int, str]]] = {}
+    for cubesat in build_geometry(problem).cubesats:
+        panel = f"CubeSats on the {cubesat.face} face" if cubesat.face else "other CubeSats"
+        several = len(cubesat.engines) > 1
+        for k, engine in enumerate(cubesat.engines):
+            label = f"CubeSat {cubesat.index + 1}" + (f" engine {k + 1}" if several else "")
+            groups.setdefault(panel, []).append((engine, label))
+    return groups
 
 
 # ----------------------------------------------------------------------------- campaigns
@@ -116,20 +136,29 @@ ENVELOPE_COLUMNS = {
 }
 
 
+def normalized_column(parameter: str) -> str:
+    """The cases.csv column of a parameter's place in the uncertainty box, -1 .. 1: a
+    pure number, so without the parameter's unit (``mass_kg`` -> ``normalized_mass``)."""
+    for unit in ("_kg", "_rad"):
+        parameter = parameter.removesuffix(unit)
+    return f"normalized_{parameter}"
+
+
 def campaign_summary(
     problem: Problem, setup: CampaignSetup, outcomes: list[CaseOutcome], extra: dict[str, Any]
 ) -> dict[str, Any]:
     """Worst case of every figure over the campaign, and which case it was."""
-    summaries = [o.summary for o in outcomes]
-    fuels = [s["fuel_kg"] for s in summaries]
+    runs = [o.summary.run for o in outcomes]
+    case_ids = [o.case.case_id for o in outcomes]
+    fuels = [run.fuel_kg for run in runs]
 
     def worst(key: str) -> dict[str, Any]:
-        values = [s[key] for s in summaries]
+        values = [getattr(run, key) for run in runs]
         if any(v is None for v in values):
-            missing = [s["case_id"] for s, v in zip(summaries, values, strict=True) if v is None]
+            missing = [c for c, v in zip(case_ids, values, strict=True) if v is None]
             return {"value": None, "case_id": missing[0], "cases_without": len(missing)}
         index = int(np.argmax(values))
-        return {"value": values[index], "case_id": summaries[index]["case_id"]}
+        return {"value": values[index], "case_id": case_ids[index]}
 
     return {
         "problem": problem.name,
@@ -146,7 +175,7 @@ def campaign_summary(
                 "torque_saturated_s",
             )
         },
-        "max_torque_mNm": np.max([s["max_torque_mNm"] for s in summaries], axis=0).tolist(),
+        "max_torque_mNm": np.max([run.max_torque_mNm for run in runs], axis=0).tolist(),
         "fuel_kg_range": [min(fuels), max(fuels)],
         "envelope_bin_s": setup.bin_s,
         **extra,
@@ -173,8 +202,7 @@ def write_campaign(
     setup: CampaignSetup,
     outcomes: list[CaseOutcome],
     nominal: ClosedLoopResult,
-    nominal_summary: dict[str, Any],
-    limits_mNm: np.ndarray,
+    nominal_summary: Record,
     summary: dict[str, Any],
     record: CampaignRecord,
 ) -> Envelope:
@@ -191,9 +219,10 @@ def write_campaign(
     write_json_atomic(folder / "summary.json", summary)
     with (folder / "cases.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow([*CASE_COLUMNS, *(f"normalized_{n}" for n in nominal.parameters)])
+        writer.writerow([*CASE_COLUMNS, *(normalized_column(n) for n in nominal.parameters)])
         for outcome in outcomes:
-            row = [json_ready(outcome.summary.get(c)) for c in CASE_COLUMNS]
+            flat = outcome.summary.to_json()
+            row = [flat.get(c) for c in CASE_COLUMNS]
             writer.writerow([*row, *outcome.case.normalized.tolist()])
     write_csv(folder / "envelope.csv", envelope_columns(envelope))
     write_campaign_dataset(
@@ -202,13 +231,12 @@ def write_campaign(
     )
     nominal_folder = folder / "nominal"
     nominal_folder.mkdir(exist_ok=True)
-    write_run(nominal_folder, nominal, nominal_summary, problem, limits_mNm)
+    write_run(nominal_folder, nominal, nominal_summary, problem)
     plot_closed_loop(
         nominal,
         folder / "envelope.png",
-        torque_limits_mNm=limits_mNm,
         envelope=envelope,
-        title=problem.name,
+        title=figure_title(problem),
         **run_figures_options(problem),
     )
     return envelope

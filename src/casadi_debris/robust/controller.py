@@ -19,7 +19,9 @@ from casadi_debris.errors import ProblemFileError
 FORMAT_VERSION = 1
 # No designed controller comes near this; a larger entry is a corrupted file.
 MAX_ENTRY = 1e12
-REQUIRED_KEYS = ("A", "B", "C", "D", "mu_peak", "mu_peak_reduced", "order_full", "order_reduced")
+REQUIRED_KEYS = ("A", "B", "C", "D")
+# What a design adds to the matrices; a controller of the user's own may leave it out.
+DESIGN_KEYS = ("mu_peak", "mu_peak_reduced", "order_full", "order_reduced")
 
 
 def _toolkit_version() -> str:
@@ -38,10 +40,12 @@ class ControllerRecord:
         The controller to fly (attitude error [deg] -> torque [mNm]).
     full : control.StateSpace or None
         The full-order mu-synthesis controller.
-    mu_peak, mu_peak_reduced : float
-        Peak robust-performance mu of the full and reduced controllers.
+    mu_peak, mu_peak_reduced : float or None
+        Peak robust-performance mu of the full and reduced controllers (None: a
+        controller not designed by μ-synthesis, e.g. a user's own).
     problem_sha256 : str
-        The plant it was designed for (:attr:`casadi_debris.config.Problem.plant_sha256`).
+        The plant it was designed for (:attr:`casadi_debris.config.Problem.plant_sha256`;
+        "" when the file records none).
     seed : int
         Seed of the uncertainty samples the weight was fitted on.
     details : dict
@@ -52,8 +56,8 @@ class ControllerRecord:
 
     reduced: control.StateSpace
     full: control.StateSpace | None
-    mu_peak: float
-    mu_peak_reduced: float
+    mu_peak: float | None
+    mu_peak_reduced: float | None
     problem_sha256: str
     seed: int
     details: dict[str, Any] = field(default_factory=dict)
@@ -93,7 +97,9 @@ class ControllerRecord:
                 source,
             )
         for key in ("mu_peak", "mu_peak_reduced"):
-            value = data[key]
+            value = data.get(key)
+            if value is None:
+                continue
             if isinstance(value, bool) or not isinstance(value, int | float) or not value >= 0:
                 raise ProblemFileError(key, f"must be a non-negative number, got {value!r}", source)
         reduced = _system(data, "", source)
@@ -107,17 +113,25 @@ class ControllerRecord:
             "seed",
             "toolkit_version",
         }
-        details = {k: v for k, v in data.items() if k not in known and k not in REQUIRED_KEYS}
+        details = {
+            k: v
+            for k, v in data.items()
+            if k not in known and k not in REQUIRED_KEYS and k not in DESIGN_KEYS
+        }
         return cls(
             reduced=reduced,
             full=full,
-            mu_peak=float(data["mu_peak"]),
-            mu_peak_reduced=float(data["mu_peak_reduced"]),
+            mu_peak=_optional_float(data.get("mu_peak")),
+            mu_peak_reduced=_optional_float(data.get("mu_peak_reduced")),
             problem_sha256=str(data.get("problem_sha256", "")),
             seed=int(data.get("seed", 0)),
             details=details,
             toolkit_version=str(data.get("toolkit_version", "")),
         )
+
+
+def _optional_float(value: Any) -> float | None:
+    return None if value is None else float(value)
 
 
 def _matrices(system: control.StateSpace) -> dict[str, list]:

@@ -6,7 +6,7 @@ Example
 >>> from casadi_debris import load_problem
 >>> from casadi_debris.robust.design import design_controller
 >>> design = design_controller(load_problem())  # doctest: +SKIP
->>> design.summary()["mu_peak"]  # doctest: +SKIP
+>>> design.summary().mu_peak  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ import numpy as np
 from casadi_debris.config import Problem, limits
 from casadi_debris.errors import SynthesisError
 from casadi_debris.model import Model, build_model, linearize
+from casadi_debris.records import Record
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.interconnect import GeneralizedPlant, generalized_plant
 from casadi_debris.robust.mu import MuBound
@@ -170,21 +171,61 @@ class ControllerDesign:
     record: ControllerRecord
     timings_s: dict[str, float] = field(default_factory=dict)
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> SynthesisSummary:
         """The figures ``casadi-debris synthesize`` prints."""
-        return {
-            "mu_peak": self.musyn.mu_peak,
-            "mu_peak_reduced": self.mu_reduced.peak,
-            "order_full": self.musyn.controller.nstates,
-            "order_reduced": self.record.reduced.nstates,
-            "hinf_gamma_first": self.musyn.hinf_gamma_first,
-            "iterations": len(self.musyn.iterations) - 1,
-            "time_s": sum(self.timings_s.values()),
-            "w_fit_order": W_ORDER,
-            "w_fit_samples": len(self.samples.parameters),
-            "w_fit_margin": float(np.min(self.weight.margin)),
-            "seed": self.samples.seed,
-        }
+        return SynthesisSummary(
+            mu_peak=self.musyn.mu_peak,
+            mu_peak_reduced=self.mu_reduced.peak,
+            order_full=self.musyn.controller.nstates,
+            order_reduced=self.record.reduced.nstates,
+            hinf_gamma_first=self.musyn.hinf_gamma_first,
+            iterations=len(self.musyn.iterations) - 1,
+            time_s=sum(self.timings_s.values()),
+            w_fit_order=W_ORDER,
+            w_fit_samples=len(self.samples.parameters),
+            w_fit_margin=float(np.min(self.weight.margin)),
+            seed=self.samples.seed,
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class SynthesisSummary(Record):
+    """The figures of a μ-synthesis.
+
+    Attributes
+    ----------
+    mu_peak, mu_peak_reduced : float
+        Peak μ upper bound of the full-order and the reduced controller.
+    order_full, order_reduced : int
+        Controller states.
+    hinf_gamma_first : float
+        γ of the first H∞ step.
+    iterations : int
+        D-K steps after the first H∞ synthesis.
+    time_s : float
+        Wall time of the design.
+    w_fit_order, w_fit_samples : int
+        Order of the fitted uncertainty weight and the sampled plants it covers.
+    w_fit_margin : float
+        Smallest ratio of the weight to the sampled relative error (≥ 1: covered).
+    seed : int
+        Seed of the sampled plants.
+    controller_path : str or None
+        Where the controller was written, once it is.
+    """
+
+    mu_peak: float
+    mu_peak_reduced: float
+    order_full: int
+    order_reduced: int
+    hinf_gamma_first: float
+    iterations: int
+    time_s: float
+    w_fit_order: int
+    w_fit_samples: int
+    w_fit_margin: float
+    seed: int
+    controller_path: str | None = None
 
 
 def weight_fit_grid(problem: Problem) -> np.ndarray:

@@ -228,22 +228,14 @@ def dk_iteration(
 ) -> MusynResult:
     """mu-synthesis by D-K iteration on the design's generalised plant.
 
+    The keyword arguments are those of :func:`musyn`.
+
     Parameters
     ----------
     plant : GeneralizedPlant
         Full complex blocks ``plant.blocks`` (uncertainty, then performance).
     omega : ndarray
         Frequency grid [rad/s] for mu and the D fit.
-    d_orders : sequence of int
-        D-scale orders tried at every step (the best resulting mu is kept).
-    max_iterations : int
-        D-K steps after the first H-infinity design.
-    tolerance : float
-        Stop when the peak mu improves by less than this fraction.
-    progress : callable, optional
-        Called with each :class:`Iteration` as it completes.
-    patience : int
-        Steps in a row without improvement before stopping.
 
     Returns
     -------

@@ -10,6 +10,7 @@ allocator and engines together; Monte Carlo over the uncertainty set.
 
 from casadi_debris.simulation.cases import (
     Case,
+    CaseIdentity,
     corner_case,
     corner_cases,
     nominal_case,
@@ -24,6 +25,7 @@ from casadi_debris.simulation.closed_loop import (
 from casadi_debris.simulation.monte_carlo import (
     CampaignSetup,
     CaseOutcome,
+    CaseSummary,
     Envelope,
     run_campaign,
     run_case,
@@ -36,16 +38,21 @@ from casadi_debris.simulation.reference import (
     scenario_reference,
 )
 from casadi_debris.simulation.run import ClosedLoopResult, RunEvent, simulate
+from casadi_debris.simulation.summary import EventRecord, RunSummary
 
 __all__ = [
     "CampaignSetup",
     "Case",
+    "CaseIdentity",
     "CaseOutcome",
+    "CaseSummary",
     "ClosedLoopResult",
     "Envelope",
+    "EventRecord",
     "OpenLoopResult",
     "Reference",
     "RunEvent",
+    "RunSummary",
     "SimulationError",
     "build_loop_step",
     "corner_case",

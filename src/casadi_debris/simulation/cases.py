@@ -24,6 +24,7 @@ import numpy as np
 
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.model import Model
+from casadi_debris.records import Record
 from casadi_debris.robust.uncertainty import parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError
 
@@ -60,6 +61,23 @@ class Case:
     normalized: np.ndarray
     parameters: np.ndarray
     failures: tuple[FailureEvent, ...] | None = None
+
+    def identity(self) -> CaseIdentity:
+        """What names the case in its results and re-runs it alone."""
+        return CaseIdentity(
+            self.case_id, self.kind, self.index, self.seed, tuple(self.normalized.tolist())
+        )
+
+
+@dataclass(frozen=True)
+class CaseIdentity(Record):
+    """A case as its results name it (see :class:`Case`)."""
+
+    case_id: str
+    kind: str
+    index: int
+    seed: int | None
+    normalized: tuple[float, ...]
 
 
 def corner_angles(problem: Problem) -> np.ndarray:

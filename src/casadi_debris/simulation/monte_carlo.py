@@ -21,7 +21,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import control
@@ -31,13 +31,15 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.model import Model, build_model
 from casadi_debris.parallel import ItemFailure, SchedulerUnavailableError, parallel_map
-from casadi_debris.simulation.cases import Case
+from casadi_debris.records import FLATTENED, Record
+from casadi_debris.simulation.cases import Case, CaseIdentity
 from casadi_debris.simulation.closed_loop import (
     SimulationError,
     release_compiled_steps,
 )
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.run import ClosedLoopResult, simulate
+from casadi_debris.simulation.summary import RunSummary
 
 MAX_BINS = 2000
 
@@ -213,15 +215,33 @@ class CaseOutcome:
     Attributes
     ----------
     case : Case
-    summary : dict
-        :meth:`ClosedLoopResult.summary` plus the case's identity.
+    summary : CaseSummary
+        The case's identity and its run's figures.
     bands : Bands
         Error and torque per time bin.
     """
 
     case: Case
-    summary: dict[str, Any]
+    summary: CaseSummary
     bands: Bands
+
+
+@dataclass(frozen=True)
+class CaseSummary(Record):
+    """One case's row: who it is and its run's figures, in one flat JSON object."""
+
+    identity: CaseIdentity = field(metadata=FLATTENED)
+    run: RunSummary = field(metadata=FLATTENED)
+
+
+@dataclass(frozen=True)
+class CaseFailureRecord(Record):
+    """A case that raised, as its JSON records it."""
+
+    identity: CaseIdentity = field(metadata=FLATTENED)
+    error_type: str
+    message: str
+    traceback: str
 
 
 @dataclass(frozen=True, eq=False)
@@ -244,18 +264,10 @@ class CaseFailure:
     message: str
     traceback: str
 
-    def summary(self) -> dict[str, Any]:
-        """The case's identity and what it raised, for JSON."""
-        return {
-            "case_id": self.case.case_id,
-            "kind": self.case.kind,
-            "index": self.case.index,
-            "seed": self.case.seed,
-            "normalized": self.case.normalized.tolist(),
-            "error_type": self.error_type,
-            "message": self.message,
-            "traceback": self.traceback,
-        }
+    def summary(self) -> CaseFailureRecord:
+        """The case's identity and what it raised."""
+        identity = self.case.identity()
+        return CaseFailureRecord(identity, self.error_type, self.message, self.traceback)
 
 
 def bin_bands(setup: CampaignSetup, result: ClosedLoopResult) -> Bands:
@@ -306,14 +318,7 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         allocator=allocator,
         jit=setup.jit,
     )
-    summary = {
-        "case_id": case.case_id,
-        "kind": case.kind,
-        "index": case.index,
-        "seed": case.seed,
-        "normalized": case.normalized.tolist(),
-        **result.summary(),
-    }
+    summary = CaseSummary(case.identity(), result.summary())
     return CaseOutcome(case, summary, bin_bands(setup, result))
 
 

@@ -33,10 +33,15 @@ from casadi_debris.simulation.closed_loop import (
     discretize_controller,
 )
 from casadi_debris.simulation.reference import Reference
+from casadi_debris.simulation.summary import (
+    SETTLE_BAND_ARCSEC,
+    EventRecord,
+    RunSummary,
+    settle_time_s,
+    summarize,
+)
 from casadi_debris.units import ARCSEC_PER_RAD
 
-# Settling: the error's largest component stays below this from then on.
-SETTLE_BAND_ARCSEC = 60.0
 # The allocator's torque must equal the applied torque to this (relative to
 # the largest torque authority): the loop's premise, checked on every run.
 ALLOCATION_TOLERANCE = 1e-8
@@ -90,18 +95,18 @@ class RunEvent:
         then = "none left" if self.next_stage is None else f"stage {self.next_stage + 1} takes over"
         return f"{who}: stage {_number(self.stage)} empty, {then}"
 
-    def to_dict(self) -> dict[str, Any]:
-        """For JSON: 1-based ids, units in the keys."""
-        return {
-            "time_s": self.time_s,
-            "kind": self.kind,
-            "cubesat": self.cubesat + 1,
-            "engine": None if self.engine is None else self.engine + 1,
-            "stage": None if self.stage is None else self.stage + 1,
-            "next_stage": None if self.next_stage is None else self.next_stage + 1,
-            "stage_switch": self.switched,
-            "event": self.text,
-        }
+    def record(self) -> EventRecord:
+        """The event as a user reads it: 1-based ids, in words."""
+        return EventRecord(
+            time_s=self.time_s,
+            kind=self.kind,
+            cubesat=self.cubesat + 1,
+            engine=None if self.engine is None else self.engine + 1,
+            stage=None if self.stage is None else self.stage + 1,
+            next_stage=None if self.next_stage is None else self.next_stage + 1,
+            stage_switch=self.switched,
+            event=self.text,
+        )
 
 
 def _number(stage: int | None) -> str:
@@ -148,6 +153,14 @@ class ClosedLoopResult:
     wall_time_s : float
     slew_window_s : (float, float) or None
         Start and end of the reference slew [s].
+    compiled_step : bool or None
+        Whether the control period ran as compiled C code.
+    authority_time_s : ndarray, shape (m,)
+        When the torque authority took each of its values: the start, and each
+        failure or depleted stage after which the loop was rebuilt [s].
+    authority_Nm : ndarray, shape (m, 6)
+        Largest pure torque at zero net force about +x, -x, +y, -y, +z, -z
+        (magnitudes) from each of those instants on [N m].
     """
 
     time_s: np.ndarray
@@ -172,7 +185,9 @@ class ClosedLoopResult:
     point_solves: int
     wall_time_s: float
     slew_window_s: tuple[float, float] | None = None
-    info: dict[str, Any] = field(default_factory=dict)
+    compiled_step: bool | None = None
+    authority_time_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    authority_Nm: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
 
     @property
     def fuel_per_cubesat_kg(self) -> np.ndarray:
@@ -206,59 +221,11 @@ class ClosedLoopResult:
 
         None when the run ends outside the band.
         """
-        outside = np.abs(self.error_rad).max(axis=1) > band_rad
-        if outside[-1]:
-            return None
-        if not outside.any():
-            return 0.0
-        return float(self.time_s[np.flatnonzero(outside)[-1] + 1])
+        return settle_time_s(self.time_s, self.error_rad, band_rad)
 
-    def summary(self) -> dict[str, Any]:
-        """Figures of the run, units in the keys."""
-        fuel = self.fuel_per_cubesat_kg
-        fuel_kg = float(fuel.sum())
-        exhaust = self.exhaust_velocity_m_s
-        max_error = float(np.abs(self.error_rad).max())
-        settle = self.settle_time_s()
-        slew: dict[str, Any] = {}
-        if self.slew_window_s is not None:
-            start, end = self.slew_window_s
-            inside = (self.time_s[:-1] >= start) & (self.time_s[:-1] < end)
-            engines = self.propulsion.exhaust_velocity_m_s
-            if np.all(engines == engines[0]):
-                burnt = self.thrust_N[inside].sum() * self.control_period_s / exhaust
-            else:
-                impulse_Ns = self.thrust_N[inside].sum(axis=0) * self.control_period_s
-                burnt = float(np.sum(impulse_Ns / engines))
-            slew = {"slew_start_s": start, "slew_end_s": end, "fuel_slew_kg": float(burnt)}
-        return {
-            "max_error_deg": math.degrees(max_error),
-            "max_error_arcsec": max_error * ARCSEC_PER_RAD,
-            "max_error_per_axis_deg": np.degrees(np.abs(self.error_rad).max(axis=0)).tolist(),
-            "final_error_arcsec": float(np.abs(self.error_rad[-1]).max() * ARCSEC_PER_RAD),
-            "settle_time_s": settle,
-            "settle_band_arcsec": SETTLE_BAND_ARCSEC,
-            "fuel_kg": fuel_kg,
-            "fuel_per_cubesat_kg": fuel.tolist(),
-            "fuel_worst_cubesat_kg": float(fuel.max()),
-            **slew,
-            "dv_used_m_s": exhaust * math.log(self.total_mass_kg / (self.total_mass_kg - fuel_kg)),
-            "torque_saturated_s": float(np.sum(self.scale < 1.0) * self.control_period_s),
-            "min_scale": float(self.scale.min()) if len(self.scale) else 1.0,
-            "max_torque_mNm": (np.abs(self.torque_Nm).max(axis=0) * 1e3).tolist(),
-            "max_demand_mNm": (np.abs(self.demand_Nm).max(axis=0) * 1e3).tolist(),
-            "stage_switches": sum(event.switched for event in self.events),
-            "events": [event.to_dict() for event in self.events],
-            "allocation_residual_Nm": self.allocation_residual_Nm,
-            "max_net_force_N": float(np.abs(self.force_N).max()) if len(self.force_N) else 0.0,
-            "allocation_point_solves": self.point_solves,
-            "duration_s": float(self.time_s[-1]),
-            "control_period_s": self.control_period_s,
-            "steps": len(self.scale),
-            "parameters": self.parameters,
-            "wall_time_s": self.wall_time_s,
-            **self.info,
-        }
+    def summary(self) -> RunSummary:
+        """Figures of the run, units in the names."""
+        return summarize(self)
 
 
 def _depleted(event: StageEvent, time_s: float, propulsion: PropulsionState) -> RunEvent:
@@ -406,6 +373,7 @@ class _Rollout:
         self.events: list[RunEvent] = []
         self.point_solves = 0
         self.compiled = False
+        self.authority: list[tuple[float, np.ndarray]] = []
         self.allocator.update_from_state(self.engines)
 
     def run(self, failures: tuple[FailureEvent, ...]) -> None:
@@ -425,21 +393,19 @@ class _Rollout:
                 self.events.append(_apply_failure(failure, self.engines, k * period))
                 loop = None
             if loop is None:
-                loop = self._build_loop()
+                loop = self._build_loop(k * period)
             stop = min(n, k + loop.chunk_steps, pending[0][0] if pending else n)
             z, done = self._stretch(loop, z, k, stop)
             if done < stop - k:
                 loop = None  # a CubeSat's limit changed: rebuild from the step after
             k += done
 
-    def _build_loop(self) -> LoopStep:
+    def _build_loop(self, time_s: float) -> LoopStep:
         self.allocator.update_from_state(self.engines)
+        polytope = self.allocator.authority_polytope()
+        self.authority.append((time_s, polytope.axis_reach()))
         loop = build_loop_step(
-            self.model,
-            self.parameters,
-            self.controller,
-            self.allocator.authority_polytope(),
-            **self.loop_options,
+            self.model, self.parameters, self.controller, polytope, **self.loop_options
         )
         self.compiled = self.compiled or loop.compiled
         return loop
@@ -513,7 +479,9 @@ class _Rollout:
             allocation_residual_Nm=residual,
             point_solves=self.point_solves,
             wall_time_s=wall_time_s,
-            info={"compiled_step": self.compiled},
+            compiled_step=self.compiled,
+            authority_time_s=np.array([t for t, _ in self.authority]),
+            authority_Nm=np.array([reach for _, reach in self.authority]).reshape(-1, 6),
             slew_window_s=(
                 None
                 if reference.slew is None

@@ -32,7 +32,7 @@ from casadi_debris.slew.maneuver import (
 )
 from casadi_debris.slew.optimal import fuel_optimal_slew, time_optimal_slew
 from casadi_debris.slew.options import SlewOptions
-from casadi_debris.slew.profile import SlewProfile, simulate
+from casadi_debris.slew.profile import SlewProfile, SlewSummary, simulate
 from casadi_debris.slew.propellant import least_fuel_thrust, propellant_kg
 from casadi_debris.slew.rigid_body import RigidBody
 from casadi_debris.slew.shaper import shape, zero_vibration_shaper
@@ -42,6 +42,7 @@ __all__ = [
     "RigidBody",
     "SlewOptions",
     "SlewProfile",
+    "SlewSummary",
     "SlewTarget",
     "bang_bang_slew",
     "bang_bang_timing",

@@ -36,6 +36,7 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry
 from casadi_debris.model import Model, build_model
 from casadi_debris.model.attitude import euler_angles_321
+from casadi_debris.records import FLATTENED, Record
 from casadi_debris.slew.maneuver import SlewTarget
 from casadi_debris.slew.propellant import fuel_weights, least_fuel_thrust, propellant_kg
 
@@ -113,25 +114,64 @@ class SlewProfile:
         """Largest |torque| per body axis, shape (3,)."""
         return np.max(np.abs(self.torque_Nm), axis=0)
 
-    def summary(self) -> dict[str, Any]:
-        """Figures of the profile, SI units in the keys."""
-        return {
-            "method": self.method,
-            "flexible": self.flexible,
-            "thrusters": self.thrusters,
-            "axis_B": self.target.axis_B,
-            "angle_rad": self.target.angle_rad,
-            "duration_s": self.duration_s,
-            "limit_duration_s": self.limit_duration_s,
-            "duration_over_limit": self.duration_s / self.limit_duration_s,
-            "max_torque_Nm": self.max_torque_Nm,
-            "fuel_kg": self.fuel_kg,
-            "residual_vibration_rad": self.residual_vibration_rad,
-            "residual_energy_J": self.residual_energy_J,
-            "solve_time_s": self.solve_time_s,
-            "solver_status": self.solver_status,
-            **self.settings,
-        }
+    def summary(self) -> SlewSummary:
+        """Figures of the profile, SI units in the names."""
+        return SlewSummary(
+            method=self.method,
+            flexible=self.flexible,
+            thrusters=self.thrusters,
+            axis_B=tuple(np.asarray(self.target.axis_B, dtype=float)),
+            angle_rad=self.target.angle_rad,
+            duration_s=self.duration_s,
+            limit_duration_s=self.limit_duration_s,
+            duration_over_limit=self.duration_s / self.limit_duration_s,
+            max_torque_Nm=tuple(self.max_torque_Nm),
+            fuel_kg=self.fuel_kg,
+            residual_vibration_rad=self.residual_vibration_rad,
+            residual_energy_J=self.residual_energy_J,
+            solve_time_s=self.solve_time_s,
+            solver_status=self.solver_status,
+            settings=dict(self.settings),
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class SlewSummary(Record):
+    """Figures of a slew profile, SI units in the names.
+
+    Attributes
+    ----------
+    method : str
+    flexible, thrusters : bool
+    axis_B : tuple of 3 float
+        Unit slew axis in the body frame.
+    angle_rad, duration_s, limit_duration_s : float
+        Slew angle, slew time and the rigid eigenaxis limit.
+    duration_over_limit : float
+    max_torque_Nm : tuple of 3 float
+        Largest |torque| per body axis.
+    fuel_kg, residual_vibration_rad, residual_energy_J, solve_time_s : float
+    solver_status : str
+    settings : dict
+        What defines the profile and what its method reports (starts, local
+        optima, the flexible method, ...), written beside the other keys.
+    """
+
+    method: str
+    flexible: bool
+    thrusters: bool
+    axis_B: tuple[float, ...]
+    angle_rad: float
+    duration_s: float
+    limit_duration_s: float
+    duration_over_limit: float
+    max_torque_Nm: tuple[float, ...]
+    fuel_kg: float
+    residual_vibration_rad: float
+    residual_energy_J: float
+    solve_time_s: float
+    solver_status: str
+    settings: dict[str, Any] = field(default_factory=dict, metadata=FLATTENED)
 
 
 def sample_grid(duration_s: float, sample_s: float, knots_s: np.ndarray) -> np.ndarray:

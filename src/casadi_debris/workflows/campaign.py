@@ -20,7 +20,7 @@ import hashlib
 import logging
 import re
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -30,9 +30,10 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import Model, build_model
+from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
-from casadi_debris.report.simulation import campaign_summary, torque_limits_mNm, write_campaign
+from casadi_debris.report.simulation import campaign_summary, write_campaign
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
@@ -50,6 +51,7 @@ from casadi_debris.simulation import (
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
 from casadi_debris.simulation.monte_carlo import CaseFailure, CasesFailedError, SchedulerError
+from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.workflows.controller import controller_for
 
 LOGGER = logging.getLogger(__name__)
@@ -133,24 +135,53 @@ def one_case(
     return nominal_case(model)
 
 
+@dataclass(frozen=True, kw_only=True)
+class RunRecord(Record):
+    """A run's figures and what identifies it: the case, its seed, the files, the plants.
+
+    Attributes
+    ----------
+    problem, problem_sha256, plant_sha256 : str
+    controller_plant_sha256 : str or None
+        The plant the controller was designed for (None: not recorded).
+    case_id : str
+    seed : int or None
+    controller_path : str
+    out_dir : str or None
+        Where the run was written, if it was.
+    run : RunSummary
+        The figures, written into the same JSON object.
+    """
+
+    problem: str
+    problem_sha256: str
+    plant_sha256: str
+    controller_plant_sha256: str | None
+    case_id: str
+    seed: int | None
+    controller_path: str
+    out_dir: str | None = None
+    run: RunSummary = field(metadata=FLATTENED)
+
+
 def run_summary(
     problem: Problem,
     case: Case,
     result: ClosedLoopResult,
     controller_path: Path,
     record: ControllerRecord | None = None,
-) -> dict[str, Any]:
+) -> RunRecord:
     """A run's figures plus what identifies it (case, seed, files, the plants)."""
-    return {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "plant_sha256": problem.plant_sha256,
-        "controller_plant_sha256": None if record is None else record.problem_sha256,
-        "case_id": case.case_id,
-        "seed": case.seed,
-        "controller_path": str(controller_path),
-        **result.summary(),
-    }
+    return RunRecord(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        plant_sha256=problem.plant_sha256,
+        controller_plant_sha256=None if record is None else record.problem_sha256,
+        case_id=case.case_id,
+        seed=case.seed,
+        controller_path=str(controller_path),
+        run=result.summary(),
+    )
 
 
 def check_scheduler_address(address: str) -> None:
@@ -300,7 +331,7 @@ def _summarise_and_write(
     nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
     described = {
         **how,
-        "nominal": {key: nominal_summary.get(key) for key in NOMINAL_KEYS},
+        "nominal": {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS},
     }
     summary = campaign_summary(problem, setup, outcomes, _described(identity, described))
     write_campaign(
@@ -310,7 +341,6 @@ def _summarise_and_write(
         outcomes,
         nominal,
         nominal_summary,
-        torque_limits_mNm(allocator),
         summary,
         identity,
     )

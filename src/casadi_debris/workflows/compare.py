@@ -22,11 +22,22 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import SLEW_METHODS, Problem, SlewMethod
-from casadi_debris.errors import InputShapeError
+from casadi_debris.errors import (
+    AllocationError,
+    InputShapeError,
+    ModelError,
+)
 from casadi_debris.model import build_model
-from casadi_debris.report.compare import write_comparison
+from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
 from casadi_debris.report.folders import RunFolder, check_output_folder
-from casadi_debris.simulation import scenario_reference, simulate
+from casadi_debris.simulation import (
+    ClosedLoopResult,
+    Reference,
+    SimulationError,
+    scenario_reference,
+    simulate,
+)
+from casadi_debris.simulation.summary import fuel_between_kg
 from casadi_debris.workflows.controller import controller_for
 
 LOGGER = logging.getLogger(__name__)
@@ -55,33 +66,67 @@ def variants(
     return chosen
 
 
-def compare_row(label: str, problem: Problem, controller: Any) -> dict[str, Any]:
-    """One variant's nominal closed-loop run, reduced to the budget figures."""
-    model = build_model(problem)
-    reference = scenario_reference(problem)
-    allocator = Allocator.from_problem(problem, model.geometry)
-    result = simulate(problem, model, controller, reference, allocator=allocator)
+def compare_row(
+    label: str, problem: Problem, reference: Reference, controller: Any, window_s: float
+) -> VariantRow:
+    """One variant's nominal closed-loop run, reduced to the budget figures.
+
+    A run that fails (the allocator or the simulation gives up, every engine
+    lost) gives a row that says why instead of its figures.
+    """
+    requirement, required = requirement_of(problem)
+    try:
+        model = build_model(problem)
+        allocator = Allocator.from_problem(problem, model.geometry)
+        result = simulate(problem, model, controller, reference, allocator=allocator)
+    except (AllocationError, ModelError, SimulationError) as exc:
+        LOGGER.warning("variant %s failed: %s", label, exc)
+        return VariantRow(
+            variant=label, problem=problem.name, error=str(exc), requirement=requirement,
+            required=required,
+        )  # fmt: skip
     summary = result.summary()
+    error = summary.max_error_deg if requirement == "slew_error_deg" else summary.max_error_arcsec
+    return VariantRow(
+        variant=label,
+        problem=problem.name,
+        duration_s=summary.duration_s,
+        fuel_kg=summary.fuel_kg,
+        fuel_window_kg=fuel_between_kg(result, 0.0, window_s),
+        fuel_slew_kg=summary.fuel_slew_kg,
+        fuel_worst_cubesat_kg=summary.fuel_worst_cubesat_kg,
+        dv_left_m_s=_dv_left_m_s(result, summary.fuel_kg),
+        stage_switches=summary.stage_switches,
+        slew_duration_s=None if reference.slew is None else reference.slew.duration_s,
+        max_error_deg=summary.max_error_deg,
+        max_error_arcsec=summary.max_error_arcsec,
+        requirement=requirement,
+        required=required,
+        requirement_met=bool(error <= required),
+        torque_saturated_s=summary.torque_saturated_s,
+        failed_cubesats=int(result.propulsion.failed_cubesats.sum()),
+    )
+
+
+def requirement_of(problem: Problem) -> tuple[str, float]:
+    """What a run of ``problem`` is judged against: its slew error bound [deg] for a
+    slew, its pointing bound [arcsec] for a hold."""
+    if problem.simulation.slew is not None:
+        return "slew_error_deg", problem.requirements.slew_error_deg
+    return "pointing_arcsec", problem.requirements.pointing_arcsec
+
+
+def _dv_left_m_s(result: ClosedLoopResult, burnt_kg: float) -> float:
+    """Δv the propellant left gives the whole body [m/s]."""
     left_kg = float(result.propulsion.propellant_kg.sum())
-    mass_now = result.total_mass_kg - summary["fuel_kg"]
+    mass_now = result.total_mass_kg - burnt_kg
     exhaust = result.exhaust_velocity_m_s
     engines = result.propulsion.exhaust_velocity_m_s
     if left_kg > 0.0 and not np.all(engines == engines[0]):
         # Engines of different Isp: the propellant left leaves at its own engines' velocity.
         left_per_engine = result.propulsion.propellant_kg.sum(axis=1)
         exhaust = float(np.sum(left_per_engine * engines) / left_kg)
-    return {
-        "variant": label,
-        "problem": problem.name,
-        "fuel_kg": summary["fuel_kg"],
-        "fuel_worst_cubesat_kg": summary["fuel_worst_cubesat_kg"],
-        "dv_left_m_s": exhaust * math.log(mass_now / (mass_now - left_kg)),
-        "stage_switches": summary["stage_switches"],
-        "slew_duration_s": None if reference.slew is None else reference.slew.duration_s,
-        "max_error_deg": summary["max_error_deg"],
-        "torque_saturated_s": summary["torque_saturated_s"],
-        "failed_cubesats": int(result.propulsion.failed_cubesats.sum()),
-    }
+    return exhaust * math.log(mass_now / (mass_now - left_kg))
 
 
 def compare_variants(
@@ -93,7 +138,7 @@ def compare_variants(
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
     allow_mismatch: bool = False,
-) -> dict[str, Any]:
+) -> Comparison:
     """Run the nominal closed loop of every variant and write the comparison into ``out``.
 
     Parameters
@@ -117,10 +162,12 @@ def compare_variants(
 
     Returns
     -------
-    dict
-        ``controller_path``, ``variants`` (one row per variant: fuel total and
-        worst CubeSat [kg], Δv left [m/s], stage switches, slew time [s], max
-        error [deg], saturated time [s]) and ``out_dir``.
+    Comparison
+        One row per variant (fuel over the run, over the window every variant
+        flew and during the slew, and of the worst CubeSat [kg], Δv left [m/s],
+        stage switches, slew time [s], max error against the problem's
+        requirement, saturated time [s]; or why its run failed), the controller
+        and the folder.
     """
     unknown = sorted(set(methods or ()) - set(SLEW_METHODS))
     if unknown:
@@ -136,18 +183,24 @@ def compare_variants(
     check_output_folder(out, overwrite=overwrite)
     rows = []
     chosen = [cast(SlewMethod, m) for m in methods] if methods else None  # checked above
-    for label, problem in variants(list(problems), chosen):
+    flown = variants(list(problems), chosen)
+    window_s = min(problem.simulation.duration_s for _, problem in flown)
+    # Every reference first: a slew a variant's file asks and the body cannot do is
+    # that file's mistake, refused before any variant flies.
+    references = [scenario_reference(problem) for _, problem in flown]
+    for (label, problem), reference in zip(flown, references, strict=True):
         LOGGER.info("variant %s", label)
         if progress is not None:
             progress(label)
-        rows.append(compare_row(label, problem, record.reduced))
-    summary = {
-        "controller_path": str(resolved),
-        "controller_plant_sha256": record.problem_sha256,
-        "plant_sha256": {problem.name: problem.plant_sha256 for problem in problems},
-        "variants": rows,
-        "out_dir": str(out.absolute()),
-    }
+        rows.append(compare_row(label, problem, reference, record.reduced, window_s))
+    summary = Comparison(
+        controller_path=str(resolved),
+        controller_plant_sha256=record.problem_sha256,
+        plant_sha256={problem.name: problem.plant_sha256 for problem in problems},
+        window_s=window_s,
+        variants=tuple(rows),
+        out_dir=str(out.absolute()),
+    )
     with RunFolder.claim(out, overwrite=overwrite, command="compare") as staging:
-        write_comparison(staging, rows, summary)
+        write_comparison(staging, summary)
     return summary

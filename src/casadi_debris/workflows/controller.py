@@ -81,8 +81,10 @@ def controller_for(
     Raises
     ------
     ControllerMismatchError
-        The plants differ (or the file records none) and ``allow_mismatch`` is false,
-        or no file was given for a problem that is not the paper's.
+        The plants differ and ``allow_mismatch`` is false, or no file was given for a
+        problem that is not the paper's. A file that records no plant (a controller
+        of the user's own: only ``A``, ``B``, ``C``, ``D``) is flown as given, with a
+        warning.
     """
     record, resolved = load_controller(path)
     plant = problem.plant_sha256
@@ -95,8 +97,16 @@ def controller_for(
             "describes another; design one for it (casadi-debris design PROBLEM.toml) and pass "
             f"--controller {default_run_folder('design', problem.name) / 'controller.json'}",
         )
+    if not record.problem_sha256:
+        # A controller of the user's own (plain A, B, C, D): nothing to check it against.
+        LOGGER.warning(
+            "%s records no plant it was designed for: flying it on %s as given",
+            resolved.name,
+            problem.name,
+        )
+        return record, resolved
     if not allow_mismatch:
-        designed = record.problem_sha256[:12] or "no recorded plant"
+        designed = record.problem_sha256[:12]
         raise ControllerMismatchError(
             "--controller",
             f"{resolved.name} was designed for another plant (sha256 {designed}) than "

@@ -1,0 +1,42 @@
+"""``casadi-debris slew`` flies the problem's own slew unless an option says otherwise."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris import load_problem
+from casadi_debris.cli import main
+from casadi_debris.simulation import scenario_reference
+
+
+def _slew(*arguments: str) -> dict:
+    result = CliRunner().invoke(main, ["slew", *arguments, "--json"])
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout)
+
+
+def test_the_problems_slew_is_the_one_simulate_flies() -> None:
+    summary = _slew("paper_slew")
+    flown = scenario_reference(load_problem("paper_slew")).slew
+    assert flown is not None
+    assert summary["duration_s"] == pytest.approx(flown.duration_s, rel=1e-12)
+    assert summary["axis_B"] == [0.0, 0.0, 1.0] and summary["method"] == "bang-bang"
+    assert summary["angle_deg"] == pytest.approx(180.0)
+
+
+def test_an_option_wins_over_the_file() -> None:
+    assert _slew("paper_slew", "--duration-s", "1300")["duration_s"] == pytest.approx(1300.0)
+    # Another axis is another slew: the file's timing is not carried over to it.
+    about_x = _slew("paper_slew", "--axis", "x")
+    assert about_x["axis_B"] == [1.0, 0.0, 0.0]
+    assert about_x["duration_s"] == pytest.approx(_slew("paper", "--axis", "x")["duration_s"])
+
+
+def test_without_a_slew_in_the_file_the_defaults_stay() -> None:
+    assert load_problem("paper").simulation.slew is None
+    summary = _slew("paper")
+    assert summary["axis_B"] == [0.0, 0.0, 1.0] and summary["angle_deg"] == pytest.approx(180.0)
+    assert summary["duration_s"] < 1228.0  # full authority, faster than the paper's 1228 s
