@@ -17,6 +17,7 @@ from casadi_debris.geometry import torque_authority
 from casadi_debris.model import build_model
 from casadi_debris.simulation import corner_case
 from casadi_debris.studies.failure_cases import FailureCase
+from casadi_debris.studies.failure_records import FailureStudyRecord, RunVerdict
 from casadi_debris.studies.failure_runs import manoeuvres
 from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
 from casadi_debris.units import MN_PER_N
@@ -61,6 +62,11 @@ def _simulate(*args: str) -> dict:
 EXACT_KEYS = ("fuel_kg", "fuel_per_cubesat_kg", "torque_saturated_s", "settle_time_s")
 
 
+def _figure(verdict: RunVerdict, key: str) -> object:
+    """A verdict's figure as the run's JSON gives it."""
+    return verdict.to_json()[key]
+
+
 def test_a_case_rerun_alone_with_simulate_gives_the_campaigns_numbers(
     study: FailureStudy, tmp_path: Path
 ) -> None:
@@ -68,7 +74,7 @@ def test_a_case_rerun_alone_with_simulate_gives_the_campaigns_numbers(
     slew = _simulate(str(PROBLEMS / "paper_slew.toml"), "--failed", "3,17", "--duration-s", "120")
     verdict = by_id["failed-3-17"].runs["slew"]
     assert verdict.error == slew["max_error_deg"]
-    assert {k: verdict.figures[k] for k in EXACT_KEYS} == {k: slew[k] for k in EXACT_KEYS}
+    assert {k: _figure(verdict, k) for k in EXACT_KEYS} == {k: slew[k] for k in EXACT_KEYS}
     # A lost stage through the problem file's own failures, as a user would write it.
     staged = tmp_path / "staged.toml"
     staged.write_text(
@@ -79,7 +85,7 @@ def test_a_case_rerun_alone_with_simulate_gives_the_campaigns_numbers(
     hold = _simulate(str(staged))
     verdict = by_id["stage-3"].runs["pointing"]
     assert verdict.error == hold["max_error_arcsec"]
-    assert {k: verdict.figures[k] for k in EXACT_KEYS} == {k: hold[k] for k in EXACT_KEYS}
+    assert {k: _figure(verdict, k) for k in EXACT_KEYS} == {k: hold[k] for k in EXACT_KEYS}
     # The worst corner: corner 255 of the same plant set.
     worst = study.cases[0]
     assert worst.corners["slew"].worst_case_id == f"{worst.case.case_id}@corner-0255"
@@ -112,7 +118,7 @@ def test_verdicts_rank_the_pair_that_loses_the_z_slew_first() -> None:
 
 
 def test_the_summary_names_failed_ids_and_six_signed_axes(study: FailureStudy) -> None:
-    summary = study.to_dict()
+    summary = study.record().to_json()
     assert summary["case_count"] == len(CASES)
     problem = load_problem(PROBLEMS / "paper_slew.toml")
     geometry = build_model(problem).geometry
@@ -127,14 +133,24 @@ def test_the_summary_names_failed_ids_and_six_signed_axes(study: FailureStudy) -
                 expected[axis] * MN_PER_N, rel=1e-12
             )
     pair = next(c for c in summary["cases"] if c["case_id"] == "failed-3-17")
-    assert pair["closed_loop"]["nominal"]["slew"]["max_error_deg"] is not None
+    assert pair["closed_loop"]["nominal"]["slew"]["error"] is not None
     assert pair["failed"] == [3, 17] and pair["failed_stage"] == []
     staged = next(c for c in summary["cases"] if c["case_id"] == "stage-3")
     assert staged["failed"] == [] and staged["failed_stage"] == [3]
     # The lost stage leaves the runs as the whole swarm flies them: same thrust, same loop.
-    assert staged["closed_loop"]["nominal"]["slew"]["max_error_deg"] == pytest.approx(
-        summary["baseline"]["closed_loop"]["nominal"]["slew"]["max_error_deg"], rel=0, abs=0
+    assert staged["closed_loop"]["nominal"]["slew"]["error"] == pytest.approx(
+        summary["baseline"]["closed_loop"]["nominal"]["slew"]["error"], rel=0, abs=0
     )
     # Re-allocation: the CubeSats listed are those whose holding thrust rose.
     for entry in pair["reallocation"]:
         assert entry["thrust_after_mN"] > entry["thrust_before_mN"]
+
+
+def test_the_summary_reads_back_as_the_same_record(study: FailureStudy) -> None:
+    record = study.record()
+    again = FailureStudyRecord.from_json(json.loads(json.dumps(record.to_json())))
+    assert again.to_json() == record.to_json()
+    assert (
+        again.cases[0].closed_loop.nominal["slew"].met
+        is record.cases[0].closed_loop.nominal["slew"].met
+    )

@@ -56,8 +56,8 @@ def _text(summary: dict[str, Any]) -> str:
                 f"{min(torque.values()):.3g} ({min(torque, key=torque.__getitem__)})",
                 f"{case['worst_ratio']:.3g}",
                 *(
-                    f"{runs[m][k]:.4g}" if m in runs and runs[m][k] is not None else "—"
-                    for m, k in (("slew", "max_error_deg"), ("pointing", "max_error_arcsec"))
+                    f"{runs[m]['error']:.4g}" if m in runs and runs[m]["error"] is not None else "—"
+                    for m in ("slew", "pointing")
                 ),
                 {True: "yes", False: "no"}.get(case["closed_loop"]["met"], "—"),
             ]

@@ -36,9 +36,10 @@ def _ids(ids: list[int]) -> str:
     return " ".join(str(i) for i in ids)
 
 
-def _run_figure(case: dict[str, Any], where: str, name: str, key: str) -> float | None:
+def _run_figure(case: dict[str, Any], where: str, name: str) -> float | None:
+    """The judged figure of a manoeuvre's worst run (None: not flown)."""
     run = case["closed_loop"][where].get(name)
-    return None if run is None else run.get(key)
+    return None if run is None else run["error"]
 
 
 def _met(value: bool | None) -> str:
@@ -69,12 +70,10 @@ def case_row(rank: int, case: dict[str, Any]) -> dict[str, Any]:
         **{f"torque_{axis}_mNm": torque[axis] for axis in SIGNED_AXES},
         "worst_axis": case["worst_axis"],
         "worst_ratio": case["worst_ratio"],
-        "slew_max_error_deg": _run_figure(case, "nominal", "slew", "max_error_deg"),
-        "pointing_max_error_arcsec": _run_figure(case, "nominal", "pointing", "max_error_arcsec"),
-        "corners_slew_max_error_deg": _run_figure(case, "corners", "slew", "max_error_deg"),
-        "corners_pointing_max_error_arcsec": _run_figure(
-            case, "corners", "pointing", "max_error_arcsec"
-        ),
+        "slew_max_error_deg": _run_figure(case, "nominal", "slew"),
+        "pointing_max_error_arcsec": _run_figure(case, "nominal", "pointing"),
+        "corners_slew_max_error_deg": _run_figure(case, "corners", "slew"),
+        "corners_pointing_max_error_arcsec": _run_figure(case, "corners", "pointing"),
         "met": _met(case["closed_loop"]["met"]),
         "holding_fuel_per_period_kg": holding.get("fuel_per_period_kg"),
         "holding_fuel_spread": holding.get("fuel_spread"),

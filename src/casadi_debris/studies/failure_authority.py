@@ -26,7 +26,6 @@ Holding load
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -35,6 +34,7 @@ from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.geometry import Geometry, torque_authority
 from casadi_debris.model import Model
 from casadi_debris.studies.failure_cases import FailureCase
+from casadi_debris.studies.failure_records import HoldingRecord
 from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
 HOLDING_SAMPLES = 360
@@ -78,20 +78,18 @@ class HoldingLoad:
         fuel = self.fuel_per_cubesat_kg[self.survivors]
         return float(fuel.max() / fuel.mean()) if len(fuel) and fuel.mean() > 0 else None
 
-    def to_dict(self) -> dict[str, Any]:
-        """For JSON: units in the keys, CubeSats from 1."""
-        return {
-            "period_s": self.period_s,
-            "fuel_per_period_kg": float(self.fuel_per_cubesat_kg.sum()),
-            "fuel_per_cubesat_kg": self.fuel_per_cubesat_kg.tolist(),
-            "fuel_spread": self.fuel_spread,
-            "thrust_per_cubesat_mN": (self.thrust_per_cubesat_N * MN_PER_N).tolist(),
-            "saturated_fraction": self.saturated_fraction,
-            "depletion_time_s": self.depletion_time_s,
-            "first_depleted_cubesat": None
-            if self.first_depleted is None
-            else self.first_depleted + 1,
-        }
+    def record(self) -> HoldingRecord:
+        """For JSON: units in the names, CubeSats from 1."""
+        return HoldingRecord(
+            period_s=self.period_s,
+            fuel_per_period_kg=float(self.fuel_per_cubesat_kg.sum()),
+            fuel_per_cubesat_kg=tuple(self.fuel_per_cubesat_kg.tolist()),
+            fuel_spread=self.fuel_spread,
+            thrust_per_cubesat_mN=tuple((self.thrust_per_cubesat_N * MN_PER_N).tolist()),
+            saturated_fraction=self.saturated_fraction,
+            depletion_time_s=self.depletion_time_s,
+            first_depleted_cubesat=None if self.first_depleted is None else self.first_depleted + 1,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,16 +130,6 @@ class CaseAuthority:
     def worst_ratio(self) -> float:
         """The least of :attr:`ratio`."""
         return self.ratio[self.worst_axis]
-
-    def to_dict(self) -> dict[str, Any]:
-        """``torque_max_zero_force_mNm`` (six signed axes), ratios, holding load."""
-        return {
-            "torque_max_zero_force_mNm": {k: v * MN_PER_N for k, v in self.torque_Nm.items()},
-            "authority_ratio": self.ratio,
-            "worst_axis": self.worst_axis,
-            "worst_ratio": self.worst_ratio,
-            "holding": None if self.holding is None else self.holding.to_dict(),
-        }
 
 
 def _ratio(torque_Nm: float, disturbance_Nm: float) -> float:

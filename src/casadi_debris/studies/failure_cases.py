@@ -20,7 +20,6 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 from math import comb
-from typing import Any
 
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.config import FailureEvent, Problem
@@ -90,16 +89,6 @@ class FailureCase:
         for cubesat in self.stage_of:
             state.fail_stage(cubesat, FAILED_STAGE)
         return state
-
-    def to_dict(self) -> dict[str, Any]:
-        """``failed`` and ``failed_stage``: CubeSat ids from 1; ``stage``: the stage lost."""
-        return {
-            "case_id": self.case_id,
-            "failed": [i + 1 for i in self.cubesats],
-            "failed_stage": [i + 1 for i in self.stage_of],
-            "stage": FAILED_STAGE + 1 if self.stage_of else None,
-            "label": self.label,
-        }
 
 
 def check_max_failed(max_failed: int, n_cubesats: int) -> None:

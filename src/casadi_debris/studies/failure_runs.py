@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from typing import Any
 
 import control
 
@@ -27,7 +26,9 @@ from casadi_debris.simulation import (
     scenario_reference,
 )
 from casadi_debris.simulation.monte_carlo import CaseFailure
+from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.studies.failure_cases import FailureCase
+from casadi_debris.studies.failure_records import RunVerdict
 
 Progress = Callable[[int, int], None]
 """``progress(done, total)``: runs finished of the runs of one stage."""
@@ -67,82 +68,35 @@ def manoeuvres(slew: Problem, pointing: Problem) -> tuple[Manoeuvre, Manoeuvre]:
     )
 
 
-@dataclass(frozen=True, eq=False)
-class RunVerdict:
-    """A manoeuvre's worst run for one failure case (one run on the nominal plant).
-
-    Attributes
-    ----------
-    manoeuvre : str
-    error_key : str
-    error : float or None
-        The judged figure of the worst run (None: a run raised).
-    required : float
-    runs : int
-        Runs judged (plants).
-    worst_case_id : str
-        The run the figure comes from (``<failure case>@<plant>``).
-    figures : dict
-        The worst run's summary figures: fuel (total, per CubeSat, spread over the
-        survivors), saturated time, settling, wall time.
-    error_message : str or None
-        What a run that raised said.
-    """
-
-    manoeuvre: str
-    error_key: str
-    error: float | None
-    required: float
-    runs: int
-    worst_case_id: str
-    figures: dict[str, Any]
-    error_message: str | None = None
-
-    @property
-    def met(self) -> bool | None:
-        """Within the requirement on every run; None when a run raised."""
-        return None if self.error is None else self.error <= self.required
-
-    @property
-    def excess(self) -> float:
-        """The figure over its requirement (inf when a run raised)."""
-        return float("inf") if self.error is None else self.error / self.required
-
-    def to_dict(self) -> dict[str, Any]:
-        """For JSON, with ``met``."""
-        return {
-            self.error_key: self.error,
-            f"required_{self.error_key.removeprefix('max_')}": self.required,
-            "met": self.met,
-            "runs": self.runs,
-            "worst_case_id": self.worst_case_id,
-            **self.figures,
-            **({"error": self.error_message} if self.error_message else {}),
-        }
-
-
-FIGURE_KEYS = (
-    "fuel_kg",
-    "fuel_worst_cubesat_kg",
-    "fuel_per_cubesat_kg",
-    "torque_saturated_s",
-    "settle_time_s",
-    "stage_switches",
-    "wall_time_s",
-)
-
-
 def run_id(case: FailureCase, plant: Case) -> str:
     """Id of the run of ``case`` on ``plant``: ``failed-3-17@nominal``."""
     return f"{case.case_id}{CASE_SEPARATOR}{plant.case_id}"
 
 
-def _figures(summary: dict[str, Any], case: FailureCase) -> dict[str, Any]:
-    figures = {key: summary.get(key) for key in FIGURE_KEYS}
-    fuel = [f for i, f in enumerate(summary["fuel_per_cubesat_kg"]) if i not in case.cubesats]
+def _verdict(
+    manoeuvre: Manoeuvre, case: FailureCase, worst: RunSummary, runs: int, run: str
+) -> RunVerdict:
+    """The verdict of ``case``'s worst run ``worst`` (named ``run``) of ``runs``."""
+    error = float(getattr(worst, manoeuvre.error_key))
+    fuel = [f for i, f in enumerate(worst.fuel_per_cubesat_kg) if i not in case.cubesats]
     mean = sum(fuel) / len(fuel) if fuel else 0.0
-    figures["fuel_spread"] = max(fuel) / mean if mean > 0 else None
-    return figures
+    return RunVerdict(
+        manoeuvre=manoeuvre.name,
+        error_key=manoeuvre.error_key,
+        error=error,
+        required=manoeuvre.required,
+        met=error <= manoeuvre.required,
+        runs=runs,
+        worst_case_id=run,
+        fuel_kg=worst.fuel_kg,
+        fuel_worst_cubesat_kg=worst.fuel_worst_cubesat_kg,
+        fuel_per_cubesat_kg=worst.fuel_per_cubesat_kg,
+        fuel_spread=max(fuel) / mean if mean > 0 else None,
+        torque_saturated_s=worst.torque_saturated_s,
+        settle_time_s=worst.settle_time_s,
+        stage_switches=worst.stage_switches,
+        wall_time_s=worst.wall_time_s,
+    )
 
 
 def verdicts(
@@ -165,21 +119,15 @@ def verdicts(
                 error_key=manoeuvre.error_key,
                 error=None,
                 required=manoeuvre.required,
+                met=None,
                 runs=len(ids),
                 worst_case_id=first.case.case_id,
-                figures={},
                 error_message=f"{first.error_type}: {first.message}",
             )
             continue
-        worst = max(done, key=lambda outcome: outcome.summary[manoeuvre.error_key])
-        judged[case.case_id] = RunVerdict(
-            manoeuvre=manoeuvre.name,
-            error_key=manoeuvre.error_key,
-            error=float(worst.summary[manoeuvre.error_key]),
-            required=manoeuvre.required,
-            runs=len(done),
-            worst_case_id=worst.case.case_id,
-            figures=_figures(worst.summary, case),
+        worst = max(done, key=lambda outcome: getattr(outcome.summary.run, manoeuvre.error_key))
+        judged[case.case_id] = _verdict(
+            manoeuvre, case, worst.summary.run, len(done), worst.case.case_id
         )
     return judged
 

@@ -45,8 +45,21 @@ from casadi_debris.studies.failure_authority import (
     case_authority,
     holding_torque_Nm,
 )
-from casadi_debris.studies.failure_cases import FailureCase, FailureStudyError, failure_cases
-from casadi_debris.studies.failure_runs import Manoeuvre, RunVerdict, StageProgress, fly_cases
+from casadi_debris.studies.failure_cases import (
+    FAILED_STAGE,
+    FailureCase,
+    FailureStudyError,
+    failure_cases,
+)
+from casadi_debris.studies.failure_records import (
+    ClosedLoopVerdict,
+    FailureCaseRecord,
+    FailureStudyRecord,
+    ManoeuvreRecord,
+    RunVerdict,
+    ThrustChange,
+)
+from casadi_debris.studies.failure_runs import Manoeuvre, StageProgress, fly_cases
 from casadi_debris.units import MN_PER_N
 
 LOGGER = logging.getLogger(__name__)
@@ -85,17 +98,6 @@ class FailureSettings:
     corner_sets: int = 3
     workers: int = 1
     jit: bool = False
-
-    def to_dict(self) -> dict[str, Any]:
-        """For JSON."""
-        return {
-            "max_failed": self.max_failed,
-            "stages": self.stages,
-            "closed_loop": self.closed_loop,
-            "corner_sets": self.corner_sets,
-            "workers": self.workers,
-            "jit": self.jit,
-        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -144,48 +146,51 @@ class FailureCaseResult:
             self.case.cubesats + self.case.stage_of,
         )
 
-    def to_dict(self, baseline: CaseAuthority | None = None) -> dict[str, Any]:
+    def record(self, baseline: CaseAuthority | None = None) -> FailureCaseRecord:
         """The case for ``summary.json``: ``failed``, ``torque_max_zero_force_mNm``,
-        ``closed_loop`` (its verdict in ``met``), and beside the baseline the authority
-        lost per signed axis and the re-allocation."""
-        payload = {**self.case.to_dict(), **self.authority.to_dict()}
+        ``closed_loop`` (its verdict in ``met``), and beside the ``baseline`` (the whole
+        swarm) the authority lost per signed axis and the re-allocation."""
+        case, authority = self.case, self.authority
+        torque = authority.torque_Nm
+        loss: dict[str, float | None] | None = None
         if baseline is not None:
-            payload["authority_loss"] = {
-                name: 1.0 - self.authority.torque_Nm[name] / baseline.torque_Nm[name]
+            loss = {
+                name: 1.0 - torque[name] / baseline.torque_Nm[name]
                 if baseline.torque_Nm[name] > 0
                 else None
                 for name in SIGNED_AXES
             }
-            payload["reallocation"] = reallocation(baseline, self.authority)
-        payload["closed_loop"] = {
-            "met": self.met,
-            "nominal": {name: v.to_dict() for name, v in self.runs.items()},
-            "corners": {name: v.to_dict() for name, v in self.corners.items()},
-        }
-        return payload
+        return FailureCaseRecord(
+            case_id=case.case_id,
+            failed=tuple(i + 1 for i in case.cubesats),
+            failed_stage=tuple(i + 1 for i in case.stage_of),
+            stage=FAILED_STAGE + 1 if case.stage_of else None,
+            label=case.label,
+            torque_max_zero_force_mNm={k: v * MN_PER_N for k, v in torque.items()},
+            authority_ratio=authority.ratio,
+            worst_axis=authority.worst_axis,
+            worst_ratio=authority.worst_ratio,
+            authority_loss=loss,
+            holding=None if authority.holding is None else authority.holding.record(),
+            reallocation=() if baseline is None else reallocation(baseline, authority),
+            closed_loop=ClosedLoopVerdict(self.met, dict(self.runs), dict(self.corners)),
+        )
 
 
-def reallocation(baseline: CaseAuthority, after: CaseAuthority) -> list[dict[str, Any]]:
-    """The CubeSats whose mean holding thrust rises most after the failure (ids from 1).
-
-    Each entry: ``cubesat``, ``thrust_before_mN``, ``thrust_after_mN``; at most
-    :data:`REALLOCATION_SHOWN`, the largest rise first.
-    """
+def reallocation(baseline: CaseAuthority, after: CaseAuthority) -> tuple[ThrustChange, ...]:
+    """The CubeSats whose mean holding thrust rises most after the failure (ids from 1),
+    at most :data:`REALLOCATION_SHOWN`, the largest rise first."""
     if baseline.holding is None or after.holding is None:
-        return []
+        return ()
     before = baseline.holding.thrust_per_cubesat_N
     now = after.holding.thrust_per_cubesat_N
     rise = now - before
     tolerance = THRUST_RISE_RTOL * max(float(np.max(now)), float(np.max(before)), 1e-300)
     rising = [int(i) for i in np.argsort(-rise, kind="stable") if rise[i] > tolerance]
-    return [
-        {
-            "cubesat": i + 1,
-            "thrust_before_mN": float(before[i] * MN_PER_N),
-            "thrust_after_mN": float(now[i] * MN_PER_N),
-        }
+    return tuple(
+        ThrustChange(i + 1, float(before[i] * MN_PER_N), float(now[i] * MN_PER_N))
         for i in rising[:REALLOCATION_SHOWN]
-    ]
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -220,32 +225,34 @@ class FailureStudy:
         singles = [r for r in self.cases if len(r.case.cubesats) == 1 and not r.case.stage_of]
         return sorted(singles, key=lambda r: r.case.cubesats)
 
-    def to_dict(self) -> dict[str, Any]:
+    def record(self) -> FailureStudyRecord:
         """The study for ``summary.json``: settings, baseline, counts, cases worst first."""
         judged = [r.met for r in self.cases]
-        return {
-            "problem": self.problem.name,
-            "problem_sha256": self.problem.sha256,
-            **self.settings.to_dict(),
-            "cubesats": len(self.problem.cubesats),
-            "disturbance_mNm": np.abs(self.problem.disturbance.amplitude_mNm).tolist(),
-            "requirements": {m.error_key: m.required for m in self.manoeuvres},
-            "manoeuvres": [
-                {
-                    "name": m.name,
-                    "problem": m.problem.name,
-                    "duration_s": m.problem.simulation.duration_s,
-                }
+        settings = self.settings
+        return FailureStudyRecord(
+            problem=self.problem.name,
+            problem_sha256=self.problem.sha256,
+            max_failed=settings.max_failed,
+            stages=settings.stages,
+            closed_loop=settings.closed_loop,
+            corner_sets=settings.corner_sets,
+            workers=settings.workers,
+            jit=settings.jit,
+            cubesats=len(self.problem.cubesats),
+            disturbance_mNm=tuple(np.abs(self.problem.disturbance.amplitude_mNm).tolist()),
+            requirements={m.error_key: m.required for m in self.manoeuvres},
+            manoeuvres=tuple(
+                ManoeuvreRecord(m.name, m.problem.name, m.problem.simulation.duration_s)
                 for m in self.manoeuvres
-            ],
-            "corner_plants": self.corner_plants,
-            "case_count": len(self.cases),
-            "cases_met": sum(m is True for m in judged),
-            "cases_not_met": sum(m is False for m in judged),
-            "baseline": self.baseline.to_dict(),
-            "cases": [r.to_dict(self.baseline.authority) for r in self.cases],
-            "wall_time_s": self.wall_time_s,
-        }
+            ),
+            corner_plants=self.corner_plants,
+            case_count=len(self.cases),
+            cases_met=sum(m is True for m in judged),
+            cases_not_met=sum(m is False for m in judged),
+            baseline=self.baseline.record(),
+            cases=tuple(r.record(self.baseline.authority) for r in self.cases),
+            wall_time_s=self.wall_time_s,
+        )
 
 
 def failure_study(

@@ -21,7 +21,9 @@ Example
 
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 from casadi_debris.config import Problem
 from casadi_debris.model import build_model
@@ -106,7 +108,7 @@ def failures_folder(
     quick: bool = False,
     overwrite: bool = False,
     progress: StageProgress | None = None,
-) -> dict:
+) -> dict[str, Any]:
     """Run the failure campaign of ``problem`` into the folder ``out``.
 
     Parameters are those of :func:`run_failure_study`, and
@@ -133,11 +135,13 @@ def failures_folder(
             quick=quick,
             progress=progress,
         )
-        summary = study.to_dict() | {
-            "controller_path": None if controller is None else str(controller),
-            "quick": quick,
-            "max_corners": max_corners,
-            "out_dir": str(out.absolute()),
-        }
+        record = replace(
+            study.record(),
+            controller_path=None if controller is None else str(controller),
+            quick=quick,
+            max_corners=max_corners,
+            out_dir=str(out.absolute()),
+        )
+        summary = record.to_json()
         write_failures(staging, summary)
     return summary
