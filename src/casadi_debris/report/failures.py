@@ -1,6 +1,7 @@
 """A failure campaign as files: summary, ranked table (CSV and Markdown), re-allocation, heat map.
 
-Everything is drawn from the summary (:meth:`FailureStudy.to_dict`), so that
+Everything is drawn from the summary (the JSON of a
+:class:`~casadi_debris.studies.failure_records.FailureStudyRecord`), so that
 a script can redraw it from ``summary.json``:
 
 - ``summary.json``: every case with ``failed`` (CubeSat ids from 1),

@@ -49,11 +49,6 @@ class FailureCase:
     stage_of: tuple[int, ...] = ()
 
     @property
-    def is_baseline(self) -> bool:
-        """Nothing failed: the whole swarm."""
-        return not self.cubesats and not self.stage_of
-
-    @property
     def case_id(self) -> str:
         """``"none"``, ``"failed-3-17"`` or ``"stage-3"`` (ids from 1), unique in a campaign."""
         parts = []

@@ -220,11 +220,6 @@ class FailureStudy:
     corner_plants: int
     wall_time_s: float
 
-    def single_failures(self) -> list[FailureCaseResult]:
-        """The cases of one failed CubeSat, by CubeSat."""
-        singles = [r for r in self.cases if len(r.case.cubesats) == 1 and not r.case.stage_of]
-        return sorted(singles, key=lambda r: r.case.cubesats)
-
     def record(self) -> FailureStudyRecord:
         """The study for ``summary.json``: settings, baseline, counts, cases worst first."""
         judged = [r.met for r in self.cases]
