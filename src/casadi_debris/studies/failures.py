@@ -131,12 +131,16 @@ class FailureCaseResult:
 
     @property
     def excess(self) -> float:
-        """The largest closed-loop figure over its requirement (0 when not flown)."""
-        return max((v.excess for v in (*self.runs.values(), *self.corners.values())), default=0.0)
+        """The largest nominal-plant figure over its requirement (0 when not flown).
+
+        Only the nominal runs rank the cases: every case flies them, while only the
+        worst few fly corners.
+        """
+        return max((v.excess for v in self.runs.values()), default=0.0)
 
     def rank_key(self) -> tuple[float, float, float, int, tuple[int, ...]]:
-        """Sort key, the worst first: requirement missed by most, least authority ratio, least
-        authority; ties (to round-off) in the order of the cases."""
+        """Sort key, the worst first: requirement missed by most on the nominal plant, least
+        authority ratio, least authority; ties (to round-off) in the order of the cases."""
         authority = self.authority
         return (
             -round(self.excess, RANK_DIGITS),
