@@ -147,7 +147,7 @@ def test_console_script_installed():
 
 
 def test_synthesize_quick_writes_a_loadable_controller(runner, tmp_path):
-    out = tmp_path / "k.json"
+    out = tmp_path / "k"
     arguments = ["synthesize", "--out", str(out), "--json", "--mu-points", "30"]
     arguments += ["--max-iterations", "0", "--samples", "66"]
     result = runner.invoke(main, arguments)
@@ -156,7 +156,9 @@ def test_synthesize_quick_writes_a_loadable_controller(runner, tmp_path):
     for key in ("mu_peak", "order_full", "order_reduced", "mu_peak_reduced", "hinf_gamma_first",
                 "iterations", "time_s", "w_fit_order", "w_fit_samples"):  # fmt: skip
         assert key in summary
-    data = json.loads(out.read_text())
+    data = json.loads((out / "controller.json").read_text())
+    assert json.loads((out / "summary.json").read_text()) == summary
+    assert summary["controller_path"] == str((out / "controller.json").absolute())
     for key in ("A", "B", "C", "D", "mu_peak", "mu_peak_reduced", "order_full", "order_reduced",
                 "problem_sha256", "seed"):  # fmt: skip
         assert key in data

@@ -78,12 +78,17 @@ def test_slew_overwrite_replaces_its_own_result_and_nothing_else(in_tmp: Path) -
     assert {p.name for p in in_tmp.iterdir()} == {"run"}
 
 
-def test_synthesize_refuses_to_overwrite_a_controller_file(in_tmp: Path) -> None:
-    (in_tmp / "controller.json").write_text('{"mine": true}')
-    result = CliRunner().invoke(main, ["synthesize", "--max-iterations", "0"])
+def test_synthesize_writes_a_run_folder_never_over_the_users(in_tmp: Path) -> None:
+    (in_tmp / "mine").mkdir()
+    (in_tmp / "mine" / "controller.json").write_text('{"mine": true}')
+    result = CliRunner().invoke(main, ["synthesize", "--out", "mine", "--max-iterations", "0"])
     assert result.exit_code == 2, result.output
     assert "--out" in result.output and "--overwrite" in result.output
-    assert (in_tmp / "controller.json").read_text() == '{"mine": true}'
+    assert (in_tmp / "mine" / "controller.json").read_text() == '{"mine": true}'
+    # A file name, as --out once took: refused naming the folder it would mean.
+    result = CliRunner().invoke(main, ["synthesize", "--out", "k.json"])
+    assert result.exit_code == 2 and "k/controller.json" in result.output
+    assert sorted(p.name for p in in_tmp.iterdir()) == ["mine"]
 
 
 def test_an_output_below_a_file_is_refused_before_work(in_tmp: Path) -> None:

@@ -40,3 +40,12 @@ def test_without_a_slew_in_the_file_the_defaults_stay() -> None:
     summary = _slew("paper")
     assert summary["axis_B"] == [0.0, 0.0, 1.0] and summary["angle_deg"] == pytest.approx(180.0)
     assert summary["duration_s"] < 1228.0  # full authority, faster than the paper's 1228 s
+
+
+def test_the_wall_time_is_what_the_user_waited_and_covers_the_solve() -> None:
+    import time
+
+    started = time.perf_counter()
+    summary = _slew("paper")
+    waited = time.perf_counter() - started
+    assert summary["solve_time_s"] <= summary["wall_time_s"] <= waited

@@ -18,6 +18,7 @@ from casadi_debris.robust.margins import (
     loop_margins,
     return_ratio,
     return_ratios,
+    sampled_loop_at_a_time,
 )
 
 
@@ -164,3 +165,33 @@ def test_bracketed_roots_to_tolerance():
     roots = _bracketed_roots(function, low, high, function(low, every), function(high, every))
     expected = [math.pi / 2, 3 * math.pi / 2, 2 ** (1 / 3), 0.0]
     np.testing.assert_allclose(roots, expected, rtol=0, atol=2e-12)
+
+
+def test_sampled_data_margins_are_python_controls_on_a_decoupled_loop() -> None:
+    """Three double integrators under PD: each loop broken alone is the SISO loop,
+    whose discrete margins python-control gives on its own."""
+    inertia, period_s = np.array([2.0, 3.0, 5.0]), 0.1
+    plants, controllers = [], []
+    for j in inertia:
+        plants.append(control.ss([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0 / j]], [[1.0, 0.0]], 0.0))
+        controllers.append(control.ss(control.tf([1.6 * j, j], [0.05, 1.0])))
+    found = sampled_loop_at_a_time(control.append(*plants), control.append(*controllers), period_s)
+    for plant, controller, margins in zip(plants, controllers, found, strict=True):
+        loop = control.sample_system(controller, period_s, "zoh") * control.sample_system(
+            plant, period_s, "zoh"
+        )
+        gain, phase_deg, _, crossover = control.margin(loop)
+        assert margins.phase_margin_deg == pytest.approx(phase_deg, rel=1e-9)
+        assert margins.gain_margin_db == pytest.approx(20 * np.log10(gain), rel=1e-9)
+        assert margins.crossover_rad_s == pytest.approx(crossover, rel=1e-9)
+    # Sampling costs margin against the continuous loop.
+    continuous = loop_at_a_time(control.append(*plants), control.append(*controllers))
+    pairs = zip(found, continuous, strict=True)
+    assert all(s.phase_margin_deg < c.phase_margin_deg for s, c in pairs)
+
+
+def test_a_sampled_loop_unstable_at_its_rate_is_refused() -> None:
+    plant = control.ss([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], [[1.0, 0.0]], 0.0)
+    stiff = control.ss(control.tf([400.0, 10000.0], [0.001, 1.0]))  # crossover far past Nyquist
+    with pytest.raises(SynthesisError, match="unstable"):
+        sampled_loop_at_a_time(plant, stiff, 0.1)

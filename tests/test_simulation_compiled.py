@@ -115,7 +115,7 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
         )
         for jit in (False, True)
     ]
-    assert runs[1].info["compiled_step"] and not runs[0].info["compiled_step"]
+    assert runs[1].compiled_step and not runs[0].compiled_step
     # Same operations in the same order: agreement to round-off.
     assert np.abs(runs[0].state - runs[1].state).max() < 1e-12
     assert np.abs(runs[0].thrust_N - runs[1].thrust_N).max() < 1e-15

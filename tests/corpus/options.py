@@ -25,7 +25,7 @@ from .invocations import (
     Invocations,
     replace_option,
 )
-from .output_folders import out_file_options, out_folder_options
+from .output_folders import out_folder_options
 
 # --- every command: option syntax, the problem argument, the group -----------
 
@@ -119,7 +119,7 @@ def synthesize_entries(inv: Invocations) -> None:
         inv.option("synthesize", "--seed", [value], f"--seed {value}", expect=expect)
     for value in _D_ORDERS:
         inv.option("synthesize", "--d-orders", [value], f"--d-orders {value!r}")
-    out_file_options(inv, "synthesize")
+    out_folder_options(inv, "synthesize")
 
 
 def margins_entries(inv: Invocations) -> None:

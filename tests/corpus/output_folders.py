@@ -6,7 +6,6 @@ folder under a file: refused, with the user's files left as they were.
 
 from __future__ import annotations
 
-from .entry import FileSpec
 from .invocations import BASE, Invocations, replace_option
 
 DIR_OUT = [
@@ -18,26 +17,11 @@ DIR_OUT = [
     ("", "empty string"),
 ]
 
-# synthesize --out names a controller file: (value, description, files in the folder).
-FILE_OUT = [
-    ("adir", "a directory as the controller file", (FileSpec("adir", "dir"),)),
-    ("existing.txt", "an existing file without --overwrite", ()),
-    ("/proc/casadi-debris-corpus.json", "an unwritable place", ()),
-    ("existing.txt/c.json", "a file under a file", ()),
-    ("", "empty string", ()),
-]
-
 
 def out_folder_options(inv: Invocations, command: str) -> None:
     """``command --out`` each of :data:`DIR_OUT`."""
     for value, desc in DIR_OUT:
         inv.option(command, "--out", [value], f"--out {desc}")
-
-
-def out_file_options(inv: Invocations, command: str) -> None:
-    """``command --out`` (a file) each of :data:`FILE_OUT`."""
-    for value, desc, files in FILE_OUT:
-        inv.option(command, "--out", [value], f"--out {desc}", files=files)
 
 
 def overwrite_entries(inv: Invocations) -> None:
@@ -57,7 +41,7 @@ def out_checked_first_entries(inv: Invocations) -> None:
     for command, args in (
         ("margins", ["--no-plots", "--out", "/proc/casadi-debris-corpus"]),
         ("montecarlo", ["--out", "/proc/casadi-debris-corpus"]),
-        ("synthesize", ["--out", "/proc/casadi-debris-corpus.json"]),
+        ("synthesize", ["--out", "/proc/casadi-debris-corpus"]),
         ("simulate", ["--out", "/proc/casadi-debris-corpus"]),
     ):
         inv.add(

@@ -739,6 +739,39 @@ _CASES: list[tuple[str, str, dict[Path_, Any], str, tuple[str, ...], bool]] = [
         (),
         False,
     ),
+    # ---- [environment]
+    (
+        "environment: specular 0.7 + diffuse 0.4 reflectivity (above all the light)",
+        "paper",
+        {("environment",): {"specular_reflectivity": 0.7, "diffuse_reflectivity": 0.4}},
+        "reject",
+        ("environment.diffuse_reflectivity",),
+        True,
+    ),
+    (
+        'environment: torques = ["drag"] (not one of the four)',
+        "paper",
+        {("environment",): {"torques": ["drag"]}},
+        "reject",
+        ("environment.torques",),
+        True,
+    ),
+    (
+        "environment: every torque on, the orbit's node and phase given (control)",
+        "paper",
+        {
+            ("environment",): {
+                "torques": ["gravity_gradient", "aerodynamic", "solar_pressure", "magnetic"],
+                "density_kg_m3": 1e-12,
+                "residual_dipole_Am2": [1.0, -1.0, 2.0],
+            },
+            ("orbit", "raan_deg"): 90.0,
+            ("orbit", "argument_of_latitude_deg"): 30.0,
+        },
+        "ok",
+        (),
+        False,
+    ),
 ]
 CASES = [Case(*case) for case in _CASES]
 

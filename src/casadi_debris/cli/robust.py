@@ -30,14 +30,13 @@ from casadi_debris.config.limits import (
     MAX_D_ORDERS_TRIED,
     MU_POINTS,
 )
-from casadi_debris.errors import SynthesisError
+from casadi_debris.errors import InputShapeError, SynthesisError
 from casadi_debris.report.common import format_table, write_json_atomic
 
 if TYPE_CHECKING:
     from casadi_debris.robust.musyn import Iteration
 from casadi_debris.report.folders import (
     RunFolder,
-    check_output_file,
     check_output_folder,
     default_run_folder,
 )
@@ -47,11 +46,10 @@ from casadi_debris.report.folders import (
 @problem_argument
 @click.option(
     "--out",
-    "out_path",
-    type=click.Path(path_type=Path, dir_okay=False),
-    default=Path("controller.json"),
-    show_default=True,
-    help="Controller file to write (JSON).",
+    "out_dir",
+    type=click.Path(path_type=Path, file_okay=False),
+    default=None,
+    help="Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
 )
 @click.option(
     "--mu-points",
@@ -79,7 +77,7 @@ from casadi_debris.report.folders import (
 @friendly_errors
 def synthesize(
     problem_file: Path | None,
-    out_path: Path,
+    out_dir: Path | None,
     mu_points: int,
     max_iterations: int,
     d_orders: str,
@@ -88,10 +86,19 @@ def synthesize(
     overwrite: bool,
     as_json: bool,
 ) -> None:
-    """mu-synthesis of the attitude controller (the paper's Section III), reduced and checked."""
+    """mu-synthesis of the attitude controller (the paper's Section III), reduced and checked.
+
+    Writes controller.json (fly it with --controller) and summary.json into --out.
+    """
     problem = load_problem(problem_file)
     orders = _d_orders(d_orders)
-    check_output_file(out_path, overwrite=overwrite)
+    folder = out_dir or default_run_folder("synthesize", problem.name)
+    if folder.suffix == ".json":
+        raise InputShapeError(
+            f"--out: a run folder (the controller goes to {folder.with_suffix('')}/"
+            f"controller.json), not a .json file name: {folder}"
+        )
+    check_output_folder(folder, overwrite=overwrite)
     from casadi_debris.robust.design import SynthesisSettings, design_controller
 
     settings = SynthesisSettings(
@@ -118,8 +125,11 @@ def synthesize(
 
     say(f"Synthesising for {problem.name} ...")
     design = design_controller(problem, settings, progress)
-    written = write_json_atomic(out_path, design.record.to_dict())
-    summary = dataclasses.replace(design.summary(), controller_path=str(written))
+    controller_path = (folder / "controller.json").absolute()
+    summary = dataclasses.replace(design.summary(), controller_path=str(controller_path))
+    with RunFolder.claim(folder, overwrite=overwrite, command="synthesize") as staging:
+        write_json_atomic(staging / "controller.json", design.record.to_dict())
+        write_json_atomic(staging / "summary.json", summary)
     if as_json:
         echo_json(summary)
         return
@@ -197,14 +207,18 @@ def margins(
         echo_json(summary)
         return
     rows = []
-    for label in ("nominal", "sampled_min"):
-        m = summary[label]
-        rows.append([label, m["gain_margin_db"], m["phase_margin_deg"], m["delay_margin_s"]])
+    sampled_data = f"nominal, sampled at {summary.control_rate_hz:g} Hz"
+    for label, m in (
+        ("nominal", summary.nominal),
+        (sampled_data, summary.nominal_sampled_data),
+        ("sampled_min", summary.sampled_min),
+    ):
+        rows.append([label, m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s])
     click.echo(f"Controller {path} ({record.reduced.nstates} states) on {problem.name}")
     click.echo(
         format_table(["", "gain margin [dB]", "phase margin [deg]", "delay margin [s]"], rows)
     )
-    per = summary["per_channel"]
+    per = summary.per_channel
     click.echo(
         format_table(
             ["channel", "GM [dB]", "upper", "lower", "PM [deg]", "delay [s]", "crossover [rad/s]"],
@@ -222,10 +236,10 @@ def margins(
             ],
         )
     )
-    disk = summary["disk_margin"]
+    disk = summary.disk_margin
     click.echo(
-        f"disk margin alpha {disk['alpha']:.3f} ({disk['gain_margin_db']:.2f} dB, "
-        f"{disk['phase_margin_deg']:.1f} deg); {summary['unstable_samples']} of "
-        f"{summary['samples']} sampled loops unstable; seed {summary['seed']}"
+        f"disk margin alpha {disk.alpha:.3f} ({disk.gain_margin_db:.2f} dB, "
+        f"{disk.phase_margin_deg:.1f} deg); {summary.unstable_samples} of "
+        f"{summary.samples} sampled loops unstable; seed {summary.seed}"
     )
-    click.echo(f"written: {summary['out_dir']}")
+    click.echo(f"written: {summary.out_dir}")

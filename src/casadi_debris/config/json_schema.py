@@ -44,6 +44,22 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
         "requirements": {"pointing_arcsec": 60.0, "slew_error_deg": 0.6},
         "uncertainty": {"independent_array_angles": True},
         "montecarlo": {"corner_array_angles": 2},
+        "orbit": {"raan_deg": 30.0, "argument_of_latitude_deg": 45.0},
+        "environment": {
+            "torques": ["gravity_gradient", "aerodynamic", "solar_pressure", "magnetic"],
+            "density_kg_m3": 1e-13,
+            "drag_coefficient": 2.2,
+            "solar_pressure_N_m2": 4.56e-6,
+            "specular_reflectivity": 0.1,
+            "diffuse_reflectivity": 0.2,
+            "sun_longitude_deg": 0.0,
+            "eclipse": True,
+            "residual_dipole_Am2": [0.0, 0.0, 1.0],
+            "field_equator_T": 2.98e-5,
+            "dipole_tilt_deg": 9.41,
+            "dipole_longitude_deg": -72.68,
+            "greenwich_angle_deg": 0.0,
+        },
     }
     engine = {"direction": [0.0, 0.0, -1.0], "offset_m": [0.0, 0.0, 0.0], "stages": 1}
     engine |= {"emitters_per_stage": 32, "thrust_per_stage_mN": 0.64, "isp_s": 1000.0}

@@ -178,6 +178,21 @@ EARTH_RADIUS_KM = Range(6_300.0, 6_450.0)
 """[6300, 6450] km: the polar (6357), mean (6371) and equatorial (6378) radii, +-1 %."""
 STANDARD_GRAVITY_M_S2 = Range(9.7, 9.9)
 """[9.7, 9.9] m/s^2: 9.80665 by definition, local gravity 9.78 to 9.83."""
+DENSITY_KG_M3 = Range(0.0, 1e-6)
+"""[0, 1e-6] kg/m^3: the air density along the orbit, from 0 (no drag) to 1e-6 (about 150 km,
+where nothing stays a revolution); at 685 km it lies between 1e-14 and 1e-12."""
+DRAG_COEFFICIENT = Range(0.5, 5.0)
+"""[0.5, 5] for C_D: free-molecular flat plates lie between 2 and 3 (2.2 usual)."""
+REFLECTIVITY = Range(0.0, 1.0)
+"""[0, 1] fractions of the sunlight reflected specularly or diffusely (their sum at most 1)."""
+SOLAR_PRESSURE_N_M2 = Range(0.0, 1e-4)
+"""[0, 1e-4] N/m^2: 4.56e-6 at 1 AU; 1e-4 is inside Mercury's orbit."""
+RESIDUAL_DIPOLE_AM2 = symmetric(1e3)
+"""|m| <= 1000 A m^2 per axis: a satellite's residual dipole is 0.01 to 10 A m^2."""
+DIPOLE_TILT_DEG = Range(0.0, 180.0)
+"""[0, 180] deg: the colatitude of the dipole's north pole (9.4 deg for the Earth in 2020)."""
+FIELD_T = Range(0.0, 1e-3)
+"""[0, 1e-3] T: the dipole field at the equator's surface (Earth: 3.0e-5 T)."""
 UNCERTAINTY_ANGLE_DEG = Range(0.0, 180.0)
 """[0, 180] deg half-range of the array angle: 180 covers every angle."""
 UNCERTAINTY_SAMPLES = Range(1, 10_000)

@@ -19,6 +19,7 @@ from casadi_debris.config.bodies import (
     read_engine_defaults,
     read_hub,
 )
+from casadi_debris.config.environment import read_environment, read_orbit
 from casadi_debris.config.runs import check_integration_step, read_montecarlo, read_simulation
 from casadi_debris.config.schema import (
     DEFAULT_MONTECARLO,
@@ -27,7 +28,6 @@ from casadi_debris.config.schema import (
     Constants,
     Detumble,
     Disturbance,
-    Orbit,
     Problem,
     Requirements,
     Sensor,
@@ -100,7 +100,6 @@ REQUIREMENTS_RANGES = {
     "pointing_arcsec": limits.POINTING_ARCSEC,
     "slew_error_deg": limits.SLEW_ERROR_DEG,
 }
-ORBIT_RANGES = {"altitude_km": limits.ALTITUDE_KM, "inclination_deg": limits.INCLINATION_DEG}
 TRANSFER_RANGES = {
     "from_altitude_km": limits.ALTITUDE_KM,
     "from_inclination_deg": limits.INCLINATION_DEG,
@@ -199,12 +198,13 @@ def problem_from_dict(
         sensor=sensor,
         uncertainty=_read_uncertainty(top.table("uncertainty")),
         weights=_read_weights(top.table("weights")),
-        orbit=_read_numbers(top.table("orbit"), Orbit, ORBIT_RANGES),
+        orbit=read_orbit(top.table("orbit")),
         transfer=_read_numbers(top.table("transfer"), Transfer, TRANSFER_RANGES),
         detumble=_read_detumble(top.table("detumble")),
         constants=constants,
         simulation=simulation,
         montecarlo=read_montecarlo(_optional_table(top, "montecarlo", DEFAULT_MONTECARLO)),
+        environment=read_environment(top),
         source=source or "<dict>",
         sha256=sha256,
     )

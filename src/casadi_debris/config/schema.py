@@ -283,8 +283,24 @@ class Weights:
 
 @dataclass(frozen=True, eq=False)
 class Orbit:
+    """The debris' circular orbit (``[orbit]``).
+
+    Attributes
+    ----------
+    altitude_km : float
+        Above the equatorial radius of ``[constants]``.
+    inclination_deg : float
+    raan_deg : float
+        Right ascension of the ascending node (default 0: the node on the
+        vernal equinox).
+    argument_of_latitude_deg : float
+        Angle from the ascending node to the debris at t = 0 (default 0).
+    """
+
     altitude_km: float
     inclination_deg: float
+    raan_deg: float = 0.0
+    argument_of_latitude_deg: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -305,6 +321,70 @@ class Constants:
     earth_mu_km3_s2: float
     earth_radius_km: float
     standard_gravity_m_s2: float
+
+
+EnvironmentTorque = Literal["gravity_gradient", "aerodynamic", "solar_pressure", "magnetic"]
+ENVIRONMENT_TORQUES: tuple[EnvironmentTorque, ...] = (
+    "gravity_gradient",
+    "aerodynamic",
+    "solar_pressure",
+    "magnetic",
+)
+
+
+@dataclass(frozen=True, eq=False)
+class Environment:
+    """Disturbance torques from the orbit (``[environment]``), added to ``[disturbance]``.
+
+    None act unless listed in ``torques`` (the paper's runs have none). The
+    equations are in :mod:`casadi_debris.environment`.
+
+    Attributes
+    ----------
+    torques : tuple of str
+        Which act: ``gravity_gradient``, ``aerodynamic``, ``solar_pressure``,
+        ``magnetic``.
+    density_kg_m3 : float
+        Air density along the orbit (constant; 1e-13 by default, between solar
+        minimum and maximum at 685 km).
+    drag_coefficient : float
+        C_D of every panel (2.2).
+    solar_pressure_N_m2 : float
+        Radiation pressure of the sunlight (4.56e-6 at 1 AU).
+    specular_reflectivity, diffuse_reflectivity : float
+        Fractions of the light reflected (0.1, 0.2); the rest is absorbed.
+    sun_longitude_deg : float
+        Ecliptic longitude of the Sun at t = 0 (0: vernal equinox).
+    eclipse : bool
+        Whether the Earth's cylindrical shadow switches the sunlight off.
+    residual_dipole_Am2 : ndarray, shape (3,)
+        The debris' residual magnetic dipole, body axes ([0, 0, 1]).
+    field_equator_T : float
+        The Earth's dipole field at the equator's surface (2.98e-5, IGRF 2020).
+    dipole_tilt_deg, dipole_longitude_deg : float
+        Colatitude (9.41) and east longitude (-72.68) of the dipole's northern
+        pole (0 tilt: the field aligned with the spin axis).
+    greenwich_angle_deg : float
+        Angle of the Greenwich meridian from the vernal equinox at t = 0.
+    """
+
+    torques: tuple[EnvironmentTorque, ...] = ()
+    density_kg_m3: float = 1e-13
+    drag_coefficient: float = 2.2
+    solar_pressure_N_m2: float = 4.56e-6
+    specular_reflectivity: float = 0.1
+    diffuse_reflectivity: float = 0.2
+    sun_longitude_deg: float = 0.0
+    eclipse: bool = True
+    residual_dipole_Am2: np.ndarray = field(default_factory=lambda: np.array([0.0, 0.0, 1.0]))
+    field_equator_T: float = 2.98e-5
+    dipole_tilt_deg: float = 9.41
+    dipole_longitude_deg: float = -72.68
+    greenwich_angle_deg: float = 0.0
+
+    def acts(self, torque: EnvironmentTorque) -> bool:
+        """Whether ``torque`` is switched on."""
+        return torque in self.torques
 
 
 ReferenceKind = Literal["hold", "slew"]
@@ -443,6 +523,7 @@ class Problem:
     constants: Constants
     simulation: Simulation = field(default=None)  # type: ignore[assignment]
     montecarlo: MonteCarlo = field(default=None)  # type: ignore[assignment]
+    environment: Environment = field(default_factory=Environment)
     source: str = field(default="<dict>")
     sha256: str = field(default="")
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.report.common import format_figure
+from casadi_debris.report.robust import MarginReport
 from casadi_debris.robust.performance_search import DesignSearch
 
 GAIN_MARGIN_DB = 6.0
@@ -99,7 +100,7 @@ def _nominal_and_worst(campaign: dict[str, Any], key: str) -> list[float]:
 def requirement_rows(
     problem: Problem,
     search: DesignSearch,
-    margins: dict[str, Any],
+    margins: MarginReport,
     campaigns: dict[str, dict[str, Any]],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
@@ -112,9 +113,9 @@ def requirement_rows(
     guaranteed = chosen.guaranteed_pointing_arcsec
     pointing = _nominal_and_worst(campaigns["pointing"], "max_error_arcsec")
     slew = _nominal_and_worst(campaigns["slew"], "max_error_deg")
-    sampled = margins["sampled_min"]
-    margin_values = [sampled[k] for k in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")]
-    unstable = margins["unstable_samples"]
+    sampled = margins.sampled_min
+    margin_values = [sampled.gain_margin_db, sampled.phase_margin_deg, sampled.delay_margin_s]
+    unstable = margins.unstable_samples
     return [
         _row("mu_peak", "μ, full / reduced controller", "≤ 1",
              [chosen.mu_peak, chosen.mu_peak_reduced], chosen.mu_peak_reduced <= 1.0),
@@ -126,7 +127,7 @@ def requirement_rows(
              f"≤ {pointing_req:g}", pointing, _at_most(pointing, pointing_req)),
         _row("slew_max_error_deg", "slew error, nominal / worst corner [deg]",
              f"≤ {slew_req:g}", slew, _at_most(slew, slew_req)),
-        _row("margins_sampled", f"margins over {margins['samples']} sampled plants [dB, deg, s]",
+        _row("margins_sampled", f"margins over {margins.samples} sampled plants [dB, deg, s]",
              f"≥ {GAIN_MARGIN_DB:g} dB, ≥ {PHASE_MARGIN_DEG:g}° (conventional)", margin_values,
              margin_values[0] >= GAIN_MARGIN_DB and margin_values[1] >= PHASE_MARGIN_DEG),
         _row("unstable_samples", "unstable sampled loops", "0", unstable, unstable == 0),

@@ -16,6 +16,7 @@ import numpy as np
 
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.paper import paper_figure
+from casadi_debris.report.robust import MarginReport
 
 
 @dataclass(frozen=True)
@@ -141,19 +142,15 @@ def controller_rows(controller: dict[str, Any]) -> list[ReproductionRow]:
     ]
 
 
-def margin_rows(margins: dict[str, Any]) -> list[ReproductionRow]:
-    """Nominal and sampled loop-at-a-time margins (``margins`` as from
-    :func:`~casadi_debris.report.robust.margin_report`: dB, deg, s)."""
-    nominal, sampled = margins["nominal"], margins["sampled_min"]
+def margin_rows(margins: MarginReport) -> list[ReproductionRow]:
+    """Nominal and sampled loop-at-a-time margins (dB, deg, s)."""
+    nominal, sampled = margins.nominal, margins.sampled_min
     return [
-        paper_row(
-            "margins_nominal",
-            [nominal[name] for name in ("gain_margin_db", "phase_margin_deg")],
-        ),
+        paper_row("margins_nominal", [nominal.gain_margin_db, nominal.phase_margin_deg]),
         paper_row(
             "margins_sampled",
-            [sampled[name] for name in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")],
-            samples=margins["samples"],
+            [sampled.gain_margin_db, sampled.phase_margin_deg, sampled.delay_margin_s],
+            samples=margins.samples,
         ),
     ]
 
@@ -205,7 +202,7 @@ def reproduction_rows(
     model: dict[str, Any],
     budgets: dict[str, float],
     controller: dict[str, Any],
-    margins: dict[str, Any],
+    margins: MarginReport,
     slew: dict[str, Any],
     pointing: dict[str, Any],
     torque_limits_mNm: np.ndarray,

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, cast
 
@@ -11,12 +11,14 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.model import build_model, linearize
 from casadi_debris.plots import robust as robust_plots
-from casadi_debris.report.common import json_ready
+from casadi_debris.records import Record
+from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margin_study, margins_table
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import weight_fit_grid
 from casadi_debris.robust.interconnect import generalized_plant
+from casadi_debris.robust.margins import sampled_loop_at_a_time
 from casadi_debris.robust.musyn import closed_loop_mu
 from casadi_debris.robust.uncertainty import (
     diagonal_cover,
@@ -25,6 +27,8 @@ from casadi_debris.robust.uncertainty import (
     sample_uncertainty,
 )
 from casadi_debris.robust.weights import recorded_performance_weights, weight_system
+
+MARGINS = ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
 
 
 def paper_margins() -> dict[str, float]:
@@ -45,11 +49,81 @@ def required_margins() -> dict[str, float]:
     }
 
 
-def _worst(margins: dict[str, dict[str, float]]) -> dict[str, float]:
-    return {
-        key: min(channel[key] for channel in margins.values())
-        for key in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
-    }
+@dataclass(frozen=True)
+class Margins(Record):
+    """Gain, phase and delay margins [dB, deg, s] (the worst over channels or plants)."""
+
+    gain_margin_db: float
+    phase_margin_deg: float
+    delay_margin_s: float
+
+    @classmethod
+    def worst(cls, margins: dict[str, dict[str, float]]) -> Margins:
+        """The smallest of each margin over the channels of ``margins``."""
+        return cls(**{key: min(channel[key] for channel in margins.values()) for key in MARGINS})
+
+
+@dataclass(frozen=True)
+class DiskMargin(Record):
+    """The disk margin: skew-free alpha and the gain and phase it guarantees."""
+
+    alpha: float
+    gain_margin_db: float
+    phase_margin_deg: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class MarginReport(Record):
+    """Margins of a controller on a problem, nominal and over sampled plants.
+
+    Attributes
+    ----------
+    problem, problem_sha256, plant_sha256 : str
+    controller_path : str
+    controller_order : int
+    controller_plant_sha256 : str
+        The plant the controller was designed for ("" when its file records none).
+    analysis_plant_modes : str
+        The array modes of the plants analysed.
+    nominal, sampled_min : Margins
+        Worst over the channels; over the stable sampled plants too.
+    nominal_sampled_data : Margins
+        The nominal loop as flown: plant and controller held and sampled at the
+        problem's control rate (worst over the channels).
+    control_rate_hz : float
+    per_channel : dict
+        ``"x"``, ``"y"``, ``"z"`` -> gain (and its upper and lower), phase and delay
+        margins and the crossover of that loop, the others closed.
+    disk_margin : DiskMargin
+    samples, corner_samples, unstable_samples, seed : int
+    time_s : float
+        Wall time of the study.
+    required, paper : dict of str to float
+        The margins accepted over the sampled plants, and the paper's.
+    out_dir : str
+    """
+
+    problem: str
+    problem_sha256: str
+    controller_path: str
+    controller_order: int
+    plant_sha256: str
+    controller_plant_sha256: str
+    analysis_plant_modes: str
+    nominal: Margins
+    sampled_min: Margins
+    nominal_sampled_data: Margins
+    control_rate_hz: float
+    per_channel: dict[str, dict[str, float]]
+    disk_margin: DiskMargin
+    samples: int
+    corner_samples: int
+    unstable_samples: int
+    seed: int
+    time_s: float
+    required: dict[str, float]
+    paper: dict[str, float]
+    out_dir: str
 
 
 def margin_report(
@@ -62,48 +136,44 @@ def margin_report(
     with_plots: bool = True,
     progress: Any = None,
     out_dir: Path | None = None,
-) -> dict[str, Any]:
+) -> MarginReport:
     """Margins of a controller record, written into ``folder`` (summary.json, CSV, PNGs).
 
     ``folder`` is a staging folder the caller owns (see
     :class:`~casadi_debris.report.folders.RunFolder`); ``out_dir`` is where it
     will end up, recorded in the summary (default ``folder``).
 
-    Returns the summary (``nominal`` and ``sampled_min`` each with
-    ``gain_margin_db``, ``phase_margin_deg``, ``delay_margin_s``; ``per_channel``,
-    ``disk_margin``, ``samples``, ``seed``, ``controller_path``, ...).
+    Returns what ``summary.json`` holds.
     """
     study = margin_study(problem, record.reduced, samples, seed, progress=progress)
     per_channel = margins_table(study.nominal)
     alpha, disk_gain_db, disk_phase_deg = study.nominal_disk
-    summary: dict[str, Any] = {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "controller_path": str(controller_path),
-        "controller_order": record.reduced.nstates,
-        "plant_sha256": problem.plant_sha256,
-        "controller_plant_sha256": record.problem_sha256,
-        "analysis_plant_modes": study.modes,
-        "nominal": _worst(per_channel),
-        "sampled_min": study.sampled_min(),
-        "per_channel": per_channel,
-        "disk_margin": {
-            "alpha": alpha,
-            "gain_margin_db": disk_gain_db,
-            "phase_margin_deg": disk_phase_deg,
-        },
-        "samples": len(study.samples.parameters),
-        "corner_samples": study.samples.n_corners,
-        "unstable_samples": int(study.unstable.sum()),
-        "seed": study.samples.seed,
-        "time_s": study.time_s,
-        "required": required_margins(),
-        "paper": paper_margins(),
-        "out_dir": str(Path(out_dir or folder).absolute()),
-    }
+    summary = MarginReport(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        controller_path=str(controller_path),
+        controller_order=record.reduced.nstates,
+        plant_sha256=problem.plant_sha256,
+        controller_plant_sha256=record.problem_sha256,
+        analysis_plant_modes=study.modes,
+        nominal=Margins.worst(per_channel),
+        sampled_min=Margins(**study.sampled_min()),
+        nominal_sampled_data=_sampled_data_margins(problem, record, study.modes),
+        control_rate_hz=problem.simulation.control_rate_hz,
+        per_channel=per_channel,
+        disk_margin=DiskMargin(alpha, disk_gain_db, disk_phase_deg),
+        samples=len(study.samples.parameters),
+        corner_samples=study.samples.n_corners,
+        unstable_samples=int(study.unstable.sum()),
+        seed=study.samples.seed,
+        time_s=study.time_s,
+        required=required_margins(),
+        paper=paper_margins(),
+        out_dir=str(Path(out_dir or folder).absolute()),
+    )
     staging = Path(folder)
     staging.mkdir(parents=True, exist_ok=True)
-    (staging / "summary.json").write_text(json.dumps(json_ready(summary), indent=1) + "\n")
+    write_json_atomic(staging / "summary.json", summary)
     header = "sample," + ",".join(
         f"{q}_{a}" for a in "xyz" for q in ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
     )
@@ -114,6 +184,14 @@ def margin_report(
     if with_plots:
         _margin_figures(problem, record, study, staging)
     return summary
+
+
+def _sampled_data_margins(problem: Problem, record: ControllerRecord, modes: str) -> Margins:
+    """The nominal loop's margins held and sampled at the problem's control rate."""
+    plant = linearize(build_model(problem, modes=modes), sensor=True, units="deg_mNm")
+    period_s = 1.0 / problem.simulation.control_rate_hz
+    per_channel = margins_table(sampled_loop_at_a_time(plant, record.reduced, period_s))
+    return Margins.worst(per_channel)
 
 
 def _margin_figures(

@@ -129,6 +129,8 @@ class FrequencyResponse:
     Parameters
     ----------
     system : control.StateSpace
+    sample_time_s : float, optional
+        For a discrete system: evaluated at z = exp(j w T) instead of s = j w.
 
     Examples
     --------
@@ -138,7 +140,8 @@ class FrequencyResponse:
     (0.5-0.5j)
     """
 
-    def __init__(self, system: control.StateSpace):
+    def __init__(self, system: control.StateSpace, sample_time_s: float | None = None):
+        self._sample_time_s = sample_time_s
         a, b, c, self._d = system.A, system.B, system.C, system.D
         self._shape = (c.shape[0], b.shape[1])
         n = a.shape[0]
@@ -178,6 +181,8 @@ class FrequencyResponse:
     def __call__(self, omega: np.ndarray) -> np.ndarray:
         """The response at ``omega`` [rad/s], shape (n_omega, n_out, n_in)."""
         s = 1j * np.asarray(omega, dtype=float)
+        if self._sample_time_s is not None:
+            s = np.exp(s * self._sample_time_s)
         n_out, n_in = self._shape
         inverse_det = 1.0 / (s * (s - self._two[0][:, None]) + self._two[1][:, None])
         basis = np.concatenate([1.0 / (s - self._one[:, None]), s * inverse_det, inverse_det])
@@ -440,10 +445,18 @@ class LoopAtATime:
         Grid on which crossings are searched [rad/s].
     """
 
-    def __init__(self, controller: control.StateSpace, omega: np.ndarray = MARGIN_GRID):
+    def __init__(
+        self,
+        controller: control.StateSpace,
+        omega: np.ndarray = MARGIN_GRID,
+        sample_time_s: float | None = None,
+    ):
         self.controller = controller
+        self.sample_time_s = sample_time_s
         self.omega = np.asarray(omega, dtype=float)
-        self._controller = FrequencyResponse(controller)
+        if sample_time_s is not None:  # up to the Nyquist frequency
+            self.omega = self.omega[self.omega < math.pi / sample_time_s]
+        self._controller = FrequencyResponse(controller, sample_time_s)
         self._on_grid = self._controller(self.omega)
 
     def __call__(self, plant: control.StateSpace) -> list[LoopMargins]:
@@ -455,11 +468,15 @@ class LoopAtATime:
             If the closed loop is unstable (margins would be meaningless).
         """
         poles = closed_loop_poles(plant, self.controller)
-        if poles.size and np.max(poles.real) >= 0:
-            raise UnstableLoopError(
-                f"closed loop unstable (pole at {poles[np.argmax(poles.real)]:.3g})"
-            )
-        response = FrequencyResponse(plant)
+        if self.sample_time_s is None:
+            worst = int(np.argmax(poles.real)) if poles.size else -1
+            unstable = poles.size and poles.real[worst] >= 0
+        else:
+            worst = int(np.argmax(np.abs(poles))) if poles.size else -1
+            unstable = poles.size and abs(poles[worst]) >= 1.0
+        if unstable:
+            raise UnstableLoopError(f"closed loop unstable (pole at {poles[worst]:.3g})")
+        response = FrequencyResponse(plant, self.sample_time_s)
 
         def evaluate(w: np.ndarray) -> np.ndarray:
             return return_ratios(response(w), self._controller(w))
@@ -486,6 +503,41 @@ def loop_at_a_time(
         If the closed loop is unstable (margins would be meaningless).
     """
     return LoopAtATime(controller, omega)(plant)
+
+
+def sampled_loop_at_a_time(
+    plant: control.StateSpace,
+    controller: control.StateSpace,
+    period_s: float,
+    omega: np.ndarray = MARGIN_GRID,
+) -> list[LoopMargins]:
+    """Margins of the sampled-data loop: plant and controller held and sampled every ``period_s``.
+
+    Both are discretised with a zero-order hold (the closed loop's own
+    discretisation of the controller; the plant seen from the held input to the
+    sampled output) and the discrete loop is broken at each plant input, the others
+    closed, on the grid below the Nyquist frequency pi / period_s: the margins of
+    the loop the simulation flies, hold and sampling included.
+
+    Parameters
+    ----------
+    plant, controller : control.StateSpace
+        Continuous, u = -K y; the plant strictly proper.
+    period_s : float
+        Sample period [s].
+    omega : ndarray
+        Grid on which crossings are searched [rad/s] (cut at the Nyquist frequency).
+
+    Raises
+    ------
+    SynthesisError
+        If the sampled closed loop is unstable, or the period is not positive.
+    """
+    if not period_s > 0:
+        raise SynthesisError(f"period_s: must be positive, got {period_s}")
+    sampled_plant = control.sample_system(plant, period_s, method="zoh")
+    sampled_controller = control.sample_system(controller, period_s, method="zoh")
+    return LoopAtATime(sampled_controller, omega, period_s)(sampled_plant)
 
 
 def disk_margins(

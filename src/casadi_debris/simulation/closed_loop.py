@@ -12,7 +12,10 @@ One control period ``h = 1 / control_rate`` of the loop, from the state
    of the authority polytope (:mod:`casadi_debris.allocation.authority`);
 4. plant: the model's ``dynamics`` with torque ``alpha u_k`` held and the
    disturbance ``d(t)``, integrated over the period by ``integrator_steps``
-   classical Runge-Kutta steps (or CVODES, for reference).
+   classical Runge-Kutta steps (or CVODES, for reference). The environment
+   torques the problem switches on (:mod:`~casadi_debris.simulation.disturbance`)
+   are evaluated once per period from ``t_k`` and the attitude of ``x_k`` and
+   held with ``alpha u_k``: they change over minutes, the period is 0.1 s.
 
 The whole period is one ``casadi.Function`` (expanded to scalar operations,
 the parameter vector folded in as constants), rolled out over many periods
@@ -42,6 +45,7 @@ from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.model import Model
 from casadi_debris.processes import process_alive
+from casadi_debris.simulation.disturbance import environment_function
 from casadi_debris.simulation.jit_cache import CompileError, compiled_function
 from casadi_debris.units import DEG_PER_RAD, NM_PER_MNM
 
@@ -344,7 +348,12 @@ def _jit_key(
     chunk_steps: int,
 ) -> str:
     digest = hashlib.sha256()
-    digest.update(f"{model.problem.sha256}|{model.problem.name}|{model.layout.size}".encode())
+    problem = model.problem
+    digest.update(f"{problem.sha256}|{problem.name}|{model.layout.size}".encode())
+    # Problems changed in memory keep their file's hash and name: the plant (with its
+    # disturbance) and the environment torques, both part of the step, are hashed too.
+    digest.update(f"{problem.plant_sha256}|{problem.environment!r}|{problem.orbit!r}".encode())
+    digest.update(f"{problem.constants!r}".encode())
     for array in (controller.A, controller.B, controller.C, controller.D):
         digest.update(np.ascontiguousarray(array).tobytes())
     digest.update(np.ascontiguousarray(polytope.normals).tobytes())
@@ -437,7 +446,13 @@ def _loop_step(
     applied_z, xc_next_z, demand_z, scale_z, error_z = law(
         xz, xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM]
     )
-    x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(applied_z, ca.DM.zeros(3)), p)
+    torque = applied_z
+    environment = environment_function(model)
+    if environment is not None:  # held over the period, as the applied torque
+        torque = torque + environment(
+            s[StepInput.TIME_S], xz, p if parameters is None else ca.DM(parameters)
+        )
+    x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(torque, ca.DM.zeros(3)), p)
     step_mx = ca.Function(
         "loop_step",
         [z, s, p],

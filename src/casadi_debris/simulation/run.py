@@ -32,6 +32,7 @@ from casadi_debris.simulation.closed_loop import (
     build_loop_step,
     discretize_controller,
 )
+from casadi_debris.simulation.disturbance import disturbance_series
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.summary import (
     SETTLE_BAND_ARCSEC,
@@ -469,7 +470,9 @@ class _Rollout:
             force_N=self.thrust @ self.allocator.force_map.T,
             scale=self.outputs[:, StepOutput.SCALE],
             thrust_N=self.thrust,
-            disturbance_Nm=np.asarray(model.disturbance.map(n)(reference.time_s[:-1])).T,
+            disturbance_Nm=disturbance_series(
+                model, reference.time_s[:-1], self.states[:-1], self.parameters
+            ),
             propulsion=self.engines,
             fuel_start_kg=fuel_start_kg,
             events=self.events,

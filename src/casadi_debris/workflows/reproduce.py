@@ -26,7 +26,7 @@ from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.describe import describe_model
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.report.reproduce import ReproductionRow, report_markdown, reproduction_rows
-from casadi_debris.report.robust import margin_report
+from casadi_debris.report.robust import MarginReport, margin_report
 from casadi_debris.report.simulation import torque_limits_mNm
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
@@ -167,7 +167,7 @@ def report_margins(
     plan: Plan,
     folders: tuple[Path, Path],
     stage: Callable[[str], Progress | None],
-) -> dict[str, Any]:
+) -> MarginReport:
     """The margin study of a report into ``margins/`` (``folders``: staging and final)."""
     staging, out = folders
     stage(f"margins over {plan.margin_samples} sampled plants")
@@ -266,7 +266,7 @@ def _rows(
     model_summary: dict[str, Any],
     budgets: dict[str, float],
     record: ControllerRecord,
-    margins: dict[str, Any],
+    margins: MarginReport,
     campaigns: dict[str, dict[str, Any]],
 ) -> list[ReproductionRow]:
     """The paper's table: each stage's results next to the paper's figures."""
