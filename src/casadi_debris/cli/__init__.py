@@ -16,6 +16,7 @@ from casadi_debris.cli import (  # noqa: F401
     describe,  # model, budget, schema, problems
     design,  # design
     detumble,  # detumble
+    failures,  # failures
     placement,  # placement
     reproduce,  # reproduce
     robust,  # synthesize, margins

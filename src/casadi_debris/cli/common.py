@@ -93,6 +93,23 @@ def comma_list(text: str, option: str, example: str) -> list[str]:
     return parts
 
 
+def failed_cubesat_indices(text: str | None, count: int) -> list[int]:
+    """0-based indices of ``--failed`` CubeSat ids (1 .. count, as ``casadi-debris model``
+    numbers them), sorted, without repeats."""
+    if text is None:
+        return []
+    try:
+        ids = sorted({int(part) for part in comma_list(text, "--failed", "3,17")})
+    except ValueError:
+        raise InputShapeError(
+            f"--failed takes comma-separated CubeSat ids such as 3,17; got {text!r}"
+        ) from None
+    bad = [i for i in ids if not 1 <= i <= count]
+    if bad:
+        raise InputShapeError(f"--failed: CubeSat ids run from 1 to {count}; got {bad}")
+    return [i - 1 for i in ids]
+
+
 def echo_json(payload: Any) -> None:
     """Print a result as indented JSON (numpy converted, non-finite as null)."""
     click.echo(json.dumps(json_ready(payload), indent=2))
