@@ -54,6 +54,18 @@ problem_argument = click.argument(
     metavar="[PROBLEM.toml]",
 )
 json_option = click.option("--json", "as_json", is_flag=True, help="Print JSON for scripts.")
+
+
+def out_folder_option(command: str) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``--out DIR``: the run folder, by default ``runs/<command>-<problem>``."""
+    return click.option(
+        "--out",
+        type=click.Path(path_type=Path, file_okay=False),
+        default=None,
+        help=f"Run folder [runs/{command}-<problem>].",
+    )
+
+
 controller_option = click.option(
     "--controller",
     "controller_path",

@@ -13,6 +13,7 @@ from casadi_debris.cli.common import (
     friendly_errors,
     json_option,
     main,
+    out_folder_option,
     overwrite_option,
     problem_argument,
     say,
@@ -52,12 +53,7 @@ MAX_RATE_RAD_S = 100.0
     show_default=True,
     help="Control period: the torque is held over it.",
 )
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Run folder [runs/detumble-<problem>].",
-)
+@out_folder_option("detumble")
 @overwrite_option
 @json_option
 @friendly_errors

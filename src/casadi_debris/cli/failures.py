@@ -15,6 +15,7 @@ from casadi_debris.cli.common import (
     is_quiet,
     json_option,
     main,
+    out_folder_option,
     overwrite_option,
     problem_argument,
     say,
@@ -122,12 +123,7 @@ def _text(summary: dict[str, Any]) -> str:
 @controller_option
 @allow_mismatch_option
 @workers_option
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Result folder [runs/failures-<problem>].",
-)
+@out_folder_option("failures")
 @overwrite_option
 @json_option
 @friendly_errors

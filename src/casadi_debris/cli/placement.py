@@ -17,6 +17,7 @@ from casadi_debris.cli.common import (
     friendly_errors,
     json_option,
     main,
+    out_folder_option,
     overwrite_option,
     problem_argument,
     say,
@@ -121,12 +122,7 @@ def parse_inertia(text: str | None) -> tuple[float, float, float] | None:
     show_default=True,
     help="Seconds for the MILP (each one of the sweep too).",
 )
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Result folder [runs/placement-<problem>].",
-)
+@out_folder_option("placement")
 @overwrite_option
 @json_option
 @friendly_errors
