@@ -36,9 +36,15 @@ def test_round_trip_through_json():
 
 def test_missing_and_bad_keys_named():
     data = _record().to_dict()
-    del data["mu_peak"]
-    with pytest.raises(ProblemFileError, match="mu_peak: missing"):
+    del data["A"]
+    with pytest.raises(ProblemFileError, match="A: missing"):
         ControllerRecord.from_dict(data, "k.json")
+    data = _record().to_dict()
+    del data["mu_peak"]  # the μ bookkeeping is a design's, a plain controller has none
+    assert ControllerRecord.from_dict(data).mu_peak is None
+    data["mu_peak_reduced"] = -1.0
+    with pytest.raises(ProblemFileError, match="mu_peak_reduced: must be a non-negative"):
+        ControllerRecord.from_dict(data)
     data = _record().to_dict()
     data["B"] = [[1.0, 2.0]]
     with pytest.raises(ProblemFileError, match="3-input, 3-output"):

@@ -15,6 +15,9 @@ from casadi_debris.cli import (  # noqa: F401
     compare,  # compare
     describe,  # model, budget, schema, problems
     design,  # design
+    detumble,  # detumble
+    failures,  # failures
+    placement,  # placement
     reproduce,  # reproduce
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo

@@ -11,6 +11,7 @@ import click
 from casadi_debris.cli.common import (
     comma_list,
     echo_json,
+    failed_cubesat_indices,
     friendly_errors,
     json_option,
     main,
@@ -38,22 +39,6 @@ SATURATION_MODES = ("scale", "least_squares")
 US_PER_S = 1e6
 # The API's demand arguments and the options (and display units) they come from.
 DEMAND_OPTIONS = {"torque_Nm": ("--torque-mNm", "mNm"), "force_N": ("--force-mN", "mN")}
-
-
-def _failed_indices(text: str | None, count: int) -> list[int]:
-    """0-based indices of the CubeSat ids (1 .. count, as ``casadi-debris model`` numbers them)."""
-    if text is None:
-        return []
-    try:
-        ids = sorted({int(part) for part in comma_list(text, "--failed", "3,17")})
-    except ValueError:
-        raise AllocationError(
-            f"--failed takes comma-separated CubeSat ids such as 3,17; got {text!r}"
-        ) from None
-    bad = [i for i in ids if not 1 <= i <= count]
-    if bad:
-        raise AllocationError(f"--failed: CubeSat ids run from 1 to {count}; got {bad}")
-    return [i - 1 for i in ids]
 
 
 def _failed_engines(text: str | None, state: PropulsionState) -> list[tuple[int, int]]:
@@ -283,7 +268,7 @@ def allocate(
     problem = load_problem(problem_file)
     geometry = build_geometry(problem)
     state = _read_state(stage_state, PropulsionState.from_problem(problem))
-    for index in _failed_indices(failed, len(geometry.cubesats)):
+    for index in failed_cubesat_indices(failed, len(geometry.cubesats)):
         state.fail_cubesat(index)
     for cubesat, engine in _failed_engines(failed_engines, state):
         state.fail_engine(cubesat, engine)

@@ -54,6 +54,18 @@ problem_argument = click.argument(
     metavar="[PROBLEM.toml]",
 )
 json_option = click.option("--json", "as_json", is_flag=True, help="Print JSON for scripts.")
+
+
+def out_folder_option(command: str) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
+    """``--out DIR``: the run folder, by default ``runs/<command>-<problem>``."""
+    return click.option(
+        "--out",
+        type=click.Path(path_type=Path, file_okay=False),
+        default=None,
+        help=f"Run folder [runs/{command}-<problem>].",
+    )
+
+
 controller_option = click.option(
     "--controller",
     "controller_path",
@@ -91,6 +103,23 @@ def comma_list(text: str, option: str, example: str) -> list[str]:
     if not text.strip() or any(not part for part in parts):
         raise InputShapeError(f"{option}: comma-separated values such as {example}; got {text!r}")
     return parts
+
+
+def failed_cubesat_indices(text: str | None, count: int) -> list[int]:
+    """0-based indices of ``--failed`` CubeSat ids (1 .. count, as ``casadi-debris model``
+    numbers them), sorted, without repeats."""
+    if text is None:
+        return []
+    try:
+        ids = sorted({int(part) for part in comma_list(text, "--failed", "3,17")})
+    except ValueError:
+        raise InputShapeError(
+            f"--failed takes comma-separated CubeSat ids such as 3,17; got {text!r}"
+        ) from None
+    bad = [i for i in ids if not 1 <= i <= count]
+    if bad:
+        raise InputShapeError(f"--failed: CubeSat ids run from 1 to {count}; got {bad}")
+    return [i - 1 for i in ids]
 
 
 def echo_json(payload: Any) -> None:

@@ -10,6 +10,7 @@ from casadi_debris.cli.common import (
     friendly_errors,
     json_option,
     main,
+    out_folder_option,
     overwrite_option,
     problem_argument,
     uncertainty_sample_options,
@@ -25,12 +26,7 @@ TABLE_KEYS = ("result", "required", "ours", "verdict")
 
 @main.command()
 @problem_argument
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Report folder [runs/design-<problem>].",
-)
+@out_folder_option("design")
 @click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run.")
 @uncertainty_sample_options
 @workers_option

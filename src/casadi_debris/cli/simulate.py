@@ -16,6 +16,7 @@ from casadi_debris.cli.common import (
     allow_mismatch_option,
     controller_option,
     echo_json,
+    failed_cubesat_indices,
     friendly_errors,
     in_range,
     is_quiet,
@@ -151,6 +152,13 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option(
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
 )
+@click.option(
+    "--failed",
+    default=None,
+    metavar="I,J,...",
+    help="CubeSats failed from the start, by id (as `casadi-debris model` lists them), added "
+    "to the problem's [[simulation.failures]].",
+)
 @controller_option
 @allow_mismatch_option
 @click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
@@ -167,6 +175,7 @@ def simulate(
     open_loop: Path | None,
     rigid: bool,
     duration_s: float | None,
+    failed: str | None,
     controller_path: Path | None,
     allow_mismatch: bool,
     out: Path | None,
@@ -190,6 +199,8 @@ def simulate(
         return
     if duration_s is not None:
         problem = with_duration(problem, duration_s, field="--duration-s")
+    if failed is not None:
+        problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
     from casadi_debris.allocation import Allocator
     from casadi_debris.model import build_model
     from casadi_debris.report.simulation import figure_title, write_run
@@ -227,6 +238,17 @@ def simulate(
         echo_json(summary)
     else:
         click.echo(summary_text(summary))
+
+
+def _with_failed(problem: Problem, cubesats: list[int]) -> Problem:
+    """``problem`` with the CubeSats (0-based) failed at time 0, before its own failures."""
+    from dataclasses import replace
+
+    from casadi_debris.config import FailureEvent
+
+    events = tuple(FailureEvent(0.0, i, None) for i in cubesats) + problem.simulation.failures
+    ordered = tuple(sorted(events, key=lambda event: event.time_s))
+    return replace(problem, simulation=replace(problem.simulation, failures=ordered))
 
 
 def _open_loop(

@@ -99,9 +99,29 @@ def cubesat_inertia_on_face(moments: np.ndarray, face: str) -> np.ndarray:
 
 
 def _engines(layout: CubeSatLayout, face: str, defaults: EngineDefaults) -> tuple[Engine, ...]:
+    return face_engines(face, layout.main_engine, layout.side_engines, defaults)
+
+
+def face_engines(
+    face: str, main_engine: bool, side_engines: int, defaults: EngineDefaults
+) -> tuple[Engine, ...]:
+    """The engines of a CubeSat docked on ``face``, at its CoG.
+
+    Parameters
+    ----------
+    face : str
+        Signed axis of the face (its outward normal).
+    main_engine : bool
+        One engine pushing along the face's inward normal.
+    side_engines : {0, 2, 4}
+        Side-panel engines pushing both ways along the first in-face axis after
+        the normal in cyclic order (2), or along both in-face axes (4).
+    defaults : EngineDefaults
+        Their stages, thrust, Isp and life.
+    """
     _, first, second = face_axes(face)
-    directions = [-signed_axis_vector(face)] if layout.main_engine else []
-    side_axes = {0: (), 2: (first,), 4: (first, second)}[layout.side_engines]
+    directions = [-signed_axis_vector(face)] if main_engine else []
+    side_axes = {0: (), 2: (first,), 4: (first, second)}[side_engines]
     for axis in side_axes:
         for sign in (+1.0, -1.0):
             direction = np.zeros(3)

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.config import Problem
+from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.model import Model
 from casadi_debris.records import Record
 from casadi_debris.robust.uncertainty import corner_angles, parameters_from_normalized
@@ -57,6 +57,9 @@ class Case:
         ``model.parameter_names``).
     parameters : ndarray, shape (n_parameters,)
         Model parameter vector.
+    failures : tuple of FailureEvent or None
+        CubeSats, stages or engines lost during the run (a failure campaign's
+        case); None flies the problem's own ``[[simulation.failures]]``.
     """
 
     case_id: str
@@ -65,6 +68,7 @@ class Case:
     seed: int | None
     normalized: np.ndarray
     parameters: np.ndarray
+    failures: tuple[FailureEvent, ...] | None = None
 
     def identity(self) -> CaseIdentity:
         """What names the case in its results and re-runs it alone."""

@@ -314,6 +314,7 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         setup.controller,
         setup.reference,
         parameters=case.parameters,
+        failures=case.failures,
         allocator=allocator,
         jit=setup.jit,
     )

@@ -1,0 +1,181 @@
+"""``casadi-debris failures``: which sets of failed CubeSats (and lost stages) a swarm survives."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import click
+
+from casadi_debris.cli.common import (
+    allow_mismatch_option,
+    controller_option,
+    echo_json,
+    friendly_errors,
+    is_quiet,
+    json_option,
+    main,
+    out_folder_option,
+    overwrite_option,
+    problem_argument,
+    say,
+    workers_option,
+)
+from casadi_debris.config import load_problem
+from casadi_debris.errors import InputShapeError
+from casadi_debris.report.common import format_table
+from casadi_debris.report.folders import check_output_folder, default_run_folder
+
+SHOWN = 10
+"""Worst cases the text output lists."""
+MAX_CORNERS = 2048
+"""Corner plants a set may fly at most (the largest corner set of a problem)."""
+
+
+def _progress(as_json: bool) -> Any:
+    """Each stage on stderr, with a counter of its runs (not with ``--json`` or ``-q``)."""
+    from casadi_debris.cli.simulate import cases_progress
+
+    def progress(stage: str) -> Any:
+        if as_json or is_quiet():
+            return None
+        say(stage)
+        return cases_progress("  runs") if "plant" in stage or "corners" in stage else None
+
+    return progress
+
+
+def _text(summary: dict[str, Any]) -> str:
+    rows = []
+    for case in summary["cases"][:SHOWN]:
+        torque = case["torque_max_zero_force_mNm"]
+        runs = case["closed_loop"]["nominal"]
+        rows.append(
+            [
+                " ".join(map(str, case["failed"])) or "—",
+                " ".join(map(str, case["failed_stage"])) or "—",
+                f"{min(torque.values()):.3g} ({min(torque, key=torque.__getitem__)})",
+                f"{case['worst_ratio']:.3g}",
+                *(
+                    f"{runs[m]['error']:.4g}" if m in runs and runs[m]["error"] is not None else "—"
+                    for m in ("slew", "pointing")
+                ),
+                {True: "yes", False: "no"}.get(case["closed_loop"]["met"], "—"),
+            ]
+        )
+    headers = [
+        "failed",
+        "stage of",
+        "least authority [mNm]",
+        "/ disturbance",
+        "slew error [deg]",
+        "pointing [arcsec]",
+        "met",
+    ]
+    verdict = (
+        f"{summary['cases_met']} of {summary['case_count']} cases meet the requirements; "
+        if summary["manoeuvres"]
+        else ""
+    )
+    return (
+        format_table(headers, rows)
+        + f"\n{verdict}{summary['case_count']} cases written to {summary['out_dir']} "
+        f"({summary['wall_time_s']:.0f} s)"
+    )
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--max-failed",
+    type=int,
+    default=2,
+    show_default=True,
+    help="Largest number of CubeSats failed at once (every set of 1 .. N).",
+)
+@click.option(
+    "--stages/--no-stages",
+    default=True,
+    show_default=True,
+    help="Also a case per CubeSat that loses its first stage (the next takes over).",
+)
+@click.option(
+    "--closed-loop/--no-closed-loop",
+    default=True,
+    show_default=True,
+    help="Fly the problem's slew and pointing run for every case (nominal plant).",
+)
+@click.option(
+    "--corner-sets",
+    type=click.IntRange(0),
+    default=3,
+    show_default=True,
+    help="The N worst cases also fly corners of the uncertainty set (0: none).",
+)
+@click.option(
+    "--max-corners",
+    type=click.IntRange(1, MAX_CORNERS),
+    default=16,
+    show_default=True,
+    help="Corners each of those flies, spread evenly over the set.",
+)
+@click.option("--quick", is_flag=True, help="A shorter pointing run (as design --quick).")
+@controller_option
+@allow_mismatch_option
+@workers_option
+@out_folder_option("failures")
+@overwrite_option
+@json_option
+@friendly_errors
+def failures(
+    problem_file: Path | None,
+    max_failed: int,
+    stages: bool,
+    closed_loop: bool,
+    corner_sets: int,
+    max_corners: int,
+    quick: bool,
+    controller_path: Path | None,
+    allow_mismatch: bool,
+    workers: int,
+    out: Path | None,
+    overwrite: bool,
+    as_json: bool,
+) -> None:
+    """Every set of up to --max-failed failed CubeSats (and a lost stage per CubeSat): torque
+    authority left per signed axis, whether the slew and pointing still meet the problem's
+    [requirements] in closed loop, fuel and time to first depletion; ranked, the worst first.
+    Writes summary.json, cases.csv, report.md, reallocation.csv and authority_loss.png."""
+    problem = load_problem(problem_file)
+    count = len(problem.cubesats)
+    if not 1 <= max_failed <= count:
+        raise InputShapeError(
+            f"--max-failed: between 1 and {count} (the problem's CubeSats); got {max_failed}"
+        )
+    folder = out or default_run_folder("failures", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
+    from casadi_debris.studies.failures import FailureSettings
+    from casadi_debris.workflows.failures import failures_folder
+
+    settings = FailureSettings(
+        max_failed=max_failed,
+        stages=stages,
+        closed_loop=closed_loop,
+        corner_sets=corner_sets,
+        workers=workers,
+    )
+    summary = failures_folder(
+        problem,
+        folder,
+        settings,
+        controller_path=controller_path,
+        allow_mismatch=allow_mismatch,
+        max_corners=max_corners,
+        quick=quick,
+        overwrite=overwrite,
+        progress=_progress(as_json),
+    )
+    if as_json:
+        echo_json(summary)
+    else:
+        click.echo(_text(summary))

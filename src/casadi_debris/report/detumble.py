@@ -1,0 +1,63 @@
+"""A detumble as a run folder: summary.json, series.csv and detumble.png."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from casadi_debris.config import AXIS_NAMES
+from casadi_debris.plots.detumble import plot_detumble
+from casadi_debris.records import FLATTENED, Record
+from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.simulation.detumble import DetumbleResult, DetumbleSummary
+from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
+
+
+@dataclass(frozen=True, kw_only=True)
+class DetumbleReport(Record):
+    """The detumble beside the budget's estimates and a bound no detumble can beat.
+
+    Attributes
+    ----------
+    problem, problem_sha256 : str
+    budget_time_h : float
+        The budget's (and the paper's) estimate: each axis braked on its own at
+        full torque, hub and CubeSats inertia.
+    budget_time_full_rigid_h : float
+        The same with the arrays' rigid inertia, the body this detumble flies.
+    budget_dv_m_s : float
+        The budget's share of one face's stage Δv that the firing time uses.
+    momentum_bound_h : float
+        ``|J omega_0| / max |tau|`` over the torques the engines reach: the angular
+        momentum cannot shrink faster than the largest torque.
+    run : DetumbleSummary
+    out_dir : str or None
+    """
+
+    problem: str
+    problem_sha256: str
+    budget_time_h: float
+    budget_time_full_rigid_h: float
+    budget_dv_m_s: float
+    momentum_bound_h: float
+    run: DetumbleSummary = field(metadata=FLATTENED)
+    out_dir: str | None = None
+
+
+def write_detumble(folder: Path, result: DetumbleResult, report: DetumbleReport) -> None:
+    """``summary.json``, ``series.csv`` (rates in deg/s, torque in mNm) and ``detumble.png``."""
+    write_json_atomic(folder / "summary.json", report)
+    columns = {"time_s": result.time_s}
+    for i, axis in enumerate(AXIS_NAMES):
+        columns[f"rate_{axis}_deg_s"] = result.rate_rad_s[:, i] * DEG_PER_RAD
+    for i, axis in enumerate(AXIS_NAMES):
+        torque = np.append(result.torque_Nm[:, i], result.torque_Nm[-1, i])
+        columns[f"torque_{axis}_mNm"] = torque * MNM_PER_NM
+    write_csv(folder / "series.csv", columns)
+    marks = {
+        "per-axis braking estimate": report.budget_time_full_rigid_h,
+        "momentum bound": report.momentum_bound_h,
+    }
+    plot_detumble(result, folder / "detumble.png", title=report.problem, marks_h=marks)

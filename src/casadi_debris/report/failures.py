@@ -1,0 +1,234 @@
+"""A failure campaign as files: summary, ranked table (CSV and Markdown), re-allocation, heat map.
+
+Everything is drawn from the summary (the JSON of a
+:class:`~casadi_debris.studies.failure_records.FailureStudyRecord`), so that
+a script can redraw it from ``summary.json``:
+
+- ``summary.json``: every case with ``failed`` (CubeSat ids from 1),
+  ``failed_stage``, ``torque_max_zero_force_mNm`` (the six signed axes) and
+  ``closed_loop`` (``met`` and each manoeuvre's figures);
+- ``cases.csv`` and ``report.md``: the cases ranked, the worst first;
+- ``reallocation.csv``: each case's mean holding thrust per CubeSat beside the whole
+  swarm's;
+- ``authority_loss.png``: the share of the authority each single failure takes, per
+  signed axis.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from casadi_debris.config import SIGNED_AXES
+from casadi_debris.plots.failures import plot_authority_loss
+from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.units import SECONDS_PER_DAY
+
+REPORT_ROWS = 25
+"""Cases ``report.md`` lists (all are in ``cases.csv``)."""
+RISES_SHOWN = 3
+HEATMAP = "authority_loss.png"
+
+
+def _ids(ids: list[int]) -> str:
+    return " ".join(str(i) for i in ids)
+
+
+def _run_figure(case: dict[str, Any], where: str, name: str) -> float | None:
+    """The judged figure of a manoeuvre's worst run (None: not flown)."""
+    run = case["closed_loop"][where].get(name)
+    return None if run is None else run["error"]
+
+
+def _met(value: bool | None) -> str:
+    return "—" if value is None else ("yes" if value else "no")
+
+
+def _days(seconds: float | None) -> float | None:
+    return None if seconds is None else seconds / SECONDS_PER_DAY
+
+
+def _rises(case: dict[str, Any]) -> str:
+    rises = case.get("reallocation") or []
+    return ", ".join(
+        f"{r['cubesat']} (+{r['thrust_after_mN'] - r['thrust_before_mN']:.3g} mN)"
+        for r in rises[:RISES_SHOWN]
+    )
+
+
+def case_row(rank: int, case: dict[str, Any]) -> dict[str, Any]:
+    """One case as a table row, display units in the keys."""
+    holding = case["holding"] or {}
+    torque = case["torque_max_zero_force_mNm"]
+    return {
+        "rank": rank,
+        "case_id": case["case_id"],
+        "failed": _ids(case["failed"]),
+        "failed_stage": _ids(case["failed_stage"]),
+        **{f"torque_{axis}_mNm": torque[axis] for axis in SIGNED_AXES},
+        "worst_axis": case["worst_axis"],
+        "worst_ratio": case["worst_ratio"],
+        "slew_max_error_deg": _run_figure(case, "nominal", "slew"),
+        "pointing_max_error_arcsec": _run_figure(case, "nominal", "pointing"),
+        "corners_slew_max_error_deg": _run_figure(case, "corners", "slew"),
+        "corners_pointing_max_error_arcsec": _run_figure(case, "corners", "pointing"),
+        "met": _met(case["closed_loop"]["met"]),
+        "holding_fuel_per_period_kg": holding.get("fuel_per_period_kg"),
+        "holding_fuel_spread": holding.get("fuel_spread"),
+        "depletion_days": _days(holding.get("depletion_time_s")),
+        "thrust_rises": _rises(case),
+    }
+
+
+COLUMN_TITLES = {
+    "rank": "rank",
+    "failed": "failed CubeSats",
+    "failed_stage": "failed stage of",
+    "torque_mNm": "authority +x / −x / +y / −y / +z / −z [mNm]",
+    "worst_ratio": "least authority / disturbance",
+    "slew_max_error_deg": "slew error [deg]",
+    "pointing_max_error_arcsec": "pointing error [arcsec]",
+    "corners": "worst corner: slew [deg] / pointing [arcsec]",
+    "met": "requirements met",
+    "depletion_days": "first depletion [days]",
+    "thrust_rises": "thrust rises most on (CubeSat, mean holding thrust)",
+}
+
+
+def _markdown_cells(row: dict[str, Any]) -> list[str]:
+    corners = [row["corners_slew_max_error_deg"], row["corners_pointing_max_error_arcsec"]]
+    return [
+        str(row["rank"]),
+        row["failed"] or "—",
+        row["failed_stage"] or "—",
+        format_figure([row[f"torque_{axis}_mNm"] for axis in SIGNED_AXES], 3),
+        f"{format_figure(row['worst_ratio'], 3)} ({row['worst_axis']})",
+        format_figure(row["slew_max_error_deg"]),
+        format_figure(row["pointing_max_error_arcsec"]),
+        "—" if corners == [None, None] else format_figure(corners),
+        row["met"],
+        format_figure(row["depletion_days"]),
+        row["thrust_rises"] or "—",
+    ]
+
+
+def failures_markdown(summary: dict[str, Any], rows: list[dict[str, Any]]) -> str:
+    """``report.md``: what was run, the baseline, the worst cases, the heat map."""
+    baseline = summary["baseline"]
+    torque = baseline["torque_max_zero_force_mNm"]
+    requirements = ", ".join(f"{k} ≤ {v:g}" for k, v in summary["requirements"].items())
+    flown = ", ".join(f"{m['name']} ({m['duration_s']:g} s)" for m in summary["manoeuvres"])
+    lines = [
+        f"# Failure campaign: {summary['problem']}",
+        "",
+        f"{summary['case_count']} cases: every set of 1 to {summary['max_failed']} failed "
+        f"CubeSats of {summary['cubesats']}"
+        + (", and stage 1 lost on each CubeSat" if summary["stages"] else "")
+        + ". Every failure at time 0.",
+        "",
+        f"Whole swarm: authority {format_figure([torque[a] for a in SIGNED_AXES], 3)} mNm "
+        f"(+x / −x / +y / −y / +z / −z, zero net force) against a disturbance of "
+        f"{format_figure(summary['disturbance_mNm'], 3)} mNm (x / y / z).",
+        "",
+    ]
+    if summary["manoeuvres"]:
+        lines += [
+            f"Closed loop (nominal plant): {flown}; requirements {requirements}. "
+            f"{summary['cases_met']} cases meet them, {summary['cases_not_met']} do not"
+            + (
+                f"; the {summary['corner_sets']} worst also flew {summary['corner_plants']} "
+                "corners of the uncertainty set."
+                if summary["corner_plants"]
+                else "."
+            ),
+            "",
+        ]
+    else:
+        lines += ["No closed-loop runs (--no-closed-loop): ranked by authority alone.", ""]
+    shown = rows[:REPORT_ROWS]
+    lines += [
+        f"## The {len(shown)} worst cases (all in cases.csv)",
+        "",
+        "| " + " | ".join(COLUMN_TITLES.values()) + " |",
+        "| " + " | ".join("---" for _ in COLUMN_TITLES) + " |",
+        *("| " + " | ".join(_markdown_cells(row)) + " |" for row in shown),
+        "",
+        "First depletion: the first engine to spend every stage it may use, firing the mean "
+        "thrust that cancels the disturbance (least fuel, zero net force). Thrust rises: the "
+        "CubeSats whose mean thrust for that holding load rises most over the whole swarm's "
+        "(reallocation.csv has every CubeSat).",
+        "",
+        "## Authority lost by one failed CubeSat",
+        "",
+        f"![authority lost per CubeSat and signed axis]({HEATMAP})",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def _write_table(path: Path, rows: list[dict[str, Any]]) -> None:
+    with path.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows({k: "" if v is None else v for k, v in row.items()} for row in rows)
+
+
+def reallocation_rows(summary: dict[str, Any]) -> list[dict[str, Any]]:
+    """Each case's mean holding thrust per CubeSat beside the whole swarm's [mN]."""
+    before = (summary["baseline"]["holding"] or {}).get("thrust_per_cubesat_mN")
+    rows = []
+    for case in summary["cases"]:
+        after = (case["holding"] or {}).get("thrust_per_cubesat_mN")
+        if before is None or after is None:
+            continue
+        rows += [
+            {
+                "case_id": case["case_id"],
+                "cubesat": index + 1,
+                "thrust_before_mN": old,
+                "thrust_after_mN": new,
+                "change_mN": new - old,
+            }
+            for index, (old, new) in enumerate(zip(before, after, strict=True))
+        ]
+    return rows
+
+
+def single_failure_loss(summary: dict[str, Any]) -> tuple[list[int], np.ndarray, np.ndarray]:
+    """(CubeSat ids, authority lost (n, 6), left at or below the disturbance (n, 6)) of the
+    single-CubeSat cases, by CubeSat."""
+    singles = sorted(
+        (c for c in summary["cases"] if len(c["failed"]) == 1 and not c["failed_stage"]),
+        key=lambda c: c["failed"][0],
+    )
+    loss = np.array([[c["authority_loss"][a] or 0.0 for a in SIGNED_AXES] for c in singles])
+    weak = np.array([[_at_most_one(c["authority_ratio"][a]) for a in SIGNED_AXES] for c in singles])
+    return [c["failed"][0] for c in singles], loss.reshape(-1, 6), weak.reshape(-1, 6)
+
+
+def _at_most_one(ratio: float | None) -> bool:
+    """Authority at or below the disturbance (None: no disturbance about that axis)."""
+    return ratio is not None and ratio <= 1.0
+
+
+def write_failures(folder: Path, summary: dict[str, Any]) -> None:
+    """Every file of a failure campaign into ``folder`` (see the module)."""
+    rows = [case_row(rank, case) for rank, case in enumerate(summary["cases"], start=1)]
+    _write_table(folder / "cases.csv", rows)
+    moved = reallocation_rows(summary)
+    if moved:
+        _write_table(folder / "reallocation.csv", moved)
+    ids, loss, weak = single_failure_loss(summary)
+    if ids:
+        plot_authority_loss(
+            folder / HEATMAP,
+            loss,
+            ids,
+            f"{summary['problem']}: authority lost by one failed CubeSat",
+            weak,
+        )
+    (folder / "report.md").write_text(failures_markdown(summary, rows))
+    write_json_atomic(folder / "summary.json", summary)

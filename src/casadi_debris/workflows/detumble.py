@@ -1,0 +1,93 @@
+"""Detumbling the debris, simulated, beside the budget's estimates (``casadi-debris detumble``).
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.workflows.detumble import detumble_into
+>>> report = detumble_into(load_problem(), "runs/detumble-paper")  # doctest: +SKIP
+>>> report.run.time_to_threshold_h  # doctest: +SKIP
+57.6
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import numpy.typing as npt
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.budgets import budgets_as_dict, compute_budgets
+from casadi_debris.config import Problem
+from casadi_debris.geometry import build_geometry
+from casadi_debris.report.detumble import DetumbleReport, write_detumble
+from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.simulation.detumble import (
+    DEFAULT_GAIN_PER_S,
+    DEFAULT_PERIOD_S,
+    DEFAULT_THRESHOLD_RAD_S,
+    detumble,
+)
+
+SECONDS_PER_HOUR = 3600.0
+
+
+def detumble_into(
+    problem: Problem,
+    out: str | Path,
+    *,
+    initial_rate_rad_s: npt.ArrayLike | None = None,
+    threshold_rad_s: float = DEFAULT_THRESHOLD_RAD_S,
+    gain_per_s: float = DEFAULT_GAIN_PER_S,
+    period_s: float = DEFAULT_PERIOD_S,
+    overwrite: bool = False,
+) -> DetumbleReport:
+    """Simulate the detumble of ``problem`` and write it into the run folder ``out``.
+
+    Parameters
+    ----------
+    problem : Problem
+    out : str or Path
+        Run folder: ``summary.json``, ``series.csv``, ``detumble.png``.
+    initial_rate_rad_s, threshold_rad_s, gain_per_s, period_s
+        See :func:`~casadi_debris.simulation.detumble.detumble`.
+    overwrite : bool
+        Replace a run folder this toolkit wrote.
+
+    Returns
+    -------
+    DetumbleReport
+        The run, the budget's estimates and the momentum bound.
+    """
+    out = Path(out)
+    check_output_folder(out, overwrite=overwrite)
+    result = detumble(
+        problem,
+        initial_rate_rad_s=initial_rate_rad_s,
+        threshold_rad_s=threshold_rad_s,
+        gain_per_s=gain_per_s,
+        period_s=period_s,
+    )
+    budgets = budgets_as_dict(compute_budgets(problem))
+    report = DetumbleReport(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        budget_time_h=budgets["detumble_time_h"],
+        budget_time_full_rigid_h=budgets["detumble_time_full_rigid_h"],
+        budget_dv_m_s=budgets["detumble_dv_m_s"],
+        momentum_bound_h=momentum_bound_s(problem, result.rate_rad_s[0]) / SECONDS_PER_HOUR,
+        run=result.summary,
+        out_dir=str(out.absolute()),
+    )
+    with RunFolder.claim(out, overwrite=overwrite, command="detumble") as staging:
+        write_detumble(staging, result, report)
+    return report
+
+
+def momentum_bound_s(problem: Problem, initial_rate_rad_s: np.ndarray) -> float:
+    """``|J omega_0| / max |tau|``: no torque the engines reach shrinks the angular
+    momentum faster than its own magnitude, so no detumble is shorter [s]."""
+    geometry = build_geometry(problem)
+    vertices = Allocator.from_problem(problem, geometry).authority_polytope().vertices
+    momentum = geometry.inertia_total_kgm2 @ np.asarray(initial_rate_rad_s, dtype=float)
+    return float(np.linalg.norm(momentum) / np.max(np.linalg.norm(vertices, axis=1)))

@@ -1,0 +1,147 @@
+"""Which failures a swarm survives, as a job: the campaign of
+:mod:`casadi_debris.studies.failures` with the problem's controller and manoeuvres,
+written into a folder.
+
+The manoeuvres are those ``design`` verifies a controller on
+(:func:`~casadi_debris.workflows.design.verification_problems`): the problem's
+own slew (or 180 deg about its slowest axis when it has none) and one
+disturbance period of pointing, judged against its ``[requirements]``. The
+controller is the one the problem is bound to (the shipped paper design for
+the paper's plant, or ``--controller``), as ``simulate`` flies it.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.studies.failures import FailureSettings
+>>> from casadi_debris.workflows.failures import failures_folder
+>>> summary = failures_folder(load_problem("problems/paper_slew.toml"), "runs/failures",
+...                           FailureSettings(max_failed=2, workers=2))  # doctest: +SKIP
+>>> summary["cases"][0]["failed"], summary["cases"][0]["closed_loop"]["met"]  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from casadi_debris.config import Problem
+from casadi_debris.model import build_model
+from casadi_debris.report.failures import write_failures
+from casadi_debris.report.folders import RunFolder
+from casadi_debris.studies.failure_cases import check_max_failed
+from casadi_debris.studies.failure_runs import StageProgress, manoeuvres
+from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
+from casadi_debris.workflows.campaign import CaseSelection
+from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows.design import verification_problems
+from casadi_debris.workflows.reproduce import FULL, QUICK
+
+DEFAULT_CORNERS = 16
+"""Corner plants each of the worst sets flies, spread evenly over the set."""
+
+
+def run_failure_study(
+    problem: Problem,
+    settings: FailureSettings,
+    *,
+    controller_path: str | Path | None = None,
+    allow_mismatch: bool = False,
+    max_corners: int = DEFAULT_CORNERS,
+    quick: bool = False,
+    progress: StageProgress | None = None,
+) -> tuple[FailureStudy, Path | None]:
+    """The failure campaign of ``problem`` (see :mod:`casadi_debris.studies.failures`).
+
+    Parameters
+    ----------
+    problem : Problem
+    settings : FailureSettings
+    controller_path : str or Path, optional
+        Controller file (default the shipped one, for the paper's plant only).
+    allow_mismatch : bool
+        Fly a controller designed for another plant.
+    max_corners : int
+        Corner plants of each of the ``settings.corner_sets`` worst cases, spread evenly.
+    quick : bool
+        A shorter pointing run (as ``design --quick``).
+    progress : callable, optional
+        ``progress(stage)`` as each stage starts; may return a run counter.
+
+    Returns
+    -------
+    FailureStudy
+    Path or None
+        The controller file flown (None without closed loop).
+    """
+    check_max_failed(settings.max_failed, len(problem.cubesats))
+    model = build_model(problem)
+    if not settings.closed_loop:
+        return failure_study(problem, model, settings, progress=progress), None
+    record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
+    slew, pointing = verification_problems(problem, QUICK if quick else FULL)
+    corners = (
+        CaseSelection(max_cases=max_corners).cases(problem, model)
+        if settings.corner_sets > 0 and max_corners > 0
+        else []
+    )
+    study = failure_study(
+        problem,
+        model,
+        settings,
+        controller=record.reduced,
+        manoeuvres=manoeuvres(slew, pointing),
+        corner_plants=corners,
+        progress=progress,
+    )
+    return study, resolved
+
+
+def failures_folder(
+    problem: Problem,
+    out: str | Path,
+    settings: FailureSettings,
+    *,
+    controller_path: str | Path | None = None,
+    allow_mismatch: bool = False,
+    max_corners: int = DEFAULT_CORNERS,
+    quick: bool = False,
+    overwrite: bool = False,
+    progress: StageProgress | None = None,
+) -> dict[str, Any]:
+    """Run the failure campaign of ``problem`` into the folder ``out``.
+
+    Parameters are those of :func:`run_failure_study`, and
+
+    out : str or Path
+        Result folder (``summary.json``, ``cases.csv``, ``report.md``,
+        ``reallocation.csv``, ``authority_loss.png``), written atomically.
+    overwrite : bool
+        Replace a folder this toolkit wrote.
+
+    Returns
+    -------
+    dict
+        What ``summary.json`` holds.
+    """
+    out = Path(out)
+    with RunFolder.claim(out, overwrite=overwrite, command="failures") as staging:
+        study, controller = run_failure_study(
+            problem,
+            settings,
+            controller_path=controller_path,
+            allow_mismatch=allow_mismatch,
+            max_corners=max_corners,
+            quick=quick,
+            progress=progress,
+        )
+        record = replace(
+            study.record(),
+            controller_path=None if controller is None else str(controller),
+            quick=quick,
+            max_corners=max_corners,
+            out_dir=str(out.absolute()),
+        )
+        summary = record.to_json()
+        write_failures(staging, summary)
+    return summary
