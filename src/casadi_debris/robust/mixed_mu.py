@@ -35,8 +35,30 @@ _log = logging.getLogger(__name__)
 UpperMethod = Literal["auto", "ab13md", "lmi"]
 
 
+class PeakBounds:
+    """The peaks of an upper and a lower bound of mu over a grid, and their gap."""
+
+    upper: np.ndarray
+    lower: np.ndarray
+
+    @property
+    def peak_upper(self) -> float:
+        """Peak of the upper bound."""
+        return float(np.max(self.upper))
+
+    @property
+    def peak_lower(self) -> float:
+        """Peak of the lower bound: no smaller mu is possible anywhere."""
+        return float(np.max(self.lower))
+
+    @property
+    def gap(self) -> float:
+        """Relative gap of the peaks, (peak_upper - peak_lower) / peak_upper."""
+        return (self.peak_upper - self.peak_lower) / self.peak_upper if self.peak_upper else 0.0
+
+
 @dataclass(frozen=True, eq=False)
-class MuBounds:
+class MuBounds(PeakBounds):
     """Upper and lower bounds of mu per frequency, and the worst perturbations.
 
     Attributes
@@ -61,21 +83,6 @@ class MuBounds:
     def peak_index(self) -> int:
         """Index of the frequency where the upper bound peaks."""
         return int(np.argmax(self.upper))
-
-    @property
-    def peak_upper(self) -> float:
-        """Peak of the upper bound."""
-        return float(np.max(self.upper))
-
-    @property
-    def peak_lower(self) -> float:
-        """Peak of the lower bound: no smaller mu is possible anywhere."""
-        return float(np.max(self.lower))
-
-    @property
-    def gap(self) -> float:
-        """Relative gap of the peaks, (peak_upper - peak_lower) / peak_upper."""
-        return (self.peak_upper - self.peak_lower) / self.peak_upper if self.peak_upper else 0.0
 
 
 def _upper(

@@ -35,7 +35,7 @@ from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
 from casadi_debris.model import build_model, linearization_function
 from casadi_debris.robust.blocks import block_structure
-from casadi_debris.robust.mixed_mu import mu_bounds
+from casadi_debris.robust.mixed_mu import PeakBounds, mu_bounds
 from casadi_debris.robust.mu import mu_upper_bound
 from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant
 from casadi_debris.robust.parametric_loop import N_PERFORMANCE, parametric_closed_loop
@@ -83,7 +83,7 @@ class WorstPerturbation:
 
 
 @dataclass(frozen=True, eq=False)
-class RealMuBounds:
+class RealMuBounds(PeakBounds):
     """Bounds of one structure over the angle and frequency grids.
 
     Attributes
@@ -102,19 +102,6 @@ class RealMuBounds:
     lower: np.ndarray
     worst: WorstPerturbation | None
     lmi_points: int
-
-    @property
-    def peak_upper(self) -> float:
-        return float(np.max(self.upper))
-
-    @property
-    def peak_lower(self) -> float:
-        return float(np.max(self.lower))
-
-    @property
-    def gap(self) -> float:
-        """(peak_upper - peak_lower) / peak_upper."""
-        return (self.peak_upper - self.peak_lower) / self.peak_upper
 
 
 @dataclass(frozen=True, eq=False)
