@@ -22,6 +22,7 @@ from casadi_debris.cli.common import (
     is_quiet,
     json_option,
     main,
+    out_folder_option,
     overwrite_option,
     problem_argument,
     say,
@@ -343,11 +344,7 @@ def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] 
     is_flag=True,
     help="Run the step on CasADi's virtual machine even where a C compiler is found.",
 )
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    help="Campaign folder (default runs/montecarlo-<problem>).",
-)
+@out_folder_option("montecarlo")
 @overwrite_option
 @json_option
 @friendly_errors

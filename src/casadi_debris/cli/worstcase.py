@@ -16,6 +16,7 @@ from casadi_debris.cli.common import (
     is_quiet,
     json_option,
     main,
+    out_folder_option,
     overwrite_option,
     problem_argument,
     say,
@@ -52,11 +53,7 @@ from casadi_debris.report.folders import default_run_folder
     help="A finished corner campaign (montecarlo --out) to compare with and draw under the "
     "worst run.",
 )
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    help="Run folder [runs/worstcase-<problem>].",
-)
+@out_folder_option("worstcase")
 @overwrite_option
 @json_option
 @friendly_errors
