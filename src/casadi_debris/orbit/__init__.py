@@ -1,0 +1,6 @@
+"""Orbits of the debris: low-thrust transfers, the atmosphere and orbital lifetime.
+
+Algorithms only (no file I/O, no simulation loop): each is usable on its own from
+Python, like ``slew`` and ``allocation``. The Earth's constants come from the
+problem (``problem.constants``) or from :mod:`casadi_debris.environment`.
+"""
