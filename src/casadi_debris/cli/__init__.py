@@ -22,6 +22,7 @@ from casadi_debris.cli import (  # noqa: F401
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo
     slew,  # slew
+    transfer,  # transfer
     worstcase,  # worstcase
 )
 from casadi_debris.cli.common import main

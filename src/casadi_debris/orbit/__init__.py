@@ -4,3 +4,7 @@ Algorithms only (no file I/O, no simulation loop): each is usable on its own fro
 Python, like ``slew`` and ``allocation``. The Earth's constants come from the
 problem (``problem.constants``) or from :mod:`casadi_debris.environment`.
 """
+
+from casadi_debris.orbit.transfer import TransferPlan as TransferPlan
+from casadi_debris.orbit.transfer import plan_transfer as plan_transfer
+from casadi_debris.orbit.transfer_result import TransferResult as TransferResult
