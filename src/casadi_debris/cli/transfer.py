@@ -46,9 +46,11 @@ def transfer(
     propellant, stages per CubeSat, and whether the swarm's own stages suffice
     (if not: how far they get and what more it takes).
     """
+    from casadi_debris.orbit.transfer import check_transfer
     from casadi_debris.workflows.transfer import transfer_into
 
     problem = load_problem(problem_file)
+    check_transfer(problem)
     folder = out or default_run_folder("transfer", problem.name)
     say(f"Planning the transfer of {problem.name} (minimum {objective}) ...")
     result = transfer_into(problem, folder, objective=objective, overwrite=overwrite)  # type: ignore[arg-type]

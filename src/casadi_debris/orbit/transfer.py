@@ -121,14 +121,7 @@ def plan_transfer(
         radius + transfer.to_altitude_km * M_PER_KM,
         math.radians(transfer.to_inclination_deg),
     )
-    dv_edelbaum = edelbaum_dv(
-        constants.earth_mu_km3_s2,
-        start_radius / M_PER_KM,
-        target[0] / M_PER_KM,
-        abs(target[1] - math.radians(transfer.from_inclination_deg)),
-    )
-    if dv_edelbaum <= 0.0:
-        raise ProblemFileError("transfer", "the from and to orbits are the same: nothing to do")
+    dv_edelbaum = check_transfer(problem)
     geometry = build_geometry(problem)
     groups = thrust_groups(problem, geometry)
     if not groups:
@@ -165,6 +158,26 @@ def plan_transfer(
     )
     result, switches = summarise(problem, geometry, groups, burns, guided, optimal, dv_edelbaum)
     return TransferPlan(result, guided, optimal, groups, burns, switches)
+
+
+def check_transfer(problem: Problem) -> float:
+    """Edelbaum's Δv [m/s] of the problem's ``[transfer]``, refusing one with nothing to do.
+
+    Raises
+    ------
+    ProblemFileError
+        The from and to orbits are the same.
+    """
+    constants, transfer = problem.constants, problem.transfer
+    dv = edelbaum_dv(
+        constants.earth_mu_km3_s2,
+        constants.earth_radius_km + transfer.from_altitude_km,
+        constants.earth_radius_km + transfer.to_altitude_km,
+        math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
+    )
+    if dv <= 0.0:
+        raise ProblemFileError("transfer", "the from and to orbits are the same: nothing to do")
+    return dv
 
 
 def _schedule(groups: list[ThrustGroup], mass_kg: float, dv_m_s: float) -> list[Burn]:

@@ -8,11 +8,13 @@ is over yaw *laws per segment*, not over the thrust direction at every instant:
 an optimum within that family.
 
 Transcription: multiple shooting, RK4 substeps per segment, solved by IPOPT
-(a local NLP solver: the returned optimum is local; it starts from the
-Edelbaum-guidance trajectory, which lies near the global optimum of the circular
-problem). The staging enters as phases: burn b fires at its direction's force
-F_b and flow for its duration; every burn but the last lasts its full life, the
-last its free duration ``T_last`` in [0, its life]. Objectives:
+(a local NLP solver: the returned optimum is local). It needs a guess that
+obeys the dynamics (a flown trajectory, e.g. the Edelbaum guidance's or a
+constant-yaw spiral): from states merely interpolated between the two orbits
+IPOPT can stall in a locally infeasible point. The staging enters as phases:
+burn b fires at its direction's force F_b and flow for its duration; every
+burn but the last lasts its full life, the last its free duration ``T_last`` in
+[0, its life]. Objectives:
 
 - ``"time"``: throttle 1, minimise the transfer time (the sum of the burns);
 - ``"propellant"``: throttle per segment in [0, 1], minimise m0 - mf with the

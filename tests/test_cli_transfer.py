@@ -1,0 +1,63 @@
+"""``casadi-debris transfer``: its folder and JSON, and bad problems refused in one line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from casadi_debris.cli import main
+from casadi_debris.config import default_problem_path
+
+
+def _problem(tmp_path: Path, transfer: str) -> Path:
+    path = tmp_path / "p.toml"
+    path.write_text(f'extends = "{default_problem_path()}"\n\n[transfer]\n{transfer}\n')
+    return path
+
+
+def test_a_negative_altitude_is_refused_naming_the_field(tmp_path: Path) -> None:
+    problem = _problem(
+        tmp_path,
+        "from_altitude_km = -10.0\nfrom_inclination_deg = 97.5\n"
+        "to_altitude_km = 685.0\nto_inclination_deg = 98.1",
+    )
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["transfer", str(problem), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.count("\n") == 1 and "from_altitude_km" in result.stderr
+    assert not out.exists()
+
+
+def test_the_same_orbit_twice_is_refused(tmp_path: Path) -> None:
+    problem = _problem(
+        tmp_path,
+        "from_altitude_km = 685.0\nfrom_inclination_deg = 98.1\n"
+        "to_altitude_km = 685.0\nto_inclination_deg = 98.1",
+    )
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["transfer", str(problem), "--out", str(out)])
+    assert result.exit_code == 2, result.output
+    assert result.stderr.count("\n") == 1 and "transfer" in result.stderr
+    assert not out.exists()
+
+
+@pytest.mark.slow
+def test_the_paper_transfer_writes_its_folder_and_json(tmp_path: Path) -> None:
+    out = tmp_path / "t"
+    result = CliRunner().invoke(main, ["transfer", "--out", str(out), "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert summary == json.loads((out / "summary.json").read_text())
+    for key in ("transfer_dv_m_s", "transfer_time_days", "propellant_kg", "edelbaum_dv_m_s"):
+        assert isinstance(summary[key], float)
+    assert abs(summary["transfer_dv_m_s"] / summary["edelbaum_dv_m_s"] - 1) < 0.05
+    assert [u["cubesat"] for u in summary["stages_used"]] == list(range(1, 25))
+    assert {p.name for p in out.iterdir()} >= {
+        "summary.json",
+        "guidance.csv",
+        "ocp.csv",
+        "transfer.png",
+    }
