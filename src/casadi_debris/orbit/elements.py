@@ -121,7 +121,7 @@ def mee_circular(radius_m: float, inclination_rad: float, node_rad: float = 0.0)
     return np.array([radius_m, 0.0, 0.0, t * np.cos(node_rad), t * np.sin(node_rad)])
 
 
-def gauss_mee_rates(x: ca.SX, acceleration_rtn: ca.SX, mu: ca.SX | float) -> tuple[ca.SX, ca.SX]:
+def gauss_mee_rates(x: ca.SX, acceleration_rtn: ca.SX, mu: ca.SX | float) -> ca.SX:
     """Gauss variational equations in MEE (module docstring), symbolic.
 
     Parameters

@@ -32,6 +32,7 @@ this law (Edelbaum 1961; Kechichian 1997):
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -70,8 +71,8 @@ def averaged_dynamics(nodes: int = QUADRATURE_NODES) -> ca.Function:
     beta, throttle = control[0], control[1]
     node = ca.atan2(x[4], x[3])
     points, weights = np.polynomial.legendre.leggauss(nodes)
-    rates = ca.SX.zeros(N_SLOW)
-    period = ca.SX(0.0)
+    rates: ca.SX = ca.SX.zeros(N_SLOW)
+    period: ca.SX = ca.SX(0.0)
     for centre, sign in ((0.0, 1.0), (math.pi, -1.0)):
         for point, weight in zip(points, weights, strict=True):
             latitude = centre + 0.5 * math.pi * point
@@ -80,8 +81,8 @@ def averaged_dynamics(nodes: int = QUADRATURE_NODES) -> ca.Function:
             acceleration = j2_acceleration_rtn(state, mu, radius, j2) + thrust
             xdot = gauss_mee_rates(state, acceleration, mu)
             dt_dl = 1.0 / xdot[5]
-            rates += weight * xdot[:N_SLOW] * dt_dl
-            period += weight * dt_dl
+            rates += float(weight) * xdot[:N_SLOW] * dt_dl
+            period += float(weight) * dt_dl
     return ca.Function(
         "averaged_mee",
         [x, mass, control, params],
@@ -122,22 +123,42 @@ def edelbaum_yaw(
 
 def averaged_step(
     dynamics: ca.Function,
-    x: ca.MX | ca.DM,
-    mass: ca.MX | ca.DM,
-    control,
-    params,
-    step_s,
+    x: Any,
+    mass: Any,
+    control: Any,
+    params: Any,
+    step_s: Any,
     steps: int = 1,
-) -> tuple[ca.MX | ca.DM, ca.MX | ca.DM]:
+) -> tuple[Any, Any]:
     """Classical RK4 over ``step_s`` (in ``steps`` equal steps) of the averaged dynamics.
 
     Works on numbers (``casadi.DM``) and on symbols (``casadi.MX``) alike, so the
     guidance law and the optimal control problem integrate with one scheme.
+
+    Parameters
+    ----------
+    dynamics : casadi.Function
+        :func:`averaged_dynamics`.
+    x : array_like or casadi.MX, shape (5,)
+        Slow MEE.
+    mass : float or casadi.MX
+        [kg].
+    control, params
+        As for :func:`averaged_dynamics` (lists, ``casadi.DM`` or ``casadi.MX``).
+    step_s : float or casadi.MX
+        Length of the whole step [s].
+    steps : int
+        RK4 steps within it.
+
+    Returns
+    -------
+    x, mass
+        After the step (``casadi.DM`` for numbers, ``casadi.MX`` for symbols).
     """
     h = step_s / steps
     state = ca.vertcat(x, mass)
 
-    def rate(s):
+    def rate(s: Any) -> Any:
         xdot, mdot = dynamics(s[:N_SLOW], s[N_SLOW], control, params)
         return ca.vertcat(xdot, mdot)
 
