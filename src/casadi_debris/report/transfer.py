@@ -27,28 +27,20 @@ def write_transfer(
     """
     write_json_atomic(folder / "summary.json", result)
     guided, optimal = plan.guided, plan.optimal
-    altitude, inclination = altitude_inclination(guided.elements, radius_km)
     write_csv(
         folder / "guidance.csv",
         {
-            "time_days": guided.time_s / SECONDS_PER_DAY,
-            "altitude_km": altitude,
-            "inclination_deg": inclination,
-            "mass_kg": guided.mass_kg,
+            **_orbit_columns(guided.time_s, guided.elements, guided.mass_kg, radius_km),
             "yaw_deg": guided.yaw_rad * DEG_PER_RAD,
             "direction": np.array([plan.burns[b].group + 1 for b in guided.burn]),
             "own_stage": np.array([int(plan.burns[b].real) for b in guided.burn]),
         },
     )
-    altitude, inclination = altitude_inclination(optimal.elements, radius_km)
     # Controls hold from a node to the next: the last node repeats the last segment's.
     write_csv(
         folder / "ocp.csv",
         {
-            "time_days": optimal.time_s / SECONDS_PER_DAY,
-            "altitude_km": altitude,
-            "inclination_deg": inclination,
-            "mass_kg": optimal.mass_kg,
+            **_orbit_columns(optimal.time_s, optimal.elements, optimal.mass_kg, radius_km),
             "yaw_deg": np.append(optimal.yaw_rad, optimal.yaw_rad[-1]) * DEG_PER_RAD,
             "throttle": np.append(optimal.throttle, optimal.throttle[-1]),
             "direction": np.array(
@@ -59,3 +51,16 @@ def write_transfer(
     plot_transfer(
         plan, folder / "transfer.png", radius_km=radius_km, target=target, title=result.problem
     )
+
+
+def _orbit_columns(
+    time_s: np.ndarray, elements: np.ndarray, mass_kg: np.ndarray, radius_km: float
+) -> dict[str, np.ndarray]:
+    """Time [days], mean altitude [km], inclination [deg] and mass [kg] of a trajectory."""
+    altitude, inclination = altitude_inclination(elements, radius_km)
+    return {
+        "time_days": time_s / SECONDS_PER_DAY,
+        "altitude_km": altitude,
+        "inclination_deg": inclination,
+        "mass_kg": mass_kg,
+    }
