@@ -92,3 +92,20 @@ def test_stage_use_and_switches_per_cubesat(paper) -> None:
     assert switches == sorted(switches)
     assert {s[2] for s in switches} == {1, 2, 3}
     assert all(1 <= s[1] <= 24 for s in switches)
+
+
+def test_a_throttled_stage_lasts_longer(paper) -> None:
+    """At half throttle an engine at full thrust spends its first stage after 1000 h, not 500 h."""
+    problem, geometry, groups = paper
+    burns = burn_schedule(groups)
+    end = burns[-1].start_s + burns[-1].duration_s
+    half = stage_switch_times_s(
+        problem, geometry, groups, burns, (np.array([0.0, end]), np.array([0.5]))
+    )
+    full = stage_switch_times_s(problem, geometry, groups, burns)
+    first_half = min(t for t, _, stage in half if stage == 1)
+    first_full = min(t for t, _, stage in full if stage == 1)
+    assert first_full == pytest.approx(500 * 3600.0)
+    assert first_half == pytest.approx(1000 * 3600.0)
+    # Half throttle through a 1500 h burn: one stage and a half, so no third-stage switch.
+    assert {stage for _, _, stage in half} == {1}

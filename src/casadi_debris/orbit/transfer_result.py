@@ -149,7 +149,10 @@ def summarise(
         for e in problem.engines
     )
     uses = stage_use(problem, geometry, groups, _firing_per_group(optimal, burns))
-    switches = [s for s in stage_switch_times_s(problem, geometry, groups, burns) if s[0] <= end_s]
+    profile = (optimal.time_s, optimal.throttle)
+    switches = [
+        s for s in stage_switch_times_s(problem, geometry, groups, burns, profile) if s[0] <= end_s
+    ]
     stage_lives = sum(g.burn_time_s / problem.engines[g.engines[0]].stages for g in groups)
     result = TransferResult(
         problem=problem.name,

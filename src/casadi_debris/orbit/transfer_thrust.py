@@ -191,15 +191,35 @@ def stage_use(
 
 
 def stage_switch_times_s(
-    problem: Problem, geometry: Geometry, groups: list[ThrustGroup], burns: list[Burn]
+    problem: Problem,
+    geometry: Geometry,
+    groups: list[ThrustGroup],
+    burns: list[Burn],
+    throttle: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> list[tuple[float, int, int]]:
     """When each engine's stage ran dry during the real burns.
 
-    Returns (time [s], CubeSat, stage) tuples, 1-based, in time order.
+    Parameters
+    ----------
+    problem, geometry, groups, burns
+    throttle : (ndarray, ndarray), optional
+        Node times [s], shape (N + 1,), and the throttle of each segment, shape
+        (N,); default full thrust throughout. A throttled stage lasts longer.
+
+    Returns
+    -------
+    list of (float, int, int)
+        (time [s], CubeSat, stage), 1-based, in time order.
     """
     limits = max_thrust_N(geometry)
+    if throttle is None:
+        throttle = (np.array([0.0, burns[-1].start_s + burns[-1].duration_s]), np.ones(1))
+    times = throttle[0]
+    firing = np.concatenate([[0.0], np.cumsum(np.diff(times) * throttle[1])])
     events = []
     for burn in (b for b in burns if b.real):
+        clock, fired = _burn_firing(burn, times, firing)
+        fired_s = fired[-1]
         group = groups[burn.group]
         for engine in group.engines:
             if group.thrust_N[engine] <= FIRING_FRACTION * limits[engine]:
@@ -207,10 +227,25 @@ def stage_switch_times_s(
             spec = problem.engines[engine]
             stage_s = spec.stage_life_h * SECONDS_PER_HOUR * limits[engine] / group.thrust_N[engine]
             for stage in range(1, spec.stages + 1):
-                if stage * stage_s <= burn.duration_s * (1.0 + 1e-9):
+                if stage * stage_s <= fired_s * (1.0 + 1e-9):
                     cubesat = geometry.engines[engine].cubesat + 1
-                    events.append((float(burn.start_s + stage * stage_s), cubesat, stage))
+                    events.append((float(np.interp(stage * stage_s, fired, clock)), cubesat, stage))
     return sorted(events)
+
+
+def _burn_firing(
+    burn: Burn, times: np.ndarray, firing: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Clock times [s] within a burn and the full-thrust-equivalent firing [s] since it began.
+
+    ``firing`` is the cumulative equivalent firing at ``times``; outside them it
+    stays at its end values (no firing past the trajectory).
+    """
+    end_s = burn.start_s + burn.duration_s
+    inside = (times > burn.start_s) & (times < end_s)
+    clock = np.concatenate([[burn.start_s], times[inside], [end_s]])
+    fired = np.interp(clock, times, firing)
+    return clock, fired - fired[0]
 
 
 def dv_of_burns(burns: list[Burn], mass_kg: float, min_mass_fraction: float = 0.0) -> np.ndarray:

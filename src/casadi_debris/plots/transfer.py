@@ -33,7 +33,8 @@ def plot_transfer(
     ``target`` is the target orbit's altitude [km] and inclination [deg]. The
     guidance law is the line, the optimal control problem's nodes the
     markers; the dotted vertical line is where the swarm's own stages are spent,
-    the ticks in the last panel are stage switches.
+    the ticks in the last panel are stage switches (and, for the propellant
+    objective, the OCP's throttle on its right axis).
     """
     result, guided, optimal = plan.result, plan.guided, plan.optimal
     figure, axes = plt.subplots(4, 1, figsize=(8, 10), sharex=True)
@@ -65,6 +66,11 @@ def plot_transfer(
     )
     for time_s, _, _ in plan.stage_switches:
         axes[3].plot(time_s / SECONDS_PER_DAY, 0.6, "|", color="#ef8f00", ms=8)
+    if result.objective == "propellant":
+        throttle = axes[3].twinx()
+        throttle.step(o_days[:-1], optimal.throttle, where="post", color="#c2185b", lw=0.9)
+        throttle.set_ylabel("OCP throttle", color="#c2185b")
+        throttle.set_ylim(0.0, 1.05)
     axes[3].set_ylabel("firing direction")
     axes[3].set_yticks(range(1, len(plan.groups) + 1))
     axes[3].set_xlabel("time [days]")
