@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -18,6 +18,9 @@ from casadi_debris.config import Problem
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.robust import MarginReport
 from casadi_debris.robust.performance_search import DesignSearch
+
+if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
+    from casadi_debris.report.simulation import CampaignSummary
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -92,16 +95,16 @@ def _at_most(values: Any, bound: float) -> bool:
     return all(v is not None and float(v) <= bound for v in numbers)
 
 
-def _nominal_and_worst(campaign: dict[str, Any], key: str) -> list[float]:
+def _nominal_and_worst(campaign: CampaignSummary, key: str) -> list[float | None]:
     """A figure of a campaign's nominal run and its worst corner."""
-    return [campaign["nominal"][key], campaign["worst"][key]["value"]]
+    return [campaign.nominal[key], campaign.worst[key].value]
 
 
 def requirement_rows(
     problem: Problem,
     search: DesignSearch,
     margins: MarginReport,
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
     """The design's table (margins as from :func:`~casadi_debris.report.robust.margin_report`,
@@ -136,12 +139,11 @@ def requirement_rows(
 
 
 def information_rows(
-    search: DesignSearch, campaigns: dict[str, dict[str, Any]], torque_limits_mNm: np.ndarray
+    search: DesignSearch, campaigns: dict[str, CampaignSummary], torque_limits_mNm: np.ndarray
 ) -> list[RequirementRow]:
     """Figures shown beside the requirements, not judged: torque use, fuel, settling, order."""
     torque_ratio = max(
-        float(np.max(np.asarray(c["max_torque_mNm"], dtype=float) / torque_limits_mNm))
-        for c in campaigns.values()
+        float(np.max(np.asarray(c.max_torque_mNm) / torque_limits_mNm)) for c in campaigns.values()
     )
     slew = campaigns["slew"]
     orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
@@ -151,7 +153,7 @@ def information_rows(
         _row("slew_fuel_kg", "slew propellant, nominal / worst corner [kg]", "—",
              _nominal_and_worst(slew, "fuel_kg"), None),
         _row("slew_settle_time_s", "settling time after the slew, worst corner [s]", "—",
-             slew["worst"]["settle_time_s"]["value"], None),
+             slew.worst["settle_time_s"].value, None),
         _row("controller_order", "controller order, full / reduced", "—", orders, None),
     ]  # fmt: skip
 

@@ -35,7 +35,7 @@ from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.design import DesignFigures, design_markdown, requirement_rows
 from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.design import SynthesisSettings
 from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
@@ -200,7 +200,7 @@ def _summary(
     problem: Problem,
     search: DesignSearch,
     rows: list[Any],
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
     out: Path,
     started: float,
 ) -> dict[str, Any]:
@@ -222,8 +222,10 @@ def _summary(
         "scalings": search.scalings.to_dict(),
         "attempts": [a.to_dict() for a in search.attempts],
         "seed": search.design.samples.seed,
-        "slew": {key: campaigns["slew"].get(key) for key in ("cases", "worst", "nominal")},
-        "pointing": {key: campaigns["pointing"].get(key) for key in ("cases", "worst", "nominal")},
+        **{
+            name: {"cases": c.cases, "worst": c.worst, "nominal": c.nominal}
+            for name, c in campaigns.items()
+        },
         "rows": [row.to_dict() for row in rows],
         "time_s": time.perf_counter() - started,
         "out_dir": str(out.absolute()),

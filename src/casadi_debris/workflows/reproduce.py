@@ -27,7 +27,7 @@ from casadi_debris.report.describe import describe_model
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.report.reproduce import ReproductionRow, report_markdown, reproduction_rows
 from casadi_debris.report.robust import MarginReport, margin_report
-from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
 from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
@@ -101,7 +101,7 @@ def _campaign(
     workers: int,
     progress: Progress | None,
     moved_to: tuple[Path, Path],
-) -> dict[str, Any]:
+) -> CampaignSummary:
     """One corner campaign (``cases`` spread evenly, None: all), in a report folder being
     built (``moved_to``: its staging folder and where it will be)."""
     selection = CaseSelection(corners=True, max_cases=cases)
@@ -123,7 +123,7 @@ def corner_campaigns(
     folders: tuple[Path, Path],
     workers: int,
     stage: Callable[[str], Progress | None],
-) -> dict[str, dict[str, Any]]:
+) -> dict[str, CampaignSummary]:
     """The slew, then the pointing corner campaign of a report, each announced by ``stage``.
 
     Parameters
@@ -253,8 +253,10 @@ def reproduce_paper(
         margins = report_margins(problem, record, controller_path, plan, (staging, out), stage)
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, (staging, out), workers, stage)
-        campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
-        rows = _rows(problem, model_summary, budgets, record, margins, campaigns)
+        rows = _rows(
+            problem, model_summary, budgets, record, margins, campaigns,
+            _slew_duration_s(slew_problem),
+        )  # fmt: skip
         how = {"controller_path": str(controller_path), "quick": quick, "workers": workers}
         summary = _summary(problem, rows, how, time.perf_counter() - started, out)
         _write_report(staging, rows, summary)
@@ -267,7 +269,8 @@ def _rows(
     budgets: dict[str, float],
     record: ControllerRecord,
     margins: MarginReport,
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
+    slew_duration_s: float | None,
 ) -> list[ReproductionRow]:
     """The paper's table: each stage's results next to the paper's figures."""
     limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
@@ -277,6 +280,7 @@ def _rows(
         _controller_figures(record),
         margins,
         campaigns["slew"],
+        slew_duration_s,
         campaigns["pointing"],
         limits,
     )
