@@ -16,7 +16,12 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.report.paper import paper_figure, table_figures
-from casadi_debris.report.reproduce import ReproductionRow, report_markdown, reproduction_rows
+from casadi_debris.report.reproduce import (
+    ReproductionRow,
+    ReproductionSummary,
+    report_markdown,
+    reproduction_rows,
+)
 from casadi_debris.report.robust import DiskMargin, MarginReport, Margins
 from casadi_debris.report.simulation import CampaignRun, CampaignSummary, WorstFigure
 
@@ -230,14 +235,11 @@ def test_a_controller_without_its_full_order_still_reproduces():
 def test_report_renders_the_verdict_from_the_boolean():
     row = ReproductionRow("mass_kg", "total mass [kg]", "668", "±0.5", "1", (1.0,), False)
     undecided = ReproductionRow("x", "x", "1", "—", "1", (1.0,), None)
-    summary = {
-        "problem": "paper",
-        "problem_sha256": "0" * 64,
-        "controller_path": "/c.json",
-        "quick": True,
-        "time_s": 1.0,
-        "workers": 1,
-    }
+    summary = ReproductionSummary(
+        problem="paper", problem_sha256="0" * 64, controller_path="/c.json", quick=True,
+        workers=1, time_s=1.0, reproduced=0, rows=2,
+        table=[row.to_dict(), undecided.to_dict()], out_dir="/report",
+    )  # fmt: skip
     report = report_markdown([row, undecided], summary, [])
     assert "| total mass [kg] | 668 | ±0.5 | 1 | ❌ not reproduced |" in report
     assert "| x | 1 | — | 1 | — |" in report

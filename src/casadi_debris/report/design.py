@@ -15,12 +15,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.robust import MarginReport
 from casadi_debris.robust.performance_search import DesignSearch
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
-    from casadi_debris.report.simulation import CampaignSummary
+    from casadi_debris.report.simulation import CampaignSummary, WorstFigure
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -159,6 +160,49 @@ def information_rows(
 
 
 @dataclass(frozen=True)
+class CampaignFigures(Record):
+    """A verification campaign as a design summary gives it: its size, worst cases
+    and nominal run (see :class:`~casadi_debris.report.simulation.CampaignSummary`)."""
+
+    cases: int
+    worst: dict[str, WorstFigure]
+    nominal: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class DesignSummary(Record):
+    """A design's ``summary.json``: requirements met, the chosen controller's μ, the
+    performance search and the verification campaigns.
+
+    ``rows`` are the requirement rows (:meth:`RequirementRow.to_dict`);
+    ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
+    μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
+    performance level; ``time_s`` the wall time [s].
+    """
+
+    problem: str
+    problem_sha256: str
+    plant_sha256: str
+    requirements_met: int
+    requirements: int
+    mu_peak: float
+    mu_peak_reduced: float
+    guaranteed_pointing_arcsec: list[float] | None
+    required_pointing_arcsec: Any
+    scalings: dict[str, Any]
+    attempts: list[dict[str, Any]]
+    seed: int
+    slew: CampaignFigures
+    pointing: CampaignFigures
+    rows: list[dict[str, Any]]
+    time_s: float
+    out_dir: str
+    quick: bool
+    workers: int
+    controller_path: str
+
+
+@dataclass(frozen=True)
 class DesignFigures:
     """Figures of a design folder that exist, as (title, relative path)."""
 
@@ -203,7 +247,7 @@ def design_markdown(
     problem: Problem,
     search: DesignSearch,
     rows: list[RequirementRow],
-    summary: dict[str, Any],
+    summary: DesignSummary,
     figures: DesignFigures,
 ) -> str:
     """The report: requirements table, how the performance level was found, figures."""
@@ -211,8 +255,8 @@ def design_markdown(
     lines = [
         f"# Controller design for {problem.name}",
         "",
-        f"{summary['requirements_met']} of {summary['requirements']} requirements met "
-        f"({summary['time_s']:.0f} s). Controller: `controller.json` "
+        f"{summary.requirements_met} of {summary.requirements} requirements met "
+        f"({summary.time_s:.0f} s). Controller: `controller.json` "
         f"(plant sha256 {problem.plant_sha256[:12]}).",
         "",
         "| result | required | ours | verdict |",

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginReport
@@ -74,6 +75,27 @@ class ReproductionRow:
             "reproduced": self.reproduced,
             "ours_values": list(self.ours_values),
         }
+
+
+@dataclass(frozen=True)
+class ReproductionSummary(Record):
+    """A reproduction's ``summary.json``: the table and how the run was made.
+
+    ``table`` holds the rows as :meth:`ReproductionRow.to_dict` gives them;
+    ``reproduced`` counts the rows within tolerance, of ``rows``; ``time_s`` is the
+    wall time [s].
+    """
+
+    problem: str
+    problem_sha256: str
+    controller_path: str
+    quick: bool
+    workers: int
+    time_s: float
+    reproduced: int
+    rows: int
+    table: list[dict[str, Any]]
+    out_dir: str
 
 
 def paper_row(key: str, ours: Any, text: str | None = None, **title_fields: Any) -> ReproductionRow:
@@ -230,17 +252,17 @@ def reproduction_rows(
 
 def report_markdown(
     rows: list[ReproductionRow],
-    summary: dict[str, Any],
+    summary: ReproductionSummary,
     figures: list[tuple[str, str]],
 ) -> str:
     """The whole ``report.md``."""
     lines = [
         "# casadi_debris: reproduction of the reference paper",
         "",
-        f"Problem `{summary['problem']}` (sha256 `{summary['problem_sha256'][:12]}…`), "
-        f"controller `{Path(summary['controller_path']).name}`, "
-        f"{'quick run (reduced samples and corners)' if summary['quick'] else 'full run'}, "
-        f"{summary['time_s']:.0f} s on {summary['workers']} worker(s).",
+        f"Problem `{summary.problem}` (sha256 `{summary.problem_sha256[:12]}…`), "
+        f"controller `{Path(summary.controller_path).name}`, "
+        f"{'quick run (reduced samples and corners)' if summary.quick else 'full run'}, "
+        f"{summary.time_s:.0f} s on {summary.workers} worker(s).",
         "",
         "| result | paper | accepted | ours | verdict |",
         "| --- | --- | --- | --- | --- |",
