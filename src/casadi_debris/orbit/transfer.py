@@ -34,7 +34,6 @@ from casadi_debris.orbit.transfer_guidance import (
     edelbaum_guidance,
 )
 from casadi_debris.orbit.transfer_ocp import (
-    DEFAULT_SEGMENTS_PER_BURN,
     Objective,
     OptimalTransfer,
     TransferTarget,
@@ -52,6 +51,8 @@ from casadi_debris.units import M_PER_KM
 
 # The propellant objective may take this much longer than the guidance law.
 DEFAULT_TIME_SLACK = 0.1
+# OCP shooting segments in all, by default (the paper's 7 burns: 4 each).
+TARGET_SEGMENTS = 28
 # Hypothetical burns stop when they would leave less than this share of the mass.
 MIN_MASS_FRACTION = 0.2
 
@@ -85,7 +86,7 @@ def plan_transfer(
     problem: Problem,
     *,
     objective: Objective = "time",
-    segments_per_burn: int = DEFAULT_SEGMENTS_PER_BURN,
+    segments_per_burn: int | None = None,
     guidance_period_s: float = DEFAULT_PERIOD_S,
     time_slack: float = DEFAULT_TIME_SLACK,
 ) -> TransferPlan:
@@ -97,8 +98,9 @@ def plan_transfer(
     objective : {"time", "propellant"}
         Minimum transfer time at full thrust, or minimum propellant with a
         throttle and the time at most ``(1 + time_slack)`` times the guidance's.
-    segments_per_burn : int
-        OCP shooting segments per burn.
+    segments_per_burn : int, optional
+        OCP shooting segments per burn; default about ``TARGET_SEGMENTS`` in all
+        (at least one per burn), so that a weak swarm's many burns keep the NLP small.
     guidance_period_s : float
         How often the guidance law re-plans its yaw [s].
     time_slack : float
@@ -154,7 +156,7 @@ def plan_transfer(
         data,
         objective=objective,
         time_limit_s=time_limit,
-        segments_per_burn=segments_per_burn,
+        segments_per_burn=segments_per_burn or max(1, round(TARGET_SEGMENTS / len(used))),
     )
     result, switches = summarise(problem, geometry, groups, burns, guided, optimal, dv_edelbaum)
     return TransferPlan(result, guided, optimal, groups, burns, switches)

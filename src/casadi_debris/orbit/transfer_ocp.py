@@ -138,17 +138,16 @@ def solve_transfer_ocp(
     ]
     opti.subject_to(xs[:, 0] == data.x0 / scale)
     opti.subject_to(ms[0] == 1.0)
+    segment = _segment_function(dynamics, substeps)
     for j in range(n):
         burn = data.burns[j // segments_per_burn]
-        params = [*data.earth, burn.force_N, burn.flow_kg_s]
-        x_next, m_next = averaged_step(
-            dynamics,
+        params = ca.DM([*data.earth, burn.force_N, burn.flow_kg_s])
+        x_next, m_next = segment(
             xs[:, j] * scale,
             ms[j] * data.mass_kg,
             ca.vertcat(yaw[j], throttle[j]),
             params,
             segment_s[j // segments_per_burn],
-            substeps,
         )
         opti.subject_to(xs[:, j + 1] == x_next / scale)
         opti.subject_to(ms[j + 1] == m_next / data.mass_kg)
@@ -169,6 +168,27 @@ def solve_transfer_ocp(
     guess_days = _initial_guess(opti, data, xs, ms, yaw, fixed_s, segments_per_burn, scale)
     opti.set_initial(last_days, min(max(guess_days, 0.1 * last_life_days), last_life_days))
     return _solve(opti, data, xs, ms, yaw, throttle, last_s, objective, segments_per_burn, scale)
+
+
+def _segment_function(dynamics: ca.Function, substeps: int) -> ca.Function:
+    """One shooting segment as a ``casadi.Function``, called by every segment.
+
+    One function called N times keeps the NLP's expression graph (and its
+    derivatives) the size of one segment, not of N.
+    """
+    x = ca.MX.sym("x", N_SLOW)
+    mass = ca.MX.sym("m")
+    control = ca.MX.sym("u", 2)
+    params = ca.MX.sym("p", 5)
+    step = ca.MX.sym("h")
+    x_next, m_next = averaged_step(dynamics, x, mass, control, params, step, substeps)
+    return ca.Function(
+        "segment",
+        [x, mass, control, params, step],
+        [x_next, m_next],
+        ["x", "m", "u", "p", "h"],
+        ["x_next", "m_next"],
+    )
 
 
 def _terminal(opti: ca.Opti, x_end: ca.MX, data: TransferTarget) -> None:

@@ -65,8 +65,9 @@ class TransferResult(Record):
     extra_stages_per_cubesat_needed : int
         More stages on every CubeSat that would close the gap.
     extra_cubesats_needed : int
-        CubeSats like the first (all stages) that would close it, by the rocket
-        equation on the optimal Δv (taken as placed to fire at zero torque).
+        CubeSats like the swarm's average one (mass, and the propellant it burnt
+        here) that would close it, by the rocket equation on the optimal Δv
+        (taken as placed to fire at zero torque).
     stages_used : list of StageUse
         Per CubeSat (ids from 1), the swarm's own stages only.
     stage_switches : int
@@ -186,7 +187,7 @@ def summarise(
         extra_stages_per_cubesat_needed=(
             0 if suffices else math.ceil((end_s - real_end_s) / stage_lives)
         ),
-        extra_cubesats_needed=0 if suffices else _extra_cubesats(problem, geometry, real, dv),
+        extra_cubesats_needed=0 if suffices else _extra_cubesats(geometry, real, dv),
         stages_used=uses,
         stage_switches=len(switches),
         propellant_left_kg=loaded - sum(u.propellant_kg for u in uses),
@@ -212,22 +213,22 @@ def _firing_per_group(optimal: OptimalTransfer, burns: list[Burn]) -> dict[int, 
     return firing
 
 
-def _extra_cubesats(
-    problem: Problem, geometry: Geometry, real: list[Burn], dv_needed_m_s: float
-) -> int:
-    """Fewest extra CubeSats (like CubeSat 1, all stages fired) for ``dv_needed_m_s``.
+def _extra_cubesats(geometry: Geometry, real: list[Burn], dv_needed_m_s: float) -> int:
+    """Fewest extra CubeSats, each like the swarm's average one, for ``dv_needed_m_s``.
 
-    Rocket equation on the whole swarm: the swarm's own burns' propellant plus
-    each new CubeSat's, at the swarm's mean exhaust speed.
+    Rocket equation on the whole swarm at its mean exhaust speed: the own
+    burns' propellant plus, per new CubeSat, its mean mass and the mean
+    propellant a CubeSat burnt in the own burns (what this swarm can use of a
+    CubeSat's load: side engines that cannot push at zero torque do not count).
     """
-    g0 = problem.constants.standard_gravity_m_s2
     burnt = sum(b.flow_kg_s * b.duration_s for b in real)
     exhaust = sum(b.force_N * b.duration_s for b in real) / burnt
-    cubesat = problem.cubesats[0]
-    load = sum(e.stages * e.stage_propellant_kg(g0) for e in cubesat.engines)
+    count = len(geometry.cubesats)
+    per_cubesat_kg = burnt / count
+    cubesat_mass = sum(c.mass_kg for c in geometry.cubesats) / count
     for extra in range(MAX_EXTRA_CUBESATS + 1):
-        mass = geometry.mass_kg + extra * cubesat.mass_kg
-        propellant = burnt + extra * load
+        mass = geometry.mass_kg + extra * cubesat_mass
+        propellant = burnt + extra * per_cubesat_kg
         if exhaust * math.log(mass / (mass - propellant)) >= dv_needed_m_s:
             return extra
     return MAX_EXTRA_CUBESATS
