@@ -203,6 +203,7 @@ def simulate(
     if failed is not None:
         problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
     from casadi_debris.allocation import Allocator
+    from casadi_debris.config import problem_with_values
     from casadi_debris.model import build_model
     from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
@@ -218,6 +219,9 @@ def simulate(
         case = parameters_case(problem, model, *read_parameters_file(parameters_file))
     else:
         case = one_case(problem, model, corner, sample, seed)
+    if case.file_values:  # a case of [[montecarlo.vary]] that changes the problem file's keys
+        problem = problem_with_values(problem, case.file_values)
+        model = build_model(problem)
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(
@@ -404,4 +408,26 @@ def montecarlo(
         for key in ("max_error_deg", "max_error_arcsec", "fuel_kg", "torque_saturated_s")
     ]
     click.echo(format_table(["worst over cases", "value", "case"], rows))
+    click.echo(statistics_text(summary["statistics"]))
     click.echo(f"{summary['cases']} cases written to {summary['out_dir']}")
+
+
+def statistics_text(statistics: dict[str, Any]) -> str:
+    """The campaign's statistics as a table, the pass rate and what drives the error and the
+    fuel most (every figure's drivers are in summary.json)."""
+    columns = ("mean", "std", "p50", "p95", "p99", "mean_plus_3sigma", "max")
+    rows = [[item["figure"], *(item[c] for c in columns)] for item in statistics["figures"]]
+    lines = [format_table(["figure", *columns], rows)]
+    total = statistics["cases"] + statistics["failed_cases"]
+    lines.append(
+        f"pass rate {100 * statistics['pass_rate']:.1f} % ({statistics['passed']} of {total} "
+        f"cases with {statistics['requirement_figure']} <= {statistics['requirement']:g})"
+    )
+    shown = (statistics["requirement_figure"], "fuel_slew_kg", "fuel_kg")
+    for driver in (d for d in statistics["drivers"] if d["figure"] in shown):
+        ranked = ", ".join(
+            f"{name} (rho {rho:+.2f})"
+            for name, rho in zip(driver["quantities"][:3], driver["spearman_rho"][:3], strict=True)
+        )
+        lines.append(f"drivers of {driver['figure']}: {ranked or 'none varies'}")
+    return "\n".join(lines)

@@ -3,8 +3,10 @@
 A single run: ``summary.json``, ``series.csv`` (time series, units in the
 column names), ``closed_loop.png`` and ``thrust.png``.
 
-A campaign: ``summary.json`` (worst case of every figure, counts, seed),
-``cases.csv`` (one row per case), ``envelope.csv``, ``campaign.nc`` (every
+A campaign: ``summary.json`` (worst case of every figure, counts, seed, and
+the statistics of :mod:`casadi_debris.simulation.statistics`), ``cases.csv``
+(one row per case, with the value of every varied quantity), ``envelope.csv``,
+``statistics.png``, ``campaign.nc`` (every
 case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
 ``nominal/`` (the nominal run), ``envelope.png``, and ``cases/<id>.json`` +
 ``cases/<id>.npz`` per case (written as they finish, see
@@ -24,6 +26,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.plots.statistics import plot_statistics
 from casadi_debris.records import Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
@@ -34,6 +37,7 @@ from casadi_debris.report.campaign_dataset import (
 from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
+from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
@@ -205,8 +209,12 @@ def write_campaign(
     nominal_summary: Record,
     summary: dict[str, Any],
     record: CampaignRecord,
+    *,
+    statistics: CampaignStatistics | None = None,
 ) -> Envelope:
-    """Write the campaign's tables, dataset, envelope and figures into ``folder``.
+    """Write the campaign's tables, dataset, envelope and figures into ``folder``
+    (with ``statistics``, also ``statistics.png``: see
+    :func:`~casadi_debris.plots.statistics.plot_statistics`).
 
     Returns
     -------
@@ -217,13 +225,16 @@ def write_campaign(
     for outcome in outcomes:
         envelope.add(outcome.bands)
     write_json_atomic(folder / "summary.json", summary)
+    varied = [name for name, _ in outcomes[0].case.varied] if outcomes else []
     with (folder / "cases.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow([*CASE_COLUMNS, *(normalized_column(n) for n in nominal.parameters)])
+        normalized = [normalized_column(n) for n in nominal.parameters]
+        writer.writerow([*CASE_COLUMNS, *normalized, *varied])
         for outcome in outcomes:
             flat = outcome.summary.to_json()
             row = [flat.get(c) for c in CASE_COLUMNS]
-            writer.writerow([*row, *outcome.case.normalized.tolist()])
+            values = [value for _, value in outcome.case.varied]
+            writer.writerow([*row, *outcome.case.normalized.tolist(), *values])
     write_csv(folder / "envelope.csv", envelope_columns(envelope))
     write_campaign_dataset(
         folder / DATASET_NAME,
@@ -239,4 +250,11 @@ def write_campaign(
         title=figure_title(problem),
         **run_figures_options(problem),
     )
+    if statistics is not None:
+        plot_statistics(
+            statistics,
+            case_figures(outcomes),
+            folder / "statistics.png",
+            title=figure_title(problem),
+        )
     return envelope
