@@ -66,6 +66,7 @@ def _histogram(ax: plt.Axes, stats: FigureStatistics, values: np.ndarray) -> Non
         lines.append((stats.requirement, f"requirement {stats.requirement:g}", "#c0392b", "-"))
     for value, label, colour, style in lines:
         ax.axvline(value, color=colour, linestyle=style, linewidth=1.4, label=f"{label}")
+    ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
     ax.set(xlabel=stats.figure, ylabel="cases", title=f"{stats.figure} over {stats.cases} cases")
     ax.legend(fontsize=8)
 

@@ -213,8 +213,8 @@ def write_campaign(
     statistics: CampaignStatistics | None = None,
 ) -> Envelope:
     """Write the campaign's tables, dataset, envelope and figures into ``folder``
-    (with ``statistics``, also ``statistics.png``: see
-    :func:`~casadi_debris.plots.statistics.plot_statistics`).
+    (with ``statistics``, also ``statistics.png``: histograms against the requirement and
+    the rank correlations, drawn by ``casadi_debris.plots.statistics``).
 
     Returns
     -------

@@ -297,6 +297,10 @@ def _extremes(values: np.ndarray, bins: np.ndarray, n_bins: int) -> Extremes:
 def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) -> CaseOutcome:
     """Simulate one case of a campaign.
 
+    A case that varies keys of the problem file (``Case.file_values``) flies
+    its own problem, read again with them, and its own model; model parameters
+    only change the parameter vector of the step every case shares.
+
     Parameters
     ----------
     setup : CampaignSetup
@@ -304,10 +308,6 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
     model : Model, optional
         The model of ``setup.problem``, when it is already built (a worker
         builds it once for all its cases, see :class:`CaseRunner`).
-
-    A case that varies keys of the problem file (``Case.file_values``) flies
-    its own problem, read again with them, and its own model; model parameters
-    only change the parameter vector of the step every case shares.
     """
     problem, jit = setup.problem, setup.jit
     if case.file_values:
