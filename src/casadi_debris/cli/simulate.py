@@ -38,6 +38,7 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.simulation.statistics import CampaignStatistics
     from casadi_debris.workflows.campaign import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
@@ -402,32 +403,33 @@ def montecarlo(
     if as_json:
         echo_json(summary)
         return
-    worst = summary["worst"]
+    worst = summary.worst
     rows = [
-        [key, worst[key]["value"], worst[key]["case_id"]]
+        [key, worst[key].value, worst[key].case_id]
         for key in ("max_error_deg", "max_error_arcsec", "fuel_kg", "torque_saturated_s")
     ]
     click.echo(format_table(["worst over cases", "value", "case"], rows))
-    click.echo(statistics_text(summary["statistics"]))
-    click.echo(f"{summary['cases']} cases written to {summary['out_dir']}")
+    if summary.statistics is not None:
+        click.echo(statistics_text(summary.statistics))
+    click.echo(f"{summary.cases} cases written to {summary.run.out_dir}")
 
 
-def statistics_text(statistics: dict[str, Any]) -> str:
+def statistics_text(statistics: CampaignStatistics) -> str:
     """The campaign's statistics as a table, the pass rate and what drives the error and the
     fuel most (every figure's drivers are in summary.json)."""
     columns = ("mean", "std", "p50", "p95", "p99", "mean_plus_3sigma", "max")
-    rows = [[item["figure"], *(item[c] for c in columns)] for item in statistics["figures"]]
+    rows = [[item.figure, *(getattr(item, c) for c in columns)] for item in statistics.figures]
     lines = [format_table(["figure", *columns], rows)]
-    total = statistics["cases"] + statistics["failed_cases"]
+    total = statistics.cases + statistics.failed_cases
     lines.append(
-        f"pass rate {100 * statistics['pass_rate']:.1f} % ({statistics['passed']} of {total} "
-        f"cases with {statistics['requirement_figure']} <= {statistics['requirement']:g})"
+        f"pass rate {100 * statistics.pass_rate:.1f} % ({statistics.passed} of {total} "
+        f"cases with {statistics.requirement_figure} <= {statistics.requirement:g})"
     )
-    shown = (statistics["requirement_figure"], "fuel_slew_kg", "fuel_kg")
-    for driver in (d for d in statistics["drivers"] if d["figure"] in shown):
+    shown = (statistics.requirement_figure, "fuel_slew_kg", "fuel_kg")
+    for driver in (d for d in statistics.drivers if d.figure in shown):
         ranked = ", ".join(
             f"{name} (rho {rho:+.2f})"
-            for name, rho in zip(driver["quantities"][:3], driver["spearman_rho"][:3], strict=True)
+            for name, rho in zip(driver.quantities[:3], driver.spearman_rho[:3], strict=True)
         )
-        lines.append(f"drivers of {driver['figure']}: {ranked or 'none varies'}")
+        lines.append(f"drivers of {driver.figure}: {ranked or 'none varies'}")
     return "\n".join(lines)
