@@ -3,13 +3,11 @@
 from __future__ import annotations
 
 import copy
-import tomllib
 from typing import Any
 
 import pytest
 
 from casadi_debris.config import (
-    default_problem_path,
     limits,
     problem_from_dict,
     problem_with_values,
@@ -17,12 +15,6 @@ from casadi_debris.config import (
 )
 from casadi_debris.config.varied import key_of, parse_path, with_value
 from casadi_debris.errors import ProblemFileError
-
-
-@pytest.fixture(scope="module")
-def paper() -> dict[str, Any]:
-    with default_problem_path().open("rb") as file:
-        return tomllib.load(file)
 
 
 def _with_vary(paper: dict[str, Any], *entries: dict[str, Any]) -> dict[str, Any]:
@@ -47,11 +39,11 @@ def test_paths_parse_and_print_back_as_the_loader_names_keys(path: str) -> None:
     assert key_of(parse_path(path)) == path
 
 
-def test_a_valid_list_loads_and_a_normal_is_truncated_to_the_keys_range(paper) -> None:
+def test_a_valid_list_loads_and_a_normal_is_truncated_to_the_keys_range(paper_data) -> None:
     normal = {"path": "environment.drag_coefficient", "distribution": "normal"}
     normal |= {"mean": 2.2, "sigma": 0.1}
     corners = {"path": "mass_kg", "distribution": "corners", "low": 600.0, "high": 700.0}
-    problem = problem_from_dict(_with_vary(paper, UNIFORM_DENSITY, normal, corners))
+    problem = problem_from_dict(_with_vary(paper_data, UNIFORM_DENSITY, normal, corners))
     vary = problem.montecarlo.vary
     assert [q.path for q in vary] == [e["path"] for e in (UNIFORM_DENSITY, normal, corners)]
     assert (vary[0].low, vary[0].high) == (1e-13, 5e-12)
@@ -111,36 +103,36 @@ BAD_ENTRIES = [
 @pytest.mark.parametrize(
     ("label", "entry", "field", "words"), BAD_ENTRIES, ids=[b[0] for b in BAD_ENTRIES]
 )
-def test_bad_entries_are_refused_naming_the_field(paper, label, entry, field, words) -> None:
+def test_bad_entries_are_refused_naming_the_field(paper_data, label, entry, field, words) -> None:
     entry = {k: v for k, v in entry.items() if v is not None}
     with pytest.raises(ProblemFileError) as caught:
-        problem_from_dict(_with_vary(paper, entry))
+        problem_from_dict(_with_vary(paper_data, entry))
     assert caught.value.field == f"montecarlo.{field}", label
     assert words in str(caught.value)
 
 
-def test_a_quantity_varied_twice_is_refused(paper) -> None:
+def test_a_quantity_varied_twice_is_refused(paper_data) -> None:
     with pytest.raises(ProblemFileError, match="varied twice") as caught:
-        problem_from_dict(_with_vary(paper, UNIFORM_DENSITY, UNIFORM_DENSITY))
+        problem_from_dict(_with_vary(paper_data, UNIFORM_DENSITY, UNIFORM_DENSITY))
     assert caught.value.field == "montecarlo.vary[1].path"
 
 
-def test_too_many_corner_quantities_are_refused(paper) -> None:
+def test_too_many_corner_quantities_are_refused(paper_data) -> None:
     paths = ["inertia_scale_x", "inertia_scale_y", "inertia_scale_z", "mass_kg"]
     paths += ["bending_frequency_scale", "array_angle_offset_rad", "disturbance.period_min"]
     paths += [f"disturbance.{key}[{i}]" for key in ("amplitude_mNm", "phase_deg") for i in range(3)]
     assert len(paths) == limits.MAX_VARIED_CORNERS + 1
     many = [{"path": path, "distribution": "corners", "low": 0.5, "high": 0.6} for path in paths]
     with pytest.raises(ProblemFileError, match="corners"):
-        problem_from_dict(_with_vary(paper, *many))
+        problem_from_dict(_with_vary(paper_data, *many))
 
 
-def test_a_case_problem_is_the_file_read_again_with_the_keys_set(paper) -> None:
-    problem = with_duration(problem_from_dict(_with_vary(paper, UNIFORM_DENSITY)), 30.0)
+def test_a_case_problem_is_the_file_read_again_with_the_keys_set(paper_data) -> None:
+    problem = with_duration(problem_from_dict(_with_vary(paper_data, UNIFORM_DENSITY)), 30.0)
     values = [("environment.density_kg_m3", 2e-12), ("disturbance.amplitude_mNm[1]", 1.5)]
     varied = problem_with_values(problem, values)
     # Independently: the same keys set by hand in the parsed file.
-    by_hand = copy.deepcopy(paper)
+    by_hand = copy.deepcopy(paper_data)
     by_hand.setdefault("environment", {})["density_kg_m3"] = 2e-12
     by_hand["disturbance"]["amplitude_mNm"][1] = 1.5
     expected = problem_from_dict(by_hand)
@@ -154,10 +146,10 @@ def test_a_case_problem_is_the_file_read_again_with_the_keys_set(paper) -> None:
         problem_with_values(problem, [("environment.density_kg_m3", -1.0)])
 
 
-def test_setting_a_path_never_changes_the_data_it_was_given(paper) -> None:
-    before = copy.deepcopy(paper)
-    after = with_value(paper, parse_path("arrays[0].modes[0].omega_rad_s"), 6.0)
-    assert paper == before
+def test_setting_a_path_never_changes_the_data_it_was_given(paper_data) -> None:
+    before = copy.deepcopy(paper_data)
+    after = with_value(paper_data, parse_path("arrays[0].modes[0].omega_rad_s"), 6.0)
+    assert paper_data == before
     assert after["arrays"][0]["modes"][0]["omega_rad_s"] == 6.0
     with pytest.raises(ValueError, match="not a table"):
-        with_value(paper, parse_path("hub.mass_kg.x"), 1.0)
+        with_value(paper_data, parse_path("hub.mass_kg.x"), 1.0)

@@ -5,16 +5,14 @@ from __future__ import annotations
 
 import copy
 import itertools
-import tomllib
 from typing import Any
 
 import numpy as np
 import pytest
 from scipy import stats
 
-from casadi_debris.config import VariedQuantity, default_problem_path, problem_from_dict
+from casadi_debris.config import VariedQuantity, problem_from_dict
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.model import build_model
 from casadi_debris.simulation.sampling import (
     corner_values,
     draw,
@@ -23,17 +21,6 @@ from casadi_debris.simulation.sampling import (
     varied_cases,
     varied_count,
 )
-
-
-@pytest.fixture(scope="module")
-def paper() -> dict[str, Any]:
-    with default_problem_path().open("rb") as file:
-        return tomllib.load(file)
-
-
-@pytest.fixture(scope="module")
-def model(paper):
-    return build_model(problem_from_dict(paper))
 
 
 def _problem(paper: dict[str, Any], *entries: dict[str, Any]):
@@ -88,14 +75,14 @@ def test_corners_are_every_combination_once() -> None:
     assert rows.shape == (16, 4) and {tuple(r) for r in rows.tolist()} == expected
 
 
-def test_a_corner_campaign_runs_every_combination_of_the_file(paper, model) -> None:
+def test_a_corner_campaign_runs_every_combination_of_the_file(paper_data, model) -> None:
     entries = [
         {"path": "mass_kg", "distribution": "corners", "low": 600.0, "high": 700.0},
         {"path": "disturbance.amplitude_mNm[0]", "distribution": "corners"}
         | {"low": 0.2, "high": 2.0},
         {"path": "inertia_scale_z", "distribution": "corners", "low": 0.9, "high": 1.1},
     ]
-    problem = _problem(paper, *entries)
+    problem = _problem(paper_data, *entries)
     cases = varied_cases(problem, model, samples=5, seed=1)  # no random quantity: one draw
     assert varied_count(problem, 5) == len(cases) == 8
     got = {tuple(v for _, v in c.varied) for c in cases}
@@ -116,7 +103,7 @@ def test_a_corner_campaign_runs_every_combination_of_the_file(paper, model) -> N
             )
 
 
-def test_samples_are_seeded_bounded_and_independent_of_the_count(paper, model) -> None:
+def test_samples_are_seeded_bounded_and_independent_of_the_count(paper_data, model) -> None:
     entries = [
         {"path": "environment.density_kg_m3", "distribution": "uniform"}
         | {"low": 1e-13, "high": 5e-12},
@@ -124,7 +111,7 @@ def test_samples_are_seeded_bounded_and_independent_of_the_count(paper, model) -
         | {"low": 640.0},
         {"path": "inertia_scale_x", "distribution": "corners", "low": 0.9, "high": 1.1},
     ]
-    problem = _problem(paper, *entries)
+    problem = _problem(paper_data, *entries)
     cases = varied_cases(problem, model, samples=6, seed=21)
     assert len(cases) == 12 and all(c.seed == 21 and c.kind == "varied" for c in cases)
     again = varied_cases(problem, model, samples=6, seed=21)
@@ -157,8 +144,10 @@ def test_samples_are_seeded_bounded_and_independent_of_the_count(paper, model) -
         ),
     ],
 )
-def test_model_parameters_the_model_refuses_are_named(paper, model, entry, field, words) -> None:
-    problem = _problem(paper, entry)
+def test_model_parameters_the_model_refuses_are_named(
+    paper_data, model, entry, field, words
+) -> None:
+    problem = _problem(paper_data, entry)
     with pytest.raises(ProblemFileError, match=words) as caught:
         varied_cases(problem, model, samples=2, seed=1)
     assert caught.value.field == field
