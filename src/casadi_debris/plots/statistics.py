@@ -84,4 +84,5 @@ def _tornado(ax: plt.Axes, driver: Driver) -> None:
         title=f"what drives {driver.figure} (worst: {driver.worst_case_id})",
     )
     if not names:
-        ax.text(0.0, 0.5, "no quantity varies", ha="center", transform=ax.get_yaxis_transform())
+        text = "no rank correlation\n(fewer than 3 cases, or nothing varies)"
+        ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes)
