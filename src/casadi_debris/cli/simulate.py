@@ -130,7 +130,8 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option(
     "--sample",
     type=click.IntRange(0, int(limits.MONTECARLO_SAMPLES.high) - 1),
-    help="Run random sample N (with --seed).",
+    help="Run random sample N (with --seed); case N of the campaign of [[montecarlo.vary]] "
+    "when the problem has one.",
 )
 @click.option(
     "--seed",
@@ -321,11 +322,15 @@ def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] 
 
 @main.command()
 @problem_argument
-@click.option("--corners", is_flag=True, help="Every corner of the uncertainty set (default).")
+@click.option(
+    "--corners",
+    is_flag=True,
+    help="Every corner of the uncertainty set (the default without [[montecarlo.vary]]).",
+)
 @click.option(
     "--samples",
     type=in_range(limits.MONTECARLO_SAMPLES),
-    help="N random samples instead of the corners.",
+    help="N random samples instead of the corners (with [[montecarlo.vary]]: N draws).",
 )
 @click.option(
     "--seed", type=in_range(limits.SEED), help="Seed of --samples (default the problem's)."
@@ -368,13 +373,15 @@ def montecarlo(
     overwrite: bool,
     as_json: bool,
 ) -> None:
-    """Closed-loop Monte Carlo: all corners (the paper's 256) or seeded random samples.
+    """Closed-loop Monte Carlo: all corners (the paper's 256), seeded random samples, or
+    what the problem's [[montecarlo.vary]] lists, with statistics.
 
     Runs in parallel; where a C compiler is found each worker compiles the
     control step to C once (a few seconds) and runs every case on it. An
     interrupted campaign resumes from the cases in <out>.partial. Writes
-    summary.json, cases.csv, envelope.csv/png, campaign.nc (every case, for xarray)
-    and the nominal run.
+    summary.json (with the pass rate against [requirements], percentiles, 3 sigma and
+    rank correlations of every figure), cases.csv, envelope.csv/png, statistics.png,
+    campaign.nc (every case, for xarray) and the nominal run.
     """
     from casadi_debris.workflows.campaign import (
         CampaignInterrupted,
