@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from casadi_debris.simulation.statistics import PERCENTILES, campaign_statistics
+from casadi_debris.simulation.statistics import PERCENTILES, campaign_statistics, first_order_index
 
 
 def _table(n: int = 200, seed: int = 5):
@@ -86,3 +86,34 @@ def test_the_record_round_trips_through_json() -> None:
     again = type(result).from_json(result.to_json())
     assert again.to_json() == result.to_json()
     assert again.figure("fuel_kg").p95 == result.figure("fuel_kg").p95
+
+
+def test_the_variance_based_index_sees_a_hump_the_rank_correlation_misses() -> None:
+    rng = np.random.default_rng(12)
+    x1, x2 = rng.uniform(-1.0, 1.0, 3000), rng.uniform(0.0, 1.0, 3000)
+    y = x1**2 + 0.02 * rng.standard_normal(3000)  # worst at both ends, best in the middle
+    result = campaign_statistics(
+        [str(i) for i in range(3000)], {"fuel_kg": y}, {"a": x1, "b": x2}, ("fuel_kg", 1.0)
+    )
+    by_name = {s.quantity: s for s in result.sensitivity}
+    assert abs(by_name["a"].spearman_rho) < 0.1 and by_name["a"].first_order_index > 0.9
+    assert by_name["b"].first_order_index < 0.02
+
+
+def test_the_index_of_an_additive_law_is_each_terms_share_of_the_variance() -> None:
+    rng = np.random.default_rng(13)
+    x1, x2 = rng.uniform(size=4000), rng.uniform(size=4000)
+    y = 2.0 * x1 + x2  # Var(2 x1) = 4/12, Var(x2) = 1/12: shares 0.8 and 0.2
+    assert first_order_index(x1, y) == pytest.approx(0.8, abs=0.03)
+    assert first_order_index(x2, y) == pytest.approx(0.2, abs=0.03)
+    assert first_order_index(x1[:19], y[:19]) is None  # too few cases
+
+
+def test_grouped_by_values_the_index_is_the_epsilon_squared_of_scipys_anova() -> None:
+    rng = np.random.default_rng(14)
+    x = rng.choice([0.9, 1.0, 1.1, 1.2], 60)  # corners-like: four values, grouped by value
+    y = 3.0 * (x > 1.05) + rng.standard_normal(60)
+    f = stats.f_oneway(*(y[x == v] for v in np.unique(x))).statistic
+    k, n = 4, 60
+    expected = (k - 1) * (f - 1) / ((k - 1) * f + n - k)
+    assert first_order_index(x, y) == pytest.approx(expected, rel=1e-10)

@@ -25,7 +25,7 @@ from casadi_debris import load_problem
 from casadi_debris.plots.statistics import plot_statistics
 from casadi_debris.report.simulation import figure_title
 from casadi_debris.simulation import CaseSummary
-from casadi_debris.simulation.statistics import FIGURES, CampaignStatistics
+from casadi_debris.simulation.statistics import FIGURES, campaign_statistics, requirement_of
 from casadi_debris.workflows.campaign import CaseSelection, run_campaign_folder
 
 NAME = "paper_slew_dispersions"
@@ -35,17 +35,23 @@ FIGURE = Path(__file__).resolve().parents[1] / "figures" / "montecarlo_slew_stat
 def main() -> None:
     if len(sys.argv) > 1:  # drawn again from the folder's case files
         folder = Path(sys.argv[1])
-        statistics = json.loads((folder / "summary.json").read_text())["statistics"]
-        runs = [
-            CaseSummary.from_json(json.loads(path.read_text())).run
+        problem = load_problem(NAME)
+        cases = [
+            CaseSummary.from_json(json.loads(path.read_text()))
             for path in sorted((folder / "cases").glob("*.json"))
+            if not path.name.endswith(".failed.json")
         ]
+        runs = [case.run for case in cases]
         figures = {
             name: np.array([np.nan if getattr(r, name) is None else getattr(r, name) for r in runs])
             for name in FIGURES
         }
-        record = CampaignStatistics.from_json(statistics)
-        plot_statistics(record, figures, FIGURE, title=figure_title(load_problem(NAME)))
+        names = list(cases[0].identity.varied)
+        quantities = {n: np.array([c.identity.varied[n] for c in cases]) for n in names}
+        ids = [case.identity.case_id for case in cases]
+        record = campaign_statistics(ids, figures, quantities, requirement_of(problem))
+        plot_statistics(record, figures, FIGURE, title=figure_title(problem))
+        statistics = record.to_json()
     else:
         problem = load_problem(NAME)
         with tempfile.TemporaryDirectory() as temporary:
@@ -58,8 +64,10 @@ def main() -> None:
         f"pass rate {statistics['pass_rate']:.3f} ({statistics['passed']} of {statistics['cases']})"
     )
     for driver in statistics["drivers"]:
-        ranked = zip(driver["quantities"], driver["spearman_rho"], strict=True)
-        print(driver["figure"], [f"{name} {rho:+.2f}" for name, rho in ranked][:4])
+        ranked = zip(
+            driver["quantities"], driver["spearman_rho"], driver["first_order_index"], strict=True
+        )
+        print(driver["figure"], [f"{n} {r:+.2f} S {s}" for n, r, s in ranked][:4])
 
 
 if __name__ == "__main__":

@@ -435,8 +435,13 @@ def statistics_text(statistics: CampaignStatistics) -> str:
     shown = (statistics.requirement_figure, "fuel_slew_kg", "fuel_kg")
     for driver in (d for d in statistics.drivers if d.figure in shown):
         ranked = ", ".join(
-            f"{name} (rho {rho:+.2f})"
-            for name, rho in zip(driver.quantities[:3], driver.spearman_rho[:3], strict=True)
+            f"{name} (rho {rho:+.2f}" + ("" if index is None else f", S {index:.2f}") + ")"
+            for name, rho, index in zip(
+                driver.quantities[:3],
+                driver.spearman_rho[:3],
+                driver.first_order_index[:3],
+                strict=True,
+            )
         )
         lines.append(f"drivers of {driver.figure}: {ranked or 'none varies'}")
     return "\n".join(lines)

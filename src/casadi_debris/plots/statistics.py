@@ -76,11 +76,23 @@ def _tornado(ax: plt.Axes, driver: Driver) -> None:
     rho = np.array(driver.spearman_rho[:MAX_BARS])[::-1]
     colours = ["#c0392b" if r > 0 else "#2e86c1" for r in rho]
     ax.barh(range(len(names)), rho, color=colours)
+    indices = list(driver.first_order_index[:MAX_BARS])[::-1]
+    for row, (r, index) in enumerate(zip(rho, indices, strict=True)):
+        if index is not None:  # the variance share beside the bar, on the side away from it
+            ax.text(
+                -0.02 if r > 0 else 0.02,
+                row,
+                f"S {index:.2f}",
+                fontsize=7,
+                ha="right" if r > 0 else "left",
+                va="center",
+                color="#333333",
+            )
     ax.set_yticks(range(len(names)), names, fontsize=8)
     ax.axvline(0.0, color="k", linewidth=0.8)
     ax.set_xlim(-1.0, 1.0)
     ax.set(
-        xlabel=f"Spearman rank correlation with {driver.figure}",
+        xlabel="Spearman rank correlation ρ  (S: first-order variance index)",
         title=f"what drives {driver.figure} (worst: {driver.worst_case_id})",
     )
     if not names:

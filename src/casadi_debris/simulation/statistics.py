@@ -15,7 +15,10 @@ Over the cases that finished, for every figure of merit of the case table
   ``|rho|``: which drive the worst cases (for a monotonic effect the rank
   correlation is the share of the ordering a quantity explains, whatever its
   unit or the figure's scale). A quantity that does not vary over the cases
-  has no correlation (``null``).
+  has no correlation (``null``);
+- beside it, a first-order variance-based index (:func:`first_order_index`):
+  the share of the figure's variance the quantity explains alone, which also
+  sees effects that are not monotonic.
 """
 
 from __future__ import annotations
@@ -47,6 +50,9 @@ FIGURES = (
 # Figures whose worst case is the smallest value.
 LOWER_IS_WORSE = frozenset({"min_scale"})
 PERCENTILES = (50, 90, 95, 99)
+MIN_CASES_INDEX = 20
+"""Cases below which no variance-based index is estimated (too few per group)."""
+MAX_INDEX_BINS = 20
 
 
 @dataclass(frozen=True)
@@ -97,6 +103,8 @@ class Driver(Record):
         By decreasing ``|spearman_rho|`` (quantities without one left out).
     spearman_rho : tuple of float
         Of each, in that order.
+    first_order_index : tuple of float or None
+        Of each, in that order (None: too few cases).
     worst_case_id : str
         The case with the worst value (largest; smallest for ``min_scale``).
     worst_value : float
@@ -107,6 +115,7 @@ class Driver(Record):
     figure: str
     quantities: tuple[str, ...]
     spearman_rho: tuple[float, ...]
+    first_order_index: tuple[float | None, ...]
     worst_case_id: str
     worst_value: float
     worst_case_values: dict[str, float]
@@ -114,15 +123,26 @@ class Driver(Record):
 
 @dataclass(frozen=True)
 class Sensitivity(Record):
-    """Spearman's rank correlation of one quantity with one figure over the cases.
+    """How one quantity acts on one figure over the cases.
 
-    ``spearman_rho`` and ``p_value`` are None (``null``) when either does not vary.
+    Attributes
+    ----------
+    quantity, figure : str
+    spearman_rho, p_value : float or None
+        Spearman's rank correlation and its p-value; None (``null``) when either
+        does not vary.
+    first_order_index : float or None
+        Share of the figure's variance its mean given the quantity explains
+        (a first-order, variance-based sensitivity index, estimated from the
+        cases: see :func:`first_order_index`); None with fewer than
+        :data:`MIN_CASES_INDEX` cases or when either does not vary.
     """
 
     quantity: str
     figure: str
     spearman_rho: float | None
     p_value: float | None
+    first_order_index: float | None = None
 
 
 @dataclass(frozen=True)
@@ -302,7 +322,50 @@ def _spearman(quantity: str, figure: str, x: np.ndarray, y: np.ndarray) -> Sensi
         figure,
         rho if math.isfinite(rho) else None,
         p if math.isfinite(p) else None,
+        first_order_index(x, y),
     )
+
+
+def first_order_index(x: np.ndarray, y: np.ndarray) -> float | None:
+    """First-order sensitivity index of ``y`` to ``x``, ``Var(E[y | x]) / Var(y)``, from data.
+
+    The cases are grouped by ``x``: by its values when it takes at most
+    ``sqrt(n)`` of them (corners), else into ``sqrt(n)`` (at most
+    :data:`MAX_INDEX_BINS`) groups of equal count. The share of the variance
+    between the groups' means is corrected for the share groups of pure noise
+    would show (the epsilon-squared of an analysis of variance,
+    ``(SS_between - (k - 1) MS_within) / SS_total``, at least 0), so that a
+    quantity without effect reads about 0. Unlike a rank correlation it sees
+    an effect that is not monotonic (worst in the middle of the range, or
+    periodic as an array angle).
+
+    Parameters
+    ----------
+    x, y : ndarray, shape (n,)
+        Finite values of the quantity and of the figure in each case.
+
+    Returns
+    -------
+    float or None
+        In [0, 1]; None with fewer than :data:`MIN_CASES_INDEX` cases or when
+        either does not vary.
+    """
+    n = len(x)
+    if n < MIN_CASES_INDEX or np.ptp(x) == 0.0 or np.ptp(y) == 0.0:
+        return None
+    values, groups = np.unique(x, return_inverse=True)
+    bins = min(MAX_INDEX_BINS, int(math.sqrt(n)))
+    if len(values) > bins:
+        order = np.argsort(x, kind="stable")
+        groups = np.empty(n, dtype=int)
+        groups[order] = np.arange(n) * bins // n
+    k = int(groups.max()) + 1
+    counts = np.bincount(groups, minlength=k)
+    means = np.bincount(groups, weights=y, minlength=k) / counts
+    total = float(np.sum((y - y.mean()) ** 2))
+    between = float(np.sum(counts * (means - y.mean()) ** 2))
+    within = (total - between) / (n - k)
+    return float(min(1.0, max(0.0, (between - (k - 1) * within) / total)))
 
 
 def _driver(
@@ -322,6 +385,7 @@ def _driver(
         figure=figure,
         quantities=tuple(s.quantity for s in ranked),
         spearman_rho=tuple(float(s.spearman_rho or 0.0) for s in ranked),
+        first_order_index=tuple(s.first_order_index for s in ranked),
         worst_case_id=case_ids[worst],
         worst_value=float(values[worst]),
         worst_case_values={name: float(v[worst]) for name, v in quantities.items()},
