@@ -110,6 +110,7 @@ def varied_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
         raise SimulationError("the problem varies nothing ([[montecarlo.vary]] is empty)")
     if index < 0 or seed < 0:
         raise SimulationError(f"case index and seed must not be negative; got {index}, {seed}")
+    check_parameter_quantities(problem, model)
     corners = corner_values(quantities)
     corner, draw_index = index % len(corners), index // len(corners)
     drawn = iter(draws(quantities, seed, draw_index))
@@ -131,7 +132,6 @@ def varied_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
 
 def varied_cases(problem: Problem, model: Model, samples: int, seed: int) -> list[Case]:
     """Every case of the campaign (see the module's description), in index order."""
-    check_parameter_quantities(problem, model)
     return [varied_case(problem, model, i, seed) for i in range(varied_count(problem, samples))]
 
 
