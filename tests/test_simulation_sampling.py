@@ -14,6 +14,7 @@ from scipy import stats
 from casadi_debris.config import VariedQuantity, problem_from_dict
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.simulation.sampling import (
+    corner_row,
     corner_values,
     draw,
     draws,
@@ -63,6 +64,8 @@ def test_corners_are_every_combination_once() -> None:
     ]
     quantities.insert(2, VariedQuantity("r.v", "uniform", low=0.0, high=1.0))
     rows = corner_values(quantities)
+    # One row at a time, as a case takes it, is the same row.
+    assert all(corner_row(quantities, c) == rows[c].tolist() for c in range(len(rows)))
     expected = set(
         itertools.product(
             *[

@@ -48,6 +48,17 @@ def corner_values(quantities: Sequence[VariedQuantity]) -> np.ndarray:
     return np.array(rows, dtype=float).reshape(len(rows), len(corners))
 
 
+def corner_row(quantities: Sequence[VariedQuantity], corner: int) -> list[float]:
+    """Row ``corner`` of :func:`corner_values` without building the others: bit ``k - 1 - j``
+    of ``corner`` picks ``high`` for the ``j``-th corner quantity."""
+    corners = [q for q in quantities if q.distribution == "corners"]
+    k = len(corners)
+    return [
+        float(q.high if (corner >> (k - 1 - j)) & 1 else q.low)  # type: ignore[arg-type]
+        for j, q in enumerate(corners)
+    ]
+
+
 def draw(quantity: VariedQuantity, u: float) -> float:
     """The value of a ``uniform`` or ``normal`` quantity at the uniform number ``u`` in [0, 1).
 
@@ -111,10 +122,10 @@ def varied_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
     if index < 0 or seed < 0:
         raise SimulationError(f"case index and seed must not be negative; got {index}, {seed}")
     check_parameter_quantities(problem, model)
-    corners = corner_values(quantities)
-    corner, draw_index = index % len(corners), index // len(corners)
+    n_corners = 2 ** sum(q.distribution == "corners" for q in quantities)
+    corner, draw_index = index % n_corners, index // n_corners
     drawn = iter(draws(quantities, seed, draw_index))
-    picked = iter(corners[corner].tolist())
+    picked = iter(corner_row(quantities, corner))
     values = [
         float(next(picked) if q.distribution == "corners" else next(drawn)) for q in quantities
     ]
