@@ -39,6 +39,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -232,66 +233,87 @@ def propagate_decay(
     -------
     DecayHistory
     """
-    cos_i = math.cos(inclination_rad)
+    rates = _AveragedRates(
+        drag_area_m2, drag_coefficient, density, earth, math.cos(inclination_rad), burn
+    )
     horizon = horizon_years * SECONDS_PER_YEAR
-    reentry_radius = earth.radius_m + REENTRY_PERIGEE_KM * M_PER_KM
-
-    def rhs(t: float, y: np.ndarray, firing: bool) -> list[float]:
-        # Trial steps of the integrator may overshoot into nonsense: keep the orbit an orbit.
-        a, e, m, j = max(y[0], earth.radius_m), min(max(y[1], 0.0), 0.9), y[2], y[3]
-        segment = burn.segment_at(j) if firing and burn is not None else -1
-        area = drag_area_m2 if segment < 0 or burn is None else burn.drag_area_m2[segment]
-        da, de = _drag_rates(
-            a, e, lambda h: density(h, t), drag_coefficient * area / m, earth, cos_i
-        )
-        if segment < 0 or burn is None:
-            return [da, de, 0.0, 0.0]
-        thrust = burn.thrust_N[segment]
-        ta, te, duty = _thrust_rates(a, e, thrust / m, burn.half_width_rad, earth.mu_m3_s2)
-        return [da + ta, de + te, -thrust * duty / burn.exhaust_speed_m_s, thrust * duty]
-
-    def down(t: float, y: np.ndarray, *_: object) -> float:
-        return float(y[0] * (1.0 - max(y[1], 0.0)) - reentry_radius)
-
-    down.terminal = True  # type: ignore[attr-defined]
     y0 = np.array([semi_major_axis_m, eccentricity, mass_kg, 0.0])
-    if down(0.0, y0) <= 0.0:
+    if rates.down(0.0, y0) <= 0.0:
         return _history([np.array([0.0])], [y0[:, None]], 0.0, 0.0, earth)
     times, states, burn_end = [], [], 0.0
     if burn is not None and burn.target_impulse_Ns > 0.0:
-
-        def burnt(t: float, y: np.ndarray, *_: object) -> float:
-            return float(y[3] - burn.target_impulse_Ns)
-
-        burnt.terminal = True  # type: ignore[attr-defined]
-        first = solve_ivp(
-            rhs,
-            (0.0, horizon),
-            y0,
-            args=(True,),
-            events=(down, burnt),
-            rtol=RTOL,
-            atol=[1e-2, 1e-10, 1e-9, 1e-6],
-        )
+        first = _integrate(rates, (0.0, horizon), y0, firing=True)
         times.append(first.t)
         states.append(first.y)
         if _event_fired(first.t_events):
             return _history(times, states, float(first.t[-1]), float(first.t[-1]), earth)
         burn_end = float(first.t[-1])
         y0 = first.y[:, -1]
-    second = solve_ivp(
-        rhs,
-        (burn_end, horizon),
-        y0,
-        args=(False,),
-        events=(down,),
-        rtol=RTOL,
-        atol=[1e-2, 1e-10, 1e-9, 1e-6],
-    )
+    second = _integrate(rates, (burn_end, horizon), y0, firing=False)
     times.append(second.t)
     states.append(second.y)
     reentry = float(second.t[-1]) if _event_fired(second.t_events) else math.inf
     return _history(times, states, burn_end, reentry, earth)
+
+
+@dataclass(frozen=True, eq=False)
+class _AveragedRates:
+    """d(a, e, m, J)/dt of the averaged orbit, and the events that end an integration."""
+
+    drag_area_m2: float
+    drag_coefficient: float
+    density: DensityFunction
+    earth: Earth
+    cos_i: float
+    burn: Burn | None
+
+    def __call__(self, t: float, y: np.ndarray, firing: bool) -> list[float]:
+        earth, burn = self.earth, self.burn
+        # Trial steps of the integrator may overshoot into nonsense: keep the orbit an orbit.
+        a, e, m, j = max(y[0], earth.radius_m), min(max(y[1], 0.0), 0.9), y[2], y[3]
+        segment = burn.segment_at(j) if firing and burn is not None else -1
+        area = self.drag_area_m2 if segment < 0 or burn is None else burn.drag_area_m2[segment]
+        k = self.drag_coefficient * area / m
+        da, de = _drag_rates(a, e, lambda h: self.density(h, t), k, earth, self.cos_i)
+        if segment < 0 or burn is None:
+            return [da, de, 0.0, 0.0]
+        thrust = burn.thrust_N[segment]
+        ta, te, duty = _thrust_rates(a, e, thrust / m, burn.half_width_rad, earth.mu_m3_s2)
+        return [da + ta, de + te, -thrust * duty / burn.exhaust_speed_m_s, thrust * duty]
+
+    def down(self, t: float, y: np.ndarray, *_: object) -> float:
+        """Perigee radius less the re-entry radius: zero at re-entry."""
+        reentry_radius = self.earth.radius_m + REENTRY_PERIGEE_KM * M_PER_KM
+        return float(y[0] * (1.0 - max(y[1], 0.0)) - reentry_radius)
+
+    def burnt(self, t: float, y: np.ndarray, *_: object) -> float:
+        """Impulse given less the burn's target: zero when the burn ends."""
+        target = self.burn.target_impulse_Ns if self.burn is not None else math.inf
+        return float(y[3] - target)
+
+
+def _integrate(
+    rates: _AveragedRates, span: tuple[float, float], y0: np.ndarray, *, firing: bool
+) -> Any:
+    """RK45 from ``y0`` over ``span`` until re-entry (or the burn's end when firing)."""
+
+    def down(t: float, y: np.ndarray, *_: object) -> float:
+        return rates.down(t, y)
+
+    def burnt(t: float, y: np.ndarray, *_: object) -> float:
+        return rates.burnt(t, y)
+
+    down.terminal = True  # type: ignore[attr-defined]
+    burnt.terminal = True  # type: ignore[attr-defined]
+    return solve_ivp(
+        rates,
+        span,
+        y0,
+        args=(firing,),
+        events=(down, burnt) if firing else (down,),
+        rtol=RTOL,
+        atol=[1e-2, 1e-10, 1e-9, 1e-6],
+    )
 
 
 def _event_fired(events: list[np.ndarray] | None) -> bool:
