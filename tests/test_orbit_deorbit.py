@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import socket
 
@@ -13,12 +14,11 @@ from casadi_debris.orbit.atmosphere import solar_case
 from casadi_debris.orbit.deorbit import (
     STRATEGIES,
     DeorbitModel,
-    DeorbitPlan,
     DeorbitSettings,
-    plan_deorbit,
 )
+from casadi_debris.orbit.plan import DeorbitPlan, plan_deorbit
 
-HIGH_SPIRAL = DeorbitSettings(solar=("high",), strategies=("spiral",))
+HIGH_SPIRAL = DeorbitSettings(solar=("high",), strategies=("spiral",), minimum_swarm=False)
 
 
 @pytest.fixture(scope="module")
@@ -72,7 +72,7 @@ def test_planner_runs_with_the_network_blocked(problem, monkeypatch: pytest.Monk
 
 
 def test_a_lower_limit_needs_more_dv(problem, high_plan) -> None:
-    settings = DeorbitSettings(solar=("high",), strategies=("spiral",), limit_years=3.0)
+    settings = dataclasses.replace(HIGH_SPIRAL, limit_years=3.0)
     assert plan_deorbit(problem, settings).deorbit_dv_m_s > high_plan.deorbit_dv_m_s
 
 
@@ -94,6 +94,7 @@ def test_perigee_arcs_beat_the_spiral_when_much_dv_is_needed(problem) -> None:
         ({"solar": ()}, "solar"),
         ({"strategies": ("teleport",)}, "strategies"),
         ({"limit_years": -1.0}, "limit_years"),
+        ({"samples": -1}, "samples"),
     ],
 )
 def test_bad_settings_name_the_field(kwargs, field) -> None:

@@ -26,8 +26,7 @@ strongest direction.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
@@ -79,6 +78,12 @@ class DeorbitSettings:
         strongest thrust direction against the velocity.
     horizon_years : float
         Lifetimes beyond this are reported as infinite (JSON null).
+    minimum_swarm : bool
+        Also search the fewest CubeSats that meet the limit (a bisection of plans).
+    samples, seed : int
+        Runs of the lifetime Monte Carlo of the governing plan (0: none) and its seed.
+    workers : int
+        Local worker processes of that Monte Carlo.
     """
 
     solar: tuple[str, ...] = ("low", "mean", "high")
@@ -87,6 +92,10 @@ class DeorbitSettings:
     drag_coefficient: float | None = None
     tumbling: bool = True
     horizon_years: float = 200.0
+    minimum_swarm: bool = True
+    samples: int = 0
+    seed: int = 20250103
+    workers: int = 1
 
     def __post_init__(self) -> None:
         for name in self.solar:
@@ -98,6 +107,10 @@ class DeorbitSettings:
             raise InputShapeError(f"strategies: some of {', '.join(STRATEGIES)}, got {unknown}")
         if not (math.isfinite(self.limit_years) and self.limit_years > 0.0):
             raise InputShapeError(f"limit_years: a positive number, got {self.limit_years!r}")
+        if self.samples < 0 or self.workers < 1:
+            raise InputShapeError(
+                f"samples >= 0 and workers >= 1, got {self.samples} and {self.workers}"
+            )
 
 
 @dataclass(frozen=True)
@@ -160,52 +173,6 @@ class DeorbitCase(Record):
     cubesats_used: int
     directions_used: int
     stages_per_cubesat: tuple[int, ...]
-
-
-@dataclass(frozen=True)
-class DeorbitPlan(Record):
-    """The five-year answer for one debris and swarm.
-
-    Attributes
-    ----------
-    problem : str
-    altitude_km, inclination_deg : float
-        The debris' circular orbit.
-    mass_kg : float
-        Combined body, CubeSats included.
-    drag_area_m2, drag_coefficient, ballistic_coefficient_kg_m2 : float
-        Of the decay (tumbling or held).
-    burn_drag_areas_m2 : tuple of float
-        While each thrust direction fires (held against the velocity), strongest first.
-    capacity_dv_m_s : float
-        The swarm's torque-free Δv, all stages of all engines.
-    limit_years : float
-    deorbit_dv_m_s : float
-        The largest of the cases' least Δv (the governing case's).
-    reentry_years, natural_lifetime_years : dict
-        Per solar case.
-    meets_five_year_rule : bool
-        Under every case.
-    governing_case : str
-    cases : tuple of DeorbitCase
-    """
-
-    problem: str
-    altitude_km: float
-    inclination_deg: float
-    mass_kg: float
-    drag_area_m2: float
-    burn_drag_areas_m2: tuple[float, ...]
-    drag_coefficient: float
-    ballistic_coefficient_kg_m2: float
-    capacity_dv_m_s: float
-    limit_years: float
-    deorbit_dv_m_s: float
-    reentry_years: dict[str, float]
-    natural_lifetime_years: dict[str, float]
-    meets_five_year_rule: bool
-    governing_case: str
-    cases: tuple[DeorbitCase, ...] = field(default=())
 
 
 @dataclass(frozen=True, eq=False)
@@ -336,12 +303,11 @@ def least_dv_m_s(
     return dv
 
 
-def plan_case(
-    model: DeorbitModel, activity: SolarActivity, settings: DeorbitSettings
-) -> DeorbitCase:
-    """The least-Δv strategy under one solar case, and the plan the swarm can fly."""
-    density = model.density(activity)
-    natural = model.fly(0.0, density, 180.0, settings.horizon_years).reentry_years
+def best_strategy(
+    model: DeorbitModel, density: DensityFunction, settings: DeorbitSettings
+) -> tuple[float, str]:
+    """The least Δv over the settings' strategies [m/s] and its strategy (NaN and the
+    first strategy when none reaches the limit)."""
     options = {
         name: least_dv_m_s(
             model, density, STRATEGIES[name], settings.limit_years, settings.horizon_years
@@ -349,8 +315,19 @@ def plan_case(
         for name in settings.strategies
     }
     finite = {k: v for k, v in options.items() if math.isfinite(v)}
-    strategy = min(finite, key=lambda k: finite[k]) if finite else settings.strategies[0]
-    needed = finite.get(strategy, math.nan)
+    if not finite:
+        return math.nan, settings.strategies[0]
+    best = min(finite, key=lambda k: finite[k])
+    return finite[best], best
+
+
+def plan_case(
+    model: DeorbitModel, activity: SolarActivity, settings: DeorbitSettings
+) -> DeorbitCase:
+    """The least-Δv strategy under one solar case, and the plan the swarm can fly."""
+    density = model.density(activity)
+    natural = model.fly(0.0, density, 180.0, settings.horizon_years).reentry_years
+    needed, strategy = best_strategy(model, density, settings)
     capacity = model.capacity_dv_m_s
     within = math.isfinite(needed) and needed <= capacity * (1.0 + 1e-9)
     flown = needed if within else capacity
@@ -401,62 +378,4 @@ def _case_record(
         cubesats_used=int(np.count_nonzero(per_cubesat)),
         directions_used=used_directions,
         stages_per_cubesat=tuple(int(s) for s in per_cubesat),
-    )
-
-
-def plan_deorbit(problem: Problem, settings: DeorbitSettings | None = None) -> DeorbitPlan:
-    """The least Δv (and propellant, time, stages) that re-enters the debris within five years.
-
-    Parameters
-    ----------
-    problem : Problem
-        The debris' circular orbit (``[orbit]``), its faces and mass, the swarm.
-    settings : DeorbitSettings, optional
-        Solar cases, limit, strategies, C_D.
-
-    Returns
-    -------
-    DeorbitPlan
-        One :class:`DeorbitCase` per solar case; the plan meets the rule when every
-        case re-enters within the limit with what the swarm carries.
-
-    Example
-    -------
-    >>> from casadi_debris import load_problem
-    >>> plan = plan_deorbit(load_problem(), DeorbitSettings(solar=("high",)))  # doctest: +SKIP
-    >>> plan.meets_five_year_rule  # doctest: +SKIP
-    True
-    """
-    settings = settings or DeorbitSettings()
-    model = DeorbitModel.from_problem(problem, settings)
-    cases = tuple(plan_case(model, solar_case(name), settings) for name in settings.solar)
-    return assemble_plan(problem, model, settings, cases)
-
-
-def assemble_plan(
-    problem: Problem,
-    model: DeorbitModel,
-    settings: DeorbitSettings,
-    cases: Sequence[DeorbitCase],
-) -> DeorbitPlan:
-    """The plan's verdict from its cases: the governing case needs the most Δv."""
-    needs = [c.deorbit_dv_m_s if math.isfinite(c.deorbit_dv_m_s) else math.inf for c in cases]
-    governing = cases[int(np.argmax(needs))]
-    return DeorbitPlan(
-        problem=problem.name,
-        altitude_km=problem.orbit.altitude_km,
-        inclination_deg=problem.orbit.inclination_deg,
-        mass_kg=model.decay.mass_kg,
-        drag_area_m2=model.decay.area_m2,
-        burn_drag_areas_m2=model.burn_areas_m2,
-        drag_coefficient=model.decay.drag_coefficient,
-        ballistic_coefficient_kg_m2=model.decay.coefficient_kg_m2,
-        capacity_dv_m_s=model.capacity_dv_m_s,
-        limit_years=settings.limit_years,
-        deorbit_dv_m_s=governing.deorbit_dv_m_s,
-        reentry_years={c.solar: c.reentry_years for c in cases},
-        natural_lifetime_years={c.solar: c.natural_lifetime_years for c in cases},
-        meets_five_year_rule=all(c.meets_five_year_rule for c in cases),
-        governing_case=governing.solar,
-        cases=tuple(cases),
     )
