@@ -13,6 +13,7 @@ from __future__ import annotations
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     compare,  # compare
+    deorbit,  # deorbit
     describe,  # model, budget, schema, problems
     design,  # design
     detumble,  # detumble
