@@ -43,6 +43,7 @@ solar cycle (F10.7 varying in time) is read from the same table.
 
 from __future__ import annotations
 
+import bisect
 import functools
 import math
 from dataclasses import dataclass
@@ -167,10 +168,12 @@ class DensityTable:
     def profile(self, f107_sfu: float) -> np.ndarray:
         """``log rho`` on the altitude grid at one F10.7 (linear between levels), shape (n,)."""
         levels = self.f107_sfu
-        f = min(max(float(f107_sfu), levels[0]), levels[-1])
-        upper = int(np.clip(np.searchsorted(levels, f), 1, len(levels) - 1))
-        weight = (f - levels[upper - 1]) / (levels[upper] - levels[upper - 1])
-        return (1.0 - weight) * self.log_density[upper - 1] + weight * self.log_density[upper]
+        f = min(max(float(f107_sfu), float(levels[0])), float(levels[-1]))
+        upper = min(max(bisect.bisect_left(levels.tolist(), f), 1), len(levels) - 1)
+        low, high = float(levels[upper - 1]), float(levels[upper])
+        weight = (f - low) / (high - low)
+        rows = self.log_density
+        return rows[upper - 1] + weight * (rows[upper] - rows[upper - 1])
 
     def density(self, altitude_m: np.ndarray | float, f107_sfu: float) -> np.ndarray:
         """Density [kg/m^3] at altitudes (any shape); log-linear, flat-extrapolated in log slope.
@@ -186,6 +189,8 @@ def log_interp(grid: np.ndarray, values: np.ndarray, x: np.ndarray | float) -> n
     """Linear interpolation of ``values`` on ``grid``, continued linearly past both ends."""
     x = np.asarray(x, dtype=float)
     inside = np.interp(x, grid, values)
+    if x.min() >= grid[0] and x.max() <= grid[-1]:  # the usual case, kept cheap
+        return inside
     low_slope = (values[1] - values[0]) / (grid[1] - grid[0])
     high_slope = (values[-1] - values[-2]) / (grid[-1] - grid[-2])
     below = values[0] + low_slope * (x - grid[0])

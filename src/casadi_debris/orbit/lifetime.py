@@ -18,8 +18,8 @@ held over the orbit:
   speed relative to an atmosphere turning with the Earth (its along-track part,
   exact for a circular orbit), rho the orbit- and day-averaged density of
   :mod:`~casadi_debris.orbit.atmosphere` at h = r - R_E. Integrated over the
-  whole orbit by the trapezoidal rule on :data:`DRAG_NODES` points (spectrally
-  accurate for a periodic integrand).
+  whole orbit by the trapezoidal rule (spectrally
+  accurate for a periodic integrand; :data:`NODES_BY_SWING`).
 - Thrust: ``f_t = -T / m`` on an arc of eccentric anomaly centred on apogee
   (``|E - pi| <= half_width``; pi is the whole orbit, a circular spiral), by
   Gauss-Legendre on the arc. The engines fire the arc's share of the time.
@@ -50,12 +50,13 @@ from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
 
 REENTRY_PERIGEE_KM = 120.0
 SECONDS_PER_YEAR = 365.25 * SECONDS_PER_DAY
-DRAG_NODES = 96
-FEW_NODES = 16
-FEW_NODES_BELOW_M = 5e3  # a e: the altitude swing over one orbit
-ARC_NODES = 24
+# Trapezoid nodes over the orbit, by the altitude swing a e: the integrand goes as
+# exp((a e / H) cos E), whose n-th Fourier term falls as (a e / 2H)^n / n!, so that
+# 8 nodes are exact to rounding below a e = 5 km and 32 below 150 km (H >= 20 km).
+NODES_BY_SWING = ((5e3, 8), (150e3, 32), (math.inf, 96))
+ARC_NODES = 12
 DEFAULT_HORIZON_YEARS = 200.0
-RTOL = 1e-7
+RTOL = 1e-6
 
 DensityFunction = Callable[[np.ndarray, float], np.ndarray]
 """``density(altitude_m, time_s) -> rho [kg/m^3]``, altitude of any shape."""
@@ -110,12 +111,6 @@ class Burn:
     drag_area_m2: tuple[float, ...]
     half_width_rad: float = math.pi
 
-    def segment_at(self, impulse_Ns: float) -> int:
-        """Index of the segment that gives the impulse after ``impulse_Ns``."""
-        edges = np.cumsum(self.impulse_Ns)
-        index = int(np.searchsorted(edges, impulse_Ns, side="right"))
-        return min(index, len(self.thrust_N) - 1)
-
 
 @dataclass(frozen=True, eq=False)
 class DecayHistory:
@@ -165,19 +160,23 @@ def _drag_rates(
     cos_i: float,
 ) -> tuple[float, float]:
     """Orbit-averaged (da/dt, de/dt) of drag, ``k = 1 / B`` [m^2/kg]."""
-    # A near-circular orbit meets a near-constant density: a few nodes integrate it exactly.
-    cos_e = _COS_FEW if a * e < FEW_NODES_BELOW_M else _COS_MANY
-    r = a * (1.0 - e * cos_e)
-    v = np.sqrt(earth.mu_m3_s2 * (2.0 / r - 1.0 / a))
-    w = v - earth.rotation_rad_s * r * cos_i
-    f_t = -0.5 * k * rho_of(r - earth.radius_m) * w * w
-    da = a * a / earth.mu_m3_s2 * float(np.mean(2.0 * v * f_t * (1.0 - e * cos_e)))
-    de = float(np.mean(2.0 * f_t * (1.0 - e * e) * cos_e / v))
+    swing = a * e
+    cos_e = next(nodes for limit, nodes in _COS_NODES if swing < limit)
+    mu = earth.mu_m3_s2
+    r = a - a * e * cos_e
+    v = np.sqrt(mu * (2.0 / r - 1.0 / a))
+    w = v - earth.rotation_rad_s * cos_i * r
+    # f_t = -k rho w^2 / 2; the means below carry its factor -k/2 outside.
+    drag = rho_of(r - earth.radius_m) * w * w
+    scale = -0.5 * k / cos_e.size
+    da = 2.0 * a * a / mu * scale * float(np.dot(drag * v, 1.0 - e * cos_e))
+    de = 2.0 * (1.0 - e * e) * scale * float(np.dot(drag / v, cos_e))
     return da, de
 
 
-_COS_MANY = np.cos((np.arange(DRAG_NODES) + 0.5) * (2.0 * math.pi / DRAG_NODES))
-_COS_FEW = np.cos((np.arange(FEW_NODES) + 0.5) * (2.0 * math.pi / FEW_NODES))
+_COS_NODES = tuple(
+    (limit, np.cos((np.arange(n) + 0.5) * (2.0 * math.pi / n))) for limit, n in NODES_BY_SWING
+)
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(ARC_NODES)
 
 
@@ -240,16 +239,19 @@ def propagate_decay(
     y0 = np.array([semi_major_axis_m, eccentricity, mass_kg, 0.0])
     if rates.down(0.0, y0) <= 0.0:
         return _history([np.array([0.0])], [y0[:, None]], 0.0, 0.0, earth)
-    times, states, burn_end = [], [], 0.0
-    if burn is not None and burn.target_impulse_Ns > 0.0:
-        first = _integrate(rates, (0.0, horizon), y0, firing=True)
-        times.append(first.t)
-        states.append(first.y)
-        if _event_fired(first.t_events):
-            return _history(times, states, float(first.t[-1]), float(first.t[-1]), earth)
-        burn_end = float(first.t[-1])
-        y0 = first.y[:, -1]
-    second = _integrate(rates, (burn_end, horizon), y0, firing=False)
+    times, states, burn_end, step = [], [], 0.0, None
+    # One integration per thrust segment (the thrust jumps between them), each starting
+    # with the step the last one ended with.
+    for segment, stop in _burn_stops(burn):
+        part = _integrate(rates, (burn_end, horizon), y0, segment, stop, step)
+        times.append(part.t)
+        states.append(part.y)
+        burn_end = float(part.t[-1])
+        if _event_fired(part.t_events):
+            return _history(times, states, burn_end, burn_end, earth)
+        y0 = part.y[:, -1]
+        step = float(part.t[-1] - part.t[-2]) if part.t.size > 1 else None
+    second = _integrate(rates, (burn_end, horizon), y0, -1, math.inf, step)
     times.append(second.t)
     states.append(second.y)
     reentry = float(second.t[-1]) if _event_fired(second.t_events) else math.inf
@@ -267,11 +269,11 @@ class _AveragedRates:
     cos_i: float
     burn: Burn | None
 
-    def __call__(self, t: float, y: np.ndarray, firing: bool) -> list[float]:
+    def __call__(self, t: float, y: np.ndarray, segment: int) -> list[float]:
+        """Rates with thrust segment ``segment`` firing (-1: none)."""
         earth, burn = self.earth, self.burn
         # Trial steps of the integrator may overshoot into nonsense: keep the orbit an orbit.
-        a, e, m, j = max(y[0], earth.radius_m), min(max(y[1], 0.0), 0.9), y[2], y[3]
-        segment = burn.segment_at(j) if firing and burn is not None else -1
+        a, e, m = max(y[0], earth.radius_m), min(max(y[1], 0.0), 0.9), y[2]
         area = self.drag_area_m2 if segment < 0 or burn is None else burn.drag_area_m2[segment]
         k = self.drag_coefficient * area / m
         da, de = _drag_rates(a, e, lambda h: self.density(h, t), k, earth, self.cos_i)
@@ -286,22 +288,38 @@ class _AveragedRates:
         reentry_radius = self.earth.radius_m + REENTRY_PERIGEE_KM * M_PER_KM
         return float(y[0] * (1.0 - max(y[1], 0.0)) - reentry_radius)
 
-    def burnt(self, t: float, y: np.ndarray, *_: object) -> float:
-        """Impulse given less the burn's target: zero when the burn ends."""
-        target = self.burn.target_impulse_Ns if self.burn is not None else math.inf
-        return float(y[3] - target)
+
+def _burn_stops(burn: Burn | None) -> list[tuple[int, float]]:
+    """(segment, impulse at which it stops) of each segment the burn fires, in order."""
+    if burn is None or burn.target_impulse_Ns <= 0.0:
+        return []
+    stops, start = [], 0.0
+    for index, impulse in enumerate(burn.impulse_Ns):
+        last = index == len(burn.impulse_Ns) - 1
+        end = burn.target_impulse_Ns if last else min(start + impulse, burn.target_impulse_Ns)
+        stops.append((index, end))
+        start += impulse
+        if end >= burn.target_impulse_Ns:
+            break
+    return stops
 
 
 def _integrate(
-    rates: _AveragedRates, span: tuple[float, float], y0: np.ndarray, *, firing: bool
+    rates: _AveragedRates,
+    span: tuple[float, float],
+    y0: np.ndarray,
+    segment: int,
+    stop_Ns: float,
+    first_step: float | None,
 ) -> Any:
-    """RK45 from ``y0`` over ``span`` until re-entry (or the burn's end when firing)."""
+    """RK45 from ``y0`` over ``span`` until re-entry, or until the impulse reaches
+    ``stop_Ns`` when segment ``segment`` fires."""
 
     def down(t: float, y: np.ndarray, *_: object) -> float:
         return rates.down(t, y)
 
     def burnt(t: float, y: np.ndarray, *_: object) -> float:
-        return rates.burnt(t, y)
+        return float(y[3] - stop_Ns)
 
     down.terminal = True  # type: ignore[attr-defined]
     burnt.terminal = True  # type: ignore[attr-defined]
@@ -309,10 +327,11 @@ def _integrate(
         rates,
         span,
         y0,
-        args=(firing,),
-        events=(down, burnt) if firing else (down,),
+        args=(segment,),
+        events=(down, burnt) if segment >= 0 else (down,),
         rtol=RTOL,
         atol=[1e-2, 1e-10, 1e-9, 1e-6],
+        first_step=first_step if first_step and first_step > 0.0 else None,
     )
 
 
