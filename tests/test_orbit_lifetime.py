@@ -222,3 +222,24 @@ def test_lifetime_beyond_the_horizon_is_infinite(table) -> None:
     )
     assert math.isinf(history.reentry_years)
     assert history.time_s[-1] == pytest.approx(10.0 * SECONDS_PER_YEAR)
+
+
+@pytest.mark.parametrize("margin_s", [-1e5, 10.0])
+def test_a_burn_ending_at_or_past_the_horizon_is_no_error(margin_s) -> None:
+    # In vacuum the burn lasts target / thrust; the horizon falls just before or after it.
+    burn = _burn(20000.0)
+    duration = 20000.0 / 0.01
+    history = propagate_decay(
+        EARTH.radius_m + 700e3,
+        0.0,
+        500.0,
+        drag_area_m2=0.0,
+        drag_coefficient=2.2,
+        density=_vacuum,
+        earth=EARTH,
+        inclination_rad=INCLINATION,
+        burn=burn,
+        horizon_years=(duration + margin_s) / SECONDS_PER_YEAR,
+    )
+    assert math.isinf(history.reentry_years)
+    assert history.time_s[-1] == pytest.approx(duration + margin_s, rel=1e-6)

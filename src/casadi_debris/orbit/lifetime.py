@@ -249,8 +249,12 @@ def propagate_decay(
         burn_end = float(part.t[-1])
         if _event_fired(part.t_events):
             return _history(times, states, burn_end, burn_end, earth)
+        if burn_end >= horizon:  # still burning at the horizon
+            return _history(times, states, burn_end, math.inf, earth)
         y0 = part.y[:, -1]
         step = float(part.t[-1] - part.t[-2]) if part.t.size > 1 else None
+    if burn_end >= horizon:
+        return _history(times, states, burn_end, math.inf, earth)
     second = _integrate(rates, (burn_end, horizon), y0, -1, math.inf, step)
     times.append(second.t)
     states.append(second.y)
@@ -331,8 +335,15 @@ def _integrate(
         events=(down, burnt) if segment >= 0 else (down,),
         rtol=RTOL,
         atol=[1e-2, 1e-10, 1e-9, 1e-6],
-        first_step=first_step if first_step and first_step > 0.0 else None,
+        first_step=_first_step(first_step, span),
     )
+
+
+def _first_step(step: float | None, span: tuple[float, float]) -> float | None:
+    """The step to start with, within the span (None: let the integrator choose)."""
+    if step is None or step <= 0.0:
+        return None
+    return min(step, 0.5 * (span[1] - span[0]))
 
 
 def _event_fired(events: list[np.ndarray] | None) -> bool:
