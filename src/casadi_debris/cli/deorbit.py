@@ -136,6 +136,7 @@ def _years(value: float) -> str:
 
 
 def _text(plan: Any) -> str:
+    """The cases as a table, then the verdict, the smallest swarm and the Monte Carlo."""
     rows = [
         [
             c.solar,
@@ -167,11 +168,15 @@ def _text(plan: Any) -> str:
         rows,
     )
     verdict = "meets" if plan.meets_five_year_rule else "does NOT meet"
+    need = (
+        f"needs {plan.deorbit_dv_m_s:.1f} m/s ({plan.stages_needed} stages)"
+        if math.isfinite(plan.deorbit_dv_m_s)
+        else "is out of reach: at this thrust no burn ends in time"
+    )
     lines = [
         table,
         f"swarm's torque-free dv {plan.capacity_dv_m_s:.1f} m/s; governing case "
-        f"{plan.governing_case} needs {plan.deorbit_dv_m_s:.1f} m/s "
-        f"({plan.stages_needed} stages): the swarm {verdict} the {plan.limit_years:g}-year rule",
+        f"{plan.governing_case} {need}: the swarm {verdict} the {plan.limit_years:g}-year rule",
     ]
     smallest = plan.minimum_swarm
     if smallest is not None:

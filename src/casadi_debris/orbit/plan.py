@@ -49,9 +49,10 @@ class DeorbitPlan(Record):
     meets_five_year_rule : bool
         Under every case.
     governing_case : str
-    stages_needed : int
+    stages_needed : int or None
         Stages of engine 1's kind whose impulse gives the governing Δv (whether or not
-        the swarm has them: compare ``capacity_dv_m_s``).
+        the swarm has them: compare ``capacity_dv_m_s``); None when no Δv meets the
+        limit at the swarm's thrust.
     cases : tuple of DeorbitCase
     minimum_swarm : MinimumSwarm or None
         The fewest CubeSats on one face that meet the limit (when searched and found).
@@ -74,7 +75,7 @@ class DeorbitPlan(Record):
     natural_lifetime_years: dict[str, float]
     meets_five_year_rule: bool
     governing_case: str
-    stages_needed: int
+    stages_needed: int | None
     cases: tuple[DeorbitCase, ...] = ()
     minimum_swarm: MinimumSwarm | None = None
     monte_carlo: LifetimeCampaign | None = None
@@ -156,8 +157,8 @@ def assemble_plan(
     )
 
 
-def stages_needed(model: DeorbitModel, dv_m_s: float) -> int:
-    """Stages (of engine 1's impulse) that give ``dv_m_s`` to the body; 0 for NaN."""
+def stages_needed(model: DeorbitModel, dv_m_s: float) -> int | None:
+    """Stages (of engine 1's impulse) that give ``dv_m_s`` to the body; None for NaN."""
     if not math.isfinite(dv_m_s):
-        return 0
+        return None
     return math.ceil(model.impulse_for(dv_m_s) / model.thrust.stage_impulse_Ns[0] - 1e-9)
