@@ -100,3 +100,17 @@ def test_perigee_arcs_beat_the_spiral_when_much_dv_is_needed(problem) -> None:
 def test_bad_settings_name_the_field(kwargs, field) -> None:
     with pytest.raises(InputShapeError, match=field):
         DeorbitSettings(**kwargs)
+
+
+def test_the_paper_swarm_suffices_under_low_activity_only_by_apogee_arcs(problem) -> None:
+    # Everything the swarm carries (its torque-free impulse), flown three ways under five years
+    # of low solar activity: lowering the whole orbit is not enough, apogee arcs are;
+    # 105 m/s is not enough either way.
+    model = DeorbitModel.from_problem(problem, DeorbitSettings())
+    density = model.density(solar_case("low"))
+    capacity = model.capacity_dv_m_s
+    assert model.fly(capacity, density, STRATEGIES["spiral"], 200.0).reentry_years > 5.0
+    assert model.fly(capacity, density, STRATEGIES["perigee"], 200.0).reentry_years < 5.0
+    assert model.fly(capacity, density, STRATEGIES["perigee_narrow"], 200.0).reentry_years < 5.0
+    for name in STRATEGIES:
+        assert model.fly(105.0, density, STRATEGIES[name], 200.0).reentry_years > 5.0
