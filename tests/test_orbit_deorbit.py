@@ -95,6 +95,7 @@ def test_perigee_arcs_beat_the_spiral_when_much_dv_is_needed(problem) -> None:
         ({"strategies": ("teleport",)}, "strategies"),
         ({"limit_years": -1.0}, "limit_years"),
         ({"samples": -1}, "samples"),
+        ({"horizon_years": 4.0}, "horizon_years"),
     ],
 )
 def test_bad_settings_name_the_field(kwargs, field) -> None:

@@ -107,6 +107,10 @@ class DeorbitSettings:
             raise InputShapeError(f"strategies: some of {', '.join(STRATEGIES)}, got {unknown}")
         if not (math.isfinite(self.limit_years) and self.limit_years > 0.0):
             raise InputShapeError(f"limit_years: a positive number, got {self.limit_years!r}")
+        if not (math.isfinite(self.horizon_years) and self.horizon_years > self.limit_years):
+            raise InputShapeError(
+                f"horizon_years: a number above limit_years, got {self.horizon_years!r}"
+            )
         if self.samples < 0 or self.workers < 1:
             raise InputShapeError(
                 f"samples >= 0 and workers >= 1, got {self.samples} and {self.workers}"
