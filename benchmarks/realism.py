@@ -26,8 +26,6 @@ import argparse
 import dataclasses
 import json
 import os
-import statistics
-import time
 
 import numpy as np
 
@@ -49,6 +47,7 @@ from casadi_debris.simulation.closed_loop import StepInput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
 from recording import Recording, add_options, resolve
+from step_timing import interleaved_step_us, ratio_report
 
 CHUNK = 1000
 SENSORS = {
@@ -120,26 +119,8 @@ def main() -> None:
         for name, extra in VARIANTS.items():
             problem = dataclasses.replace(paper, **extra)
             loops[jit, name] = build(problem, record, jit)
-    walls: dict[tuple[bool, str], list[float]] = {key: [] for key in loops}
-    for _ in range(args.repeat):  # interleaved: the machine's other load hits all alike
-        for key, (loop, z0, inputs, p) in loops.items():
-            started = time.perf_counter()
-            loop.roll(z0, inputs, p)
-            walls[key].append((time.perf_counter() - started) / CHUNK * 1e6)
-    report: dict = {}
-    for jit in (False, True):
-        label = "compiled" if jit else "virtual_machine"
-        if jit and not loops[jit, "ideal"][0].compiled:
-            report[f"step_us_{label}"] = None
-            continue
-        for kind, pick in (("best", min), ("median", statistics.median)):
-            times = {name: pick(walls[jit, name]) for name in VARIANTS}
-            report[f"step_us_{label}_{kind}"] = times
-            report[f"ratio_{label}_{kind}"] = {
-                f"{name}_over_ideal": times[name] / times["ideal"]
-                for name in VARIANTS
-                if name != "ideal"
-            }
+    walls = interleaved_step_us(loops, args.repeat, CHUNK)
+    report = ratio_report(loops, walls, VARIANTS, "ideal")
     report["target_ratio"] = 2.0
     recording.finish(settings, report)
 

@@ -196,19 +196,18 @@ def _read_star_tracker(parent: Table) -> StarTracker:
     d = StarTracker()
     if t is None:
         return d
-    outages = d.outages_s
-    if t.has("outages_s"):
-        outages = t.array("outages_s", (None, 2), OUTAGE_S, max_rows=MAX_OUTAGES)
-        if np.any(outages[:, 1] <= outages[:, 0]):
-            raise t.error(t.key("outages_s"), "every interval must end after it starts")
-    tracker = StarTracker(
-        noise_arcsec=_number(t, "noise_arcsec", d.noise_arcsec, NOISE_ARCSEC),
-        bias_arcsec=_vector(t, "bias_arcsec", d.bias_arcsec, BIAS_ARCSEC),
-        update_rate_hz=_number(t, "update_rate_hz", d.update_rate_hz, UPDATE_RATE_HZ),
-        outages_s=outages,
+    values = _fields(
+        t,
+        d,
+        {"noise_arcsec": NOISE_ARCSEC, "update_rate_hz": UPDATE_RATE_HZ},
+        {"bias_arcsec": BIAS_ARCSEC},
     )
+    if t.has("outages_s"):
+        values["outages_s"] = t.array("outages_s", (None, 2), OUTAGE_S, max_rows=MAX_OUTAGES)
+        if np.any(values["outages_s"][:, 1] <= values["outages_s"][:, 0]):
+            raise t.error(t.key("outages_s"), "every interval must end after it starts")
     t.done()
-    return tracker
+    return dataclasses.replace(d, **values)
 
 
 def _read_gyro(parent: Table) -> Gyro:
@@ -216,17 +215,17 @@ def _read_gyro(parent: Table) -> Gyro:
     d = Gyro()
     if t is None:
         return d
-    gyro = Gyro(
-        angle_random_walk_deg_rt_h=_number(
-            t, "angle_random_walk_deg_rt_h", d.angle_random_walk_deg_rt_h, ARW_DEG_RT_H
-        ),
-        bias_random_walk_deg_h_rt_h=_number(
-            t, "bias_random_walk_deg_h_rt_h", d.bias_random_walk_deg_h_rt_h, RRW_DEG_H_RT_H
-        ),
-        initial_bias_deg_h=_vector(t, "initial_bias_deg_h", d.initial_bias_deg_h, GYRO_BIAS_DEG_H),
+    values = _fields(
+        t,
+        d,
+        {
+            "angle_random_walk_deg_rt_h": ARW_DEG_RT_H,
+            "bias_random_walk_deg_h_rt_h": RRW_DEG_H_RT_H,
+        },
+        {"initial_bias_deg_h": GYRO_BIAS_DEG_H},
     )
     t.done()
-    return gyro
+    return dataclasses.replace(d, **values)
 
 
 def read_estimation(top: Table) -> Estimation:
@@ -235,17 +234,18 @@ def read_estimation(top: Table) -> Estimation:
     d = Estimation()
     if t is None:
         return d
-    estimation = Estimation(
-        filter=t.text("filter", ESTIMATION_FILTERS) if t.has("filter") else d.filter,
-        initial_attitude_sigma_arcsec=_number(
-            t, "initial_attitude_sigma_arcsec", d.initial_attitude_sigma_arcsec, SIGMA_ARCSEC
-        ),
-        initial_bias_sigma_deg_h=_number(
-            t, "initial_bias_sigma_deg_h", d.initial_bias_sigma_deg_h, SIGMA_DEG_H
-        ),
+    values = _fields(
+        t,
+        d,
+        {
+            "initial_attitude_sigma_arcsec": SIGMA_ARCSEC,
+            "initial_bias_sigma_deg_h": SIGMA_DEG_H,
+        },
     )
+    if t.has("filter"):
+        values["filter"] = t.text("filter", ESTIMATION_FILTERS)
     t.done()
-    return estimation
+    return dataclasses.replace(d, **values)
 
 
 ACTUATOR_RANGES = {
@@ -263,9 +263,7 @@ def read_actuators(top: Table) -> Actuators:
     d = Actuators()
     if t is None:
         return d
-    values = {
-        name: _number(t, name, getattr(d, name), bounds) for name, bounds in ACTUATOR_RANGES.items()
-    }
+    values = _fields(t, d, ACTUATOR_RANGES)
     t.done()
     return dataclasses.replace(d, **values)
 
@@ -301,5 +299,14 @@ def _number(t: Table, name: str, default: Any, bounds: limits.Range) -> Any:
     return t.number(name, bounds) if t.has(name) else default
 
 
-def _vector(t: Table, name: str, default: np.ndarray, bounds: limits.Range) -> np.ndarray:
-    return t.array(name, (3,), bounds) if t.has(name) else default
+def _fields(
+    t: Table,
+    default: Any,
+    numbers: dict[str, limits.Range],
+    vectors: dict[str, limits.Range] | None = None,
+) -> dict[str, Any]:
+    """The given keys of ``t`` (numbers, and body-axis vectors of 3), the rest as ``default``."""
+    values = {name: _number(t, name, getattr(default, name), b) for name, b in numbers.items()}
+    for name, bounds in (vectors or {}).items():
+        values[name] = t.array(name, (3,), bounds) if t.has(name) else getattr(default, name)
+    return values

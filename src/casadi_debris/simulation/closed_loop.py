@@ -77,7 +77,8 @@ class StepOutput:
 
     The ideal loop's ``y`` has the first ``SIZE``; the realistic one adds the
     torque and force applied over the period and, with engine-level effects,
-    each engine's thrust (:mod:`~casadi_debris.simulation.realism`).
+    the (delayed) torque command and each engine's thrust change
+    (:mod:`~casadi_debris.simulation.realism`).
     """
 
     DEMAND_NM = slice(0, 3)
@@ -86,7 +87,8 @@ class StepOutput:
     SIZE = 7
     APPLIED_NM = slice(7, 10)
     FORCE_N = slice(10, 13)
-    THRUST_START = 13
+    COMMAND_NM = slice(13, 16)
+    THRUST_CHANGE_START = 16
 
 
 JIT_FLAGS = ("-O2",)
@@ -398,8 +400,8 @@ def _realism_key(realism: Realism | None, basis: EngineBasis | None) -> str:
         return ""
     digest = hashlib.sha256(repr(realism).encode())
     if basis is not None:
-        digest.update(np.ascontiguousarray(basis.thrust_per_Nm).tobytes())
-        digest.update(np.ascontiguousarray(basis.max_thrust_N).tobytes())
+        for array in (basis.axis, basis.start_Nm, basis.length_Nm, basis.slope, basis.torque_map):
+            digest.update(np.ascontiguousarray(array).tobytes())
     return "|" + digest.hexdigest()
 
 

@@ -15,14 +15,17 @@ replaces its ideal control law by :func:`realistic_law`, one period:
    ``D = (m + f) h`` with m whole periods and a fraction f: over period k the
    loop applies ``(1 - f) a_k-m + f a_k-m-1`` of the saturated commands ``a``
    (the torque whose impulse over the period equals the delayed command's);
-5. engines (when an effect acts per engine): the thrust ``f_c`` of the command
-   by superposing the allocator's least-fuel thrust for a unit torque along
-   each signed body axis (exact along one axis; clipped at each engine's
-   limit), engines commanded below the minimum impulse bit switched off
-   (``f_c h < I_min``), a first-order lag of time constant T (the thrust's mean
-   over the period ``f_c + (f_prev - f_c) T / h (1 - exp(-h / T))`` is held), the
-   drawn thrust factor (the result kept within 0 and the engine's limit), and
-   the misaligned torque and force maps.
+5. engines (when an effect acts per engine): the command's torque, as the
+   allocator gives it exactly, plus what the engines' effects change in it.
+   The effects act on the command's thrust ``f_c``, the allocator's least-fuel
+   thrust along each signed body axis superposed (:class:`EngineBasis`; exact
+   along one axis, and for the torques of the pointing runs): engines commanded
+   below the minimum impulse bit switched off (``f_c h < I_min``); a
+   first-order lag of time constant T (the thrust's mean over the period
+   ``f_c + (f_prev - f_c) T / h (1 - exp(-h / T))`` is held); the drawn thrust
+   factor (kept non-negative); the misaligned torque and force maps. The run
+   books the allocator's thrust for the command plus the change ``f_a - f_c``
+   (kept within 0 and the engine's limit).
 
 Every noise sample, noise variance and misaligned map enters as a row of the
 step's input ``s`` (:class:`RealismInputs`): the graph depends only on which
@@ -46,6 +49,8 @@ from casadi_debris.simulation.noise import NoiseStreams, arw_rad_rt_s, rrw_rad_s
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, SECONDS_PER_HOUR
 
 BASE_INPUTS = 8
+# The last sample of an axis stays this far (relative) inside its reach.
+_REACH_BACKOFF = 1e-9
 # Fraction of a period below which a delay counts as whole periods (time round-off).
 _DELAY_ROUND_OFF = 1e-9
 MICRO = 1e-6
@@ -122,8 +127,9 @@ class Realism:
 
     @property
     def output_size(self) -> int:
-        """Rows of the step's output: the ideal 7, torque and force (6), thrust (engine level)."""
-        return 13 + (self.n_engines if self.engine_level else 0)
+        """Rows of the step's output: the ideal 7, torque and force (6), and at engine
+        level the command (3) and each engine's thrust change (n)."""
+        return 13 + (3 + self.n_engines if self.engine_level else 0)
 
     def initial_aux(self, problem: Problem, quaternion: np.ndarray) -> np.ndarray:
         """The extra state at t = 0: estimate on the true attitude, nothing fired yet."""
@@ -213,10 +219,39 @@ class RealismInputs:
 
 @dataclass(frozen=True, eq=False)
 class EngineBasis:
-    """Thrust per unit torque along +x, -x, +y, -y, +z, -z (shape (n, 6)) and the limits (n,)."""
+    """The allocator's least-fuel thrust along each signed axis, as linear pieces.
 
-    thrust_per_Nm: np.ndarray
+    Along +x, -x, +y, -y, +z, -z (``axis`` 0 .. 5) the least-fuel thrust is
+    piecewise linear in the torque's magnitude m (cheapest engines first, others
+    joining as they saturate); piece s adds ``slope[:, s] * clip(m - start_Nm[s],
+    0, length_Nm[s])``.
+
+    Attributes
+    ----------
+    axis : ndarray of int, shape (S,)
+    start_Nm, length_Nm : ndarray, shape (S,)
+    slope : ndarray, shape (n_engines, S)
+        Thrust per N m [N / N m].
+    max_thrust_N : ndarray, shape (n_engines,)
+    torque_map, force_map : ndarray, shape (3, n_engines)
+        The allocator's (nominal) maps.
+    """
+
+    axis: np.ndarray
+    start_Nm: np.ndarray
+    length_Nm: np.ndarray
+    slope: np.ndarray
     max_thrust_N: np.ndarray
+    torque_map: np.ndarray
+    force_map: np.ndarray
+
+    def thrust(self, magnitudes: ca.SX) -> ca.SX:
+        """Thrust (n_engines,) for the signed-axis magnitudes [m+x, m-x, ..., m-z] (6,)."""
+        pieces = [
+            ca.fmin(ca.fmax(magnitudes[int(a)] - start, 0.0), length)
+            for a, start, length in zip(self.axis, self.start_Nm, self.length_Nm, strict=True)
+        ]
+        return ca.DM(self.slope) @ ca.vertcat(*pieces)
 
 
 def measured_attitude(
@@ -257,22 +292,31 @@ def delayed_command(realism: Realism, applied: ca.SX, aux: ca.SX) -> tuple[ca.SX
 def engine_wrench(
     realism: Realism, basis: EngineBasis, command: ca.SX, aux: ca.SX, s: ca.SX, period_s: float
 ) -> tuple[ca.SX, ca.SX, ca.SX, ca.SX]:
-    """(torque, force, thrust, the ramp's next state) of the engines for a torque command."""
+    """(torque, force, thrust change, the ramp's next state) for a torque command.
+
+    The command's torque is applied exactly (as the allocator gives it); the
+    engines' effects add the difference they make to the command's thrust
+    ``f_c`` (superposed axis by axis, :class:`EngineBasis`):
+    ``T' f_a - T f_c`` and ``F' f_a - F f_c`` with ``f_a`` the thrust as fired
+    and ``T'``, ``F'`` the misaligned maps. The thrust change ``f_a - f_c`` is
+    returned for the run's books.
+    """
     rows = realism.inputs
     n = realism.n_engines
     signed = ca.vertcat(*(ca.vertcat(ca.fmax(c, 0), ca.fmax(-c, 0)) for c in ca.vertsplit(command)))
-    thrust = ca.fmin(ca.DM(basis.thrust_per_Nm) @ signed, ca.DM(basis.max_thrust_N))
-    thrust = ca.if_else(thrust * period_s >= s[rows.MINIMUM_IMPULSE_NS], thrust, 0.0)
+    nominal = basis.thrust(signed)
+    fired = ca.if_else(nominal * period_s >= s[rows.MINIMUM_IMPULSE_NS], nominal, 0.0)
     start = realism.sensor_size + realism.delay_size
     previous = aux[start : start + n]
     decay, mean = s[rows.RAMP.start], s[rows.RAMP.start + 1]
-    held = thrust + (previous - thrust) * mean
-    ramp_next = thrust + (previous - thrust) * decay
-    # The noise never takes an engine past its stage's thrust, nor below zero.
-    actual = ca.fmin(ca.fmax(held * s[rows.thrust_factor], 0.0), ca.DM(basis.max_thrust_N))
+    held = fired + (previous - fired) * mean
+    ramp_next = fired + (previous - fired) * decay
+    actual = ca.fmax(held * s[rows.thrust_factor], 0.0)
     torque_map = ca.reshape(s[rows.torque_map], 3, n)
     force_map = ca.reshape(s[rows.force_map], 3, n)
-    return torque_map @ actual, force_map @ actual, actual, ramp_next
+    torque = command + torque_map @ actual - ca.DM(basis.torque_map) @ nominal
+    force = force_map @ actual - ca.DM(basis.force_map) @ nominal
+    return torque, force, actual - nominal, ramp_next
 
 
 def realistic_law(
@@ -298,8 +342,8 @@ def realistic_law(
     if realism.engine_level:
         if basis is None:
             raise ValueError("engine-level effects need the allocator's engine basis")
-        torque, force, thrust, ramp_next = engine_wrench(realism, basis, acting, aux, s, period_s)
-        extra = [thrust]
+        torque, force, change, ramp_next = engine_wrench(realism, basis, acting, aux, s, period_s)
+        extra = [acting, change]
     else:
         torque, force, ramp_next, extra = acting, ca.SX.zeros(3), ca.SX.zeros(0, 1), []
     outputs = ca.vertcat(demand, scale, error, torque, force, *extra)
@@ -313,16 +357,43 @@ def realistic_law(
     )
 
 
-def engine_basis(allocator: Allocator, fraction: float = 0.1) -> EngineBasis:
-    """The allocator's least-fuel thrust per N m along each signed axis, at a fraction of reach."""
+def engine_basis(allocator: Allocator, samples: int = 64) -> EngineBasis:
+    """The allocator's least-fuel thrust along each signed axis up to its reach, in pieces.
+
+    Sampled at ``samples`` magnitudes per axis; neighbouring pieces of one slope
+    merge. Between samples the thrust is a convex combination of two of the
+    allocator's answers: exact torque, zero net force, within the limits.
+    """
     reach = allocator.authority_polytope().axis_reach()
-    n = allocator.n_engines
-    columns = np.zeros((n, 6))
+    axes: list[int] = []
+    starts: list[float] = []
+    lengths: list[float] = []
+    slopes: list[np.ndarray] = []
     for j in range(6):
-        if reach[j] <= 0:
+        if not reach[j] > 0:
             continue
-        torque = np.zeros(3)
-        torque[j // 2] = (1.0 if j % 2 == 0 else -1.0) * fraction * reach[j]
-        result = allocator.allocate(torque)
-        columns[:, j] = np.asarray(result.thrust_N) / (fraction * reach[j])
-    return EngineBasis(columns, np.asarray(allocator.max_thrust_N, dtype=float))
+        direction = np.zeros(3)
+        direction[j // 2] = 1.0 if j % 2 == 0 else -1.0
+        magnitudes = np.linspace(0.0, reach[j] * (1.0 - _REACH_BACKOFF), samples + 1)
+        thrust = [np.zeros(allocator.n_engines)] + [
+            np.asarray(allocator.allocate(m * direction).thrust_N) for m in magnitudes[1:]
+        ]
+        for k in range(samples):
+            slope = (thrust[k + 1] - thrust[k]) / (magnitudes[k + 1] - magnitudes[k])
+            same = axes and axes[-1] == j and np.allclose(slope, slopes[-1], rtol=1e-6, atol=1e-9)
+            if same:
+                lengths[-1] += magnitudes[k + 1] - magnitudes[k]
+                continue
+            axes.append(j)
+            starts.append(magnitudes[k])
+            lengths.append(magnitudes[k + 1] - magnitudes[k])
+            slopes.append(slope)
+    return EngineBasis(
+        axis=np.array(axes, dtype=int),
+        start_Nm=np.array(starts),
+        length_Nm=np.array(lengths),
+        slope=np.array(slopes).T.reshape(allocator.n_engines, len(slopes)),
+        max_thrust_N=np.asarray(allocator.max_thrust_N, dtype=float),
+        torque_map=allocator.torque_map,
+        force_map=allocator.force_map,
+    )

@@ -451,12 +451,15 @@ class _Rollout:
             applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
         else:
             applied = y_all[:, StepOutput.APPLIED_NM]
-        if self.realism is not None and self.realism.engine_level:
-            thrust = y_all[:, StepOutput.THRUST_START :]
-        else:
-            allocation = self.allocator.allocate_series(applied)
-            self.point_solves += allocation.point_solves
-            thrust = allocation.thrust_N
+        engine_level = self.realism is not None and self.realism.engine_level
+        allocation = self.allocator.allocate_series(
+            y_all[:, StepOutput.COMMAND_NM] if engine_level else applied
+        )
+        self.point_solves += allocation.point_solves
+        thrust = allocation.thrust_N
+        if engine_level:  # the engines' effects on the allocated thrust
+            change = y_all[:, StepOutput.THRUST_CHANGE_START :]
+            thrust = np.clip(thrust + change, 0.0, self.allocator.max_thrust_N)
         done, stage_events = self.engines.advance_series(thrust, self.period)
         for index, event in stage_events:
             time_s = (k + index) * self.period + event.time_s
