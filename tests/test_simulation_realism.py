@@ -225,3 +225,28 @@ def test_engines_without_effects_fly_the_ideal_loop(paper) -> None:
     engines = simulate(books, model, record.reduced, reference)
     np.testing.assert_allclose(engines.state, ideal.state, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(engines.thrust_N, ideal.thrust_N, rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.slow
+def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
+    # Every effect at once, as C and on CasADi's virtual machine (a compile of tens of seconds).
+    problem, model, _ = paper
+    real = load_problem("paper_realistic")
+    problem = dataclasses.replace(
+        problem,
+        sensors=real.sensors,
+        estimation=real.estimation,
+        actuators=real.actuators,
+        controller=real.controller,
+    )
+    record, _ = load_controller()
+    short = dataclasses.replace(
+        problem, simulation=dataclasses.replace(problem.simulation, duration_s=30.0)
+    )
+    reference = scenario_reference(short)
+    machine = simulate(short, model, record.reduced, reference)
+    compiled = simulate(short, model, record.reduced, reference, jit=True)
+    if not compiled.compiled_step:
+        pytest.skip("no C compiler")
+    np.testing.assert_allclose(compiled.state, machine.state, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(compiled.thrust_N, machine.thrust_N, rtol=1e-9, atol=1e-12)

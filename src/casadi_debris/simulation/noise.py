@@ -3,7 +3,7 @@
 Everything random in a realistic run is drawn here, in numpy, before the run,
 and enters the compiled step as inputs: the step itself is deterministic, and
 one compiled step serves every seed and every noise level. Each stream has its
-own generator spawned from ``[sensors] seed`` (:class:`numpy.random.SeedSequence`),
+own generator spawned from ``[sensors] seed`` (``numpy.random.SeedSequence``),
 so that switching one effect on or off leaves the others' draws unchanged.
 
 Gyro (IEEE Std 952 model, sampled at the control period h): the reading of

@@ -151,7 +151,8 @@ class Realism:
 
 @dataclass(frozen=True)
 class RealismInputs:
-    """Rows of the realistic step's input after the ideal ones (:class:`StepInput`)."""
+    """Rows of the realistic step's input after the ideal ones
+    (:class:`~casadi_debris.simulation.closed_loop.StepInput`)."""
 
     n_engines: int
 
