@@ -24,6 +24,7 @@ from casadi_debris.config import (
     StarTracker,
     load_problem,
 )
+from casadi_debris.config.realism import realism_fields
 from casadi_debris.model import build_model
 from casadi_debris.simulation import build_loop_step, scenario_reference, simulate
 from casadi_debris.simulation.closed_loop import DiscreteController, StepInput, StepOutput
@@ -170,13 +171,7 @@ def short_runs(paper):
     )
     reference = scenario_reference(short)
     realistic = load_problem("paper_realistic")
-    everything = dataclasses.replace(
-        short,
-        sensors=realistic.sensors,
-        estimation=realistic.estimation,
-        actuators=realistic.actuators,
-        controller=realistic.controller,
-    )
+    everything = dataclasses.replace(short, **realism_fields(realistic))
     return {
         "held": simulate(held, model, record.reduced, reference),
         "held_again": simulate(held, model, record.reduced, reference),
@@ -232,13 +227,7 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
     # Every effect at once, as C and on CasADi's virtual machine (a compile of tens of seconds).
     problem, model, _ = paper
     real = load_problem("paper_realistic")
-    problem = dataclasses.replace(
-        problem,
-        sensors=real.sensors,
-        estimation=real.estimation,
-        actuators=real.actuators,
-        controller=real.controller,
-    )
+    problem = dataclasses.replace(problem, **realism_fields(real))
     record, _ = load_controller()
     short = dataclasses.replace(
         problem, simulation=dataclasses.replace(problem.simulation, duration_s=30.0)
@@ -250,3 +239,14 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
         pytest.skip("no C compiler")
     np.testing.assert_allclose(compiled.state, machine.state, rtol=1e-9, atol=1e-12)
     np.testing.assert_allclose(compiled.thrust_N, machine.thrust_N, rtol=1e-9, atol=1e-12)
+
+
+def test_series_carry_the_estimation_error(short_runs) -> None:
+    from casadi_debris.report.simulation import series_columns
+
+    run = short_runs["everything"]
+    columns = series_columns(run)
+    truth_told = (run.measured_error_rad - run.error_rad[:-1]) * 180 / math.pi * 3600
+    np.testing.assert_allclose(columns["estimation_error_z_arcsec"][:-1], truth_told[:, 2])
+    ideal = dataclasses.replace(run, noise_seed=None)  # as the paper's loop records it
+    assert not any(name.startswith("estimation") for name in series_columns(ideal))

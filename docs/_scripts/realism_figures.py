@@ -29,6 +29,7 @@ import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.config import Actuators, Problem, default_controller_path
+from casadi_debris.config.realism import realism_fields
 from casadi_debris.model import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, scenario_reference, simulate
@@ -43,13 +44,7 @@ ALLOCATION_ONLY = Actuators(minimum_impulse_bit_uNs=1e-6)
 
 def realistic(problem: Problem, realism: Problem) -> Problem:
     """``problem`` with the sensors, estimator, delay and engines of ``realism``."""
-    return dataclasses.replace(
-        problem,
-        sensors=realism.sensors,
-        estimation=realism.estimation,
-        actuators=realism.actuators,
-        controller=realism.controller,
-    )
+    return dataclasses.replace(problem, **realism_fields(realism))
 
 
 def run(problem: Problem, record: ControllerRecord) -> ClosedLoopResult:

@@ -14,6 +14,7 @@ sample it; the noise streams and the engines' misalignment are drawn from
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -192,60 +193,38 @@ def read_sensors(top: Table) -> Sensors:
 
 
 def _read_star_tracker(parent: Table) -> StarTracker:
-    t = _optional(parent, "star_tracker")
-    d = StarTracker()
-    if t is None:
-        return d
-    values = _fields(
-        t,
-        d,
-        {"noise_arcsec": NOISE_ARCSEC, "update_rate_hz": UPDATE_RATE_HZ},
-        {"bias_arcsec": BIAS_ARCSEC},
-    )
-    if t.has("outages_s"):
-        values["outages_s"] = t.array("outages_s", (None, 2), OUTAGE_S, max_rows=MAX_OUTAGES)
-        if np.any(values["outages_s"][:, 1] <= values["outages_s"][:, 0]):
+    def outages(t: Table) -> dict[str, Any]:
+        if not t.has("outages_s"):
+            return {}
+        intervals = t.array("outages_s", (None, 2), OUTAGE_S, max_rows=MAX_OUTAGES)
+        if np.any(intervals[:, 1] <= intervals[:, 0]):
             raise t.error(t.key("outages_s"), "every interval must end after it starts")
-    t.done()
-    return dataclasses.replace(d, **values)
+        return {"outages_s": intervals}
+
+    numbers = {"noise_arcsec": NOISE_ARCSEC, "update_rate_hz": UPDATE_RATE_HZ}
+    vectors = {"bias_arcsec": BIAS_ARCSEC}
+    return _read(parent, "star_tracker", StarTracker(), numbers, vectors, outages)
 
 
 def _read_gyro(parent: Table) -> Gyro:
-    t = _optional(parent, "gyro")
-    d = Gyro()
-    if t is None:
-        return d
-    values = _fields(
-        t,
-        d,
-        {
-            "angle_random_walk_deg_rt_h": ARW_DEG_RT_H,
-            "bias_random_walk_deg_h_rt_h": RRW_DEG_H_RT_H,
-        },
-        {"initial_bias_deg_h": GYRO_BIAS_DEG_H},
-    )
-    t.done()
-    return dataclasses.replace(d, **values)
+    numbers = {
+        "angle_random_walk_deg_rt_h": ARW_DEG_RT_H,
+        "bias_random_walk_deg_h_rt_h": RRW_DEG_H_RT_H,
+    }
+    return _read(parent, "gyro", Gyro(), numbers, {"initial_bias_deg_h": GYRO_BIAS_DEG_H})
 
 
 def read_estimation(top: Table) -> Estimation:
     """``[estimation]`` (absent: no estimator)."""
-    t = _optional(top, "estimation")
-    d = Estimation()
-    if t is None:
-        return d
-    values = _fields(
-        t,
-        d,
-        {
-            "initial_attitude_sigma_arcsec": SIGMA_ARCSEC,
-            "initial_bias_sigma_deg_h": SIGMA_DEG_H,
-        },
-    )
-    if t.has("filter"):
-        values["filter"] = t.text("filter", ESTIMATION_FILTERS)
-    t.done()
-    return dataclasses.replace(d, **values)
+
+    def chosen(t: Table) -> dict[str, Any]:
+        return {"filter": t.text("filter", ESTIMATION_FILTERS)} if t.has("filter") else {}
+
+    numbers = {
+        "initial_attitude_sigma_arcsec": SIGMA_ARCSEC,
+        "initial_bias_sigma_deg_h": SIGMA_DEG_H,
+    }
+    return _read(top, "estimation", Estimation(), numbers, extra=chosen)
 
 
 ACTUATOR_RANGES = {
@@ -259,23 +238,15 @@ ACTUATOR_RANGES = {
 
 def read_actuators(top: Table) -> Actuators:
     """``[actuators]`` (absent: ideal engines)."""
-    t = _optional(top, "actuators")
-    d = Actuators()
-    if t is None:
-        return d
-    values = _fields(t, d, ACTUATOR_RANGES)
-    t.done()
-    return dataclasses.replace(d, **values)
+    return _read(top, "actuators", Actuators(), ACTUATOR_RANGES)
 
 
 def read_controller_timing(top: Table) -> ControllerTiming:
     """``[controller]`` (absent: no computation delay)."""
-    t = _optional(top, "controller")
-    if t is None:
-        return ControllerTiming()
-    timing = ControllerTiming(delay_s=_number(t, "delay_s", 0.0, DELAY_S))
-    t.done()
-    return timing
+    return _read(top, "controller", ControllerTiming(), {"delay_s": DELAY_S})
+
+
+REALISM_FIELDS = ("sensors", "estimation", "actuators", "controller")
 
 
 def read_realism(top: Table) -> dict[str, Any]:
@@ -286,6 +257,31 @@ def read_realism(top: Table) -> dict[str, Any]:
         "actuators": read_actuators(top),
         "controller": read_controller_timing(top),
     }
+
+
+def realism_fields(problem: Any) -> dict[str, Any]:
+    """A problem's four realism settings by field name, to give another problem:
+    ``dataclasses.replace(other, **realism_fields(problem))``."""
+    return {name: getattr(problem, name) for name in REALISM_FIELDS}
+
+
+def _read(
+    parent: Table,
+    name: str,
+    default: Any,
+    numbers: dict[str, limits.Range],
+    vectors: dict[str, limits.Range] | None = None,
+    extra: Callable[[Table], dict[str, Any]] | None = None,
+) -> Any:
+    """The table ``name`` of ``parent`` as ``default`` with the keys it gives (absent: default)."""
+    t = _optional(parent, name)
+    if t is None:
+        return default
+    values = _fields(t, default, numbers, vectors)
+    if extra is not None:
+        values |= extra(t)
+    t.done()
+    return dataclasses.replace(default, **values)
 
 
 def _optional(top: Table, name: str) -> Table | None:
