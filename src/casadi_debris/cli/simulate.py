@@ -15,6 +15,7 @@ import click
 from casadi_debris.cli.common import (
     allow_mismatch_option,
     controller_option,
+    counter_progress,
     echo_json,
     failed_cubesat_indices,
     friendly_errors,
@@ -292,13 +293,9 @@ def _open_loop(
 
 
 def cases_progress(label: str) -> Callable[[int, int], None]:
-    """A one-line counter of finished cases on stderr."""
-
-    def show(done: int, total: int) -> None:
-        end = "\n" if done == total else ""
-        say(f"\r{label}: {done}/{total} cases{end}", newline=False)
-
-    return show
+    """Finished cases on stderr: a bar on a terminal, periodic lines otherwise
+    (:func:`~casadi_debris.cli.common.counter_progress`)."""
+    return counter_progress(label, "cases")
 
 
 def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] | None]:
