@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, load_problem
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, load_problem, signed_axis_vector
 from casadi_debris.geometry import build_geometry, max_thrust_N, torque_authority
 from casadi_debris.studies.alternatives import (
     failure_tolerance,
@@ -16,12 +16,6 @@ from casadi_debris.studies.alternatives import (
     swarm_figures,
 )
 from lp_reference import ZERO_FORCE, largest_alpha, least_mass_flow_kg_s
-
-
-def _unit(name: str) -> np.ndarray:
-    axis = np.zeros(3)
-    axis[AXIS_NAMES.index(name[1])] = 1.0 if name[0] == "+" else -1.0
-    return axis
 
 
 def test_fuel_per_torque_is_the_least_mass_flow_of_an_independent_lp():
@@ -33,7 +27,7 @@ def test_fuel_per_torque_is_the_least_mass_flow_of_an_independent_lp():
     exhaust = np.array([e.isp_s for e in problem.engines]) * problem.constants.standard_gravity_m_s2
     for name in SIGNED_AXES:
         # A quarter of the authority: the least flow is linear in the torque below it.
-        torque = 0.25 * authority[name] * _unit(name)
+        torque = 0.25 * authority[name] * signed_axis_vector(name)
         reference = least_mass_flow_kg_s(
             geometry, max_thrust_N(geometry), exhaust, torque, ZERO_FORCE
         )
@@ -78,7 +72,9 @@ def test_failure_tolerance_matches_brute_force_with_an_independent_lp():
         for failed in itertools.combinations(range(len(geometry.cubesats)), size):
             limits = np.where(np.isin(owner, failed), 0.0, max_thrust_N(geometry))
             ratios[failed] = min(
-                largest_alpha(geometry, limits, 1e-3 * _unit(n), ZERO_FORCE, at_most=None)
+                largest_alpha(
+                    geometry, limits, 1e-3 * signed_axis_vector(n), ZERO_FORCE, at_most=None
+                )
                 * 1e-3
                 / disturbance_Nm[AXIS_NAMES.index(n[1])]
                 for n in SIGNED_AXES

@@ -39,6 +39,16 @@ from casadi_debris.config.loader import (
     shipped_problems,
 )
 from casadi_debris.config.reader import problem_from_dict
+from casadi_debris.config.realism import (
+    ESTIMATION_FILTERS,
+    Actuators,
+    ControllerTiming,
+    Estimation,
+    EstimationFilter,
+    Gyro,
+    Sensors,
+    StarTracker,
+)
 from casadi_debris.config.runs import with_duration
 from casadi_debris.config.schema import (
     AXIS_NAMES,
@@ -77,8 +87,10 @@ from casadi_debris.config.schema import (
     SlewReference,
     Transfer,
     Uncertainty,
+    VariedQuantity,
     Weights,
 )
+from casadi_debris.config.varied import problem_with_values
 
 __all__ = [
     "AXIS_NAMES",
@@ -86,14 +98,17 @@ __all__ = [
     "DEFAULT_REQUIREMENTS",
     "DEFAULT_SIMULATION",
     "ENVIRONMENT_TORQUES",
+    "ESTIMATION_FILTERS",
     "MODE_KINDS",
     "REFERENCE_KINDS",
     "SIGNED_AXES",
     "SLEW_METHODS",
     "TRIANGLE_TOLERANCE",
+    "Actuators",
     "Array",
     "AxisName",
     "Constants",
+    "ControllerTiming",
     "CubeSat",
     "CubeSatLayout",
     "Detumble",
@@ -102,7 +117,10 @@ __all__ = [
     "EngineDefaults",
     "Environment",
     "EnvironmentTorque",
+    "Estimation",
+    "EstimationFilter",
     "FailureEvent",
+    "Gyro",
     "Hub",
     "Mode",
     "ModeKind",
@@ -112,12 +130,15 @@ __all__ = [
     "ReferenceKind",
     "Requirements",
     "Sensor",
+    "Sensors",
     "SignedAxis",
     "Simulation",
     "SlewMethod",
     "SlewReference",
+    "StarTracker",
     "Transfer",
     "Uncertainty",
+    "VariedQuantity",
     "Weights",
     "check_inertia",
     "default_controller_path",
@@ -125,6 +146,7 @@ __all__ = [
     "load_problem",
     "problem_from_dict",
     "problem_path",
+    "problem_with_values",
     "shipped_problems",
     "signed_axis_vector",
     "with_duration",

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem, signed_axis_vector
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
 from casadi_debris.records import Record
 from casadi_debris.units import MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
@@ -112,9 +112,7 @@ def fuel_per_torque(allocator: Allocator, authority_Nm: dict[str, float]) -> dic
             rates[name] = float("inf")
             continue
         torque_Nm = 0.5 * authority_Nm[name]
-        demand = np.zeros(3)
-        demand[AXIS_NAMES.index(name[1])] = torque_Nm if name[0] == "+" else -torque_Nm
-        thrust_N = allocator.allocate(demand).thrust_N
+        thrust_N = allocator.allocate(torque_Nm * signed_axis_vector(name)).thrust_N
         rates[name] = allocator.fuel_rate_kg_s(thrust_N) / torque_Nm
     return rates
 
