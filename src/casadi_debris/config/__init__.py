@@ -79,6 +79,15 @@ from casadi_debris.config.schema import (
     Uncertainty,
     Weights,
 )
+from casadi_debris.config.segments import (
+    SEGMENT_KINDS,
+    TRACK_FRAMES,
+    Segment,
+    SegmentKind,
+    SlewSettings,
+    Target,
+    TrackFrame,
+)
 
 __all__ = [
     "AXIS_NAMES",
@@ -88,8 +97,10 @@ __all__ = [
     "ENVIRONMENT_TORQUES",
     "MODE_KINDS",
     "REFERENCE_KINDS",
+    "SEGMENT_KINDS",
     "SIGNED_AXES",
     "SLEW_METHODS",
+    "TRACK_FRAMES",
     "TRIANGLE_TOLERANCE",
     "Array",
     "AxisName",
@@ -111,11 +122,16 @@ __all__ = [
     "Problem",
     "ReferenceKind",
     "Requirements",
+    "Segment",
+    "SegmentKind",
     "Sensor",
     "SignedAxis",
     "Simulation",
     "SlewMethod",
     "SlewReference",
+    "SlewSettings",
+    "Target",
+    "TrackFrame",
     "Transfer",
     "Uncertainty",
     "Weights",

@@ -9,11 +9,14 @@ only by :func:`casadi_debris.config.problem_from_dict` (or
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
 from casadi_debris.config.identity import plant_sha256
+
+if TYPE_CHECKING:
+    from casadi_debris.config.segments import Segment, SlewSettings
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -387,9 +390,9 @@ class Environment:
         return torque in self.torques
 
 
-ReferenceKind = Literal["hold", "slew"]
+ReferenceKind = Literal["hold", "slew", "sequence"]
 SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
-REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew")
+REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew", "sequence")
 SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
 
 
@@ -402,10 +405,13 @@ class SlewReference:
     ``feedforward`` the profile's torque is added to the controller's demand
     (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
     thruster level with zero net force, as the closed loop's allocator keeps it,
-    so that its torque is one the engines can give there.
+    so that its torque is one the engines can give there. With ``flexible`` an
+    optimal slew keeps the array vibration left bounded, by the OCP or by the
+    zero-vibration shaper (``flexible_method``). ``axis`` is a body axis name or
+    any vector (normalised by the slew methods).
     """
 
-    axis: AxisName
+    axis: AxisName | str | tuple[float, float, float]
     angle_deg: float
     method: SlewMethod
     start_s: float
@@ -413,6 +419,22 @@ class SlewReference:
     torque_fraction: float | None
     feedforward: bool = False
     thrusters: bool = False
+    flexible: bool = False
+    flexible_method: str = "ocp"
+
+    @property
+    def settings(self) -> SlewSettings:
+        """Method and options, as a slew segment holds them."""
+        from casadi_debris.config.segments import SlewSettings
+
+        return SlewSettings(
+            method=self.method,
+            torque_fraction=self.torque_fraction,
+            feedforward=self.feedforward,
+            thrusters=self.thrusters,
+            flexible=self.flexible,
+            flexible_method=self.flexible_method,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -444,11 +466,14 @@ class Simulation:
     integrator_steps : int
         Runge-Kutta steps per control period, 1 to 1000, short enough for the
         fastest dynamics (step x rate <= 2) and at most 1e7 in the run.
-    reference : {"hold", "slew"}
+    reference : {"hold", "slew", "sequence"}
     slew : SlewReference or None
         Given exactly when ``reference`` is ``"slew"``.
     failures : tuple of FailureEvent
         By time, at most 1000.
+    segments : tuple of Segment
+        ``[[simulation.segments]]``, given exactly when ``reference`` is
+        ``"sequence"`` (see :mod:`casadi_debris.config.segments`).
 
     The ranges and why are in :mod:`casadi_debris.config.limits`.
     """
@@ -459,6 +484,7 @@ class Simulation:
     reference: ReferenceKind
     slew: SlewReference | None
     failures: tuple[FailureEvent, ...]
+    segments: tuple[Segment, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
