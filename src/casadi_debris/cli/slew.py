@@ -30,6 +30,7 @@ from casadi_debris.report.common import (
     format_table,
     json_ready,
     write_csv,
+    write_json_atomic,
 )
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
@@ -382,6 +383,25 @@ def slew(
     problem = load_problem(problem_file)
     if out is not None:
         check_output_folder(out, overwrite=overwrite)
+    if problem.simulation.reference == "sequence" and not (axis or angle_deg or method):
+        one_slew = {
+            "--duration-s": duration_s,
+            "--torque-fraction": torque_fraction,
+            "--rate-limit-deg-s": rate_limit_deg_s,
+            "--smoothing-s": smoothing_s or None,
+            "--flexible": flexible or None,
+            "--thrusters": thrusters or None,
+            "--zero-net-force": zero_net_force or None,
+            "--starts": starts,
+        }
+        given_option = next((name for name, value in one_slew.items() if value is not None), None)
+        if given_option:
+            raise InputShapeError(
+                f"{given_option}: {problem.name}'s [[simulation.segments]] set each slew; "
+                "give --axis, --angle-deg or --method to solve one slew instead"
+            )
+        _fly_sequence(problem, sample_s, out, overwrite, as_json)
+        return
     given = {
         "duration_s": duration_s,
         "torque_fraction": torque_fraction,
@@ -419,3 +439,65 @@ def slew(
         echo_json(summary)
     else:
         click.echo(summary_text(summary))
+
+
+def _fly_sequence(
+    problem: Problem, sample_s: float, out: Path | None, overwrite: bool, as_json: bool
+) -> None:
+    """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies it."""
+    from casadi_debris.simulation.sequence import manoeuvre_reference
+
+    say(f"Every segment of {problem.name}'s [[simulation.segments]].")
+    reference = manoeuvre_reference(problem, sample_s)
+    summary = reference.summary
+    if out is not None:
+        from casadi_debris.plots.slew import plot_manoeuvre
+        from casadi_debris.report.simulation import figure_title
+
+        with RunFolder.claim(out, overwrite=overwrite, command="slew") as folder:
+            write_json_atomic(folder / "summary.json", summary)
+            write_reference_csv(
+                reference.time_s, reference.quaternion_BN, reference.rate_rad_s, folder
+            )
+            plot_manoeuvre(
+                reference.time_s,
+                reference.quaternion_BN,
+                reference.rate_rad_s,
+                summary.segments,
+                folder / "reference.png",
+                figure_title(problem),
+            )
+    if as_json:
+        echo_json(summary)
+        return
+    rows = [
+        [
+            "" if r.segment is None else r.segment,
+            r.kind,
+            f"{r.start_s:.1f}",
+            f"{r.end_s:.1f}",
+            r.method or "",
+            "" if r.angle_deg is None else f"{r.angle_deg:.2f}",
+            "" if r.fuel_kg is None else f"{r.fuel_kg:.4g}",
+        ]
+        for r in summary.segments
+    ]
+    header = ["segment", "kind", "start [s]", "end [s]", "method", "angle [deg]", "fuel [kg]"]
+    click.echo(format_table(header, rows))
+
+
+def write_reference_csv(
+    time_s: np.ndarray, quaternion_BN: np.ndarray, rate_rad_s: np.ndarray, folder: Path
+) -> None:
+    """profile.csv of a manoeuvre: time, quaternion, 3-2-1 Euler angles (deg), rate (deg/s)."""
+    from casadi_debris.model.attitude import euler_angles_321
+
+    columns: dict[str, np.ndarray] = {"time_s": time_s}
+    for i in range(4):
+        columns[f"q{i}_BN"] = quaternion_BN[:, i]
+    angles = euler_angles_321(quaternion_BN)
+    for i, name in enumerate(("roll", "pitch", "yaw")):
+        columns[f"{name}_deg"] = np.degrees(angles[:, i])
+    for i, axis in enumerate("xyz"):
+        columns[f"rate_{axis}_deg_s"] = np.degrees(rate_rad_s[:, i])
+    write_csv(folder / "profile.csv", columns)

@@ -1,15 +1,17 @@
-"""Figures of slew profiles: attitude, rate, torque (and engine thrust) against time."""
+"""Figures of slew profiles: attitude, rate, torque (and engine thrust) against time;
+and of a manoeuvre's reference, segment by segment."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from casadi_debris.model.attitude import error_quaternion, quaternion_axis_angle
+from casadi_debris.model.attitude import error_quaternion, euler_angles_321, quaternion_axis_angle
 from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.simulation.sequence import SegmentRecord
 from casadi_debris.slew import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
@@ -105,4 +107,56 @@ def plot_slew_comparison(profiles: Mapping[str, SlewProfile], path: Path) -> Pat
     axes[3].legend(loc="best", fontsize="small")
     for axis in axes:
         axis.grid(True, linestyle=":")
+    return save_figure(figure, path)
+
+
+SEGMENT_SHADES = {"slew": "0.88", "hold": "white", "track": "#dcebf7"}
+
+
+def shade_segments(axis: plt.Axes, records: Sequence[SegmentRecord], label: bool) -> None:
+    """Shade each segment's window (slews grey, tracks blue) and, with ``label``, name
+    it at the top of ``axis``."""
+    for record in records:
+        axis.axvspan(record.start_s, record.end_s, color=SEGMENT_SHADES[record.kind], zorder=0)
+        if label:
+            name = record.kind if record.segment is None else f"{record.segment}: {record.kind}"
+            axis.annotate(
+                name,
+                ((record.start_s + record.end_s) / 2, 1.0),
+                xycoords=("data", "axes fraction"),
+                xytext=(0, 3),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize="small",
+            )
+
+
+def plot_manoeuvre(
+    time_s: np.ndarray,
+    quaternion_BN: np.ndarray,
+    rate_rad_s: np.ndarray,
+    records: Sequence[SegmentRecord],
+    path: Path,
+    title: str = "",
+) -> Path:
+    """Write a PNG of a manoeuvre's reference: 3-2-1 Euler angles Φ, Θ, Ψ (deg) and body
+    rates (deg/s) against time (s), each segment shaded and numbered."""
+    figure, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+    angles = np.degrees(np.unwrap(euler_angles_321(quaternion_BN), axis=0))
+    rates = np.degrees(rate_rad_s)
+    for index, (axis, symbol) in enumerate(zip("xyz", ("Φ", "Θ", "Ψ"), strict=True)):
+        colour = AXIS_COLOURS[axis]
+        axes[0].plot(time_s, angles[:, index], color=colour, label=f"{symbol} / {axis}")
+        axes[1].plot(time_s, rates[:, index], color=colour)
+    for axis in axes:
+        shade_segments(axis, records, label=axis is axes[0])
+        axis.grid(True, linestyle=":")
+        axis.set_xlim(time_s[0], time_s[-1])
+    axes[0].set_ylabel("reference angle [deg]")
+    axes[0].legend(loc="best", fontsize="small")
+    axes[1].set_ylabel("reference rate [deg/s]")
+    axes[1].set_xlabel("time [s]")
+    if title:
+        figure.suptitle(title)
     return save_figure(figure, path)

@@ -22,6 +22,7 @@ between segments holds the attitude the segment before left.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -30,7 +31,8 @@ import numpy as np
 from casadi_debris.config import Problem, Segment, Simulation, SlewSettings, Target
 from casadi_debris.environment.orbit import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
-from casadi_debris.simulation.targets import frame_attitude, track_attitudes
+from casadi_debris.records import Record
+from casadi_debris.simulation.targets import body_rates, frame_attitude, track_attitudes
 from casadi_debris.slew import SlewProfile, SlewTarget, slew_about_axis, slew_between
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
@@ -284,3 +286,114 @@ def sample_pieces(pieces: list[Piece], time_s: np.ndarray) -> np.ndarray:
         if mask.any():
             quaternion[mask] = piece.attitude(time_s[mask])
     return quaternion
+
+
+@dataclass(frozen=True)
+class SegmentRecord(Record):
+    """One stretch of a manoeuvre as a user reads it.
+
+    Attributes
+    ----------
+    segment : int or None
+        Its ``[[simulation.segments]]`` entry, numbered from 1; None for a hold
+        the sequence adds (before a late start, after the last segment).
+    kind : {"slew", "hold", "track"}
+    start_s, end_s : float
+    method : str or None
+        A slew's method.
+    angle_deg : float or None
+        A slew's eigenaxis angle.
+    axis : tuple of 3 floats or None
+        A slew's unit eigenaxis in body axes (those of its start).
+    fuel_kg : float or None
+        A slew profile's propellant (open loop).
+    """
+
+    segment: int | None
+    kind: str
+    start_s: float
+    end_s: float
+    method: str | None = None
+    angle_deg: float | None = None
+    axis: tuple[float, ...] | None = None
+    fuel_kg: float | None = None
+
+
+def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentRecord, ...]:
+    """The pieces as records (1-based segment numbers, slews' figures)."""
+    records = []
+    for piece in pieces:
+        slew = piece.slew
+        records.append(
+            SegmentRecord(
+                segment=None if piece.index is None else piece.index + 1,
+                kind=piece.kind,
+                start_s=piece.start_s,
+                end_s=piece.end_s,
+                method=None if slew is None else slew.method,
+                angle_deg=None if slew is None else math.degrees(slew.target.angle_rad),
+                axis=None if slew is None else tuple(float(v) for v in slew.target.axis_B),
+                fuel_kg=None if slew is None else slew.fuel_kg,
+            )
+        )
+    return tuple(records)
+
+
+@dataclass(frozen=True)
+class ManoeuvreSummary(Record):
+    """A manoeuvre's reference, segment by segment (``casadi-debris slew`` of a sequence).
+
+    Attributes
+    ----------
+    problem : str
+    duration_s : float
+        The run's length.
+    segments : tuple of SegmentRecord
+    fuel_slews_kg : float
+        The slew profiles' propellant, summed (open loop: no feedback, no disturbance).
+    wall_time_s : float
+        Solving every slew and sampling the reference.
+    """
+
+    problem: str
+    duration_s: float
+    segments: tuple[SegmentRecord, ...]
+    fuel_slews_kg: float
+    wall_time_s: float
+
+
+@dataclass(frozen=True, eq=False)
+class ManoeuvreReference:
+    """A manoeuvre's reference sampled uniformly, and its summary.
+
+    Attributes
+    ----------
+    time_s : ndarray, shape (n,)
+    quaternion_BN : ndarray, shape (n, 4)
+    rate_rad_s : ndarray, shape (n, 3)
+        Body rates by central differences of the attitude.
+    summary : ManoeuvreSummary
+    """
+
+    time_s: np.ndarray
+    quaternion_BN: np.ndarray
+    rate_rad_s: np.ndarray
+    summary: ManoeuvreSummary
+
+
+def manoeuvre_reference(problem: Problem, sample_s: float) -> ManoeuvreReference:
+    """The problem's manoeuvre (``[simulation]``) sampled every ``sample_s`` [s]."""
+    started = time.perf_counter()
+    pieces = sequence_pieces(problem, sample_s)
+    run_s = problem.simulation.duration_s
+    times = np.append(np.arange(0.0, run_s, sample_s), run_s)
+    quaternion = sample_pieces(pieces, times)
+    records = segment_records(pieces)
+    summary = ManoeuvreSummary(
+        problem=problem.name,
+        duration_s=run_s,
+        segments=records,
+        fuel_slews_kg=float(sum(r.fuel_kg for r in records if r.fuel_kg is not None)),
+        wall_time_s=time.perf_counter() - started,
+    )
+    return ManoeuvreReference(times, quaternion, body_rates(times, quaternion), summary)

@@ -170,3 +170,18 @@ def track_attitudes(
         return continuous_sign(q)
 
     return attitudes
+
+
+def body_rates(time_s: np.ndarray, quaternion_BN: np.ndarray) -> np.ndarray:
+    """Body rates omega_BN in B of an attitude series, shape (n, 3) [rad/s].
+
+    Central differences of the rotation: the mean of rotvec(q_k^-1 (x) q_k+1) / dt
+    over the steps either side of each sample (one side at the ends);
+    second-order accurate for a uniform series.
+    """
+    rotations = quaternion_to_rotation(quaternion_BN)
+    steps = (rotations[:-1].inv() * rotations[1:]).as_rotvec() / np.diff(time_s)[:, None]
+    rates = np.empty((len(time_s), 3))
+    rates[0], rates[-1] = steps[0], steps[-1]
+    rates[1:-1] = 0.5 * (steps[:-1] + steps[1:])
+    return rates
