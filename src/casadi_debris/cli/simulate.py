@@ -28,6 +28,7 @@ from casadi_debris.cli.common import (
     say,
     workers_option,
 )
+from casadi_debris.cli.slew import AxisParam
 from casadi_debris.config import Problem, limits, load_problem, with_duration
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
@@ -154,6 +155,17 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
 )
 @click.option(
+    "--axis",
+    type=AxisParam(),
+    help="Slew axis instead of the problem's [simulation.slew] one: x, y, z (optionally "
+    "signed) or a body vector a,b,c, e.g. 1,1,1 (its duration and torque fraction kept).",
+)
+@click.option(
+    "--angle-deg",
+    type=in_range(limits.SLEW_ANGLE_DEG),
+    help="Slew angle instead of the problem's [simulation.slew] one [deg].",
+)
+@click.option(
     "--failed",
     default=None,
     metavar="I,J,...",
@@ -176,6 +188,8 @@ def simulate(
     open_loop: Path | None,
     rigid: bool,
     duration_s: float | None,
+    axis: str | tuple[float, float, float] | None,
+    angle_deg: float | None,
     failed: str | None,
     controller_path: Path | None,
     allow_mismatch: bool,
@@ -200,6 +214,8 @@ def simulate(
         return
     if duration_s is not None:
         problem = with_duration(problem, duration_s, field="--duration-s")
+    if axis is not None or angle_deg is not None:
+        problem = _with_slew(problem, axis, angle_deg)
     if failed is not None:
         problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
     from casadi_debris.allocation import Allocator
@@ -239,6 +255,41 @@ def simulate(
         echo_json(summary)
     else:
         click.echo(summary_text(summary))
+
+
+def _with_slew(
+    problem: Problem, axis: str | tuple[float, float, float] | None, angle_deg: float | None
+) -> Problem:
+    """``problem`` with its one slew turned about ``axis`` by ``angle_deg`` (None: its own).
+
+    The slew keeps its method and timing; a bang-bang timed by its duration keeps the
+    torque fraction that duration gives instead (another turn takes another time).
+    """
+    from dataclasses import replace
+
+    slew = problem.simulation.slew
+    option = "--axis" if axis is not None else "--angle-deg"
+    if slew is None:
+        flies = (
+            "[[simulation.segments]] (edit their targets)"
+            if problem.simulation.reference == "sequence"
+            else "no slew (give a problem with a [simulation.slew], e.g. paper_slew)"
+        )
+        raise InputShapeError(f"{option}: {problem.name} flies {flies}")
+    changed = replace(
+        slew,
+        axis=slew.axis if axis is None else axis,
+        angle_deg=slew.angle_deg if angle_deg is None else angle_deg,
+    )
+    if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
+        # The file's duration sets the share of the authority its slew uses; another turn
+        # flies at that share (paper_slew: 0.561), not in that time.
+        from casadi_debris.simulation import generate_slew
+
+        fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
+        changed = replace(changed, duration_s=None, torque_fraction=fraction)
+        say(f"The slew about the new axis at {problem.name}'s torque fraction {fraction:.3f}.")
+    return replace(problem, simulation=replace(problem.simulation, slew=changed))
 
 
 def _with_failed(problem: Problem, cubesats: list[int]) -> Problem:

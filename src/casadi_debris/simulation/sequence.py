@@ -111,6 +111,9 @@ class _Builder:
     problem: Problem
     sample_s: float
     run_s: float
+    key: str = ""
+    """The table every error names (``simulation.slew`` for the one slew), else each
+    segment's own."""
 
     def __post_init__(self) -> None:
         self.orbit = CircularOrbit.from_problem(self.problem)
@@ -131,7 +134,7 @@ class _Builder:
         if start > self.time_s:
             self.pieces.append(Piece("hold", self.time_s, start, _held(self.attitude)))
         self.time_s = start
-        key = f"simulation.segments[{index}]"
+        key = self.key or f"simulation.segments[{index}]"
         lead_s = following.blend_s / 2 if following and following.kind == "track" else 0.0
         if segment.kind == "slew":
             piece = self._slew(segment, index, key, lead_s)
@@ -141,7 +144,8 @@ class _Builder:
                 piece = Piece("hold", start, end, _held(self.attitude), index)
             else:
                 piece = self._track(segment, index, (start, end), following)
-        if piece.end_s > self.run_s + 1e-9:
+        # The one [simulation.slew] may outlast the run (the run then ends during it).
+        if piece.end_s > self.run_s + 1e-9 and not self.key:
             raise ProblemFileError(
                 f"{key}.duration_s" if segment.duration_s is not None else key,
                 f"ends at {piece.end_s:.6g} s, past the run's {self.run_s:g} s",
@@ -167,7 +171,7 @@ class _Builder:
         needed = segment.blend_s * (2 if stop else 1)
         if window_s[1] - window_s[0] < needed:
             raise ProblemFileError(
-                f"simulation.segments[{index}].blend_s",
+                f"{self.key or f'simulation.segments[{index}]'}.blend_s",
                 f"{segment.blend_s:g} s to reach the frame"
                 + (" and as long to stop" if stop else "")
                 + f" does not fit in the track's {window_s[1] - window_s[0]:g} s",
@@ -267,7 +271,8 @@ def sequence_pieces(problem: Problem, sample_s: float) -> list[Piece]:
         to the start, a segment past the run's end), naming it.
     """
     run_s = problem.simulation.duration_s
-    builder = _Builder(problem, sample_s, run_s)
+    one_slew = problem.simulation.reference == "slew"
+    builder = _Builder(problem, sample_s, run_s, "simulation.slew" if one_slew else "")
     segments = one_slew_segments(problem.simulation)
     for index, segment in enumerate(segments):
         builder.add(index, segment, segments[index + 1] if index + 1 < len(segments) else None)
