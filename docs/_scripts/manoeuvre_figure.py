@@ -1,0 +1,97 @@
+"""The figure and the numbers of the manoeuvre section of docs/guide/slews.md.
+
+Run from anywhere (the package must import: installed, or ``PYTHONPATH=src``)::
+
+    python docs/_scripts/manoeuvre_figure.py
+
+Flies ``problems/paper_sequence.toml`` (90 deg about [1, 1, 1], a hold, a slew onto
+nadir, nadir tracking) in closed loop, nominal plant, as ``casadi-debris simulate
+paper_sequence`` does, and writes ``docs/figures/manoeuvre_paper_sequence.png``: the
+reference's 3-2-1 angles, the attitude error and the torque, each segment shaded.
+Prints each segment's window, largest error and fuel as JSON. Takes about a minute.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from casadi_debris import load_problem
+from casadi_debris.config import default_controller_path
+from casadi_debris.model import build_model
+from casadi_debris.model.attitude import euler_angles_321
+from casadi_debris.plots import AXIS_COLOURS
+from casadi_debris.plots.slew import shade_segments
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.simulation import scenario_reference, simulate
+from casadi_debris.simulation.sequence import segment_records
+from casadi_debris.simulation.summary import fuel_between_kg
+from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
+
+FIGURES = Path(__file__).resolve().parents[1] / "figures"
+
+
+def main() -> None:
+    problem = load_problem("paper_sequence")
+    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    reference = scenario_reference(problem)
+    result = simulate(problem, build_model(problem), record.reduced, reference)
+    records = segment_records(reference.pieces)
+    time = result.time_s
+    figure, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
+    angles = np.degrees(np.unwrap(euler_angles_321(result.reference_BN), axis=0))
+    error = np.degrees(result.error_rad)
+    torque = result.torque_Nm * MNM_PER_NM
+    for index, (axis, symbol) in enumerate(zip("xyz", ("Φ", "Θ", "Ψ"), strict=True)):
+        colour = AXIS_COLOURS[axis]
+        axes[0].plot(time, angles[:, index], color=colour, label=f"{symbol} / {axis}")
+        axes[1].plot(time, error[:, index], color=colour)
+        axes[2].step(time[:-1], torque[:, index], where="post", color=colour)
+    for axis in axes:
+        shade_segments(axis, records, label=axis is axes[0])
+        axis.grid(True, linestyle=":")
+        axis.set_xlim(time[0], time[-1])
+    axes[0].set_ylabel("reference 3-2-1 angles [deg]")
+    axes[0].legend(loc="lower left", fontsize="small")
+    axes[1].set_ylabel("attitude error [deg]")
+    axes[2].set_ylabel("torque [mNm]")
+    axes[2].set_xlabel("time [s]")
+    figure.suptitle("90° about [1, 1, 1], hold, slew onto nadir, nadir track (nominal plant)")
+    figure.tight_layout()
+    figure.savefig(FIGURES / "manoeuvre_paper_sequence.png", dpi=120)
+    rows = []
+    for segment in records:
+        inside = (time >= segment.start_s) & (time <= segment.end_s)
+        peak = float(np.abs(result.error_rad[inside]).max())
+        rows.append(
+            {
+                **segment.to_json(),
+                "max_error_deg": np.degrees(peak),
+                "max_error_arcsec": peak * ARCSEC_PER_RAD,
+                "fuel_closed_loop_kg": fuel_between_kg(result, segment.start_s, segment.end_s),
+            }
+        )
+    summary = result.summary()
+    print(
+        json.dumps(
+            {
+                "segments": rows,
+                "max_error_deg": summary.max_error_deg,
+                "final_error_arcsec": summary.final_error_arcsec,
+                "settle_time_s": summary.settle_time_s,
+                "fuel_kg": summary.fuel_kg,
+                "torque_saturated_s": summary.torque_saturated_s,
+            },
+            indent=1,
+        )
+    )
+
+
+if __name__ == "__main__":
+    main()
