@@ -384,23 +384,10 @@ def slew(
     if out is not None:
         check_output_folder(out, overwrite=overwrite)
     if problem.simulation.reference == "sequence" and not (axis or angle_deg or method):
-        one_slew = {
-            "--duration-s": duration_s,
-            "--torque-fraction": torque_fraction,
-            "--rate-limit-deg-s": rate_limit_deg_s,
-            "--smoothing-s": smoothing_s or None,
-            "--flexible": flexible or None,
-            "--thrusters": thrusters or None,
-            "--zero-net-force": zero_net_force or None,
-            "--starts": starts,
-        }
-        given_option = next((name for name, value in one_slew.items() if value is not None), None)
-        if given_option:
-            raise InputShapeError(
-                f"{given_option}: {problem.name}'s [[simulation.segments]] set each slew; "
-                "give --axis, --angle-deg or --method to solve one slew instead"
-            )
-        _fly_sequence(problem, sample_s, out, overwrite, as_json)
+        one_slew: tuple[Any, ...] = (duration_s, torque_fraction, rate_limit_deg_s)
+        one_slew += (smoothing_s or None, flexible or None, thrusters or None)
+        one_slew += (zero_net_force or None, starts)
+        _fly_sequence(problem, sample_s, out, overwrite, as_json, one_slew)
         return
     given = {
         "duration_s": duration_s,
@@ -441,11 +428,36 @@ def slew(
         click.echo(summary_text(summary))
 
 
+ONE_SLEW_OPTIONS = (
+    "--duration-s",
+    "--torque-fraction",
+    "--rate-limit-deg-s",
+    "--smoothing-s",
+    "--flexible",
+    "--thrusters",
+    "--zero-net-force",
+    "--starts",
+)
+
+
 def _fly_sequence(
-    problem: Problem, sample_s: float, out: Path | None, overwrite: bool, as_json: bool
+    problem: Problem,
+    sample_s: float,
+    out: Path | None,
+    overwrite: bool,
+    as_json: bool,
+    one_slew: tuple[Any, ...],
 ) -> None:
-    """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies it."""
+    """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies it;
+    ``one_slew`` the values of :data:`ONE_SLEW_OPTIONS` (None where not given), refused."""
     from casadi_debris.simulation.sequence import manoeuvre_reference
+
+    for option, value in zip(ONE_SLEW_OPTIONS, one_slew, strict=True):
+        if value is not None:
+            raise InputShapeError(
+                f"{option}: {problem.name}'s [[simulation.segments]] set each slew; "
+                "give --axis, --angle-deg or --method to solve one slew instead"
+            )
 
     say(f"Every segment of {problem.name}'s [[simulation.segments]].")
     reference = manoeuvre_reference(problem, sample_s)
