@@ -19,15 +19,13 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.config import default_controller_path
 from casadi_debris.model import build_model
 from casadi_debris.model.attitude import euler_angles_321
-from casadi_debris.plots import AXIS_COLOURS
-from casadi_debris.plots.slew import shade_segments
+from casadi_debris.plots.slew import plot_segment_series
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import scenario_reference, simulate
 from casadi_debris.simulation.sequence import segment_records
@@ -44,27 +42,17 @@ def main() -> None:
     result = simulate(problem, build_model(problem), record.reduced, reference)
     records = segment_records(reference.pieces)
     time = result.time_s
-    figure, axes = plt.subplots(3, 1, figsize=(9, 8), sharex=True)
-    angles = np.degrees(np.unwrap(euler_angles_321(result.reference_BN), axis=0))
-    error = np.degrees(result.error_rad)
-    torque = result.torque_Nm * MNM_PER_NM
-    for index, (axis, symbol) in enumerate(zip("xyz", ("Φ", "Θ", "Ψ"), strict=True)):
-        colour = AXIS_COLOURS[axis]
-        axes[0].plot(time, angles[:, index], color=colour, label=f"{symbol} / {axis}")
-        axes[1].plot(time, error[:, index], color=colour)
-        axes[2].step(time[:-1], torque[:, index], where="post", color=colour)
-    for axis in axes:
-        shade_segments(axis, records, label=axis is axes[0])
-        axis.grid(True, linestyle=":")
-        axis.set_xlim(time[0], time[-1])
-    axes[0].set_ylabel("reference 3-2-1 angles [deg]")
-    axes[0].legend(loc="lower left", fontsize="small")
-    axes[1].set_ylabel("attitude error [deg]")
-    axes[2].set_ylabel("torque [mNm]")
-    axes[2].set_xlabel("time [s]")
-    figure.suptitle("90° about [1, 1, 1], hold, slew onto nadir, nadir track (nominal plant)")
-    figure.tight_layout()
-    figure.savefig(FIGURES / "manoeuvre_paper_sequence.png", dpi=120)
+    plot_segment_series(
+        time,
+        [
+            ("reference 3-2-1 angles [deg]", np.degrees(euler_angles_321(result.reference_BN))),
+            ("attitude error [deg]", np.degrees(result.error_rad)),
+            ("torque [mNm]", result.torque_Nm * MNM_PER_NM),
+        ],
+        records,
+        FIGURES / "manoeuvre_paper_sequence.png",
+        "90° about [1, 1, 1], hold, slew onto nadir, nadir track (nominal plant)",
+    )
     rows = []
     for segment in records:
         inside = (time >= segment.start_s) & (time <= segment.end_s)

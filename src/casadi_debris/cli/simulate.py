@@ -28,7 +28,7 @@ from casadi_debris.cli.common import (
     say,
     workers_option,
 )
-from casadi_debris.cli.slew import AxisParam
+from casadi_debris.cli.slew import axis_options
 from casadi_debris.config import Problem, limits, load_problem, with_duration
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
@@ -154,16 +154,10 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option(
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
 )
-@click.option(
-    "--axis",
-    type=AxisParam(),
-    help="Slew axis instead of the problem's [simulation.slew] one: x, y, z (optionally "
-    "signed) or a body vector a,b,c, e.g. 1,1,1 (its duration and torque fraction kept).",
-)
-@click.option(
-    "--angle-deg",
-    type=in_range(limits.SLEW_ANGLE_DEG),
-    help="Slew angle instead of the problem's [simulation.slew] one [deg].",
+@axis_options(
+    "the problem's [simulation.slew]; a bang-bang timed by its duration keeps that "
+    "duration's torque fraction",
+    "the problem's [simulation.slew]",
 )
 @click.option(
     "--failed",

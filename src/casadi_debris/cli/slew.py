@@ -6,9 +6,10 @@ import dataclasses
 import json
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 import numpy as np
@@ -138,6 +139,7 @@ class AxisParam(click.ParamType):
         return "[x|y|z|-x|-y|-z|A,B,C]"
 
 
+F = TypeVar("F", bound=Callable[..., Any])
 MAX_RATE_DEG_S = 1e4
 MAX_STARTS = 1000
 MIN_SAMPLE_S = 1e-3
@@ -274,18 +276,29 @@ def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeEr
     return InputShapeError(f"--axis/--method: {text}")
 
 
+def axis_options(axis_default: str, angle_default: str) -> Callable[[F], F]:
+    """``--axis`` (any body vector) and ``--angle-deg``, their defaults said in the help."""
+
+    def decorate(command: F) -> F:
+        command = click.option(
+            "--angle-deg",
+            type=in_range(limits.SLEW_ANGLE_DEG),
+            help=f"Slew angle [deg] [{angle_default}].",
+        )(command)
+        return click.option(
+            "--axis",
+            type=AxisParam(),
+            help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1 "
+            f"[{axis_default}].",
+        )(command)
+
+    return decorate
+
+
 @main.command()
 @problem_argument
-@click.option(
-    "--axis",
-    type=AxisParam(),
-    help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1 "
-    "[the problem's [simulation.slew], else z].",
-)
-@click.option(
-    "--angle-deg",
-    type=in_range(limits.SLEW_ANGLE_DEG),
-    help="Slew angle [deg] [the problem's [simulation.slew], else 180].",
+@axis_options(
+    "the problem's [simulation.slew], else z", "the problem's [simulation.slew], else 180"
 )
 @click.option(
     "--method",

@@ -142,21 +142,46 @@ def plot_manoeuvre(
 ) -> Path:
     """Write a PNG of a manoeuvre's reference: 3-2-1 Euler angles Φ, Θ, Ψ (deg) and body
     rates (deg/s) against time (s), each segment shaded and numbered."""
-    figure, axes = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     angles = np.degrees(np.unwrap(euler_angles_321(quaternion_BN), axis=0))
-    rates = np.degrees(rate_rad_s)
+    panels = [("reference angle [deg]", angles), ("reference rate [deg/s]", np.degrees(rate_rad_s))]
+    return plot_segment_series(time_s, panels, records, path, title)
+
+
+def plot_segment_series(
+    time_s: np.ndarray,
+    panels: Sequence[tuple[str, np.ndarray]],
+    records: Sequence[SegmentRecord],
+    path: Path,
+    title: str = "",
+) -> Path:
+    """Write a PNG of x, y, z series against time (s), one panel each, segments shaded.
+
+    Parameters
+    ----------
+    time_s : ndarray, shape (n,)
+    panels : sequence of (str, ndarray)
+        Each panel's y label and values: shape (n, 3) drawn as lines, (n - 1, 3) held
+        over each step (torques); the first panel's legend names Φ / x, Θ / y, Ψ / z.
+    records : sequence of SegmentRecord
+    path : Path
+    title : str
+    """
+    figure, axes = plt.subplots(len(panels), 1, figsize=(9, 2.6 * len(panels) + 0.8), sharex=True)
     for index, (axis, symbol) in enumerate(zip("xyz", ("Φ", "Θ", "Ψ"), strict=True)):
         colour = AXIS_COLOURS[axis]
-        axes[0].plot(time_s, angles[:, index], color=colour, label=f"{symbol} / {axis}")
-        axes[1].plot(time_s, rates[:, index], color=colour)
-    for axis in axes:
-        shade_segments(axis, records, label=axis is axes[0])
-        axis.grid(True, linestyle=":")
-        axis.set_xlim(time_s[0], time_s[-1])
-    axes[0].set_ylabel("reference angle [deg]")
+        for panel, (_, values) in zip(axes, panels, strict=True):
+            label = f"{symbol} / {axis}" if panel is axes[0] else None
+            if len(values) == len(time_s):
+                panel.plot(time_s, values[:, index], color=colour, label=label)
+            else:
+                panel.step(time_s[:-1], values[:, index], where="post", color=colour, label=label)
+    for panel, (ylabel, _) in zip(axes, panels, strict=True):
+        shade_segments(panel, records, label=panel is axes[0])
+        panel.grid(True, linestyle=":")
+        panel.set_xlim(time_s[0], time_s[-1])
+        panel.set_ylabel(ylabel)
     axes[0].legend(loc="best", fontsize="small")
-    axes[1].set_ylabel("reference rate [deg/s]")
-    axes[1].set_xlabel("time [s]")
+    axes[-1].set_xlabel("time [s]")
     if title:
         figure.suptitle(title)
     return save_figure(figure, path)
