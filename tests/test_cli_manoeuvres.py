@@ -139,3 +139,16 @@ def test_the_shipped_sequence_is_flown_within_the_requirement(tmp_path: Path) ->
     assert summary["max_error_deg"] < 0.6  # the slews' requirement, through every segment
     assert summary["final_error_arcsec"] < 60.0  # pointing while tracking nadir
     assert summary["torque_saturated_s"] == 0.0
+
+
+def test_simulate_of_a_sequence_figures_every_segment(tmp_path: Path) -> None:
+    path = problem_file(tmp_path, SEQUENCE)
+    out = tmp_path / "run"
+    code, stdout, stderr = invoke("simulate", str(path), "--out", str(out), "--no-plots")
+    assert code == 0, stderr
+    assert "max error [deg]" in stdout and "track" in stdout
+    segments = json.loads((out / "segments.json").read_text())["segments"]
+    assert [(s["segment"], s["kind"]) for s in segments] == [(1, "slew"), (2, "hold"), (3, "track")]
+    summary = json.loads((out / "summary.json").read_text())
+    assert sum(s["fuel_kg"] for s in segments) == pytest.approx(summary["fuel_kg"], rel=1e-12)
+    assert max(s["max_error_deg"] for s in segments) == pytest.approx(summary["max_error_deg"])

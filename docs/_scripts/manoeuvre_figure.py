@@ -28,9 +28,9 @@ from casadi_debris.model.attitude import euler_angles_321
 from casadi_debris.plots.slew import plot_segment_series
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import scenario_reference, simulate
+from casadi_debris.simulation.segment_figures import segment_figures
 from casadi_debris.simulation.sequence import segment_records
-from casadi_debris.simulation.summary import fuel_between_kg
-from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
+from casadi_debris.units import MNM_PER_NM
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
 
@@ -53,18 +53,11 @@ def main() -> None:
         FIGURES / "manoeuvre_paper_sequence.png",
         "90° about [1, 1, 1], hold, slew onto nadir, nadir track (nominal plant)",
     )
-    rows = []
-    for segment in records:
-        inside = (time >= segment.start_s) & (time <= segment.end_s)
-        peak = float(np.abs(result.error_rad[inside]).max())
-        rows.append(
-            {
-                **segment.to_json(),
-                "max_error_deg": np.degrees(peak),
-                "max_error_arcsec": peak * ARCSEC_PER_RAD,
-                "fuel_closed_loop_kg": fuel_between_kg(result, segment.start_s, segment.end_s),
-            }
-        )
+    figures = segment_figures(result, reference.pieces)
+    rows = [
+        {**slew.to_json(), "fuel_open_loop_kg": slew.fuel_kg, **figure.to_json()}
+        for slew, figure in zip(records, figures, strict=True)
+    ]
     summary = result.summary()
     print(
         json.dumps(

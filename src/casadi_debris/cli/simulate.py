@@ -6,7 +6,7 @@ import csv
 import dataclasses
 import io
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -39,6 +39,7 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.simulation.segment_figures import SegmentFigures
     from casadi_debris.workflows.campaign import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
@@ -66,6 +67,27 @@ def summary_text(summary: RunRecord) -> str:
         ["wall time [s]", f"{run.wall_time_s:.2f}"],
     ]
     return format_table(["figure", "value"], rows)
+
+
+def segments_text(segments: Sequence[SegmentFigures] | None) -> str:
+    """A manoeuvre's segments (window, largest error and fuel of each) on the lines after a
+    newline; nothing without segments."""
+    if segments is None:
+        return ""
+    rows = [
+        [
+            "" if f.segment is None else f.segment,
+            f.kind,
+            f"{f.start_s:.1f}",
+            f"{f.end_s:.1f}",
+            f"{f.max_error_deg:.4g}",
+            f"{f.max_error_arcsec:.4g}",
+            f"{f.fuel_kg:.4g}",
+        ]
+        for f in segments
+    ]
+    header = ["segment", "kind", "start [s]", "end [s]", "max error [deg]", "[arcsec]"]
+    return "\n" + format_table([*header, "fuel [kg]"], rows)
 
 
 def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -234,6 +256,7 @@ def simulate(
         problem, model, record.reduced, reference, parameters=case.parameters, allocator=allocator
     )
     summary = run_summary(problem, case, result, resolved, record)
+    segments = _segment_figures(problem, result, reference)
     if out is not None:
         with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
             summary = dataclasses.replace(summary, out_dir=str(out.absolute()))
@@ -245,10 +268,21 @@ def simulate(
                 with_plots=not no_plots,
                 title=f"{figure_title(problem)} ({case.case_id})",
             )
+            if segments is not None:
+                write_json_atomic(staging / "segments.json", {"segments": list(segments)})
     if as_json:
         echo_json(summary)
     else:
-        click.echo(summary_text(summary))
+        click.echo(summary_text(summary) + segments_text(segments))
+
+
+def _segment_figures(problem: Problem, result: Any, reference: Any) -> Any:
+    """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
+    if problem.simulation.reference != "sequence":
+        return None
+    from casadi_debris.simulation.segment_figures import segment_figures
+
+    return segment_figures(result, reference.pieces)
 
 
 def _with_slew(
