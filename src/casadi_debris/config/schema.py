@@ -8,15 +8,15 @@ only by :func:`casadi_debris.config.problem_from_dict` (or
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from casadi_debris.config.identity import plant_sha256
-
-if TYPE_CHECKING:
-    from casadi_debris.config.segments import Segment, SlewSettings
+from casadi_debris.config.realism import Actuators, ControllerTiming, Estimation, Sensors
+from casadi_debris.config.segments import Segment, SlewReference
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -391,50 +391,7 @@ class Environment:
 
 
 ReferenceKind = Literal["hold", "slew", "sequence"]
-SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
 REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew", "sequence")
-SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
-
-
-@dataclass(frozen=True, eq=False)
-class SlewReference:
-    """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
-
-    ``duration_s`` and ``torque_fraction`` are optional (None): the slew
-    methods then pick their own (see :mod:`casadi_debris.slew`). With
-    ``feedforward`` the profile's torque is added to the controller's demand
-    (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
-    thruster level with zero net force, as the closed loop's allocator keeps it,
-    so that its torque is one the engines can give there. With ``flexible`` an
-    optimal slew keeps the array vibration left bounded, by the OCP or by the
-    zero-vibration shaper (``flexible_method``). ``axis`` is a body axis name or
-    any vector (normalised by the slew methods).
-    """
-
-    axis: AxisName | str | tuple[float, float, float]
-    angle_deg: float
-    method: SlewMethod
-    start_s: float
-    duration_s: float | None
-    torque_fraction: float | None
-    feedforward: bool = False
-    thrusters: bool = False
-    flexible: bool = False
-    flexible_method: str = "ocp"
-
-    @property
-    def settings(self) -> SlewSettings:
-        """Method and options, as a slew segment holds them."""
-        from casadi_debris.config.segments import SlewSettings
-
-        return SlewSettings(
-            method=self.method,
-            torque_fraction=self.torque_fraction,
-            feedforward=self.feedforward,
-            thrusters=self.thrusters,
-            flexible=self.flexible,
-            flexible_method=self.flexible_method,
-        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -487,6 +444,47 @@ class Simulation:
     segments: tuple[Segment, ...] = ()
 
 
+Distribution = Literal["uniform", "normal", "corners"]
+DISTRIBUTIONS: tuple[Distribution, ...] = ("uniform", "normal", "corners")
+
+
+@dataclass(frozen=True, eq=False)
+class VariedQuantity:
+    """One quantity a Monte-Carlo campaign varies (``[[montecarlo.vary]]``).
+
+    Attributes
+    ----------
+    path : str
+        What varies: a model parameter by name (``mass_kg``,
+        ``inertia_scale_x``, ``array_angle_offset_rad``,
+        ``bending_frequency_scale``), varied in the compiled step at no cost;
+        or a dotted key of the problem file (``environment.density_kg_m3``,
+        ``disturbance.amplitude_mNm[2]``, ``arrays[0].mass_kg``; indices from
+        0 as in the loader's messages), for which every case rebuilds its problem.
+    distribution : {"uniform", "normal", "corners"}
+        ``uniform`` between ``low`` and ``high``; ``normal`` of ``mean`` and
+        ``sigma``, truncated to ``[low, high]`` (default: the key's allowed
+        range); ``corners``: ``low`` or ``high``, every combination with the
+        other corner quantities.
+    low, high : float or None
+        In the key's unit.
+    mean, sigma : float or None
+        Of a normal distribution, in the key's unit.
+    """
+
+    path: str
+    distribution: Distribution
+    low: float | None = None
+    high: float | None = None
+    mean: float | None = None
+    sigma: float | None = None
+
+    @property
+    def is_parameter(self) -> bool:
+        """A model parameter (no dot, no index), varied without rebuilding the problem."""
+        return "." not in self.path and "[" not in self.path
+
+
 @dataclass(frozen=True, eq=False)
 class MonteCarlo:
     """Corner and random cases of the uncertainty set (``[montecarlo]``).
@@ -504,11 +502,15 @@ class MonteCarlo:
         Random cases when a campaign gives no count, 1 to 100 000.
     seed : int
         0 to 2^32 - 1.
+    vary : tuple of VariedQuantity
+        What a campaign varies, and how (none: the uncertainty set's corners
+        or uniform samples in it).
     """
 
     corner_array_angles: int
     samples: int
     seed: int
+    vary: tuple[VariedQuantity, ...] = ()
 
 
 DEFAULT_SIMULATION = {
@@ -550,8 +552,14 @@ class Problem:
     simulation: Simulation = field(default=None)  # type: ignore[assignment]
     montecarlo: MonteCarlo = field(default=None)  # type: ignore[assignment]
     environment: Environment = field(default_factory=Environment)
+    sensors: Sensors = field(default_factory=Sensors)
+    estimation: Estimation = field(default_factory=Estimation)
+    actuators: Actuators = field(default_factory=Actuators)
+    controller: ControllerTiming = field(default_factory=ControllerTiming)
     source: str = field(default="<dict>")
     sha256: str = field(default="")
+    # The tables as read (after ``extends``): a campaign that varies a key rebuilds from them.
+    data: Mapping[str, Any] = field(default_factory=dict, repr=False)
 
     @property
     def plant_sha256(self) -> str:

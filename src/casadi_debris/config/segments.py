@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Literal
+from typing import Literal
 
 import numpy as np
 from scipy.spatial.transform import Rotation
@@ -37,9 +37,8 @@ from scipy.spatial.transform import Rotation
 from casadi_debris.config import limits
 from casadi_debris.config.table import Table, frozen_array
 
-if TYPE_CHECKING:
-    from casadi_debris.config.schema import SlewMethod
-
+SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
+SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
 SegmentKind = Literal["slew", "hold", "track"]
 TargetKind = Literal["rotation", "attitude", "frame"]
 TrackFrame = Literal["lvlh", "nadir"]
@@ -106,6 +105,45 @@ class SlewSettings:
     thrusters: bool = False
     flexible: bool = False
     flexible_method: str = "ocp"
+
+
+@dataclass(frozen=True, eq=False)
+class SlewReference:
+    """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
+
+    ``duration_s`` and ``torque_fraction`` are optional (None): the slew
+    methods then pick their own (see :mod:`casadi_debris.slew`). With
+    ``feedforward`` the profile's torque is added to the controller's demand
+    (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
+    thruster level with zero net force, as the closed loop's allocator keeps it,
+    so that its torque is one the engines can give there. With ``flexible`` an
+    optimal slew keeps the array vibration left bounded, by the OCP or by the
+    zero-vibration shaper (``flexible_method``). ``axis`` is a body axis name or
+    any vector (normalised by the slew methods).
+    """
+
+    axis: str | tuple[float, float, float]
+    angle_deg: float
+    method: SlewMethod
+    start_s: float
+    duration_s: float | None
+    torque_fraction: float | None
+    feedforward: bool = False
+    thrusters: bool = False
+    flexible: bool = False
+    flexible_method: str = "ocp"
+
+    @property
+    def settings(self) -> SlewSettings:
+        """Method and options, as a slew segment holds them."""
+        return SlewSettings(
+            method=self.method,
+            torque_fraction=self.torque_fraction,
+            feedforward=self.feedforward,
+            thrusters=self.thrusters,
+            flexible=self.flexible,
+            flexible_method=self.flexible_method,
+        )
 
 
 @dataclass(frozen=True, eq=False)

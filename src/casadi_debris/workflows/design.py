@@ -29,8 +29,7 @@ from typing import Any, Literal
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import Problem, with_duration
-from casadi_debris.config.schema import AXIS_NAMES, Simulation, SlewReference
+from casadi_debris.config import AXIS_NAMES, Problem, Simulation, SlewReference, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.design import (
@@ -182,15 +181,7 @@ def design_for_problem(
     derived_scalings(problem)  # refuses a problem no controller can be designed for, first
     slew_problem, pointing_problem = verification_problems(problem, plan)
     with RunFolder.claim(out, overwrite=overwrite, command="design") as staging:
-        search: DesignSearch | None = None
-        if method == "mu":
-            stage("designing the controller (D-K iteration)")
-            refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
-            search = search_design(problem, settings, stage, refinements=refinements)
-            designed = _record(search)
-        else:
-            stage(f"designing the {method.upper()} controller on the rigid body")
-            designed = _classical(problem, method)
+        designed, search = _designed(problem, method, settings, stage, quick)
         controller_path = write_json_atomic(staging / "controller.json", designed.to_dict())
         record, controller_path = load_controller(controller_path)
         folders = (staging, out)
@@ -212,6 +203,23 @@ def design_for_problem(
         (staging / "report.md").write_text(text)
         write_json_atomic(staging / "summary.json", summary)
     return summary
+
+
+def _designed(
+    problem: Problem,
+    method: DesignMethod,
+    settings: SynthesisSettings | None,
+    stage: Callable[[str], Any],
+    quick: bool,
+) -> tuple[ControllerRecord, DesignSearch | None]:
+    """The controller ``method`` designs, and the μ design's search (None for the others)."""
+    if method == "mu":
+        stage("designing the controller (D-K iteration)")
+        refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
+        search = search_design(problem, settings, stage, refinements=refinements)
+        return _record(search), search
+    stage(f"designing the {method.upper()} controller on the rigid body")
+    return _classical(problem, method), None
 
 
 def _record(search: DesignSearch) -> Any:
