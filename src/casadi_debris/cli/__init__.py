@@ -19,6 +19,7 @@ from casadi_debris.cli import (  # noqa: F401
     design,  # design
     detumble,  # detumble
     failures,  # failures
+    mission,  # mission
     placement,  # placement
     reproduce,  # reproduce
     robust,  # synthesize, margins
