@@ -32,7 +32,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from casadi_debris.config import limits
 from casadi_debris.config.table import Table, frozen_array
@@ -215,6 +214,8 @@ def _read_euler(t: Table) -> np.ndarray:
         if t.has("euler_sequence")
         else DEFAULT_EULER_SEQUENCE
     )
+    from scipy.spatial.transform import Rotation  # late: scipy.spatial costs `--help` 0.8 s
+
     xyzw = Rotation.from_euler(sequence, angles, degrees=True).as_quat()
     return frozen_array(xyzw[[3, 0, 1, 2]])
 
@@ -268,6 +269,8 @@ def _nadir_offset(t: Table) -> np.ndarray:
     along /= np.linalg.norm(along)
     # Columns: the frame's axes o1, o2 = o3 x o1, o3 in body components (C_BO).
     c_bo = np.column_stack([along, np.cross(nadir, along), nadir])
+    from scipy.spatial.transform import Rotation  # late: see _read_euler
+
     xyzw = Rotation.from_matrix(c_bo.T).as_quat()  # C_OB: body components to frame ones
     return frozen_array(xyzw[[3, 0, 1, 2]])
 
