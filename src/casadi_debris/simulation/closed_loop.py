@@ -148,12 +148,37 @@ def discretize_controller(controller: control.StateSpace, period_s: float) -> Di
 
 def saturation_scale(torque: ca.SX, polytope: AuthorityPolytope) -> ca.SX:
     """alpha = min(1, min over facets with n.tau > 0 of b / (n.tau)), symbolic."""
-    reach = ca.DM(polytope.normals) @ torque
+    return _saturation(torque, ca.DM(polytope.normals), ca.DM(polytope.offsets))
+
+
+def _saturation(torque: ca.SX, normals: ca.SX | ca.DM, offsets: ca.SX | ca.DM) -> ca.SX:
+    """:func:`saturation_scale` with the facets given as constants or as symbols."""
+    reach = normals @ torque
     tiny = np.finfo(float).tiny
-    ratios = ca.if_else(
-        reach > 0, ca.DM(polytope.offsets) / ca.fmax(reach, tiny), ca.DM.inf(reach.shape)
-    )
+    ratios = ca.if_else(reach > 0, offsets / ca.fmax(reach, tiny), ca.DM.inf(reach.shape))
     return ca.fmin(1.0, ca.mmin(ratios))
+
+
+def facet_rows(polytope: AuthorityPolytope, capacity: int) -> np.ndarray:
+    """The polytope as the ``facets`` input of a step that takes them: shape (capacity, 4).
+
+    Rows ``[n, b]`` (normal, offset), padded with ``[0, 0, 0, 1]``: a zero
+    normal never reaches its facet (``n.tau > 0`` fails), so padding changes
+    no ratio and the scale is that of the polytope, bit for bit.
+
+    Raises
+    ------
+    SimulationError
+        More facets than ``capacity``.
+    """
+    count = len(polytope.offsets)
+    if count > capacity:
+        raise SimulationError(f"{count} facets exceed the step's capacity of {capacity}")
+    rows = np.zeros((capacity, 4))
+    rows[:, 3] = 1.0
+    rows[:count, :3] = polytope.normals
+    rows[:count, 3] = polytope.offsets
+    return rows
 
 
 def applied_torque(demand_Nm: np.ndarray, scale: np.ndarray) -> np.ndarray:
@@ -343,10 +368,11 @@ _JIT_STEPS: dict[str, LoopStep | None] = {}
 def _jit_key(
     model: Model,
     controller: DiscreteController,
-    polytope: AuthorityPolytope,
+    polytope: AuthorityPolytope | None,
     integrator_steps: int,
     chunk_steps: int,
 ) -> str:
+    """Hash of what a compiled step holds: problem, plant, controller, sampling (and authority)."""
     digest = hashlib.sha256()
     problem = model.problem
     digest.update(f"{problem.sha256}|{problem.name}|{model.layout.size}".encode())
@@ -356,8 +382,9 @@ def _jit_key(
     digest.update(f"{problem.constants!r}".encode())
     for array in (controller.A, controller.B, controller.C, controller.D):
         digest.update(np.ascontiguousarray(array).tobytes())
-    digest.update(np.ascontiguousarray(polytope.normals).tobytes())
-    digest.update(np.ascontiguousarray(polytope.offsets).tobytes())
+    if polytope is not None:
+        digest.update(np.ascontiguousarray(polytope.normals).tobytes())
+        digest.update(np.ascontiguousarray(polytope.offsets).tobytes())
     digest.update(f"{controller.period_s}|{integrator_steps}|{chunk_steps}".encode())
     return digest.hexdigest()
 
@@ -405,11 +432,16 @@ def _loop_step(
     model: Model,
     parameters: np.ndarray | None,
     controller: DiscreteController,
-    polytope: AuthorityPolytope,
+    polytope: AuthorityPolytope | int,
     integrator_steps: int,
     integrator: str,
 ) -> ca.Function:
-    """The step Function (expanded to scalar operations for RK4)."""
+    """The step Function (expanded to scalar operations for RK4, shared terms computed once).
+
+    ``polytope`` is either the authority, folded in as constants, or a facet
+    capacity: the step then takes a fourth input ``facets`` (capacity x 4, see
+    :func:`facet_rows`), so that one compiled step serves every authority.
+    """
     if integrator not in INTEGRATORS:
         raise SimulationError(f"unknown integrator {integrator!r}; one of {', '.join(INTEGRATORS)}")
     period = controller.period_s
@@ -433,18 +465,26 @@ def _loop_step(
     )
     demand = NM_PER_MNM * (c @ xc + d @ command_deg) + feedforward
     xc_next = a @ xc + b @ command_deg
-    scale = saturation_scale(demand, polytope)
+    if isinstance(polytope, AuthorityPolytope):
+        facets = []
+        scale = saturation_scale(demand, polytope)
+    else:
+        facets = [ca.SX.sym("facets", polytope, 4)]
+        scale = _saturation(demand, facets[0][:, :3], facets[0][:, 3])
     applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
     law = ca.Function(
-        "control_law", [x, xc, q_ref, feedforward], [applied, xc_next, demand, scale, error]
+        "control_law",
+        [x, xc, q_ref, feedforward, *facets],
+        [applied, xc_next, demand, scale, error],
     ).expand()
 
     z = ca.MX.sym("z", n_plant + n_ctrl)
     s = ca.MX.sym("s", StepInput.SIZE)
     p = ca.MX.sym("p", n_p)
+    facets_in = [ca.MX.sym("facets", f.sparsity()) for f in facets]
     xz, xcz = z[:n_plant], z[n_plant:]
     applied_z, xc_next_z, demand_z, scale_z, error_z = law(
-        xz, xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM]
+        xz, xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM], *facets_in
     )
     torque = applied_z
     environment = environment_function(model)
@@ -453,11 +493,20 @@ def _loop_step(
             s[StepInput.TIME_S], xz, p if parameters is None else ca.DM(parameters)
         )
     x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(torque, ca.DM.zeros(3)), p)
+    names = ["z", "s", "p", *(["facets"] if facets else [])]
     step_mx = ca.Function(
         "loop_step",
-        [z, s, p],
+        [z, s, p, *facets_in],
         [ca.vertcat(x_next, xc_next_z), ca.vertcat(demand_z, scale_z, error_z)],
-        ["z", "s", "p"],
+        names,
         ["z_next", "y"],
     )
-    return step_mx.expand() if integrator == "rk4" else step_mx
+    if integrator != "rk4":
+        return step_mx
+    expanded = step_mx.expand()
+    # Common subexpressions (the RK4 stages share most of the model's terms) computed
+    # once: half the operations, the same ones on the same values, so the same numbers.
+    inputs = [ca.SX.sym(name, expanded.sparsity_in(i)) for i, name in enumerate(names)]
+    return ca.Function(
+        "loop_step", inputs, expanded.call(inputs), names, ["z_next", "y"], {"cse": True}
+    )

@@ -13,18 +13,19 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import control
 import numpy as np
 
-from casadi_debris.allocation import Allocator, PropulsionState, StageEvent
+from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionState
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.model import Model, Parameters
+from casadi_debris.simulation.batched import roll_together
 from casadi_debris.simulation.closed_loop import (
     DiscreteController,
-    LoopStep,
     SimulationError,
     StepInput,
     StepOutput,
@@ -33,10 +34,10 @@ from casadi_debris.simulation.closed_loop import (
     discretize_controller,
 )
 from casadi_debris.simulation.disturbance import disturbance_series
+from casadi_debris.simulation.events import RunEvent, apply_failure, depleted_event
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.summary import (
     SETTLE_BAND_ARCSEC,
-    EventRecord,
     RunSummary,
     settle_time_s,
     summarize,
@@ -47,71 +48,6 @@ from casadi_debris.units import ARCSEC_PER_RAD
 # the largest torque authority): the loop's premise, checked on every run.
 ALLOCATION_TOLERANCE = 1e-8
 DEFAULT_CHUNK_STEPS = 1000
-
-
-EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed", "engine_failed")
-
-
-@dataclass(frozen=True)
-class RunEvent:
-    """Something that changed the engines during a run.
-
-    Attributes
-    ----------
-    time_s : float
-        When [s].
-    kind : {"stage_depleted", "stage_failed", "cubesat_failed", "engine_failed"}
-    cubesat : int
-        0-based (``text`` and the summary number CubeSats from 1).
-    stage : int or None
-        The stage depleted or failed (0-based); None for a whole CubeSat or engine.
-    next_stage : int or None
-        The stage firing afterwards; None when the CubeSat has none left.
-    switched : bool
-        Whether the stage that fires changed (a depleted stage always; a failed
-        stage only when it was the one firing).
-    engine : int or None
-        The engine that failed or whose stage ran dry, counted among its
-        CubeSat's own engines (0-based), for a CubeSat with several; None otherwise.
-    """
-
-    time_s: float
-    kind: str
-    cubesat: int
-    stage: int | None = None
-    next_stage: int | None = None
-    switched: bool = False
-    engine: int | None = None
-
-    @property
-    def text(self) -> str:
-        """The event in words, CubeSats, engines and stages numbered from 1."""
-        who = f"CubeSat {self.cubesat + 1}"
-        if self.engine is not None:
-            who += f" engine {self.engine + 1}"
-        if self.kind in ("cubesat_failed", "engine_failed"):
-            return f"{who} failed"
-        if self.kind == "stage_failed":
-            return f"{who}: stage {_number(self.stage)} failed"
-        then = "none left" if self.next_stage is None else f"stage {self.next_stage + 1} takes over"
-        return f"{who}: stage {_number(self.stage)} empty, {then}"
-
-    def record(self) -> EventRecord:
-        """The event as a user reads it: 1-based ids, in words."""
-        return EventRecord(
-            time_s=self.time_s,
-            kind=self.kind,
-            cubesat=self.cubesat + 1,
-            engine=None if self.engine is None else self.engine + 1,
-            stage=None if self.stage is None else self.stage + 1,
-            next_stage=None if self.next_stage is None else self.next_stage + 1,
-            stage_switch=self.switched,
-            event=self.text,
-        )
-
-
-def _number(stage: int | None) -> str:
-    return "?" if stage is None else str(stage + 1)
 
 
 @dataclass(eq=False)
@@ -229,41 +165,22 @@ class ClosedLoopResult:
         return summarize(self)
 
 
-def _depleted(event: StageEvent, time_s: float, propulsion: PropulsionState) -> RunEvent:
-    siblings = np.flatnonzero(propulsion.engine_cubesat == event.cubesat)
-    several = len(siblings) > 1
-    return RunEvent(
-        time_s,
-        "stage_depleted",
-        event.cubesat,
-        event.stage,
-        event.next_stage,
-        switched=True,
-        engine=int(np.searchsorted(siblings, event.engine)) if several else None,
-    )
+@dataclass(frozen=True, eq=False)
+class RunInputs:
+    """What one run of :func:`simulate_many` varies (each field as in :func:`simulate`).
 
+    Attributes
+    ----------
+    parameters : ndarray, shape (n_parameters,), optional
+    failures : tuple of FailureEvent, optional
+    allocator : Allocator, optional
+    propulsion : PropulsionState, optional
+    """
 
-def _apply_failure(failure: FailureEvent, propulsion: PropulsionState, time_s: float) -> RunEvent:
-    cubesat = failure.cubesat
-    if failure.engine is not None:
-        propulsion.fail_engine(cubesat, failure.engine)
-        return RunEvent(time_s, "engine_failed", cubesat, engine=failure.engine)
-    if failure.stage is None:
-        propulsion.fail_cubesat(cubesat)
-        return RunEvent(time_s, "cubesat_failed", cubesat)
-    engines = np.flatnonzero(propulsion.engine_cubesat == cubesat)
-    before = propulsion.active_stage[engines]
-    propulsion.fail_stage(cubesat, failure.stage)
-    after = propulsion.active_stage[engines]
-    firing = after[after < propulsion.n_stages]
-    return RunEvent(
-        time_s,
-        "stage_failed",
-        cubesat,
-        failure.stage,
-        int(firing.min()) if len(firing) else None,
-        switched=bool(np.any((after != before) & (before == failure.stage))),
-    )
+    parameters: np.ndarray | None = None
+    failures: tuple[FailureEvent, ...] | None = None
+    allocator: Allocator | None = None
+    propulsion: PropulsionState | None = None
 
 
 def simulate(
@@ -309,36 +226,102 @@ def simulate(
         active-set regions are kept while the limits do not change); its
         limits are set from the engines.
     jit : bool
-        Run the step as compiled C (see
-        :func:`~casadi_debris.simulation.build_loop_step`): worth its few
-        seconds of compiling when many runs share it (Monte Carlo).
+        Run the step as compiled C (RK4 only): the batched loop of
+        :mod:`~casadi_debris.simulation.batched` with one slot, compiled
+        once per machine (seconds) and loaded from the cache afterwards.
 
     Returns
     -------
     ClosedLoopResult
     """
+    outcome = simulate_many(
+        problem,
+        model,
+        controller,
+        reference,
+        [RunInputs(parameters, failures, allocator, propulsion)],
+        integrator=integrator,
+        integrator_steps=integrator_steps,
+        chunk_steps=chunk_steps,
+        jit=jit,
+    )[0]
+    if isinstance(outcome, Exception):
+        raise outcome
+    return outcome
+
+
+def simulate_many(
+    problem: Problem,
+    model: Model,
+    controller: control.StateSpace,
+    reference: Reference,
+    runs: Sequence[RunInputs],
+    *,
+    integrator: str = "rk4",
+    integrator_steps: int | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    jit: bool = False,
+    slots: int | None = None,
+) -> list[ClosedLoopResult | Exception]:
+    """Run several closed-loop scenarios of one problem; with ``jit``, all at once.
+
+    With ``jit`` (and RK4) every stretch of every run is one call of one
+    compiled function mapped over the runs
+    (:func:`~casadi_debris.simulation.batched.roll_together`); between
+    stretches each run allocates, burns and fails as :func:`simulate` does
+    alone, and gets the same numbers. Otherwise (or without a C compiler)
+    the runs go one after the other on CasADi's virtual machine.
+
+    Parameters
+    ----------
+    problem, model, controller, reference
+        As :func:`simulate`, shared by the runs.
+    runs : sequence of RunInputs
+        What each run varies.
+    integrator, integrator_steps, chunk_steps, jit
+        As :func:`simulate`.
+    slots : int, optional
+        Cases of the compiled function (default ``len(runs)``): a campaign
+        keeps one size for all its batches, so that one library serves them.
+
+    Returns
+    -------
+    list of (ClosedLoopResult or Exception)
+        Per run, its result or what it raised (the other runs go on). Each
+        result's ``wall_time_s`` is its share of the whole call.
+    """
     started = time.perf_counter()
     period = _control_period(reference)
-    p = model.nominal_parameters if parameters is None else np.asarray(parameters, dtype=float)
-    engines = PropulsionState.from_problem(problem) if propulsion is None else propulsion.copy()
-    fuel_start = engines.propellant_kg.copy()
+    discrete = discretize_controller(controller, period)
     steps = problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
-    rollout = _Rollout(
-        model=model,
-        reference=reference,
-        parameters=p,
-        controller=discretize_controller(controller, period),
-        engines=engines,
-        allocator=allocator or Allocator.from_problem(problem, model.geometry, state=engines),
-        loop_options={
-            "integrator_steps": steps,
-            "integrator": integrator,
-            "chunk_steps": chunk_steps,
-            "jit": jit,
-        },
-    )
-    rollout.run(problem.simulation.failures if failures is None else failures)
-    return rollout.result(fuel_start, wall_time_s=time.perf_counter() - started)
+    rollouts = [_Rollout.of(problem, model, reference, discrete, run) for run in runs]
+    errors = None
+    if jit and integrator == "rk4" and rollouts:
+        errors = roll_together(
+            rollouts,
+            model,
+            discrete,
+            slots=slots or len(rollouts),
+            integrator_steps=steps,
+            chunk_steps=chunk_steps,
+        )
+    if errors is None:
+        options = {"integrator_steps": steps, "integrator": integrator, "jit": jit}
+        errors = [r.roll_alone(chunk_steps, options) for r in rollouts]
+    else:
+        for rollout in rollouts:
+            rollout.compiled = True
+    share = (time.perf_counter() - started) / max(len(rollouts), 1)
+    outcomes: list[ClosedLoopResult | Exception] = []
+    for rollout, error in zip(rollouts, errors, strict=True):
+        if error is not None:
+            outcomes.append(error)
+            continue
+        try:
+            outcomes.append(rollout.result(wall_time_s=share))
+        except Exception as exc:  # the allocator missed a torque: this run's failure
+            outcomes.append(exc)
+    return outcomes
 
 
 def _control_period(reference: Reference) -> float:
@@ -354,7 +337,12 @@ def _control_period(reference: Reference) -> float:
 
 @dataclass(eq=False)
 class _Rollout:
-    """The compiled loop rolled out stretch by stretch, with the engines burning in between."""
+    """One run rolled out stretch by stretch, with the engines burning in between.
+
+    :meth:`next_stretch` applies the failures due and gives the periods of the
+    next stretch (``polytope`` is then its authority); the caller rolls the
+    step over them from ``z`` and hands the states and outputs to :meth:`take`.
+    """
 
     model: Model
     reference: Reference
@@ -362,7 +350,33 @@ class _Rollout:
     controller: DiscreteController
     engines: PropulsionState
     allocator: Allocator
-    loop_options: dict[str, Any]
+    failures: tuple[FailureEvent, ...]
+
+    @classmethod
+    def of(
+        cls,
+        problem: Problem,
+        model: Model,
+        reference: Reference,
+        controller: DiscreteController,
+        run: RunInputs,
+    ) -> _Rollout:
+        """A run at its start (engines full unless ``run.propulsion`` says otherwise)."""
+        p = run.parameters
+        if run.propulsion is None:
+            engines = PropulsionState.from_problem(problem)
+        else:
+            engines = run.propulsion.copy()
+        allocator = run.allocator or Allocator.from_problem(problem, model.geometry, state=engines)
+        return cls(
+            model=model,
+            reference=reference,
+            parameters=model.nominal_parameters if p is None else np.asarray(p, dtype=float),
+            controller=controller,
+            engines=engines,
+            allocator=allocator,
+            failures=problem.simulation.failures if run.failures is None else run.failures,
+        )
 
     def __post_init__(self) -> None:
         self.period = float(self.reference.time_s[1] - self.reference.time_s[0])
@@ -375,45 +389,64 @@ class _Rollout:
         self.point_solves = 0
         self.compiled = False
         self.authority: list[tuple[float, np.ndarray]] = []
+        self.fuel_start_kg = self.engines.propellant_kg.copy()
         self.allocator.update_from_state(self.engines)
-
-    def run(self, failures: tuple[FailureEvent, ...]) -> None:
-        """Every period of the reference; failures applied at their periods."""
-        period, n = self.period, self.n
-        failure_steps = [min(n, max(0, math.ceil(f.time_s / period - 1e-9))) for f in failures]
-        pending = list(zip(failure_steps, failures, strict=True))
-        z = np.concatenate(
+        due = [min(self.n, max(0, math.ceil(f.time_s / self.period - 1e-9))) for f in self.failures]
+        self.pending = list(zip(due, self.failures, strict=True))
+        self.z = np.concatenate(
             [_initial_state(self.model, self.reference), np.zeros(self.controller.n_states)]
         )
-        self.states[0] = z[: self.model.layout.size]
-        loop: LoopStep | None = None
-        k = 0
-        while k < n:
-            while pending and pending[0][0] <= k:
-                _, failure = pending.pop(0)
-                self.events.append(_apply_failure(failure, self.engines, k * period))
-                loop = None
-            if loop is None:
-                loop = self._build_loop(k * period)
-            stop = min(n, k + loop.chunk_steps, pending[0][0] if pending else n)
-            z, done = self._stretch(loop, z, k, stop)
-            if done < stop - k:
-                loop = None  # a CubeSat's limit changed: rebuild from the step after
-            k += done
+        self.states[0] = self.z[: self.model.layout.size]
+        self.k = 0
+        self.polytope: AuthorityPolytope | None = None
 
-    def _build_loop(self, time_s: float) -> LoopStep:
-        self.allocator.update_from_state(self.engines)
-        polytope = self.allocator.authority_polytope()
-        self.authority.append((time_s, polytope.axis_reach()))
-        loop = build_loop_step(
-            self.model, self.parameters, self.controller, polytope, **self.loop_options
-        )
-        self.compiled = self.compiled or loop.compiled
-        return loop
+    @property
+    def finished(self) -> bool:
+        """Every period of the reference is done."""
+        return self.k >= self.n
 
-    def _stretch(self, loop: LoopStep, z: np.ndarray, k: int, stop: int) -> tuple[np.ndarray, int]:
-        """Periods k .. stop - 1, cut short where the engines change; (state, periods done)."""
-        z_all, y_all = loop.roll(z, self._inputs(loop.chunk_steps, k, stop), self.parameters)
+    def next_stretch(self, chunk_steps: int) -> tuple[int, int]:
+        """Apply the failures due now, take the engines' authority; the periods (k, stop)."""
+        k = self.k
+        while self.pending and self.pending[0][0] <= k:
+            _, failure = self.pending.pop(0)
+            self.events.append(apply_failure(failure, self.engines, k * self.period))
+            self.polytope = None
+        if self.polytope is None:
+            self.allocator.update_from_state(self.engines)
+            self.polytope = self.allocator.authority_polytope()
+            self.authority.append((k * self.period, self.polytope.axis_reach()))
+        return k, min(self.n, k + chunk_steps, self.pending[0][0] if self.pending else self.n)
+
+    def roll_alone(self, chunk_steps: int, loop_options: dict[str, Any]) -> Exception | None:
+        """Every stretch on this run's own step (rebuilt with each authority); what it raised."""
+        try:
+            loop, built_for = None, None
+            while not self.finished:
+                k, stop = self.next_stretch(chunk_steps)
+                if self.polytope is None:  # next_stretch always sets it
+                    raise SimulationError("a stretch without a torque authority")
+                if loop is None or built_for is not self.polytope:
+                    loop = build_loop_step(
+                        self.model,
+                        self.parameters,
+                        self.controller,
+                        self.polytope,
+                        chunk_steps=chunk_steps,
+                        **loop_options,
+                    )
+                    built_for = self.polytope
+                    self.compiled = self.compiled or loop.compiled
+                inputs = self.inputs(chunk_steps, k, stop)
+                z_all, y_all = loop.roll(self.z, inputs, self.parameters)
+                self.take(z_all, y_all, k, stop)
+        except Exception as exc:  # the caller decides: simulate raises it, a campaign records it
+            return exc
+        return None
+
+    def take(self, z_all: np.ndarray, y_all: np.ndarray, k: int, stop: int) -> None:
+        """Periods k .. stop - 1 rolled (states and outputs, one column each): allocate and
+        burn, cut short where the engines change (the next stretch starts there)."""
         z_all = z_all[:, : stop - k]
         y_all = y_all[:, : stop - k].T
         applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
@@ -422,14 +455,17 @@ class _Rollout:
         done, stage_events = self.engines.advance_series(allocation.thrust_N, self.period)
         for index, event in stage_events:
             time_s = (k + index) * self.period + event.time_s
-            self.events.append(_depleted(event, time_s, self.engines))
+            self.events.append(depleted_event(event, time_s, self.engines))
         self.outputs[k : k + done] = y_all[:done]
         self.applied[k : k + done] = applied[:done]
         self.thrust[k : k + done] = allocation.thrust_N[:done]
         self.states[k + 1 : k + done + 1] = z_all[: self.model.layout.size, :done].T
-        return z_all[:, done - 1], done
+        self.z = z_all[:, done - 1].copy()
+        self.k = k + done
+        if done < stop - k:
+            self.polytope = None  # a CubeSat's limit changed: new authority from the step after
 
-    def _inputs(self, chunk_steps: int, k: int, stop: int) -> np.ndarray:
+    def inputs(self, chunk_steps: int, k: int, stop: int) -> np.ndarray:
         """The step inputs of periods k .. stop - 1, padded to ``chunk_steps`` columns."""
         reference, used = self.reference, stop - k
         inputs = np.zeros((StepInput.SIZE, chunk_steps))
@@ -441,7 +477,7 @@ class _Rollout:
         inputs[StepInput.REFERENCE_BN.start, used:] = 1.0
         return inputs
 
-    def result(self, fuel_start_kg: np.ndarray, wall_time_s: float) -> ClosedLoopResult:
+    def result(self, wall_time_s: float) -> ClosedLoopResult:
         """The run's series and figures; checks the allocator met every applied torque."""
         model, reference, n = self.model, self.reference, self.n
         torque = self.thrust @ self.allocator.torque_map.T
@@ -474,7 +510,7 @@ class _Rollout:
                 model, reference.time_s[:-1], self.states[:-1], self.parameters
             ),
             propulsion=self.engines,
-            fuel_start_kg=fuel_start_kg,
+            fuel_start_kg=self.fuel_start_kg,
             events=self.events,
             parameters=p.to_dict(),
             control_period_s=self.period,
