@@ -180,7 +180,9 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
 def test_a_case_that_raises_in_a_batch_is_recorded_and_the_others_go_on(short_slew) -> None:
     _, problem, model, controller = short_slew
     corners = corner_cases(problem, model)[:3]
-    every = tuple(FailureEvent(time_s=10.0, cubesat=i, stage=None) for i in range(len(problem.cubesats)))
+    every = tuple(
+        FailureEvent(time_s=10.0, cubesat=i, stage=None) for i in range(len(problem.cubesats))
+    )
     cases = [corners[0], dataclasses.replace(corners[1], failures=every), corners[2]]
     setup = CampaignSetup.create(problem, controller, scenario_reference(problem), batch_cases=4)
     failures: list[CaseFailure] = []
@@ -229,5 +231,6 @@ def test_batches_fill_power_of_two_slots(short_slew) -> None:
     made = batches(cases[:37], 16, workers=2)
     assert {b.slots for b in made} == {16} and [len(b.cases) for b in made] == [16, 16, 5]
     assert [c for b in made for c in b.cases] == cases[:37]
-    assert [b.slots for b in batches(cases[:5], 16, workers=2)] == [2, 2, 2]
+    assert [b.slots for b in batches(cases[:5], 16, workers=2)] == [4, 4]
+    assert [len(b.cases) for b in batches(cases[:3], 16, workers=2)] == [2, 1]
     assert [b.slots for b in batches(cases[:3], 1, workers=1)] == [1, 1, 1]

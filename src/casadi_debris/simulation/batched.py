@@ -298,12 +298,12 @@ class CaseBatch:
 
 
 def batches(cases: list[Case], size: int, workers: int) -> list[CaseBatch]:
-    """``cases`` in batches of at most ``size``, at least two per worker where there are enough.
+    """``cases`` in batches of at most ``size``, at least one per worker where there are enough.
 
     The slots (the compiled function's cases) are a power of two, so that few
     libraries serve every campaign; the last batch leaves some unused.
     """
-    per_worker = -(-len(cases) // max(1, 2 * workers))
+    per_worker = -(-len(cases) // max(1, workers))
     slots = 1
     while slots < min(size, per_worker):
         slots *= 2

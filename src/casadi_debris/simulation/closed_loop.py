@@ -71,7 +71,9 @@ class StepOutput:
     DEMAND_NM = slice(0, 3)
     SCALE = 3
     MEASURED_ERROR_RAD = slice(4, 7)
-    SIZE = 7
+    # The true attitude minus the reference at the period's start (what the run reports).
+    ERROR_RAD = slice(7, 10)
+    SIZE = 10
 
 
 JIT_FLAGS = ("-O2",)
@@ -254,7 +256,7 @@ class LoopStep:
     ``step(z, s, p) -> (z_next, y)`` with z = [x (plant), xc (controller)],
     s = [t_k, q_ref,k (4), feedforward torque (3) N m], p the model
     parameters (unused when folded in), y = [u_k (3) N m demanded, alpha_k,
-    e_k (3) rad measured]. ``rollout`` is ``step.mapaccum`` over
+    e_k (3) rad measured, true error (3) rad]. ``rollout`` is ``step.mapaccum`` over
     ``chunk_steps`` periods; ``compiled`` says it runs as JIT-compiled C.
     """
 
@@ -428,6 +430,38 @@ def _remove_stale_jit_folders() -> None:
             shutil.rmtree(folder, ignore_errors=True)
 
 
+def _control_law(
+    model: Model, controller: DiscreteController, polytope: AuthorityPolytope | int
+) -> tuple[ca.Function, list[ca.SX]]:
+    """``law(x, xc, q_ref, feedforward[, facets]) -> (applied, xc_next, demand, scale,
+    measured error, true error)`` (see :func:`_loop_step` for ``polytope``); its facet input."""
+    x = ca.SX.sym("x", model.layout.size)
+    xc = ca.SX.sym("xc", controller.n_states)
+    q_ref = ca.SX.sym("q_ref", 4)
+    feedforward = ca.SX.sym("feedforward", 3)
+    error = model.attitude_error(q_ref, x[model.layout.q_st])
+    true_error = model.attitude_error(q_ref, x[model.layout.q])
+    command_deg = -DEG_PER_RAD * error  # e = reference - measured
+    a, b, c, d = (
+        ca.sparsify(ca.DM(m)) for m in (controller.A, controller.B, controller.C, controller.D)
+    )
+    demand = NM_PER_MNM * (c @ xc + d @ command_deg) + feedforward
+    xc_next = a @ xc + b @ command_deg
+    if isinstance(polytope, AuthorityPolytope):
+        facets = []
+        scale = saturation_scale(demand, polytope)
+    else:
+        facets = [ca.SX.sym("facets", polytope, 4)]
+        scale = _saturation(demand, facets[0][:, :3], facets[0][:, 3])
+    applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
+    law = ca.Function(
+        "control_law",
+        [x, xc, q_ref, feedforward, *facets],
+        [applied, xc_next, demand, scale, error, true_error],
+    ).expand()
+    return law, facets
+
+
 def _loop_step(
     model: Model,
     parameters: np.ndarray | None,
@@ -454,36 +488,13 @@ def _loop_step(
     else:
         plant = _cvodes_step(model, parameters, period)
 
-    x = ca.SX.sym("x", n_plant)
-    xc = ca.SX.sym("xc", n_ctrl)
-    q_ref = ca.SX.sym("q_ref", 4)
-    feedforward = ca.SX.sym("feedforward", 3)
-    error = model.attitude_error(q_ref, x[model.layout.q_st])
-    command_deg = -DEG_PER_RAD * error  # e = reference - measured
-    a, b, c, d = (
-        ca.sparsify(ca.DM(m)) for m in (controller.A, controller.B, controller.C, controller.D)
-    )
-    demand = NM_PER_MNM * (c @ xc + d @ command_deg) + feedforward
-    xc_next = a @ xc + b @ command_deg
-    if isinstance(polytope, AuthorityPolytope):
-        facets = []
-        scale = saturation_scale(demand, polytope)
-    else:
-        facets = [ca.SX.sym("facets", polytope, 4)]
-        scale = _saturation(demand, facets[0][:, :3], facets[0][:, 3])
-    applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
-    law = ca.Function(
-        "control_law",
-        [x, xc, q_ref, feedforward, *facets],
-        [applied, xc_next, demand, scale, error],
-    ).expand()
-
+    law, facets = _control_law(model, controller, polytope)
     z = ca.MX.sym("z", n_plant + n_ctrl)
     s = ca.MX.sym("s", StepInput.SIZE)
     p = ca.MX.sym("p", n_p)
     facets_in = [ca.MX.sym("facets", f.sparsity()) for f in facets]
     xz, xcz = z[:n_plant], z[n_plant:]
-    applied_z, xc_next_z, demand_z, scale_z, error_z = law(
+    applied_z, xc_next_z, demand_z, scale_z, error_z, true_error_z = law(
         xz, xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM], *facets_in
     )
     torque = applied_z
@@ -497,7 +508,7 @@ def _loop_step(
     step_mx = ca.Function(
         "loop_step",
         [z, s, p, *facets_in],
-        [ca.vertcat(x_next, xc_next_z), ca.vertcat(demand_z, scale_z, error_z)],
+        [ca.vertcat(x_next, xc_next_z), ca.vertcat(demand_z, scale_z, error_z, true_error_z)],
         names,
         ["z_next", "y"],
     )

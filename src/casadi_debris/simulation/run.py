@@ -33,7 +33,7 @@ from casadi_debris.simulation.closed_loop import (
     build_loop_step,
     discretize_controller,
 )
-from casadi_debris.simulation.disturbance import disturbance_series
+from casadi_debris.simulation.disturbance import disturbance_series, sine_series
 from casadi_debris.simulation.events import RunEvent, apply_failure, depleted_event
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.summary import (
@@ -311,6 +311,7 @@ def simulate_many(
     else:
         for rollout in rollouts:
             rollout.compiled = True
+    shared = _Series.of(model, reference)
     share = (time.perf_counter() - started) / max(len(rollouts), 1)
     outcomes: list[ClosedLoopResult | Exception] = []
     for rollout, error in zip(rollouts, errors, strict=True):
@@ -318,10 +319,21 @@ def simulate_many(
             outcomes.append(error)
             continue
         try:
-            outcomes.append(rollout.result(wall_time_s=share))
+            outcomes.append(rollout.result(shared, wall_time_s=share))
         except Exception as exc:  # the allocator missed a torque: this run's failure
             outcomes.append(exc)
     return outcomes
+
+
+@dataclass(frozen=True, eq=False)
+class _Series:
+    """What every run of one reference shares for its result: the sine disturbance."""
+
+    sine_Nm: np.ndarray
+
+    @classmethod
+    def of(cls, model: Model, reference: Reference) -> _Series:
+        return cls(sine_series(model, reference.time_s[:-1]))
 
 
 def _control_period(reference: Reference) -> float:
@@ -477,7 +489,7 @@ class _Rollout:
         inputs[StepInput.REFERENCE_BN.start, used:] = 1.0
         return inputs
 
-    def result(self, wall_time_s: float) -> ClosedLoopResult:
+    def result(self, series: _Series, wall_time_s: float) -> ClosedLoopResult:
         """The run's series and figures; checks the allocator met every applied torque."""
         model, reference, n = self.model, self.reference, self.n
         torque = self.thrust @ self.allocator.torque_map.T
@@ -488,11 +500,9 @@ class _Rollout:
             raise SimulationError(
                 f"the allocator's torque differs from the applied torque by {residual:.3g} N m"
             )
-        error = np.asarray(
-            model.attitude_error.map(n + 1)(
-                reference.quaternion_BN.T, self.states[:, model.layout.q].T
-            )
-        ).T
+        # The step gave the error at each period's start; the last instant's is computed here.
+        last = model.attitude_error(reference.quaternion_BN[n], self.states[n, model.layout.q])
+        error = np.vstack([self.outputs[:, StepOutput.ERROR_RAD], np.asarray(last).T])
         p = Parameters.from_vector(model.parameter_layout, self.parameters)
         return ClosedLoopResult(
             time_s=reference.time_s,
@@ -507,7 +517,7 @@ class _Rollout:
             scale=self.outputs[:, StepOutput.SCALE],
             thrust_N=self.thrust,
             disturbance_Nm=disturbance_series(
-                model, reference.time_s[:-1], self.states[:-1], self.parameters
+                model, reference.time_s[:-1], self.states[:-1], self.parameters, series.sine_Nm
             ),
             propulsion=self.engines,
             fuel_start_kg=self.fuel_start_kg,
