@@ -67,10 +67,10 @@ def design(
     )
     echo_verdicts(
         summary,
-        summary["rows"],
+        summary.rows,
         TABLE_KEYS,
-        f"{summary['requirements_met']} of {summary['requirements']} requirements met; "
+        f"{summary.requirements_met} of {summary.requirements} requirements met; "
         f"controller: {folder.absolute() / 'controller.json'}; "
-        f"report: {folder.absolute() / 'report.md'} ({summary['time_s']:.0f} s)",
+        f"report: {folder.absolute() / 'report.md'} ({summary.time_s:.0f} s)",
         as_json=as_json,
     )

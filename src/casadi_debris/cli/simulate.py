@@ -400,10 +400,10 @@ def montecarlo(
     if as_json:
         echo_json(summary)
         return
-    worst = summary["worst"]
+    worst = summary.worst
     rows = [
-        [key, worst[key]["value"], worst[key]["case_id"]]
+        [key, worst[key].value, worst[key].case_id]
         for key in ("max_error_deg", "max_error_arcsec", "fuel_kg", "torque_saturated_s")
     ]
     click.echo(format_table(["worst over cases", "value", "case"], rows))
-    click.echo(f"{summary['cases']} cases written to {summary['out_dir']}")
+    click.echo(f"{summary.cases} cases written to {summary.run.out_dir}")

@@ -10,14 +10,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.robust import MarginReport
 from casadi_debris.robust.performance_search import DesignSearch
+
+if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
+    from casadi_debris.report.simulation import CampaignSummary, WorstFigure
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -92,16 +96,16 @@ def _at_most(values: Any, bound: float) -> bool:
     return all(v is not None and float(v) <= bound for v in numbers)
 
 
-def _nominal_and_worst(campaign: dict[str, Any], key: str) -> list[float]:
+def _nominal_and_worst(campaign: CampaignSummary, key: str) -> list[float | None]:
     """A figure of a campaign's nominal run and its worst corner."""
-    return [campaign["nominal"][key], campaign["worst"][key]["value"]]
+    return [campaign.nominal[key], campaign.worst[key].value]
 
 
 def requirement_rows(
     problem: Problem,
     search: DesignSearch,
     margins: MarginReport,
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
     """The design's table (margins as from :func:`~casadi_debris.report.robust.margin_report`,
@@ -136,12 +140,11 @@ def requirement_rows(
 
 
 def information_rows(
-    search: DesignSearch, campaigns: dict[str, dict[str, Any]], torque_limits_mNm: np.ndarray
+    search: DesignSearch, campaigns: dict[str, CampaignSummary], torque_limits_mNm: np.ndarray
 ) -> list[RequirementRow]:
     """Figures shown beside the requirements, not judged: torque use, fuel, settling, order."""
     torque_ratio = max(
-        float(np.max(np.asarray(c["max_torque_mNm"], dtype=float) / torque_limits_mNm))
-        for c in campaigns.values()
+        float(np.max(np.asarray(c.max_torque_mNm) / torque_limits_mNm)) for c in campaigns.values()
     )
     slew = campaigns["slew"]
     orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
@@ -151,9 +154,52 @@ def information_rows(
         _row("slew_fuel_kg", "slew propellant, nominal / worst corner [kg]", "—",
              _nominal_and_worst(slew, "fuel_kg"), None),
         _row("slew_settle_time_s", "settling time after the slew, worst corner [s]", "—",
-             slew["worst"]["settle_time_s"]["value"], None),
+             slew.worst["settle_time_s"].value, None),
         _row("controller_order", "controller order, full / reduced", "—", orders, None),
     ]  # fmt: skip
+
+
+@dataclass(frozen=True)
+class CampaignFigures(Record):
+    """A verification campaign as a design summary gives it: its size, worst cases
+    and nominal run (see :class:`~casadi_debris.report.simulation.CampaignSummary`)."""
+
+    cases: int
+    worst: dict[str, WorstFigure]
+    nominal: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class DesignSummary(Record):
+    """A design's ``summary.json``: requirements met, the chosen controller's μ, the
+    performance search and the verification campaigns.
+
+    ``rows`` are the requirement rows (:meth:`RequirementRow.to_dict`);
+    ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
+    μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
+    performance level; ``time_s`` the wall time [s].
+    """
+
+    problem: str
+    problem_sha256: str
+    plant_sha256: str
+    requirements_met: int
+    requirements: int
+    mu_peak: float
+    mu_peak_reduced: float
+    guaranteed_pointing_arcsec: list[float] | None
+    required_pointing_arcsec: Any
+    scalings: dict[str, Any]
+    attempts: list[dict[str, Any]]
+    seed: int
+    slew: CampaignFigures
+    pointing: CampaignFigures
+    rows: list[dict[str, Any]]
+    time_s: float
+    out_dir: str
+    quick: bool
+    workers: int
+    controller_path: str
 
 
 @dataclass(frozen=True)
@@ -201,7 +247,7 @@ def design_markdown(
     problem: Problem,
     search: DesignSearch,
     rows: list[RequirementRow],
-    summary: dict[str, Any],
+    summary: DesignSummary,
     figures: DesignFigures,
 ) -> str:
     """The report: requirements table, how the performance level was found, figures."""
@@ -209,8 +255,8 @@ def design_markdown(
     lines = [
         f"# Controller design for {problem.name}",
         "",
-        f"{summary['requirements_met']} of {summary['requirements']} requirements met "
-        f"({summary['time_s']:.0f} s). Controller: `controller.json` "
+        f"{summary.requirements_met} of {summary.requirements} requirements met "
+        f"({summary.time_s:.0f} s). Controller: `controller.json` "
         f"(plant sha256 {problem.plant_sha256[:12]}).",
         "",
         "| result | required | ours | verdict |",

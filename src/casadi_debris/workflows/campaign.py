@@ -33,7 +33,13 @@ from casadi_debris.model import Model, Parameters, build_model
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
-from casadi_debris.report.simulation import campaign_summary, write_campaign
+from casadi_debris.report.simulation import (
+    CampaignRun,
+    CampaignSummary,
+    FailedCase,
+    campaign_summary,
+    write_campaign,
+)
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.uncertainty import normalized_from_parameters
 from casadi_debris.simulation import (
@@ -242,7 +248,7 @@ def run_campaign_folder(
     progress: Progress | None = None,
     allow_mismatch: bool = False,
     moved_to: tuple[Path, Path] | None = None,
-) -> dict[str, Any]:
+) -> CampaignSummary:
     """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
 
     Parameters
@@ -343,13 +349,9 @@ def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
         return path
 
 
-def _failure_record(failure: CaseFailure) -> dict[str, str]:
+def _failure_record(failure: CaseFailure) -> FailedCase:
     """A failed case as the summary lists it."""
-    return {
-        "case_id": failure.case.case_id,
-        "error_type": failure.error_type,
-        "message": failure.message,
-    }
+    return FailedCase(failure.case.case_id, failure.error_type, failure.message)
 
 
 def _summarise_and_write(
@@ -359,18 +361,15 @@ def _summarise_and_write(
     identity: CampaignRecord,
     outcomes: list[CaseOutcome],
     how: dict[str, Any],
-) -> dict[str, Any]:
+) -> CampaignSummary:
     """Run the nominal case, then write the campaign's tables, figures and summary."""
     problem = setup.problem
     controller_path = Path(how["controller_path"])
     allocator = Allocator.from_problem(problem, model.geometry)
     nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
-    described = {
-        **how,
-        "nominal": {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS},
-    }
-    summary = campaign_summary(problem, setup, outcomes, _described(identity, described))
+    nominal_figures = {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS}
+    summary = campaign_summary(problem, setup, outcomes, nominal_figures, _described(identity, how))
     write_campaign(
         folder.partial,
         problem,
@@ -397,15 +396,14 @@ def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) ->
     )
 
 
-def _described(identity: CampaignRecord, how: dict[str, Any]) -> dict[str, Any]:
-    """The summary's fields beside the worst cases: what was run and how."""
-    return {
-        "controller_path": how["controller_path"],
-        "controller_sha256": identity.controller_sha256,
-        "case_kind": identity.case_kind,
-        "seed": identity.seed,
-        **{key: value for key, value in how.items() if key != "controller_path"},
-    }
+def _described(identity: CampaignRecord, how: dict[str, Any]) -> CampaignRun:
+    """What was run and how, as the summary gives it beside the worst cases."""
+    return CampaignRun(
+        controller_sha256=identity.controller_sha256,
+        case_kind=identity.case_kind,
+        seed=identity.seed,
+        **how,
+    )
 
 
 def _run_missing(

@@ -13,7 +13,7 @@ Example
 >>> from casadi_debris.workflows.design import design_for_problem
 >>> summary = design_for_problem(load_problem("problems/gallery/one_array.toml"),
 ...                              "runs/design-one_array", quick=True)  # doctest: +SKIP
->>> summary["requirements_met"], summary["requirements"]  # doctest: +SKIP
+>>> summary.requirements_met, summary.requirements  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -33,9 +33,15 @@ from casadi_debris.config import Problem, with_duration
 from casadi_debris.config.schema import AXIS_NAMES, Simulation, SlewReference
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.design import DesignFigures, design_markdown, requirement_rows
+from casadi_debris.report.design import (
+    CampaignFigures,
+    DesignFigures,
+    DesignSummary,
+    design_markdown,
+    requirement_rows,
+)
 from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.design import SynthesisSettings
 from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
@@ -124,7 +130,7 @@ def design_for_problem(
     workers: int = 1,
     overwrite: bool = False,
     progress: StageProgress | None = None,
-) -> dict[str, Any]:
+) -> DesignSummary:
     """Design a controller for ``problem`` and verify it into the folder ``out``.
 
     Parameters
@@ -146,7 +152,7 @@ def design_for_problem(
 
     Returns
     -------
-    dict
+    DesignSummary
         What ``summary.json`` holds: ``rows`` (each requirement with ``met``),
         ``requirements_met`` of ``requirements``, ``attempts``, ``scalings``,
         ``controller_path``, ...
@@ -173,12 +179,8 @@ def design_for_problem(
         campaigns = corner_campaigns(plan, runs, controller_path, folders, workers, stage)
         limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
         rows = requirement_rows(problem, search, margins, campaigns, limits)
-        summary = _summary(problem, search, rows, campaigns, out, started)
-        summary |= {
-            "quick": quick,
-            "workers": workers,
-            "controller_path": str(out / "controller.json"),
-        }
+        how = {"quick": quick, "workers": workers, "controller_path": str(out / "controller.json")}
+        summary = _summary(problem, search, rows, campaigns, out, started, how)
         figures = DesignFigures.present_in(staging)
         (staging / "report.md").write_text(design_markdown(problem, search, rows, summary, figures))
         write_json_atomic(staging / "summary.json", summary)
@@ -200,31 +202,33 @@ def _summary(
     problem: Problem,
     search: DesignSearch,
     rows: list[Any],
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
     out: Path,
     started: float,
-) -> dict[str, Any]:
-    """What ``summary.json`` holds."""
+    how: dict[str, Any],
+) -> DesignSummary:
+    """What ``summary.json`` holds (``how``: quick, workers, controller_path)."""
     judged = [row for row in rows if row.met is not None]
     chosen = search.chosen
-    return {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "plant_sha256": problem.plant_sha256,
-        "requirements_met": sum(row.met is True for row in judged),
-        "requirements": len(judged),
-        "mu_peak": chosen.mu_peak,
-        "mu_peak_reduced": chosen.mu_peak_reduced,
-        "guaranteed_pointing_arcsec": None
-        if chosen.guaranteed_pointing_arcsec is None
-        else list(chosen.guaranteed_pointing_arcsec),
-        "required_pointing_arcsec": problem.requirements.pointing_arcsec,
-        "scalings": search.scalings.to_dict(),
-        "attempts": [a.to_dict() for a in search.attempts],
-        "seed": search.design.samples.seed,
-        "slew": {key: campaigns["slew"].get(key) for key in ("cases", "worst", "nominal")},
-        "pointing": {key: campaigns["pointing"].get(key) for key in ("cases", "worst", "nominal")},
-        "rows": [row.to_dict() for row in rows],
-        "time_s": time.perf_counter() - started,
-        "out_dir": str(out.absolute()),
-    }
+    figures = {name: CampaignFigures(c.cases, c.worst, c.nominal) for name, c in campaigns.items()}
+    guaranteed = chosen.guaranteed_pointing_arcsec
+    return DesignSummary(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        plant_sha256=problem.plant_sha256,
+        requirements_met=sum(row.met is True for row in judged),
+        requirements=len(judged),
+        mu_peak=chosen.mu_peak,
+        mu_peak_reduced=chosen.mu_peak_reduced,
+        guaranteed_pointing_arcsec=None if guaranteed is None else list(guaranteed),
+        required_pointing_arcsec=problem.requirements.pointing_arcsec,
+        scalings=search.scalings.to_dict(),
+        attempts=[a.to_dict() for a in search.attempts],
+        seed=search.design.samples.seed,
+        slew=figures["slew"],
+        pointing=figures["pointing"],
+        rows=[row.to_dict() for row in rows],
+        time_s=time.perf_counter() - started,
+        out_dir=str(out.absolute()),
+        **how,
+    )
