@@ -18,6 +18,7 @@ in that (transposed) layout.
 from __future__ import annotations
 
 import ctypes
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -81,6 +82,8 @@ class NativeFunction:
         self._iw = np.zeros(max(n_iw, 1), dtype=np.int64)
         self._w = np.zeros(max(n_w, 1))
         self._memory = self._optional(f"{name}_checkout", 0)
+        # One set of work vectors: threads (a Dask worker's) take turns.
+        self._lock = threading.Lock()
         self._optional(f"{name}_incref", None)
 
     def _optional(self, entry: str, default: int | None) -> int | None:
@@ -98,6 +101,10 @@ class NativeFunction:
         """
         if len(inputs) != len(self.input_shapes):
             raise ValueError(f"{self.name} takes {len(self.input_shapes)} inputs")
+        with self._lock:
+            return self._call(inputs)
+
+    def _call(self, inputs: Sequence[np.ndarray]) -> list[np.ndarray]:
         kept = []
         for i, (given, (rows, columns)) in enumerate(zip(inputs, self.input_shapes, strict=True)):
             array = np.ascontiguousarray(given, dtype=np.float64)
