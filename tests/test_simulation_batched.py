@@ -28,8 +28,8 @@ from casadi_debris.simulation import (
     simulate,
     simulate_many,
 )
-from casadi_debris.simulation.batched import batches, facet_capacity
-from casadi_debris.simulation.closed_loop import _loop_step, c_compiler, facet_rows
+from casadi_debris.simulation.batched import batches, facet_capacity, facet_rows
+from casadi_debris.simulation.closed_loop import _loop_step, c_compiler
 from casadi_debris.simulation.monte_carlo import CaseFailure
 from casadi_debris.simulation.native import NativeFunction
 from casadi_debris.workflows.controller import load_controller

@@ -14,6 +14,7 @@ from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     alternatives,  # alternatives
     compare,  # compare
+    deorbit,  # deorbit
     describe,  # model, budget, schema, problems
     design,  # design
     detumble,  # detumble

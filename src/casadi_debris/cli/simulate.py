@@ -6,7 +6,7 @@ import csv
 import dataclasses
 import io
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -16,6 +16,7 @@ from casadi_debris.cli.common import (
     allow_mismatch_option,
     batch_option,
     controller_option,
+    counter_progress,
     echo_json,
     failed_cubesat_indices,
     friendly_errors,
@@ -30,6 +31,7 @@ from casadi_debris.cli.common import (
     say,
     workers_option,
 )
+from casadi_debris.cli.slew import axis_options
 from casadi_debris.config import Problem, limits, load_problem, with_duration
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
@@ -40,6 +42,8 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.simulation.segment_figures import SegmentFigures
+    from casadi_debris.simulation.statistics import CampaignStatistics
     from casadi_debris.workflows.campaign import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
@@ -67,6 +71,27 @@ def summary_text(summary: RunRecord) -> str:
         ["wall time [s]", f"{run.wall_time_s:.2f}"],
     ]
     return format_table(["figure", "value"], rows)
+
+
+def segments_text(segments: Sequence[SegmentFigures] | None) -> str:
+    """A manoeuvre's segments (window, largest error and fuel of each) on the lines after a
+    newline; nothing without segments."""
+    if segments is None:
+        return ""
+    rows = [
+        [
+            "" if f.segment is None else f.segment,
+            f.kind,
+            f"{f.start_s:.1f}",
+            f"{f.end_s:.1f}",
+            f"{f.max_error_deg:.4g}",
+            f"{f.max_error_arcsec:.4g}",
+            f"{f.fuel_kg:.4g}",
+        ]
+        for f in segments
+    ]
+    header = ["segment", "kind", "start [s]", "end [s]", "max error [deg]", "[arcsec]"]
+    return "\n" + format_table([*header, "fuel [kg]"], rows)
 
 
 def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +156,8 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option(
     "--sample",
     type=click.IntRange(0, int(limits.MONTECARLO_SAMPLES.high) - 1),
-    help="Run random sample N (with --seed).",
+    help="Run random sample N (with --seed); case N of the campaign of [[montecarlo.vary]] "
+    "when the problem has one.",
 )
 @click.option(
     "--seed",
@@ -154,6 +180,11 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option("--rigid", is_flag=True, help="Rigid body, full rigid inertia (with --open-loop).")
 @click.option(
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
+)
+@axis_options(
+    "the problem's [simulation.slew]; a bang-bang timed by its duration keeps that "
+    "duration's torque fraction",
+    "the problem's [simulation.slew]",
 )
 @click.option(
     "--failed",
@@ -178,6 +209,8 @@ def simulate(
     open_loop: Path | None,
     rigid: bool,
     duration_s: float | None,
+    axis: str | tuple[float, float, float] | None,
+    angle_deg: float | None,
     failed: str | None,
     controller_path: Path | None,
     allow_mismatch: bool,
@@ -200,11 +233,9 @@ def simulate(
             raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
-    if duration_s is not None:
-        problem = with_duration(problem, duration_s, field="--duration-s")
-    if failed is not None:
-        problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
+    problem = _as_asked(problem, duration_s, (axis, angle_deg), failed)
     from casadi_debris.allocation import Allocator
+    from casadi_debris.config import problem_with_values
     from casadi_debris.model import build_model
     from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
@@ -220,12 +251,16 @@ def simulate(
         case = parameters_case(problem, model, *read_parameters_file(parameters_file))
     else:
         case = one_case(problem, model, corner, sample, seed)
+    if case.file_values:  # a case of [[montecarlo.vary]] that changes the problem file's keys
+        problem = problem_with_values(problem, case.file_values)
+        model = build_model(problem)
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(
         problem, model, record.reduced, reference, parameters=case.parameters, allocator=allocator
     )
     summary = run_summary(problem, case, result, resolved, record)
+    segments = _segment_figures(problem, result, reference)
     if out is not None:
         with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
             summary = dataclasses.replace(summary, out_dir=str(out.absolute()))
@@ -237,10 +272,73 @@ def simulate(
                 with_plots=not no_plots,
                 title=f"{figure_title(problem)} ({case.case_id})",
             )
+            if segments is not None:
+                write_json_atomic(staging / "segments.json", {"segments": list(segments)})
     if as_json:
         echo_json(summary)
     else:
-        click.echo(summary_text(summary))
+        click.echo(summary_text(summary) + segments_text(segments))
+
+
+def _as_asked(
+    problem: Problem,
+    duration_s: float | None,
+    slew: tuple[str | tuple[float, float, float] | None, float | None],
+    failed: str | None,
+) -> Problem:
+    """``problem`` with the run length, the slew's axis and angle, and the CubeSats failed
+    from the start that the options give."""
+    if duration_s is not None:
+        problem = with_duration(problem, duration_s, field="--duration-s")
+    if slew != (None, None):
+        problem = _with_slew(problem, *slew)
+    if failed is not None:
+        problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
+    return problem
+
+
+def _segment_figures(problem: Problem, result: Any, reference: Any) -> Any:
+    """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
+    if problem.simulation.reference != "sequence":
+        return None
+    from casadi_debris.simulation.segment_figures import segment_figures
+
+    return segment_figures(result, reference.pieces)
+
+
+def _with_slew(
+    problem: Problem, axis: str | tuple[float, float, float] | None, angle_deg: float | None
+) -> Problem:
+    """``problem`` with its one slew turned about ``axis`` by ``angle_deg`` (None: its own).
+
+    The slew keeps its method and timing; a bang-bang timed by its duration keeps the
+    torque fraction that duration gives instead (another turn takes another time).
+    """
+    from dataclasses import replace
+
+    slew = problem.simulation.slew
+    option = "--axis" if axis is not None else "--angle-deg"
+    if slew is None:
+        flies = (
+            "[[simulation.segments]] (edit their targets)"
+            if problem.simulation.reference == "sequence"
+            else "no slew (give a problem with a [simulation.slew], e.g. paper_slew)"
+        )
+        raise InputShapeError(f"{option}: {problem.name} flies {flies}")
+    changed = replace(
+        slew,
+        axis=slew.axis if axis is None else axis,
+        angle_deg=slew.angle_deg if angle_deg is None else angle_deg,
+    )
+    if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
+        # The file's duration sets the share of the authority its slew uses; another turn
+        # flies at that share (paper_slew: 0.561), not in that time.
+        from casadi_debris.simulation import generate_slew
+
+        fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
+        changed = replace(changed, duration_s=None, torque_fraction=fraction)
+        say(f"The slew about the new axis at {problem.name}'s torque fraction {fraction:.3f}.")
+    return replace(problem, simulation=replace(problem.simulation, slew=changed))
 
 
 def _with_failed(problem: Problem, cubesats: list[int]) -> Problem:
@@ -294,13 +392,9 @@ def _open_loop(
 
 
 def cases_progress(label: str) -> Callable[[int, int], None]:
-    """A one-line counter of finished cases on stderr."""
-
-    def show(done: int, total: int) -> None:
-        end = "\n" if done == total else ""
-        say(f"\r{label}: {done}/{total} cases{end}", newline=False)
-
-    return show
+    """Finished cases on stderr: a bar on a terminal, periodic lines otherwise
+    (:func:`~casadi_debris.cli.common.counter_progress`)."""
+    return counter_progress(label, "cases")
 
 
 def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] | None]:
@@ -318,11 +412,15 @@ def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] 
 
 @main.command()
 @problem_argument
-@click.option("--corners", is_flag=True, help="Every corner of the uncertainty set (default).")
+@click.option(
+    "--corners",
+    is_flag=True,
+    help="Every corner of the uncertainty set (the default without [[montecarlo.vary]]).",
+)
 @click.option(
     "--samples",
     type=in_range(limits.MONTECARLO_SAMPLES),
-    help="N random samples instead of the corners.",
+    help="N random samples instead of the corners (with [[montecarlo.vary]]: N draws).",
 )
 @click.option(
     "--seed", type=in_range(limits.SEED), help="Seed of --samples (default the problem's)."
@@ -363,14 +461,16 @@ def montecarlo(
     overwrite: bool,
     as_json: bool,
 ) -> None:
-    """Closed-loop Monte Carlo: all corners (the paper's 256) or seeded random samples.
+    """Closed-loop Monte Carlo: all corners (the paper's 256), seeded random samples, or
+    what the problem's [[montecarlo.vary]] lists, with statistics.
 
     Runs in parallel; where a C compiler is found the cases run in batches,
     each batch as one compiled function mapped over its cases (compiled once
     per machine, a few seconds, then kept in the cache). An
     interrupted campaign resumes from the cases in <out>.partial. Writes
-    summary.json, cases.csv, envelope.csv/png, campaign.nc (every case, for xarray)
-    and the nominal run.
+    summary.json (with the pass rate against [requirements], percentiles, 3 sigma and
+    rank correlations of every figure), cases.csv, envelope.csv/png, statistics.png,
+    campaign.nc (every case, for xarray) and the nominal run.
     """
     from casadi_debris.workflows.campaign import (
         CampaignInterrupted,
@@ -406,4 +506,32 @@ def montecarlo(
         for key in ("max_error_deg", "max_error_arcsec", "fuel_kg", "torque_saturated_s")
     ]
     click.echo(format_table(["worst over cases", "value", "case"], rows))
+    if summary.statistics is not None:
+        click.echo(statistics_text(summary.statistics))
     click.echo(f"{summary.cases} cases written to {summary.run.out_dir}")
+
+
+def statistics_text(statistics: CampaignStatistics) -> str:
+    """The campaign's statistics as a table, the pass rate and what drives the error and the
+    fuel most (every figure's drivers are in summary.json)."""
+    columns = ("mean", "std", "p50", "p95", "p99", "mean_plus_3sigma", "max")
+    rows = [[item.figure, *(getattr(item, c) for c in columns)] for item in statistics.figures]
+    lines = [format_table(["figure", *columns], rows)]
+    total = statistics.cases + statistics.failed_cases
+    lines.append(
+        f"pass rate {100 * statistics.pass_rate:.1f} % ({statistics.passed} of {total} "
+        f"cases with {statistics.requirement_figure} <= {statistics.requirement:g})"
+    )
+    shown = (statistics.requirement_figure, "fuel_slew_kg", "fuel_kg")
+    for driver in (d for d in statistics.drivers if d.figure in shown):
+        ranked = ", ".join(
+            f"{name} (rho {rho:+.2f}" + ("" if index is None else f", S {index:.2f}") + ")"
+            for name, rho, index in zip(
+                driver.quantities[:3],
+                driver.spearman_rho[:3],
+                driver.first_order_index[:3],
+                strict=True,
+            )
+        )
+        lines.append(f"drivers of {driver.figure}: {ranked or 'none varies'}")
+    return "\n".join(lines)

@@ -8,12 +8,15 @@ only by :func:`casadi_debris.config.problem_from_dict` (or
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from casadi_debris.config.identity import plant_sha256
+from casadi_debris.config.realism import Actuators, ControllerTiming, Estimation, Sensors
+from casadi_debris.config.segments import Segment, SlewReference
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -387,32 +390,8 @@ class Environment:
         return torque in self.torques
 
 
-ReferenceKind = Literal["hold", "slew"]
-SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
-REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew")
-SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
-
-
-@dataclass(frozen=True, eq=False)
-class SlewReference:
-    """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
-
-    ``duration_s`` and ``torque_fraction`` are optional (None): the slew
-    methods then pick their own (see :mod:`casadi_debris.slew`). With
-    ``feedforward`` the profile's torque is added to the controller's demand
-    (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
-    thruster level with zero net force, as the closed loop's allocator keeps it,
-    so that its torque is one the engines can give there.
-    """
-
-    axis: AxisName
-    angle_deg: float
-    method: SlewMethod
-    start_s: float
-    duration_s: float | None
-    torque_fraction: float | None
-    feedforward: bool = False
-    thrusters: bool = False
+ReferenceKind = Literal["hold", "slew", "sequence"]
+REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew", "sequence")
 
 
 @dataclass(frozen=True, eq=False)
@@ -444,11 +423,14 @@ class Simulation:
     integrator_steps : int
         Runge-Kutta steps per control period, 1 to 1000, short enough for the
         fastest dynamics (step x rate <= 2) and at most 1e7 in the run.
-    reference : {"hold", "slew"}
+    reference : {"hold", "slew", "sequence"}
     slew : SlewReference or None
         Given exactly when ``reference`` is ``"slew"``.
     failures : tuple of FailureEvent
         By time, at most 1000.
+    segments : tuple of Segment
+        ``[[simulation.segments]]``, given exactly when ``reference`` is
+        ``"sequence"`` (see :mod:`casadi_debris.config.segments`).
 
     The ranges and why are in :mod:`casadi_debris.config.limits`.
     """
@@ -459,6 +441,48 @@ class Simulation:
     reference: ReferenceKind
     slew: SlewReference | None
     failures: tuple[FailureEvent, ...]
+    segments: tuple[Segment, ...] = ()
+
+
+Distribution = Literal["uniform", "normal", "corners"]
+DISTRIBUTIONS: tuple[Distribution, ...] = ("uniform", "normal", "corners")
+
+
+@dataclass(frozen=True, eq=False)
+class VariedQuantity:
+    """One quantity a Monte-Carlo campaign varies (``[[montecarlo.vary]]``).
+
+    Attributes
+    ----------
+    path : str
+        What varies: a model parameter by name (``mass_kg``,
+        ``inertia_scale_x``, ``array_angle_offset_rad``,
+        ``bending_frequency_scale``), varied in the compiled step at no cost;
+        or a dotted key of the problem file (``environment.density_kg_m3``,
+        ``disturbance.amplitude_mNm[2]``, ``arrays[0].mass_kg``; indices from
+        0 as in the loader's messages), for which every case rebuilds its problem.
+    distribution : {"uniform", "normal", "corners"}
+        ``uniform`` between ``low`` and ``high``; ``normal`` of ``mean`` and
+        ``sigma``, truncated to ``[low, high]`` (default: the key's allowed
+        range); ``corners``: ``low`` or ``high``, every combination with the
+        other corner quantities.
+    low, high : float or None
+        In the key's unit.
+    mean, sigma : float or None
+        Of a normal distribution, in the key's unit.
+    """
+
+    path: str
+    distribution: Distribution
+    low: float | None = None
+    high: float | None = None
+    mean: float | None = None
+    sigma: float | None = None
+
+    @property
+    def is_parameter(self) -> bool:
+        """A model parameter (no dot, no index), varied without rebuilding the problem."""
+        return "." not in self.path and "[" not in self.path
 
 
 @dataclass(frozen=True, eq=False)
@@ -478,11 +502,15 @@ class MonteCarlo:
         Random cases when a campaign gives no count, 1 to 100 000.
     seed : int
         0 to 2^32 - 1.
+    vary : tuple of VariedQuantity
+        What a campaign varies, and how (none: the uncertainty set's corners
+        or uniform samples in it).
     """
 
     corner_array_angles: int
     samples: int
     seed: int
+    vary: tuple[VariedQuantity, ...] = ()
 
 
 DEFAULT_SIMULATION = {
@@ -524,8 +552,14 @@ class Problem:
     simulation: Simulation = field(default=None)  # type: ignore[assignment]
     montecarlo: MonteCarlo = field(default=None)  # type: ignore[assignment]
     environment: Environment = field(default_factory=Environment)
+    sensors: Sensors = field(default_factory=Sensors)
+    estimation: Estimation = field(default_factory=Estimation)
+    actuators: Actuators = field(default_factory=Actuators)
+    controller: ControllerTiming = field(default_factory=ControllerTiming)
     source: str = field(default="<dict>")
     sha256: str = field(default="")
+    # The tables as read (after ``extends``): a campaign that varies a key rebuilds from them.
+    data: Mapping[str, Any] = field(default_factory=dict, repr=False)
 
     @property
     def plant_sha256(self) -> str:

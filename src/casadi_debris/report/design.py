@@ -113,13 +113,8 @@ def requirement_rows(
     judged rows, then :func:`information_rows`."""
     chosen = search.chosen
     pointing_req = problem.requirements.pointing_arcsec
-    slew_req = problem.requirements.slew_error_deg
     guaranteed = chosen.guaranteed_pointing_arcsec
-    pointing = _nominal_and_worst(campaigns["pointing"], "max_error_arcsec")
-    slew = _nominal_and_worst(campaigns["slew"], "max_error_deg")
-    sampled = margins.sampled_min
-    margin_values = [sampled.gain_margin_db, sampled.phase_margin_deg, sampled.delay_margin_s]
-    unstable = margins.unstable_samples
+    orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
     return [
         _row("mu_peak", "μ, full / reduced controller", "≤ 1",
              [chosen.mu_peak, chosen.mu_peak_reduced], chosen.mu_peak_reduced <= 1.0),
@@ -127,6 +122,28 @@ def requirement_rows(
              f"≤ {pointing_req:g}", list(guaranteed) if guaranteed else [None],
              guaranteed is not None and _at_most(guaranteed, pointing_req),
              None if guaranteed else "none (μ > 1)"),
+        *verification_rows(problem, margins, campaigns, torque_limits_mNm, orders),
+    ]  # fmt: skip
+
+
+def verification_rows(
+    problem: Problem,
+    margins: MarginReport,
+    campaigns: dict[str, CampaignSummary],
+    torque_limits_mNm: np.ndarray,
+    orders: list[int],
+) -> list[RequirementRow]:
+    """What any controller is judged on, whatever designed it: pointing and slew error
+    over the corners against the requirements, margins over sampled plants, then
+    :func:`information_rows` (``orders``: the controller's full and flown order)."""
+    pointing_req = problem.requirements.pointing_arcsec
+    slew_req = problem.requirements.slew_error_deg
+    pointing = _nominal_and_worst(campaigns["pointing"], "max_error_arcsec")
+    slew = _nominal_and_worst(campaigns["slew"], "max_error_deg")
+    sampled = margins.sampled_min
+    margin_values = [sampled.gain_margin_db, sampled.phase_margin_deg, sampled.delay_margin_s]
+    unstable = margins.unstable_samples
+    return [
         _row("pointing_arcsec", "pointing error, nominal / worst corner [arcsec]",
              f"≤ {pointing_req:g}", pointing, _at_most(pointing, pointing_req)),
         _row("slew_max_error_deg", "slew error, nominal / worst corner [deg]",
@@ -135,19 +152,18 @@ def requirement_rows(
              f"≥ {GAIN_MARGIN_DB:g} dB, ≥ {PHASE_MARGIN_DEG:g}° (conventional)", margin_values,
              margin_values[0] >= GAIN_MARGIN_DB and margin_values[1] >= PHASE_MARGIN_DEG),
         _row("unstable_samples", "unstable sampled loops", "0", unstable, unstable == 0),
-        *information_rows(search, campaigns, torque_limits_mNm),
+        *information_rows(campaigns, torque_limits_mNm, orders),
     ]  # fmt: skip
 
 
 def information_rows(
-    search: DesignSearch, campaigns: dict[str, CampaignSummary], torque_limits_mNm: np.ndarray
+    campaigns: dict[str, CampaignSummary], torque_limits_mNm: np.ndarray, orders: list[int]
 ) -> list[RequirementRow]:
     """Figures shown beside the requirements, not judged: torque use, fuel, settling, order."""
     torque_ratio = max(
         float(np.max(np.asarray(c.max_torque_mNm) / torque_limits_mNm)) for c in campaigns.values()
     )
     slew = campaigns["slew"]
-    orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
     return [
         _row("torque_to_limit", "peak torque / authority, slew and pointing", "—",
              torque_ratio, None),
@@ -174,6 +190,8 @@ class DesignSummary(Record):
     """A design's ``summary.json``: requirements met, the chosen controller's μ, the
     performance search and the verification campaigns.
 
+    ``method`` is ``"mu"`` (D-K μ-synthesis), ``"pd"`` or ``"lqr"`` (see
+    :mod:`casadi_debris.robust.classical`; their μ fields are None and ``attempts`` empty).
     ``rows`` are the requirement rows (:meth:`RequirementRow.to_dict`);
     ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
     μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
@@ -185,13 +203,14 @@ class DesignSummary(Record):
     plant_sha256: str
     requirements_met: int
     requirements: int
-    mu_peak: float
-    mu_peak_reduced: float
+    method: str
+    mu_peak: float | None
+    mu_peak_reduced: float | None
     guaranteed_pointing_arcsec: list[float] | None
     required_pointing_arcsec: Any
     scalings: dict[str, Any]
     attempts: list[dict[str, Any]]
-    seed: int
+    seed: int | None
     slew: CampaignFigures
     pointing: CampaignFigures
     rows: list[dict[str, Any]]
@@ -282,6 +301,40 @@ def design_markdown(
         "## Performance level",
         "",
         *_attempts_table(search),
+        "",
+    ]
+    for title, path in figures.entries:
+        lines += [f"## {title}", "", f"![{title}]({path})", ""]
+    return "\n".join(lines)
+
+
+def classical_markdown(
+    problem: Problem,
+    controller: dict[str, Any],
+    rows: list[RequirementRow],
+    summary: DesignSummary,
+    figures: DesignFigures,
+) -> str:
+    """The report of a PD or LQG design: the same table, the controller's settings, figures.
+
+    ``controller`` is the controller file's ``details`` (method and its settings).
+    """
+    settings = ", ".join(
+        f"{k} = {format_figure(v)}" for k, v in controller.items() if k != "method"
+    )
+    lines = [
+        f"# {summary.method.upper()} controller for {problem.name}",
+        "",
+        f"{summary.requirements_met} of {summary.requirements} requirements met "
+        f"({summary.time_s:.0f} s). Controller: `controller.json` "
+        f"(plant sha256 {problem.plant_sha256[:12]}), designed on the rigid body; the "
+        "flexible modes and the uncertainty are judged by the margins and the corners below.",
+        "",
+        "| result | required | ours | verdict |",
+        "|---|---|---|---|",
+        *[f"| {r.result} | {r.required} | {r.ours} | {r.verdict} |" for r in rows],
+        "",
+        f"Settings: {settings}.",
         "",
     ]
     for title, path in figures.entries:

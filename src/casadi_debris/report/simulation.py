@@ -3,8 +3,10 @@
 A single run: ``summary.json``, ``series.csv`` (time series, units in the
 column names), ``closed_loop.png`` and ``thrust.png``.
 
-A campaign: ``summary.json`` (worst case of every figure, counts, seed),
-``cases.csv`` (one row per case), ``envelope.csv``, ``campaign.nc`` (every
+A campaign: ``summary.json`` (worst case of every figure, counts, seed, and
+the statistics of :mod:`casadi_debris.simulation.statistics`), ``cases.csv``
+(one row per case, with the value of every varied quantity), ``envelope.csv``,
+``statistics.png``, ``campaign.nc`` (every
 case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
 ``nominal/`` (the nominal run), ``envelope.png``, and ``cases/<id>.json`` +
 ``cases/<id>.npz`` per case (written as they finish, see
@@ -25,6 +27,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.plots.statistics import plot_statistics
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
@@ -35,8 +38,9 @@ from casadi_debris.report.campaign_dataset import (
 from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
+from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
 from casadi_debris.slew import euler_angles_321
-from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
+from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
@@ -68,6 +72,10 @@ def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
         for i, axis in enumerate(AXIS_NAMES):
             columns[f"{name}_{axis}_mNm"] = padded[:, i] * MNM_PER_NM
     columns["scale"] = held(result.scale[:, None])[:, 0]
+    if result.noise_seed is not None:  # realistic sensors: what the controller was told, wrong by
+        estimation = held(result.estimation_error_rad)
+        for i, axis in enumerate(AXIS_NAMES):
+            columns[f"estimation_error_{axis}_arcsec"] = estimation[:, i] * ARCSEC_PER_RAD
     thrust = held(result.thrust_N)
     for i in range(thrust.shape[1]):
         columns[f"thrust_{i + 1:02d}_mN"] = thrust[:, i] * MN_PER_N
@@ -196,8 +204,9 @@ class CampaignSummary(Record):
 
     ``nominal`` holds the nominal run's figures (units in the keys, as in
     :class:`~casadi_debris.simulation.summary.RunSummary`); ``run`` (written as keys of
-    the summary itself) the campaign's files, seed and workers; ``details`` any further
-    keys a caller adds.
+    the summary itself) the campaign's files, seed and workers; ``statistics`` the pass
+    rate, moments, percentiles and rank correlations of every figure (see
+    :mod:`casadi_debris.simulation.statistics`); ``details`` any further keys a caller adds.
     """
 
     problem: str
@@ -209,6 +218,7 @@ class CampaignSummary(Record):
     envelope_bin_s: float
     nominal: dict[str, Any]
     run: CampaignRun = field(metadata=FLATTENED)
+    statistics: CampaignStatistics | None = None
     details: dict[str, Any] = field(default_factory=dict, metadata=FLATTENED)
 
 
@@ -229,8 +239,10 @@ def campaign_summary(
     outcomes: list[CaseOutcome],
     nominal: dict[str, Any],
     run: CampaignRun,
+    statistics: CampaignStatistics | None = None,
 ) -> CampaignSummary:
-    """Worst case of every figure over the campaign, and which case it was."""
+    """Worst case of every figure over the campaign, and which case it was (and the
+    campaign's ``statistics``, when given)."""
     runs = [o.summary.run for o in outcomes]
     case_ids = [o.case.case_id for o in outcomes]
     fuels = [run.fuel_kg for run in runs]
@@ -253,6 +265,7 @@ def campaign_summary(
         envelope_bin_s=setup.bin_s,
         nominal=nominal,
         run=run,
+        statistics=statistics,
     )
 
 
@@ -280,7 +293,9 @@ def write_campaign(
     summary: CampaignSummary,
     record: CampaignRecord,
 ) -> Envelope:
-    """Write the campaign's tables, dataset, envelope and figures into ``folder``.
+    """Write the campaign's tables, dataset, envelope and figures into ``folder`` (with
+    ``summary.statistics``, also ``statistics.png``: histograms against the requirement
+    and the rank correlations, drawn by ``casadi_debris.plots.statistics``).
 
     Returns
     -------
@@ -291,13 +306,16 @@ def write_campaign(
     for outcome in outcomes:
         envelope.add(outcome.bands)
     write_json_atomic(folder / "summary.json", summary)
+    varied = [name for name, _ in outcomes[0].case.varied] if outcomes else []
     with (folder / "cases.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow([*CASE_COLUMNS, *(normalized_column(n) for n in nominal.parameters)])
+        normalized = [normalized_column(n) for n in nominal.parameters]
+        writer.writerow([*CASE_COLUMNS, *normalized, *varied])
         for outcome in outcomes:
             flat = outcome.summary.to_json()
             row = [flat.get(c) for c in CASE_COLUMNS]
-            writer.writerow([*row, *outcome.case.normalized.tolist()])
+            values = [value for _, value in outcome.case.varied]
+            writer.writerow([*row, *outcome.case.normalized.tolist(), *values])
     write_csv(folder / "envelope.csv", envelope_columns(envelope))
     write_campaign_dataset(
         folder / DATASET_NAME,
@@ -313,4 +331,11 @@ def write_campaign(
         title=figure_title(problem),
         **run_figures_options(problem),
     )
+    if summary.statistics is not None:
+        plot_statistics(
+            summary.statistics,
+            case_figures(outcomes),
+            folder / "statistics.png",
+            title=figure_title(problem),
+        )
     return envelope

@@ -2,7 +2,7 @@
 
 The control period of :mod:`~casadi_debris.simulation.closed_loop` with the
 model parameters and the authority polytope as inputs (its facets padded to a
-capacity, :func:`~casadi_debris.simulation.closed_loop.facet_rows`) is rolled
+capacity, :func:`facet_rows`) is rolled
 out over ``chunk_steps`` periods (``mapaccum``) and the roll-out mapped over
 ``cases`` slots (``map``): one CasADi Function, generated as C, compiled once
 per machine into the cache of :mod:`~casadi_debris.simulation.jit_cache` and
@@ -40,7 +40,6 @@ from casadi_debris.simulation.closed_loop import (
     _jit_key,
     _loop_step,
     c_compiler,
-    facet_rows,
 )
 from casadi_debris.simulation.jit_cache import CompileError, compiled_library
 from casadi_debris.simulation.native import NativeFunction
@@ -109,6 +108,28 @@ class BatchedLoop:
             z_all.reshape(m, n, self.n_state).transpose(0, 2, 1),
             y_all.reshape(m, n, StepOutput.SIZE).transpose(0, 2, 1),
         )
+
+
+def facet_rows(polytope: AuthorityPolytope, capacity: int) -> np.ndarray:
+    """The polytope as the ``facets`` input of a step that takes them: shape (capacity, 4).
+
+    Rows ``[n, b]`` (normal, offset), padded with ``[0, 0, 0, 1]``: a zero
+    normal never reaches its facet (``n.tau > 0`` fails), so padding changes
+    no ratio and the scale is that of the polytope, bit for bit.
+
+    Raises
+    ------
+    SimulationError
+        More facets than ``capacity``.
+    """
+    count = len(polytope.offsets)
+    if count > capacity:
+        raise SimulationError(f"{count} facets exceed the step's capacity of {capacity}")
+    rows = np.zeros((capacity, 4))
+    rows[:, 3] = 1.0
+    rows[:count, :3] = polytope.normals
+    rows[:count, 3] = polytope.offsets
+    return rows
 
 
 # The batched loops of this process, by model, controller, sampling, slots and capacity.

@@ -14,9 +14,10 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
+import casadi as ca
 import control
 import numpy as np
 
@@ -35,134 +36,15 @@ from casadi_debris.simulation.closed_loop import (
 )
 from casadi_debris.simulation.disturbance import disturbance_series, sine_series
 from casadi_debris.simulation.events import RunEvent, apply_failure, depleted_event
+from casadi_debris.simulation.noise import NoiseStreams, draw_noise
+from casadi_debris.simulation.realism import Realism, engine_basis
 from casadi_debris.simulation.reference import Reference
-from casadi_debris.simulation.summary import (
-    SETTLE_BAND_ARCSEC,
-    RunSummary,
-    settle_time_s,
-    summarize,
-)
-from casadi_debris.units import ARCSEC_PER_RAD
+from casadi_debris.simulation.result import ClosedLoopResult
 
 # The allocator's torque must equal the applied torque to this (relative to
 # the largest torque authority): the loop's premise, checked on every run.
 ALLOCATION_TOLERANCE = 1e-8
 DEFAULT_CHUNK_STEPS = 1000
-
-
-@dataclass(eq=False)
-class ClosedLoopResult:
-    """Time series and figures of one closed-loop run (SI units).
-
-    Attributes
-    ----------
-    time_s : ndarray, shape (n + 1,)
-        Control instants, 0 .. duration.
-    state : ndarray, shape (n + 1, n_x)
-        Plant state (model layout) at each instant.
-    rate_rad_s : ndarray, shape (n + 1, 3)
-        Body rate omega_BN in B.
-    reference_BN : ndarray, shape (n + 1, 4)
-    error_rad : ndarray, shape (n + 1, 3)
-        True attitude minus reference (doubled error-quaternion vector).
-    measured_error_rad : ndarray, shape (n, 3)
-        What the star tracker told the controller at each step.
-    demand_Nm, torque_Nm : ndarray, shape (n, 3)
-        Controller demand, and the allocator's torque ``B f`` held over each step.
-    force_N : ndarray, shape (n, 3)
-        Net force of the thrust (zero to round-off).
-    scale : ndarray, shape (n,)
-        Saturation factor alpha (1: demand met).
-    thrust_N : ndarray, shape (n, n_engines)
-    disturbance_Nm : ndarray, shape (n, 3)
-        At the start of each step.
-    propulsion : PropulsionState
-        At the end.
-    events : list of RunEvent
-        Failures and depleted stages, in time order.
-    parameters : dict
-        Model parameters by name.
-    control_period_s : float
-    allocation_residual_Nm : float
-        Largest |B f - applied torque| over the run.
-    point_solves : int
-        QP solves the allocator needed (the rest reused active sets).
-    wall_time_s : float
-    slew_window_s : (float, float) or None
-        Start and end of the reference slew [s].
-    compiled_step : bool or None
-        Whether the control period ran as compiled C code.
-    authority_time_s : ndarray, shape (m,)
-        When the torque authority took each of its values: the start, and each
-        failure or depleted stage after which the loop was rebuilt [s].
-    authority_Nm : ndarray, shape (m, 6)
-        Largest pure torque at zero net force about +x, -x, +y, -y, +z, -z
-        (magnitudes) from each of those instants on [N m].
-    """
-
-    time_s: np.ndarray
-    state: np.ndarray
-    rate_rad_s: np.ndarray
-    reference_BN: np.ndarray
-    error_rad: np.ndarray
-    measured_error_rad: np.ndarray
-    demand_Nm: np.ndarray
-    torque_Nm: np.ndarray
-    force_N: np.ndarray
-    scale: np.ndarray
-    thrust_N: np.ndarray
-    disturbance_Nm: np.ndarray
-    propulsion: PropulsionState
-    fuel_start_kg: np.ndarray
-    events: list[RunEvent]
-    parameters: dict[str, float]
-    control_period_s: float
-    total_mass_kg: float
-    allocation_residual_Nm: float
-    point_solves: int
-    wall_time_s: float
-    slew_window_s: tuple[float, float] | None = None
-    compiled_step: bool | None = None
-    authority_time_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    authority_Nm: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
-
-    @property
-    def fuel_per_cubesat_kg(self) -> np.ndarray:
-        """Propellant burnt by each CubeSat during the run, shape (n_cubesats,) [kg]."""
-        return self.propulsion.per_cubesat(self.fuel_per_engine_kg)
-
-    @property
-    def fuel_per_engine_kg(self) -> np.ndarray:
-        """Propellant burnt by each engine during the run, shape (n_engines,) [kg]."""
-        return (self.fuel_start_kg - self.propulsion.propellant_kg).sum(axis=1)
-
-    @property
-    def exhaust_velocity_m_s(self) -> float:
-        """Effective exhaust velocity of the propellant burnt [m/s].
-
-        The engines' one exhaust velocity when they share an Isp; otherwise the
-        mean over the engines weighted by the propellant each burnt (total
-        impulse over total propellant, the velocity the rocket equation takes
-        for the run's Delta v), or their plain mean if nothing was burnt.
-        """
-        exhaust = self.propulsion.exhaust_velocity_m_s
-        if np.all(exhaust == exhaust[0]):
-            return float(exhaust[0])
-        fuel = self.fuel_per_engine_kg
-        if fuel.sum() <= 0.0:
-            return float(np.mean(exhaust))
-        return float(np.sum(fuel * exhaust) / fuel.sum())
-
-    def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
-        """First instant after which every error component stays inside ``band_rad``.
-
-        None when the run ends outside the band.
-        """
-        return settle_time_s(self.time_s, self.error_rad, band_rad)
-
-    def summary(self) -> RunSummary:
-        """Figures of the run, units in the names."""
-        return summarize(self)
 
 
 @dataclass(frozen=True, eq=False)
@@ -175,12 +57,14 @@ class RunInputs:
     failures : tuple of FailureEvent, optional
     allocator : Allocator, optional
     propulsion : PropulsionState, optional
+    noise_seed : int, optional
     """
 
     parameters: np.ndarray | None = None
     failures: tuple[FailureEvent, ...] | None = None
     allocator: Allocator | None = None
     propulsion: PropulsionState | None = None
+    noise_seed: int | None = None
 
 
 def simulate(
@@ -197,6 +81,7 @@ def simulate(
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
     allocator: Allocator | None = None,
     jit: bool = False,
+    noise_seed: int | None = None,
 ) -> ClosedLoopResult:
     """Run one closed-loop scenario.
 
@@ -229,6 +114,8 @@ def simulate(
         Run the step as compiled C (RK4 only): the batched loop of
         :mod:`~casadi_debris.simulation.batched` with one slot, compiled
         once per machine (seconds) and loaded from the cache afterwards.
+    noise_seed : int, optional
+        Seed of the noise (default ``[sensors] seed``); unused by the ideal loop.
 
     Returns
     -------
@@ -239,7 +126,7 @@ def simulate(
         model,
         controller,
         reference,
-        [RunInputs(parameters, failures, allocator, propulsion)],
+        [RunInputs(parameters, failures, allocator, propulsion, noise_seed)],
         integrator=integrator,
         integrator_steps=integrator_steps,
         chunk_steps=chunk_steps,
@@ -265,7 +152,7 @@ def simulate_many(
 ) -> list[ClosedLoopResult | Exception]:
     """Run several closed-loop scenarios of one problem; with ``jit``, all at once.
 
-    With ``jit`` (and RK4) every stretch of every run is one call of one
+    With ``jit`` (RK4, the paper's ideal loop) every stretch of every run is one call of one
     compiled function mapped over the runs
     (:func:`~casadi_debris.simulation.batched.roll_together`); between
     stretches each run allocates, burns and fails as :func:`simulate` does
@@ -294,9 +181,10 @@ def simulate_many(
     period = _control_period(reference)
     discrete = discretize_controller(controller, period)
     steps = problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
-    rollouts = [_Rollout.of(problem, model, reference, discrete, run) for run in runs]
+    realism = Realism.of(problem, period)
+    rollouts = [_Rollout.of(problem, model, reference, discrete, run, realism) for run in runs]
     errors = None
-    if jit and integrator == "rk4" and rollouts:
+    if jit and integrator == "rk4" and realism is None and rollouts:
         errors = roll_together(
             rollouts,
             model,
@@ -307,6 +195,7 @@ def simulate_many(
         )
     if errors is None:
         options = {"integrator_steps": steps, "integrator": integrator, "jit": jit}
+        options["realism"] = realism
         errors = [r.roll_alone(chunk_steps, options) for r in rollouts]
     else:
         for rollout in rollouts:
@@ -327,13 +216,16 @@ def simulate_many(
 
 @dataclass(frozen=True, eq=False)
 class _Series:
-    """What every run of one reference shares for its result: the sine disturbance."""
+    """What every run of one reference shares for its result: the attitude error over
+    the whole run (a mapped Function) and the sine disturbance."""
 
+    error: ca.Function
     sine_Nm: np.ndarray
 
     @classmethod
     def of(cls, model: Model, reference: Reference) -> _Series:
-        return cls(sine_series(model, reference.time_s[:-1]))
+        times = reference.time_s
+        return cls(model.attitude_error.map(len(times)), sine_series(model, times[:-1]))
 
 
 def _control_period(reference: Reference) -> float:
@@ -363,6 +255,9 @@ class _Rollout:
     engines: PropulsionState
     allocator: Allocator
     failures: tuple[FailureEvent, ...]
+    problem: Problem
+    realism: Realism | None = None
+    noise_seed: int | None = None
 
     @classmethod
     def of(
@@ -372,6 +267,7 @@ class _Rollout:
         reference: Reference,
         controller: DiscreteController,
         run: RunInputs,
+        realism: Realism | None = None,
     ) -> _Rollout:
         """A run at its start (engines full unless ``run.propulsion`` says otherwise)."""
         p = run.parameters
@@ -388,13 +284,21 @@ class _Rollout:
             engines=engines,
             allocator=allocator,
             failures=problem.simulation.failures if run.failures is None else run.failures,
+            problem=problem,
+            realism=realism,
+            noise_seed=run.noise_seed,
         )
 
     def __post_init__(self) -> None:
         self.period = float(self.reference.time_s[1] - self.reference.time_s[0])
         self.n = len(self.reference.time_s) - 1
+        self.noise: NoiseStreams | None = None
+        if self.realism is not None:
+            times = self.reference.time_s[:-1]
+            self.noise = draw_noise(self.problem, self.model.geometry, times, self.noise_seed)
         self.states = np.zeros((self.n + 1, self.model.layout.size))
-        self.outputs = np.zeros((self.n, StepOutput.SIZE))
+        width = StepOutput.SIZE if self.realism is None else self.realism.output_size
+        self.outputs = np.zeros((self.n, width))
         self.applied = np.zeros((self.n, 3))
         self.thrust = np.zeros((self.n, self.engines.n_engines))
         self.events: list[RunEvent] = []
@@ -408,6 +312,9 @@ class _Rollout:
         self.z = np.concatenate(
             [_initial_state(self.model, self.reference), np.zeros(self.controller.n_states)]
         )
+        if self.realism is not None:
+            aux = self.realism.initial_aux(self.problem, self.reference.quaternion_BN[0])
+            self.z = np.concatenate([self.z, aux])
         self.states[0] = self.z[: self.model.layout.size]
         self.k = 0
         self.polytope: AuthorityPolytope | None = None
@@ -445,11 +352,12 @@ class _Rollout:
                         self.controller,
                         self.polytope,
                         chunk_steps=chunk_steps,
+                        basis=engine_basis(self.allocator) if self._engine_level else None,
                         **loop_options,
                     )
                     built_for = self.polytope
                     self.compiled = self.compiled or loop.compiled
-                inputs = self.inputs(chunk_steps, k, stop)
+                inputs = self.inputs(chunk_steps, k, stop, loop.n_inputs)
                 z_all, y_all = loop.roll(self.z, inputs, self.parameters)
                 self.take(z_all, y_all, k, stop)
         except Exception as exc:  # the caller decides: simulate raises it, a campaign records it
@@ -461,26 +369,45 @@ class _Rollout:
         burn, cut short where the engines change (the next stretch starts there)."""
         z_all = z_all[:, : stop - k]
         y_all = y_all[:, : stop - k].T
-        applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
-        allocation = self.allocator.allocate_series(applied)
+        if self.realism is None:
+            applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
+        else:
+            applied = y_all[:, StepOutput.APPLIED_NM]
+        engine_level = self._engine_level
+        allocation = self.allocator.allocate_series(
+            y_all[:, StepOutput.COMMAND_NM] if engine_level else applied
+        )
         self.point_solves += allocation.point_solves
-        done, stage_events = self.engines.advance_series(allocation.thrust_N, self.period)
+        thrust = allocation.thrust_N
+        if engine_level:  # the engines' effects on the allocated thrust
+            change = y_all[:, StepOutput.THRUST_CHANGE_START :]
+            thrust = np.clip(thrust + change, 0.0, self.allocator.max_thrust_N)
+        done, stage_events = self.engines.advance_series(thrust, self.period)
         for index, event in stage_events:
             time_s = (k + index) * self.period + event.time_s
             self.events.append(depleted_event(event, time_s, self.engines))
         self.outputs[k : k + done] = y_all[:done]
         self.applied[k : k + done] = applied[:done]
-        self.thrust[k : k + done] = allocation.thrust_N[:done]
+        self.thrust[k : k + done] = thrust[:done]
         self.states[k + 1 : k + done + 1] = z_all[: self.model.layout.size, :done].T
         self.z = z_all[:, done - 1].copy()
         self.k = k + done
         if done < stop - k:
             self.polytope = None  # a CubeSat's limit changed: new authority from the step after
 
-    def inputs(self, chunk_steps: int, k: int, stop: int) -> np.ndarray:
-        """The step inputs of periods k .. stop - 1, padded to ``chunk_steps`` columns."""
+    @property
+    def _engine_level(self) -> bool:
+        return self.realism is not None and self.realism.engine_level
+
+    def inputs(self, chunk_steps: int, k: int, stop: int, rows: int = StepInput.SIZE) -> np.ndarray:
+        """The step inputs of periods k .. stop - 1 (``rows`` of them), padded to
+        ``chunk_steps`` columns."""
         reference, used = self.reference, stop - k
-        inputs = np.zeros((StepInput.SIZE, chunk_steps))
+        inputs = np.zeros((rows, chunk_steps))
+        if self.realism is not None and self.noise is not None:
+            inputs[StepInput.SIZE :, :used] = self.realism.inputs.rows(
+                self.problem, self.noise, self.period, k, stop
+            )
         inputs[StepInput.TIME_S, :used] = reference.time_s[k:stop]
         inputs[StepInput.REFERENCE_BN, :used] = reference.quaternion_BN[k:stop].T
         if reference.feedforward_Nm is not None:
@@ -493,16 +420,22 @@ class _Rollout:
         """The run's series and figures; checks the allocator met every applied torque."""
         model, reference, n = self.model, self.reference, self.n
         torque = self.thrust @ self.allocator.torque_map.T
-        residual = float(np.abs(torque - self.applied).max()) if n else 0.0
+        force = self.thrust @ self.allocator.force_map.T
+        if self._engine_level:  # the step's own engines: their misaligned, noisy wrench
+            torque = self.outputs[:, StepOutput.APPLIED_NM]
+            force = self.outputs[:, StepOutput.FORCE_N]
+        # With engine-level effects the step allocates itself: nothing to check here.
+        checked = n and not self._engine_level
+        residual = float(np.abs(torque - self.applied).max()) if checked else 0.0
         polytope = self.allocator.authority_polytope()
         authority = float(np.abs(polytope.vertices).max()) if n else 1.0
         if residual > ALLOCATION_TOLERANCE * authority:
             raise SimulationError(
                 f"the allocator's torque differs from the applied torque by {residual:.3g} N m"
             )
-        # The step gave the error at each period's start; the last instant's is computed here.
-        last = model.attitude_error(reference.quaternion_BN[n], self.states[n, model.layout.q])
-        error = np.vstack([self.outputs[:, StepOutput.ERROR_RAD], np.asarray(last).T])
+        error = np.asarray(
+            series.error(reference.quaternion_BN.T, self.states[:, model.layout.q].T)
+        ).T
         p = Parameters.from_vector(model.parameter_layout, self.parameters)
         return ClosedLoopResult(
             time_s=reference.time_s,
@@ -513,7 +446,7 @@ class _Rollout:
             measured_error_rad=self.outputs[:, StepOutput.MEASURED_ERROR_RAD],
             demand_Nm=self.outputs[:, StepOutput.DEMAND_NM],
             torque_Nm=torque,
-            force_N=self.thrust @ self.allocator.force_map.T,
+            force_N=force,
             scale=self.outputs[:, StepOutput.SCALE],
             thrust_N=self.thrust,
             disturbance_Nm=disturbance_series(
@@ -531,6 +464,7 @@ class _Rollout:
             compiled_step=self.compiled,
             authority_time_s=np.array([t for t, _ in self.authority]),
             authority_Nm=np.array([reach for _, reach in self.authority]).reshape(-1, 6),
+            noise_seed=None if self.noise is None else self.noise.seed,
             slew_window_s=(
                 None
                 if reference.slew is None

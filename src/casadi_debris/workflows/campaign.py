@@ -63,6 +63,8 @@ from casadi_debris.simulation.monte_carlo import (
     CasesFailedError,
     SchedulerError,
 )
+from casadi_debris.simulation.sampling import varied_case, varied_cases
+from casadi_debris.simulation.statistics import statistics_of
 from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.workflows.controller import controller_for
 
@@ -100,9 +102,11 @@ class CaseSelection:
     Attributes
     ----------
     corners : bool
-        Every corner of the uncertainty set (the default when ``samples`` is None).
+        Every corner of the uncertainty set (the default when ``samples`` is None
+        and the problem has no ``[[montecarlo.vary]]``).
     samples : int, optional
-        That many seeded random samples instead.
+        That many seeded random samples instead (of the uncertainty set, or the
+        draws of ``[[montecarlo.vary]]``: see :mod:`casadi_debris.simulation.sampling`).
     seed : int, optional
         Seed of the samples (default the problem's ``montecarlo.seed``).
     max_cases : int, optional
@@ -118,7 +122,11 @@ class CaseSelection:
         """The chosen cases, in campaign order."""
         if self.samples is not None and self.corners:
             raise InputShapeError("give either --corners or --samples, not both")
-        if self.samples is not None:
+        if problem.montecarlo.vary and not self.corners:
+            seed = problem.montecarlo.seed if self.seed is None else self.seed
+            count = problem.montecarlo.samples if self.samples is None else self.samples
+            chosen = varied_cases(problem, model, count, seed)
+        elif self.samples is not None:
             seed = problem.montecarlo.seed if self.seed is None else self.seed
             chosen = sample_cases(problem, model, self.samples, seed)
         else:
@@ -132,7 +140,10 @@ class CaseSelection:
 def one_case(
     problem: Problem, model: Model, corner: int | None, sample: int | None, seed: int | None
 ) -> Case:
-    """Corner ``corner``, sample ``sample`` (with ``seed``), or the nominal case."""
+    """Corner ``corner``, sample ``sample`` (with ``seed``), or the nominal case.
+
+    With ``[[montecarlo.vary]]``, ``sample`` is that campaign's case of that index.
+    """
     if corner is not None and sample is not None:
         raise InputShapeError("give either --corner or --sample, not both")
     if corner is not None:
@@ -141,9 +152,13 @@ def one_case(
         except SimulationError as exc:
             raise InputShapeError(f"--corner: {exc}") from None
     if sample is not None:
-        return sample_case(
-            problem, model, sample, problem.montecarlo.seed if seed is None else seed
-        )
+        seed = problem.montecarlo.seed if seed is None else seed
+        if problem.montecarlo.vary:
+            try:
+                return varied_case(problem, model, sample, seed)
+            except SimulationError as exc:
+                raise InputShapeError(f"--sample: {exc}") from None
+        return sample_case(problem, model, sample, seed)
     return nominal_case(model)
 
 
@@ -368,8 +383,20 @@ def _summarise_and_write(
     allocator = Allocator.from_problem(problem, model.geometry)
     nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
+    statistics = statistics_of(
+        problem, outcomes, model.parameter_layout.names, len(how["failed_cases"])
+    )
+    LOGGER.info(
+        "%s: %d of %d cases within %s <= %g",
+        problem.name,
+        statistics.passed,
+        statistics.cases + statistics.failed_cases,
+        statistics.requirement_figure,
+        statistics.requirement,
+    )
     nominal_figures = {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS}
-    summary = campaign_summary(problem, setup, outcomes, nominal_figures, _described(identity, how))
+    run = _described(identity, how)
+    summary = campaign_summary(problem, setup, outcomes, nominal_figures, run, statistics)
     write_campaign(
         folder.partial,
         problem,
