@@ -113,13 +113,7 @@ def compiled_library(function: ca.Function, compiler: str, flags: Sequence[str] 
     with ``casadi.external`` (:func:`compiled_function`) or call it directly
     (:class:`~casadi_debris.simulation.native.NativeFunction`).
 
-    Parameters are those of :func:`compiled_function`.
-
-    Raises
-    ------
-    CompileError
-        The cache folder cannot be written, the compiler fails, or the
-        compiled library does not load.
+    Parameters and errors (:class:`CompileError`) are those of :func:`compiled_function`.
     """
     name = function.name()
     try:
