@@ -19,8 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import AXIS_NAMES, Problem
-from casadi_debris.geometry import Geometry, build_geometry, torque_authority
-from casadi_debris.units import M_PER_KM, SECONDS_PER_HOUR
+from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
+
+# Edelbaum's formula lives with the transfer; re-exported here, beside the other budget lines.
+from casadi_debris.orbit.transfer_averaged import edelbaum_dv as edelbaum_dv
+from casadi_debris.units import SECONDS_PER_HOUR
 
 
 def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_kg: float) -> float:
@@ -31,22 +34,6 @@ def rocket_dv(isp_s: float, g0_m_s2: float, initial_mass_kg: float, propellant_k
 def problem_stage_propellant_kg(problem: Problem) -> float:
     """Propellant of one stage of the problem's first engine [kg]."""
     return problem.engines[0].stage_propellant_kg(problem.constants.standard_gravity_m_s2)
-
-
-def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:
-    """The engines grouped by the direction of their force: (unit direction, engine indices).
-
-    Directions within 1e-6 of each other are one; in order of first appearance.
-    """
-    groups: list[tuple[np.ndarray, list[int]]] = []
-    for engine in geometry.engines:
-        for direction, members in groups:
-            if np.linalg.norm(direction - engine.direction) < 1e-6:
-                members.append(engine.index)
-                break
-        else:
-            groups.append((engine.direction, [engine.index]))
-    return groups
 
 
 def burn_dv_m_s(problem: Problem, initial_mass_kg: float, stages: dict[int, int]) -> float:
@@ -76,21 +63,6 @@ def burn_dv_m_s(problem: Problem, initial_mass_kg: float, stages: dict[int, int]
         else sum(engines[i].isp_s * kg for i, kg in burnt.items()) / propellant
     )
     return rocket_dv(isp, g0, initial_mass_kg, propellant)
-
-
-def edelbaum_dv(
-    mu_km3_s2: float, radius_from_km: float, radius_to_km: float, inclination_change_rad: float
-) -> float:
-    """Edelbaum low-thrust Δv [m/s] between circular orbits with a plane change.
-
-    dv = sqrt(V0^2 - 2 V0 V1 cos(pi/2 di) + V1^2) (Edelbaum 1961; Kechichian 1997).
-    """
-    v0 = math.sqrt(mu_km3_s2 / radius_from_km)
-    v1 = math.sqrt(mu_km3_s2 / radius_to_km)
-    dv_km_s = math.sqrt(
-        v0**2 - 2.0 * v0 * v1 * math.cos(math.pi / 2.0 * inclination_change_rad) + v1**2
-    )
-    return dv_km_s * M_PER_KM
 
 
 def detumble_time_s(inertia_kgm2: np.ndarray, rate_rad_s: np.ndarray, authority: dict) -> float:

@@ -317,3 +317,63 @@ def torque_authority(
             -float(result.fun) if result.status == 0 and result.fun is not None else 0.0
         )
     return authority
+
+
+def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:
+    """The engines grouped by the direction of their force: (unit direction, engine indices).
+
+    Directions within 1e-6 of each other are one; in order of first appearance.
+    """
+    groups: list[tuple[np.ndarray, list[int]]] = []
+    for engine in geometry.engines:
+        for direction, members in groups:
+            if np.linalg.norm(direction - engine.direction) < 1e-6:
+                members.append(engine.index)
+                break
+        else:
+            groups.append((engine.direction, [engine.index]))
+    return groups
+
+
+def force_authority(
+    geometry: Geometry, direction: np.ndarray, available: np.ndarray | None = None
+) -> tuple[float, np.ndarray]:
+    """Largest pure force along a body direction at zero net torque, by linear programming.
+
+    Maximise s subject to ``force_map f = s d``, ``torque_map f = 0`` and
+    0 <= f_i <= f_max,i: the force part of :func:`torque_authority`'s LP.
+
+    Parameters
+    ----------
+    geometry : Geometry
+    direction : ndarray, shape (3,)
+        Unit direction d in body frame B.
+    available : ndarray of bool, shape (n_engines,), optional
+        Engines that may fire (default all).
+
+    Returns
+    -------
+    force_N : float
+        s, 0 when no thrust along d can be balanced.
+    thrust_N : ndarray, shape (n_engines,)
+        The engines' thrusts giving it.
+    """
+    limits = max_thrust_N(geometry)
+    if available is not None:
+        limits = np.where(available, limits, 0.0)
+    d = np.asarray(direction, dtype=float)
+    n = len(limits)
+    # Variables [f (n), s]: F f - s d = 0, B f = 0.
+    a_eq = np.block([[geometry.force_map, -d[:, None]], [geometry.torque_map, np.zeros((3, 1))]])
+    cost = np.zeros(n + 1)
+    cost[-1] = -1.0
+    result = linprog(
+        cost,
+        A_eq=a_eq,
+        b_eq=np.zeros(6),
+        bounds=[*zip(np.zeros(n), limits, strict=True), (0.0, None)],
+        method="highs",
+    )
+    if result.status != 0 or result.x is None:
+        return 0.0, np.zeros(n)
+    return float(result.x[-1]), np.asarray(result.x[:n])

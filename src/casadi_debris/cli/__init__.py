@@ -19,11 +19,13 @@ from casadi_debris.cli import (  # noqa: F401
     design,  # design
     detumble,  # detumble
     failures,  # failures
+    mission,  # mission
     placement,  # placement
     reproduce,  # reproduce
     robust,  # synthesize, margins
     simulate,  # simulate, montecarlo
     slew,  # slew
+    transfer,  # transfer
     worstcase,  # worstcase
 )
 from casadi_debris.cli.common import main

@@ -15,11 +15,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.budgets import burn_dv_m_s, thrust_directions
+from casadi_debris.budgets import burn_dv_m_s
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.config.schema import CubeSat
 from casadi_debris.errors import SlewInfeasibleError
-from casadi_debris.geometry import Geometry, build_geometry, torque_authority
+from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
 from casadi_debris.slew.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration
 from casadi_debris.studies.placement_data import bare_debris
 

@@ -1,0 +1,80 @@
+"""``casadi-debris transfer``: the low-thrust orbit transfer with the swarm's staged engines."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import click
+
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    out_folder_option,
+    overwrite_option,
+    problem_argument,
+    say,
+)
+from casadi_debris.config import load_problem
+from casadi_debris.report.common import format_table
+from casadi_debris.report.folders import default_run_folder
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--objective",
+    type=click.Choice(["time", "propellant"]),
+    default="time",
+    show_default=True,
+    help="Minimum transfer time, or minimum propellant (throttled, time at most 10 % over the "
+    "guidance law's).",
+)
+@out_folder_option("transfer")
+@overwrite_option
+@json_option
+@friendly_errors
+def transfer(
+    problem_file: Path | None, objective: str, out: Path | None, overwrite: bool, as_json: bool
+) -> None:
+    """Plan the problem's [transfer] with the swarm's thrust directions, staging and J2.
+
+    Edelbaum steering flown in closed loop and an optimal control problem, both on
+    orbit-averaged equinoctial elements; reports Δv beside Edelbaum's, time,
+    propellant, stages per CubeSat, and whether the swarm's own stages suffice
+    (if not: how far they get and what more it takes).
+    """
+    from casadi_debris.orbit.transfer import check_transfer
+    from casadi_debris.workflows.transfer import transfer_into
+
+    problem = load_problem(problem_file)
+    check_transfer(problem)
+    folder = out or default_run_folder("transfer", problem.name)
+    say(f"Planning the transfer of {problem.name} (minimum {objective}) ...")
+    result = transfer_into(problem, folder, objective=objective, overwrite=overwrite)  # type: ignore[arg-type]
+    if as_json:
+        echo_json(result)
+        return
+    rows: list[list[Any]] = [
+        ["Edelbaum dv [m/s]", result.edelbaum_dv_m_s],
+        ["OCP dv [m/s]", result.transfer_dv_m_s],
+        ["OCP time [days]", result.transfer_time_days],
+        ["OCP propellant [kg]", result.propellant_kg],
+        ["guidance dv [m/s]", result.guidance_dv_m_s],
+        ["guidance time [days]", result.guidance_time_days],
+        ["own stages: dv [m/s]", result.available_dv_m_s],
+        ["own stages: firing time [days]", result.available_time_days],
+        ["swarm suffices", result.swarm_suffices],
+    ]
+    if not result.swarm_suffices:
+        rows += [
+            ["reached altitude [km]", result.reached_altitude_km],
+            ["reached inclination [deg]", result.reached_inclination_deg],
+            ["shortfall dv [m/s]", result.shortfall_dv_m_s],
+            ["extra stages per CubeSat needed", result.extra_stages_per_cubesat_needed],
+            ["extra CubeSats needed", result.extra_cubesats_needed],
+        ]
+    click.echo(format_table(["figure", "value"], rows))
+    click.echo(f"written to {result.out_dir}")

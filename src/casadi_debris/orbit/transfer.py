@@ -1,0 +1,193 @@
+"""Plan the problem's orbit transfer with the swarm's staged engines: :func:`plan_transfer`.
+
+The steps: the swarm's thrust directions and their zero-torque force
+(:mod:`~casadi_debris.orbit.transfer_thrust`), the burn schedule (each
+direction's stages in turn, then hypothetical extra stage lives if the swarm's
+own do not suffice), Edelbaum steering flown in closed loop on the averaged
+dynamics with J2 (:mod:`~casadi_debris.orbit.transfer_guidance`), and the
+optimal control problem started from it (:mod:`~casadi_debris.orbit.transfer_ocp`).
+The answer says whether the swarm's own stages reach the target orbit, how far
+they get if not, and what more it would take.
+
+Example
+-------
+>>> from casadi_debris import load_problem
+>>> from casadi_debris.orbit import plan_transfer
+>>> plan = plan_transfer(load_problem())  # doctest: +SKIP
+>>> round(plan.result.transfer_dv_m_s, 1), plan.result.swarm_suffices  # doctest: +SKIP
+(143.9, False)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import ProblemFileError
+from casadi_debris.geometry import build_geometry
+from casadi_debris.orbit.elements import EARTH_J2, mee_circular
+from casadi_debris.orbit.transfer_averaged import averaged_dynamics, edelbaum_dv
+from casadi_debris.orbit.transfer_guidance import (
+    DEFAULT_PERIOD_S,
+    GuidedTransfer,
+    edelbaum_guidance,
+)
+from casadi_debris.orbit.transfer_ocp import (
+    Objective,
+    OptimalTransfer,
+    TransferTarget,
+    solve_transfer_ocp,
+)
+from casadi_debris.orbit.transfer_result import TransferResult, summarise
+from casadi_debris.orbit.transfer_thrust import (
+    Burn,
+    ThrustGroup,
+    burn_schedule,
+    dv_of_burns,
+    thrust_groups,
+)
+from casadi_debris.units import M_PER_KM
+
+# The propellant objective may take this much longer than the guidance law.
+DEFAULT_TIME_SLACK = 0.1
+# OCP shooting segments in all, by default (the paper's 7 burns: 4 each).
+TARGET_SEGMENTS = 28
+# Hypothetical burns stop when they would leave less than this share of the mass.
+MIN_MASS_FRACTION = 0.2
+
+
+@dataclass(frozen=True, eq=False)
+class TransferPlan:
+    """A planned transfer: the summary and the trajectories behind it.
+
+    Attributes
+    ----------
+    result : TransferResult
+    guided : GuidedTransfer
+        Edelbaum steering, closed loop, through the whole burn schedule.
+    optimal : OptimalTransfer
+    groups : list of ThrustGroup
+    burns : list of Burn
+        The schedule the guidance flew (real burns first).
+    stage_switches : list of (float, int, int)
+        (time [s], CubeSat, stage) when a stage ran dry, 1-based.
+    """
+
+    result: TransferResult
+    guided: GuidedTransfer
+    optimal: OptimalTransfer
+    groups: list[ThrustGroup]
+    burns: list[Burn]
+    stage_switches: list[tuple[float, int, int]]
+
+
+def plan_transfer(
+    problem: Problem,
+    *,
+    objective: Objective = "time",
+    segments_per_burn: int | None = None,
+    guidance_period_s: float = DEFAULT_PERIOD_S,
+    time_slack: float = DEFAULT_TIME_SLACK,
+) -> TransferPlan:
+    """The problem's ``[transfer]`` (circular to circular, plane change) with its swarm.
+
+    Parameters
+    ----------
+    problem : Problem
+    objective : {"time", "propellant"}
+        Minimum transfer time at full thrust, or minimum propellant with a
+        throttle and the time at most ``(1 + time_slack)`` times the guidance's.
+    segments_per_burn : int, optional
+        OCP shooting segments per burn; default about ``TARGET_SEGMENTS`` in all
+        (at least one per burn), so that a weak swarm's many burns keep the NLP small.
+    guidance_period_s : float
+        How often the guidance law re-plans its yaw [s].
+    time_slack : float
+
+    Returns
+    -------
+    TransferPlan
+
+    Raises
+    ------
+    ProblemFileError
+        The two orbits are the same, or no thrust direction can push at zero torque.
+    """
+    constants, transfer = problem.constants, problem.transfer
+    mu = constants.earth_mu_km3_s2 * M_PER_KM**3
+    radius = constants.earth_radius_km * M_PER_KM
+    earth = (mu, radius, EARTH_J2)
+    start_radius = radius + transfer.from_altitude_km * M_PER_KM
+    target = (
+        radius + transfer.to_altitude_km * M_PER_KM,
+        math.radians(transfer.to_inclination_deg),
+    )
+    dv_edelbaum = check_transfer(problem)
+    geometry = build_geometry(problem)
+    groups = thrust_groups(problem, geometry)
+    if not groups:
+        raise ProblemFileError("cubesats", "no thrust direction can push at zero net torque")
+    burns = _schedule(groups, geometry.mass_kg, 1.5 * dv_edelbaum)
+    dynamics = averaged_dynamics()
+    x0 = mee_circular(start_radius, math.radians(transfer.from_inclination_deg))
+    guided = edelbaum_guidance(
+        dynamics, x0, geometry.mass_kg, target, burns, earth, period_s=guidance_period_s
+    )
+    if not guided.reached:
+        raise ProblemFileError(
+            "transfer", "not reachable even with extra stages before the mass runs out"
+        )
+    used = burns[: int(guided.burn[-1]) + 1]
+    time_limit = guided.time_s[-1] * (1.0 + time_slack)
+    if objective == "propellant":
+        used = [b for b in burns if b.start_s < time_limit]
+    data = TransferTarget(
+        x0=x0,
+        mass_kg=geometry.mass_kg,
+        radius_m=target[0],
+        inclination_rad=target[1],
+        earth=earth,
+        burns=used,
+        guess=(guided.time_s, guided.elements, guided.mass_kg, guided.yaw_rad),
+    )
+    optimal = solve_transfer_ocp(
+        dynamics,
+        data,
+        objective=objective,
+        time_limit_s=time_limit,
+        segments_per_burn=segments_per_burn or max(1, round(TARGET_SEGMENTS / len(used))),
+    )
+    result, switches = summarise(problem, geometry, groups, burns, guided, optimal, dv_edelbaum)
+    return TransferPlan(result, guided, optimal, groups, burns, switches)
+
+
+def check_transfer(problem: Problem) -> float:
+    """Edelbaum's Δv [m/s] of the problem's ``[transfer]``, refusing one with nothing to do.
+
+    Raises
+    ------
+    ProblemFileError
+        The from and to orbits are the same.
+    """
+    constants, transfer = problem.constants, problem.transfer
+    dv = edelbaum_dv(
+        constants.earth_mu_km3_s2,
+        constants.earth_radius_km + transfer.from_altitude_km,
+        constants.earth_radius_km + transfer.to_altitude_km,
+        math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
+    )
+    if dv <= 0.0:
+        raise ProblemFileError("transfer", "the from and to orbits are the same: nothing to do")
+    return dv
+
+
+def _schedule(groups: list[ThrustGroup], mass_kg: float, dv_m_s: float) -> list[Burn]:
+    """The real burns and enough hypothetical ones for ``dv_m_s``, while mass is left."""
+    extra = 0
+    while True:
+        burns = burn_schedule(groups, extra)
+        dv = dv_of_burns(burns, mass_kg, MIN_MASS_FRACTION)
+        if len(dv) < len(burns) or dv[-1] >= dv_m_s:
+            return burns[: len(dv)]
+        extra += len(groups)

@@ -1,0 +1,66 @@
+"""An orbit transfer as a run folder: summary.json, guidance.csv, ocp.csv and transfer.png."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from casadi_debris.orbit import TransferPlan, TransferResult
+from casadi_debris.plots.transfer import altitude_inclination, plot_transfer
+from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.units import DEG_PER_RAD, SECONDS_PER_DAY
+
+
+def write_transfer(
+    folder: Path,
+    plan: TransferPlan,
+    result: TransferResult,
+    radius_km: float,
+    target: tuple[float, float],
+) -> None:
+    """Write the summary, both trajectories (days, km, deg, kg; burns 1-based) and the figure.
+
+    ``guidance.csv`` has one row per guidance period, ``ocp.csv`` one per OCP
+    node; ``direction`` is the firing thrust direction (1-based, in the order of
+    ``thrust_mN``) and ``own_stage`` is 0 for a hypothetical extra burn.
+    """
+    write_json_atomic(folder / "summary.json", result)
+    guided, optimal = plan.guided, plan.optimal
+    write_csv(
+        folder / "guidance.csv",
+        {
+            **_orbit_columns(guided.time_s, guided.elements, guided.mass_kg, radius_km),
+            "yaw_deg": guided.yaw_rad * DEG_PER_RAD,
+            "direction": np.array([plan.burns[b].group + 1 for b in guided.burn]),
+            "own_stage": np.array([int(plan.burns[b].real) for b in guided.burn]),
+        },
+    )
+    # Controls hold from a node to the next: the last node repeats the last segment's.
+    write_csv(
+        folder / "ocp.csv",
+        {
+            **_orbit_columns(optimal.time_s, optimal.elements, optimal.mass_kg, radius_km),
+            "yaw_deg": np.append(optimal.yaw_rad, optimal.yaw_rad[-1]) * DEG_PER_RAD,
+            "throttle": np.append(optimal.throttle, optimal.throttle[-1]),
+            "direction": np.array(
+                [plan.burns[b].group + 1 for b in np.append(optimal.burn, optimal.burn[-1])]
+            ),
+        },
+    )
+    plot_transfer(
+        plan, folder / "transfer.png", radius_km=radius_km, target=target, title=result.problem
+    )
+
+
+def _orbit_columns(
+    time_s: np.ndarray, elements: np.ndarray, mass_kg: np.ndarray, radius_km: float
+) -> dict[str, np.ndarray]:
+    """Time [days], mean altitude [km], inclination [deg] and mass [kg] of a trajectory."""
+    altitude, inclination = altitude_inclination(elements, radius_km)
+    return {
+        "time_days": time_s / SECONDS_PER_DAY,
+        "altitude_km": altitude,
+        "inclination_deg": inclination,
+        "mass_kg": mass_kg,
+    }
