@@ -286,3 +286,32 @@ def test_bad_histories_are_named_errors(
     allocator = Allocator.from_problem(problem, geometry)
     with pytest.raises(InputShapeError):
         allocator.allocate_series(torques)
+
+
+def test_the_closed_form_anchor_multiplier_is_the_lps_optimum() -> None:
+    from casadi_debris.allocation.series import _multiplier_lp, _one_free_direction
+
+    rng = np.random.default_rng(11)
+    solved = 0
+    for trial in range(200):
+        m, n_free, n_bounded = 6, int(rng.integers(5, 9)), int(rng.integers(3, 20))
+        # Free columns spanning 5 of the 6 rows: one free direction of lambda.
+        basis = rng.normal(size=(m, 5))
+        a_free = basis @ rng.normal(size=(5, n_free))
+        rhs = a_free.T @ rng.normal(size=m)  # consistent
+        slopes = rng.normal(size=(n_bounded, m))
+        constants = rng.normal(size=n_bounded) + (trial % 3)
+        closed = _one_free_direction(a_free, rhs, slopes, constants)
+        lp = _multiplier_lp(a_free, rhs, slopes, constants)
+        assert closed is not None and lp is not None
+        assert closed[1] == pytest.approx(lp[1], abs=1e-8)
+        # The closed form's lambda is feasible and gives the value it claims.
+        assert np.abs(a_free.T @ closed[0] - rhs).max() < 1e-9
+        assert min(1.0, (constants + slopes @ closed[0]).min()) == pytest.approx(closed[1])
+        solved += 1
+    assert solved == 200
+    full_rank = rng.normal(size=(6, 8))
+    assert (
+        _one_free_direction(full_rank, full_rank.T @ np.ones(6), np.ones((2, 6)), np.ones(2))
+        is None
+    )

@@ -432,6 +432,72 @@ def simulation(data: Data) -> str:
     return table(["figure", "virtual machine", "compiled (JIT)", "target"], rows)
 
 
+def campaign(data: Data) -> str:
+    steps, corners, failures = (_get(data, key) for key in ("step_cpu_us", "corners", "failures"))
+    targets = data.get("targets", {})
+    step_labels = {
+        "batched": "batched (per case; the compiled function mapped over a batch)",
+        "compiled_alone": "compiled, one case (`simulate(jit=True)`)",
+        "compiled_constants": "compiled with the authority as constants, through CasADi",
+        "virtual_machine": "CasADi's virtual machine",
+    }
+    rows = [
+        [f"one control period, {text}", "", f"{num(steps.get(key))} µs", ""]
+        for key, text in step_labels.items()
+    ]
+    cases, workers = corners["cases"], corners["workers"]
+    where = f"{cases} slew corners, {workers} workers"
+    target = targets.get("corners_256_wall_s_2_cores") if (cases, workers) == (256, 2) else None
+    for key, text in (("batched", "batched"), ("one_by_one", "one by one, compiled")):
+        rows.append(
+            [
+                f"{where}, {text}",
+                f"{num(corners[f'{key}_wall_s'])} s",
+                f"{num(corners[f'{key}_cpu_s'])} s",
+                _target(target if key == "batched" else None, "s"),
+            ]
+        )
+    rows.append(
+        [
+            f"{where}, one by one on the virtual machine (scaled from a few)",
+            f"{num(corners['virtual_machine_wall_s_scaled'])} s",
+            f"{num(corners['virtual_machine_cpu_s_scaled'])} s",
+            "",
+        ]
+    )
+    if "baseline" in data:
+        base = data["baseline"]
+        rows.append(
+            [
+                f"{where}, the code before (scaled from {base['cases']} cases)",
+                f"{num(base['corners_wall_s_scaled'])} s",
+                f"{num(base['corners_cpu_s_scaled'])} s",
+                "",
+            ]
+        )
+    runs = f"{failures['nominal_runs']} nominal and {failures['corner_runs']} corner runs"
+    target = targets.get("failures_300_wall_s") if failures["cases"] == 300 else None
+    rows.append(
+        [
+            f"failure campaign, {failures['cases']} cases ({runs}), batched",
+            f"{num(failures['batched_wall_s'])} s",
+            f"{num(failures['batched_cpu_s'])} s",
+            _target(target, "s"),
+        ]
+    )
+    subset = failures["subset"]
+    for key, text in (("batched", "batched"), ("virtual_machine", "one by one, virtual machine")):
+        rows.append(
+            [
+                f"{failures['subset_cases']} of its cases, nominal runs, {text}",
+                f"{num(subset[f'{key}_wall_s'])} s",
+                f"{num(subset[f'{key}_cpu_s'])} s",
+                "",
+            ]
+        )
+    return table(["figure", "wall time", "CPU time", "target"], rows)
+
+
 def _target(value: float | None, unit: str) -> str:
     return "" if value is None else f"≤ {value:g} {unit}"
 
@@ -550,6 +616,7 @@ TABLES: dict[tuple[str, str], Callable[[Data], str]] = {
     ("slew_battery", "methods"): slew_battery,
     ("slew_global", "slews"): slew_global,
     ("simulation", "times"): simulation,
+    ("campaign", "times"): campaign,
 }
 
 

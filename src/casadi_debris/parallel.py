@@ -295,12 +295,23 @@ class _Raised:
     @classmethod
     def capture(cls, error: Exception, *, crosses: bool) -> _Raised:
         """What ``error`` was; ``crosses``: it goes to another process (kept only if it pickles)."""
-        kind = type(error)
-        name = kind.__qualname__
-        if kind.__module__ not in ("builtins", "__main__"):
-            name = f"{kind.__module__}.{name}"
-        text = "".join(traceback.format_exception(error))
-        return cls(name, str(error), text, _sendable(error) if crosses else error)
+        name, message, text = describe_error(error)
+        return cls(name, message, text, _sendable(error) if crosses else error)
+
+
+def describe_error(error: BaseException) -> tuple[str, str, str]:
+    """An exception as a failure records it: qualified type name, message, traceback text.
+
+    Examples
+    --------
+    >>> describe_error(ValueError("bad"))[:2]
+    ('ValueError', 'bad')
+    """
+    kind = type(error)
+    name = kind.__qualname__
+    if kind.__module__ not in ("builtins", "__main__"):
+        name = f"{kind.__module__}.{name}"
+    return name, str(error), "".join(traceback.format_exception(error))
 
 
 @dataclass(frozen=True)

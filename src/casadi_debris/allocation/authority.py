@@ -23,6 +23,7 @@ cheap enough to sit in every step of a simulation.
 
 from __future__ import annotations
 
+import hashlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -123,6 +124,9 @@ def authority_polytope(
     Returns
     -------
     AuthorityPolytope
+        The same object for the same maps and limits (the process keeps the
+        last :data:`KNOWN_POLYTOPES`: a campaign's runs meet the same engines
+        again and again, and each costs about a hundred LPs).
 
     Raises
     ------
@@ -143,6 +147,32 @@ def authority_polytope(
     torque_map = np.asarray(torque_map, dtype=float)
     upper = np.asarray(max_thrust_N, dtype=float)
     equality = np.zeros((0, len(upper))) if free_force else np.asarray(force_map, dtype=float)
+    key = _key(torque_map, equality, upper)
+    known = _KNOWN.get(key)
+    if known is None:
+        known = _KNOWN[key] = _polytope(torque_map, equality, upper)
+        for array in (known.normals, known.offsets, known.vertices):
+            array.flags.writeable = False  # shared by every caller from now on
+        if len(_KNOWN) > KNOWN_POLYTOPES:
+            _KNOWN.pop(next(iter(_KNOWN)))
+    return known
+
+
+# The polytopes this process found, by their engines (a campaign's runs share a few).
+_KNOWN: dict[bytes, AuthorityPolytope] = {}
+KNOWN_POLYTOPES = 1024
+
+
+def _key(torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray) -> bytes:
+    digest = hashlib.sha256()
+    for array in (torque_map, equality, upper):
+        digest.update(f"{array.shape}".encode())
+        digest.update(np.ascontiguousarray(array).tobytes())
+    return digest.digest()
+
+
+def _polytope(torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray) -> AuthorityPolytope:
+    """The body of :func:`authority_polytope` (which keeps what it found)."""
     points = [_support(d, torque_map, equality, upper) for d in np.vstack([np.eye(3), -np.eye(3)])]
     size = max(float(np.abs(points).max()), np.finfo(float).tiny)
     tolerance = SUPPORT_RTOL * size

@@ -123,19 +123,14 @@ class PiecewiseAffineQp:
         bounded = ~free & ~fixed
         # mu_i = sign_i (w_i + a_i . lambda + eps u_max_i [i in U]) >= s
         mu_constant = sign * (self.cost + np.where(at_upper, eps * self.upper, 0.0))
-        a_ub = np.hstack([-(sign[bounded, None] * a[:, bounded].T), np.ones((bounded.sum(), 1))])
-        result = linprog(
-            np.append(np.zeros(n_rows), -1.0),
-            A_ub=a_ub,
-            b_ub=mu_constant[bounded],
-            A_eq=np.hstack([a_free.T, np.zeros((free.sum(), 1))]) if free.any() else None,
-            b_eq=-(self.cost[free] + eps * u[free]) if free.any() else None,
-            bounds=[(None, None)] * n_rows + [(None, 1.0)],
-            method="highs",
-        )
-        if result.status != 0 or result.x is None or result.x[-1] < -MULTIPLIER_TOLERANCE:
+        rhs = -(self.cost[free] + eps * u[free])
+        slopes, constants = sign[bounded, None] * a[:, bounded].T, mu_constant[bounded]
+        best = _one_free_direction(a_free, rhs, slopes, constants)
+        if best is None:
+            best = _multiplier_lp(a_free, rhs, slopes, constants)
+        if best is None or best[1] < -MULTIPLIER_TOLERANCE:
             return None
-        multiplier = result.x[:n_rows]
+        multiplier = best[0]
         gram_pinv = np.linalg.pinv(a_free @ a_free.T) if free.any() else np.zeros((n_rows, n_rows))
         gain = np.zeros((n_rows, len(u)))
         gain[:, free] = gram_pinv @ a_free  # rows: d u_F / d b = A_F^+ = A_F^T G^+ (transposed)
@@ -261,3 +256,64 @@ class PiecewiseAffineQp:
         if not len(hits):
             return None
         return regions[hits[-1]], np.clip(u[hits[-1]], 0.0, self.upper)
+
+
+def _multiplier_lp(
+    a_free: np.ndarray, rhs: np.ndarray, slopes: np.ndarray, constants: np.ndarray
+) -> tuple[np.ndarray, float] | None:
+    """lambda with ``A_F^T lambda = rhs`` maximising ``s = min(1, min_i mu_i)``,
+    ``mu = constants + slopes @ lambda``, by an LP; (lambda, s), None if infeasible."""
+    n_rows = a_free.shape[0]
+    free = a_free.shape[1] > 0
+    result = linprog(
+        np.append(np.zeros(n_rows), -1.0),
+        A_ub=np.hstack([-slopes, np.ones((len(slopes), 1))]),
+        b_ub=constants,
+        A_eq=np.hstack([a_free.T, np.zeros((a_free.shape[1], 1))]) if free else None,
+        b_eq=rhs if free else None,
+        bounds=[(None, None)] * n_rows + [(None, 1.0)],
+        method="highs",
+    )
+    if result.status != 0 or result.x is None:
+        return None
+    return result.x[:n_rows], float(result.x[-1])
+
+
+def _one_free_direction(
+    a_free: np.ndarray, rhs: np.ndarray, slopes: np.ndarray, constants: np.ndarray
+) -> tuple[np.ndarray, float] | None:
+    """:func:`_multiplier_lp` in closed form when ``A_F^T lambda = rhs`` leaves lambda one
+    free direction (engines facing each other make ``A_F`` lose one rank): None otherwise.
+
+    On ``lambda = lambda_0 + t v`` every bound multiplier is a line ``c_i + d_i t``, and
+    their minimum is concave and piecewise linear in t: its largest value lies where a
+    rising line meets a falling one, or, with lines of one sign only, where the lowest
+    reaches the cap of 1. Every such t is tried and the best kept.
+    """
+    if a_free.shape[1] == 0:
+        return None
+    left, singular, _ = np.linalg.svd(a_free)
+    rank = int(np.sum(singular > singular[0] * 1e-12)) if len(singular) else 0
+    if a_free.shape[0] - rank != 1:
+        return None
+    base = left[:, :rank] @ ((left[:, :rank].T @ a_free @ rhs) / singular[:rank] ** 2)
+    if np.abs(a_free.T @ base - rhs).max() > RESIDUAL_TOLERANCE * max(1.0, np.abs(rhs).max()):
+        return None  # inconsistent to round-off: the LP says what it makes of it
+    direction = left[:, rank]
+    c = constants + slopes @ base
+    d = slopes @ direction
+    rising, falling = d > 0, d < 0
+    candidates = [np.zeros(1)]
+    if rising.any() and falling.any():
+        cross = (c[falling][None, :] - c[rising][:, None]) / (
+            d[rising][:, None] - d[falling][None, :]
+        )
+        candidates.append(cross.ravel())
+    elif rising.any():
+        candidates.append(np.array([np.max((1.0 - c[rising]) / d[rising])]))
+    elif falling.any():
+        candidates.append(np.array([np.min((1.0 - c[falling]) / d[falling])]))
+    t = np.concatenate(candidates)
+    least = np.minimum(1.0, (c[None, :] + t[:, None] * d[None, :]).min(axis=1, initial=np.inf))
+    best = int(np.argmax(least))
+    return base + t[best] * direction, float(least[best])

@@ -89,6 +89,21 @@ workers_option = click.option(
     show_default=True,
     help="Local worker processes.",
 )
+batch_option = click.option(
+    "--batch",
+    "batch_cases",
+    type=click.IntRange(1, 256),
+    default=16,
+    show_default=True,
+    help="Cases per compiled call: each worker runs a batch of cases as one compiled "
+    "function mapped over them (1: one by one). The numbers are the same either way.",
+)
+no_jit_option = click.option(
+    "--no-jit",
+    is_flag=True,
+    help="Run the step on CasADi's virtual machine even where a C compiler is found "
+    "(one case after the other).",
+)
 overwrite_option = click.option(
     "--overwrite",
     is_flag=True,

@@ -9,12 +9,14 @@ import click
 
 from casadi_debris.cli.common import (
     allow_mismatch_option,
+    batch_option,
     controller_option,
     echo_json,
     friendly_errors,
     is_quiet,
     json_option,
     main,
+    no_jit_option,
     out_folder_option,
     overwrite_option,
     problem_argument,
@@ -123,6 +125,8 @@ def _text(summary: dict[str, Any]) -> str:
 @controller_option
 @allow_mismatch_option
 @workers_option
+@no_jit_option
+@batch_option
 @out_folder_option("failures")
 @overwrite_option
 @json_option
@@ -138,6 +142,8 @@ def failures(
     controller_path: Path | None,
     allow_mismatch: bool,
     workers: int,
+    no_jit: bool,
+    batch_cases: int,
     out: Path | None,
     overwrite: bool,
     as_json: bool,
@@ -163,6 +169,8 @@ def failures(
         closed_loop=closed_loop,
         corner_sets=corner_sets,
         workers=workers,
+        jit=not no_jit,
+        batch_cases=batch_cases,
     )
     summary = failures_folder(
         problem,

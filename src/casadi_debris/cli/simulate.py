@@ -14,6 +14,7 @@ import click
 
 from casadi_debris.cli.common import (
     allow_mismatch_option,
+    batch_option,
     controller_option,
     counter_progress,
     echo_json,
@@ -23,6 +24,7 @@ from casadi_debris.cli.common import (
     is_quiet,
     json_option,
     main,
+    no_jit_option,
     out_folder_option,
     overwrite_option,
     problem_argument,
@@ -437,11 +439,8 @@ def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] 
 )
 @controller_option
 @allow_mismatch_option
-@click.option(
-    "--no-jit",
-    is_flag=True,
-    help="Run the step on CasADi's virtual machine even where a C compiler is found.",
-)
+@no_jit_option
+@batch_option
 @out_folder_option("montecarlo")
 @overwrite_option
 @json_option
@@ -457,6 +456,7 @@ def montecarlo(
     controller_path: Path | None,
     allow_mismatch: bool,
     no_jit: bool,
+    batch_cases: int,
     out: Path | None,
     overwrite: bool,
     as_json: bool,
@@ -464,8 +464,9 @@ def montecarlo(
     """Closed-loop Monte Carlo: all corners (the paper's 256), seeded random samples, or
     what the problem's [[montecarlo.vary]] lists, with statistics.
 
-    Runs in parallel; where a C compiler is found each worker compiles the
-    control step to C once (a few seconds) and runs every case on it. An
+    Runs in parallel; where a C compiler is found the cases run in batches,
+    each batch as one compiled function mapped over its cases (compiled once
+    per machine, a few seconds, then kept in the cache). An
     interrupted campaign resumes from the cases in <out>.partial. Writes
     summary.json (with the pass rate against [requirements], percentiles, 3 sigma and
     rank correlations of every figure), cases.csv, envelope.csv/png, statistics.png,
@@ -488,6 +489,7 @@ def montecarlo(
             workers=workers,
             scheduler=scheduler,
             jit=not no_jit,
+            batch_cases=batch_cases,
             overwrite=overwrite,
             allow_mismatch=allow_mismatch,
             progress=None if as_json or is_quiet() else cases_progress(problem.name),

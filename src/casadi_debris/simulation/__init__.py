@@ -1,7 +1,8 @@
 """Closed-loop simulation: the nonlinear model, star tracker, robust controller,
 allocator and engines together; Monte Carlo over the uncertainty set.
 
-- :func:`simulate`: one scenario (:class:`ClosedLoopResult`).
+- :func:`simulate`: one scenario (:class:`ClosedLoopResult`); :func:`simulate_many`:
+  several, with ``jit`` as one compiled function mapped over them.
 - :func:`run_campaign`: Monte Carlo over :func:`corner_cases` / :func:`sample_cases`
   on processes or Dask, with an :class:`Envelope`.
 - :func:`open_loop_rigid`: the rigid body under a held torque table.
@@ -22,6 +23,7 @@ from casadi_debris.simulation.closed_loop import (
     build_loop_step,
     discretize_controller,
 )
+from casadi_debris.simulation.events import RunEvent
 from casadi_debris.simulation.monte_carlo import (
     CampaignSetup,
     CaseOutcome,
@@ -37,7 +39,7 @@ from casadi_debris.simulation.reference import (
     sample_reference,
     scenario_reference,
 )
-from casadi_debris.simulation.run import ClosedLoopResult, RunEvent, simulate
+from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
 from casadi_debris.simulation.summary import EventRecord, RunSummary
 
 __all__ = [
@@ -52,6 +54,7 @@ __all__ = [
     "OpenLoopResult",
     "Reference",
     "RunEvent",
+    "RunInputs",
     "RunSummary",
     "SimulationError",
     "build_loop_step",
@@ -68,4 +71,5 @@ __all__ = [
     "sample_reference",
     "scenario_reference",
     "simulate",
+    "simulate_many",
 ]

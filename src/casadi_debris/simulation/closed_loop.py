@@ -165,11 +165,14 @@ def discretize_controller(controller: control.StateSpace, period_s: float) -> Di
 
 def saturation_scale(torque: ca.SX, polytope: AuthorityPolytope) -> ca.SX:
     """alpha = min(1, min over facets with n.tau > 0 of b / (n.tau)), symbolic."""
-    reach = ca.DM(polytope.normals) @ torque
+    return _saturation(torque, ca.DM(polytope.normals), ca.DM(polytope.offsets))
+
+
+def _saturation(torque: ca.SX, normals: ca.SX | ca.DM, offsets: ca.SX | ca.DM) -> ca.SX:
+    """:func:`saturation_scale` with the facets given as constants or as symbols."""
+    reach = normals @ torque
     tiny = np.finfo(float).tiny
-    ratios = ca.if_else(
-        reach > 0, ca.DM(polytope.offsets) / ca.fmax(reach, tiny), ca.DM.inf(reach.shape)
-    )
+    ratios = ca.if_else(reach > 0, offsets / ca.fmax(reach, tiny), ca.DM.inf(reach.shape))
     return ca.fmin(1.0, ca.mmin(ratios))
 
 
@@ -420,10 +423,11 @@ _JIT_STEPS: dict[str, LoopStep | None] = {}
 def _jit_key(
     model: Model,
     controller: DiscreteController,
-    polytope: AuthorityPolytope,
+    polytope: AuthorityPolytope | None,
     integrator_steps: int,
     chunk_steps: int,
 ) -> str:
+    """Hash of what a compiled step holds: problem, plant, controller, sampling (and authority)."""
     digest = hashlib.sha256()
     problem = model.problem
     digest.update(f"{problem.sha256}|{problem.name}|{model.layout.size}".encode())
@@ -433,8 +437,9 @@ def _jit_key(
     digest.update(f"{problem.constants!r}".encode())
     for array in (controller.A, controller.B, controller.C, controller.D):
         digest.update(np.ascontiguousarray(array).tobytes())
-    digest.update(np.ascontiguousarray(polytope.normals).tobytes())
-    digest.update(np.ascontiguousarray(polytope.offsets).tobytes())
+    if polytope is not None:
+        digest.update(np.ascontiguousarray(polytope.normals).tobytes())
+        digest.update(np.ascontiguousarray(polytope.offsets).tobytes())
     digest.update(f"{controller.period_s}|{integrator_steps}|{chunk_steps}".encode())
     return digest.hexdigest()
 
@@ -483,13 +488,19 @@ def _loop_step(
     model: Model,
     parameters: np.ndarray | None,
     controller: DiscreteController,
-    polytope: AuthorityPolytope,
+    polytope: AuthorityPolytope | int,
     integrator_steps: int,
     integrator: str,
     realism: Realism | None = None,
     basis: EngineBasis | None = None,
 ) -> ca.Function:
-    """The step Function (expanded to scalar operations for RK4)."""
+    """The step Function (expanded to scalar operations for RK4, shared terms computed once).
+
+    ``polytope`` is either the authority, folded in as constants, or a facet
+    capacity: the step then takes a fourth input ``facets`` (capacity x 4, see
+    :func:`~casadi_debris.simulation.batched.facet_rows`), so that one compiled
+    step serves every authority.
+    """
     if integrator not in INTEGRATORS:
         raise SimulationError(f"unknown integrator {integrator!r}; one of {', '.join(INTEGRATORS)}")
     period = controller.period_s
@@ -502,16 +513,23 @@ def _loop_step(
     else:
         plant = _cvodes_step(model, parameters, period)
 
-    law = _control_law(model, controller, polytope)
+    law, facets = _control_law(model, controller, polytope)
+    if facets and realism is not None:
+        raise SimulationError("the realistic effects need the authority folded in")
     n_aux = 0 if realism is None else realism.aux_size
     z = ca.MX.sym("z", n_plant + n_ctrl + n_aux)
     s = ca.MX.sym("s", StepInput.SIZE if realism is None else realism.inputs.size)
     p = ca.MX.sym("p", n_p)
+    facets_in = [ca.MX.sym("facets", f.sparsity()) for f in facets]
     xz, xcz = z[:n_plant], z[n_plant : n_plant + n_ctrl]
     force: ca.DM | ca.MX
     if realism is None:
         torque, xc_next_z, demand_z, scale_z, error_z = law(
-            xz[model.layout.q_st], xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM]
+            xz[model.layout.q_st],
+            xcz,
+            s[StepInput.REFERENCE_BN],
+            s[StepInput.FEEDFORWARD_NM],
+            *facets_in,
         )
         force, rest_next, y = ca.DM.zeros(3), xc_next_z, ca.vertcat(demand_z, scale_z, error_z)
     else:
@@ -524,20 +542,25 @@ def _loop_step(
             s[StepInput.TIME_S], xz, p if parameters is None else ca.DM(parameters)
         )
     x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(torque, force), p)
-    step_mx = ca.Function(
-        "loop_step",
-        [z, s, p],
-        [ca.vertcat(x_next, rest_next), y],
-        ["z", "s", "p"],
-        ["z_next", "y"],
+    names = ["z", "s", "p", *(["facets"] if facets else [])]
+    outputs = [ca.vertcat(x_next, rest_next), y]
+    step_mx = ca.Function("loop_step", [z, s, p, *facets_in], outputs, names, ["z_next", "y"])
+    if integrator != "rk4":
+        return step_mx
+    expanded = step_mx.expand()
+    # Common subexpressions (the RK4 stages share most of the model's terms) computed
+    # once: half the operations, the same ones on the same values, so the same numbers.
+    inputs = [ca.SX.sym(name, expanded.sparsity_in(i)) for i, name in enumerate(names)]
+    return ca.Function(
+        "loop_step", inputs, expanded.call(inputs), names, ["z_next", "y"], {"cse": True}
     )
-    return step_mx.expand() if integrator == "rk4" else step_mx
 
 
 def _control_law(
-    model: Model, controller: DiscreteController, polytope: AuthorityPolytope
-) -> ca.Function:
-    """``law(q, xc, q_ref, feedforward) -> (applied, xc_next, demand, scale, error)``.
+    model: Model, controller: DiscreteController, polytope: AuthorityPolytope | int
+) -> tuple[ca.Function, list[ca.SX]]:
+    """``law(q, xc, q_ref, feedforward[, facets]) -> (applied, xc_next, demand, scale, error)``
+    and its facet input (see :func:`_loop_step` for ``polytope``).
 
     The controller on the attitude ``q`` it is told, and the saturation.
     """
@@ -552,8 +575,16 @@ def _control_law(
     )
     demand = NM_PER_MNM * (c @ xc + d @ command_deg) + feedforward
     xc_next = a @ xc + b @ command_deg
-    scale = saturation_scale(demand, polytope)
+    if isinstance(polytope, AuthorityPolytope):
+        facets = []
+        scale = saturation_scale(demand, polytope)
+    else:
+        facets = [ca.SX.sym("facets", polytope, 4)]
+        scale = _saturation(demand, facets[0][:, :3], facets[0][:, 3])
     applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
-    return ca.Function(
-        "control_law", [q, xc, q_ref, feedforward], [applied, xc_next, demand, scale, error]
+    law = ca.Function(
+        "control_law",
+        [q, xc, q_ref, feedforward, *facets],
+        [applied, xc_next, demand, scale, error],
     ).expand()
+    return law, facets

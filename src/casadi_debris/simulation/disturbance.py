@@ -43,7 +43,11 @@ def environment_function(model: Model) -> ca.Function | None:
 
 
 def disturbance_series(
-    model: Model, time_s: np.ndarray, states: np.ndarray, parameters: np.ndarray
+    model: Model,
+    time_s: np.ndarray,
+    states: np.ndarray,
+    parameters: np.ndarray,
+    sine: np.ndarray | None = None,
 ) -> np.ndarray:
     """The disturbance at each instant, shape (n, 3) [N m].
 
@@ -53,11 +57,18 @@ def disturbance_series(
     states : ndarray, shape (n, n_x)
         The plant's state at those instants.
     parameters : ndarray, shape (n_parameters,)
+    sine : ndarray, shape (n, 3), optional
+        The sine part at ``time_s``, when already known (:func:`sine_series`).
     """
     n = len(time_s)
-    sine = np.asarray(model.disturbance.map(n)(time_s)).T
+    sine = sine_series(model, time_s) if sine is None else sine
     environment = environment_function(model)
     if environment is None:
         return sine
     p = np.broadcast_to(np.asarray(parameters, dtype=float)[:, None], (len(parameters), n))
     return sine + np.asarray(environment.map(n)(time_s, states.T, p)).T
+
+
+def sine_series(model: Model, time_s: np.ndarray) -> np.ndarray:
+    """The problem's sine disturbance at each instant, shape (n, 3) [N m]."""
+    return np.asarray(model.disturbance.map(len(time_s))(time_s)).T

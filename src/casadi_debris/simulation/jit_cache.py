@@ -98,6 +98,24 @@ def compiled_function(
         compiled library does not load.
     """
     name = function.name()
+    path = compiled_library(function, compiler, flags)
+    try:
+        return ca.external(name, str(path))
+    except RuntimeError as exc:
+        raise CompileError(f"the library compiled for {name!r} does not load: {exc}") from exc
+
+
+def compiled_library(function: ca.Function, compiler: str, flags: Sequence[str] = ("-O2",)) -> Path:
+    """Path of the shared library of ``function``'s C in the cache (compiled into it if needed).
+
+    The library exports CasADi's C interface of generated code under the
+    Function's name (``name``, ``name_work``, ``name_checkout`` ...): load it
+    with ``casadi.external`` (:func:`compiled_function`) or call it directly
+    (:class:`~casadi_debris.simulation.native.NativeFunction`).
+
+    Parameters and errors (:class:`CompileError`) are those of :func:`compiled_function`.
+    """
+    name = function.name()
     try:
         source = c_source(function)
     except RuntimeError as exc:
@@ -113,19 +131,14 @@ def compiled_function(
             f"set {CACHE_ENV} to a writable folder"
         ) from exc
     for path in sorted(folder.glob(f"{key}.*{SUFFIX}")):
-        loaded = _load_checked(name, path)
-        if loaded is not None:
+        if _load_checked(name, path) is not None:
             LOGGER.info("JIT cache hit: %s loaded from %s", name, path)
-            return loaded
+            return path
     LOGGER.info("JIT cache miss: compiling %s (%s) into %s", name, " ".join(command), folder)
     started = time.perf_counter()
     path = _compile_into(folder, key, source, command)
-    try:
-        loaded = ca.external(name, str(path))
-    except RuntimeError as exc:
-        raise CompileError(f"the library compiled for {name!r} does not load: {exc}") from exc
     LOGGER.info("JIT cache: %s compiled in %.1f s", path.name, time.perf_counter() - started)
-    return loaded
+    return path
 
 
 def c_source(function: ca.Function) -> str:

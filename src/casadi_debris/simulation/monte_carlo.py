@@ -32,18 +32,28 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem, problem_with_values
 from casadi_debris.model import Model, build_model
-from casadi_debris.parallel import ItemFailure, SchedulerUnavailableError, parallel_map
+from casadi_debris.parallel import (
+    ItemFailure,
+    MapResults,
+    SchedulerUnavailableError,
+    describe_error,
+    parallel_map,
+)
 from casadi_debris.records import FLATTENED, Record
+from casadi_debris.simulation.batched import CaseBatch, batches, release_batched_loops
 from casadi_debris.simulation.cases import Case, CaseIdentity
 from casadi_debris.simulation.closed_loop import (
     SimulationError,
     release_compiled_steps,
 )
 from casadi_debris.simulation.reference import Reference
-from casadi_debris.simulation.run import ClosedLoopResult, simulate
+from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
 from casadi_debris.simulation.summary import RunSummary
 
 MAX_BINS = 2000
+DEFAULT_BATCH_CASES = 16
+"""Cases of one compiled call in a batched campaign: enough that Python's share per
+period is small, few enough that two workers get several batches each."""
 LOGGER = logging.getLogger(__name__)
 
 
@@ -82,7 +92,11 @@ class CampaignSetup:
         Width of the envelope's time bins [s].
     jit : bool
         Run each case's step as compiled C when a C compiler is found
-        (compiled once per worker).
+        (compiled once per machine, loaded once per worker).
+    batch_cases : int
+        With ``jit``: cases run together, as one compiled function mapped over
+        them (:func:`~casadi_debris.simulation.simulate_many`); 1 runs them
+        one by one. Same numbers either way.
     """
 
     problem: Problem
@@ -90,6 +104,7 @@ class CampaignSetup:
     reference: Reference
     bin_s: float
     jit: bool = True
+    batch_cases: int = 1
 
     @classmethod
     def create(
@@ -99,10 +114,17 @@ class CampaignSetup:
         reference: Reference,
         *,
         jit: bool = True,
+        batch_cases: int = DEFAULT_BATCH_CASES,
     ) -> CampaignSetup:
         """Bins of 1 s, wider for long runs (at most ``MAX_BINS``)."""
         duration = float(reference.time_s[-1] - reference.time_s[0])
-        return cls(problem, controller, reference, max(1.0, duration / MAX_BINS), jit)
+        bin_s = max(1.0, duration / MAX_BINS)
+        return cls(problem, controller, reference, bin_s, jit, batch_cases)
+
+    @property
+    def batched(self) -> bool:
+        """Whether cases run in batches (compiled, more than one per batch)."""
+        return self.jit and self.batch_cases > 1
 
     @property
     def n_bins(self) -> int:
@@ -369,13 +391,57 @@ class CaseRunner:
         """Simulate ``case`` (see :func:`run_case`)."""
         return run_case(self.setup, case, model=self.model)
 
+    def batch(self, batch: CaseBatch) -> list[CaseOutcome | CaseFailure]:
+        """Simulate the cases of ``batch`` together; each one's outcome, or its failure."""
+        setup, model = self.setup, self.model
+        # A fresh allocator per case, as run_case: a case's numbers never depend on its batch.
+        runs = [
+            RunInputs(
+                case.parameters,
+                case.failures,
+                Allocator.from_problem(setup.problem, model.geometry),
+            )
+            for case in batch.cases
+        ]
+        results = simulate_many(
+            setup.problem,
+            model,
+            setup.controller,
+            setup.reference,
+            runs,
+            jit=setup.jit,
+            slots=batch.slots,
+        )
+        pairs = zip(batch.cases, results, strict=True)
+        return [_outcome(setup, case, result) for case, result in pairs]
+
+
+def _outcome(
+    setup: CampaignSetup, case: Case, result: ClosedLoopResult | Exception
+) -> CaseOutcome | CaseFailure:
+    if not isinstance(result, Exception):
+        try:
+            summary = CaseSummary(case.identity(), result.summary())
+            return CaseOutcome(case, summary, bin_bands(setup, result))
+        except Exception as exc:  # this case's failure, as run_case would raise it
+            result = exc
+    return CaseFailure(case, *describe_error(result))
+
 
 def _run_with(runner: CaseRunner, case: Case) -> CaseOutcome:
     return runner(case)
 
 
+def _run_batch_with(runner: CaseRunner, batch: CaseBatch) -> list[CaseOutcome | CaseFailure]:
+    return runner.batch(batch)
+
+
 def _case_id(case: Case) -> str:
     return case.case_id
+
+
+def _batch_id(batch: CaseBatch) -> str:
+    return ",".join(case.case_id for case in batch.cases)
 
 
 def run_campaign(
@@ -427,20 +493,29 @@ def run_campaign(
     cases = list(cases)
     if workers < 1:
         raise SimulationError(f"workers must be at least 1, got {workers}")
+    runner = functools.partial(CaseRunner, setup)
+    mapped: MapResults[Any, Any]
     try:
-        with parallel_map(
-            _run_with,
-            cases,
-            functools.partial(CaseRunner, setup),
-            workers=workers,
-            scheduler=scheduler,
-            item_id=_case_id,
-        ) as finished:
+        if setup.batched:
+            mapped = parallel_map(
+                _run_batch_with,
+                batches(cases, setup.batch_cases, workers),
+                runner,
+                workers=workers,
+                scheduler=scheduler,
+                item_id=_batch_id,
+            )
+        else:
+            mapped = parallel_map(
+                _run_with, cases, runner, workers=workers, scheduler=scheduler, item_id=_case_id
+            )
+        with mapped as finished:
             by_id, failures = _collect(finished, on_result, on_failure)
     except SchedulerUnavailableError as exc:
         raise SchedulerError(str(exc)) from exc
     finally:
         release_compiled_steps()
+        release_batched_loops()
     if failures and on_failure is None:
         raise CasesFailedError(failures)
     return [by_id[case.case_id] for case in cases if case.case_id in by_id]
@@ -455,16 +530,24 @@ def _collect(
     by_id: dict[str, CaseOutcome] = {}
     failures: list[CaseFailure] = []
     for item in finished:
-        if isinstance(item, ItemFailure):
-            failure = CaseFailure(item.item, item.error_type, item.message, item.traceback)
-            failures.append(failure)
-            if on_failure is not None:
-                on_failure(failure)
-            continue
-        by_id[item.value.case.case_id] = item.value
-        if on_result is not None:
-            on_result(item.value)
+        for done in _cases_of(item):
+            if isinstance(done, CaseFailure):
+                failures.append(done)
+                if on_failure is not None:
+                    on_failure(done)
+                continue
+            by_id[done.case.case_id] = done
+            if on_result is not None:
+                on_result(done)
     return by_id, failures
+
+
+def _cases_of(item: Any) -> list[CaseOutcome | CaseFailure]:
+    """What one item of the map gives: a case's outcome, or a batch's, or their failure."""
+    if isinstance(item, ItemFailure):
+        cases = item.item.cases if isinstance(item.item, CaseBatch) else (item.item,)
+        return [CaseFailure(c, item.error_type, item.message, item.traceback) for c in cases]
+    return item.value if isinstance(item.value, list) else [item.value]
 
 
 @dataclass(eq=False)

@@ -13,18 +13,20 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
+import casadi as ca
 import control
 import numpy as np
 
-from casadi_debris.allocation import Allocator, PropulsionState, StageEvent
+from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionState
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.model import Model, Parameters
+from casadi_debris.simulation.batched import roll_together
 from casadi_debris.simulation.closed_loop import (
     DiscreteController,
-    LoopStep,
     SimulationError,
     StepInput,
     StepOutput,
@@ -32,18 +34,12 @@ from casadi_debris.simulation.closed_loop import (
     build_loop_step,
     discretize_controller,
 )
-from casadi_debris.simulation.disturbance import disturbance_series
+from casadi_debris.simulation.disturbance import disturbance_series, sine_series
+from casadi_debris.simulation.events import RunEvent, apply_failure, depleted_event
 from casadi_debris.simulation.noise import NoiseStreams, draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
 from casadi_debris.simulation.reference import Reference
-from casadi_debris.simulation.summary import (
-    SETTLE_BAND_ARCSEC,
-    EventRecord,
-    RunSummary,
-    settle_time_s,
-    summarize,
-)
-from casadi_debris.units import ARCSEC_PER_RAD
+from casadi_debris.simulation.result import ClosedLoopResult
 
 # The allocator's torque must equal the applied torque to this (relative to
 # the largest torque authority): the loop's premise, checked on every run.
@@ -51,230 +47,24 @@ ALLOCATION_TOLERANCE = 1e-8
 DEFAULT_CHUNK_STEPS = 1000
 
 
-EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed", "engine_failed")
-
-
-@dataclass(frozen=True)
-class RunEvent:
-    """Something that changed the engines during a run.
+@dataclass(frozen=True, eq=False)
+class RunInputs:
+    """What one run of :func:`simulate_many` varies (each field as in :func:`simulate`).
 
     Attributes
     ----------
-    time_s : float
-        When [s].
-    kind : {"stage_depleted", "stage_failed", "cubesat_failed", "engine_failed"}
-    cubesat : int
-        0-based (``text`` and the summary number CubeSats from 1).
-    stage : int or None
-        The stage depleted or failed (0-based); None for a whole CubeSat or engine.
-    next_stage : int or None
-        The stage firing afterwards; None when the CubeSat has none left.
-    switched : bool
-        Whether the stage that fires changed (a depleted stage always; a failed
-        stage only when it was the one firing).
-    engine : int or None
-        The engine that failed or whose stage ran dry, counted among its
-        CubeSat's own engines (0-based), for a CubeSat with several; None otherwise.
+    parameters : ndarray, shape (n_parameters,), optional
+    failures : tuple of FailureEvent, optional
+    allocator : Allocator, optional
+    propulsion : PropulsionState, optional
+    noise_seed : int, optional
     """
 
-    time_s: float
-    kind: str
-    cubesat: int
-    stage: int | None = None
-    next_stage: int | None = None
-    switched: bool = False
-    engine: int | None = None
-
-    @property
-    def text(self) -> str:
-        """The event in words, CubeSats, engines and stages numbered from 1."""
-        who = f"CubeSat {self.cubesat + 1}"
-        if self.engine is not None:
-            who += f" engine {self.engine + 1}"
-        if self.kind in ("cubesat_failed", "engine_failed"):
-            return f"{who} failed"
-        if self.kind == "stage_failed":
-            return f"{who}: stage {_number(self.stage)} failed"
-        then = "none left" if self.next_stage is None else f"stage {self.next_stage + 1} takes over"
-        return f"{who}: stage {_number(self.stage)} empty, {then}"
-
-    def record(self) -> EventRecord:
-        """The event as a user reads it: 1-based ids, in words."""
-        return EventRecord(
-            time_s=self.time_s,
-            kind=self.kind,
-            cubesat=self.cubesat + 1,
-            engine=None if self.engine is None else self.engine + 1,
-            stage=None if self.stage is None else self.stage + 1,
-            next_stage=None if self.next_stage is None else self.next_stage + 1,
-            stage_switch=self.switched,
-            event=self.text,
-        )
-
-
-def _number(stage: int | None) -> str:
-    return "?" if stage is None else str(stage + 1)
-
-
-@dataclass(eq=False)
-class ClosedLoopResult:
-    """Time series and figures of one closed-loop run (SI units).
-
-    Attributes
-    ----------
-    time_s : ndarray, shape (n + 1,)
-        Control instants, 0 .. duration.
-    state : ndarray, shape (n + 1, n_x)
-        Plant state (model layout) at each instant.
-    rate_rad_s : ndarray, shape (n + 1, 3)
-        Body rate omega_BN in B.
-    reference_BN : ndarray, shape (n + 1, 4)
-    error_rad : ndarray, shape (n + 1, 3)
-        True attitude minus reference (doubled error-quaternion vector).
-    measured_error_rad : ndarray, shape (n, 3)
-        What the star tracker told the controller at each step.
-    demand_Nm, torque_Nm : ndarray, shape (n, 3)
-        Controller demand, and the allocator's torque ``B f`` held over each step.
-    force_N : ndarray, shape (n, 3)
-        Net force of the thrust (zero to round-off).
-    scale : ndarray, shape (n,)
-        Saturation factor alpha (1: demand met).
-    thrust_N : ndarray, shape (n, n_engines)
-    disturbance_Nm : ndarray, shape (n, 3)
-        At the start of each step.
-    propulsion : PropulsionState
-        At the end.
-    events : list of RunEvent
-        Failures and depleted stages, in time order.
-    parameters : dict
-        Model parameters by name.
-    control_period_s : float
-    allocation_residual_Nm : float
-        Largest |B f - applied torque| over the run.
-    point_solves : int
-        QP solves the allocator needed (the rest reused active sets).
-    wall_time_s : float
-    slew_window_s : (float, float) or None
-        Start and end of the reference slew [s].
-    compiled_step : bool or None
-        Whether the control period ran as compiled C code.
-    authority_time_s : ndarray, shape (m,)
-        When the torque authority took each of its values: the start, and each
-        failure or depleted stage after which the loop was rebuilt [s].
-    authority_Nm : ndarray, shape (m, 6)
-        Largest pure torque at zero net force about +x, -x, +y, -y, +z, -z
-        (magnitudes) from each of those instants on [N m].
-    noise_seed : int or None
-        Seed of the sensors' and engines' noise (None: the ideal loop, no noise).
-    """
-
-    time_s: np.ndarray
-    state: np.ndarray
-    rate_rad_s: np.ndarray
-    reference_BN: np.ndarray
-    error_rad: np.ndarray
-    measured_error_rad: np.ndarray
-    demand_Nm: np.ndarray
-    torque_Nm: np.ndarray
-    force_N: np.ndarray
-    scale: np.ndarray
-    thrust_N: np.ndarray
-    disturbance_Nm: np.ndarray
-    propulsion: PropulsionState
-    fuel_start_kg: np.ndarray
-    events: list[RunEvent]
-    parameters: dict[str, float]
-    control_period_s: float
-    total_mass_kg: float
-    allocation_residual_Nm: float
-    point_solves: int
-    wall_time_s: float
-    slew_window_s: tuple[float, float] | None = None
-    compiled_step: bool | None = None
-    authority_time_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    authority_Nm: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    parameters: np.ndarray | None = None
+    failures: tuple[FailureEvent, ...] | None = None
+    allocator: Allocator | None = None
+    propulsion: PropulsionState | None = None
     noise_seed: int | None = None
-
-    @property
-    def fuel_per_cubesat_kg(self) -> np.ndarray:
-        """Propellant burnt by each CubeSat during the run, shape (n_cubesats,) [kg]."""
-        return self.propulsion.per_cubesat(self.fuel_per_engine_kg)
-
-    @property
-    def fuel_per_engine_kg(self) -> np.ndarray:
-        """Propellant burnt by each engine during the run, shape (n_engines,) [kg]."""
-        return (self.fuel_start_kg - self.propulsion.propellant_kg).sum(axis=1)
-
-    @property
-    def exhaust_velocity_m_s(self) -> float:
-        """Effective exhaust velocity of the propellant burnt [m/s].
-
-        The engines' one exhaust velocity when they share an Isp; otherwise the
-        mean over the engines weighted by the propellant each burnt (total
-        impulse over total propellant, the velocity the rocket equation takes
-        for the run's Delta v), or their plain mean if nothing was burnt.
-        """
-        exhaust = self.propulsion.exhaust_velocity_m_s
-        if np.all(exhaust == exhaust[0]):
-            return float(exhaust[0])
-        fuel = self.fuel_per_engine_kg
-        if fuel.sum() <= 0.0:
-            return float(np.mean(exhaust))
-        return float(np.sum(fuel * exhaust) / fuel.sum())
-
-    @property
-    def estimation_error_rad(self) -> np.ndarray:
-        """What the controller was told minus the truth, shape (n, 3) [rad]:
-        ``measured_error_rad - error_rad`` at the start of each step."""
-        return self.measured_error_rad - self.error_rad[:-1]
-
-    def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
-        """First instant after which every error component stays inside ``band_rad``.
-
-        None when the run ends outside the band.
-        """
-        return settle_time_s(self.time_s, self.error_rad, band_rad)
-
-    def summary(self) -> RunSummary:
-        """Figures of the run, units in the names."""
-        return summarize(self)
-
-
-def _depleted(event: StageEvent, time_s: float, propulsion: PropulsionState) -> RunEvent:
-    siblings = np.flatnonzero(propulsion.engine_cubesat == event.cubesat)
-    several = len(siblings) > 1
-    return RunEvent(
-        time_s,
-        "stage_depleted",
-        event.cubesat,
-        event.stage,
-        event.next_stage,
-        switched=True,
-        engine=int(np.searchsorted(siblings, event.engine)) if several else None,
-    )
-
-
-def _apply_failure(failure: FailureEvent, propulsion: PropulsionState, time_s: float) -> RunEvent:
-    cubesat = failure.cubesat
-    if failure.engine is not None:
-        propulsion.fail_engine(cubesat, failure.engine)
-        return RunEvent(time_s, "engine_failed", cubesat, engine=failure.engine)
-    if failure.stage is None:
-        propulsion.fail_cubesat(cubesat)
-        return RunEvent(time_s, "cubesat_failed", cubesat)
-    engines = np.flatnonzero(propulsion.engine_cubesat == cubesat)
-    before = propulsion.active_stage[engines]
-    propulsion.fail_stage(cubesat, failure.stage)
-    after = propulsion.active_stage[engines]
-    firing = after[after < propulsion.n_stages]
-    return RunEvent(
-        time_s,
-        "stage_failed",
-        cubesat,
-        failure.stage,
-        int(firing.min()) if len(firing) else None,
-        switched=bool(np.any((after != before) & (before == failure.stage))),
-    )
 
 
 def simulate(
@@ -321,9 +111,9 @@ def simulate(
         active-set regions are kept while the limits do not change); its
         limits are set from the engines.
     jit : bool
-        Run the step as compiled C (see
-        :func:`~casadi_debris.simulation.build_loop_step`): worth its few
-        seconds of compiling when many runs share it (Monte Carlo).
+        Run the step as compiled C (RK4 only): the batched loop of
+        :mod:`~casadi_debris.simulation.batched` with one slot, compiled
+        once per machine (seconds) and loaded from the cache afterwards.
     noise_seed : int, optional
         Seed of the noise (default ``[sensors] seed``); unused by the ideal loop.
 
@@ -331,32 +121,111 @@ def simulate(
     -------
     ClosedLoopResult
     """
+    outcome = simulate_many(
+        problem,
+        model,
+        controller,
+        reference,
+        [RunInputs(parameters, failures, allocator, propulsion, noise_seed)],
+        integrator=integrator,
+        integrator_steps=integrator_steps,
+        chunk_steps=chunk_steps,
+        jit=jit,
+    )[0]
+    if isinstance(outcome, Exception):
+        raise outcome
+    return outcome
+
+
+def simulate_many(
+    problem: Problem,
+    model: Model,
+    controller: control.StateSpace,
+    reference: Reference,
+    runs: Sequence[RunInputs],
+    *,
+    integrator: str = "rk4",
+    integrator_steps: int | None = None,
+    chunk_steps: int = DEFAULT_CHUNK_STEPS,
+    jit: bool = False,
+    slots: int | None = None,
+) -> list[ClosedLoopResult | Exception]:
+    """Run several closed-loop scenarios of one problem; with ``jit``, all at once.
+
+    With ``jit`` (RK4, the paper's ideal loop) every stretch of every run is one call of one
+    compiled function mapped over the runs
+    (:func:`~casadi_debris.simulation.batched.roll_together`); between
+    stretches each run allocates, burns and fails as :func:`simulate` does
+    alone, and gets the same numbers. Otherwise (or without a C compiler)
+    the runs go one after the other on CasADi's virtual machine.
+
+    Parameters
+    ----------
+    problem, model, controller, reference
+        As :func:`simulate`, shared by the runs.
+    runs : sequence of RunInputs
+        What each run varies.
+    integrator, integrator_steps, chunk_steps, jit
+        As :func:`simulate`.
+    slots : int, optional
+        Cases of the compiled function (default ``len(runs)``): a campaign
+        keeps one size for all its batches, so that one library serves them.
+
+    Returns
+    -------
+    list of (ClosedLoopResult or Exception)
+        Per run, its result or what it raised (the other runs go on). Each
+        result's ``wall_time_s`` is its share of the whole call.
+    """
     started = time.perf_counter()
     period = _control_period(reference)
-    p = model.nominal_parameters if parameters is None else np.asarray(parameters, dtype=float)
-    engines = PropulsionState.from_problem(problem) if propulsion is None else propulsion.copy()
-    fuel_start = engines.propellant_kg.copy()
+    discrete = discretize_controller(controller, period)
     steps = problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
     realism = Realism.of(problem, period)
-    rollout = _Rollout(
-        model=model,
-        reference=reference,
-        parameters=p,
-        controller=discretize_controller(controller, period),
-        engines=engines,
-        allocator=allocator or Allocator.from_problem(problem, model.geometry, state=engines),
-        loop_options={
-            "integrator_steps": steps,
-            "integrator": integrator,
-            "chunk_steps": chunk_steps,
-            "jit": jit,
-            "realism": realism,
-        },
-        problem=problem,
-        noise_seed=noise_seed,
-    )
-    rollout.run(problem.simulation.failures if failures is None else failures)
-    return rollout.result(fuel_start, wall_time_s=time.perf_counter() - started)
+    rollouts = [_Rollout.of(problem, model, reference, discrete, run, realism) for run in runs]
+    errors = None
+    if jit and integrator == "rk4" and realism is None and rollouts:
+        errors = roll_together(
+            rollouts,
+            model,
+            discrete,
+            slots=slots or len(rollouts),
+            integrator_steps=steps,
+            chunk_steps=chunk_steps,
+        )
+    if errors is None:
+        options = {"integrator_steps": steps, "integrator": integrator, "jit": jit}
+        options["realism"] = realism
+        errors = [r.roll_alone(chunk_steps, options) for r in rollouts]
+    else:
+        for rollout in rollouts:
+            rollout.compiled = True
+    shared = _Series.of(model, reference)
+    share = (time.perf_counter() - started) / max(len(rollouts), 1)
+    outcomes: list[ClosedLoopResult | Exception] = []
+    for rollout, error in zip(rollouts, errors, strict=True):
+        if error is not None:
+            outcomes.append(error)
+            continue
+        try:
+            outcomes.append(rollout.result(shared, wall_time_s=share))
+        except Exception as exc:  # the allocator missed a torque: this run's failure
+            outcomes.append(exc)
+    return outcomes
+
+
+@dataclass(frozen=True, eq=False)
+class _Series:
+    """What every run of one reference shares for its result: the attitude error over
+    the whole run (a mapped Function) and the sine disturbance."""
+
+    error: ca.Function
+    sine_Nm: np.ndarray
+
+    @classmethod
+    def of(cls, model: Model, reference: Reference) -> _Series:
+        times = reference.time_s
+        return cls(model.attitude_error.map(len(times)), sine_series(model, times[:-1]))
 
 
 def _control_period(reference: Reference) -> float:
@@ -372,7 +241,12 @@ def _control_period(reference: Reference) -> float:
 
 @dataclass(eq=False)
 class _Rollout:
-    """The compiled loop rolled out stretch by stretch, with the engines burning in between."""
+    """One run rolled out stretch by stretch, with the engines burning in between.
+
+    :meth:`next_stretch` applies the failures due and gives the periods of the
+    next stretch (``polytope`` is then its authority); the caller rolls the
+    step over them from ``z`` and hands the states and outputs to :meth:`take`.
+    """
 
     model: Model
     reference: Reference
@@ -380,14 +254,44 @@ class _Rollout:
     controller: DiscreteController
     engines: PropulsionState
     allocator: Allocator
-    loop_options: dict[str, Any]
+    failures: tuple[FailureEvent, ...]
     problem: Problem
+    realism: Realism | None = None
     noise_seed: int | None = None
+
+    @classmethod
+    def of(
+        cls,
+        problem: Problem,
+        model: Model,
+        reference: Reference,
+        controller: DiscreteController,
+        run: RunInputs,
+        realism: Realism | None = None,
+    ) -> _Rollout:
+        """A run at its start (engines full unless ``run.propulsion`` says otherwise)."""
+        p = run.parameters
+        if run.propulsion is None:
+            engines = PropulsionState.from_problem(problem)
+        else:
+            engines = run.propulsion.copy()
+        allocator = run.allocator or Allocator.from_problem(problem, model.geometry, state=engines)
+        return cls(
+            model=model,
+            reference=reference,
+            parameters=model.nominal_parameters if p is None else np.asarray(p, dtype=float),
+            controller=controller,
+            engines=engines,
+            allocator=allocator,
+            failures=problem.simulation.failures if run.failures is None else run.failures,
+            problem=problem,
+            realism=realism,
+            noise_seed=run.noise_seed,
+        )
 
     def __post_init__(self) -> None:
         self.period = float(self.reference.time_s[1] - self.reference.time_s[0])
         self.n = len(self.reference.time_s) - 1
-        self.realism: Realism | None = self.loop_options["realism"]
         self.noise: NoiseStreams | None = None
         if self.realism is not None:
             times = self.reference.time_s[:-1]
@@ -401,57 +305,75 @@ class _Rollout:
         self.point_solves = 0
         self.compiled = False
         self.authority: list[tuple[float, np.ndarray]] = []
+        self.fuel_start_kg = self.engines.propellant_kg.copy()
         self.allocator.update_from_state(self.engines)
-
-    def run(self, failures: tuple[FailureEvent, ...]) -> None:
-        """Every period of the reference; failures applied at their periods."""
-        period, n = self.period, self.n
-        failure_steps = [min(n, max(0, math.ceil(f.time_s / period - 1e-9))) for f in failures]
-        pending = list(zip(failure_steps, failures, strict=True))
-        x0 = _initial_state(self.model, self.reference)
-        z = np.concatenate([x0, np.zeros(self.controller.n_states)])
+        due = [min(self.n, max(0, math.ceil(f.time_s / self.period - 1e-9))) for f in self.failures]
+        self.pending = list(zip(due, self.failures, strict=True))
+        self.z = np.concatenate(
+            [_initial_state(self.model, self.reference), np.zeros(self.controller.n_states)]
+        )
         if self.realism is not None:
             aux = self.realism.initial_aux(self.problem, self.reference.quaternion_BN[0])
-            z = np.concatenate([z, aux])
-        self.states[0] = z[: self.model.layout.size]
-        loop: LoopStep | None = None
-        k = 0
-        while k < n:
-            while pending and pending[0][0] <= k:
-                _, failure = pending.pop(0)
-                self.events.append(_apply_failure(failure, self.engines, k * period))
-                loop = None
-            if loop is None:
-                loop = self._build_loop(k * period)
-            stop = min(n, k + loop.chunk_steps, pending[0][0] if pending else n)
-            z, done = self._stretch(loop, z, k, stop)
-            if done < stop - k:
-                loop = None  # a CubeSat's limit changed: rebuild from the step after
-            k += done
+            self.z = np.concatenate([self.z, aux])
+        self.states[0] = self.z[: self.model.layout.size]
+        self.k = 0
+        self.polytope: AuthorityPolytope | None = None
 
-    def _build_loop(self, time_s: float) -> LoopStep:
-        self.allocator.update_from_state(self.engines)
-        polytope = self.allocator.authority_polytope()
-        self.authority.append((time_s, polytope.axis_reach()))
-        basis = None
-        if self.realism is not None and self.realism.engine_level:
-            basis = engine_basis(self.allocator)
-        loop = build_loop_step(
-            self.model, self.parameters, self.controller, polytope, basis=basis, **self.loop_options
-        )
-        self.compiled = self.compiled or loop.compiled
-        return loop
+    @property
+    def finished(self) -> bool:
+        """Every period of the reference is done."""
+        return self.k >= self.n
 
-    def _stretch(self, loop: LoopStep, z: np.ndarray, k: int, stop: int) -> tuple[np.ndarray, int]:
-        """Periods k .. stop - 1, cut short where the engines change; (state, periods done)."""
-        z_all, y_all = loop.roll(z, self._inputs(loop, k, stop), self.parameters)
+    def next_stretch(self, chunk_steps: int) -> tuple[int, int]:
+        """Apply the failures due now, take the engines' authority; the periods (k, stop)."""
+        k = self.k
+        while self.pending and self.pending[0][0] <= k:
+            _, failure = self.pending.pop(0)
+            self.events.append(apply_failure(failure, self.engines, k * self.period))
+            self.polytope = None
+        if self.polytope is None:
+            self.allocator.update_from_state(self.engines)
+            self.polytope = self.allocator.authority_polytope()
+            self.authority.append((k * self.period, self.polytope.axis_reach()))
+        return k, min(self.n, k + chunk_steps, self.pending[0][0] if self.pending else self.n)
+
+    def roll_alone(self, chunk_steps: int, loop_options: dict[str, Any]) -> Exception | None:
+        """Every stretch on this run's own step (rebuilt with each authority); what it raised."""
+        try:
+            loop, built_for = None, None
+            while not self.finished:
+                k, stop = self.next_stretch(chunk_steps)
+                if self.polytope is None:  # next_stretch always sets it
+                    raise SimulationError("a stretch without a torque authority")
+                if loop is None or built_for is not self.polytope:
+                    loop = build_loop_step(
+                        self.model,
+                        self.parameters,
+                        self.controller,
+                        self.polytope,
+                        chunk_steps=chunk_steps,
+                        basis=engine_basis(self.allocator) if self._engine_level else None,
+                        **loop_options,
+                    )
+                    built_for = self.polytope
+                    self.compiled = self.compiled or loop.compiled
+                inputs = self.inputs(chunk_steps, k, stop, loop.n_inputs)
+                z_all, y_all = loop.roll(self.z, inputs, self.parameters)
+                self.take(z_all, y_all, k, stop)
+        except Exception as exc:  # the caller decides: simulate raises it, a campaign records it
+            return exc
+        return None
+
+    def take(self, z_all: np.ndarray, y_all: np.ndarray, k: int, stop: int) -> None:
+        """Periods k .. stop - 1 rolled (states and outputs, one column each): allocate and
+        burn, cut short where the engines change (the next stretch starts there)."""
         z_all = z_all[:, : stop - k]
         y_all = y_all[:, : stop - k].T
         if self.realism is None:
             applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
         else:
             applied = y_all[:, StepOutput.APPLIED_NM]
-        engine_level = self.realism is not None and self.realism.engine_level
+        engine_level = self._engine_level
         allocation = self.allocator.allocate_series(
             y_all[:, StepOutput.COMMAND_NM] if engine_level else applied
         )
@@ -463,17 +385,25 @@ class _Rollout:
         done, stage_events = self.engines.advance_series(thrust, self.period)
         for index, event in stage_events:
             time_s = (k + index) * self.period + event.time_s
-            self.events.append(_depleted(event, time_s, self.engines))
+            self.events.append(depleted_event(event, time_s, self.engines))
         self.outputs[k : k + done] = y_all[:done]
         self.applied[k : k + done] = applied[:done]
         self.thrust[k : k + done] = thrust[:done]
         self.states[k + 1 : k + done + 1] = z_all[: self.model.layout.size, :done].T
-        return z_all[:, done - 1], done
+        self.z = z_all[:, done - 1].copy()
+        self.k = k + done
+        if done < stop - k:
+            self.polytope = None  # a CubeSat's limit changed: new authority from the step after
 
-    def _inputs(self, loop: LoopStep, k: int, stop: int) -> np.ndarray:
-        """The step inputs of periods k .. stop - 1, padded to ``chunk_steps`` columns."""
+    @property
+    def _engine_level(self) -> bool:
+        return self.realism is not None and self.realism.engine_level
+
+    def inputs(self, chunk_steps: int, k: int, stop: int, rows: int = StepInput.SIZE) -> np.ndarray:
+        """The step inputs of periods k .. stop - 1 (``rows`` of them), padded to
+        ``chunk_steps`` columns."""
         reference, used = self.reference, stop - k
-        inputs = np.zeros((loop.n_inputs, loop.chunk_steps))
+        inputs = np.zeros((rows, chunk_steps))
         if self.realism is not None and self.noise is not None:
             inputs[StepInput.SIZE :, :used] = self.realism.inputs.rows(
                 self.problem, self.noise, self.period, k, stop
@@ -486,17 +416,17 @@ class _Rollout:
         inputs[StepInput.REFERENCE_BN.start, used:] = 1.0
         return inputs
 
-    def result(self, fuel_start_kg: np.ndarray, wall_time_s: float) -> ClosedLoopResult:
+    def result(self, series: _Series, wall_time_s: float) -> ClosedLoopResult:
         """The run's series and figures; checks the allocator met every applied torque."""
         model, reference, n = self.model, self.reference, self.n
         torque = self.thrust @ self.allocator.torque_map.T
         force = self.thrust @ self.allocator.force_map.T
-        engine_level = self.realism is not None and self.realism.engine_level
-        if engine_level:  # the step's own engines: their misaligned, noisy wrench
+        if self._engine_level:  # the step's own engines: their misaligned, noisy wrench
             torque = self.outputs[:, StepOutput.APPLIED_NM]
             force = self.outputs[:, StepOutput.FORCE_N]
         # With engine-level effects the step allocates itself: nothing to check here.
-        residual = float(np.abs(torque - self.applied).max()) if n and not engine_level else 0.0
+        checked = n and not self._engine_level
+        residual = float(np.abs(torque - self.applied).max()) if checked else 0.0
         polytope = self.allocator.authority_polytope()
         authority = float(np.abs(polytope.vertices).max()) if n else 1.0
         if residual > ALLOCATION_TOLERANCE * authority:
@@ -504,9 +434,7 @@ class _Rollout:
                 f"the allocator's torque differs from the applied torque by {residual:.3g} N m"
             )
         error = np.asarray(
-            model.attitude_error.map(n + 1)(
-                reference.quaternion_BN.T, self.states[:, model.layout.q].T
-            )
+            series.error(reference.quaternion_BN.T, self.states[:, model.layout.q].T)
         ).T
         p = Parameters.from_vector(model.parameter_layout, self.parameters)
         return ClosedLoopResult(
@@ -522,10 +450,10 @@ class _Rollout:
             scale=self.outputs[:, StepOutput.SCALE],
             thrust_N=self.thrust,
             disturbance_Nm=disturbance_series(
-                model, reference.time_s[:-1], self.states[:-1], self.parameters
+                model, reference.time_s[:-1], self.states[:-1], self.parameters, series.sine_Nm
             ),
             propulsion=self.engines,
-            fuel_start_kg=fuel_start_kg,
+            fuel_start_kg=self.fuel_start_kg,
             events=self.events,
             parameters=p.to_dict(),
             control_period_s=self.period,

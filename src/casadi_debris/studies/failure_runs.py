@@ -25,7 +25,7 @@ from casadi_debris.simulation import (
     run_campaign,
     scenario_reference,
 )
-from casadi_debris.simulation.monte_carlo import CaseFailure
+from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES, CaseFailure
 from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.studies.failure_cases import FailureCase
 from casadi_debris.studies.failure_records import RunVerdict
@@ -139,7 +139,8 @@ def fly_cases(
     plants: Sequence[Case],
     *,
     workers: int = 1,
-    jit: bool = False,
+    jit: bool = True,
+    batch_cases: int = DEFAULT_BATCH_CASES,
     progress: Progress | None = None,
 ) -> dict[str, RunVerdict]:
     """Fly ``manoeuvre`` for every failure case on every plant; the worst run of each case.
@@ -155,9 +156,11 @@ def fly_cases(
     workers : int
         Local processes.
     jit : bool
-        Compile the step to C. Each failure set has its own authority polytope, which the
-        compiled step holds as constants: one compile (seconds) per set, worth it only
-        when a set flies many plants.
+        Run the cases on the compiled step (compiled once per machine: the authority of
+        each failure set is one of its inputs), ``batch_cases`` of them per call as one
+        function mapped over them. Without it they run one by one on CasADi's virtual
+        machine; the numbers are the same.
+    batch_cases : int
     progress : callable, optional
         ``progress(done, total)`` as runs finish.
 
@@ -167,7 +170,11 @@ def fly_cases(
         :class:`RunVerdict` by failure case id.
     """
     setup = CampaignSetup.create(
-        manoeuvre.problem, controller, scenario_reference(manoeuvre.problem), jit=jit
+        manoeuvre.problem,
+        controller,
+        scenario_reference(manoeuvre.problem),
+        jit=jit,
+        batch_cases=batch_cases,
     )
     runs = [
         replace(plant, case_id=run_id(case, plant), failures=case.events)

@@ -40,6 +40,7 @@ import numpy as np
 from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.model import Model
 from casadi_debris.simulation import Case, nominal_case
+from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
 from casadi_debris.studies.failure_authority import (
     CaseAuthority,
     case_authority,
@@ -88,8 +89,10 @@ class FailureSettings:
     workers : int
         Local processes for the closed-loop runs.
     jit : bool
-        Compile each failure set's control step to C (see
+        Run the closed-loop cases on the compiled step, in batches (see
         :func:`~casadi_debris.studies.failure_runs.fly_cases`).
+    batch_cases : int
+        Cases of one compiled call (1: one by one; same numbers).
     """
 
     max_failed: int = 2
@@ -97,7 +100,8 @@ class FailureSettings:
     closed_loop: bool = True
     corner_sets: int = 3
     workers: int = 1
-    jit: bool = False
+    jit: bool = True
+    batch_cases: int = DEFAULT_BATCH_CASES
 
 
 @dataclass(frozen=True, eq=False)
@@ -354,6 +358,7 @@ class _Flights:
                 plants,
                 workers=self.settings.workers,
                 jit=self.settings.jit,
+                batch_cases=self.settings.batch_cases,
                 progress=self.stage(f"{manoeuvre.name}, {where}"),
             )
             for case_id, verdict in verdicts.items():

@@ -57,7 +57,12 @@ from casadi_debris.simulation import (
     simulate,
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
-from casadi_debris.simulation.monte_carlo import CaseFailure, CasesFailedError, SchedulerError
+from casadi_debris.simulation.monte_carlo import (
+    DEFAULT_BATCH_CASES,
+    CaseFailure,
+    CasesFailedError,
+    SchedulerError,
+)
 from casadi_debris.simulation.sampling import varied_case, varied_cases
 from casadi_debris.simulation.statistics import statistics_of
 from casadi_debris.simulation.summary import RunSummary
@@ -253,6 +258,7 @@ def run_campaign_folder(
     workers: int = 1,
     scheduler: str | None = None,
     jit: bool = True,
+    batch_cases: int = DEFAULT_BATCH_CASES,
     overwrite: bool = False,
     progress: Progress | None = None,
     allow_mismatch: bool = False,
@@ -273,8 +279,8 @@ def run_campaign_folder(
         Local processes.
     scheduler : str, optional
         A Dask scheduler address instead of local processes.
-    jit : bool
-        Compile the control step to C where a compiler is found.
+    jit, batch_cases : bool, int
+        Compile the step to C where a compiler is found; cases per compiled call.
     overwrite : bool
         Replace an existing campaign folder this toolkit wrote.
     progress : callable, optional
@@ -306,8 +312,7 @@ def run_campaign_folder(
     check_output_folder(out, overwrite=overwrite)
     record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     model = build_model(problem)
-    cases = selection.cases(problem, model)
-    setup = CampaignSetup.create(problem, record.reduced, scenario_reference(problem), jit=jit)
+    cases, setup = selection.cases(problem, model), _setup(problem, record, jit, batch_cases)
     identity = _identity(setup, cases, resolved)
     with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
         done = folder.finished_cases(cases)
@@ -324,6 +329,12 @@ def run_campaign_folder(
         summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
         folder.finish()
     return summary
+
+
+def _setup(problem: Problem, record: ControllerRecord, jit: bool, batch: int) -> CampaignSetup:
+    """What every case of the campaign shares (``batch`` cases per compiled call)."""
+    reference = scenario_reference(problem)
+    return CampaignSetup.create(problem, record.reduced, reference, jit=jit, batch_cases=batch)
 
 
 def _identifying(
