@@ -4,10 +4,9 @@ The order of the solve:
 
 1. multi-start collocation (:mod:`~casadi_debris.slew.multistart`): the
    eigenaxis bang-bang and seeded symmetry-breaking starts, in parallel;
-2. symmetric images: the shortest few distinct optima (those within 5 % of
-   the best) mapped by the slew's (near) symmetries (half turns about body
-   axes) and solved again, so that starts that went round the wrong way are
-   not lost;
+2. symmetric images: the shortest few distinct optima mapped by the slew's
+   (near) symmetries (half turns about body axes) and solved again, so that
+   starts that went round the wrong way are not lost;
 3. switch times (:mod:`~casadi_debris.slew.switch_times`): the best solution's
    bang-bang structure with its switch times as the decision variables, and the
    result verified by integrating the bang-bang control with CVODES.
@@ -66,12 +65,8 @@ from casadi_debris.slew.switch_times import NotBangBangError, refine, switch_str
 logger = logging.getLogger(__name__)
 # Below this many starts a second process costs more than it saves.
 PARALLEL_STARTS = 4
-# The shortest distinct optima whose symmetric images are solved, and only those
-# within IMAGED_WITHIN of the best: an image lands near its optimum's duration, so
-# the images of one 5 % longer (the paper's y slew: 1414 s against 1228 s) cost
-# solves and never give the best.
+# The shortest distinct optima whose symmetric images are solved.
 IMAGED_OPTIMA = 3
-IMAGED_WITHIN = 0.05
 # Segments shorter than this (scaled time) are dropped from the refined profile.
 MIN_SEGMENT = 1e-12
 
@@ -232,8 +227,7 @@ def _images(
         Each imaged optimum (scaled duration) and the best of it and its images.
     """
     converged = [o for o in search.outcomes if o.converged]
-    close = [o for o in search.optima if o <= search.optima[0] * (1.0 + IMAGED_WITHIN)]
-    representatives = [_nearest(converged, optimum) for optimum in close[:IMAGED_OPTIMA]]
+    representatives = [_nearest(converged, optimum) for optimum in search.optima[:IMAGED_OPTIMA]]
     per_optimum = [symmetric_images(slew, o) for o in representatives]
     starts = [image for images in per_optimum for image in images]
     solved = run_starts(slew, starts, search.seed, workers).outcomes if starts else ()
