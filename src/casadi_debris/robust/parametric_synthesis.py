@@ -40,6 +40,7 @@ from casadi_debris.robust.parametric_loop import (
     parametric_closed_loop,
     parametric_generalized_plant,
 )
+from casadi_debris.robust.parametric_mu import top_frequencies
 from casadi_debris.robust.uncertainty import frequency_response
 from casadi_debris.robust.weights import PerformanceWeights
 
@@ -87,19 +88,20 @@ class ParametricSynthesis:
     time_s: float
 
     @property
+    def mu_bound(self) -> np.ndarray:
+        """Upper bound of mu per frequency: the mixed bound where computed, the complex
+        one (never smaller) elsewhere, shape (n_omega,)."""
+        return _combined(self.mu_complex, self.mu_mixed, self.mixed_indices)
+
+    @property
     def mu_peak(self) -> float:
-        """Upper bound of mu over the grid: the mixed bound where computed, the complex
-        one (never smaller) elsewhere."""
-        bound = self.mu_complex.copy()
-        bound[self.mixed_indices] = np.minimum(bound[self.mixed_indices], self.mu_mixed)
-        return float(np.max(bound))
+        """Peak of :attr:`mu_bound`."""
+        return float(np.max(self.mu_bound))
 
     @property
     def peak_frequency_rad_s(self) -> float:
         """Where :attr:`mu_peak` is reached [rad/s]."""
-        bound = self.mu_complex.copy()
-        bound[self.mixed_indices] = np.minimum(bound[self.mixed_indices], self.mu_mixed)
-        return float(self.omega[int(np.argmax(bound))])
+        return float(self.omega[int(np.argmax(self.mu_bound))])
 
 
 def mixed_bound(
@@ -137,16 +139,10 @@ def mixed_bound(
     responses = frequency_response(closed, omega)
     complex_blocks = [("complex", 1)] * plant.n_real + [("complex", N_PERFORMANCE)]
     mu_complex = mu_upper_bound(responses, complex_blocks).mu
-    indices = np.array(_local_maxima(mu_complex, points), dtype=int)
+    indices = np.array(top_frequencies(mu_complex, points), dtype=int)
     structure = [*plant.blocks, ("complex", N_PERFORMANCE)]
     mu_mixed = mu_upper_bound(responses[indices], structure).mu
     return mu_complex, mu_mixed, indices
-
-
-def _local_maxima(curve: np.ndarray, count: int) -> list[int]:
-    padded = np.concatenate([[-np.inf], curve, [-np.inf]])
-    peaks = np.flatnonzero((padded[1:-1] >= padded[:-2]) & (padded[1:-1] >= padded[2:]))
-    return sorted(peaks[np.argsort(curve[peaks])[::-1][:count]].tolist())
 
 
 def parametric_musyn(
@@ -211,7 +207,7 @@ def parametric_musyn(
     )
     controllers = [it.controller for it in result.iterations if it.controller is not None]
     scored = [mixed_bound(plant, k, weights, grid, mixed_points) for k in controllers]
-    peaks = [_peak(*score) for score in scored]
+    peaks = [float(np.max(_combined(*score))) for score in scored]
     best = int(np.argmin(peaks))
     mu_complex, mu_mixed, indices = scored[best]
     return ParametricSynthesis(
@@ -228,7 +224,7 @@ def parametric_musyn(
     )
 
 
-def _peak(mu_complex: np.ndarray, mu_mixed: np.ndarray, indices: np.ndarray) -> float:
+def _combined(mu_complex: np.ndarray, mu_mixed: np.ndarray, indices: np.ndarray) -> np.ndarray:
     bound = mu_complex.copy()
     bound[indices] = np.minimum(bound[indices], mu_mixed)
-    return float(np.max(bound))
+    return bound
