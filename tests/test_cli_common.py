@@ -123,3 +123,29 @@ def test_quiet_prints_no_progress_and_verbose_logs_the_stages(tmp_path) -> None:
     verbose = runner.invoke(main, ["-v", *args, "--out", str(tmp_path / "c")])
     assert verbose.exit_code == 0, verbose.output
     assert "short: 2 cases (0 on disk, 2 to run)" in verbose.stderr
+
+
+def test_progress_off_a_terminal_is_a_line_per_tenth_and_the_last(capsys, monkeypatch):
+    from casadi_debris.cli import common
+
+    monkeypatch.setattr(common.sys.stderr, "isatty", lambda: False)
+    show = common.counter_progress("slew Monte Carlo")
+    for done in range(0, 257):
+        show(done, 256)
+    lines = capsys.readouterr().err.splitlines()
+    assert "\r" not in "".join(lines)
+    assert 10 <= len(lines) <= 12  # 0, each tenth, the end (no time gap this short)
+    assert lines[-1].startswith("slew Monte Carlo: 256/256 cases, ")
+    assert "left" in lines[-1]
+
+
+def test_progress_on_a_terminal_is_one_bar_redrawn(capsys, monkeypatch):
+    from casadi_debris.cli import common
+
+    monkeypatch.setattr(common.sys.stderr, "isatty", lambda: True)
+    show = common.counter_progress("runs", "runs")
+    for done in range(0, 5):
+        show(done, 4)
+    err = capsys.readouterr().err
+    assert err.count("\r") == 5 and err.endswith("\n") and err.count("\n") == 1
+    assert "[" + "#" * common.BAR_WIDTH + "] 4/4 runs" in err

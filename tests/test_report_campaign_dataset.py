@@ -70,6 +70,7 @@ def test_dimensions_coordinates_and_units() -> None:
         "axis": 3,
         "parameter": 6,
         "cubesat": 24,
+        "varied": 6,
     }
     assert list(ds.case.values) == ["corner-0000", "corner-0001", "corner-0002"]
     assert list(ds.bound.values) == ["min", "max"] and list(ds.axis.values) == ["x", "y", "z"]
@@ -138,3 +139,42 @@ def test_open_campaign_names_what_is_missing(tmp_path: Path) -> None:
 def test_an_empty_campaign_is_refused() -> None:
     with pytest.raises(ValueError, match="at least one case"):
         campaign_dataset(_record(None, []), np.arange(3.0), [], PARAMETERS)
+
+
+def test_a_varied_campaign_keeps_every_cases_seed_and_values_by_name(tmp_path: Path) -> None:
+    rng = np.random.default_rng(4)
+    names = ("environment.density_kg_m3", "mass_kg")
+    values = rng.uniform(size=(4, 2))
+    outcomes = []
+    for i, row in enumerate(values):
+        plain = _outcome(i, rng, 11)
+        case = Case(
+            f"varied-{i:04d}",
+            "varied",
+            i,
+            11,
+            plain.case.normalized,
+            plain.case.parameters,
+            varied=tuple(zip(names, row.tolist(), strict=True)),
+        )
+        outcomes.append(
+            CaseOutcome(case, CaseSummary(case.identity(), plain.summary.run), plain.bands)
+        )
+    record = _record(11, [o.case.case_id for o in outcomes])
+    path = write_campaign_dataset(
+        tmp_path / DATASET_NAME,
+        campaign_dataset(record, 2.0 * np.arange(N_BINS), outcomes, PARAMETERS),
+    )
+    with open_campaign(path) as ds:
+        assert list(ds.varied.values) == list(names)
+        assert np.array_equal(ds.varied_value.values, values)
+        assert ds.varied_value.sel(case="varied-0002", varied="mass_kg").item() == values[2, 1]
+        assert list(ds.seed.values) == [11] * 4
+    # The case's own record (cases/<id>.json) names its values too.
+    assert outcomes[3].summary.to_json()["varied"] == dict(zip(names, values[3], strict=True))
+
+
+def test_a_campaign_over_the_uncertainty_set_varies_the_model_parameters() -> None:
+    ds, outcomes = _dataset()
+    assert list(ds.varied.values) == list(PARAMETERS)
+    assert np.array_equal(ds.varied_value.values, [o.case.parameters for o in outcomes])

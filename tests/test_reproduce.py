@@ -5,6 +5,7 @@ made-up results."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 from typing import Any
@@ -15,8 +16,14 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.report.paper import paper_figure, table_figures
-from casadi_debris.report.reproduce import ReproductionRow, report_markdown, reproduction_rows
+from casadi_debris.report.reproduce import (
+    ReproductionRow,
+    ReproductionSummary,
+    report_markdown,
+    reproduction_rows,
+)
 from casadi_debris.report.robust import DiskMargin, MarginReport, Margins
+from casadi_debris.report.simulation import CampaignRun, CampaignSummary, WorstFigure
 
 # Rows that need all 256 corners: a quick run (8 slew, 4 pointing corners) cannot pass them.
 NEEDS_EVERY_CORNER = ("slew_envelope_cases", "pointing")
@@ -128,19 +135,25 @@ def _results() -> dict[str, Any]:
             },
             "samples": 3000,
         },
-        "slew": {
-            "nominal": {"max_error_deg": 0.45, "fuel_slew_kg": 3.3e-4},
-            "slew_duration_s": 1228.0,
-            "cases": 256,
-            "worst": {"max_error_deg": {"value": 0.65}},
-        },
-        "pointing": {
-            "nominal": {"max_error_arcsec": 26.9},
-            "worst": {"max_error_arcsec": {"value": 27.0}},
-            "max_torque_mNm": (LIMITS_MNM * 0.5).tolist(),
-            "cases": 256,
-        },
+        "slew": _campaign({"max_error_deg": 0.45, "fuel_slew_kg": 3.3e-4}, "max_error_deg", 0.65),
+        "slew_duration_s": 1228.0,
+        "pointing": _campaign({"max_error_arcsec": 26.9}, "max_error_arcsec", 27.0),
     }
+
+
+def _campaign(nominal: dict[str, float], worst_key: str, worst: float) -> CampaignSummary:
+    """A 256-corner campaign summary holding only the figures the rows read."""
+    return CampaignSummary(
+        problem="paper", problem_sha256="", cases=256,
+        worst={worst_key: WorstFigure(worst, "corner-0001")},
+        max_torque_mNm=(LIMITS_MNM * 0.5).tolist(), fuel_kg_range=[0.0, 0.0],
+        envelope_bin_s=1.0, nominal=dict(nominal),
+        run=CampaignRun(
+            controller_path="", controller_sha256="", plant_sha256="",
+            controller_plant_sha256="", out_dir="", case_kind="corner", seed=None,
+            workers=1, scheduler=None, resumed_cases=0, compiled_step=True, failed_cases=[],
+        ),
+    )  # fmt: skip
 
 
 def _margin_report(margins: dict[str, Any]) -> MarginReport:
@@ -189,7 +202,7 @@ def test_rows_follow_the_papers_table_and_reproduce():
         ("controller", "order_reduced", 26, "controller_order"),
         ("controller", "mu_peak", 1.01, "mu_peak"),
         ("margins", "samples", 200, None),  # the count is only in the title
-        ("slew", "slew_duration_s", 1229.0, "slew_duration_s"),
+        (None, "slew_duration_s", 1229.0, "slew_duration_s"),
         ("slew", "cases", 8, "slew_envelope_cases"),
         ("pointing", "cases", 4, "pointing"),
         ("pointing", "max_torque_mNm", (LIMITS_MNM * [1.0, 1.01, 1.0]).tolist(), "pointing"),
@@ -197,7 +210,12 @@ def test_rows_follow_the_papers_table_and_reproduce():
 )
 def test_a_result_outside_fails_its_row_only(group, field, value, key):
     results = _results()
-    results[group][field] = value
+    if group is None:
+        results[field] = value
+    elif isinstance(results[group], CampaignSummary):
+        results[group] = dataclasses.replace(results[group], **{field: value})
+    else:
+        results[group][field] = value
     rows = _rows(results)
     failed = [k for k, row in rows.items() if row.reproduced is not True]
     assert failed == ([] if key is None else [key])
@@ -217,14 +235,11 @@ def test_a_controller_without_its_full_order_still_reproduces():
 def test_report_renders_the_verdict_from_the_boolean():
     row = ReproductionRow("mass_kg", "total mass [kg]", "668", "±0.5", "1", (1.0,), False)
     undecided = ReproductionRow("x", "x", "1", "—", "1", (1.0,), None)
-    summary = {
-        "problem": "paper",
-        "problem_sha256": "0" * 64,
-        "controller_path": "/c.json",
-        "quick": True,
-        "time_s": 1.0,
-        "workers": 1,
-    }
+    summary = ReproductionSummary(
+        problem="paper", problem_sha256="0" * 64, controller_path="/c.json", quick=True,
+        workers=1, time_s=1.0, reproduced=0, rows=2,
+        table=[row.to_dict(), undecided.to_dict()], out_dir="/report",
+    )  # fmt: skip
     report = report_markdown([row, undecided], summary, [])
     assert "| total mass [kg] | 668 | ±0.5 | 1 | ❌ not reproduced |" in report
     assert "| x | 1 | — | 1 | — |" in report

@@ -10,6 +10,7 @@ import pytest
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.model import build_model
+from casadi_debris.report.simulation import CampaignSummary
 from casadi_debris.workflows.campaign import (
     CaseSelection,
     check_scheduler_address,
@@ -68,9 +69,10 @@ def test_a_campaign_runs_from_python_and_reports_progress(short_slew, tmp_path: 
         progress=lambda done, total: calls.append((done, total)),
     )
     assert calls == [(0, 2), (1, 2), (2, 2)]
-    assert summary["cases"] == 2 and summary["seed"] == 3
+    assert summary.cases == 2 and summary.run.seed == 3
     written = json.loads((tmp_path / "mc" / "summary.json").read_text())
-    assert written["worst"] == json.loads(json.dumps(summary["worst"]))
+    assert written == json.loads(json.dumps(summary.to_json()))
+    assert CampaignSummary.from_json(written).worst == summary.worst
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mc"]
 
 
@@ -87,7 +89,7 @@ def test_a_campaign_in_a_staging_folder_records_its_final_paths(short_slew, tmp_
         staging / "slew",
         moved_to=(staging, final),
     )
-    assert summary["out_dir"] == str((final / "slew").absolute())
-    assert summary["controller_path"] == str((final / "controller.json").absolute())
+    assert summary.run.out_dir == str((final / "slew").absolute())
+    assert summary.run.controller_path == str((final / "controller.json").absolute())
     nominal = json.loads((staging / "slew" / "nominal" / "summary.json").read_text())
-    assert nominal["controller_path"] == summary["controller_path"]
+    assert nominal["controller_path"] == summary.run.controller_path

@@ -2,16 +2,19 @@
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 from click.testing import CliRunner
 
 from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.workflows.design import SLEW_RUN_FACTOR, verification_problems
+from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows.design import SLEW_RUN_FACTOR, _classical, verification_problems
 from casadi_debris.workflows.reproduce import QUICK
 
 PROBLEMS = default_problem_path().parent
@@ -69,3 +72,51 @@ def test_design_refuses_an_existing_folder_it_did_not_write(tmp_path: Path):
     result = CliRunner().invoke(main, ["design", "--out", str(out)])
     assert result.exit_code == 2
     assert (out / "notes.txt").read_text() == "keep me"
+
+
+def test_a_classical_controller_file_loads_as_it_was_designed(problem, tmp_path: Path):
+    """A PD, PID or LQG record goes through the controller file and back unchanged, bound
+    to its plant, with its settings and no μ."""
+    for method, states in (("pd", 3), ("pid", 6), ("lqr", 6)):
+        record = _classical(problem, method)
+        path = tmp_path / f"{method}.json"
+        path.write_text(json.dumps(record.to_dict()))
+        loaded, _ = load_controller(path)
+        assert loaded.reduced.nstates == states and loaded.mu_peak is None
+        assert loaded.problem_sha256 == problem.plant_sha256
+        assert loaded.details["method"] == method
+        np.testing.assert_allclose(loaded.reduced.A, record.reduced.A)
+        np.testing.assert_allclose(loaded.reduced.D, record.reduced.D)
+
+
+@pytest.mark.slow
+def test_design_with_a_pid_is_verified_like_the_mu_design(tmp_path: Path):
+    out = tmp_path / "pid"
+    result = CliRunner().invoke(
+        main,
+        [
+            "-q",
+            "design",
+            "--method",
+            "pid",
+            "--quick",
+            "--workers",
+            "1",
+            "--out",
+            str(out),
+            "--json",
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.output)
+    assert summary["method"] == "pid" and summary["mu_peak"] is None and summary["attempts"] == []
+    keys = [row["key"] for row in summary["rows"]]
+    assert keys[:4] == [
+        "pointing_arcsec",
+        "slew_max_error_deg",
+        "margins_sampled",
+        "unstable_samples",
+    ]
+    slew = json.loads((out / "slew" / "summary.json").read_text())
+    assert summary["rows"][1]["values"][1] == slew["worst"]["max_error_deg"]["value"]
+    assert "PID controller for paper" in (out / "report.md").read_text()

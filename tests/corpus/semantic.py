@@ -71,6 +71,11 @@ class Case(NamedTuple):
     fast: bool = False
 
 
+def _vary(path: str, low: float = 1e-13, high: float = 5e-12) -> dict[str, Any]:
+    """A ``[[montecarlo.vary]]`` entry, uniform from ``low`` to ``high``."""
+    return {"path": path, "distribution": "uniform", "low": low, "high": high}
+
+
 def _engines(count: int) -> list[dict[str, Any]]:
     """``count`` copies of the first CubeSat's engine of the paper's list."""
     engine = paper_cubesat_list()["cubesats"][0]["engines"][0]
@@ -767,6 +772,77 @@ _CASES: list[tuple[str, str, dict[Path_, Any], str, tuple[str, ...], bool]] = [
             },
             ("orbit", "raan_deg"): 90.0,
             ("orbit", "argument_of_latitude_deg"): 30.0,
+        },
+        "ok",
+        (),
+        False,
+    ),
+    # ---- [[montecarlo.vary]]
+    (
+        "montecarlo.vary: a key the problem does not have",
+        "paper",
+        {("montecarlo", "vary"): [_vary("environment.densty_kg_m3")]},
+        "reject",
+        ("montecarlo.vary[0].path",),
+        True,
+    ),
+    (
+        "montecarlo.vary: a whole array, not one element",
+        "paper",
+        {("montecarlo", "vary"): [_vary("disturbance.amplitude_mNm", 0.1, 2.0)]},
+        "reject",
+        ("montecarlo.vary[0].path",),
+        False,
+    ),
+    (
+        "montecarlo.vary: a text key",
+        "paper",
+        {("montecarlo", "vary"): [_vary("simulation.reference", 0.1, 2.0)]},
+        "reject",
+        ("montecarlo.vary[0].path",),
+        False,
+    ),
+    (
+        "montecarlo.vary: low below the key's range",
+        "paper",
+        {("montecarlo", "vary"): [_vary("environment.density_kg_m3", -1.0, 1e-12)]},
+        "reject",
+        ("montecarlo.vary[0].low",),
+        False,
+    ),
+    (
+        "montecarlo.vary: high at or below low",
+        "paper",
+        {("montecarlo", "vary"): [_vary("environment.density_kg_m3", 1e-12, 1e-12)]},
+        "reject",
+        ("montecarlo.vary[0].high",),
+        False,
+    ),
+    (
+        "montecarlo.vary: a bound that breaks a check across keys (reflectivities above 1)",
+        "paper",
+        {("montecarlo", "vary"): [_vary("environment.specular_reflectivity", 0.1, 0.95)]},
+        "reject",
+        ("montecarlo.vary[0].high",),
+        False,
+    ),
+    (
+        "montecarlo.vary: a normal without sigma",
+        "paper",
+        {("montecarlo", "vary"): [{"path": "mass_kg", "distribution": "normal", "mean": 1.0}]},
+        "reject",
+        ("montecarlo.vary[0].sigma",),
+        False,
+    ),
+    (
+        "montecarlo.vary: a key, a parameter and corners (control)",
+        "paper",
+        {
+            ("montecarlo", "vary"): [
+                _vary("environment.density_kg_m3"),
+                {"path": "mass_kg", "distribution": "normal", "mean": 668.0, "sigma": 20.0},
+                _vary("disturbance.amplitude_mNm[2]", 0.5, 0.9) | {"distribution": "corners"},
+            ]
         },
         "ok",
         (),

@@ -12,7 +12,9 @@ from __future__ import annotations
 # Importing a command module registers its commands on `main`.
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
+    alternatives,  # alternatives
     compare,  # compare
+    deorbit,  # deorbit
     describe,  # model, budget, schema, problems
     design,  # design
     detumble,  # detumble

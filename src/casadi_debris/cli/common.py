@@ -262,3 +262,48 @@ def main(context: click.Context, verbose: int, quiet: bool) -> None:
     """
     context.meta[_QUIET_KEY] = quiet
     configure_output(verbose, quiet)
+
+
+PROGRESS_LINE_S = 30.0
+"""Off a terminal, a progress line at least this often [s] (and at every tenth done)."""
+BAR_WIDTH = 24
+
+
+def counter_progress(label: str, unit: str = "cases") -> Callable[[int, int], None]:
+    """``progress(done, total)`` on stderr, silent with ``-q``.
+
+    On a terminal a bar redrawn in place, with the elapsed time and an estimate of what
+    is left; otherwise (a log file, CI) a whole line at every tenth of the work done or
+    every :data:`PROGRESS_LINE_S` seconds, and at the end, so that a log shows the run
+    is alive without a line per case.
+    """
+    import time
+
+    started = time.monotonic()
+    last = {"time": started, "tenth": -1}
+    terminal = sys.stderr.isatty()
+
+    def show(done: int, total: int) -> None:
+        now = time.monotonic()
+        elapsed = now - started
+        left = elapsed / done * (total - done) if done else None
+        timing = f"{_clock(elapsed)} elapsed" + ("" if left is None else f", {_clock(left)} left")
+        if terminal:
+            filled = BAR_WIDTH * done // max(total, 1)
+            bar = "#" * filled + "-" * (BAR_WIDTH - filled)
+            end = "\n" if done == total else ""
+            say(f"\r{label} [{bar}] {done}/{total} {unit}, {timing}{end}", newline=False)
+            return
+        tenth = 10 * done // max(total, 1)
+        if done == total or tenth > last["tenth"] or now - last["time"] >= PROGRESS_LINE_S:
+            last.update(time=now, tenth=tenth)
+            say(f"{label}: {done}/{total} {unit}, {timing}")
+
+    return show
+
+
+def _clock(seconds: float) -> str:
+    """``m:ss`` (or ``h:mm:ss``) of a duration."""
+    minutes, secs = divmod(round(seconds), 60)
+    hours, minutes = divmod(minutes, 60)
+    return f"{hours}:{minutes:02d}:{secs:02d}" if hours else f"{minutes}:{secs:02d}"

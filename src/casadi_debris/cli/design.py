@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING, cast
 
 import click
 
@@ -21,6 +22,9 @@ from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import load_problem
 from casadi_debris.report.folders import check_output_folder, default_run_folder
 
+if TYPE_CHECKING:
+    from casadi_debris.workflows.design import DesignMethod
+
 TABLE_KEYS = ("result", "required", "ours", "verdict")
 
 
@@ -28,6 +32,14 @@ TABLE_KEYS = ("result", "required", "ours", "verdict")
 @problem_argument
 @out_folder_option("design")
 @click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run.")
+@click.option(
+    "--method",
+    type=click.Choice(["mu", "pd", "pid", "lqr"]),
+    default="mu",
+    show_default=True,
+    help="mu: D-K mu-synthesis; pd, pid, lqr: per-axis PD, PID or LQG on the rigid body, "
+    "to compare.",
+)
 @uncertainty_sample_options
 @workers_option
 @overwrite_option
@@ -37,6 +49,7 @@ def design(
     problem_file: Path | None,
     out: Path | None,
     quick: bool,
+    method: str,
     samples: int | None,
     seed: int | None,
     workers: int,
@@ -47,7 +60,8 @@ def design(
     weights from its authority, disturbance and pointing requirement, D-K mu-synthesis
     (searching the best guaranteed pointing when the requirement cannot be met), reduction,
     margins over sampled plants, slew and pointing corner campaigns; writes controller.json
-    and report.md."""
+    and report.md. --method pd, pid or lqr designs a classical controller instead and verifies
+    it the same way, to compare with the mu design."""
     from casadi_debris.robust.design import SynthesisSettings
     from casadi_debris.workflows.design import design_for_problem
 
@@ -60,6 +74,7 @@ def design(
         problem,
         folder,
         quick=quick,
+        method=cast("DesignMethod", method),  # a click.Choice of those
         settings=settings,
         workers=workers,
         overwrite=overwrite,
@@ -67,10 +82,10 @@ def design(
     )
     echo_verdicts(
         summary,
-        summary["rows"],
+        summary.rows,
         TABLE_KEYS,
-        f"{summary['requirements_met']} of {summary['requirements']} requirements met; "
+        f"{summary.requirements_met} of {summary.requirements} requirements met; "
         f"controller: {folder.absolute() / 'controller.json'}; "
-        f"report: {folder.absolute() / 'report.md'} ({summary['time_s']:.0f} s)",
+        f"report: {folder.absolute() / 'report.md'} ({summary.time_s:.0f} s)",
         as_json=as_json,
     )

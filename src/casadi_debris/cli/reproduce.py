@@ -16,6 +16,7 @@ from casadi_debris.cli.common import (
     workers_option,
 )
 from casadi_debris.cli.simulate import stage_progress
+from casadi_debris.records import Record
 from casadi_debris.report.common import format_table
 
 TABLE_KEYS = ("result", "paper", "accepted", "ours", "verdict")
@@ -53,16 +54,16 @@ def reproduce(
     )
     echo_verdicts(
         summary,
-        summary["table"],
+        summary.table,
         TABLE_KEYS,
-        f"{summary['reproduced']} of {summary['rows']} rows reproduced; "
-        f"report: {out.absolute() / 'report.md'} ({summary['time_s']:.0f} s)",
+        f"{summary.reproduced} of {summary.rows} rows reproduced; "
+        f"report: {out.absolute() / 'report.md'} ({summary.time_s:.0f} s)",
         as_json=as_json,
     )
 
 
 def echo_verdicts(
-    summary: dict[str, Any],
+    summary: Record,
     rows: list[dict[str, Any]],
     keys: tuple[str, ...],
     closing: str,

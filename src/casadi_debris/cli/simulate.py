@@ -15,6 +15,7 @@ import click
 from casadi_debris.cli.common import (
     allow_mismatch_option,
     controller_option,
+    counter_progress,
     echo_json,
     failed_cubesat_indices,
     friendly_errors,
@@ -38,6 +39,7 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.simulation.statistics import CampaignStatistics
     from casadi_debris.workflows.campaign import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
@@ -129,7 +131,8 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option(
     "--sample",
     type=click.IntRange(0, int(limits.MONTECARLO_SAMPLES.high) - 1),
-    help="Run random sample N (with --seed).",
+    help="Run random sample N (with --seed); case N of the campaign of [[montecarlo.vary]] "
+    "when the problem has one.",
 )
 @click.option(
     "--seed",
@@ -203,6 +206,7 @@ def simulate(
     if failed is not None:
         problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
     from casadi_debris.allocation import Allocator
+    from casadi_debris.config import problem_with_values
     from casadi_debris.model import build_model
     from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
@@ -218,6 +222,9 @@ def simulate(
         case = parameters_case(problem, model, *read_parameters_file(parameters_file))
     else:
         case = one_case(problem, model, corner, sample, seed)
+    if case.file_values:  # a case of [[montecarlo.vary]] that changes the problem file's keys
+        problem = problem_with_values(problem, case.file_values)
+        model = build_model(problem)
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(
@@ -292,13 +299,9 @@ def _open_loop(
 
 
 def cases_progress(label: str) -> Callable[[int, int], None]:
-    """A one-line counter of finished cases on stderr."""
-
-    def show(done: int, total: int) -> None:
-        end = "\n" if done == total else ""
-        say(f"\r{label}: {done}/{total} cases{end}", newline=False)
-
-    return show
+    """Finished cases on stderr: a bar on a terminal, periodic lines otherwise
+    (:func:`~casadi_debris.cli.common.counter_progress`)."""
+    return counter_progress(label, "cases")
 
 
 def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] | None]:
@@ -316,11 +319,15 @@ def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] 
 
 @main.command()
 @problem_argument
-@click.option("--corners", is_flag=True, help="Every corner of the uncertainty set (default).")
+@click.option(
+    "--corners",
+    is_flag=True,
+    help="Every corner of the uncertainty set (the default without [[montecarlo.vary]]).",
+)
 @click.option(
     "--samples",
     type=in_range(limits.MONTECARLO_SAMPLES),
-    help="N random samples instead of the corners.",
+    help="N random samples instead of the corners (with [[montecarlo.vary]]: N draws).",
 )
 @click.option(
     "--seed", type=in_range(limits.SEED), help="Seed of --samples (default the problem's)."
@@ -363,13 +370,15 @@ def montecarlo(
     overwrite: bool,
     as_json: bool,
 ) -> None:
-    """Closed-loop Monte Carlo: all corners (the paper's 256) or seeded random samples.
+    """Closed-loop Monte Carlo: all corners (the paper's 256), seeded random samples, or
+    what the problem's [[montecarlo.vary]] lists, with statistics.
 
     Runs in parallel; where a C compiler is found each worker compiles the
     control step to C once (a few seconds) and runs every case on it. An
     interrupted campaign resumes from the cases in <out>.partial. Writes
-    summary.json, cases.csv, envelope.csv/png, campaign.nc (every case, for xarray)
-    and the nominal run.
+    summary.json (with the pass rate against [requirements], percentiles, 3 sigma and
+    rank correlations of every figure), cases.csv, envelope.csv/png, statistics.png,
+    campaign.nc (every case, for xarray) and the nominal run.
     """
     from casadi_debris.workflows.campaign import (
         CampaignInterrupted,
@@ -398,10 +407,38 @@ def montecarlo(
     if as_json:
         echo_json(summary)
         return
-    worst = summary["worst"]
+    worst = summary.worst
     rows = [
-        [key, worst[key]["value"], worst[key]["case_id"]]
+        [key, worst[key].value, worst[key].case_id]
         for key in ("max_error_deg", "max_error_arcsec", "fuel_kg", "torque_saturated_s")
     ]
     click.echo(format_table(["worst over cases", "value", "case"], rows))
-    click.echo(f"{summary['cases']} cases written to {summary['out_dir']}")
+    if summary.statistics is not None:
+        click.echo(statistics_text(summary.statistics))
+    click.echo(f"{summary.cases} cases written to {summary.run.out_dir}")
+
+
+def statistics_text(statistics: CampaignStatistics) -> str:
+    """The campaign's statistics as a table, the pass rate and what drives the error and the
+    fuel most (every figure's drivers are in summary.json)."""
+    columns = ("mean", "std", "p50", "p95", "p99", "mean_plus_3sigma", "max")
+    rows = [[item.figure, *(getattr(item, c) for c in columns)] for item in statistics.figures]
+    lines = [format_table(["figure", *columns], rows)]
+    total = statistics.cases + statistics.failed_cases
+    lines.append(
+        f"pass rate {100 * statistics.pass_rate:.1f} % ({statistics.passed} of {total} "
+        f"cases with {statistics.requirement_figure} <= {statistics.requirement:g})"
+    )
+    shown = (statistics.requirement_figure, "fuel_slew_kg", "fuel_kg")
+    for driver in (d for d in statistics.drivers if d.figure in shown):
+        ranked = ", ".join(
+            f"{name} (rho {rho:+.2f}" + ("" if index is None else f", S {index:.2f}") + ")"
+            for name, rho, index in zip(
+                driver.quantities[:3],
+                driver.spearman_rho[:3],
+                driver.first_order_index[:3],
+                strict=True,
+            )
+        )
+        lines.append(f"drivers of {driver.figure}: {ranked or 'none varies'}")
+    return "\n".join(lines)

@@ -10,6 +10,7 @@ import click
 from casadi_debris.cli.common import (
     allow_mismatch_option,
     controller_option,
+    counter_progress,
     echo_json,
     friendly_errors,
     in_range,
@@ -89,9 +90,8 @@ def worstcase(
         if as_json or is_quiet():
             return None
         say(stage)
-        return lambda done, error: say(
-            f"\r  {done}/{budget} runs, last {error:.4f} deg", newline=False
-        )
+        counter = counter_progress("  search", "runs")
+        return lambda done, error: counter(done, budget)
 
     summary = run_worstcase_folder(
         problem,

@@ -77,8 +77,10 @@ from casadi_debris.config.schema import (
     SlewReference,
     Transfer,
     Uncertainty,
+    VariedQuantity,
     Weights,
 )
+from casadi_debris.config.varied import problem_with_values
 
 __all__ = [
     "AXIS_NAMES",
@@ -118,6 +120,7 @@ __all__ = [
     "SlewReference",
     "Transfer",
     "Uncertainty",
+    "VariedQuantity",
     "Weights",
     "check_inertia",
     "default_controller_path",
@@ -125,6 +128,7 @@ __all__ = [
     "load_problem",
     "problem_from_dict",
     "problem_path",
+    "problem_with_values",
     "shipped_problems",
     "signed_axis_vector",
     "with_duration",

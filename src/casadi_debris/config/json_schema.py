@@ -43,7 +43,15 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
         },
         "requirements": {"pointing_arcsec": 60.0, "slew_error_deg": 0.6},
         "uncertainty": {"independent_array_angles": True},
-        "montecarlo": {"corner_array_angles": 2},
+        "montecarlo": {
+            "corner_array_angles": 2,
+            "vary": [
+                {"path": "mass_kg", "distribution": "normal", "mean": 668.0, "sigma": 10.0}
+                | {"low": 600.0, "high": 700.0},
+                {"path": "inertia_scale_x", "distribution": "uniform", "low": 0.9, "high": 1.1},
+                {"path": "inertia_scale_y", "distribution": "corners", "low": 0.9, "high": 1.1},
+            ],
+        },
         "orbit": {"raan_deg": 30.0, "argument_of_latitude_deg": 45.0},
         "environment": {
             "torques": ["gravity_gradient", "aerodynamic", "solar_pressure", "magnetic"],

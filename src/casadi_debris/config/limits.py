@@ -231,6 +231,12 @@ CORNER_ARRAY_ANGLES = Range(1, 64)
 MAX_CORNER_CASES = 4096
 """At most 4096 corner cases (with one angle per array, corner_array_angles^n_arrays x 2^5):
 a corner campaign of the paper's slew takes about 2 s a case on two cores, 2 h for 4096."""
+MAX_VARIED_QUANTITIES = 64
+"""At most 64 quantities varied by a campaign (``[[montecarlo.vary]]``)."""
+MAX_VARIED_CORNERS = 12
+"""At most 12 of them with ``corners``: 2^12 = 4096 combinations (:data:`MAX_CORNER_CASES`)."""
+VARIED_VALUE = Range(-1e12, 1e12)
+"""Bounds, mean and sigma of a varied quantity before its key's own range is checked."""
 MONTECARLO_SAMPLES = Range(1, 100_000)
 """1 to 100 000 random closed-loop cases: about a day on two cores at one second a case."""
 

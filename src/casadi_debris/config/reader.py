@@ -9,6 +9,7 @@ fastest dynamics) are made here once everything is read.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 from casadi_debris.config import limits
@@ -36,6 +37,7 @@ from casadi_debris.config.schema import (
     Weights,
 )
 from casadi_debris.config.table import Table, show
+from casadi_debris.config.varied import resolve_vary
 
 
 def _read_disturbance(t: Table) -> Disturbance:
@@ -137,6 +139,14 @@ def _check_corner_count(top: Table, problem: Problem) -> None:
         )
 
 
+def _with_vary_resolved(top: Table, problem: Problem) -> Problem:
+    """Check ``[[montecarlo.vary]]`` against the problem just read (see config.varied)."""
+    if not problem.montecarlo.vary:
+        return problem
+    vary = resolve_vary(Table({}, "montecarlo", top.source), problem)
+    return replace(problem, montecarlo=replace(problem.montecarlo, vary=vary))
+
+
 def problem_from_dict(
     data: Mapping[str, Any], source: str | None = None, sha256: str = ""
 ) -> Problem:
@@ -207,8 +217,10 @@ def problem_from_dict(
         environment=read_environment(top),
         source=source or "<dict>",
         sha256=sha256,
+        data=data,
     )
     _check_corner_count(top, problem)
+    problem = _with_vary_resolved(top, problem)
     if "extends" in data:  # followed by the loader, which checked it
         top.record("extends", kind="text", choices=None)
         top.taken.add("extends")

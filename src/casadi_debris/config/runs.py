@@ -25,6 +25,7 @@ from casadi_debris.config.schema import (
     SlewReference,
 )
 from casadi_debris.config.table import Table
+from casadi_debris.config.varied import read_vary
 from casadi_debris.errors import ProblemFileError
 
 
@@ -207,11 +208,12 @@ def check_integration_step(t: Table, simulation: Simulation, rates: Mapping[str,
 
 
 def read_montecarlo(t: Table) -> MonteCarlo:
-    """``[montecarlo]``: the corner set and the random cases of a campaign."""
+    """``[montecarlo]``: the corner set, the random cases and what a campaign varies."""
     montecarlo = MonteCarlo(
         corner_array_angles=t.integer("corner_array_angles", limits.CORNER_ARRAY_ANGLES),
         samples=t.integer("samples", limits.MONTECARLO_SAMPLES),
         seed=t.integer("seed", limits.SEED),
+        vary=read_vary(t) if t.has("vary") else (),
     )
     t.done()
     return montecarlo

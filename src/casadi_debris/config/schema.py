@@ -8,8 +8,9 @@ only by :func:`casadi_debris.config.problem_from_dict` (or
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -461,6 +462,47 @@ class Simulation:
     failures: tuple[FailureEvent, ...]
 
 
+Distribution = Literal["uniform", "normal", "corners"]
+DISTRIBUTIONS: tuple[Distribution, ...] = ("uniform", "normal", "corners")
+
+
+@dataclass(frozen=True, eq=False)
+class VariedQuantity:
+    """One quantity a Monte-Carlo campaign varies (``[[montecarlo.vary]]``).
+
+    Attributes
+    ----------
+    path : str
+        What varies: a model parameter by name (``mass_kg``,
+        ``inertia_scale_x``, ``array_angle_offset_rad``,
+        ``bending_frequency_scale``), varied in the compiled step at no cost;
+        or a dotted key of the problem file (``environment.density_kg_m3``,
+        ``disturbance.amplitude_mNm[2]``, ``arrays[0].mass_kg``; indices from
+        0 as in the loader's messages), for which every case rebuilds its problem.
+    distribution : {"uniform", "normal", "corners"}
+        ``uniform`` between ``low`` and ``high``; ``normal`` of ``mean`` and
+        ``sigma``, truncated to ``[low, high]`` (default: the key's allowed
+        range); ``corners``: ``low`` or ``high``, every combination with the
+        other corner quantities.
+    low, high : float or None
+        In the key's unit.
+    mean, sigma : float or None
+        Of a normal distribution, in the key's unit.
+    """
+
+    path: str
+    distribution: Distribution
+    low: float | None = None
+    high: float | None = None
+    mean: float | None = None
+    sigma: float | None = None
+
+    @property
+    def is_parameter(self) -> bool:
+        """A model parameter (no dot, no index), varied without rebuilding the problem."""
+        return "." not in self.path and "[" not in self.path
+
+
 @dataclass(frozen=True, eq=False)
 class MonteCarlo:
     """Corner and random cases of the uncertainty set (``[montecarlo]``).
@@ -478,11 +520,15 @@ class MonteCarlo:
         Random cases when a campaign gives no count, 1 to 100 000.
     seed : int
         0 to 2^32 - 1.
+    vary : tuple of VariedQuantity
+        What a campaign varies, and how (none: the uncertainty set's corners
+        or uniform samples in it).
     """
 
     corner_array_angles: int
     samples: int
     seed: int
+    vary: tuple[VariedQuantity, ...] = ()
 
 
 DEFAULT_SIMULATION = {
@@ -526,6 +572,8 @@ class Problem:
     environment: Environment = field(default_factory=Environment)
     source: str = field(default="<dict>")
     sha256: str = field(default="")
+    # The tables as read (after ``extends``): a campaign that varies a key rebuilds from them.
+    data: Mapping[str, Any] = field(default_factory=dict, repr=False)
 
     @property
     def plant_sha256(self) -> str:

@@ -4,3 +4,7 @@ Algorithms only (no file I/O, no simulation loop): each is usable on its own fro
 Python, like ``slew`` and ``allocation``. The Earth's constants come from the
 problem (``problem.constants``) or from :mod:`casadi_debris.environment`.
 """
+
+from casadi_debris.orbit.deorbit import DeorbitSettings as DeorbitSettings
+from casadi_debris.orbit.plan import DeorbitPlan as DeorbitPlan
+from casadi_debris.orbit.plan import plan_deorbit as plan_deorbit

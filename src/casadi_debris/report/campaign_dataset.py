@@ -6,7 +6,8 @@ figures, in one netCDF-4 file (written with h5netcdf) beside ``cases.csv``:
 - dimensions ``case`` (the case ids, ``"corner-0017"``), ``time`` (start of
   each envelope bin [s]), ``bound`` (``"min"``, ``"max"``), ``axis`` (``"x"``,
   ``"y"``, ``"z"`` of the body frame B), ``parameter`` (the uncertain model
-  parameters) and ``cubesat`` (numbered from 1);
+  parameters), ``cubesat`` (numbered from 1) and ``varied`` (what the campaign
+  varies);
 - ``error_rad`` and ``torque_Nm`` (case, time, bound, axis): the smallest and
   largest attitude error [rad] and torque [N m] in each bin. One variable per
   quantity because their units differ; ``ds[["error_rad", "torque_Nm"]]
@@ -18,6 +19,10 @@ figures, in one netCDF-4 file (written with h5netcdf) beside ``cases.csv``:
   that is not a random sample) and ``normalized`` (case, parameter), the
   case's place in the uncertainty box (-1 .. 1 per parameter), so that a case
   sliced out keeps what re-runs it;
+- ``varied_value`` (case, varied): the value of every varied quantity in
+  each case, the dimension ``varied`` labelled by their names (the paths of
+  ``[[montecarlo.vary]]``, in their units, or the model parameters for a
+  campaign over the uncertainty set);
 - attributes: problem name and sha256, controller sha256, case kind, seed,
   bin width [s], toolkit version.
 
@@ -43,6 +48,7 @@ import numpy as np
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.report.campaign_folder import CampaignRecord, write_atomically
 from casadi_debris.simulation import CaseOutcome
+from casadi_debris.simulation.statistics import case_quantities
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -101,7 +107,7 @@ def campaign_dataset(
     Returns
     -------
     xarray.Dataset
-        Dimensions (case, time, bound, axis, parameter, cubesat); see the
+        Dimensions (case, time, bound, axis, parameter, cubesat, varied); see the
         module's description.
     """
     # Imported here: a single run reaches this module through report.simulation and
@@ -132,6 +138,16 @@ def campaign_dataset(
     )
     coords = _coordinates(outcomes, np.asarray(bin_start_s, dtype=np.float64), parameter_names)
     coords["cubesat"] = ("cubesat", np.arange(1, fuel.shape[1] + 1), {"long_name": "CubeSat"})
+    quantities = case_quantities(outcomes, parameter_names)
+    coords["varied"] = ("varied", list(quantities), {"long_name": "varied quantity"})
+    data_vars["varied_value"] = (
+        ("case", "varied"),
+        np.stack(list(quantities.values()), axis=1).astype(np.float64),
+        {
+            "units": "as in the quantity's name",
+            "long_name": "value of each varied quantity in the case",
+        },
+    )
     return xr.Dataset(data_vars, coords, _attributes(record))
 
 

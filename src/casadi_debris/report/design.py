@@ -10,14 +10,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.robust import MarginReport
 from casadi_debris.robust.performance_search import DesignSearch
+
+if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
+    from casadi_debris.report.simulation import CampaignSummary, WorstFigure
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -92,16 +96,16 @@ def _at_most(values: Any, bound: float) -> bool:
     return all(v is not None and float(v) <= bound for v in numbers)
 
 
-def _nominal_and_worst(campaign: dict[str, Any], key: str) -> list[float]:
+def _nominal_and_worst(campaign: CampaignSummary, key: str) -> list[float | None]:
     """A figure of a campaign's nominal run and its worst corner."""
-    return [campaign["nominal"][key], campaign["worst"][key]["value"]]
+    return [campaign.nominal[key], campaign.worst[key].value]
 
 
 def requirement_rows(
     problem: Problem,
     search: DesignSearch,
     margins: MarginReport,
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
     """The design's table (margins as from :func:`~casadi_debris.report.robust.margin_report`,
@@ -109,13 +113,8 @@ def requirement_rows(
     judged rows, then :func:`information_rows`."""
     chosen = search.chosen
     pointing_req = problem.requirements.pointing_arcsec
-    slew_req = problem.requirements.slew_error_deg
     guaranteed = chosen.guaranteed_pointing_arcsec
-    pointing = _nominal_and_worst(campaigns["pointing"], "max_error_arcsec")
-    slew = _nominal_and_worst(campaigns["slew"], "max_error_deg")
-    sampled = margins.sampled_min
-    margin_values = [sampled.gain_margin_db, sampled.phase_margin_deg, sampled.delay_margin_s]
-    unstable = margins.unstable_samples
+    orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
     return [
         _row("mu_peak", "μ, full / reduced controller", "≤ 1",
              [chosen.mu_peak, chosen.mu_peak_reduced], chosen.mu_peak_reduced <= 1.0),
@@ -123,6 +122,28 @@ def requirement_rows(
              f"≤ {pointing_req:g}", list(guaranteed) if guaranteed else [None],
              guaranteed is not None and _at_most(guaranteed, pointing_req),
              None if guaranteed else "none (μ > 1)"),
+        *verification_rows(problem, margins, campaigns, torque_limits_mNm, orders),
+    ]  # fmt: skip
+
+
+def verification_rows(
+    problem: Problem,
+    margins: MarginReport,
+    campaigns: dict[str, CampaignSummary],
+    torque_limits_mNm: np.ndarray,
+    orders: list[int],
+) -> list[RequirementRow]:
+    """What any controller is judged on, whatever designed it: pointing and slew error
+    over the corners against the requirements, margins over sampled plants, then
+    :func:`information_rows` (``orders``: the controller's full and flown order)."""
+    pointing_req = problem.requirements.pointing_arcsec
+    slew_req = problem.requirements.slew_error_deg
+    pointing = _nominal_and_worst(campaigns["pointing"], "max_error_arcsec")
+    slew = _nominal_and_worst(campaigns["slew"], "max_error_deg")
+    sampled = margins.sampled_min
+    margin_values = [sampled.gain_margin_db, sampled.phase_margin_deg, sampled.delay_margin_s]
+    unstable = margins.unstable_samples
+    return [
         _row("pointing_arcsec", "pointing error, nominal / worst corner [arcsec]",
              f"≤ {pointing_req:g}", pointing, _at_most(pointing, pointing_req)),
         _row("slew_max_error_deg", "slew error, nominal / worst corner [deg]",
@@ -131,29 +152,73 @@ def requirement_rows(
              f"≥ {GAIN_MARGIN_DB:g} dB, ≥ {PHASE_MARGIN_DEG:g}° (conventional)", margin_values,
              margin_values[0] >= GAIN_MARGIN_DB and margin_values[1] >= PHASE_MARGIN_DEG),
         _row("unstable_samples", "unstable sampled loops", "0", unstable, unstable == 0),
-        *information_rows(search, campaigns, torque_limits_mNm),
+        *information_rows(campaigns, torque_limits_mNm, orders),
     ]  # fmt: skip
 
 
 def information_rows(
-    search: DesignSearch, campaigns: dict[str, dict[str, Any]], torque_limits_mNm: np.ndarray
+    campaigns: dict[str, CampaignSummary], torque_limits_mNm: np.ndarray, orders: list[int]
 ) -> list[RequirementRow]:
     """Figures shown beside the requirements, not judged: torque use, fuel, settling, order."""
     torque_ratio = max(
-        float(np.max(np.asarray(c["max_torque_mNm"], dtype=float) / torque_limits_mNm))
-        for c in campaigns.values()
+        float(np.max(np.asarray(c.max_torque_mNm) / torque_limits_mNm)) for c in campaigns.values()
     )
     slew = campaigns["slew"]
-    orders = [search.design.musyn.controller.nstates, search.design.record.reduced.nstates]
     return [
         _row("torque_to_limit", "peak torque / authority, slew and pointing", "—",
              torque_ratio, None),
         _row("slew_fuel_kg", "slew propellant, nominal / worst corner [kg]", "—",
              _nominal_and_worst(slew, "fuel_kg"), None),
         _row("slew_settle_time_s", "settling time after the slew, worst corner [s]", "—",
-             slew["worst"]["settle_time_s"]["value"], None),
+             slew.worst["settle_time_s"].value, None),
         _row("controller_order", "controller order, full / reduced", "—", orders, None),
     ]  # fmt: skip
+
+
+@dataclass(frozen=True)
+class CampaignFigures(Record):
+    """A verification campaign as a design summary gives it: its size, worst cases
+    and nominal run (see :class:`~casadi_debris.report.simulation.CampaignSummary`)."""
+
+    cases: int
+    worst: dict[str, WorstFigure]
+    nominal: dict[str, Any]
+
+
+@dataclass(frozen=True)
+class DesignSummary(Record):
+    """A design's ``summary.json``: requirements met, the chosen controller's μ, the
+    performance search and the verification campaigns.
+
+    ``method`` is ``"mu"`` (D-K μ-synthesis), ``"pd"`` or ``"lqr"`` (see
+    :mod:`casadi_debris.robust.classical`; their μ fields are None and ``attempts`` empty).
+    ``rows`` are the requirement rows (:meth:`RequirementRow.to_dict`);
+    ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
+    μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
+    performance level; ``time_s`` the wall time [s].
+    """
+
+    problem: str
+    problem_sha256: str
+    plant_sha256: str
+    requirements_met: int
+    requirements: int
+    method: str
+    mu_peak: float | None
+    mu_peak_reduced: float | None
+    guaranteed_pointing_arcsec: list[float] | None
+    required_pointing_arcsec: Any
+    scalings: dict[str, Any]
+    attempts: list[dict[str, Any]]
+    seed: int | None
+    slew: CampaignFigures
+    pointing: CampaignFigures
+    rows: list[dict[str, Any]]
+    time_s: float
+    out_dir: str
+    quick: bool
+    workers: int
+    controller_path: str
 
 
 @dataclass(frozen=True)
@@ -201,7 +266,7 @@ def design_markdown(
     problem: Problem,
     search: DesignSearch,
     rows: list[RequirementRow],
-    summary: dict[str, Any],
+    summary: DesignSummary,
     figures: DesignFigures,
 ) -> str:
     """The report: requirements table, how the performance level was found, figures."""
@@ -209,8 +274,8 @@ def design_markdown(
     lines = [
         f"# Controller design for {problem.name}",
         "",
-        f"{summary['requirements_met']} of {summary['requirements']} requirements met "
-        f"({summary['time_s']:.0f} s). Controller: `controller.json` "
+        f"{summary.requirements_met} of {summary.requirements} requirements met "
+        f"({summary.time_s:.0f} s). Controller: `controller.json` "
         f"(plant sha256 {problem.plant_sha256[:12]}).",
         "",
         "| result | required | ours | verdict |",
@@ -236,6 +301,40 @@ def design_markdown(
         "## Performance level",
         "",
         *_attempts_table(search),
+        "",
+    ]
+    for title, path in figures.entries:
+        lines += [f"## {title}", "", f"![{title}]({path})", ""]
+    return "\n".join(lines)
+
+
+def classical_markdown(
+    problem: Problem,
+    controller: dict[str, Any],
+    rows: list[RequirementRow],
+    summary: DesignSummary,
+    figures: DesignFigures,
+) -> str:
+    """The report of a PD or LQG design: the same table, the controller's settings, figures.
+
+    ``controller`` is the controller file's ``details`` (method and its settings).
+    """
+    settings = ", ".join(
+        f"{k} = {format_figure(v)}" for k, v in controller.items() if k != "method"
+    )
+    lines = [
+        f"# {summary.method.upper()} controller for {problem.name}",
+        "",
+        f"{summary.requirements_met} of {summary.requirements} requirements met "
+        f"({summary.time_s:.0f} s). Controller: `controller.json` "
+        f"(plant sha256 {problem.plant_sha256[:12]}), designed on the rigid body; the "
+        "flexible modes and the uncertainty are judged by the margins and the corners below.",
+        "",
+        "| result | required | ours | verdict |",
+        "|---|---|---|---|",
+        *[f"| {r.result} | {r.required} | {r.ours} | {r.verdict} |" for r in rows],
+        "",
+        f"Settings: {settings}.",
         "",
     ]
     for title, path in figures.entries:

@@ -10,13 +10,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginReport
+
+if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
+    from casadi_debris.report.simulation import CampaignSummary
 
 
 @dataclass(frozen=True)
@@ -71,6 +75,27 @@ class ReproductionRow:
             "reproduced": self.reproduced,
             "ours_values": list(self.ours_values),
         }
+
+
+@dataclass(frozen=True)
+class ReproductionSummary(Record):
+    """A reproduction's ``summary.json``: the table and how the run was made.
+
+    ``table`` holds the rows as :meth:`ReproductionRow.to_dict` gives them;
+    ``reproduced`` counts the rows within tolerance, of ``rows``; ``time_s`` is the
+    wall time [s].
+    """
+
+    problem: str
+    problem_sha256: str
+    controller_path: str
+    quick: bool
+    workers: int
+    time_s: float
+    reproduced: int
+    rows: int
+    table: list[dict[str, Any]]
+    out_dir: str
 
 
 def paper_row(key: str, ours: Any, text: str | None = None, **title_fields: Any) -> ReproductionRow:
@@ -155,45 +180,46 @@ def margin_rows(margins: MarginReport) -> list[ReproductionRow]:
     ]
 
 
-def slew_rows(slew: dict[str, Any]) -> list[ReproductionRow]:
+def slew_rows(slew: CampaignSummary, duration_s: float | None) -> list[ReproductionRow]:
     """The 180° slew: nominal error and fuel, reference duration, corner envelope.
 
-    ``slew`` is the slew campaign's summary (deg, kg) with ``slew_duration_s``.
+    ``slew`` is the slew campaign's summary (deg, kg); ``duration_s`` the slew's
+    reference duration [s].
     """
-    nominal = slew["nominal"]
-    worst = format_figure(slew["worst"]["max_error_deg"]["value"])
+    nominal = slew.nominal
+    worst = format_figure(slew.worst["max_error_deg"].value)
     return [
         paper_row("slew_max_error_deg", nominal["max_error_deg"]),
         paper_row("slew_fuel_kg", nominal["fuel_slew_kg"]),
-        paper_row("slew_duration_s", slew["slew_duration_s"]),
+        paper_row("slew_duration_s", duration_s),
         paper_row(
             "slew_envelope_cases",
-            slew["cases"],
-            text=f"{slew['cases']} (worst error {worst}°)",
+            slew.cases,
+            text=f"{slew.cases} (worst error {worst}°)",
         ),
     ]
 
 
-def pointing_rows(pointing: dict[str, Any], torque_limits_mNm: np.ndarray) -> list[ReproductionRow]:
+def pointing_rows(
+    pointing: CampaignSummary, torque_limits_mNm: np.ndarray
+) -> list[ReproductionRow]:
     """One orbit of pointing: error nominal and at the worst corner, torque within limits.
 
     Parameters
     ----------
-    pointing : dict
+    pointing : CampaignSummary
         The pointing campaign's summary (arcsec, mNm).
     torque_limits_mNm : ndarray, shape (3,)
         The torque authority per axis [mNm].
     """
-    nominal = pointing["nominal"]["max_error_arcsec"]
-    worst = pointing["worst"]["max_error_arcsec"]["value"]
-    torque_to_limit = float(
-        np.max(np.asarray(pointing["max_torque_mNm"], dtype=float) / torque_limits_mNm)
-    )
+    nominal = pointing.nominal["max_error_arcsec"]
+    worst = pointing.worst["max_error_arcsec"].value
+    torque_to_limit = float(np.max(np.asarray(pointing.max_torque_mNm) / torque_limits_mNm))
     return [
         paper_row(
             "pointing",
-            [nominal, worst, pointing["cases"], torque_to_limit],
-            text=f"{format_figure(nominal)} / {format_figure(worst)} ({pointing['cases']} cases)",
+            [nominal, worst, pointing.cases, torque_to_limit],
+            text=f"{format_figure(nominal)} / {format_figure(worst)} ({pointing.cases} cases)",
         )
     ]
 
@@ -203,8 +229,9 @@ def reproduction_rows(
     budgets: dict[str, float],
     controller: dict[str, Any],
     margins: MarginReport,
-    slew: dict[str, Any],
-    pointing: dict[str, Any],
+    slew: CampaignSummary,
+    slew_duration_s: float | None,
+    pointing: CampaignSummary,
     torque_limits_mNm: np.ndarray,
 ) -> list[ReproductionRow]:
     """The reproduction table, one row per figure of the paper, in the paper's order.
@@ -218,24 +245,24 @@ def reproduction_rows(
         *budget_rows(budgets),
         *controller_rows(controller),
         *margin_rows(margins),
-        *slew_rows(slew),
+        *slew_rows(slew, slew_duration_s),
         *pointing_rows(pointing, torque_limits_mNm),
     ]
 
 
 def report_markdown(
     rows: list[ReproductionRow],
-    summary: dict[str, Any],
+    summary: ReproductionSummary,
     figures: list[tuple[str, str]],
 ) -> str:
     """The whole ``report.md``."""
     lines = [
         "# casadi_debris: reproduction of the reference paper",
         "",
-        f"Problem `{summary['problem']}` (sha256 `{summary['problem_sha256'][:12]}…`), "
-        f"controller `{Path(summary['controller_path']).name}`, "
-        f"{'quick run (reduced samples and corners)' if summary['quick'] else 'full run'}, "
-        f"{summary['time_s']:.0f} s on {summary['workers']} worker(s).",
+        f"Problem `{summary.problem}` (sha256 `{summary.problem_sha256[:12]}…`), "
+        f"controller `{Path(summary.controller_path).name}`, "
+        f"{'quick run (reduced samples and corners)' if summary.quick else 'full run'}, "
+        f"{summary.time_s:.0f} s on {summary.workers} worker(s).",
         "",
         "| result | paper | accepted | ours | verdict |",
         "| --- | --- | --- | --- | --- |",

@@ -3,8 +3,10 @@
 A single run: ``summary.json``, ``series.csv`` (time series, units in the
 column names), ``closed_loop.png`` and ``thrust.png``.
 
-A campaign: ``summary.json`` (worst case of every figure, counts, seed),
-``cases.csv`` (one row per case), ``envelope.csv``, ``campaign.nc`` (every
+A campaign: ``summary.json`` (worst case of every figure, counts, seed, and
+the statistics of :mod:`casadi_debris.simulation.statistics`), ``cases.csv``
+(one row per case, with the value of every varied quantity), ``envelope.csv``,
+``statistics.png``, ``campaign.nc`` (every
 case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
 ``nominal/`` (the nominal run), ``envelope.png``, and ``cases/<id>.json`` +
 ``cases/<id>.npz`` per case (written as they finish, see
@@ -15,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import re
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +27,8 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
-from casadi_debris.records import Record
+from casadi_debris.plots.statistics import plot_statistics
+from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
     DATASET_NAME,
@@ -34,6 +38,7 @@ from casadi_debris.report.campaign_dataset import (
 from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
+from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
@@ -144,42 +149,120 @@ def normalized_column(parameter: str) -> str:
     return f"normalized_{parameter}"
 
 
+@dataclass(frozen=True)
+class WorstFigure(Record):
+    """The worst value of one figure over a campaign and the case it came from.
+
+    ``value`` is None when some cases lack the figure (a pointing run has no settling
+    time); ``case_id`` then names the first such case and ``cases_without`` counts them.
+    """
+
+    value: float | None
+    case_id: str
+    cases_without: int = 0
+
+
+@dataclass(frozen=True)
+class FailedCase(Record):
+    """A case that raised: the campaign recorded it and went on."""
+
+    case_id: str
+    error_type: str
+    message: str
+
+
+@dataclass(frozen=True)
+class CampaignRun(Record):
+    """What a campaign ran and how: its files (paths as they end up), cases and workers.
+
+    ``seed`` is None for corner cases; ``resumed_cases`` counts the cases read back
+    from an interrupted run; ``compiled_step`` whether the closed-loop step ran as
+    compiled C.
+    """
+
+    controller_path: str
+    controller_sha256: str
+    plant_sha256: str
+    controller_plant_sha256: str
+    out_dir: str
+    case_kind: str
+    seed: int | None
+    workers: int
+    scheduler: str | None
+    resumed_cases: int
+    compiled_step: bool
+    failed_cases: list[FailedCase]
+
+
+@dataclass(frozen=True)
+class CampaignSummary(Record):
+    """A campaign's ``summary.json``: the worst case of every figure and what was run.
+
+    ``nominal`` holds the nominal run's figures (units in the keys, as in
+    :class:`~casadi_debris.simulation.summary.RunSummary`); ``run`` (written as keys of
+    the summary itself) the campaign's files, seed and workers; ``statistics`` the pass
+    rate, moments, percentiles and rank correlations of every figure (see
+    :mod:`casadi_debris.simulation.statistics`); ``details`` any further keys a caller adds.
+    """
+
+    problem: str
+    problem_sha256: str
+    cases: int
+    worst: dict[str, WorstFigure]
+    max_torque_mNm: list[float]
+    fuel_kg_range: list[float]
+    envelope_bin_s: float
+    nominal: dict[str, Any]
+    run: CampaignRun = field(metadata=FLATTENED)
+    statistics: CampaignStatistics | None = None
+    details: dict[str, Any] = field(default_factory=dict, metadata=FLATTENED)
+
+
+WORST_FIGURES = (
+    "max_error_deg",
+    "max_error_arcsec",
+    "settle_time_s",
+    "fuel_kg",
+    "fuel_worst_cubesat_kg",
+    "torque_saturated_s",
+)
+"""The run figures a campaign summary gives the worst case of."""
+
+
 def campaign_summary(
-    problem: Problem, setup: CampaignSetup, outcomes: list[CaseOutcome], extra: dict[str, Any]
-) -> dict[str, Any]:
-    """Worst case of every figure over the campaign, and which case it was."""
+    problem: Problem,
+    setup: CampaignSetup,
+    outcomes: list[CaseOutcome],
+    nominal: dict[str, Any],
+    run: CampaignRun,
+    statistics: CampaignStatistics | None = None,
+) -> CampaignSummary:
+    """Worst case of every figure over the campaign, and which case it was (and the
+    campaign's ``statistics``, when given)."""
     runs = [o.summary.run for o in outcomes]
     case_ids = [o.case.case_id for o in outcomes]
     fuels = [run.fuel_kg for run in runs]
 
-    def worst(key: str) -> dict[str, Any]:
+    def worst(key: str) -> WorstFigure:
         values = [getattr(run, key) for run in runs]
         if any(v is None for v in values):
             missing = [c for c, v in zip(case_ids, values, strict=True) if v is None]
-            return {"value": None, "case_id": missing[0], "cases_without": len(missing)}
+            return WorstFigure(None, missing[0], len(missing))
         index = int(np.argmax(values))
-        return {"value": values[index], "case_id": case_ids[index]}
+        return WorstFigure(float(values[index]), case_ids[index])
 
-    return {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "cases": len(outcomes),
-        "worst": {
-            key: worst(key)
-            for key in (
-                "max_error_deg",
-                "max_error_arcsec",
-                "settle_time_s",
-                "fuel_kg",
-                "fuel_worst_cubesat_kg",
-                "torque_saturated_s",
-            )
-        },
-        "max_torque_mNm": np.max([run.max_torque_mNm for run in runs], axis=0).tolist(),
-        "fuel_kg_range": [min(fuels), max(fuels)],
-        "envelope_bin_s": setup.bin_s,
-        **extra,
-    }
+    return CampaignSummary(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        cases=len(outcomes),
+        worst={key: worst(key) for key in WORST_FIGURES},
+        max_torque_mNm=np.max([run.max_torque_mNm for run in runs], axis=0).tolist(),
+        fuel_kg_range=[min(fuels), max(fuels)],
+        envelope_bin_s=setup.bin_s,
+        nominal=nominal,
+        run=run,
+        statistics=statistics,
+    )
 
 
 def envelope_columns(envelope: Envelope) -> dict[str, np.ndarray]:
@@ -203,10 +286,12 @@ def write_campaign(
     outcomes: list[CaseOutcome],
     nominal: ClosedLoopResult,
     nominal_summary: Record,
-    summary: dict[str, Any],
+    summary: CampaignSummary,
     record: CampaignRecord,
 ) -> Envelope:
-    """Write the campaign's tables, dataset, envelope and figures into ``folder``.
+    """Write the campaign's tables, dataset, envelope and figures into ``folder`` (with
+    ``summary.statistics``, also ``statistics.png``: histograms against the requirement
+    and the rank correlations, drawn by ``casadi_debris.plots.statistics``).
 
     Returns
     -------
@@ -217,13 +302,16 @@ def write_campaign(
     for outcome in outcomes:
         envelope.add(outcome.bands)
     write_json_atomic(folder / "summary.json", summary)
+    varied = [name for name, _ in outcomes[0].case.varied] if outcomes else []
     with (folder / "cases.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow([*CASE_COLUMNS, *(normalized_column(n) for n in nominal.parameters)])
+        normalized = [normalized_column(n) for n in nominal.parameters]
+        writer.writerow([*CASE_COLUMNS, *normalized, *varied])
         for outcome in outcomes:
             flat = outcome.summary.to_json()
             row = [flat.get(c) for c in CASE_COLUMNS]
-            writer.writerow([*row, *outcome.case.normalized.tolist()])
+            values = [value for _, value in outcome.case.varied]
+            writer.writerow([*row, *outcome.case.normalized.tolist(), *values])
     write_csv(folder / "envelope.csv", envelope_columns(envelope))
     write_campaign_dataset(
         folder / DATASET_NAME,
@@ -239,4 +327,11 @@ def write_campaign(
         title=figure_title(problem),
         **run_figures_options(problem),
     )
+    if summary.statistics is not None:
+        plot_statistics(
+            summary.statistics,
+            case_figures(outcomes),
+            folder / "statistics.png",
+            title=figure_title(problem),
+        )
     return envelope

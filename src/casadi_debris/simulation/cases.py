@@ -18,7 +18,7 @@ extreme to the other, both included.
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -60,6 +60,9 @@ class Case:
     failures : tuple of FailureEvent or None
         CubeSats, stages or engines lost during the run (a failure campaign's
         case); None flies the problem's own ``[[simulation.failures]]``.
+    varied : tuple of (str, float)
+        The quantities of ``[[montecarlo.vary]]`` and their values in this case
+        (a ``"varied"`` case; empty otherwise), in the order of the file.
     """
 
     case_id: str
@@ -69,23 +72,37 @@ class Case:
     normalized: np.ndarray
     parameters: np.ndarray
     failures: tuple[FailureEvent, ...] | None = None
+    varied: tuple[tuple[str, float], ...] = ()
+
+    @property
+    def file_values(self) -> tuple[tuple[str, float], ...]:
+        """The varied keys of the problem file (not model parameters): the case's problem
+        is the campaign's read again with them (see
+        :func:`~casadi_debris.config.varied.problem_with_values`)."""
+        return tuple((name, value) for name, value in self.varied if "." in name or "[" in name)
 
     def identity(self) -> CaseIdentity:
         """What names the case in its results and re-runs it alone."""
         return CaseIdentity(
-            self.case_id, self.kind, self.index, self.seed, tuple(self.normalized.tolist())
+            self.case_id,
+            self.kind,
+            self.index,
+            self.seed,
+            tuple(self.normalized.tolist()),
+            dict(self.varied),
         )
 
 
 @dataclass(frozen=True)
 class CaseIdentity(Record):
-    """A case as its results name it (see :class:`Case`)."""
+    """A case as its results name it (see :class:`Case`); ``varied`` by quantity name."""
 
     case_id: str
     kind: str
     index: int
     seed: int | None
     normalized: tuple[float, ...]
+    varied: dict[str, float] = field(default_factory=dict)
 
 
 def corner_cases(problem: Problem, model: Model) -> list[Case]:

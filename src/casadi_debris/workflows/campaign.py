@@ -33,7 +33,13 @@ from casadi_debris.model import Model, Parameters, build_model
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
-from casadi_debris.report.simulation import campaign_summary, write_campaign
+from casadi_debris.report.simulation import (
+    CampaignRun,
+    CampaignSummary,
+    FailedCase,
+    campaign_summary,
+    write_campaign,
+)
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.uncertainty import normalized_from_parameters
 from casadi_debris.simulation import (
@@ -52,6 +58,8 @@ from casadi_debris.simulation import (
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
 from casadi_debris.simulation.monte_carlo import CaseFailure, CasesFailedError, SchedulerError
+from casadi_debris.simulation.sampling import varied_case, varied_cases
+from casadi_debris.simulation.statistics import statistics_of
 from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.workflows.controller import controller_for
 
@@ -89,9 +97,11 @@ class CaseSelection:
     Attributes
     ----------
     corners : bool
-        Every corner of the uncertainty set (the default when ``samples`` is None).
+        Every corner of the uncertainty set (the default when ``samples`` is None
+        and the problem has no ``[[montecarlo.vary]]``).
     samples : int, optional
-        That many seeded random samples instead.
+        That many seeded random samples instead (of the uncertainty set, or the
+        draws of ``[[montecarlo.vary]]``: see :mod:`casadi_debris.simulation.sampling`).
     seed : int, optional
         Seed of the samples (default the problem's ``montecarlo.seed``).
     max_cases : int, optional
@@ -107,7 +117,11 @@ class CaseSelection:
         """The chosen cases, in campaign order."""
         if self.samples is not None and self.corners:
             raise InputShapeError("give either --corners or --samples, not both")
-        if self.samples is not None:
+        if problem.montecarlo.vary and not self.corners:
+            seed = problem.montecarlo.seed if self.seed is None else self.seed
+            count = problem.montecarlo.samples if self.samples is None else self.samples
+            chosen = varied_cases(problem, model, count, seed)
+        elif self.samples is not None:
             seed = problem.montecarlo.seed if self.seed is None else self.seed
             chosen = sample_cases(problem, model, self.samples, seed)
         else:
@@ -121,7 +135,10 @@ class CaseSelection:
 def one_case(
     problem: Problem, model: Model, corner: int | None, sample: int | None, seed: int | None
 ) -> Case:
-    """Corner ``corner``, sample ``sample`` (with ``seed``), or the nominal case."""
+    """Corner ``corner``, sample ``sample`` (with ``seed``), or the nominal case.
+
+    With ``[[montecarlo.vary]]``, ``sample`` is that campaign's case of that index.
+    """
     if corner is not None and sample is not None:
         raise InputShapeError("give either --corner or --sample, not both")
     if corner is not None:
@@ -130,9 +147,13 @@ def one_case(
         except SimulationError as exc:
             raise InputShapeError(f"--corner: {exc}") from None
     if sample is not None:
-        return sample_case(
-            problem, model, sample, problem.montecarlo.seed if seed is None else seed
-        )
+        seed = problem.montecarlo.seed if seed is None else seed
+        if problem.montecarlo.vary:
+            try:
+                return varied_case(problem, model, sample, seed)
+            except SimulationError as exc:
+                raise InputShapeError(f"--sample: {exc}") from None
+        return sample_case(problem, model, sample, seed)
     return nominal_case(model)
 
 
@@ -236,7 +257,7 @@ def run_campaign_folder(
     progress: Progress | None = None,
     allow_mismatch: bool = False,
     moved_to: tuple[Path, Path] | None = None,
-) -> dict[str, Any]:
+) -> CampaignSummary:
     """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
 
     Parameters
@@ -332,13 +353,9 @@ def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
         return path
 
 
-def _failure_record(failure: CaseFailure) -> dict[str, str]:
+def _failure_record(failure: CaseFailure) -> FailedCase:
     """A failed case as the summary lists it."""
-    return {
-        "case_id": failure.case.case_id,
-        "error_type": failure.error_type,
-        "message": failure.message,
-    }
+    return FailedCase(failure.case.case_id, failure.error_type, failure.message)
 
 
 def _summarise_and_write(
@@ -348,18 +365,27 @@ def _summarise_and_write(
     identity: CampaignRecord,
     outcomes: list[CaseOutcome],
     how: dict[str, Any],
-) -> dict[str, Any]:
+) -> CampaignSummary:
     """Run the nominal case, then write the campaign's tables, figures and summary."""
     problem = setup.problem
     controller_path = Path(how["controller_path"])
     allocator = Allocator.from_problem(problem, model.geometry)
     nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
-    described = {
-        **how,
-        "nominal": {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS},
-    }
-    summary = campaign_summary(problem, setup, outcomes, _described(identity, described))
+    statistics = statistics_of(
+        problem, outcomes, model.parameter_layout.names, len(how["failed_cases"])
+    )
+    LOGGER.info(
+        "%s: %d of %d cases within %s <= %g",
+        problem.name,
+        statistics.passed,
+        statistics.cases + statistics.failed_cases,
+        statistics.requirement_figure,
+        statistics.requirement,
+    )
+    nominal_figures = {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS}
+    run = _described(identity, how)
+    summary = campaign_summary(problem, setup, outcomes, nominal_figures, run, statistics)
     write_campaign(
         folder.partial,
         problem,
@@ -386,15 +412,14 @@ def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) ->
     )
 
 
-def _described(identity: CampaignRecord, how: dict[str, Any]) -> dict[str, Any]:
-    """The summary's fields beside the worst cases: what was run and how."""
-    return {
-        "controller_path": how["controller_path"],
-        "controller_sha256": identity.controller_sha256,
-        "case_kind": identity.case_kind,
-        "seed": identity.seed,
-        **{key: value for key, value in how.items() if key != "controller_path"},
-    }
+def _described(identity: CampaignRecord, how: dict[str, Any]) -> CampaignRun:
+    """What was run and how, as the summary gives it beside the worst cases."""
+    return CampaignRun(
+        controller_sha256=identity.controller_sha256,
+        case_kind=identity.case_kind,
+        seed=identity.seed,
+        **how,
+    )
 
 
 def _run_missing(

@@ -13,7 +13,7 @@ Example
 >>> from casadi_debris.workflows.design import design_for_problem
 >>> summary = design_for_problem(load_problem("problems/gallery/one_array.toml"),
 ...                              "runs/design-one_array", quick=True)  # doctest: +SKIP
->>> summary["requirements_met"], summary["requirements"]  # doctest: +SKIP
+>>> summary.requirements_met, summary.requirements  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ import time
 from collections.abc import Callable
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -33,9 +33,19 @@ from casadi_debris.config import Problem, with_duration
 from casadi_debris.config.schema import AXIS_NAMES, Simulation, SlewReference
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.design import DesignFigures, design_markdown, requirement_rows
+from casadi_debris.report.design import (
+    CampaignFigures,
+    DesignFigures,
+    DesignSummary,
+    classical_markdown,
+    design_markdown,
+    requirement_rows,
+    verification_rows,
+)
 from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
+from casadi_debris.robust.classical import ClassicalMethod, classical_record
+from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings
 from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
@@ -52,6 +62,11 @@ from casadi_debris.workflows.reproduce import (
 )
 
 LOGGER = logging.getLogger(__name__)
+DesignMethod = Literal["mu", "pd", "pid", "lqr"]
+DESIGN_METHODS: tuple[DesignMethod, ...] = ("mu", "pd", "pid", "lqr")
+MEASUREMENT_NOISE_ARCSEC = 5.0
+"""The star tracker's noise the LQG's Kalman filter assumes (1 sigma, a CubeSat-class
+tracker's cross-boresight accuracy)."""
 
 StageProgress = Callable[[str], Progress | None]
 """``progress(line)`` as each stage starts; may return a case counter for a campaign."""
@@ -120,11 +135,12 @@ def design_for_problem(
     out: str | Path,
     *,
     quick: bool = False,
+    method: DesignMethod = "mu",
     settings: SynthesisSettings | None = None,
     workers: int = 1,
     overwrite: bool = False,
     progress: StageProgress | None = None,
-) -> dict[str, Any]:
+) -> DesignSummary:
     """Design a controller for ``problem`` and verify it into the folder ``out``.
 
     Parameters
@@ -136,6 +152,10 @@ def design_for_problem(
     quick : bool
         Fewer sampled plants and corners, a shorter pointing run and a coarser search
         of the performance level.
+    method : {"mu", "pd", "pid", "lqr"}
+        D-K μ-synthesis with the paper's weights (the default), or a per-axis PD, PID or
+        LQG controller on the rigid body (:mod:`casadi_debris.robust.classical`) to
+        compare with it; every method gets the same margins, corners and table.
     settings : SynthesisSettings, optional
     workers : int
         Local processes for the campaigns.
@@ -146,7 +166,7 @@ def design_for_problem(
 
     Returns
     -------
-    dict
+    DesignSummary
         What ``summary.json`` holds: ``rows`` (each requirement with ``met``),
         ``requirements_met`` of ``requirements``, ``attempts``, ``scalings``,
         ``controller_path``, ...
@@ -162,27 +182,45 @@ def design_for_problem(
     derived_scalings(problem)  # refuses a problem no controller can be designed for, first
     slew_problem, pointing_problem = verification_problems(problem, plan)
     with RunFolder.claim(out, overwrite=overwrite, command="design") as staging:
-        stage("designing the controller (D-K iteration)")
-        refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
-        search = search_design(problem, settings, stage, refinements=refinements)
-        controller_path = write_json_atomic(staging / "controller.json", _record(search).to_dict())
+        designed, search = _designed(problem, method, settings, stage, quick)
+        controller_path = write_json_atomic(staging / "controller.json", designed.to_dict())
         record, controller_path = load_controller(controller_path)
         folders = (staging, out)
         margins = report_margins(problem, record, controller_path, plan, folders, stage)
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, folders, workers, stage)
         limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
-        rows = requirement_rows(problem, search, margins, campaigns, limits)
-        summary = _summary(problem, search, rows, campaigns, out, started)
-        summary |= {
-            "quick": quick,
-            "workers": workers,
-            "controller_path": str(out / "controller.json"),
-        }
+        how = {"quick": quick, "workers": workers, "controller_path": str(out / "controller.json")}
         figures = DesignFigures.present_in(staging)
-        (staging / "report.md").write_text(design_markdown(problem, search, rows, summary, figures))
+        if search is not None:
+            rows = requirement_rows(problem, search, margins, campaigns, limits)
+            summary = _summary(problem, search, method, rows, campaigns, out, started, how)
+            text = design_markdown(problem, search, rows, summary, figures)
+        else:
+            orders = [record.reduced.nstates] * 2
+            rows = verification_rows(problem, margins, campaigns, limits, orders)
+            summary = _summary(problem, None, method, rows, campaigns, out, started, how)
+            text = classical_markdown(problem, record.details, rows, summary, figures)
+        (staging / "report.md").write_text(text)
         write_json_atomic(staging / "summary.json", summary)
     return summary
+
+
+def _designed(
+    problem: Problem,
+    method: DesignMethod,
+    settings: SynthesisSettings | None,
+    stage: Callable[[str], Any],
+    quick: bool,
+) -> tuple[ControllerRecord, DesignSearch | None]:
+    """The controller ``method`` designs, and the μ design's search (None for the others)."""
+    if method == "mu":
+        stage("designing the controller (D-K iteration)")
+        refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
+        search = search_design(problem, settings, stage, refinements=refinements)
+        return _record(search), search
+    stage(f"designing the {method.upper()} controller on the rigid body")
+    return _classical(problem, method), None
 
 
 def _record(search: DesignSearch) -> Any:
@@ -196,35 +234,58 @@ def _record(search: DesignSearch) -> Any:
     return replace(record, details=details)
 
 
+def _classical(problem: Problem, method: ClassicalMethod) -> ControllerRecord:
+    """A PD or LQG controller on the rigid body: bandwidth from the problem's weights;
+    Bryson's weights from the slew requirement and the authority; the disturbance as
+    process noise and :data:`MEASUREMENT_NOISE_ARCSEC` on the star tracker."""
+    geometry = build_geometry(problem)
+    return classical_record(
+        method,
+        geometry.inertia_total_kgm2,
+        bandwidth_rad_s=problem.weights.closed_loop_bandwidth_rad_s,
+        angle_max_rad=np.full(3, math.radians(problem.requirements.slew_error_deg)),
+        torque_max_Nm=authority_per_axis_mNm(geometry) * NM_PER_MNM,
+        disturbance_Nm=np.abs(problem.disturbance.amplitude_mNm) * NM_PER_MNM,
+        measurement_noise_rad=math.radians(MEASUREMENT_NOISE_ARCSEC / 3600.0),
+        plant_sha256=problem.plant_sha256,
+    )
+
+
 def _summary(
     problem: Problem,
-    search: DesignSearch,
+    search: DesignSearch | None,
+    method: str,
     rows: list[Any],
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
     out: Path,
     started: float,
-) -> dict[str, Any]:
-    """What ``summary.json`` holds."""
+    how: dict[str, Any],
+) -> DesignSummary:
+    """What ``summary.json`` holds (``how``: quick, workers, controller_path)."""
     judged = [row for row in rows if row.met is not None]
-    chosen = search.chosen
-    return {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "plant_sha256": problem.plant_sha256,
-        "requirements_met": sum(row.met is True for row in judged),
-        "requirements": len(judged),
-        "mu_peak": chosen.mu_peak,
-        "mu_peak_reduced": chosen.mu_peak_reduced,
-        "guaranteed_pointing_arcsec": None
-        if chosen.guaranteed_pointing_arcsec is None
-        else list(chosen.guaranteed_pointing_arcsec),
-        "required_pointing_arcsec": problem.requirements.pointing_arcsec,
-        "scalings": search.scalings.to_dict(),
-        "attempts": [a.to_dict() for a in search.attempts],
-        "seed": search.design.samples.seed,
-        "slew": {key: campaigns["slew"].get(key) for key in ("cases", "worst", "nominal")},
-        "pointing": {key: campaigns["pointing"].get(key) for key in ("cases", "worst", "nominal")},
-        "rows": [row.to_dict() for row in rows],
-        "time_s": time.perf_counter() - started,
-        "out_dir": str(out.absolute()),
-    }
+    figures = {name: CampaignFigures(c.cases, c.worst, c.nominal) for name, c in campaigns.items()}
+    chosen = None if search is None else search.chosen
+    guaranteed = None if chosen is None else chosen.guaranteed_pointing_arcsec
+    return DesignSummary(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        plant_sha256=problem.plant_sha256,
+        requirements_met=sum(row.met is True for row in judged),
+        requirements=len(judged),
+        method=method,
+        mu_peak=None if chosen is None else chosen.mu_peak,
+        mu_peak_reduced=None if chosen is None else chosen.mu_peak_reduced,
+        guaranteed_pointing_arcsec=None if guaranteed is None else list(guaranteed),
+        required_pointing_arcsec=problem.requirements.pointing_arcsec,
+        scalings=derived_scalings(problem).to_dict()
+        if search is None
+        else search.scalings.to_dict(),
+        attempts=[] if search is None else [a.to_dict() for a in search.attempts],
+        seed=None if search is None else search.design.samples.seed,
+        slew=figures["slew"],
+        pointing=figures["pointing"],
+        rows=[row.to_dict() for row in rows],
+        time_s=time.perf_counter() - started,
+        out_dir=str(out.absolute()),
+        **how,
+    )

@@ -5,7 +5,7 @@ Example
 -------
 >>> from casadi_debris.workflows.reproduce import reproduce_paper
 >>> summary = reproduce_paper("runs/reproduce", quick=True)  # doctest: +SKIP
->>> summary["reproduced"], summary["rows"]  # doctest: +SKIP
+>>> summary.reproduced, summary.rows  # doctest: +SKIP
 (19, 19)
 """
 
@@ -25,9 +25,14 @@ from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.describe import describe_model
 from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.reproduce import ReproductionRow, report_markdown, reproduction_rows
+from casadi_debris.report.reproduce import (
+    ReproductionRow,
+    ReproductionSummary,
+    report_markdown,
+    reproduction_rows,
+)
 from casadi_debris.report.robust import MarginReport, margin_report
-from casadi_debris.report.simulation import torque_limits_mNm
+from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
 from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
@@ -101,7 +106,7 @@ def _campaign(
     workers: int,
     progress: Progress | None,
     moved_to: tuple[Path, Path],
-) -> dict[str, Any]:
+) -> CampaignSummary:
     """One corner campaign (``cases`` spread evenly, None: all), in a report folder being
     built (``moved_to``: its staging folder and where it will be)."""
     selection = CaseSelection(corners=True, max_cases=cases)
@@ -123,7 +128,7 @@ def corner_campaigns(
     folders: tuple[Path, Path],
     workers: int,
     stage: Callable[[str], Progress | None],
-) -> dict[str, dict[str, Any]]:
+) -> dict[str, CampaignSummary]:
     """The slew, then the pointing corner campaign of a report, each announced by ``stage``.
 
     Parameters
@@ -208,7 +213,7 @@ def reproduce_paper(
     workers: int = 1,
     overwrite: bool = False,
     progress: Callable[[str], Progress | None] | None = None,
-) -> dict[str, Any]:
+) -> ReproductionSummary:
     """Reproduce the paper into the folder ``out``.
 
     Parameters
@@ -230,7 +235,7 @@ def reproduce_paper(
 
     Returns
     -------
-    dict
+    ReproductionSummary
         What ``summary.json`` holds: the rows (``ReproductionRow.to_dict``), with
         ``reproduced`` of ``rows``.
     """
@@ -253,10 +258,22 @@ def reproduce_paper(
         margins = report_margins(problem, record, controller_path, plan, (staging, out), stage)
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, (staging, out), workers, stage)
-        campaigns["slew"]["slew_duration_s"] = _slew_duration_s(slew_problem)
-        rows = _rows(problem, model_summary, budgets, record, margins, campaigns)
-        how = {"controller_path": str(controller_path), "quick": quick, "workers": workers}
-        summary = _summary(problem, rows, how, time.perf_counter() - started, out)
+        rows = _rows(
+            problem, model_summary, budgets, record, margins, campaigns,
+            _slew_duration_s(slew_problem),
+        )  # fmt: skip
+        summary = ReproductionSummary(
+            problem=problem.name,
+            problem_sha256=problem.sha256,
+            controller_path=str(controller_path),
+            quick=quick,
+            workers=workers,
+            time_s=time.perf_counter() - started,
+            reproduced=sum(row.reproduced is True for row in rows),
+            rows=len(rows),
+            table=[row.to_dict() for row in rows],
+            out_dir=str(out.absolute()),
+        )
         _write_report(staging, rows, summary)
     return summary
 
@@ -267,7 +284,8 @@ def _rows(
     budgets: dict[str, float],
     record: ControllerRecord,
     margins: MarginReport,
-    campaigns: dict[str, dict[str, Any]],
+    campaigns: dict[str, CampaignSummary],
+    slew_duration_s: float | None,
 ) -> list[ReproductionRow]:
     """The paper's table: each stage's results next to the paper's figures."""
     limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
@@ -277,28 +295,13 @@ def _rows(
         _controller_figures(record),
         margins,
         campaigns["slew"],
+        slew_duration_s,
         campaigns["pointing"],
         limits,
     )
 
 
-def _summary(
-    problem: Problem, rows: list[ReproductionRow], how: dict[str, Any], time_s: float, out: Path
-) -> dict[str, Any]:
-    """What ``summary.json`` holds: the rows, how many reproduced, how the run was made."""
-    return {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        **how,
-        "time_s": time_s,
-        "reproduced": sum(row.reproduced is True for row in rows),
-        "rows": len(rows),
-        "table": [row.to_dict() for row in rows],
-        "out_dir": str(out.absolute()),
-    }
-
-
-def _write_report(folder: Path, rows: list[ReproductionRow], summary: dict[str, Any]) -> None:
+def _write_report(folder: Path, rows: list[ReproductionRow], summary: ReproductionSummary) -> None:
     """``report.md`` with the figures the run made, and ``summary.json``."""
     figures = [(title, path) for title, path in FIGURES if (folder / path).exists()]
     (folder / "report.md").write_text(report_markdown(rows, summary, figures))

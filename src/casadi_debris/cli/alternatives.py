@@ -1,0 +1,92 @@
+"""``casadi-debris alternatives``: swarm designs side by side, without a controller."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+from casadi_debris.cli.common import (
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    overwrite_option,
+    say,
+)
+from casadi_debris.config import load_problem
+from casadi_debris.report.common import format_table
+
+
+@main.command()
+@click.argument(
+    "problem_files",
+    nargs=-1,
+    type=click.Path(path_type=Path, dir_okay=False),
+    metavar="[PROBLEM]...",
+)
+@click.option(
+    "--max-failed",
+    type=click.IntRange(0, 2),
+    default=2,
+    show_default=True,
+    help="Fail every set of up to this many CubeSats (an LP per set and signed axis).",
+)
+@click.option(
+    "--out",
+    type=click.Path(path_type=Path, file_okay=False),
+    default=Path("runs") / "alternatives",
+    show_default=True,
+    help="Run folder.",
+)
+@overwrite_option
+@json_option
+@friendly_errors
+def alternatives(
+    problem_files: tuple[Path, ...], max_failed: int, out: Path, overwrite: bool, as_json: bool
+) -> None:
+    """Compare swarm designs: authority, fuel per torque·time, failure tolerance, mass.
+
+    For each PROBLEM (files or shipped names; default the paper's swarm and the
+    alternatives it names: side-panel engines, 2U CubeSats firing differentially,
+    fewer CubeSats with more thrust per stage, two per face): the largest pure torque
+    per signed axis at zero net force, the weakest axis over the disturbance, the
+    least propellant per mN·m held an hour, and the weakest-axis margin left after the
+    worst single and double CubeSat failure. Writes summary.json, alternatives.csv,
+    alternatives.md and alternatives.png in --out.
+    """
+    from casadi_debris.workflows.alternatives import DEFAULT_DESIGNS, compare_alternatives
+
+    names = [str(p) for p in problem_files] or list(DEFAULT_DESIGNS)
+    problems = [load_problem(name) for name in names]
+    report = compare_alternatives(
+        problems,
+        out,
+        max_failed=max_failed,
+        overwrite=overwrite,
+        progress=lambda name: say(f"{name} ..."),
+    )
+    if as_json:
+        echo_json(report)
+        return
+    rows = [
+        [
+            d.problem,
+            d.cubesats,
+            d.swarm_mass_kg,
+            f"{d.weakest_ratio:.2f} ({d.weakest_axis})",
+            "—" if d.single_failure is None else f"{d.single_failure.worst_ratio:.2f}",
+            "—" if d.double_failure is None else f"{d.double_failure.worst_ratio:.2f}",
+        ]
+        for d in report.designs
+    ]
+    headers = [
+        "design",
+        "CubeSats",
+        "swarm mass [kg]",
+        "weakest / disturbance",
+        "worst single",
+        "worst double",
+    ]
+    click.echo(format_table(headers, rows))
+    click.echo(f"written to {report.out_dir} ({report.wall_time_s:.0f} s)")

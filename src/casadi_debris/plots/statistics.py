@@ -1,0 +1,100 @@
+"""Figure of a campaign's statistics: histograms against the requirement, rank correlations."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from casadi_debris.plots import save_figure
+from casadi_debris.simulation.statistics import CampaignStatistics, Driver, FigureStatistics
+
+MAX_BARS = 12
+"""Quantities shown per tornado (the strongest by |rho|)."""
+
+
+def plot_statistics(
+    statistics: CampaignStatistics,
+    figures: Mapping[str, np.ndarray],
+    path: Path,
+    title: str = "",
+) -> Path:
+    """Histogram and tornado of rank correlations for the requirement's figure and the fuel.
+
+    Parameters
+    ----------
+    statistics : CampaignStatistics
+    figures : mapping of str to ndarray
+        Figure name -> value per case (NaN: none), as
+        :func:`~casadi_debris.simulation.statistics.case_figures` gives.
+    path : Path
+        PNG to write.
+    title : str
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    shown = [statistics.requirement_figure]
+    shown += [f for f in ("fuel_slew_kg", "fuel_kg") if f in figures][:1]
+    figure, axes = plt.subplots(len(shown), 2, figsize=(11.0, 3.4 * len(shown)), squeeze=False)
+    drivers = {d.figure: d for d in statistics.drivers}
+    for row, name in enumerate(shown):
+        _histogram(axes[row, 0], statistics.figure(name), np.asarray(figures[name]))
+        _tornado(axes[row, 1], drivers[name])
+    rate = f"{statistics.passed} of {statistics.cases + statistics.failed_cases} cases pass"
+    figure.suptitle(
+        f"{title}\n{rate} ({100 * statistics.pass_rate:.1f} %): "
+        f"{statistics.requirement_figure} ≤ {statistics.requirement:g}"
+    )
+    figure.tight_layout()
+    return save_figure(figure, path)
+
+
+def _histogram(ax: plt.Axes, stats: FigureStatistics, values: np.ndarray) -> None:
+    finite = values[np.isfinite(values)]
+    ax.hist(finite, bins=min(40, max(5, len(finite) // 4)), color="#7a9cc6", edgecolor="white")
+    lines = [
+        (stats.mean, "mean", "k", "-"),
+        (stats.p99, "99th percentile", "#555555", "--"),
+        (stats.mean_plus_3sigma, "mean + 3σ", "#555555", ":"),
+    ]
+    if stats.requirement is not None:
+        lines.append((stats.requirement, f"requirement {stats.requirement:g}", "#c0392b", "-"))
+    for value, label, colour, style in lines:
+        ax.axvline(value, color=colour, linestyle=style, linewidth=1.4, label=f"{label}")
+    ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
+    ax.set(xlabel=stats.figure, ylabel="cases", title=f"{stats.figure} over {stats.cases} cases")
+    ax.legend(fontsize=8)
+
+
+def _tornado(ax: plt.Axes, driver: Driver) -> None:
+    names = list(driver.quantities[:MAX_BARS])[::-1]
+    rho = np.array(driver.spearman_rho[:MAX_BARS])[::-1]
+    colours = ["#c0392b" if r > 0 else "#2e86c1" for r in rho]
+    ax.barh(range(len(names)), rho, color=colours)
+    indices = list(driver.first_order_index[:MAX_BARS])[::-1]
+    for row, (r, index) in enumerate(zip(rho, indices, strict=True)):
+        if index is not None:  # the variance share beside the bar, on the side away from it
+            ax.text(
+                -0.02 if r > 0 else 0.02,
+                row,
+                f"S {index:.2f}",
+                fontsize=7,
+                ha="right" if r > 0 else "left",
+                va="center",
+                color="#333333",
+            )
+    ax.set_yticks(range(len(names)), names, fontsize=8)
+    ax.axvline(0.0, color="k", linewidth=0.8)
+    ax.set_xlim(-1.0, 1.0)
+    ax.set(
+        xlabel="Spearman rank correlation ρ  (S: first-order variance index)",
+        title=f"what drives {driver.figure} (worst: {driver.worst_case_id})",
+    )
+    if not names:
+        text = "no rank correlation\n(fewer than 3 cases, or nothing varies)"
+        ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes)

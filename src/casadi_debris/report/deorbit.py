@@ -1,0 +1,72 @@
+"""A deorbit plan as a run folder: summary.json, one decay CSV per case, the curve, figures."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from casadi_debris.orbit.curves import CaseTrajectory
+from casadi_debris.orbit.plan import DeorbitPlan
+from casadi_debris.plots.deorbit import plot_decay, plot_lifetime_curve
+from casadi_debris.records import FLATTENED, Record
+from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
+
+
+@dataclass(frozen=True, kw_only=True)
+class DeorbitReport(Record):
+    """The plan beside the budget's Δv.
+
+    Attributes
+    ----------
+    problem_sha256 : str
+    budget_dv_m_s : float
+        The budget's all-stages, all-directions Δv (the paper's 125 m/s), which leaves
+        the torque balance out; the plan's ``capacity_dv_m_s`` keeps it.
+    plan : DeorbitPlan
+    out_dir : str or None
+    """
+
+    problem_sha256: str
+    budget_dv_m_s: float
+    plan: DeorbitPlan = field(metadata=FLATTENED)
+    out_dir: str | None = None
+
+
+def write_deorbit(
+    folder: Path, report: DeorbitReport, trajectories: Sequence[CaseTrajectory]
+) -> None:
+    """``summary.json``, ``decay_<case>.csv``, ``lifetime_vs_dv.csv``, ``decay.png`` and
+    ``lifetime_vs_dv.png``."""
+    write_json_atomic(folder / "summary.json", report)
+    for item in trajectories:
+        history = item.history
+        write_csv(
+            folder / f"decay_{item.solar}.csv",
+            {
+                "time_days": history.time_s / SECONDS_PER_DAY,
+                "perigee_km": history.perigee_altitude_m / M_PER_KM,
+                "apogee_km": history.apogee_altitude_m / M_PER_KM,
+                "eccentricity": history.eccentricity,
+                "mass_kg": history.mass_kg,
+                "impulse_Ns": history.impulse_Ns,
+            },
+        )
+    columns = {"dv_m_s": trajectories[0].dv_m_s}  # one grid for every case
+    for item in trajectories:
+        columns[f"reentry_years_{item.solar}"] = np.where(
+            np.isfinite(item.reentry_years), item.reentry_years, np.nan
+        )
+    write_csv(folder / "lifetime_vs_dv.csv", columns)
+    plan = report.plan
+    plot_decay(trajectories, folder / "decay.png", title=plan.problem, limit_years=plan.limit_years)
+    plot_lifetime_curve(
+        trajectories,
+        folder / "lifetime_vs_dv.png",
+        title=plan.problem,
+        limit_years=plan.limit_years,
+        capacity_dv_m_s=plan.capacity_dv_m_s,
+    )
