@@ -296,7 +296,7 @@ def slew(data: Data) -> str:
 
 
 GLOBAL_SLEWS = {
-    "bilimoria_wie": "Bilimoria & Wie: J = I, |u| ≤ 1, 180° about z",
+    "bilimoria_wie": "Bilimoria & Wie: J = I, \\|u\\| ≤ 1, 180° about z",
     "paper_x": "paper, 180° about x",
     "paper_y": "paper, 180° about y",
     "paper_z": "paper, 180° about z",
@@ -604,7 +604,7 @@ def references(found: dict[str, Data]) -> str:
         published = _get(data, "reference", "bilimoria_wie_s")
         rows.append(
             [
-                "time-optimal slew, J = I, |u| ≤ 1, 180° (`slew_global`)",
+                "time-optimal slew, J = I, \\|u\\| ≤ 1, 180° (`slew_global`)",
                 f"{num(ours, 6)} s",
                 f"{num(published, 5)} s (Bilimoria & Wie 1993)",
                 f"{(ours - published) / published:+.1e}",
