@@ -25,8 +25,6 @@ import argparse
 import dataclasses
 import json
 import os
-import statistics
-import time
 
 import numpy as np
 
@@ -36,6 +34,7 @@ from casadi_debris.model import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import build_loop_step, discretize_controller, scenario_reference
 from recording import Recording, add_options, resolve
+from step_timing import interleaved_step_us, ratio_report
 
 CHUNK = 1000
 VARIANTS = {"none": (), "gravity_gradient": ("gravity_gradient",), "all": ENVIRONMENT_TORQUES}
@@ -79,26 +78,8 @@ def main() -> None:
             environment = dataclasses.replace(paper.environment, torques=torques)
             problem = dataclasses.replace(paper, environment=environment)
             loops[jit, name] = build(problem, record, jit)
-    walls: dict[tuple[bool, str], list[float]] = {key: [] for key in loops}
-    for _ in range(args.repeat):  # interleaved: the machine's other load hits all alike
-        for key, (loop, z0, inputs, p) in loops.items():
-            started = time.perf_counter()
-            loop.roll(z0, inputs, p)
-            walls[key].append((time.perf_counter() - started) / CHUNK * 1e6)
-    report: dict = {}
-    for jit in (False, True):
-        label = "compiled" if jit else "virtual_machine"
-        if jit and not loops[jit, "none"][0].compiled:
-            report[f"step_us_{label}"] = None
-            continue
-        for kind, pick in (("best", min), ("median", statistics.median)):
-            times = {name: pick(walls[jit, name]) for name in VARIANTS}
-            report[f"step_us_{label}_{kind}"] = times
-            report[f"ratio_{label}_{kind}"] = {
-                f"{name}_over_none": times[name] / times["none"]
-                for name in VARIANTS
-                if name != "none"
-            }
+    walls = interleaved_step_us(loops, args.repeat, CHUNK)
+    report = ratio_report(loops, walls, VARIANTS, "none")
     report["target_ratio"] = 2.0
     recording.finish(settings, report)
 

@@ -69,7 +69,9 @@ def test_simulate_json_has_the_issue_keys_and_writes_the_folder(
         "summary.json",
         "series.csv",
         "closed_loop.png",
+        "closed_loop.pdf",
         "thrust.png",
+        "thrust.pdf",
     }
     with (out / "series.csv").open() as handle:
         rows = list(csv.DictReader(handle))

@@ -26,6 +26,37 @@ SCHEMA_URI = "https://json-schema.org/draft/2020-12/schema"
 _INDEX = re.compile(r"\[\d+\]$")
 
 
+REALISM_EXAMPLE: dict[str, Any] = {
+    "sensors": {
+        "seed": 1,
+        "star_tracker": {
+            "noise_arcsec": 5.0,
+            "bias_arcsec": [1.0, 0.0, 0.0],
+            "update_rate_hz": 5.0,
+            "outages_s": [[100.0, 200.0]],
+        },
+        "gyro": {
+            "angle_random_walk_deg_rt_h": 0.15,
+            "bias_random_walk_deg_h_rt_h": 0.5,
+            "initial_bias_deg_h": [1.0, -1.0, 0.5],
+        },
+    },
+    "estimation": {
+        "filter": "mekf",
+        "initial_attitude_sigma_arcsec": 10.0,
+        "initial_bias_sigma_deg_h": 1.0,
+    },
+    "actuators": {
+        "thrust_noise_fraction": 0.01,
+        "misalignment_deg": 0.5,
+        "ramp_time_constant_s": 0.1,
+        "latency_s": 0.05,
+        "minimum_impulse_bit_uNs": 1.0,
+    },
+    "controller": {"delay_s": 0.02},
+}
+
+
 def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
     """Complete problems that between them take every branch of the readers."""
     slew = {"axis": "z", "angle_deg": 90.0, "method": "time-optimal", "start_s": 10.0}
@@ -69,6 +100,7 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
             "greenwich_angle_deg": 0.0,
         },
     }
+    runs |= REALISM_EXAMPLE
     engine = {"direction": [0.0, 0.0, -1.0], "offset_m": [0.0, 0.0, 0.0], "stages": 1}
     engine |= {"emitters_per_stage": 32, "thrust_per_stage_mN": 0.64, "isp_s": 1000.0}
     engine |= {"stage_life_h": 500.0}

@@ -21,6 +21,7 @@ from casadi_debris.config.bodies import (
     read_hub,
 )
 from casadi_debris.config.environment import read_environment, read_orbit
+from casadi_debris.config.realism import read_realism
 from casadi_debris.config.runs import check_integration_step, read_montecarlo, read_simulation
 from casadi_debris.config.schema import (
     DEFAULT_MONTECARLO,
@@ -215,6 +216,7 @@ def problem_from_dict(
         simulation=simulation,
         montecarlo=read_montecarlo(_optional_table(top, "montecarlo", DEFAULT_MONTECARLO)),
         environment=read_environment(top),
+        **read_realism(top),
         source=source or "<dict>",
         sha256=sha256,
         data=data,

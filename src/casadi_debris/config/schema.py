@@ -15,6 +15,7 @@ from typing import Any, Literal
 import numpy as np
 
 from casadi_debris.config.identity import plant_sha256
+from casadi_debris.config.realism import Actuators, ControllerTiming, Estimation, Sensors
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -570,6 +571,10 @@ class Problem:
     simulation: Simulation = field(default=None)  # type: ignore[assignment]
     montecarlo: MonteCarlo = field(default=None)  # type: ignore[assignment]
     environment: Environment = field(default_factory=Environment)
+    sensors: Sensors = field(default_factory=Sensors)
+    estimation: Estimation = field(default_factory=Estimation)
+    actuators: Actuators = field(default_factory=Actuators)
+    controller: ControllerTiming = field(default_factory=ControllerTiming)
     source: str = field(default="<dict>")
     sha256: str = field(default="")
     # The tables as read (after ``extends``): a campaign that varies a key rebuilds from them.

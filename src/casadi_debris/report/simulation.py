@@ -40,7 +40,7 @@ from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
 from casadi_debris.slew import euler_angles_321
-from casadi_debris.units import DEG_PER_RAD, MN_PER_N, MNM_PER_NM
+from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
@@ -72,6 +72,10 @@ def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
         for i, axis in enumerate(AXIS_NAMES):
             columns[f"{name}_{axis}_mNm"] = padded[:, i] * MNM_PER_NM
     columns["scale"] = held(result.scale[:, None])[:, 0]
+    if result.noise_seed is not None:  # realistic sensors: what the controller was told, wrong by
+        estimation = held(result.estimation_error_rad)
+        for i, axis in enumerate(AXIS_NAMES):
+            columns[f"estimation_error_{axis}_arcsec"] = estimation[:, i] * ARCSEC_PER_RAD
     thrust = held(result.thrust_N)
     for i in range(thrust.shape[1]):
         columns[f"thrust_{i + 1:02d}_mN"] = thrust[:, i] * MN_PER_N

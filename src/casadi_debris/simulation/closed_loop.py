@@ -17,6 +17,11 @@ One control period ``h = 1 / control_rate`` of the loop, from the state
    are evaluated once per period from ``t_k`` and the attitude of ``x_k`` and
    held with ``alpha u_k``: they change over minutes, the period is 0.1 s.
 
+With realistic sensors, estimator, delay or engines (the problem's
+``[sensors.*]``, ``[estimation]``, ``[controller]``, ``[actuators]``) steps 1 and
+3 are those of :mod:`~casadi_debris.simulation.realism`, with their extra state
+after the controller's and their noise as extra rows of ``s``.
+
 The whole period is one ``casadi.Function`` (expanded to scalar operations,
 the parameter vector folded in as constants), rolled out over many periods
 with ``mapaccum``: no Python per step. The engines' thrust for the applied
@@ -36,6 +41,7 @@ import shutil
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 import control
@@ -47,6 +53,7 @@ from casadi_debris.model import Model
 from casadi_debris.processes import process_alive
 from casadi_debris.simulation.disturbance import environment_function
 from casadi_debris.simulation.jit_cache import CompileError, compiled_function
+from casadi_debris.simulation.realism import EngineBasis, Realism, realistic_law
 from casadi_debris.units import DEG_PER_RAD, NM_PER_MNM
 
 # Relative pull-in of a saturated torque so that it lies strictly inside the
@@ -66,12 +73,22 @@ class StepInput:
 
 
 class StepOutput:
-    """Rows of the step's output ``y``."""
+    """Rows of the step's output ``y``.
+
+    The ideal loop's ``y`` has the first ``SIZE``; the realistic one adds the
+    torque and force applied over the period and, with engine-level effects,
+    the (delayed) torque command and each engine's thrust change
+    (:mod:`~casadi_debris.simulation.realism`).
+    """
 
     DEMAND_NM = slice(0, 3)
     SCALE = 3
     MEASURED_ERROR_RAD = slice(4, 7)
     SIZE = 7
+    APPLIED_NM = slice(7, 10)
+    FORCE_N = slice(10, 13)
+    COMMAND_NM = slice(13, 16)
+    THRUST_CHANGE_START = 16
 
 
 JIT_FLAGS = ("-O2",)
@@ -239,6 +256,7 @@ class LoopStep:
     n_plant: int
     n_controller: int
     compiled: bool = False
+    realism: Realism | None = None
 
     @classmethod
     def of(
@@ -249,6 +267,7 @@ class LoopStep:
         chunk_steps: int,
         *,
         compiled: bool = False,
+        realism: Realism | None = None,
     ) -> LoopStep:
         """Wrap a step Function with its ``mapaccum`` roll-out."""
         return cls(
@@ -258,14 +277,49 @@ class LoopStep:
             n_plant=model.layout.size,
             n_controller=controller.n_states,
             compiled=compiled,
+            realism=realism,
         )
 
+    @property
+    def n_inputs(self) -> int:
+        """Rows of the step's input ``s``."""
+        return StepInput.SIZE if self.realism is None else self.realism.inputs.size
+
     def roll(self, z: np.ndarray, inputs: np.ndarray, parameters: np.ndarray) -> tuple:
-        """``chunk_steps`` periods from ``z``: (states after each, outputs of each), arrays."""
+        """``chunk_steps`` periods from ``z``: (states after each, outputs of each), arrays.
+
+        The arrays are handed to the roll-out in place (CasADi's function
+        buffer): converting them to and from CasADi matrices element by element
+        cost more than the steps themselves for wide inputs.
+        """
         p = np.asarray(parameters, dtype=float)
-        tiled = np.broadcast_to(p[:, None], (len(p), self.chunk_steps))
-        z_all, y_all = self.rollout(z, inputs, tiled)
-        return np.asarray(z_all), np.asarray(y_all)
+        chunk = self.chunk_steps
+        tiled = np.repeat(p[:, None], chunk, axis=1)
+        rollout = self.rollout
+        dense = all(rollout.sparsity_in(i).is_dense() for i in range(3)) and all(
+            rollout.sparsity_out(i).is_dense() for i in range(2)
+        )
+        if not dense:
+            z_all, y_all = rollout(z, inputs, tiled)
+            return np.asarray(z_all), np.asarray(y_all)
+        # Column-major matrices: each period's column is contiguous.
+        arguments = [
+            np.ascontiguousarray(z, dtype=float).ravel(),
+            np.ascontiguousarray(np.asarray(inputs, dtype=float).T).ravel(),
+            np.ascontiguousarray(tiled.T).ravel(),
+        ]
+        n_z, n_y = rollout.size1_out(0), rollout.size1_out(1)
+        results = [np.empty(n_z * chunk), np.empty(n_y * chunk)]
+        buffer, trigger = rollout.buffer()
+        # CasADi's Python binding takes (index, buffer); its type stubs say otherwise.
+        set_arg: Any = buffer.set_arg
+        set_res: Any = buffer.set_res
+        for i, argument in enumerate(arguments):
+            set_arg(i, argument.data)
+        for i, result in enumerate(results):
+            set_res(i, result.data)
+        trigger()
+        return results[0].reshape(chunk, n_z).T, results[1].reshape(chunk, n_y).T
 
 
 def build_loop_step(
@@ -278,6 +332,8 @@ def build_loop_step(
     integrator: str = "rk4",
     chunk_steps: int = 1000,
     jit: bool = False,
+    realism: Realism | None = None,
+    basis: EngineBasis | None = None,
 ) -> LoopStep:
     """Compile one control period of the closed loop for one parameter set.
 
@@ -304,6 +360,10 @@ def build_loop_step(
         from there, and each process keeps it for a given model, controller
         and authority. Falls back to the virtual machine, with a logged
         warning, when no compiler is found or compiling fails.
+    realism : Realism, optional
+        Realistic sensors, estimator, delay and engines (None: the paper's loop).
+    basis : EngineBasis, optional
+        The allocator's thrust per unit torque, needed when an effect acts per engine.
 
     Returns
     -------
@@ -313,19 +373,36 @@ def build_loop_step(
         compiler = c_compiler()
         if compiler is not None:
             key = _jit_key(model, controller, polytope, integrator_steps, chunk_steps)
+            key += _realism_key(realism, basis)
             if key not in _JIT_STEPS:
                 _JIT_STEPS[key] = _compiled(
-                    _loop_step(model, None, controller, polytope, integrator_steps, "rk4"),
+                    _loop_step(
+                        model, None, controller, polytope, integrator_steps, "rk4", realism, basis
+                    ),
                     compiler,
                     model,
                     controller,
                     chunk_steps,
+                    realism,
                 )
             cached = _JIT_STEPS[key]
             if cached is not None:
                 return cached
-    step = _loop_step(model, parameters, controller, polytope, integrator_steps, integrator)
-    return LoopStep.of(step, model, controller, chunk_steps)
+    step = _loop_step(
+        model, parameters, controller, polytope, integrator_steps, integrator, realism, basis
+    )
+    return LoopStep.of(step, model, controller, chunk_steps, realism=realism)
+
+
+def _realism_key(realism: Realism | None, basis: EngineBasis | None) -> str:
+    """What the realistic effects add to a compiled step's key (empty for the paper's loop)."""
+    if realism is None:
+        return ""
+    digest = hashlib.sha256(repr(realism).encode())
+    if basis is not None:
+        for array in (basis.axis, basis.start_Nm, basis.length_Nm, basis.slope, basis.torque_map):
+            digest.update(np.ascontiguousarray(array).tobytes())
+    return "|" + digest.hexdigest()
 
 
 def c_compiler() -> str | None:
@@ -368,6 +445,7 @@ def _compiled(
     model: Model,
     controller: DiscreteController,
     chunk_steps: int,
+    realism: Realism | None = None,
 ) -> LoopStep | None:
     """The step as C, from the machine's cache (compiled into it if needed); None if it fails."""
     _remove_stale_jit_folders()
@@ -380,7 +458,7 @@ def _compiled(
     except CompileError as exc:
         LOGGER.warning("the control step runs on CasADi's virtual machine: %s", exc)
         return None
-    return LoopStep.of(compiled, model, controller, chunk_steps, compiled=True)
+    return LoopStep.of(compiled, model, controller, chunk_steps, compiled=True, realism=realism)
 
 
 def release_compiled_steps() -> None:
@@ -408,6 +486,8 @@ def _loop_step(
     polytope: AuthorityPolytope,
     integrator_steps: int,
     integrator: str,
+    realism: Realism | None = None,
+    basis: EngineBasis | None = None,
 ) -> ca.Function:
     """The step Function (expanded to scalar operations for RK4)."""
     if integrator not in INTEGRATORS:
@@ -422,11 +502,50 @@ def _loop_step(
     else:
         plant = _cvodes_step(model, parameters, period)
 
-    x = ca.SX.sym("x", n_plant)
-    xc = ca.SX.sym("xc", n_ctrl)
+    law = _control_law(model, controller, polytope)
+    n_aux = 0 if realism is None else realism.aux_size
+    z = ca.MX.sym("z", n_plant + n_ctrl + n_aux)
+    s = ca.MX.sym("s", StepInput.SIZE if realism is None else realism.inputs.size)
+    p = ca.MX.sym("p", n_p)
+    xz, xcz = z[:n_plant], z[n_plant : n_plant + n_ctrl]
+    force: ca.DM | ca.MX
+    if realism is None:
+        torque, xc_next_z, demand_z, scale_z, error_z = law(
+            xz[model.layout.q_st], xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM]
+        )
+        force, rest_next, y = ca.DM.zeros(3), xc_next_z, ca.vertcat(demand_z, scale_z, error_z)
+    else:
+        torque, force, rest_next, y = realistic_law(
+            realism, model, law, basis, n_plant, n_ctrl, period
+        )(z, s)
+    environment = environment_function(model)
+    if environment is not None:  # held over the period, as the applied torque
+        torque = torque + environment(
+            s[StepInput.TIME_S], xz, p if parameters is None else ca.DM(parameters)
+        )
+    x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(torque, force), p)
+    step_mx = ca.Function(
+        "loop_step",
+        [z, s, p],
+        [ca.vertcat(x_next, rest_next), y],
+        ["z", "s", "p"],
+        ["z_next", "y"],
+    )
+    return step_mx.expand() if integrator == "rk4" else step_mx
+
+
+def _control_law(
+    model: Model, controller: DiscreteController, polytope: AuthorityPolytope
+) -> ca.Function:
+    """``law(q, xc, q_ref, feedforward) -> (applied, xc_next, demand, scale, error)``.
+
+    The controller on the attitude ``q`` it is told, and the saturation.
+    """
+    q = ca.SX.sym("q", 4)
+    xc = ca.SX.sym("xc", controller.n_states)
     q_ref = ca.SX.sym("q_ref", 4)
     feedforward = ca.SX.sym("feedforward", 3)
-    error = model.attitude_error(q_ref, x[model.layout.q_st])
+    error = model.attitude_error(q_ref, q)
     command_deg = -DEG_PER_RAD * error  # e = reference - measured
     a, b, c, d = (
         ca.sparsify(ca.DM(m)) for m in (controller.A, controller.B, controller.C, controller.D)
@@ -435,29 +554,6 @@ def _loop_step(
     xc_next = a @ xc + b @ command_deg
     scale = saturation_scale(demand, polytope)
     applied = ca.if_else(scale < 1.0, scale * (1.0 - SATURATION_BACKOFF), 1.0) * demand
-    law = ca.Function(
-        "control_law", [x, xc, q_ref, feedforward], [applied, xc_next, demand, scale, error]
+    return ca.Function(
+        "control_law", [q, xc, q_ref, feedforward], [applied, xc_next, demand, scale, error]
     ).expand()
-
-    z = ca.MX.sym("z", n_plant + n_ctrl)
-    s = ca.MX.sym("s", StepInput.SIZE)
-    p = ca.MX.sym("p", n_p)
-    xz, xcz = z[:n_plant], z[n_plant:]
-    applied_z, xc_next_z, demand_z, scale_z, error_z = law(
-        xz, xcz, s[StepInput.REFERENCE_BN], s[StepInput.FEEDFORWARD_NM]
-    )
-    torque = applied_z
-    environment = environment_function(model)
-    if environment is not None:  # held over the period, as the applied torque
-        torque = torque + environment(
-            s[StepInput.TIME_S], xz, p if parameters is None else ca.DM(parameters)
-        )
-    x_next = plant(xz, s[StepInput.TIME_S], ca.vertcat(torque, ca.DM.zeros(3)), p)
-    step_mx = ca.Function(
-        "loop_step",
-        [z, s, p],
-        [ca.vertcat(x_next, xc_next_z), ca.vertcat(demand_z, scale_z, error_z)],
-        ["z", "s", "p"],
-        ["z_next", "y"],
-    )
-    return step_mx.expand() if integrator == "rk4" else step_mx

@@ -33,6 +33,8 @@ from casadi_debris.simulation.closed_loop import (
     discretize_controller,
 )
 from casadi_debris.simulation.disturbance import disturbance_series
+from casadi_debris.simulation.noise import NoiseStreams, draw_noise
+from casadi_debris.simulation.realism import Realism, engine_basis
 from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.summary import (
     SETTLE_BAND_ARCSEC,
@@ -162,6 +164,8 @@ class ClosedLoopResult:
     authority_Nm : ndarray, shape (m, 6)
         Largest pure torque at zero net force about +x, -x, +y, -y, +z, -z
         (magnitudes) from each of those instants on [N m].
+    noise_seed : int or None
+        Seed of the sensors' and engines' noise (None: the ideal loop, no noise).
     """
 
     time_s: np.ndarray
@@ -189,6 +193,7 @@ class ClosedLoopResult:
     compiled_step: bool | None = None
     authority_time_s: np.ndarray = field(default_factory=lambda: np.zeros(0))
     authority_Nm: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    noise_seed: int | None = None
 
     @property
     def fuel_per_cubesat_kg(self) -> np.ndarray:
@@ -216,6 +221,12 @@ class ClosedLoopResult:
         if fuel.sum() <= 0.0:
             return float(np.mean(exhaust))
         return float(np.sum(fuel * exhaust) / fuel.sum())
+
+    @property
+    def estimation_error_rad(self) -> np.ndarray:
+        """What the controller was told minus the truth, shape (n, 3) [rad]:
+        ``measured_error_rad - error_rad`` at the start of each step."""
+        return self.measured_error_rad - self.error_rad[:-1]
 
     def settle_time_s(self, band_rad: float = SETTLE_BAND_ARCSEC / ARCSEC_PER_RAD) -> float | None:
         """First instant after which every error component stays inside ``band_rad``.
@@ -280,6 +291,7 @@ def simulate(
     chunk_steps: int = DEFAULT_CHUNK_STEPS,
     allocator: Allocator | None = None,
     jit: bool = False,
+    noise_seed: int | None = None,
 ) -> ClosedLoopResult:
     """Run one closed-loop scenario.
 
@@ -312,6 +324,8 @@ def simulate(
         Run the step as compiled C (see
         :func:`~casadi_debris.simulation.build_loop_step`): worth its few
         seconds of compiling when many runs share it (Monte Carlo).
+    noise_seed : int, optional
+        Seed of the noise (default ``[sensors] seed``); unused by the ideal loop.
 
     Returns
     -------
@@ -323,6 +337,7 @@ def simulate(
     engines = PropulsionState.from_problem(problem) if propulsion is None else propulsion.copy()
     fuel_start = engines.propellant_kg.copy()
     steps = problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
+    realism = Realism.of(problem, period)
     rollout = _Rollout(
         model=model,
         reference=reference,
@@ -335,7 +350,10 @@ def simulate(
             "integrator": integrator,
             "chunk_steps": chunk_steps,
             "jit": jit,
+            "realism": realism,
         },
+        problem=problem,
+        noise_seed=noise_seed,
     )
     rollout.run(problem.simulation.failures if failures is None else failures)
     return rollout.result(fuel_start, wall_time_s=time.perf_counter() - started)
@@ -363,12 +381,20 @@ class _Rollout:
     engines: PropulsionState
     allocator: Allocator
     loop_options: dict[str, Any]
+    problem: Problem
+    noise_seed: int | None = None
 
     def __post_init__(self) -> None:
         self.period = float(self.reference.time_s[1] - self.reference.time_s[0])
         self.n = len(self.reference.time_s) - 1
+        self.realism: Realism | None = self.loop_options["realism"]
+        self.noise: NoiseStreams | None = None
+        if self.realism is not None:
+            times = self.reference.time_s[:-1]
+            self.noise = draw_noise(self.problem, self.model.geometry, times, self.noise_seed)
         self.states = np.zeros((self.n + 1, self.model.layout.size))
-        self.outputs = np.zeros((self.n, StepOutput.SIZE))
+        width = StepOutput.SIZE if self.realism is None else self.realism.output_size
+        self.outputs = np.zeros((self.n, width))
         self.applied = np.zeros((self.n, 3))
         self.thrust = np.zeros((self.n, self.engines.n_engines))
         self.events: list[RunEvent] = []
@@ -382,9 +408,11 @@ class _Rollout:
         period, n = self.period, self.n
         failure_steps = [min(n, max(0, math.ceil(f.time_s / period - 1e-9))) for f in failures]
         pending = list(zip(failure_steps, failures, strict=True))
-        z = np.concatenate(
-            [_initial_state(self.model, self.reference), np.zeros(self.controller.n_states)]
-        )
+        x0 = _initial_state(self.model, self.reference)
+        z = np.concatenate([x0, np.zeros(self.controller.n_states)])
+        if self.realism is not None:
+            aux = self.realism.initial_aux(self.problem, self.reference.quaternion_BN[0])
+            z = np.concatenate([z, aux])
         self.states[0] = z[: self.model.layout.size]
         loop: LoopStep | None = None
         k = 0
@@ -405,34 +433,51 @@ class _Rollout:
         self.allocator.update_from_state(self.engines)
         polytope = self.allocator.authority_polytope()
         self.authority.append((time_s, polytope.axis_reach()))
+        basis = None
+        if self.realism is not None and self.realism.engine_level:
+            basis = engine_basis(self.allocator)
         loop = build_loop_step(
-            self.model, self.parameters, self.controller, polytope, **self.loop_options
+            self.model, self.parameters, self.controller, polytope, basis=basis, **self.loop_options
         )
         self.compiled = self.compiled or loop.compiled
         return loop
 
     def _stretch(self, loop: LoopStep, z: np.ndarray, k: int, stop: int) -> tuple[np.ndarray, int]:
         """Periods k .. stop - 1, cut short where the engines change; (state, periods done)."""
-        z_all, y_all = loop.roll(z, self._inputs(loop.chunk_steps, k, stop), self.parameters)
+        z_all, y_all = loop.roll(z, self._inputs(loop, k, stop), self.parameters)
         z_all = z_all[:, : stop - k]
         y_all = y_all[:, : stop - k].T
-        applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
-        allocation = self.allocator.allocate_series(applied)
+        if self.realism is None:
+            applied = applied_torque(y_all[:, StepOutput.DEMAND_NM], y_all[:, StepOutput.SCALE])
+        else:
+            applied = y_all[:, StepOutput.APPLIED_NM]
+        engine_level = self.realism is not None and self.realism.engine_level
+        allocation = self.allocator.allocate_series(
+            y_all[:, StepOutput.COMMAND_NM] if engine_level else applied
+        )
         self.point_solves += allocation.point_solves
-        done, stage_events = self.engines.advance_series(allocation.thrust_N, self.period)
+        thrust = allocation.thrust_N
+        if engine_level:  # the engines' effects on the allocated thrust
+            change = y_all[:, StepOutput.THRUST_CHANGE_START :]
+            thrust = np.clip(thrust + change, 0.0, self.allocator.max_thrust_N)
+        done, stage_events = self.engines.advance_series(thrust, self.period)
         for index, event in stage_events:
             time_s = (k + index) * self.period + event.time_s
             self.events.append(_depleted(event, time_s, self.engines))
         self.outputs[k : k + done] = y_all[:done]
         self.applied[k : k + done] = applied[:done]
-        self.thrust[k : k + done] = allocation.thrust_N[:done]
+        self.thrust[k : k + done] = thrust[:done]
         self.states[k + 1 : k + done + 1] = z_all[: self.model.layout.size, :done].T
         return z_all[:, done - 1], done
 
-    def _inputs(self, chunk_steps: int, k: int, stop: int) -> np.ndarray:
+    def _inputs(self, loop: LoopStep, k: int, stop: int) -> np.ndarray:
         """The step inputs of periods k .. stop - 1, padded to ``chunk_steps`` columns."""
         reference, used = self.reference, stop - k
-        inputs = np.zeros((StepInput.SIZE, chunk_steps))
+        inputs = np.zeros((loop.n_inputs, loop.chunk_steps))
+        if self.realism is not None and self.noise is not None:
+            inputs[StepInput.SIZE :, :used] = self.realism.inputs.rows(
+                self.problem, self.noise, self.period, k, stop
+            )
         inputs[StepInput.TIME_S, :used] = reference.time_s[k:stop]
         inputs[StepInput.REFERENCE_BN, :used] = reference.quaternion_BN[k:stop].T
         if reference.feedforward_Nm is not None:
@@ -445,7 +490,13 @@ class _Rollout:
         """The run's series and figures; checks the allocator met every applied torque."""
         model, reference, n = self.model, self.reference, self.n
         torque = self.thrust @ self.allocator.torque_map.T
-        residual = float(np.abs(torque - self.applied).max()) if n else 0.0
+        force = self.thrust @ self.allocator.force_map.T
+        engine_level = self.realism is not None and self.realism.engine_level
+        if engine_level:  # the step's own engines: their misaligned, noisy wrench
+            torque = self.outputs[:, StepOutput.APPLIED_NM]
+            force = self.outputs[:, StepOutput.FORCE_N]
+        # With engine-level effects the step allocates itself: nothing to check here.
+        residual = float(np.abs(torque - self.applied).max()) if n and not engine_level else 0.0
         polytope = self.allocator.authority_polytope()
         authority = float(np.abs(polytope.vertices).max()) if n else 1.0
         if residual > ALLOCATION_TOLERANCE * authority:
@@ -467,7 +518,7 @@ class _Rollout:
             measured_error_rad=self.outputs[:, StepOutput.MEASURED_ERROR_RAD],
             demand_Nm=self.outputs[:, StepOutput.DEMAND_NM],
             torque_Nm=torque,
-            force_N=self.thrust @ self.allocator.force_map.T,
+            force_N=force,
             scale=self.outputs[:, StepOutput.SCALE],
             thrust_N=self.thrust,
             disturbance_Nm=disturbance_series(
@@ -485,6 +536,7 @@ class _Rollout:
             compiled_step=self.compiled,
             authority_time_s=np.array([t for t, _ in self.authority]),
             authority_Nm=np.array([reach for _, reach in self.authority]).reshape(-1, 6),
+            noise_seed=None if self.noise is None else self.noise.seed,
             slew_window_s=(
                 None
                 if reference.slew is None

@@ -86,6 +86,11 @@ class RunSummary(Record):
     wall_time_s : float
     compiled_step : bool or None
         Whether the control period ran as compiled C code (None: not recorded).
+    noise_seed : int or None
+        Seed of the sensors' and engines' noise (None: the ideal loop).
+    max_estimation_error_arcsec : float or None
+        Largest component of the attitude the controller was told minus the
+        true one (None: the ideal loop, where it is the star tracker's lag).
     """
 
     max_error_deg: float
@@ -116,6 +121,8 @@ class RunSummary(Record):
     parameters: dict[str, float]
     wall_time_s: float
     compiled_step: bool | None = None
+    noise_seed: int | None = None
+    max_estimation_error_arcsec: float | None = None
 
 
 def settle_time_s(
@@ -177,4 +184,8 @@ def summarize(result: ClosedLoopResult) -> RunSummary:
         parameters=dict(result.parameters),
         wall_time_s=result.wall_time_s,
         compiled_step=result.compiled_step,
+        noise_seed=result.noise_seed,
+        max_estimation_error_arcsec=None
+        if result.noise_seed is None or not len(result.scale)
+        else float(np.abs(result.estimation_error_rad).max() * ARCSEC_PER_RAD),
     )
