@@ -6,7 +6,7 @@ import csv
 import dataclasses
 import io
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -29,6 +29,7 @@ from casadi_debris.cli.common import (
     say,
     workers_option,
 )
+from casadi_debris.cli.slew import axis_options
 from casadi_debris.config import Problem, limits, load_problem, with_duration
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
@@ -39,6 +40,7 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.simulation.segment_figures import SegmentFigures
     from casadi_debris.simulation.statistics import CampaignStatistics
     from casadi_debris.workflows.campaign import RunRecord
 
@@ -67,6 +69,27 @@ def summary_text(summary: RunRecord) -> str:
         ["wall time [s]", f"{run.wall_time_s:.2f}"],
     ]
     return format_table(["figure", "value"], rows)
+
+
+def segments_text(segments: Sequence[SegmentFigures] | None) -> str:
+    """A manoeuvre's segments (window, largest error and fuel of each) on the lines after a
+    newline; nothing without segments."""
+    if segments is None:
+        return ""
+    rows = [
+        [
+            "" if f.segment is None else f.segment,
+            f.kind,
+            f"{f.start_s:.1f}",
+            f"{f.end_s:.1f}",
+            f"{f.max_error_deg:.4g}",
+            f"{f.max_error_arcsec:.4g}",
+            f"{f.fuel_kg:.4g}",
+        ]
+        for f in segments
+    ]
+    header = ["segment", "kind", "start [s]", "end [s]", "max error [deg]", "[arcsec]"]
+    return "\n" + format_table([*header, "fuel [kg]"], rows)
 
 
 def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -156,6 +179,11 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
 @click.option(
     "--duration-s", type=in_range(limits.DURATION_S), help="End time (default the problem's)."
 )
+@axis_options(
+    "the problem's [simulation.slew]; a bang-bang timed by its duration keeps that "
+    "duration's torque fraction",
+    "the problem's [simulation.slew]",
+)
 @click.option(
     "--failed",
     default=None,
@@ -179,6 +207,8 @@ def simulate(
     open_loop: Path | None,
     rigid: bool,
     duration_s: float | None,
+    axis: str | tuple[float, float, float] | None,
+    angle_deg: float | None,
     failed: str | None,
     controller_path: Path | None,
     allow_mismatch: bool,
@@ -201,10 +231,7 @@ def simulate(
             raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
-    if duration_s is not None:
-        problem = with_duration(problem, duration_s, field="--duration-s")
-    if failed is not None:
-        problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
+    problem = _as_asked(problem, duration_s, (axis, angle_deg), failed)
     from casadi_debris.allocation import Allocator
     from casadi_debris.config import problem_with_values
     from casadi_debris.model import build_model
@@ -231,6 +258,7 @@ def simulate(
         problem, model, record.reduced, reference, parameters=case.parameters, allocator=allocator
     )
     summary = run_summary(problem, case, result, resolved, record)
+    segments = _segment_figures(problem, result, reference)
     if out is not None:
         with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
             summary = dataclasses.replace(summary, out_dir=str(out.absolute()))
@@ -242,10 +270,73 @@ def simulate(
                 with_plots=not no_plots,
                 title=f"{figure_title(problem)} ({case.case_id})",
             )
+            if segments is not None:
+                write_json_atomic(staging / "segments.json", {"segments": list(segments)})
     if as_json:
         echo_json(summary)
     else:
-        click.echo(summary_text(summary))
+        click.echo(summary_text(summary) + segments_text(segments))
+
+
+def _as_asked(
+    problem: Problem,
+    duration_s: float | None,
+    slew: tuple[str | tuple[float, float, float] | None, float | None],
+    failed: str | None,
+) -> Problem:
+    """``problem`` with the run length, the slew's axis and angle, and the CubeSats failed
+    from the start that the options give."""
+    if duration_s is not None:
+        problem = with_duration(problem, duration_s, field="--duration-s")
+    if slew != (None, None):
+        problem = _with_slew(problem, *slew)
+    if failed is not None:
+        problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
+    return problem
+
+
+def _segment_figures(problem: Problem, result: Any, reference: Any) -> Any:
+    """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
+    if problem.simulation.reference != "sequence":
+        return None
+    from casadi_debris.simulation.segment_figures import segment_figures
+
+    return segment_figures(result, reference.pieces)
+
+
+def _with_slew(
+    problem: Problem, axis: str | tuple[float, float, float] | None, angle_deg: float | None
+) -> Problem:
+    """``problem`` with its one slew turned about ``axis`` by ``angle_deg`` (None: its own).
+
+    The slew keeps its method and timing; a bang-bang timed by its duration keeps the
+    torque fraction that duration gives instead (another turn takes another time).
+    """
+    from dataclasses import replace
+
+    slew = problem.simulation.slew
+    option = "--axis" if axis is not None else "--angle-deg"
+    if slew is None:
+        flies = (
+            "[[simulation.segments]] (edit their targets)"
+            if problem.simulation.reference == "sequence"
+            else "no slew (give a problem with a [simulation.slew], e.g. paper_slew)"
+        )
+        raise InputShapeError(f"{option}: {problem.name} flies {flies}")
+    changed = replace(
+        slew,
+        axis=slew.axis if axis is None else axis,
+        angle_deg=slew.angle_deg if angle_deg is None else angle_deg,
+    )
+    if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
+        # The file's duration sets the share of the authority its slew uses; another turn
+        # flies at that share (paper_slew: 0.561), not in that time.
+        from casadi_debris.simulation import generate_slew
+
+        fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
+        changed = replace(changed, duration_s=None, torque_fraction=fraction)
+        say(f"The slew about the new axis at {problem.name}'s torque fraction {fraction:.3f}.")
+    return replace(problem, simulation=replace(problem.simulation, slew=changed))
 
 
 def _with_failed(problem: Problem, cubesats: list[int]) -> Problem:

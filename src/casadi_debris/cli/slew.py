@@ -6,9 +6,10 @@ import dataclasses
 import json
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import click
 import numpy as np
@@ -30,6 +31,7 @@ from casadi_debris.report.common import (
     format_table,
     json_ready,
     write_csv,
+    write_json_atomic,
 )
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
@@ -137,6 +139,7 @@ class AxisParam(click.ParamType):
         return "[x|y|z|-x|-y|-z|A,B,C]"
 
 
+F = TypeVar("F", bound=Callable[..., Any])
 MAX_RATE_DEG_S = 1e4
 MAX_STARTS = 1000
 MIN_SAMPLE_S = 1e-3
@@ -273,18 +276,29 @@ def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeEr
     return InputShapeError(f"--axis/--method: {text}")
 
 
+def axis_options(axis_default: str, angle_default: str) -> Callable[[F], F]:
+    """``--axis`` (any body vector) and ``--angle-deg``, their defaults said in the help."""
+
+    def decorate(command: F) -> F:
+        command = click.option(
+            "--angle-deg",
+            type=in_range(limits.SLEW_ANGLE_DEG),
+            help=f"Slew angle [deg] [{angle_default}].",
+        )(command)
+        return click.option(
+            "--axis",
+            type=AxisParam(),
+            help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1 "
+            f"[{axis_default}].",
+        )(command)
+
+    return decorate
+
+
 @main.command()
 @problem_argument
-@click.option(
-    "--axis",
-    type=AxisParam(),
-    help="Slew axis: x, y, z (optionally signed) or a body vector a,b,c, e.g. 1,1,1 "
-    "[the problem's [simulation.slew], else z].",
-)
-@click.option(
-    "--angle-deg",
-    type=in_range(limits.SLEW_ANGLE_DEG),
-    help="Slew angle [deg] [the problem's [simulation.slew], else 180].",
+@axis_options(
+    "the problem's [simulation.slew], else z", "the problem's [simulation.slew], else 180"
 )
 @click.option(
     "--method",
@@ -382,6 +396,12 @@ def slew(
     problem = load_problem(problem_file)
     if out is not None:
         check_output_folder(out, overwrite=overwrite)
+    if problem.simulation.reference == "sequence" and not (axis or angle_deg or method):
+        one_slew: tuple[Any, ...] = (duration_s, torque_fraction, rate_limit_deg_s)
+        one_slew += (smoothing_s or None, flexible or None, thrusters or None)
+        one_slew += (zero_net_force or None, starts)
+        _fly_sequence(problem, sample_s, out, overwrite, as_json, one_slew)
+        return
     given = {
         "duration_s": duration_s,
         "torque_fraction": torque_fraction,
@@ -419,3 +439,90 @@ def slew(
         echo_json(summary)
     else:
         click.echo(summary_text(summary))
+
+
+ONE_SLEW_OPTIONS = (
+    "--duration-s",
+    "--torque-fraction",
+    "--rate-limit-deg-s",
+    "--smoothing-s",
+    "--flexible",
+    "--thrusters",
+    "--zero-net-force",
+    "--starts",
+)
+
+
+def _fly_sequence(
+    problem: Problem,
+    sample_s: float,
+    out: Path | None,
+    overwrite: bool,
+    as_json: bool,
+    one_slew: tuple[Any, ...],
+) -> None:
+    """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies it;
+    ``one_slew`` the values of :data:`ONE_SLEW_OPTIONS` (None where not given), refused."""
+    from casadi_debris.simulation.sequence import manoeuvre_reference
+
+    for option, value in zip(ONE_SLEW_OPTIONS, one_slew, strict=True):
+        if value is not None:
+            raise InputShapeError(
+                f"{option}: {problem.name}'s [[simulation.segments]] set each slew; "
+                "give --axis, --angle-deg or --method to solve one slew instead"
+            )
+
+    say(f"Every segment of {problem.name}'s [[simulation.segments]].")
+    reference = manoeuvre_reference(problem, sample_s)
+    summary = reference.summary
+    if out is not None:
+        from casadi_debris.plots.slew import plot_manoeuvre
+        from casadi_debris.report.simulation import figure_title
+
+        with RunFolder.claim(out, overwrite=overwrite, command="slew") as folder:
+            write_json_atomic(folder / "summary.json", summary)
+            write_reference_csv(
+                reference.time_s, reference.quaternion_BN, reference.rate_rad_s, folder
+            )
+            plot_manoeuvre(
+                reference.time_s,
+                reference.quaternion_BN,
+                reference.rate_rad_s,
+                summary.segments,
+                folder / "reference.png",
+                figure_title(problem),
+            )
+    if as_json:
+        echo_json(summary)
+        return
+    rows = [
+        [
+            "" if r.segment is None else r.segment,
+            r.kind,
+            f"{r.start_s:.1f}",
+            f"{r.end_s:.1f}",
+            r.method or "",
+            "" if r.angle_deg is None else f"{r.angle_deg:.2f}",
+            "" if r.fuel_kg is None else f"{r.fuel_kg:.4g}",
+        ]
+        for r in summary.segments
+    ]
+    header = ["segment", "kind", "start [s]", "end [s]", "method", "angle [deg]", "fuel [kg]"]
+    click.echo(format_table(header, rows))
+
+
+def write_reference_csv(
+    time_s: np.ndarray, quaternion_BN: np.ndarray, rate_rad_s: np.ndarray, folder: Path
+) -> None:
+    """profile.csv of a manoeuvre: time, quaternion, 3-2-1 Euler angles (deg), rate (deg/s)."""
+    from casadi_debris.model.attitude import euler_angles_321
+
+    columns: dict[str, np.ndarray] = {"time_s": time_s}
+    for i in range(4):
+        columns[f"q{i}_BN"] = quaternion_BN[:, i]
+    angles = euler_angles_321(quaternion_BN)
+    for i, name in enumerate(("roll", "pitch", "yaw")):
+        columns[f"{name}_deg"] = np.degrees(angles[:, i])
+    for i, axis in enumerate("xyz"):
+        columns[f"rate_{axis}_deg_s"] = np.degrees(rate_rad_s[:, i])
+    write_csv(folder / "profile.csv", columns)

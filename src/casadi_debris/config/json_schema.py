@@ -60,6 +60,7 @@ REALISM_EXAMPLE: dict[str, Any] = {
 def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
     """Complete problems that between them take every branch of the readers."""
     slew = {"axis": "z", "angle_deg": 90.0, "method": "time-optimal", "start_s": 10.0}
+    slew |= {"flexible": True, "flexible_method": "shaper"}
     slew |= {"duration_s": 1200.0, "torque_fraction": 0.9, "feedforward": True}
     slew |= {"thrusters": True}
     runs = {
@@ -100,6 +101,10 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
             "greenwich_angle_deg": 0.0,
         },
     }
+    vector_axis = {
+        "extends": "paper.toml",
+        "simulation": {"reference": "slew", "slew": {"axis": [0.0, 1.0, 1.0], "angle_deg": 9.0}},
+    }
     runs |= REALISM_EXAMPLE
     engine = {"direction": [0.0, 0.0, -1.0], "offset_m": [0.0, 0.0, 0.0], "stages": 1}
     engine |= {"emitters_per_stage": 32, "thrust_per_stage_mN": 0.64, "isp_s": 1000.0}
@@ -126,7 +131,37 @@ def _examples(paper: Mapping[str, Any]) -> list[dict[str, Any]]:
         copy.deepcopy(dict(paper)),
         merge_problem(copy.deepcopy(dict(paper)), runs),
         merge_problem(copy.deepcopy(dict(paper)), explicit),
+        merge_problem(copy.deepcopy(dict(paper)), _sequence_example()),
+        merge_problem(copy.deepcopy(dict(paper)), vector_axis),
     ]
+
+
+def _sequence_example() -> dict[str, Any]:
+    """A ``[[simulation.segments]]`` manoeuvre taking every kind of segment and target."""
+    flexible = {"method": "time-optimal", "flexible": True, "flexible_method": "shaper"}
+    options = {"torque_fraction": 0.5, "feedforward": True, "thrusters": True}
+    segments = [
+        {"kind": "slew", "axis": [1.0, 1.0, 1.0], "angle_deg": 90.0, **flexible, **options},
+        {"kind": "slew", "axis": "-y", "angle_deg": 10.0, "start_s": 100.0, "duration_s": 50.0},
+        {"kind": "slew", "quaternion": [1.0, 0.0, 0.0, 0.0]},
+        {"kind": "slew", "euler_deg": [10.0, 0.0, 0.0], "euler_sequence": "ZYX"},
+        {"kind": "hold", "duration_s": 10.0},
+        {"kind": "slew", "frame": "nadir", "nadir_axis": "-x", "along_axis": [0.0, 1.0, 0.0]},
+        {
+            "kind": "track",
+            "frame": "nadir",
+            "nadir_axis": [0, 0, 1],
+            "along_axis": "+x",
+            "duration_s": 100.0,
+        },
+        {"kind": "track", "frame": "lvlh", "euler_deg": [0.0, 5.0, 0.0], "duration_s": 100.0},
+        {"kind": "track", "frame": "lvlh", "axis": "z", "angle_deg": 5.0, "duration_s": 100.0},
+        {"kind": "track", "frame": "lvlh", "quaternion": [1.0, 0.0, 0.0, 0.0], "blend_s": 60.0},
+    ]
+    return {
+        "extends": "paper.toml",
+        "simulation": {"reference": "sequence", "segments": segments},
+    }
 
 
 def _leaf(spec: Mapping[str, Any]) -> dict[str, Any]:

@@ -210,6 +210,19 @@ any star tracker, and smaller angles vanish in radians."""
 SLEW_DURATION_S = Range(1.0, 1e7)
 """[1 s, 1e7 s]: no thruster turns a satellite round in under a second; the slew methods then
 check the duration against the minimum the engines allow."""
+MAX_SEGMENTS = 100
+"""At most 100 segments in a run's manoeuvre: each slew among them is solved on its own."""
+AXIS_COMPONENT = symmetric(1e6)
+"""|a| <= 1e6 per component of an axis vector (normalised where used; zero refused)."""
+AXIS_PARALLEL_TOLERANCE = 1e-6
+"""Two unit axes closer to parallel than this (sine of their angle) define no frame."""
+QUATERNION_COMPONENT = symmetric(2.0)
+"""|q_i| <= 2 per component of a quaternion as written (then checked for unit norm)."""
+QUATERNION_NORM_TOLERANCE = 1e-3
+"""A written quaternion's norm within 1e-3 of 1 (four decimals suffice), then normalised; a
+typo or a rate [0, omega] is refused."""
+BLEND_S = Range(1.0, 1e5)
+"""[1 s, 1e5 s]: the time a reference at a new rate takes to be joined (a track's start)."""
 CONTROL_RATE_HZ = Range(0.01, 1000.0)
 """[0.01, 1000] Hz: one control period between 1 ms and 100 s (the paper: 10 Hz)."""
 INTEGRATOR_STEPS = Range(1, 1000)

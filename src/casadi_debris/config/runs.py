@@ -15,14 +15,18 @@ from dataclasses import replace
 
 from casadi_debris.config import limits
 from casadi_debris.config.schema import (
-    AXIS_NAMES,
     REFERENCE_KINDS,
-    SLEW_METHODS,
     FailureEvent,
     MonteCarlo,
     Problem,
     Simulation,
+)
+from casadi_debris.config.segments import (
+    SLEW_METHODS,
     SlewReference,
+    read_axis,
+    read_segments,
+    read_slew_settings,
 )
 from casadi_debris.config.table import Table
 from casadi_debris.config.varied import read_vary
@@ -31,27 +35,25 @@ from casadi_debris.errors import ProblemFileError
 
 def read_slew(t: Table, run_duration_s: float) -> SlewReference:
     """``[simulation.slew]``; it must start within the run of ``run_duration_s`` [s]."""
-    axis = t.text("axis", AXIS_NAMES)
+    axis = read_axis(t, "axis")
+    angle_deg = t.number("angle_deg", limits.SLEW_ANGLE_DEG)
+    settings = read_slew_settings(t, SLEW_METHODS)
     slew = SlewReference(
         axis=axis,
-        angle_deg=t.number("angle_deg", limits.SLEW_ANGLE_DEG),
-        method=t.text("method", SLEW_METHODS) if t.has("method") else "bang-bang",
+        angle_deg=angle_deg,
+        method=settings.method,
         start_s=t.number("start_s", limits.nonnegative(run_duration_s))
         if t.has("start_s")
         else 0.0,
         duration_s=t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None,
-        torque_fraction=(
-            t.number("torque_fraction", limits.positive(1.0)) if t.has("torque_fraction") else None
-        ),
-        feedforward=t.boolean("feedforward") if t.has("feedforward") else False,
-        thrusters=t.boolean("thrusters") if t.has("thrusters") else False,
+        torque_fraction=settings.torque_fraction,
+        feedforward=settings.feedforward,
+        thrusters=settings.thrusters,
+        flexible=settings.flexible,
+        flexible_method=settings.flexible_method,
     )
     if slew.method == "fuel-optimal" and slew.duration_s is None:
         raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
-    if slew.thrusters and slew.method == "bang-bang":
-        raise t.error(
-            t.key("thrusters"), "only for time-optimal and fuel-optimal slews (not bang-bang)"
-        )
     t.done()
     return slew
 
@@ -141,8 +143,14 @@ def read_simulation(t: Table, engines_per_cubesat: Sequence[int], n_stages: int)
     has_slew = t.has("slew")
     if reference == "slew" and not has_slew:
         raise t.error(t.key("slew"), 'missing: reference = "slew" needs a [simulation.slew] table')
-    if reference == "hold" and has_slew:
+    if reference != "slew" and has_slew:
         raise t.error(t.key("slew"), 'only allowed with reference = "slew"')
+    if reference == "sequence" and not t.has("segments"):
+        raise t.error(
+            t.key("segments"), 'missing: reference = "sequence" needs [[simulation.segments]]'
+        )
+    if reference != "sequence" and t.has("segments"):
+        raise t.error(t.key("segments"), 'only allowed with reference = "sequence"')
     duration_s = t.number("duration_s", limits.DURATION_S)
     rate_hz = t.number("control_rate_hz", limits.CONTROL_RATE_HZ)
     steps = t.integer("integrator_steps", limits.INTEGRATOR_STEPS)
@@ -164,6 +172,7 @@ def read_simulation(t: Table, engines_per_cubesat: Sequence[int], n_stages: int)
         reference=reference,
         slew=read_slew(t.table("slew"), duration_s) if has_slew else None,
         failures=tuple(sorted(failures, key=lambda event: event.time_s)),
+        segments=read_segments(t, SLEW_METHODS, duration_s) if t.has("segments") else (),
     )
     t.done()
     return simulation

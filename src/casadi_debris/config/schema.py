@@ -16,6 +16,7 @@ import numpy as np
 
 from casadi_debris.config.identity import plant_sha256
 from casadi_debris.config.realism import Actuators, ControllerTiming, Estimation, Sensors
+from casadi_debris.config.segments import Segment, SlewReference
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -389,32 +390,8 @@ class Environment:
         return torque in self.torques
 
 
-ReferenceKind = Literal["hold", "slew"]
-SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
-REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew")
-SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
-
-
-@dataclass(frozen=True, eq=False)
-class SlewReference:
-    """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
-
-    ``duration_s`` and ``torque_fraction`` are optional (None): the slew
-    methods then pick their own (see :mod:`casadi_debris.slew`). With
-    ``feedforward`` the profile's torque is added to the controller's demand
-    (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
-    thruster level with zero net force, as the closed loop's allocator keeps it,
-    so that its torque is one the engines can give there.
-    """
-
-    axis: AxisName
-    angle_deg: float
-    method: SlewMethod
-    start_s: float
-    duration_s: float | None
-    torque_fraction: float | None
-    feedforward: bool = False
-    thrusters: bool = False
+ReferenceKind = Literal["hold", "slew", "sequence"]
+REFERENCE_KINDS: tuple[ReferenceKind, ...] = ("hold", "slew", "sequence")
 
 
 @dataclass(frozen=True, eq=False)
@@ -446,11 +423,14 @@ class Simulation:
     integrator_steps : int
         Runge-Kutta steps per control period, 1 to 1000, short enough for the
         fastest dynamics (step x rate <= 2) and at most 1e7 in the run.
-    reference : {"hold", "slew"}
+    reference : {"hold", "slew", "sequence"}
     slew : SlewReference or None
         Given exactly when ``reference`` is ``"slew"``.
     failures : tuple of FailureEvent
         By time, at most 1000.
+    segments : tuple of Segment
+        ``[[simulation.segments]]``, given exactly when ``reference`` is
+        ``"sequence"`` (see :mod:`casadi_debris.config.segments`).
 
     The ranges and why are in :mod:`casadi_debris.config.limits`.
     """
@@ -461,6 +441,7 @@ class Simulation:
     reference: ReferenceKind
     slew: SlewReference | None
     failures: tuple[FailureEvent, ...]
+    segments: tuple[Segment, ...] = ()
 
 
 Distribution = Literal["uniform", "normal", "corners"]

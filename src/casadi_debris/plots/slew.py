@@ -1,15 +1,17 @@
-"""Figures of slew profiles: attitude, rate, torque (and engine thrust) against time."""
+"""Figures of slew profiles: attitude, rate, torque (and engine thrust) against time;
+and of a manoeuvre's reference, segment by segment."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
-from casadi_debris.model.attitude import error_quaternion, quaternion_axis_angle
+from casadi_debris.model.attitude import error_quaternion, euler_angles_321, quaternion_axis_angle
 from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.simulation.sequence import SegmentRecord
 from casadi_debris.slew import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
@@ -105,4 +107,81 @@ def plot_slew_comparison(profiles: Mapping[str, SlewProfile], path: Path) -> Pat
     axes[3].legend(loc="best", fontsize="small")
     for axis in axes:
         axis.grid(True, linestyle=":")
+    return save_figure(figure, path)
+
+
+SEGMENT_SHADES = {"slew": "0.88", "hold": "white", "track": "#dcebf7"}
+
+
+def shade_segments(axis: plt.Axes, records: Sequence[SegmentRecord], label: bool) -> None:
+    """Shade each segment's window (slews grey, tracks blue) and, with ``label``, name
+    it at the top of ``axis``."""
+    for record in records:
+        axis.axvspan(record.start_s, record.end_s, color=SEGMENT_SHADES[record.kind], zorder=0)
+        if label:
+            name = record.kind if record.segment is None else f"{record.segment}: {record.kind}"
+            axis.annotate(
+                name,
+                ((record.start_s + record.end_s) / 2, 1.0),
+                xycoords=("data", "axes fraction"),
+                xytext=(0, 3),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize="small",
+            )
+
+
+def plot_manoeuvre(
+    time_s: np.ndarray,
+    quaternion_BN: np.ndarray,
+    rate_rad_s: np.ndarray,
+    records: Sequence[SegmentRecord],
+    path: Path,
+    title: str = "",
+) -> Path:
+    """Write a PNG of a manoeuvre's reference: 3-2-1 Euler angles Φ, Θ, Ψ (deg) and body
+    rates (deg/s) against time (s), each segment shaded and numbered."""
+    angles = np.degrees(np.unwrap(euler_angles_321(quaternion_BN), axis=0))
+    panels = [("reference angle [deg]", angles), ("reference rate [deg/s]", np.degrees(rate_rad_s))]
+    return plot_segment_series(time_s, panels, records, path, title)
+
+
+def plot_segment_series(
+    time_s: np.ndarray,
+    panels: Sequence[tuple[str, np.ndarray]],
+    records: Sequence[SegmentRecord],
+    path: Path,
+    title: str = "",
+) -> Path:
+    """Write a PNG of x, y, z series against time (s), one panel each, segments shaded.
+
+    Parameters
+    ----------
+    time_s : ndarray, shape (n,)
+    panels : sequence of (str, ndarray)
+        Each panel's y label and values: shape (n, 3) drawn as lines, (n - 1, 3) held
+        over each step (torques); the first panel's legend names Φ / x, Θ / y, Ψ / z.
+    records : sequence of SegmentRecord
+    path : Path
+    title : str
+    """
+    figure, axes = plt.subplots(len(panels), 1, figsize=(9, 2.6 * len(panels) + 0.8), sharex=True)
+    for index, (axis, symbol) in enumerate(zip("xyz", ("Φ", "Θ", "Ψ"), strict=True)):
+        colour = AXIS_COLOURS[axis]
+        for panel, (_, values) in zip(axes, panels, strict=True):
+            label = f"{symbol} / {axis}" if panel is axes[0] else None
+            if len(values) == len(time_s):
+                panel.plot(time_s, values[:, index], color=colour, label=label)
+            else:
+                panel.step(time_s[:-1], values[:, index], where="post", color=colour, label=label)
+    for panel, (ylabel, _) in zip(axes, panels, strict=True):
+        shade_segments(panel, records, label=panel is axes[0])
+        panel.grid(True, linestyle=":")
+        panel.set_xlim(time_s[0], time_s[-1])
+        panel.set_ylabel(ylabel)
+    axes[0].legend(loc="best", fontsize="small")
+    axes[-1].set_xlabel("time [s]")
+    if title:
+        figure.suptitle(title)
     return save_figure(figure, path)

@@ -29,8 +29,7 @@ from typing import Any, Literal
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import Problem, with_duration
-from casadi_debris.config.schema import AXIS_NAMES, Simulation, SlewReference
+from casadi_debris.config import AXIS_NAMES, Problem, Simulation, SlewReference, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.design import (

@@ -1,0 +1,216 @@
+"""``[[simulation.segments]]``: targets as written, checked against scipy; bad segments named."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from casadi_debris.config import Problem, problem_from_dict
+from casadi_debris.config.segments import EULER_SEQUENCES
+from casadi_debris.errors import ProblemFileError
+
+
+def sequence(data: dict[str, Any], segments: list[dict[str, Any]], **simulation: Any) -> Problem:
+    data["simulation"] = {
+        **data["simulation"],
+        "reference": "sequence",
+        "duration_s": 3000.0,
+        **simulation,
+        "segments": segments,
+    }
+    return problem_from_dict(data, "<test>")
+
+
+def scalar_last(q: np.ndarray) -> np.ndarray:
+    return np.asarray(q)[[1, 2, 3, 0]]
+
+
+def same_rotation(q_scalar_first: np.ndarray, rotation: Rotation) -> bool:
+    other = rotation.as_quat()
+    mine = scalar_last(q_scalar_first)
+    return bool(min(np.abs(mine - other).max(), np.abs(mine + other).max()) < 1e-12)
+
+
+def test_the_shipped_sequence_reads_as_written() -> None:
+    from casadi_debris.config import load_problem
+
+    problem = load_problem("paper_sequence")
+    kinds = [segment.kind for segment in problem.simulation.segments]
+    assert problem.simulation.reference == "sequence"
+    assert kinds == ["slew", "hold", "slew", "track"]
+    first = problem.simulation.segments[0].target
+    assert first.kind == "rotation" and first.axis == (1.0, 1.0, 1.0) and first.angle_deg == 90.0
+
+
+@pytest.mark.parametrize("sequence_name", ["ZYX", "xyz", "XZX", "zyz"])
+def test_euler_targets_are_scipys(fresh_data: dict[str, Any], sequence_name: str) -> None:
+    angles = [30.0, -20.0, 75.0]
+    problem = sequence(
+        fresh_data,
+        [{"kind": "slew", "euler_deg": angles, "euler_sequence": sequence_name}],
+    )
+    target = problem.simulation.segments[0].target
+    assert target.kind == "attitude"
+    assert same_rotation(target.quaternion, Rotation.from_euler(sequence_name, angles, True))
+
+
+def test_euler_sequence_defaults_to_intrinsic_zyx(fresh_data: dict[str, Any]) -> None:
+    yaw, pitch, roll = 40.0, 10.0, -5.0
+    problem = sequence(fresh_data, [{"kind": "slew", "euler_deg": [yaw, pitch, roll]}])
+    # 3-2-1 by hand: C_NB = Rz(yaw) Ry(pitch) Rx(roll), turns about the body's own axes.
+    c, s = np.cos, np.sin
+    y, p, r = np.radians([yaw, pitch, roll])
+    rz = np.array([[c(y), -s(y), 0], [s(y), c(y), 0], [0, 0, 1]])
+    ry = np.array([[c(p), 0, s(p)], [0, 1, 0], [-s(p), 0, c(p)]])
+    rx = np.array([[1, 0, 0], [0, c(r), -s(r)], [0, s(r), c(r)]])
+    expected = Rotation.from_matrix(rz @ ry @ rx)
+    assert same_rotation(problem.simulation.segments[0].target.quaternion, expected)
+    assert len(EULER_SEQUENCES) == 24
+
+
+def test_a_quaternion_is_normalised_within_its_tolerance(fresh_data: dict[str, Any]) -> None:
+    half = math.sqrt(0.5)
+    written = [round(half, 4), round(half, 4), 0.0, 0.0]  # norm 0.99999
+    problem = sequence(fresh_data, [{"kind": "slew", "quaternion": written}])
+    q = problem.simulation.segments[0].target.quaternion
+    assert abs(np.linalg.norm(q) - 1.0) < 1e-15
+    assert np.allclose(q, [half, half, 0.0, 0.0], atol=1e-4)
+
+
+def test_nadir_axes_give_the_frame_offset(fresh_data: dict[str, Any]) -> None:
+    """nadir_axis -> o3 and along_axis -> o1: C_OB maps them onto the frame's axes."""
+    problem = sequence(
+        fresh_data,
+        [{"kind": "track", "frame": "nadir", "nadir_axis": "-x", "along_axis": [0.0, 1.0, 1.0]}],
+    )
+    target = problem.simulation.segments[0].target
+    c_ob = Rotation.from_quat(scalar_last(target.quaternion)).as_matrix()
+    assert np.allclose(c_ob @ [-1.0, 0.0, 0.0], [0.0, 0.0, 1.0], atol=1e-12)
+    along = np.array([0.0, 1.0, 1.0]) / math.sqrt(2.0)  # already perpendicular to -x
+    assert np.allclose(c_ob @ along, [1.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_lvlh_offsets_are_attitudes_in_the_frame(fresh_data: dict[str, Any]) -> None:
+    problem = sequence(
+        fresh_data, [{"kind": "track", "frame": "lvlh", "axis": "z", "angle_deg": 30.0}]
+    )
+    target = problem.simulation.segments[0].target
+    expected = Rotation.from_rotvec([0.0, 0.0, math.radians(30.0)])
+    assert target.frame == "lvlh" and same_rotation(target.quaternion, expected)
+
+
+def test_a_vector_axis_is_read_in_the_one_slew_table(fresh_data: dict[str, Any]) -> None:
+    fresh_data["simulation"] |= {"reference": "slew", "duration_s": 1500.0}
+    fresh_data["simulation"]["slew"] = {"axis": [1, 1, 1], "angle_deg": 90.0}
+    problem = problem_from_dict(fresh_data, "<test>")
+    assert problem.simulation.slew.axis == (1.0, 1.0, 1.0)
+
+
+BAD = [
+    ({"kind": "spin", "duration_s": 10.0}, "simulation.segments[0].kind", "must be one of"),
+    (
+        {"kind": "slew", "quaternion": [1.0, 1.0, 0.0, 0.0]},
+        "simulation.segments[0].quaternion",
+        "unit norm",
+    ),
+    ({"kind": "hold", "duration_s": -5.0}, "simulation.segments[0].duration_s", "positive"),
+    ({"kind": "hold", "duration_s": 0.0}, "simulation.segments[0].duration_s", "positive"),
+    ({"kind": "slew", "axis": [0, 0, 0], "angle_deg": 9.0}, "simulation.segments[0].axis", "zero"),
+    ({"kind": "slew", "method": "bang-bang"}, "simulation.segments[0].axis", "needs a target"),
+    (
+        {"kind": "slew", "axis": "x", "angle_deg": 9.0, "quaternion": [1.0, 0, 0, 0]},
+        "simulation.segments[0].quaternion",
+        "one target",
+    ),
+    ({"kind": "hold", "axis": "x", "duration_s": 9.0}, "simulation.segments[0].axis", "no target"),
+    (
+        {"kind": "track", "frame": "nadir", "euler_deg": [1.0, 2.0, 3.0]},
+        "simulation.segments[0].euler_deg",
+        "lvlh",
+    ),
+    (
+        {"kind": "track", "frame": "nadir", "nadir_axis": "x", "along_axis": "-x"},
+        "simulation.segments[0].along_axis",
+        "parallel",
+    ),
+    (
+        {"kind": "slew", "axis": "x", "angle_deg": 9.0, "euler_sequence": "XXY"},
+        "simulation.segments[0].euler_deg",
+        "one target",
+    ),
+    (
+        {"kind": "slew", "euler_deg": [1.0, 2.0, 3.0], "euler_sequence": "XXY"},
+        "simulation.segments[0].euler_sequence",
+        "must be one of",
+    ),
+    (
+        {"kind": "slew", "axis": "x", "angle_deg": 9.0, "thrusters": True},
+        "simulation.segments[0].thrusters",
+        "not bang-bang",
+    ),
+    (
+        {"kind": "slew", "axis": "x", "angle_deg": 9.0, "method": "fuel-optimal"},
+        "simulation.segments[0].duration_s",
+        "needs its duration",
+    ),
+    ({"kind": "hold", "duration_s": 9.0, "method": "bang-bang"}, "[0].method", "only for a slew"),
+    ({"kind": "track", "frame": "lvlh", "blend_s": 0.1}, "simulation.segments[0].blend_s", "least"),
+]
+
+
+@pytest.mark.parametrize(("segment", "key", "words"), BAD)
+def test_bad_segments_are_named(
+    fresh_data: dict[str, Any], segment: dict[str, Any], key: str, words: str
+) -> None:
+    with pytest.raises(ProblemFileError, match=words) as caught:
+        sequence(fresh_data, [segment])
+    assert caught.value.field.endswith(key)
+
+
+def test_overlapping_segments_are_refused(fresh_data: dict[str, Any]) -> None:
+    segments = [
+        {"kind": "hold", "duration_s": 100.0, "start_s": 50.0},
+        {"kind": "hold", "duration_s": 100.0, "start_s": 120.0},
+    ]
+    with pytest.raises(ProblemFileError, match="overlaps") as caught:
+        sequence(fresh_data, segments)
+    assert caught.value.field == "simulation.segments[1].start_s"
+
+
+def test_only_the_last_segment_may_run_to_the_end(fresh_data: dict[str, Any]) -> None:
+    segments = [{"kind": "hold"}, {"kind": "slew", "axis": "x", "angle_deg": 9.0}]
+    with pytest.raises(ProblemFileError, match="only the last") as caught:
+        sequence(fresh_data, segments)
+    assert caught.value.field == "simulation.segments[0].duration_s"
+
+
+def test_segments_past_the_run_are_refused(fresh_data: dict[str, Any]) -> None:
+    segments = [{"kind": "hold", "duration_s": 2000.0}, {"kind": "hold", "duration_s": 2000.0}]
+    with pytest.raises(ProblemFileError, match="past the run") as caught:
+        sequence(fresh_data, segments)
+    assert caught.value.field == "simulation.segments[1].duration_s"
+
+
+@pytest.mark.parametrize(
+    ("reference", "table", "key"),
+    [
+        ("sequence", None, "simulation.segments"),
+        ("hold", "segments", "simulation.segments"),
+        ("sequence", "slew", "simulation.slew"),
+    ],
+)
+def test_reference_and_tables_agree(
+    fresh_data: dict[str, Any], reference: str, table: str | None, key: str
+) -> None:
+    fresh_data["simulation"]["reference"] = reference
+    if table == "segments":
+        fresh_data["simulation"]["segments"] = [{"kind": "hold"}]
+    elif table == "slew":
+        fresh_data["simulation"]["slew"] = {"axis": "x", "angle_deg": 9.0}
+    with pytest.raises(ProblemFileError) as caught:
+        problem_from_dict(fresh_data, "<test>")
+    assert caught.value.field == key
