@@ -108,6 +108,30 @@ def test_small_plant_reaches_robust_performance_and_says_why_it_stopped():
     assert np.max(np.linalg.eigvals(closed.A).real) < 0
 
 
+def test_initial_controller_starts_the_iteration():
+    # Started from a controller of its own, the iteration's step 0 is that controller's
+    # closed loop: its H-infinity norm (python-control's, here) and its mu peak.
+    g = control.ss(control.tf([2.0], [1.0, 1.0]))
+    wp = control.ss(control.tf([0.5, 0.5], [1.0, 0.05]))
+    wi = control.ss(control.tf([1.0, 0.2], [0.25, 1.0]))
+    select = [control.ss([], [], [], [row]) for row in ([0.0, 0.0, 1.0], [1.0, 0.0, 1.0])]
+    v = g * select[1] + control.ss([], [], [], [[0.0, 1.0, 0.0]])
+    plant = control.ss(*_stack([wi * select[0], wp * v, -v]))
+    start = control.ss(control.tf([0.5, 0.2], [1.0, 0.01]))  # a PI-like lag, stabilising
+    closed = plant.lft(start, 1, 1)
+    assert np.max(np.linalg.eigvals(closed.A).real) < 0
+    blocks = [("complex", 1), ("complex", 1)]
+    result = musyn(plant, blocks, 1, 1, max_iterations=2, initial_controller=start)
+    first = result.iterations[0]
+    assert first.controller is start
+    assert first.gamma == pytest.approx(float(control.linfnorm(closed)[0]), rel=1e-4)
+    assert result.hinf_gamma_first == first.gamma
+    assert result.mu_peak <= first.mu_peak
+    unstable = control.ss([], [], [], [[-50.0]])  # positive feedback through -v
+    with pytest.raises(SynthesisError, match="initial_controller"):
+        musyn(plant, blocks, 1, 1, initial_controller=unstable)
+
+
 def _stack(parts: list[control.StateSpace]) -> tuple[np.ndarray, ...]:
     """Outputs of systems sharing the same inputs, stacked (block-diagonal states)."""
     return (

@@ -9,7 +9,9 @@ page asks for a table with a line of its own::
 and the hook replaces it with Markdown built from ``docs/benchmarks/allocation.json``.
 ``<!-- benchmark <name> recording -->`` gives when, where and how ``<name>`` was
 recorded, with a link to its JSON; ``<!-- benchmark recordings -->`` a table of
-all of them, in the order the page shows them. A missing file, a missing figure or
+all of them, in the order the page shows them; ``<!-- benchmark references -->`` one
+table of the checks against outside references (slew_global, musyn_distillation,
+mu_bounds). A missing file, a missing figure or
 an unknown table is a warning, so an error under ``mkdocs build --strict``.
 Nothing is written to ``docs/``.
 """
@@ -31,6 +33,7 @@ from mkdocs.structure.pages import Page
 
 RESULTS = "benchmarks"  # under docs_dir
 MARKER = re.compile(r"^<!-- benchmark (\w+)(?: (\w+))? -->$", re.MULTILINE)
+REFERENCED = ("slew_global", "musyn_distillation", "mu_bounds")
 UNDER_LOAD_SHARE = 0.1  # other work's share of the CPU time above which a run was "under load"
 log = logging.getLogger("mkdocs.hooks.benchmark_tables")
 
@@ -293,7 +296,7 @@ def slew(data: Data) -> str:
 
 
 GLOBAL_SLEWS = {
-    "bilimoria_wie": "Bilimoria & Wie: J = I, |u| ≤ 1, 180° about z",
+    "bilimoria_wie": "Bilimoria & Wie: J = I, \\|u\\| ≤ 1, 180° about z",
     "paper_x": "paper, 180° about x",
     "paper_y": "paper, 180° about y",
     "paper_z": "paper, 180° about z",
@@ -608,6 +611,95 @@ def recordings(found: dict[str, Data], links: dict[str, str]) -> str:
     )
 
 
+MU_CONTROLLERS = {"reduced": "shipped reduced controller", "full": "full-order controller"}
+
+
+def mu_bounds(data: Data) -> str:
+    points = _get(data, "run", "settings", "points")
+    limit = _get(data, "targets", "mu_bounds_200_s")
+    rows = [
+        [
+            _label(name, MU_CONTROLLERS),
+            num(entry["peak_upper"], 7),
+            num(entry["peak_lower"], 7),
+            num(entry["gap"], 2),
+            num(entry["peak_rad_s"]),
+            entry["upper_method"],
+            num(entry["time_s_median"]),
+        ]
+        for name, entry in _get(data, "controllers").items()
+    ]
+    blocks = ", ".join(f"{kind} {size}" for kind, size in _get(data, "blocks"))
+    times = [entry["time_s_median"] for entry in data["controllers"].values()]
+    return table(
+        ["closed loop", "μ upper", "μ lower", "gap", "peak [rad/s]", "upper by", "time [s]"],
+        rows,
+        "lrrrrlr",
+    ) + (
+        f"\nStructure {{{blocks}}}, {points} frequencies per controller: ≤ {num(limit)} s "
+        f"{_met(max(times) <= limit)}.\n"
+    )
+
+
+def musyn_distillation(data: Data) -> str:
+    rows = [
+        [
+            str(it["index"]),
+            str(it["d_order"]),
+            num(it["gamma"], 5),
+            num(it["mu_peak"], 5),
+            num(it["time_s"]),
+        ]
+        for it in _get(data, "dk_iterations")
+    ]
+    limit = _get(data, "targets", "synthesis_s")
+    return table(["step", "D order", "γ", "μ peak", "time [s]"], rows) + (
+        f"\nFinal μ {num(data['mu_peak'], 5)} against dkpy's {num(data['mu_peak_dkpy'], 5)} "
+        f"(ratio {num(data['mu_ratio_to_dkpy'], 4)}), stopped: {data['stop_reason']}; "
+        f"synthesis {num(data['synthesis_s'])} s, ≤ {num(limit)} s "
+        f"{_met(data['synthesis_s'] <= limit)}.\n"
+    )
+
+
+def references(found: dict[str, Data]) -> str:
+    """The three checks against outside references, one row each, from their recordings."""
+    rows = []
+    if "slew_global" in found:
+        data = found["slew_global"]
+        ours = _get(data, "slews", "bilimoria_wie", "duration_s")
+        published = _get(data, "reference", "bilimoria_wie_s")
+        rows.append(
+            [
+                "time-optimal slew, J = I, \\|u\\| ≤ 1, 180° (`slew_global`)",
+                f"{num(ours, 6)} s",
+                f"{num(published, 5)} s (Bilimoria & Wie 1993)",
+                f"{(ours - published) / published:+.1e}",
+            ]
+        )
+    if "musyn_distillation" in found:
+        data = found["musyn_distillation"]
+        rows.append(
+            [
+                "D-K on the distillation column (`musyn_distillation`)",
+                f"μ = {num(data['mu_peak'], 4)}",
+                f"μ = {num(data['mu_peak_dkpy'], 4)} (dkpy 0.1.9; "
+                "Skogestad & Postlethwaite §8.12.4)",
+                f"{data['mu_ratio_to_dkpy'] - 1:+.1e}",
+            ]
+        )
+    if "mu_bounds" in found:
+        entry = _get(found["mu_bounds"], "controllers", "reduced")
+        rows.append(
+            [
+                "μ upper and lower bound, paper's closed loop (`mu_bounds`)",
+                f"upper {num(entry['peak_upper'], 6)}",
+                f"lower {num(entry['peak_lower'], 6)} (its own destabilising Δ)",
+                f"gap {num(entry['gap'], 2)}",
+            ]
+        )
+    return table(["check", "ours", "reference", "relative difference"], rows, "lrlr")
+
+
 TABLES: dict[tuple[str, str], Callable[[Data], str]] = {
     ("allocation", "per_call"): allocation_per_call,
     ("allocation", "other"): allocation_other,
@@ -617,6 +709,8 @@ TABLES: dict[tuple[str, str], Callable[[Data], str]] = {
     ("slew_global", "slews"): slew_global,
     ("simulation", "times"): simulation,
     ("campaign", "times"): campaign,
+    ("mu_bounds", "controllers"): mu_bounds,
+    ("musyn_distillation", "iterations"): musyn_distillation,
 }
 
 
@@ -655,6 +749,9 @@ def on_page_markdown(markdown: str, page: Page, config: MkDocsConfig, files: Fil
             )
             found = {n: data for n in names if (data := _load_json(config, n)) is not None}
             return recordings(found, {n: _link(page, n) for n in found})
+        if which is None and name == "references":
+            found = {n: d for n in REFERENCED if (d := _load_json(config, n)) is not None}
+            return references(found)
         data = _load_json(config, name)
         if data is None:
             log.warning(f"{where}: no docs/{RESULTS}/{name}.json (benchmarks/{name}.py --record)")

@@ -28,7 +28,7 @@ import numpy as np
 from casadi_debris.errors import SynthesisError
 from casadi_debris.robust.blocks import Block, BlockLike, block_structure, expanded, total_size
 from casadi_debris.robust.dscale import fit_d_scales, inverse
-from casadi_debris.robust.hinf import HinfResult, hinf_synthesis
+from casadi_debris.robust.hinf import NORM_TOLERANCE, HinfResult, hinf_synthesis
 from casadi_debris.robust.interconnect import GeneralizedPlant, static_gain
 from casadi_debris.robust.mu import MuBound, mu_upper_bound
 from casadi_debris.robust.uncertainty import frequency_response
@@ -57,6 +57,8 @@ class Iteration:
     controller_order : int
     time_s : float
         Wall time of the step [s].
+    controller : control.StateSpace or None
+        The step's controller (to score it otherwise, e.g. by a mixed bound).
     """
 
     index: int
@@ -65,6 +67,7 @@ class Iteration:
     mu_peak: float
     controller_order: int
     time_s: float
+    controller: control.StateSpace | None = field(default=None, repr=False, compare=False)
 
 
 @dataclass(frozen=True, eq=False)
@@ -258,6 +261,7 @@ def musyn(
     tolerance: float = 0.005,
     progress: Callable[[Iteration], None] | None = None,
     patience: int = 1,
+    initial_controller: control.StateSpace | None = None,
 ) -> MusynResult:
     """mu-synthesis by D-K iteration on any generalised plant.
 
@@ -292,6 +296,12 @@ def musyn(
     patience : int
         Steps in a row without improvement before stopping (more can leave a
         stall at the cost of a step each).
+    initial_controller : control.StateSpace, optional
+        Start from this stabilising controller (measurements to controls) instead
+        of the plain H-infinity design: the first D-scales are fitted to its
+        closed loop. Useful when the plant's channels are scaled so unevenly that
+        the unscaled design is poor (a real-parametric LFT's), or to continue a
+        design. Its closed-loop H-infinity norm is ``hinf_gamma_first``.
 
     Returns
     -------
@@ -314,7 +324,17 @@ def musyn(
     """
     problem = _checked_problem(plant, blocks, n_measurements, n_controls, patience)
     grid = default_frequency_grid(plant) if omega is None else np.asarray(omega, dtype=float)
-    return _iterate(problem, grid, d_orders, max_iterations, tolerance, progress, patience)
+    return _iterate(
+        problem, grid, d_orders, max_iterations, tolerance, progress, patience, initial_controller
+    )
+
+
+def _closed_loop_norm(problem: _Problem, controller: control.StateSpace) -> float:
+    """H-infinity norm of the plant closed by ``controller`` (raises if unstable)."""
+    closed = problem.system.lft(controller, problem.n_controls, problem.n_measurements)
+    if closed.nstates and np.max(np.linalg.eigvals(closed.A).real) >= 0:
+        raise SynthesisError("initial_controller: the closed loop is unstable")
+    return float(control.linfnorm(closed, tol=NORM_TOLERANCE)[0])
 
 
 def _checked_problem(
@@ -373,19 +393,27 @@ def _iterate(
     tolerance: float,
     progress: Callable[[Iteration], None] | None,
     patience: int = 1,
+    initial: control.StateSpace | None = None,
 ) -> MusynResult:
-    """The D-K loop: first H-infinity design, then D steps until a stop rule holds."""
+    """The D-K loop: first H-infinity design (or the initial controller), then D steps
+    until a stop rule holds."""
     start = time.perf_counter()
-    first = hinf_synthesis(problem.system, problem.n_measurements, problem.n_controls)
-    responses, mu = problem.closed_loop_mu(first.controller, omega)
+    realisation: str | None
+    if initial is None:
+        first = hinf_synthesis(problem.system, problem.n_measurements, problem.n_controls)
+        controller, gamma, realisation = first.controller, first.gamma, first.realisation
+    else:
+        controller = initial
+        realisation = None
+        gamma = _closed_loop_norm(problem, initial)
+    responses, mu = problem.closed_loop_mu(controller, omega)
     record = Iteration(
-        0, 0, first.gamma, mu.peak, first.controller.nstates, time.perf_counter() - start
+        0, 0, gamma, mu.peak, controller.nstates, time.perf_counter() - start, controller
     )
     iterations = [record]
     if progress:
         progress(record)
-    best_controller, best_mu = first.controller, mu
-    realisation = first.realisation
+    best_controller, best_mu = controller, mu
     reason = STOP_MAX_ITERATIONS
     stalled = 0
     for index in range(1, max_iterations + 1):
@@ -401,6 +429,7 @@ def _iterate(
             trial.mu.peak,
             trial.synthesis.controller.nstates,
             time.perf_counter() - step_start,
+            trial.synthesis.controller,
         )
         iterations.append(record)
         if progress:
@@ -427,7 +456,7 @@ def _iterate(
         mu=best_mu,
         omega=omega,
         iterations=iterations,
-        hinf_gamma_first=first.gamma,
+        hinf_gamma_first=gamma,
         stop_reason=reason,
         blocks=problem.structure,
     )

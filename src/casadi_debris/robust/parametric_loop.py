@@ -26,6 +26,21 @@ from casadi_debris.robust.weights import PerformanceWeights
 N_PERFORMANCE = 6
 
 
+def _parts(plant: ParametricPlant, weights: PerformanceWeights) -> list[control.StateSpace]:
+    """The plant, weights and junctions, every one but the controller."""
+    error_weight = weights.error * static_gain(np.linalg.inv(weights.error_scaling))
+    effort_weight = weights.control_effort * static_gain(np.linalg.inv(weights.control_scaling))
+    return [
+        plant.system(),
+        named(error_weight, "e", "z_e", "We"),
+        named(effort_weight, "u", "z_u", "Wu"),
+        named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
+        named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
+        control.summing_junction(["u", "d"], "up", dimension=3, name="plant_input"),
+        control.summing_junction(["r", "-y"], "e", dimension=3, name="error"),
+    ]
+
+
 def parametric_closed_loop(
     plant: ParametricPlant, controller: control.StateSpace, weights: PerformanceWeights
 ) -> control.StateSpace:
@@ -45,20 +60,38 @@ def parametric_closed_loop(
         ``plant.n_real + 6`` inputs and outputs.
     """
     r = plant.n_real
-    error_weight = weights.error * static_gain(np.linalg.inv(weights.error_scaling))
-    effort_weight = weights.control_effort * static_gain(np.linalg.inv(weights.control_scaling))
-    parts = [
-        plant.system(),
-        named(controller, "e", "u", "K"),
-        named(error_weight, "e", "z_e", "We"),
-        named(effort_weight, "u", "z_u", "Wu"),
-        named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
-        named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
-        control.summing_junction(["u", "d"], "up", dimension=3, name="plant_input"),
-        control.summing_junction(["r", "-y"], "e", dimension=3, name="error"),
-    ]
+    parts = [*_parts(plant, weights), named(controller, "e", "u", "K")]
     inputs = signals("w", r) + signals("w_e", 3) + signals("w_d", 3)
     outputs = signals("q", r) + signals("z_e", 3) + signals("z_u", 3)
     return control.interconnect(
         parts, inplist=inputs, outlist=outputs, inputs=inputs, outputs=outputs, name="closed_loop"
+    )
+
+
+def parametric_generalized_plant(
+    plant: ParametricPlant, weights: PerformanceWeights
+) -> control.StateSpace:
+    """The generalised plant [w; w_e; w_d; u] -> [q; z_e; z_u; e] (the loop open at K).
+
+    Parameters
+    ----------
+    plant : ParametricPlant
+        In design units (torque mNm, attitude deg).
+    weights : PerformanceWeights
+
+    Returns
+    -------
+    control.StateSpace
+        ``plant.n_real + 9`` inputs and outputs, the controller's three last.
+    """
+    r = plant.n_real
+    inputs = signals("w", r) + signals("w_e", 3) + signals("w_d", 3) + signals("u", 3)
+    outputs = signals("q", r) + signals("z_e", 3) + signals("z_u", 3) + signals("e", 3)
+    return control.interconnect(
+        _parts(plant, weights),
+        inplist=inputs,
+        outlist=outputs,
+        inputs=inputs,
+        outputs=outputs,
+        name="parametric_plant",
     )

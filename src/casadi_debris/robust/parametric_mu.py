@@ -181,7 +181,7 @@ class ParametricMu:
         return out
 
 
-def _top_frequencies(curve: np.ndarray, count: int) -> list[int]:
+def top_frequencies(curve: np.ndarray, count: int) -> list[int]:
     """Indices of the ``count`` largest local maxima of ``curve``."""
     padded = np.concatenate([[-np.inf], curve, [-np.inf]])
     peaks = np.flatnonzero((padded[1:-1] >= padded[:-2]) & (padded[1:-1] >= padded[2:]))
@@ -338,7 +338,7 @@ def _fill(
     grid.upper[a] = mu_upper_bound(m, structure).mu
     grid.responses.append(m)
     grid.structures.append(structure)
-    picks = _top_frequencies(grid.upper[a], points)
+    picks = top_frequencies(grid.upper[a], points)
     found = mu_bounds(m[picks], structure, upper="ab13md", seed=seed + 1000 * a)
     grid.lower[a, picks] = found.lower
     j = int(np.argmax(found.lower))

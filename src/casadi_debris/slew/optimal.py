@@ -60,6 +60,7 @@ from casadi_debris.slew.options import SlewOptions
 from casadi_debris.slew.profile import SlewProfile, residual_vibration
 from casadi_debris.slew.rigid_body import RigidBody
 from casadi_debris.slew.shaper import shape, zero_vibration_shaper
+from casadi_debris.slew.thruster_search import thruster_time_optimal
 from casadi_debris.slew.transcription import (
     RIGID_INTERVALS,
     Horizon,
@@ -128,8 +129,10 @@ class _SlewSolver:
 
         ``duration_s`` is the length of a fuel-optimal slew (required then); a
         time-optimal one ignores it. A time-optimal torque-level slew is the rigid
-        body's, searched globally (:mod:`casadi_debris.slew.global_slew`); its report
-        is kept in ``self.report``.
+        body's, searched globally (:mod:`casadi_debris.slew.global_slew`); a
+        thruster-level one is started from several guesses, the torque box's global
+        optimum among them (:mod:`casadi_debris.slew.thruster_search`); the search's
+        report is kept in ``self.report``.
         """
         ocp = self.ocp
         if fuel:
@@ -149,6 +152,11 @@ class _SlewSolver:
             )
             self.report = found.report
             solution = NlpSolution(found.knots_s, found.torque_Nm, found.status, 0.0)
+            return solution, guess
+        if not fuel and not ocp.options.single_axis:
+            solution, self.report = thruster_time_optimal(
+                ocp, guess, search_settings(ocp.options, self._bulk_intervals())
+            )
             return solution, guess
         solution = transcribe_and_solve(
             ocp,

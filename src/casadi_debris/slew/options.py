@@ -62,9 +62,10 @@ class SlewOptions:
         shaper, and saying so in ``settings["flexible_method"]``, if IPOPT fails);
         ``"shaper"`` passes the rigid optimum through a zero-vibration shaper.
     starts : int
-        Time-optimal rigid slews at torque level (and a :class:`RigidBody`'s): how many
-        initial guesses (>= 1; the first is the eigenaxis bang-bang, the others
-        symmetry-breaking ones, :mod:`casadi_debris.slew.global_slew`).
+        Time-optimal slews: how many initial guesses (>= 1; the first is the eigenaxis
+        bang-bang, the others symmetry-breaking ones, :mod:`casadi_debris.slew.global_slew`).
+        At thruster level the torque box is searched with as many, and the thruster
+        NLP started from at most four (:mod:`casadi_debris.slew.thruster_search`).
     seed : int
         Seed of the random starts (>= 0), recorded in the settings.
     workers : int, optional
