@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import json
 import logging
-import math
 import posixpath
 import re
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -31,66 +31,33 @@ from mkdocs.config.defaults import MkDocsConfig
 from mkdocs.structure.files import Files
 from mkdocs.structure.pages import Page
 
+# mkdocs loads a hook by its path: its sibling modules are importable from its folder.
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from benchmark_format import (
+    Data,
+    MissingFigureError,
+    _get,
+    _label,
+    _met,
+    _runs,
+    _target,
+    fraction,
+    num,
+    table,
+    when,
+)
+from benchmark_references import (
+    mu_bounds,
+    musyn_distillation,
+    references,
+    slew_global,
+)
+
 RESULTS = "benchmarks"  # under docs_dir
 MARKER = re.compile(r"^<!-- benchmark (\w+)(?: (\w+))? -->$", re.MULTILINE)
 REFERENCED = ("slew_global", "musyn_distillation", "mu_bounds")
 UNDER_LOAD_SHARE = 0.1  # other work's share of the CPU time above which a run was "under load"
 log = logging.getLogger("mkdocs.hooks.benchmark_tables")
-
-Data = dict[str, Any]
-
-
-class MissingFigureError(KeyError):
-    """A figure a table needs is not in the recorded JSON."""
-
-
-def _get(data: Data, *keys: str) -> Any:
-    value: Any = data
-    for key in keys:
-        if not isinstance(value, dict) or key not in value:
-            raise MissingFigureError(".".join(keys))
-        value = value[key]
-    return value
-
-
-def num(value: float | None, digits: int = 3) -> str:
-    """``digits`` significant figures, no exponent from 0.001 to 1e6, thousands separated."""
-    if value is None or (isinstance(value, float) and not math.isfinite(value)):
-        return "–"
-    if value == 0:
-        return "0"
-    size = abs(value)
-    if size >= 1e6 or size < 1e-3:
-        mantissa, exponent = f"{value:.{max(digits - 1, 0)}e}".split("e")
-        return f"{mantissa}e{int(exponent)}"
-    decimals = max(0, digits - 1 - math.floor(math.log10(size)))
-    return f"{value:,.{decimals}f}"
-
-
-def fraction(value: float) -> str:
-    """A fraction near 1 as ``1 − 8e-16``, others to 3 decimals."""
-    if value == 1.0:
-        return "1"
-    if 0.0 < 1.0 - value < 1e-3:
-        return f"1 − {num(1.0 - value, 1)}"
-    return f"{value:.3f}"
-
-
-def when(run: Data) -> str:
-    """``2026-11-24 12:17 UTC`` from the run's ISO date (recorded in UTC)."""
-    return run["date"].replace("T", " ")[:16] + " UTC"
-
-
-def table(header: list[str], rows: list[list[str]], align: str | None = None) -> str:
-    """A Markdown table; ``align``: one of ``l``/``r`` per column (default: first left)."""
-    align = align or "l" + "r" * (len(header) - 1)
-    rule = ["---:" if a == "r" else "---" for a in align]
-    lines = [header, rule, *rows]
-    return "\n".join("| " + " | ".join(line) + " |" for line in lines) + "\n"
-
-
-def _label(key: str, labels: dict[str, str]) -> str:
-    return labels.get(key, key.replace("_", " "))
 
 
 # ---------------------------------------------------------------- allocation
@@ -295,63 +262,6 @@ def slew(data: Data) -> str:
     )
 
 
-GLOBAL_SLEWS = {
-    "bilimoria_wie": "Bilimoria & Wie: J = I, \\|u\\| ≤ 1, 180° about z",
-    "paper_x": "paper, 180° about x",
-    "paper_y": "paper, 180° about y",
-    "paper_z": "paper, 180° about z",
-}
-
-
-def slew_global(data: Data) -> str:
-    targets, reference = _get(data, "targets"), _get(data, "reference")
-    rows = [
-        [
-            _label(name, GLOBAL_SLEWS),
-            num(entry["duration_s"], 7),
-            num(entry["limit_duration_s"], 5),
-            f"{entry['starts_agreeing']} ({entry['starts_agreeing_direct']}) of {entry['starts']}",
-            ", ".join(num(value, 6) for value in entry["local_optima_s"]),
-            num(entry["verification_attitude_error_rad"], 2),
-            num(entry["multistart_time_s"]),
-            num(entry["refinement_time_s"]),
-            num(entry["wall_time_s"]),
-        ]
-        for name, entry in _get(data, "slews").items()
-    ]
-    return table(
-        [
-            "slew",
-            "duration [s]",
-            "eigenaxis [s]",
-            "starts agreeing (directly)",
-            "local optima, collocation [s]",
-            "verification residual [rad]",
-            "multi-start [s]",
-            "switch times [s]",
-            "whole call [s]",
-        ],
-        rows,
-        "lrrrlrrrr",
-    ) + (
-        f"\nPublished {num(reference['bilimoria_wie_s'], 5)} s (eigenaxis "
-        f"{num(reference['eigenaxis_s'], 5)} s), relative error "
-        f"{num(targets['benchmark_relative_error'], 2)}: within 0.05 % "
-        f"{_met(targets['benchmark_met'])}; ≥ 95 % of the starts agreeing on the paper's "
-        f"slews {_met(targets['agreement_met'])}; multi-start ≤ 10 s "
-        f"{_met(targets['multistart_time_met'])}; "
-        f"{_runs(_get(data, 'run', 'settings', 'repeat'))}.\n"
-    )
-
-
-def _runs(repeat: int) -> str:
-    return "one run" if repeat == 1 else f"medians of {repeat} runs"
-
-
-def _met(met: bool) -> str:
-    return "**met**" if met else "**not met**"
-
-
 def slew_battery(data: Data) -> str:
     methods = _get(data, "methods")
     slews = list(next(iter(methods.values()))["slews"]) if methods else []
@@ -501,10 +411,6 @@ def campaign(data: Data) -> str:
     return table(["figure", "wall time", "CPU time", "target"], rows)
 
 
-def _target(value: float | None, unit: str) -> str:
-    return "" if value is None else f"≤ {value:g} {unit}"
-
-
 # ---------------------------------------------------------------- recordings
 
 LIBRARY_NAMES = {
@@ -609,95 +515,6 @@ def recordings(found: dict[str, Data], links: dict[str, str]) -> str:
         rows,
         "llllrrl",
     )
-
-
-MU_CONTROLLERS = {"reduced": "shipped reduced controller", "full": "full-order controller"}
-
-
-def mu_bounds(data: Data) -> str:
-    points = _get(data, "run", "settings", "points")
-    limit = _get(data, "targets", "mu_bounds_200_s")
-    rows = [
-        [
-            _label(name, MU_CONTROLLERS),
-            num(entry["peak_upper"], 7),
-            num(entry["peak_lower"], 7),
-            num(entry["gap"], 2),
-            num(entry["peak_rad_s"]),
-            entry["upper_method"],
-            num(entry["time_s_median"]),
-        ]
-        for name, entry in _get(data, "controllers").items()
-    ]
-    blocks = ", ".join(f"{kind} {size}" for kind, size in _get(data, "blocks"))
-    times = [entry["time_s_median"] for entry in data["controllers"].values()]
-    return table(
-        ["closed loop", "μ upper", "μ lower", "gap", "peak [rad/s]", "upper by", "time [s]"],
-        rows,
-        "lrrrrlr",
-    ) + (
-        f"\nStructure {{{blocks}}}, {points} frequencies per controller: ≤ {num(limit)} s "
-        f"{_met(max(times) <= limit)}.\n"
-    )
-
-
-def musyn_distillation(data: Data) -> str:
-    rows = [
-        [
-            str(it["index"]),
-            str(it["d_order"]),
-            num(it["gamma"], 5),
-            num(it["mu_peak"], 5),
-            num(it["time_s"]),
-        ]
-        for it in _get(data, "dk_iterations")
-    ]
-    limit = _get(data, "targets", "synthesis_s")
-    return table(["step", "D order", "γ", "μ peak", "time [s]"], rows) + (
-        f"\nFinal μ {num(data['mu_peak'], 5)} against dkpy's {num(data['mu_peak_dkpy'], 5)} "
-        f"(ratio {num(data['mu_ratio_to_dkpy'], 4)}), stopped: {data['stop_reason']}; "
-        f"synthesis {num(data['synthesis_s'])} s, ≤ {num(limit)} s "
-        f"{_met(data['synthesis_s'] <= limit)}.\n"
-    )
-
-
-def references(found: dict[str, Data]) -> str:
-    """The three checks against outside references, one row each, from their recordings."""
-    rows = []
-    if "slew_global" in found:
-        data = found["slew_global"]
-        ours = _get(data, "slews", "bilimoria_wie", "duration_s")
-        published = _get(data, "reference", "bilimoria_wie_s")
-        rows.append(
-            [
-                "time-optimal slew, J = I, \\|u\\| ≤ 1, 180° (`slew_global`)",
-                f"{num(ours, 6)} s",
-                f"{num(published, 5)} s (Bilimoria & Wie 1993)",
-                f"{(ours - published) / published:+.1e}",
-            ]
-        )
-    if "musyn_distillation" in found:
-        data = found["musyn_distillation"]
-        rows.append(
-            [
-                "D-K on the distillation column (`musyn_distillation`)",
-                f"μ = {num(data['mu_peak'], 4)}",
-                f"μ = {num(data['mu_peak_dkpy'], 4)} (dkpy 0.1.9; "
-                "Skogestad & Postlethwaite §8.12.4)",
-                f"{data['mu_ratio_to_dkpy'] - 1:+.1e}",
-            ]
-        )
-    if "mu_bounds" in found:
-        entry = _get(found["mu_bounds"], "controllers", "reduced")
-        rows.append(
-            [
-                "μ upper and lower bound, paper's closed loop (`mu_bounds`)",
-                f"upper {num(entry['peak_upper'], 6)}",
-                f"lower {num(entry['peak_lower'], 6)} (its own destabilising Δ)",
-                f"gap {num(entry['gap'], 2)}",
-            ]
-        )
-    return table(["check", "ours", "reference", "relative difference"], rows, "lrlr")
 
 
 TABLES: dict[tuple[str, str], Callable[[Data], str]] = {
