@@ -30,22 +30,37 @@ from casadi_debris.report.folders import default_run_folder
 
 MAX_SAMPLES = 100_000
 
-
-@main.command()
-@problem_argument
-@click.option(
+solar_option = click.option(
     "--solar",
     default="low,mean,high",
     show_default=True,
     help="Solar-activity cases (constant ECSS long-term levels), comma-separated.",
 )
-@click.option(
+limit_years_option = click.option(
     "--limit-years",
     type=BoundedFloat(0.0, 100.0, low_open=True),
     default=5.0,
     show_default=True,
     help="Re-entry within this long of the burn's start (FCC: 5).",
 )
+
+
+def solar_cases(text: str) -> tuple[str, ...]:
+    """``--solar low,mean`` as distinct known cases, or one line naming the option."""
+    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+
+    cases = comma_list(text, "--solar", "low,mean,high")
+    if [c for c in cases if c not in SOLAR_CASES] or len(set(cases)) != len(cases):
+        raise InputShapeError(
+            f"--solar: distinct cases among {', '.join(SOLAR_CASES)}, got {text!r}"
+        )
+    return tuple(cases)
+
+
+@main.command()
+@problem_argument
+@solar_option
+@limit_years_option
 @click.option(
     "--drag-coefficient",
     type=BoundedFloat(0.5, 5.0),
@@ -100,19 +115,13 @@ def deorbit(
     decay. Says whether the swarm suffices, how many stages it takes, and the
     smallest swarm that would.
     """
-    from casadi_debris.orbit.atmosphere import SOLAR_CASES
     from casadi_debris.orbit.deorbit import DeorbitSettings
     from casadi_debris.workflows.deorbit import deorbit_into
 
-    cases = comma_list(solar, "--solar", "low,mean,high")
-    unknown = [name for name in cases if name not in SOLAR_CASES]
-    if unknown or len(set(cases)) != len(cases):
-        raise InputShapeError(
-            f"--solar: distinct cases among {', '.join(SOLAR_CASES)}, got {solar!r}"
-        )
+    cases = solar_cases(solar)
     problem = load_problem(problem_file)
     settings = DeorbitSettings(
-        solar=tuple(cases),
+        solar=cases,
         limit_years=limit_years,
         drag_coefficient=drag_coefficient,
         tumbling=not held,

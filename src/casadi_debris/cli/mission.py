@@ -8,8 +8,6 @@ from typing import Any
 import click
 
 from casadi_debris.cli.common import (
-    BoundedFloat,
-    comma_list,
     echo_json,
     friendly_errors,
     json_option,
@@ -19,27 +17,16 @@ from casadi_debris.cli.common import (
     problem_argument,
     say,
 )
+from casadi_debris.cli.deorbit import limit_years_option, solar_cases, solar_option
 from casadi_debris.config import load_problem
-from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import default_run_folder
 
 
 @main.command()
 @problem_argument
-@click.option(
-    "--solar",
-    default="low,mean,high",
-    show_default=True,
-    help="Solar-activity cases of the deorbit and decay, comma-separated.",
-)
-@click.option(
-    "--limit-years",
-    type=BoundedFloat(0.0, 100.0, low_open=True),
-    default=5.0,
-    show_default=True,
-    help="Re-entry within this long of the deorbit burn's start (FCC: 5).",
-)
+@solar_option
+@limit_years_option
 @out_folder_option("mission")
 @overwrite_option
 @json_option
@@ -59,20 +46,13 @@ def mission(
     orbit (least Δv per solar case, NRLMSIS), then the debris decays. Writes
     summary.json, phases.csv, propellant.csv, mission.png and decay.png.
     """
-    from casadi_debris.orbit.atmosphere import SOLAR_CASES
     from casadi_debris.orbit.deorbit import DeorbitSettings
     from casadi_debris.workflows.mission import mission_into
 
-    cases = comma_list(solar, "--solar", "low,mean,high")
-    if [c for c in cases if c not in SOLAR_CASES] or len(set(cases)) != len(cases):
-        raise InputShapeError(
-            f"--solar: distinct cases among {', '.join(SOLAR_CASES)}, got {solar!r}"
-        )
+    cases = solar_cases(solar)
     problem = load_problem(problem_file)
     folder = out or default_run_folder("mission", problem.name)
-    settings = DeorbitSettings(
-        solar=tuple(cases), limit_years=limit_years, minimum_swarm=False, samples=0
-    )
+    settings = DeorbitSettings(solar=cases, limit_years=limit_years, minimum_swarm=False, samples=0)
     say(f"Mission of {problem.name}: transfer, detumble, deorbit, decay ...")
     summary = mission_into(problem, folder, settings=settings, overwrite=overwrite)
     if as_json:

@@ -28,11 +28,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.errors import ProblemFileError
 from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
 from casadi_debris.orbit.atmosphere import solar_case
 from casadi_debris.orbit.curves import CaseTrajectory
 from casadi_debris.orbit.deorbit import DeorbitModel
-from casadi_debris.orbit.transfer_averaged import edelbaum_dv
+from casadi_debris.orbit.transfer import check_transfer
 from casadi_debris.records import Record
 from casadi_debris.simulation.detumble import DetumbleResult, detumble
 from casadi_debris.units import SECONDS_PER_DAY
@@ -97,13 +98,11 @@ class Mission:
 def transfer_per_cubesat(problem: Problem) -> tuple[float, np.ndarray, np.ndarray]:
     """Edelbaum Δv [m/s] of the ``[transfer]``, and each CubeSat's propellant [kg] and
     thrust time [s] flying it alone on its strongest engine."""
-    constants, transfer = problem.constants, problem.transfer
-    dv = edelbaum_dv(
-        constants.earth_mu_km3_s2,
-        constants.earth_radius_km + transfer.from_altitude_km,
-        constants.earth_radius_km + transfer.to_altitude_km,
-        math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
-    )
+    constants = problem.constants
+    try:
+        dv = check_transfer(problem)
+    except ProblemFileError:  # launched into the debris' orbit: nothing to transfer
+        dv = 0.0
     propellant, time_s = [], []
     for cubesat in problem.cubesats:
         engine = max(cubesat.engines, key=lambda e: e.thrust_per_stage_mN)
