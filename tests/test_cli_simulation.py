@@ -449,3 +449,36 @@ def test_montecarlo_bad_input(short_slew: Path, tmp_path: Path) -> None:
     )
     assert code == 2
     assert not (tmp_path / "y").exists()
+
+
+UNIT_SUFFIXES = ("_deg", "_arcsec", "_kg", "_s", "_m_s", "_mNm", "_Nm", "_N", "_mN", "_rad",
+                 "_deg_s", "_rad_s")  # fmt: skip
+PURE_NUMBERS = ("scale", "switches", "solves", "steps", "events")
+"""Figures without a unit: their names say they count or scale."""
+
+
+def _numeric_keys(value: object, prefix: str = "") -> list[str]:
+    if isinstance(value, dict):
+        found = []
+        for key, item in value.items():
+            if isinstance(item, dict):
+                found += _numeric_keys(item, f"{prefix}{key}.")
+            elif isinstance(item, int | float | list) and not isinstance(item, bool):
+                found.append(f"{prefix}{key}")
+        return found
+    return []
+
+
+def test_every_figure_and_column_names_its_unit(short_slew: Path, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    code, stdout, _ = invoke("simulate", str(short_slew), "--out", str(out), "--json")
+    assert code == 0
+    names = _numeric_keys(json.loads(stdout))
+    with (out / "series.csv").open() as handle:
+        names += next(csv.reader(handle))
+    unnamed = [
+        n for n in names if not n.endswith(UNIT_SUFFIXES) and not any(w in n for w in PURE_NUMBERS)
+    ]
+    assert not unnamed, unnamed
+    # engines and CubeSats counted from 1 in the columns, as everywhere a user reads
+    assert "thrust_01_mN" in names and "thrust_00_mN" not in names
