@@ -87,3 +87,22 @@ def test_streams_are_independent_and_seeded(paper) -> None:
     assert np.all(first.thrust_factor == 1.0) and second.thrust_factor.std() > 0.05
     other = draw_noise(noisy, geometry, t, seed=3)
     assert not np.array_equal(first.star_tracker_rad, other.star_tracker_rad)
+
+
+def test_every_campaign_case_has_its_own_noise_and_keeps_it() -> None:
+    """Cases draw their noise seed from the problem's, their kind and index: distinct
+    across a campaign, the same when a case is built again (a re-run alone), the problem's
+    own for the nominal case."""
+    from casadi_debris.simulation.cases import corner_cases, nominal_case, sample_cases
+
+    problem = load_problem("paper_realistic")
+    model = build_model(problem)
+    corners = corner_cases(problem, model)
+    seeds = [case.noise_seed(problem) for case in corners]
+    assert len(set(seeds)) == len(seeds) == 256
+    assert seeds == [case.noise_seed(problem) for case in corner_cases(problem, model)]
+    samples = [c.noise_seed(problem) for c in sample_cases(problem, model, 8, seed=3)]
+    assert len(set(samples + seeds)) == len(samples) + len(seeds)
+    assert nominal_case(model).noise_seed(problem) is None
+    other = dataclasses.replace(problem.sensors, seed=problem.sensors.seed + 1)
+    assert corners[0].noise_seed(dataclasses.replace(problem, sensors=other)) != seeds[0]

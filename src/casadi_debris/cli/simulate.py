@@ -257,7 +257,13 @@ def simulate(
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(
-        problem, model, record.reduced, reference, parameters=case.parameters, allocator=allocator
+        problem,
+        model,
+        record.reduced,
+        reference,
+        parameters=case.parameters,
+        allocator=allocator,
+        noise_seed=case.noise_seed(problem),
     )
     summary = run_summary(problem, case, result, resolved, record)
     segments = _segment_figures(problem, result, reference)

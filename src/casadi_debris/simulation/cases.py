@@ -18,6 +18,7 @@ extreme to the other, both included.
 from __future__ import annotations
 
 import itertools
+import zlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,6 +81,18 @@ class Case:
         is the campaign's read again with them (see
         :func:`~casadi_debris.config.varied.problem_with_values`)."""
         return tuple((name, value) for name, value in self.varied if "." in name or "[" in name)
+
+    def noise_seed(self, problem: Problem) -> int | None:
+        """The seed of the case's sensor and engine noise (realistic sensors only).
+
+        The nominal case keeps the problem's ``[sensors] seed`` (None); every other case
+        draws its own from that seed, its kind and its index, so that the cases of a
+        campaign see different noise and each one re-runs alone with the same noise.
+        """
+        if self.kind == "nominal":
+            return None
+        entropy = [problem.sensors.seed, zlib.crc32(self.kind.encode()), self.index]
+        return int(np.random.SeedSequence(entropy).generate_state(1)[0])
 
     def identity(self) -> CaseIdentity:
         """What names the case in its results and re-runs it alone."""

@@ -352,6 +352,7 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         failures=case.failures,
         allocator=allocator,
         jit=jit,
+        noise_seed=case.noise_seed(problem),
     )
     summary = CaseSummary(case.identity(), result.summary())
     return CaseOutcome(case, summary, bin_bands(setup, result))
@@ -400,6 +401,7 @@ class CaseRunner:
                 case.parameters,
                 case.failures,
                 Allocator.from_problem(setup.problem, model.geometry),
+                noise_seed=case.noise_seed(setup.problem),
             )
             for case in batch.cases
         ]
