@@ -17,7 +17,7 @@ def test_a_figure_is_written_as_png_and_vector_pdf(tmp_path: Path) -> None:
     assert written == tmp_path / "line.png"
     assert written.read_bytes().startswith(b"\x89PNG")
     assert (tmp_path / "line.pdf").read_bytes().startswith(b"%PDF")
-    assert not plt.get_fignums()  # closed
+    assert not plt.fignum_exists(figure.number)  # closed
 
 
 def test_the_style_sheet_is_shipped_and_in_force() -> None:
