@@ -42,6 +42,8 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
+    from casadi_debris.model import Model
+    from casadi_debris.simulation.cases import Case
     from casadi_debris.simulation.segment_figures import SegmentFigures
     from casadi_debris.simulation.statistics import CampaignStatistics
     from casadi_debris.workflows.campaign import RunRecord
@@ -235,25 +237,14 @@ def simulate(
         return
     problem = _as_asked(problem, duration_s, (axis, angle_deg), failed)
     from casadi_debris.allocation import Allocator
-    from casadi_debris.config import problem_with_values
-    from casadi_debris.model import build_model
     from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
     from casadi_debris.simulation import simulate as run_simulation
-    from casadi_debris.workflows.campaign import one_case, parameters_case, run_summary
+    from casadi_debris.workflows.campaign import run_summary
     from casadi_debris.workflows.controller import controller_for
 
     record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
-    model = build_model(problem)
-    if parameters_file is not None:
-        if corner is not None or sample is not None:
-            raise InputShapeError("give one of --corner, --sample and --parameters")
-        case = parameters_case(problem, model, *read_parameters_file(parameters_file))
-    else:
-        case = one_case(problem, model, corner, sample, seed)
-    if case.file_values:  # a case of [[montecarlo.vary]] that changes the problem file's keys
-        problem = problem_with_values(problem, case.file_values)
-        model = build_model(problem)
+    problem, model, case = _chosen_case(problem, parameters_file, corner, sample, seed)
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
     result = run_simulation(
@@ -284,6 +275,33 @@ def simulate(
         echo_json(summary)
     else:
         click.echo(summary_text(summary) + segments_text(segments))
+
+
+def _chosen_case(
+    problem: Problem,
+    parameters_file: Path | None,
+    corner: int | None,
+    sample: int | None,
+    seed: int | None,
+) -> tuple[Problem, Model, Case]:
+    """The problem, model and case a ``simulate`` run flies (``--parameters``, ``--corner``,
+    ``--sample`` or the nominal); a case of ``[[montecarlo.vary]]`` that changes keys of
+    the problem file flies its own problem and model."""
+    from casadi_debris.config import problem_with_values
+    from casadi_debris.model import build_model
+    from casadi_debris.workflows.campaign import one_case, parameters_case
+
+    model = build_model(problem)
+    if parameters_file is not None:
+        if corner is not None or sample is not None:
+            raise InputShapeError("give one of --corner, --sample and --parameters")
+        case = parameters_case(problem, model, *read_parameters_file(parameters_file))
+    else:
+        case = one_case(problem, model, corner, sample, seed)
+    if case.file_values:
+        problem = problem_with_values(problem, case.file_values)
+        model = build_model(problem)
+    return problem, model, case
 
 
 def _as_asked(
