@@ -29,7 +29,9 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any, Protocol, TypeVar
 
 import casadi as ca
 import numpy as np
@@ -45,6 +47,17 @@ from casadi_debris.slew.transcription import (
     SolverOptions,
     radau_coefficients,
 )
+
+
+class Labelled(Protocol):
+    """A start: its label names it in the logs and the outcomes."""
+
+    @property
+    def label(self) -> str: ...
+
+
+StartT = TypeVar("StartT", bound=Labelled)
+OutcomeT = TypeVar("OutcomeT")
 
 # Durations within this relative distance are one optimum: the same local optimum
 # reached from two starts agrees to the solver tolerance (1e-8); distinct optima of the
@@ -356,6 +369,32 @@ def _solve_start(nlp: CollocationNlp, start: Start) -> StartOutcome:
     return nlp.solve(start)
 
 
+def solve_each(
+    solve: Callable[[Any, StartT], OutcomeT],
+    starts: Sequence[StartT],
+    context: Callable[[], Any],
+    workers: int,
+    failed: Callable[[StartT, str], OutcomeT],
+) -> list[OutcomeT]:
+    """``solve(context, start)`` for every start in ``workers`` processes, in the starts'
+    order; a start that raises becomes ``failed(start, "<error type>: <message>")``.
+
+    Each start has a ``label`` (its id in the logs); ``context()`` builds what a worker
+    shares between its starts (the NLP), once per worker.
+    """
+    outcomes: list[OutcomeT | None] = [None] * len(starts)
+    with parallel_map(
+        solve, starts, context, workers=workers, item_id=lambda start: start.label
+    ) as results:
+        for result in results:
+            if isinstance(result, ItemFailure):
+                outcome = failed(result.item, f"{result.error_type}: {result.message}")
+            else:
+                outcome = result.value
+            outcomes[result.index] = outcome
+    return [o for o in outcomes if o is not None]
+
+
 def run_starts(slew: RigidSlew, starts: list[Start], seed: int, workers: int) -> MultiStartResult:
     """Solve the NLP from every start, in ``workers`` processes; failures are outcomes too.
 
@@ -368,26 +407,14 @@ def run_starts(slew: RigidSlew, starts: list[Start], seed: int, workers: int) ->
     workers : int
         Processes (1: this one, in turn).
     """
-    outcomes: list[StartOutcome | None] = [None] * len(starts)
-    with parallel_map(
+    outcomes = solve_each(
         _solve_start,
         starts,
         functools.partial(_nlp_of, slew),
-        workers=workers,
-        item_id=lambda start: start.label,
-    ) as results:
-        for result in results:
-            if isinstance(result, ItemFailure):
-                outcome = StartOutcome(
-                    result.item.label,
-                    f"{result.error_type}: {result.message}",
-                    math.nan,
-                    result.item.controls,
-                )
-            else:
-                outcome = result.value
-            outcomes[result.index] = outcome
-    done = tuple(o for o in outcomes if o is not None)
+        workers,
+        lambda start, error: StartOutcome(start.label, error, math.nan, start.controls),
+    )
+    done = tuple(outcomes)
     return MultiStartResult(done, distinct([o.duration for o in done if o.converged]), seed)
 
 

@@ -32,10 +32,9 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.parallel import ItemFailure, parallel_map
 from casadi_debris.slew.global_slew import GlobalSlew, SearchSettings, global_time_optimal
 from casadi_debris.slew.initial_guess import InitialGuess, shaped_guess
-from casadi_debris.slew.multistart import AGREEMENT_TOLERANCE, distinct
+from casadi_debris.slew.multistart import AGREEMENT_TOLERANCE, distinct, solve_each
 from casadi_debris.slew.ocp_problem import SlewOcp
 from casadi_debris.slew.propellant import least_fuel_thrust
 from casadi_debris.slew.rigid_body import RigidBody
@@ -179,23 +178,13 @@ def _solution_of(outcome: ThrusterOutcome) -> NlpSolution:
 def _run(
     ocp: SlewOcp, starts: list[ThrusterStart], intervals: int, workers: int
 ) -> list[ThrusterOutcome]:
-    outcomes: list[ThrusterOutcome | None] = [None] * len(starts)
-    with parallel_map(
+    return solve_each(
         functools.partial(_solve, intervals),
         starts,
         functools.partial(_context, ocp.problem, ocp.target, ocp.options),
-        workers=workers,
-        item_id=lambda start: start.label,
-    ) as results:
-        for result in results:
-            if isinstance(result, ItemFailure):
-                outcome = ThrusterOutcome(
-                    result.item.label, f"{result.error_type}: {result.message}", math.nan, None
-                )
-            else:
-                outcome = result.value
-            outcomes[result.index] = outcome
-    return [o for o in outcomes if o is not None]
+        workers,
+        lambda start, error: ThrusterOutcome(start.label, error, math.nan, None),
+    )
 
 
 def _report(
