@@ -40,11 +40,18 @@ def _toolkit_logger_restored() -> Iterator[None]:
     stops it propagating; a later test reading records through ``caplog`` (which
     listens at the root) would otherwise see none.
     """
-    logger = logging.getLogger("casadi_debris")
-    handlers, propagate, level = list(logger.handlers), logger.propagate, logger.level
+    # Reset, not restored: a module- or session-scoped fixture that ran a command set
+    # the logger up before this fixture could see it.
+    _reset_toolkit_logger()
     yield
-    logger.handlers[:] = handlers
-    logger.propagate, logger.level = propagate, level
+    _reset_toolkit_logger()
+
+
+def _reset_toolkit_logger() -> None:
+    """The ``casadi_debris`` logger as a library leaves it: no CLI handler, propagating."""
+    logger = logging.getLogger("casadi_debris")
+    logger.handlers[:] = [h for h in logger.handlers if h.get_name() != "casadi-debris-cli"]
+    logger.propagate, logger.level = True, logging.NOTSET
 
 
 @pytest.fixture(scope="session")
