@@ -69,3 +69,49 @@ def test_no_segment_beats_the_largest_torque_free_thrust() -> None:
         )
         assert segment.thrust_N <= -result.fun * (1 + 1e-9)
         assert segment.thrust_N >= 0.985 * -result.fun
+
+
+@pytest.mark.parametrize("name", ["paper", "three_faces"])
+def test_total_impulse_is_the_lp_optimum_stated_independently(name) -> None:
+    """cvxpy/Clarabel on the same question, written from the engines' positions and directions.
+
+    Impulses in kN s per engine and direction; torque as sum of r x (I d_engine), force
+    across d as the engines' force less its part along d; capacities from the problem's
+    stages, lives and thrusts.
+    """
+    import cvxpy as cp
+
+    problem = load_problem(name)
+    geometry = build_geometry(problem)
+    thrust = swarm_thrust(problem, geometry)
+    positions = np.array([e.position_m for e in geometry.engines])
+    pushes = np.array([e.direction for e in geometry.engines])
+    capacity = np.array(
+        [e.stages * e.stage_life_h * 3600.0 * e.thrust_per_stage_mN * 1e-3 for e in problem.engines]
+    )
+    directions = np.unique(np.round(pushes, 6), axis=0)
+    impulse = cp.Variable((len(directions), len(pushes)), nonneg=True)
+    constraints = [cp.sum(impulse, axis=0) <= capacity * 1e-3]
+    along = 0
+    for k, d in enumerate(directions):
+        constraints.append(np.cross(positions, pushes).T @ impulse[k] == 0)
+        constraints.append((pushes - np.outer(pushes @ d, d)).T @ impulse[k] == 0)
+        along += (pushes @ d) @ impulse[k]
+    cp.Problem(cp.Maximize(along), constraints).solve(solver=cp.CLARABEL)
+    assert thrust.impulse_Ns == pytest.approx(1e3 * along.value, rel=1e-6)
+
+
+def test_segment_flow_and_thrust_follow_the_engine_impulses() -> None:
+    problem = load_problem()
+    geometry = build_geometry(problem)
+    g0 = problem.constants.standard_gravity_m_s2
+    for segment in swarm_thrust(problem, geometry).segments:
+        burnt = sum(
+            segment.engine_impulse_Ns[i] / (problem.engines[i].isp_s * g0)
+            for i in range(len(problem.engines))
+        )
+        assert segment.flow_kg_s * segment.firing_time_s == pytest.approx(burnt, rel=1e-12)
+        # The most loaded engine fires at full thrust; the others at or below it.
+        load = segment.engine_thrust_N / max_thrust_N(geometry)
+        assert load.max() == pytest.approx(1.0, rel=1e-12)
+        assert set(segment.engines) == set(np.flatnonzero(segment.engine_impulse_Ns > 1e-9))

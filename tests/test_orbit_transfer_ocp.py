@@ -99,3 +99,45 @@ def test_minimum_propellant_needs_no_less_than_edelbaum(fastest, data: TransferT
     assert frugal.mass_kg[-1] >= fastest.mass_kg[-1] - 1e-6
     assert frugal.time_s[-1] <= 1.2 * fastest.time_s[-1] * (1 + 1e-9)
     assert np.all((frugal.throttle >= -1e-8) & (frugal.throttle <= 1 + 1e-8))
+
+
+@pytest.mark.slow
+def test_grouped_arcs_keep_the_staging_and_edelbaum(fastest, data: TransferTarget) -> None:
+    """Two shooting intervals over six arcs (a weak swarm's layout): same dynamics, fewer yaws.
+
+    The staging stays exact (an arc boundary at the burn change, the rocket
+    equation across it); with three yaws less freedom the transfer cannot be
+    faster than with six, and Edelbaum's Δv still holds to 1 %.
+    """
+    grouped = solve_transfer_ocp(
+        averaged_dynamics(), data, segments_per_burn=3, substeps=3, intervals=2
+    )
+    assert grouped.success
+    assert grouped.intervals == 2
+    assert len(grouped.yaw_rad) == 6 and len(set(np.round(grouped.yaw_rad, 12))) <= 2
+    assert list(grouped.burn) == [0, 0, 0, 1, 1, 1]
+    first = data.burns[0]
+    assert grouped.time_s[3] == pytest.approx(first.duration_s)
+    assert grouped.mass_kg[3] == pytest.approx(MASS - first.flow_kg_s * first.duration_s)
+    dv = EXHAUST * math.log(grouped.mass_kg[0] / grouped.mass_kg[-1])
+    assert dv == pytest.approx(_edelbaum(), rel=0.01)
+    assert grouped.time_s[-1] >= fastest.time_s[-1] * (1 - 1e-9)
+    radius, inclination = radius_inclination(grouped.elements[-1])
+    assert radius == pytest.approx(R1, rel=1e-9)
+    assert inclination == pytest.approx(I1, abs=1e-9)
+
+
+def test_arc_grid_groups_consecutive_arcs_and_bounds_the_step() -> None:
+    from casadi_debris.orbit.transfer_ocp import MAX_STEP_S, _ArcGrid
+
+    burns = [Burn(i % 3, 20 * DAY * i, 20 * DAY, 1e-3, 1e-7, True) for i in range(10)]
+    grid = _ArcGrid.of(len(burns), 1, 4)
+    assert [a for g in grid.groups for a in g] == list(range(10))
+    sizes = [len(g) for g in grid.groups]
+    assert len(sizes) == 4 and max(sizes) - min(sizes) <= 1
+    for group in grid.groups:
+        steps = grid.steps(burns, group, 4)
+        # 20-day arcs: at least five RK4 steps of at most four days each.
+        assert all(20 * DAY / s <= MAX_STEP_S for s in steps)
+    np.testing.assert_allclose(grid.times_s(burns, 5 * DAY)[-1], 9 * 20 * DAY + 5 * DAY)
+    assert list(grid.arc_interval()) == [j for j, g in enumerate(grid.groups) for _ in g]

@@ -1,8 +1,12 @@
 """What the swarm can push the debris with: torque-free impulse along body directions.
 
-To lower the orbit the body is turned so that a body direction d points
-against the velocity, and the engines fire with zero net torque (the attitude
-must hold) and zero force across d. With unidirectional engines of one-stage
+The one thrust model of the orbit code: the deorbit burns and the orbit
+transfer (:mod:`~casadi_debris.orbit.transfer_thrust` makes its burns from these
+segments) both use it. To thrust along a body direction d the body is turned so
+that d points where the manoeuvre needs it (against the velocity to lower the
+orbit, along the steering law's direction in a transfer), and the engines fire
+with zero net torque (the attitude must hold) and zero force across d (it would
+push the orbit where it is not wanted). With unidirectional engines of one-stage
 thrust f_max,i and a total impulse I_max,i (stages x thrust x stage life: a
 stage is taken to be impulse-limited, so that a throttled stage lasts longer),
 the largest total impulse the swarm gives over all its directions is the linear
@@ -19,6 +23,14 @@ fire at the constant mix ``I_d / t_d`` with t_d = max_i I_d,i / f_max,i (the
 mix stays torque-free at every instant, and every engine within its thrust),
 giving the thrust ``d . F I_d / t_d``. The burn uses the directions in order of
 decreasing thrust.
+
+All engines may serve every direction, not only those whose force points along
+d: an opposed pair of engines on other faces fires a pure couple (their forces
+cancel) that balances the torque of d's own engines, so that these need not be
+throttled. For the paper's swarm the ±y engines then all fire at full thrust,
+2.56 mN instead of the 2.536 mN of d's engines balanced among themselves, for
+0.5 % of two x engines' impulse; the LP weighs that against what those engines
+give along their own directions.
 """
 
 from __future__ import annotations
@@ -35,6 +47,8 @@ from casadi_debris.units import SECONDS_PER_HOUR
 
 DIRECTION_DECIMALS = 6
 SMALL_IMPULSE_NS = 1e-6
+# Engines giving less than this share of a direction's largest engine impulse do not fire.
+FIRING_FRACTION = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,16 +65,44 @@ class ThrustSegment:
         Along it, in total.
     engine_impulse_Ns : ndarray, shape (n_engines,)
         What each engine gives in this direction.
+    propellant_kg : float, optional
+        What the engines burn for it (all engines, couples included).
     """
 
     direction_body: np.ndarray
     thrust_N: float
     impulse_Ns: float
     engine_impulse_Ns: np.ndarray
+    propellant_kg: float | None = None
 
     @property
     def firing_time_s(self) -> float:
+        """How long the direction fires at its constant mix [s]."""
         return self.impulse_Ns / self.thrust_N
+
+    @property
+    def engine_thrust_N(self) -> np.ndarray:
+        """Each engine's constant thrust while the direction fires [N], shape (n_engines,)."""
+        return self.engine_impulse_Ns / self.firing_time_s
+
+    @property
+    def engines(self) -> tuple[int, ...]:
+        """The engines that fire for this direction, 0-based."""
+        limit = FIRING_FRACTION * float(np.max(self.engine_impulse_Ns))
+        return tuple(int(i) for i in np.flatnonzero(self.engine_impulse_Ns > limit))
+
+    @property
+    def flow_kg_s(self) -> float:
+        """Propellant flow while the direction fires [kg/s].
+
+        Raises
+        ------
+        ValueError
+            The segment was made without its propellant.
+        """
+        if self.propellant_kg is None:
+            raise ValueError("this thrust segment carries no propellant figure")
+        return self.propellant_kg / self.firing_time_s
 
 
 @dataclass(frozen=True, eq=False)
@@ -148,6 +190,7 @@ def swarm_thrust(problem: Problem, geometry: Geometry | None = None) -> SwarmThr
         [f * e.stage_life_h * SECONDS_PER_HOUR for f, e in zip(f_max, engines, strict=True)]
     )
     capacity = stage_impulse * np.array([e.stages for e in engines])
+    isp = np.array([e.isp_s for e in engines])
     directions = _candidate_directions(geometry)
     n, k = len(f_max), len(directions)
     objective = -np.concatenate([d @ geometry.force_map for d in directions])
@@ -175,11 +218,11 @@ def swarm_thrust(problem: Problem, geometry: Geometry | None = None) -> SwarmThr
         if along <= SMALL_IMPULSE_NS:
             continue
         time = float(np.max(impulses / f_max))
-        segments.append(ThrustSegment(d, along / time, along, impulses))
+        propellant = float(np.sum(impulses / (isp * g0)))
+        segments.append(ThrustSegment(d, along / time, along, impulses, propellant))
     if not segments:
         raise AllocationError("swarm thrust: no body direction gets any torque-free thrust")
     segments.sort(key=lambda s: -s.thrust_N)
-    isp = np.array([e.isp_s for e in engines])
     return SwarmThrust(
         segments=tuple(segments),
         engine_capacity_Ns=capacity,

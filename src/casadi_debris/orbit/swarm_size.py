@@ -73,7 +73,15 @@ def swarm_of(problem: Problem, model: DeorbitModel, count: int) -> DeorbitModel:
     capacity = np.full(count, stage_impulse * engine.stages)
     direction = model.thrust.segments[0].direction_body
     swarm = SwarmThrust(
-        segments=(ThrustSegment(direction, thrust, float(capacity.sum()), capacity),),
+        segments=(
+            ThrustSegment(
+                direction,
+                thrust,
+                float(capacity.sum()),
+                capacity,
+                float(capacity.sum()) / (engine.isp_s * g0),
+            ),
+        ),
         engine_capacity_Ns=capacity,
         stage_impulse_Ns=np.full(count, stage_impulse),
         exhaust_speed_m_s=engine.isp_s * g0,

@@ -1,7 +1,7 @@
 """Plan the problem's orbit transfer with the swarm's staged engines: :func:`plan_transfer`.
 
-The steps: the swarm's thrust directions and their zero-torque force
-(:mod:`~casadi_debris.orbit.transfer_thrust`), the burn schedule (each
+The steps: the swarm's thrust directions and their torque-free thrust
+(:func:`~casadi_debris.orbit.propulsion.swarm_thrust`), the burn schedule (each
 direction's stages in turn, then hypothetical extra stage lives if the swarm's
 own do not suffice), Edelbaum steering flown in closed loop on the averaged
 dynamics with J2 (:mod:`~casadi_debris.orbit.transfer_guidance`), and the
@@ -20,13 +20,17 @@ Example
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
+import casadi as ca
+
 from casadi_debris.config import Problem
-from casadi_debris.errors import ProblemFileError
+from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular
+from casadi_debris.orbit.propulsion import ThrustSegment, swarm_thrust
 from casadi_debris.orbit.transfer_averaged import averaged_dynamics, edelbaum_dv
 from casadi_debris.orbit.transfer_guidance import (
     DEFAULT_PERIOD_S,
@@ -40,19 +44,18 @@ from casadi_debris.orbit.transfer_ocp import (
     solve_transfer_ocp,
 )
 from casadi_debris.orbit.transfer_result import TransferResult, summarise
-from casadi_debris.orbit.transfer_thrust import (
-    Burn,
-    ThrustGroup,
-    burn_schedule,
-    dv_of_burns,
-    thrust_groups,
-)
+from casadi_debris.orbit.transfer_thrust import Burn, burn_schedule, dv_of_burns
 from casadi_debris.units import M_PER_KM
 
 # The propellant objective may take this much longer than the guidance law.
 DEFAULT_TIME_SLACK = 0.1
-# OCP shooting segments in all, by default (the paper's 7 burns: 4 each).
+# OCP shooting intervals in all, at most (the paper's 7 burns: 4 each); a weak
+# swarm's many burns share them, so that its NLP is no larger than the paper's.
 TARGET_SEGMENTS = 28
+# The minimum-time OCP's last burn is redone when it ends within this share of its
+# start or end (the optimum then lies in the burn before or after), at most this often.
+END_SHARE = 1e-6
+MAX_RESCHEDULES = 3
 # Hypothetical burns stop when they would leave less than this share of the mass.
 MIN_MASS_FRACTION = 0.2
 
@@ -67,7 +70,9 @@ class TransferPlan:
     guided : GuidedTransfer
         Edelbaum steering, closed loop, through the whole burn schedule.
     optimal : OptimalTransfer
-    groups : list of ThrustGroup
+    groups : tuple of ThrustSegment
+        The swarm's thrust directions (:func:`~casadi_debris.orbit.propulsion.swarm_thrust`),
+        strongest first; ``Burn.group`` indexes them.
     burns : list of Burn
         The schedule the guidance flew (real burns first).
     stage_switches : list of (float, int, int)
@@ -77,7 +82,7 @@ class TransferPlan:
     result: TransferResult
     guided: GuidedTransfer
     optimal: OptimalTransfer
-    groups: list[ThrustGroup]
+    groups: tuple[ThrustSegment, ...]
     burns: list[Burn]
     stage_switches: list[tuple[float, int, int]]
 
@@ -89,6 +94,7 @@ def plan_transfer(
     segments_per_burn: int | None = None,
     guidance_period_s: float = DEFAULT_PERIOD_S,
     time_slack: float = DEFAULT_TIME_SLACK,
+    max_intervals: int | None = TARGET_SEGMENTS,
 ) -> TransferPlan:
     """The problem's ``[transfer]`` (circular to circular, plane change) with its swarm.
 
@@ -99,11 +105,14 @@ def plan_transfer(
         Minimum transfer time at full thrust, or minimum propellant with a
         throttle and the time at most ``(1 + time_slack)`` times the guidance's.
     segments_per_burn : int, optional
-        OCP shooting segments per burn; default about ``TARGET_SEGMENTS`` in all
-        (at least one per burn), so that a weak swarm's many burns keep the NLP small.
+        OCP arcs per burn; default about ``TARGET_SEGMENTS`` in all (at least one
+        per burn). The arcs share at most ``TARGET_SEGMENTS`` shooting intervals,
+        so that a weak swarm's many burns keep the NLP small.
     guidance_period_s : float
         How often the guidance law re-plans its yaw [s].
     time_slack : float
+    max_intervals : int or None
+        Most OCP shooting intervals (consecutive arcs share one); None: one per arc.
 
     Returns
     -------
@@ -125,9 +134,12 @@ def plan_transfer(
     )
     dv_edelbaum = check_transfer(problem)
     geometry = build_geometry(problem)
-    groups = thrust_groups(problem, geometry)
-    if not groups:
-        raise ProblemFileError("cubesats", "no thrust direction can push at zero net torque")
+    try:
+        groups = swarm_thrust(problem, geometry).segments
+    except AllocationError as error:
+        raise ProblemFileError(
+            "cubesats", "no thrust direction can push at zero net torque"
+        ) from error
     burns = _schedule(groups, geometry.mass_kg, 1.5 * dv_edelbaum)
     dynamics = averaged_dynamics()
     x0 = mee_circular(start_radius, math.radians(transfer.from_inclination_deg))
@@ -151,15 +163,52 @@ def plan_transfer(
         burns=used,
         guess=(guided.time_s, guided.elements, guided.mass_kg, guided.yaw_rad),
     )
-    optimal = solve_transfer_ocp(
-        dynamics,
-        data,
-        objective=objective,
-        time_limit_s=time_limit,
-        segments_per_burn=segments_per_burn or max(1, round(TARGET_SEGMENTS / len(used))),
-    )
+    arcs = (segments_per_burn, max_intervals)
+    optimal = _solve_ocp(dynamics, data, burns, objective, time_limit, arcs)
     result, switches = summarise(problem, geometry, groups, burns, guided, optimal, dv_edelbaum)
     return TransferPlan(result, guided, optimal, groups, burns, switches)
+
+
+def _solve_ocp(
+    dynamics: ca.Function,
+    data: TransferTarget,
+    burns: list[Burn],
+    objective: Objective,
+    time_limit_s: float,
+    arcs: tuple[int | None, int | None],
+) -> OptimalTransfer:
+    """The OCP over ``data.burns``; at minimum time, with the end moved to the burn it lies in.
+
+    The OCP's end is free only within its last burn. When the optimum would end
+    in an earlier burn (the last one shrinks to nothing) or a later one (it runs
+    its whole life), the schedule loses or gains a burn and the OCP is solved
+    again, at most :data:`MAX_RESCHEDULES` times. ``arcs``: arcs per burn (default
+    about :data:`TARGET_SEGMENTS` in all, at least one per burn) and most intervals.
+    """
+    per_burn, intervals = arcs
+    tries = 0
+    while True:
+        optimal = solve_transfer_ocp(
+            dynamics,
+            data,
+            objective=objective,
+            time_limit_s=time_limit_s,
+            segments_per_burn=per_burn or max(1, round(TARGET_SEGMENTS / len(data.burns))),
+            intervals=intervals,
+        )
+        last = data.burns[-1]
+        share = (optimal.time_s[-1] - last.start_s) / last.duration_s
+        count = len(data.burns)
+        tries += 1
+        if objective != "time" or not optimal.success or tries > MAX_RESCHEDULES:
+            return optimal
+        if share < END_SHARE and count > 1:
+            count -= 1
+        elif share > 1.0 - END_SHARE and count < len(burns):
+            count += 1
+        else:
+            return optimal
+        data = dataclasses.replace(data, burns=burns[:count])
 
 
 def check_transfer(problem: Problem) -> float:
@@ -182,7 +231,7 @@ def check_transfer(problem: Problem) -> float:
     return dv
 
 
-def _schedule(groups: list[ThrustGroup], mass_kg: float, dv_m_s: float) -> list[Burn]:
+def _schedule(groups: tuple[ThrustSegment, ...], mass_kg: float, dv_m_s: float) -> list[Burn]:
     """The real burns and enough hypothetical ones for ``dv_m_s``, while mass is left."""
     extra = 0
     while True:

@@ -11,10 +11,16 @@ Transcription: multiple shooting, RK4 substeps per segment, solved by IPOPT
 (a local NLP solver: the returned optimum is local). It needs a guess that
 obeys the dynamics (a flown trajectory, e.g. the Edelbaum guidance's or a
 constant-yaw spiral): from states merely interpolated between the two orbits
-IPOPT can stall in a locally infeasible point. The staging enters as phases:
-burn b fires at its direction's force F_b and flow for its duration; every
-burn but the last lasts its full life, the last its free duration ``T_last`` in
-[0, its life]. Objectives:
+IPOPT can stall in a locally infeasible point. The staging enters as a known
+thrust schedule: burn b fires at its direction's force F_b and flow for its
+duration; every burn but the last lasts its full life, the last its free
+duration ``T_last`` in [0, its life]. The burns are cut into arcs (a few per
+burn when they are few); the arcs are grouped into at most ``intervals``
+shooting intervals of consecutive arcs, each with one yaw (and throttle) and
+its arcs integrated one after the other inside it. So a weak swarm's hundred
+burns give the NLP no more variables than the paper's seven: the problem
+keeps its size and IPOPT its iteration count, and the staging stays exact
+(every burn boundary is an arc boundary). Objectives:
 
 - ``"time"``: throttle 1, minimise the transfer time (the sum of the burns);
 - ``"propellant"``: throttle per segment in [0, 1], minimise m0 - mf with the
@@ -27,10 +33,11 @@ law has no in-plane radial part and J2's averaged rates leave e = 0 unmoved).
 
 from __future__ import annotations
 
+import itertools
 import math
 import time
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import casadi as ca
 import numpy as np
@@ -43,30 +50,39 @@ Objective = Literal["time", "propellant"]
 OBJECTIVES: tuple[Objective, ...] = ("time", "propellant")
 DEFAULT_SEGMENTS_PER_BURN = 4
 DEFAULT_SUBSTEPS = 4
+# Parameters of one arc in a shooting interval: force [N], flow [kg/s], length [s].
+ARC_PARAMS = 3
+# Longest RK4 step: J2 turns the node about 1 deg a day, and RK4 on a rotation of
+# theta per step shrinks the inclination vector by theta^6 / 144; at 4 days that
+# is below 1e-9 per step, at a 20-day burn in one step 1e-5 (a tenth of the plane change
+# over a long spiral).
+MAX_STEP_S = 4.0 * SECONDS_PER_DAY
 IPOPT_TOLERANCE = 1e-9
 MAX_ITERATIONS = 500
 
 
 @dataclass(frozen=True, eq=False)
 class OptimalTransfer:
-    """The solved OCP on its grid.
+    """The solved OCP on its grid of arcs (N arcs; several may share a shooting interval).
 
     Attributes
     ----------
     time_s : ndarray, shape (N + 1,)
     elements : ndarray, shape (N + 1, 5)
-        Slow MEE at the nodes.
+        Slow MEE at the arc boundaries.
     mass_kg : ndarray, shape (N + 1,)
     yaw_rad, throttle : ndarray, shape (N,)
-        Control of each segment.
+        Control of each arc (its shooting interval's).
     burn : ndarray of int, shape (N,)
-        Burn (index into the schedule) of each segment.
+        Burn (index into the schedule) of each arc.
     objective : str
     success : bool
         IPOPT's verdict.
     status : str
     iterations : int
     solve_time_s : float
+    intervals : int
+        Shooting intervals of the NLP.
     """
 
     time_s: np.ndarray
@@ -80,6 +96,7 @@ class OptimalTransfer:
     status: str
     iterations: int
     solve_time_s: float
+    intervals: int = 0
 
 
 @dataclass(frozen=True)
@@ -106,6 +123,7 @@ def solve_transfer_ocp(
     time_limit_s: float | None = None,
     segments_per_burn: int = DEFAULT_SEGMENTS_PER_BURN,
     substeps: int = DEFAULT_SUBSTEPS,
+    intervals: int | None = None,
 ) -> OptimalTransfer:
     """Minimum-time or minimum-propellant transfer over the burns of ``data``.
 
@@ -117,14 +135,20 @@ def solve_transfer_ocp(
     objective : {"time", "propellant"}
     time_limit_s : float, optional
         Largest transfer time (required for ``"propellant"``).
-    segments_per_burn, substeps : int
-        Shooting segments per burn, RK4 steps per segment.
+    segments_per_burn : int
+        Arcs per burn (equal parts of it).
+    substeps : int
+        RK4 steps per arc when an interval holds one arc; an interval of k arcs
+        gives each ``ceil(substeps / k)``; in any case at least one step per
+        :data:`MAX_STEP_S` of arc.
+    intervals : int, optional
+        Most shooting intervals (default: one per arc).
     """
     if objective == "propellant" and time_limit_s is None:
         raise ValueError("the propellant objective needs a time limit")
+    grid = _ArcGrid.of(len(data.burns), segments_per_burn, intervals)
     opti = ca.Opti()
-    n_burns = len(data.burns)
-    n = n_burns * segments_per_burn
+    n = len(grid.groups)
     scale = np.array([data.x0[0], 1.0, 1.0, 1.0, 1.0])
     xs = opti.variable(N_SLOW, n + 1)
     ms = opti.variable(1, n + 1)
@@ -132,25 +156,27 @@ def solve_transfer_ocp(
     throttle = opti.variable(1, n) if objective == "propellant" else ca.DM.ones(1, n)
     last_days = opti.variable()
     last_s = last_days * SECONDS_PER_DAY
-    segment_s = [
-        (b.duration_s if i < n_burns - 1 else last_s) / segments_per_burn
-        for i, b in enumerate(data.burns)
-    ]
     opti.subject_to(xs[:, 0] == data.x0 / scale)
     opti.subject_to(ms[0] == 1.0)
-    segment = _segment_function(dynamics, substeps)
-    for j in range(n):
-        burn = data.burns[j // segments_per_burn]
-        params = ca.DM([*data.earth, burn.force_N, burn.flow_kg_s])
+    arc_x, arc_m = [], []
+    functions: dict[tuple[int, ...], ca.Function] = {}
+    for j, group in enumerate(grid.groups):
+        steps = grid.steps(data.burns, group, substeps)
+        if steps not in functions:
+            functions[steps] = _segment_function(dynamics, steps)
+        segment = functions[steps]
+        arcs = [grid.arc_params(data.burns, a, last_s) for a in group]
         x_next, m_next = segment(
             xs[:, j] * scale,
             ms[j] * data.mass_kg,
             ca.vertcat(yaw[j], throttle[j]),
-            params,
-            segment_s[j // segments_per_burn],
+            ca.vertcat(*data.earth),
+            ca.vertcat(*[v for arc in arcs for v in arc]),
         )
-        opti.subject_to(xs[:, j + 1] == x_next / scale)
-        opti.subject_to(ms[j + 1] == m_next / data.mass_kg)
+        arc_x.append(x_next)
+        arc_m.append(m_next)
+        opti.subject_to(xs[:, j + 1] == x_next[:, -1] / scale)
+        opti.subject_to(ms[j + 1] == m_next[-1] / data.mass_kg)
     _terminal(opti, xs[:, n] * scale, data)
     opti.subject_to(opti.bounded(-math.pi, yaw, math.pi))
     last_life_days = data.burns[-1].duration_s / SECONDS_PER_DAY
@@ -165,30 +191,87 @@ def solve_transfer_ocp(
         opti.set_initial(throttle, 1.0)
     else:
         opti.minimize(total_days / last_life_days)
-    guess_days = _initial_guess(opti, data, xs, ms, yaw, fixed_s, segments_per_burn, scale)
+    guess_days = _initial_guess(opti, data, grid, (xs, ms, yaw), fixed_s, scale)
     opti.set_initial(last_days, min(max(guess_days, 0.1 * last_life_days), last_life_days))
-    return _solve(opti, data, xs, ms, yaw, throttle, last_s, objective, segments_per_burn, scale)
+    trajectory = (ca.horzcat(*arc_x), ca.horzcat(*arc_m), yaw, throttle)
+    return _solve(opti, data, grid, trajectory, last_s, objective)
 
 
-def _segment_function(dynamics: ca.Function, substeps: int) -> ca.Function:
-    """One shooting segment as a ``casadi.Function``, called by every segment.
+@dataclass(frozen=True)
+class _ArcGrid:
+    """Arcs (burn, share of the burn) and their grouping into shooting intervals."""
 
-    One function called N times keeps the NLP's expression graph (and its
-    derivatives) the size of one segment, not of N.
+    arcs: tuple[tuple[int, float], ...]
+    groups: tuple[tuple[int, ...], ...]
+
+    @classmethod
+    def of(cls, n_burns: int, per_burn: int, intervals: int | None) -> _ArcGrid:
+        """``per_burn`` equal arcs per burn, in at most ``intervals`` balanced groups."""
+        arcs = tuple((b, 1.0 / per_burn) for b in range(n_burns) for _ in range(per_burn))
+        count = len(arcs) if intervals is None else max(1, min(intervals, len(arcs)))
+        cuts = np.linspace(0, len(arcs), count + 1).round().astype(int)
+        groups = tuple(tuple(range(a, b)) for a, b in itertools.pairwise(cuts))
+        return cls(arcs, groups)
+
+    def arc_params(self, burns: list[Burn], arc: int, last_s: Any) -> tuple[Any, Any, Any]:
+        """(force [N], flow [kg/s], length [s]) of an arc; the last burn's length is free."""
+        burn, share = self.arcs[arc]
+        length = last_s if burn == len(burns) - 1 else burns[burn].duration_s
+        return burns[burn].force_N, burns[burn].flow_kg_s, share * length
+
+    def steps(self, burns: list[Burn], group: tuple[int, ...], substeps: int) -> tuple[int, ...]:
+        """RK4 steps of each arc of an interval: ``ceil(substeps / k)`` for k arcs, and at
+        least one per :data:`MAX_STEP_S` of the arc (the last burn at its full life)."""
+        share = -(-substeps // len(group))
+        return tuple(
+            max(share, math.ceil(self.arcs[a][1] * burns[self.arcs[a][0]].duration_s / MAX_STEP_S))
+            for a in group
+        )
+
+    def times_s(self, burns: list[Burn], last_s: float) -> np.ndarray:
+        """Arc boundary times [s], shape (N + 1,)."""
+        lengths = [float(self.arc_params(burns, a, last_s)[2]) for a in range(len(self.arcs))]
+        return np.concatenate([[0.0], np.cumsum(lengths)])
+
+    def node_arcs(self) -> np.ndarray:
+        """Index of the arc boundary at each shooting node, shape (intervals + 1,)."""
+        return np.array([0] + [group[-1] + 1 for group in self.groups])
+
+    def arc_interval(self) -> np.ndarray:
+        """Shooting interval of each arc, shape (N,)."""
+        return np.concatenate([np.full(len(g), j) for j, g in enumerate(self.groups)])
+
+
+def _segment_function(dynamics: ca.Function, steps: tuple[int, ...]) -> ca.Function:
+    """One shooting interval of arcs of ``steps`` RK4 steps each as a ``casadi.Function``, in SX.
+
+    Inputs: state, mass, control ``[yaw, throttle]``, earth ``[mu, Re, J2]`` and
+    the arcs' ``[force, flow, length]`` one after the other; outputs: the state
+    (5, arcs) and mass (1, arcs) at the end of every arc. One function per arc
+    count, called by every interval with that count, keeps the NLP's expression
+    graph (and its derivatives) the size of one interval; the SX expansion makes
+    the exact Hessian of the quadrature-averaged dynamics several times cheaper.
     """
     x = ca.MX.sym("x", N_SLOW)
     mass = ca.MX.sym("m")
     control = ca.MX.sym("u", 2)
-    params = ca.MX.sym("p", 5)
-    step = ca.MX.sym("h")
-    x_next, m_next = averaged_step(dynamics, x, mass, control, params, step, substeps)
+    earth = ca.MX.sym("earth", 3)
+    arc = ca.MX.sym("arcs", ARC_PARAMS * len(steps))
+    states, masses = [], []
+    state, m = x, mass
+    for a, substeps in enumerate(steps):
+        force, flow, length = (arc[ARC_PARAMS * a + i] for i in range(ARC_PARAMS))
+        params = ca.vertcat(earth, force, flow)
+        state, m = averaged_step(dynamics, state, m, control, params, length, substeps)
+        states.append(state)
+        masses.append(m)
     return ca.Function(
         "segment",
-        [x, mass, control, params, step],
-        [x_next, m_next],
-        ["x", "m", "u", "p", "h"],
-        ["x_next", "m_next"],
-    )
+        [x, mass, control, earth, arc],
+        [ca.horzcat(*states), ca.horzcat(*masses)],
+        ["x", "m", "u", "earth", "arcs"],
+        ["x_arcs", "m_arcs"],
+    ).expand()
 
 
 def _terminal(opti: ca.Opti, x_end: ca.MX, data: TransferTarget) -> None:
@@ -201,18 +284,16 @@ def _terminal(opti: ca.Opti, x_end: ca.MX, data: TransferTarget) -> None:
 def _initial_guess(
     opti: ca.Opti,
     data: TransferTarget,
-    xs: ca.MX,
-    ms: ca.MX,
-    yaw: ca.MX,
+    grid: _ArcGrid,
+    variables: tuple[ca.MX, ca.MX, ca.MX],
     fixed_s: float,
-    segments_per_burn: int,
     scale: np.ndarray,
 ) -> float:
-    """Sample the guess trajectory on the OCP grid; returns the guessed last-burn length [days]."""
+    """Sample the guess at the shooting nodes; returns the guessed last-burn length [days]."""
+    xs, ms, yaw = variables
     times, elements, mass, yaw_guess = data.guess
     last_s = max(times[-1] - fixed_s, 0.0)
-    durations = [b.duration_s for b in data.burns[:-1]] + [last_s]
-    grid_s = np.minimum(_grid(durations, segments_per_burn), times[-1])
+    grid_s = np.minimum(grid.times_s(data.burns, last_s)[grid.node_arcs()], times[-1])
     x_guess = np.array([np.interp(grid_s, times, elements[:, i]) for i in range(N_SLOW)])
     opti.set_initial(xs, x_guess / scale[:, None])
     opti.set_initial(ms, np.interp(grid_s, times, mass) / data.mass_kg)
@@ -220,26 +301,13 @@ def _initial_guess(
     return last_s / SECONDS_PER_DAY
 
 
-def _grid(durations_s: list[float], segments_per_burn: int) -> np.ndarray:
-    """Node times [s] of burns of the given lengths, each cut into equal segments."""
-    times = [0.0]
-    for length in durations_s:
-        base = times[-1]
-        times += [base + length * (s + 1) / segments_per_burn for s in range(segments_per_burn)]
-    return np.array(times)
-
-
 def _solve(
     opti: ca.Opti,
     data: TransferTarget,
-    xs: ca.MX,
-    ms: ca.MX,
-    yaw: ca.MX,
-    throttle: ca.MX | ca.DM,
+    grid: _ArcGrid,
+    trajectory: tuple[ca.MX, ca.MX, ca.MX, ca.MX | ca.DM],
     last_s: ca.MX,
     objective: Objective,
-    segments_per_burn: int,
-    scale: np.ndarray,
 ) -> OptimalTransfer:
     """Run IPOPT; a failed solve is returned with its last iterate and ``success=False``."""
     opti.solver(
@@ -255,19 +323,22 @@ def _solve(
         value, success = opti.debug.value, False
     elapsed = time.perf_counter() - start
     stats = opti.stats()
-    durations = [b.duration_s for b in data.burns[:-1]] + [float(value(last_s))]
-    times = _grid(durations, segments_per_burn)
-    n = len(data.burns) * segments_per_burn
+    arc_x, arc_m, yaw, throttle = trajectory
+    n = len(grid.arcs)
+    elements = np.array(value(arc_x)).reshape(N_SLOW, n)
+    control = [np.array(value(c) if isinstance(c, ca.MX) else c).ravel() for c in (yaw, throttle)]
+    interval = grid.arc_interval()
     return OptimalTransfer(
-        time_s=np.array(times),
-        elements=(np.array(value(xs)).reshape(N_SLOW, n + 1) * scale[:, None]).T,
-        mass_kg=np.array(value(ms)).ravel() * data.mass_kg,
-        yaw_rad=np.array(value(yaw)).ravel(),
-        throttle=np.array(value(throttle) if isinstance(throttle, ca.MX) else throttle).ravel(),
-        burn=np.repeat(np.arange(len(data.burns)), segments_per_burn),
+        time_s=grid.times_s(data.burns, float(value(last_s))),
+        elements=np.vstack([data.x0, elements.T]),
+        mass_kg=np.concatenate([[data.mass_kg], np.array(value(arc_m)).ravel()]),
+        yaw_rad=control[0][interval],
+        throttle=control[1][interval],
+        burn=np.array([burn for burn, _ in grid.arcs]),
         objective=objective,
         success=success,
         status=str(stats.get("return_status", "")),
         iterations=int(stats.get("iter_count", -1)),
         solve_time_s=elapsed,
+        intervals=len(grid.groups),
     )

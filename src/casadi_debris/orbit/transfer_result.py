@@ -8,20 +8,26 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.geometry import Geometry
+from casadi_debris.geometry import Geometry, max_thrust_N
 from casadi_debris.orbit.elements import keplerian_from_mee
+from casadi_debris.orbit.propulsion import ThrustSegment
 from casadi_debris.orbit.transfer_guidance import GuidedTransfer, remaining_dv_m_s
 from casadi_debris.orbit.transfer_ocp import OptimalTransfer
 from casadi_debris.orbit.transfer_thrust import (
     Burn,
     StageUse,
-    ThrustGroup,
     dv_of_burns,
     stage_switch_times_s,
     stage_use,
 )
 from casadi_debris.records import Record
-from casadi_debris.units import DEG_PER_RAD, M_PER_KM, MN_PER_N, SECONDS_PER_DAY
+from casadi_debris.units import (
+    DEG_PER_RAD,
+    M_PER_KM,
+    MN_PER_N,
+    SECONDS_PER_DAY,
+    SECONDS_PER_HOUR,
+)
 
 # Largest swarm growth tried when sizing the CubeSats it lacks.
 MAX_EXTRA_CUBESATS = 1000
@@ -122,7 +128,7 @@ def trajectory_dv_m_s(mass_kg: np.ndarray, burn: np.ndarray, burns: list[Burn]) 
 def summarise(
     problem: Problem,
     geometry: Geometry,
-    groups: list[ThrustGroup],
+    groups: tuple[ThrustSegment, ...],
     burns: list[Burn],
     guided: GuidedTransfer,
     optimal: OptimalTransfer,
@@ -154,7 +160,7 @@ def summarise(
     switches = [
         s for s in stage_switch_times_s(problem, geometry, groups, burns, profile) if s[0] <= end_s
     ]
-    stage_lives = sum(g.burn_time_s / problem.engines[g.engines[0]].stages for g in groups)
+    stage_lives = sum(_stage_life_s(problem, geometry, g) for g in groups)
     result = TransferResult(
         problem=problem.name,
         problem_sha256=problem.sha256,
@@ -174,9 +180,9 @@ def summarise(
         final_altitude_km=final["semi_major_axis_m"] / M_PER_KM - radius_km,
         final_inclination_deg=final["inclination_rad"] * DEG_PER_RAD,
         final_eccentricity=final["eccentricity"],
-        thrust_mN=[g.force_N * MN_PER_N for g in groups],
-        thrust_directions_body=[[float(v) for v in g.direction] for g in groups],
-        direction_burn_days=[g.burn_time_s / SECONDS_PER_DAY for g in groups],
+        thrust_mN=[g.thrust_N * MN_PER_N for g in groups],
+        thrust_directions_body=[[float(v) for v in g.direction_body] for g in groups],
+        direction_burn_days=[g.firing_time_s / SECONDS_PER_DAY for g in groups],
         available_dv_m_s=float(dv_of_burns(real, geometry.mass_kg)[-1]),
         available_time_days=real_end_s / SECONDS_PER_DAY,
         swarm_suffices=suffices,
@@ -193,6 +199,17 @@ def summarise(
         propellant_left_kg=loaded - sum(u.propellant_kg for u in uses),
     )
     return result, switches
+
+
+def _stage_life_s(problem: Problem, geometry: Geometry, segment: ThrustSegment) -> float:
+    """How much longer a direction fires with one more stage on every engine [s].
+
+    Its most loaded engine (at full thrust) sets its firing time: one stage life
+    of that engine more, stretched by its throttle.
+    """
+    load = segment.engine_thrust_N / max_thrust_N(geometry)
+    engine = int(np.argmax(load))
+    return problem.engines[engine].stage_life_h * SECONDS_PER_HOUR / load[engine]
 
 
 def _state_at(guided: GuidedTransfer, time_s: float) -> tuple[float, float, np.ndarray]:

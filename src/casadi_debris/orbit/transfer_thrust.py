@@ -1,20 +1,19 @@
-"""The swarm's thrust for an orbit transfer: thrust directions, their force, and staging.
+"""The orbit transfer's burns, staging and propellant, from the swarm's thrust segments.
 
-A CubeSat thrusts only along its face's inward normal, so the swarm pushes the
-debris along one of a few body directions (the paper's: six, four engines
-each). To thrust along the direction the steering law asks for, the body is
-turned so that one direction's engines point along it (the attitude loop's job,
-not modelled here; a 180 deg slew takes ~20 min against burns of weeks). The
-engines of that direction fire together, throttled so that their torques cancel:
-the largest such force is a linear program (:func:`~casadi_debris.geometry.force_authority`
-restricted to the direction's engines), its thrusts are the engines' throttles.
+The thrust itself is :func:`~casadi_debris.orbit.propulsion.swarm_thrust`, the
+one model the deorbit burns use too: a few body directions (the engines' own
+force directions), each with the largest torque-free impulse the engines give
+along it at zero force across it, fired at a constant mix. To thrust along the
+direction the steering law asks for, the body is turned so that a segment's
+direction points along it (the attitude loop's job, not modelled here; a 180
+deg slew takes ~20 min against burns of weeks).
 
 Staging: each engine fires its stages one after the other; a stage holds the
 propellant of its rated life at full thrust (``F t_life / (Isp g0)``), so an
 engine throttled to F_i < F_max runs ``F_max / F_i`` times longer on it. A
-direction fires until the first of its engines has spent its last stage (the
-others' leftover is reported as unused), then the body is turned to the next
-direction. Directions fire strongest first. Burns past the swarm's own stages
+direction fires for its segment's firing time (its most loaded engine has then
+spent its share of the stages), then the body is turned to the next direction.
+Directions fire strongest first. Burns past the swarm's own stages
 (``real=False``) are hypothetical extra stage lives of the same engines: they
 size what the swarm lacks.
 """
@@ -22,52 +21,24 @@ size what the swarm lacks.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.geometry import Geometry, force_authority, max_thrust_N, thrust_directions
+from casadi_debris.geometry import Geometry, max_thrust_N
+from casadi_debris.orbit.propulsion import ThrustSegment
 from casadi_debris.units import SECONDS_PER_HOUR
-
-# Engines throttled below this fraction of their limit count as not firing.
-FIRING_FRACTION = 1e-9
-
-
-@dataclass(frozen=True, eq=False)
-class ThrustGroup:
-    """The engines of one thrust direction, throttled to push along it at zero torque.
-
-    Attributes
-    ----------
-    direction : ndarray, shape (3,)
-        Unit force direction on the body, body frame B.
-    engines : tuple of int
-        Its engines, 0-based.
-    force_N : float
-        Net force along ``direction`` [N].
-    thrust_N : ndarray, shape (n_engines,)
-        Every engine's thrust (zero outside the group) [N].
-    flow_kg_s : float
-        Propellant flow of the group [kg/s].
-    burn_time_s : float
-        Firing time until its first engine has spent its last stage [s].
-    """
-
-    direction: np.ndarray
-    engines: tuple[int, ...]
-    force_N: float
-    thrust_N: np.ndarray
-    flow_kg_s: float
-    burn_time_s: float
 
 
 @dataclass(frozen=True)
 class Burn:
     """One direction firing, at constant force, from ``start_s`` for ``duration_s``.
 
-    ``group`` indexes the list of :class:`ThrustGroup`; ``real`` is False for a
-    hypothetical burn past the swarm's stages.
+    ``group`` indexes the thrust segments
+    (:attr:`~casadi_debris.orbit.propulsion.SwarmThrust.segments`); ``real`` is
+    False for a hypothetical burn past the swarm's stages.
     """
 
     group: int
@@ -78,56 +49,26 @@ class Burn:
     real: bool
 
 
-def thrust_groups(problem: Problem, geometry: Geometry) -> list[ThrustGroup]:
-    """The swarm's thrust directions with the force each gives at zero torque, strongest first.
-
-    Directions whose engines cannot balance their torque (force 0) are left out.
-    """
-    engines = problem.engines
-    exhaust = np.array([e.isp_s * problem.constants.standard_gravity_m_s2 for e in engines])
-    limits = max_thrust_N(geometry)
-    loads_s = np.array([e.stages * e.stage_life_h * SECONDS_PER_HOUR for e in engines])
-    groups = []
-    for direction, members in thrust_directions(geometry):
-        available = np.isin(np.arange(len(limits)), members)
-        force, thrust = force_authority(geometry, direction, available)
-        firing = thrust > FIRING_FRACTION * limits
-        if force <= 0.0 or not firing.any():
-            continue
-        # Full-thrust life of all stages, stretched by each engine's throttle.
-        burn_time = float(np.min(loads_s[firing] * limits[firing] / thrust[firing]))
-        groups.append(
-            ThrustGroup(
-                direction=np.asarray(direction, dtype=float),
-                engines=tuple(members),
-                force_N=force,
-                thrust_N=thrust,
-                flow_kg_s=float(np.sum(thrust / exhaust)),
-                burn_time_s=burn_time,
-            )
-        )
-    return sorted(groups, key=lambda g: -g.force_N)
-
-
-def burn_schedule(groups: list[ThrustGroup], extra: int = 0) -> list[Burn]:
+def burn_schedule(segments: Sequence[ThrustSegment], extra: int = 0) -> list[Burn]:
     """Every direction's burn in turn, then ``extra`` hypothetical burns cycling through them.
 
     Parameters
     ----------
-    groups : list of ThrustGroup
+    segments : sequence of ThrustSegment
     extra : int
         Burns past the swarm's stages (``real=False``), each as long as the
         real burn of its direction.
     """
     burns: list[Burn] = []
     start = 0.0
-    for n in range(len(groups) + extra):
-        index = n % len(groups)
-        group = groups[index]
+    for n in range(len(segments) + extra):
+        index = n % len(segments)
+        segment = segments[index]
+        duration = segment.firing_time_s
         burns.append(
-            Burn(index, start, group.burn_time_s, group.force_N, group.flow_kg_s, n < len(groups))
+            Burn(index, start, duration, segment.thrust_N, segment.flow_kg_s, n < len(segments))
         )
-        start += group.burn_time_s
+        start += duration
     return burns
 
 
@@ -155,12 +96,12 @@ class StageUse:
 def stage_use(
     problem: Problem,
     geometry: Geometry,
-    groups: list[ThrustGroup],
+    segments: Sequence[ThrustSegment],
     firing_s: dict[int, float],
 ) -> list[StageUse]:
-    """Stages and propellant per CubeSat after each direction fired for ``firing_s[group]`` [s].
+    """Stages and propellant per CubeSat after each direction fired for ``firing_s[segment]`` [s].
 
-    Only the swarm's real stages count: firing time past a group's burn time
+    Only the swarm's real stages count: firing time past a segment's firing time
     (hypothetical stages) is left out.
     """
     g0 = problem.constants.standard_gravity_m_s2
@@ -168,13 +109,14 @@ def stage_use(
     spent = np.zeros(len(limits))  # stage loads per engine
     propellant = np.zeros(len(limits))
     for index, seconds in firing_s.items():
-        group = groups[index]
-        time = min(seconds, group.burn_time_s)
-        for engine in group.engines:
+        segment = segments[index]
+        time = min(seconds, segment.firing_time_s)
+        thrust = segment.engine_thrust_N
+        for engine in segment.engines:
             spec = problem.engines[engine]
             load_s = spec.stage_life_h * SECONDS_PER_HOUR
-            spent[engine] += time * group.thrust_N[engine] / limits[engine] / load_s
-            propellant[engine] += time * group.thrust_N[engine] / (spec.isp_s * g0)
+            spent[engine] += time * thrust[engine] / limits[engine] / load_s
+            propellant[engine] += time * thrust[engine] / (spec.isp_s * g0)
     uses = []
     for cubesat in geometry.cubesats:
         loads = max((spent[e] for e in cubesat.engines), default=0.0)
@@ -193,7 +135,7 @@ def stage_use(
 def stage_switch_times_s(
     problem: Problem,
     geometry: Geometry,
-    groups: list[ThrustGroup],
+    segments: Sequence[ThrustSegment],
     burns: list[Burn],
     throttle: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> list[tuple[float, int, int]]:
@@ -201,7 +143,7 @@ def stage_switch_times_s(
 
     Parameters
     ----------
-    problem, geometry, groups, burns
+    problem, geometry, segments, burns
     throttle : (ndarray, ndarray), optional
         Node times [s], shape (N + 1,), and the throttle of each segment, shape
         (N,); default full thrust throughout. A throttled stage lasts longer.
@@ -220,12 +162,10 @@ def stage_switch_times_s(
     for burn in (b for b in burns if b.real):
         clock, fired = _burn_firing(burn, times, firing)
         fired_s = fired[-1]
-        group = groups[burn.group]
-        for engine in group.engines:
-            if group.thrust_N[engine] <= FIRING_FRACTION * limits[engine]:
-                continue
+        thrust = segments[burn.group].engine_thrust_N
+        for engine in segments[burn.group].engines:
             spec = problem.engines[engine]
-            stage_s = spec.stage_life_h * SECONDS_PER_HOUR * limits[engine] / group.thrust_N[engine]
+            stage_s = spec.stage_life_h * SECONDS_PER_HOUR * limits[engine] / thrust[engine]
             for stage in range(1, spec.stages + 1):
                 if stage * stage_s <= fired_s * (1.0 + 1e-9):
                     cubesat = geometry.engines[engine].cubesat + 1
