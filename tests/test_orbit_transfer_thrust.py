@@ -1,4 +1,4 @@
-"""The transfer's burns from the swarm's thrust segments and their staging, checked independently."""
+"""Transfer burns from the swarm's thrust segments, and their staging, checked independently."""
 
 from __future__ import annotations
 
