@@ -243,14 +243,15 @@ class _ArcGrid:
 
 
 def _segment_function(dynamics: ca.Function, steps: tuple[int, ...]) -> ca.Function:
-    """One shooting interval of arcs of ``steps`` RK4 steps each as a ``casadi.Function``, in SX.
+    """One shooting interval of arcs of ``steps`` RK4 steps each as a ``casadi.Function``.
 
     Inputs: state, mass, control ``[yaw, throttle]``, earth ``[mu, Re, J2]`` and
     the arcs' ``[force, flow, length]`` one after the other; outputs: the state
-    (5, arcs) and mass (1, arcs) at the end of every arc. One function per arc
-    count, called by every interval with that count, keeps the NLP's expression
-    graph (and its derivatives) the size of one interval; the SX expansion makes
-    the exact Hessian of the quadrature-averaged dynamics several times cheaper.
+    (5, arcs) and mass (1, arcs) at the end of every arc. One function per layout
+    of steps, called by every interval with that layout, keeps the NLP's
+    expression graph (and its derivatives) the size of one interval. Not expanded
+    to SX: for the paper that saves a tenth of IPOPT's time and costs almost the
+    whole solve's CPU time again in building the expanded derivatives.
     """
     x = ca.MX.sym("x", N_SLOW)
     mass = ca.MX.sym("m")
@@ -271,7 +272,7 @@ def _segment_function(dynamics: ca.Function, steps: tuple[int, ...]) -> ca.Funct
         [ca.horzcat(*states), ca.horzcat(*masses)],
         ["x", "m", "u", "earth", "arcs"],
         ["x_arcs", "m_arcs"],
-    ).expand()
+    )
 
 
 def _terminal(opti: ca.Opti, x_end: ca.MX, data: TransferTarget) -> None:
