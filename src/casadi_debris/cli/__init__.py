@@ -12,6 +12,7 @@ from __future__ import annotations
 # Importing a command module registers its commands on `main`.
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
+    burn,  # burn
     alternatives,  # alternatives
     compare,  # compare
     deorbit,  # deorbit

@@ -318,6 +318,7 @@ class _Rollout:
         self.states[0] = self.z[: self.model.layout.size]
         self.k = 0
         self.polytope: AuthorityPolytope | None = None
+        self.force_N: np.ndarray | None = None  # a burn's net force on the plant, body axes
 
     @property
     def finished(self) -> bool:
@@ -333,9 +334,18 @@ class _Rollout:
             self.polytope = None
         if self.polytope is None:
             self.allocator.update_from_state(self.engines)
-            self.polytope = self.allocator.authority_polytope()
+            self.polytope = self.torque_authority()
             self.authority.append((k * self.period, self.polytope.axis_reach()))
         return k, min(self.n, k + chunk_steps, self.pending[0][0] if self.pending else self.n)
+
+    def torque_authority(self) -> AuthorityPolytope:
+        """The torques the loop saturates to, with the engines' current limits."""
+        return self.allocator.authority_polytope()
+
+    def allocate(self, torques_Nm: np.ndarray) -> tuple[np.ndarray, int]:
+        """Each engine's thrust for the applied torques (k, 3), and the point solves it took."""
+        allocation = self.allocator.allocate_series(torques_Nm)
+        return allocation.thrust_N, allocation.point_solves
 
     def roll_alone(self, chunk_steps: int, loop_options: dict[str, Any]) -> Exception | None:
         """Every stretch on this run's own step (rebuilt with each authority); what it raised."""
@@ -353,6 +363,7 @@ class _Rollout:
                         self.polytope,
                         chunk_steps=chunk_steps,
                         basis=engine_basis(self.allocator) if self._engine_level else None,
+                        force_N=self.force_N,
                         **loop_options,
                     )
                     built_for = self.polytope
@@ -374,11 +385,8 @@ class _Rollout:
         else:
             applied = y_all[:, StepOutput.APPLIED_NM]
         engine_level = self._engine_level
-        allocation = self.allocator.allocate_series(
-            y_all[:, StepOutput.COMMAND_NM] if engine_level else applied
-        )
-        self.point_solves += allocation.point_solves
-        thrust = allocation.thrust_N
+        thrust, solves = self.allocate(y_all[:, StepOutput.COMMAND_NM] if engine_level else applied)
+        self.point_solves += solves
         if engine_level:  # the engines' effects on the allocated thrust
             change = y_all[:, StepOutput.THRUST_CHANGE_START :]
             thrust = np.clip(thrust + change, 0.0, self.allocator.max_thrust_N)
