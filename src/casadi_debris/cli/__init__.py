@@ -12,8 +12,8 @@ from __future__ import annotations
 # Importing a command module registers its commands on `main`.
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
-    burn,  # burn
     alternatives,  # alternatives
+    burn,  # burn
     compare,  # compare
     deorbit,  # deorbit
     describe,  # model, budget, schema, problems

@@ -100,7 +100,8 @@ def burn(
     Reports the thrust axis' pointing error, Δv (simulated, analytic, rocket equation),
     the propellant split between Δv and attitude, and stage switches.
     """
-    from casadi_debris.workflows.burn import BurnRequest, burn_into
+    from casadi_debris.workflows.burn import BurnRequest, burn_into, burn_plan
+    from casadi_debris.workflows.controller import controller_for
 
     if thrust_fraction is not None and thrust_mN is not None:
         raise InputShapeError("--thrust-mN: give either --thrust-fraction or --thrust-mN")
@@ -117,6 +118,8 @@ def burn(
         jit=not no_jit,
     )
     folder = out or default_run_folder("burn", problem.name)
+    burn_plan(problem, request)  # refuses what cannot be flown before the long part
+    controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     say(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")
     report = burn_into(problem, folder, request, overwrite=overwrite)
     if as_json:

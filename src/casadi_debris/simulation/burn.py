@@ -138,7 +138,31 @@ def torque_free_thrust_N(allocator: Allocator, axis: np.ndarray) -> float:
     )
     if result.status != 0 or result.x is None:
         raise SimulationError(f"torque-free thrust LP failed ({result.message})")
-    return max(0.0, -float(result.fun))
+    return max(0.0, -float(result.fun or 0.0))
+
+
+def burn_thrust_N(allocator: Allocator, plan: BurnPlan, *, strict: bool = True) -> float:
+    """The thrust a plan gets from the allocator's engines [N]: its own, or its fraction of
+    the largest torque-free thrust along its axis (:func:`torque_free_thrust_N`).
+
+    Raises
+    ------
+    SimulationError
+        The plan's thrust exceeds what the engines give (with ``strict``; otherwise
+        that is what it gets), or none can thrust along the axis.
+    """
+    available = torque_free_thrust_N(allocator, plan.body_axis)
+    wanted = plan.thrust_fraction * available if plan.thrust_N is None else plan.thrust_N
+    if wanted > available * (1.0 + 1e-9):
+        if strict:
+            raise SimulationError(
+                f"thrust_mN: {wanted * 1e3:.4g} mN asked, the engines give at most "
+                f"{available * 1e3:.4g} mN along the axis without torque"
+            )
+        wanted = available
+    if wanted <= 0.0:
+        raise SimulationError("no engine left can thrust along the burn's axis")
+    return wanted
 
 
 def burn_offset(body_axis: np.ndarray, direction_lvlh: np.ndarray) -> np.ndarray:
@@ -182,17 +206,9 @@ class _BurnRollout(_Rollout):
 
     def torque_authority(self) -> AuthorityPolytope:
         assert self.plan is not None
-        available = torque_free_thrust_N(self.allocator, self.plan.body_axis)
-        wanted = self.plan.thrust_N or self.plan.thrust_fraction * available
-        if wanted > available * (1.0 + 1e-9):
-            if self.plan.thrust_N is not None and self.k == 0:
-                raise SimulationError(
-                    f"thrust_mN: {wanted * 1e3:.4g} mN asked, the engines give at most "
-                    f"{available * 1e3:.4g} mN along the axis without torque"
-                )
-            wanted = available  # engines spent during the burn: what is left
-        if wanted <= 0.0:
-            raise SimulationError("no engine left can thrust along the burn's axis")
+        # At the start a thrust beyond the engines is an error; later (engines spent
+        # during the burn) the burn goes on with what is left.
+        wanted = burn_thrust_N(self.allocator, self.plan, strict=self.k == 0)
         self.force_N = wanted * self.plan.body_axis
         return authority_polytope(
             self.allocator.torque_map,
@@ -202,6 +218,7 @@ class _BurnRollout(_Rollout):
         )
 
     def allocate(self, torques_Nm: np.ndarray) -> tuple[np.ndarray, int]:
+        assert self.force_N is not None  # set with the authority
         forces = np.tile(self.force_N, (len(torques_Nm), 1))
         batch = self.allocator.allocate_batch(torques_Nm, forces_N=forces)
         if not batch.feasible.all():

@@ -26,6 +26,7 @@ from casadi_debris.simulation.burn import (
     BurnDirection,
     BurnPlan,
     BurnRun,
+    burn_thrust_N,
     first_stage_left,
     simulate_burn,
     strongest_axis,
@@ -86,6 +87,25 @@ class BurnOutcome:
     controller_path: Path
 
 
+def burn_plan(problem: Problem, request: BurnRequest) -> tuple[BurnPlan, PropulsionState]:
+    """The plan a request asks for and the engines it starts with, checked (quick: two LPs).
+
+    Raises
+    ------
+    SimulationError
+        A field that cannot be flown (named), e.g. a thrust beyond the engines.
+    """
+    r = request
+    axis = strongest_axis(problem) if r.body_axis is None else np.asarray(r.body_axis, dtype=float)
+    thrust_N = None if r.thrust_mN is None else r.thrust_mN / MN_PER_N
+    plan = BurnPlan(r.direction, axis, r.duration_s, r.thrust_fraction, thrust_N)
+    engines = PropulsionState.from_problem(problem)
+    if r.first_stage_left_s is not None:
+        engines = first_stage_left(engines, r.first_stage_left_s)
+    burn_thrust_N(Allocator.from_problem(problem, state=engines), plan)
+    return plan, engines
+
+
 def fly_burn(problem: Problem, request: BurnRequest | None = None) -> BurnOutcome:
     """Fly a burn on the problem's flexible model (every array mode) with its controller.
 
@@ -101,12 +121,7 @@ def fly_burn(problem: Problem, request: BurnRequest | None = None) -> BurnOutcom
     """
     r = request or BurnRequest()
     record, controller_path = controller_for(problem, r.controller, allow_mismatch=r.allow_mismatch)
-    axis = strongest_axis(problem) if r.body_axis is None else np.asarray(r.body_axis, dtype=float)
-    thrust_N = None if r.thrust_mN is None else r.thrust_mN / MN_PER_N
-    plan = BurnPlan(r.direction, axis, r.duration_s, r.thrust_fraction, thrust_N)
-    engines = PropulsionState.from_problem(problem)
-    if r.first_stage_left_s is not None:
-        engines = first_stage_left(engines, r.first_stage_left_s)
+    plan, engines = burn_plan(problem, r)
     model = build_model(problem)
     run = simulate_burn(
         problem, model, record.reduced, plan, period_s=r.period_s, propulsion=engines, jit=r.jit
