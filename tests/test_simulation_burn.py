@@ -15,15 +15,14 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.environment.orbit import CircularOrbit
 from casadi_debris.geometry import build_geometry
 from casadi_debris.model import build_model
-from casadi_debris.simulation.burn import (
+from casadi_debris.simulation.burn import first_stage_left, simulate_burn
+from casadi_debris.simulation.burn_figures import burn_figures
+from casadi_debris.simulation.burn_plan import (
     BurnPlan,
     burn_offset,
-    first_stage_left,
-    simulate_burn,
     strongest_axis,
     torque_free_thrust_N,
 )
-from casadi_debris.simulation.burn_figures import burn_figures
 from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.workflows.controller import controller_for
 
@@ -165,3 +164,33 @@ def test_a_thrust_beyond_the_engines_is_refused() -> None:
     plan = BurnPlan("prograde", strongest_axis(problem), 1.0, thrust_N=0.01)
     with pytest.raises(SimulationError, match="thrust_mN"):
         simulate_burn(problem, model, controller, plan)
+
+
+def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
+    """Flown by ``simulate`` from the problem file: zero net force while the body joins the
+    frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
+    from casadi_debris.allocation import Allocator
+    from casadi_debris.simulation import simulate
+    from casadi_debris.simulation.reference import scenario_reference
+
+    text = (
+        'extends = "paper.toml"\nname = "burn_window"\n[simulation]\nduration_s = 120.0\n'
+        'reference = "sequence"\n[[simulation.segments]]\nkind = "burn"\n'
+        'direction = "normal"\nthrust_mN = 1.0\nblend_s = 40.0\n'
+    )
+    path = tmp_path / "burn.toml"
+    path.write_text(text)
+    problem = load_problem(path)
+    model = build_model(problem)
+    controller = controller_for(problem)[0].reduced
+    reference = scenario_reference(problem)
+    assert [p.kind for p in reference.pieces] == ["burn"]
+    assert reference.pieces[0].firing_s == (40.0, 120.0)
+    result = simulate(problem, model, controller, reference, jit=True)
+    allocator = Allocator.from_problem(problem)
+    force = result.thrust_N @ allocator.force_map.T
+    firing = result.time_s[:-1] >= 40.0 - 1e-9
+    axis = np.array(strongest_axis(problem))
+    assert np.abs(force[~firing]).max() <= 1e-15
+    assert np.abs(force[firing] - 1e-3 * axis).max() <= 1e-12
+    assert result.allocation_residual_Nm <= 1e-12
