@@ -9,7 +9,9 @@ left at its start time:
   LVLH frame being the frame's attitude at the slew's end (found by fixed-point
   iteration on the slew's duration when the method picks it);
 - a hold keeps that attitude;
-- a track follows its frame (:mod:`casadi_debris.simulation.targets`).
+- a track follows its frame (:mod:`casadi_debris.simulation.targets`); a burn is a
+  track of the LVLH frame holding its thrust axis along its direction, whose engines
+  fire from ``blend_s`` on (:mod:`casadi_debris.simulation.burn_plan`).
 
 Slews and holds start and end at rest, so where they meet the reference is
 continuous in attitude and rate as it stands. A track moves at the orbit rate:
