@@ -27,7 +27,6 @@ from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import default_run_folder
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
-AXIS_NAMES = {"x": 0, "y": 1, "z": 2}
 SECONDS_PER_HOUR = 3600.0
 
 
@@ -148,11 +147,12 @@ def burn(
 
 def _axis(text: str) -> tuple[float, float, float]:
     """``x``, ``-y``, ... or ``a,b,c`` (not all zero) as a vector."""
+    from casadi_debris.config.segments import AXIS_TEXTS, axis_unit_vector
+
     name = text.strip().lower()
-    if name.lstrip("+-") in AXIS_NAMES and len(name) <= 2:
-        vector = [0.0, 0.0, 0.0]
-        vector[AXIS_NAMES[name[-1]]] = -1.0 if name.startswith("-") else 1.0
-        return (vector[0], vector[1], vector[2])
+    if name in AXIS_TEXTS:
+        x, y, z = (float(v) for v in axis_unit_vector(name))
+        return (x, y, z)
     try:
         values = [float(part) for part in text.split(",")]
     except ValueError:
