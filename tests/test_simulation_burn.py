@@ -194,3 +194,17 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     assert np.abs(force[~firing]).max() <= 1e-15
     assert np.abs(force[firing] - 1e-3 * axis).max() <= 1e-12
     assert result.allocation_residual_Nm <= 1e-12
+
+
+def test_the_force_through_the_centre_of_gravity_leaves_the_pointing_alone(flown) -> None:
+    """The same burn at a negligible thrust points the same to far below an arcsec: the
+    force reaches the attitude only through the arrays' translational participation."""
+    problem, run, _, _, _ = flown
+    model = build_model(problem)
+    controller = controller_for(problem)[0].reduced
+    faint = BurnPlan("retrograde", run.plan.body_axis, BURN_S, thrust_N=1e-12)
+    engines = first_stage_left(PropulsionState.from_problem(problem), STAGE_LEFT_S)
+    other = simulate_burn(problem, model, controller, faint, propulsion=engines, jit=True)
+    difference = np.abs(run.pointing_error_rad - other.pointing_error_rad).max()
+    assert difference * 206264.8 < 1e-3
+    assert np.abs(other.result.force_N).max() <= 1.001e-12  # the faint thrust itself
