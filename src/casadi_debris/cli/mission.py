@@ -68,7 +68,8 @@ def mission(
     for case, years in summary.reentry_years.items():
         need = summary.deorbit_dv_needed_m_s[case]
         when = "beyond the horizon" if years is None else f"{years:.2f} years"
-        click.echo(f"{case} solar activity: needs {need:.1f} m/s, re-enters in {when}")
+        needs = "no Δv up to the search bound" if need is None else f"{need:.1f} m/s"
+        click.echo(f"{case} solar activity: needs {needs}, re-enters in {when}")
     verdict = "meets" if summary.meets_five_year_rule else "does NOT meet"
     left, capacity = summary.deorbit_dv_available_m_s, summary.deorbit_dv_capacity_m_s
     click.echo(
