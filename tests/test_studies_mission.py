@@ -16,6 +16,7 @@ from casadi_debris.config import load_problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.orbit import DeorbitSettings
 from casadi_debris.studies.mission import (
+    MissionSummary,
     plan_mission,
     propellant_per_cubesat_kg,
     transfer_per_cubesat,
@@ -139,6 +140,7 @@ def test_the_command_writes_the_folder(tmp_path: Path):
     assert set(summary) >= {"detumble_time_h", "transfer_dv_m_s", "deorbit_dv_m_s",
                             "reentry_years", "meets_five_year_rule"}  # fmt: skip
     assert list(summary["reentry_years"]) == ["high"]
+    assert MissionSummary.from_json(summary).to_json() == summary
     assert {p.name for p in out.iterdir()} >= {"summary.json", "phases.csv", "propellant.csv",
                                                "mission.png", "mission.pdf", "altitude.png",
                                                "altitude.pdf", "decay.png"}  # fmt: skip

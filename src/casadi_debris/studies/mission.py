@@ -177,7 +177,8 @@ def thrust_left(
     them could swap directions of very different drag area, changing the plan for no
     reason of its own.
     """
-    fractions = iter(np.asarray(left_Ns) / full.engine_capacity_Ns)
+    capacity = full.engine_capacity_Ns
+    fractions = iter(np.divide(left_Ns, capacity, out=np.zeros_like(capacity), where=capacity > 0))
     cubesats = tuple(
         dataclasses.replace(
             c,
