@@ -10,6 +10,7 @@ own CubeSats judged alike) and ``pareto``.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -160,17 +161,8 @@ class SolveFigures(Record):
 
     @classmethod
     def of(cls, solve: MilpSolve) -> SolveFigures:
-        return cls(
-            status=solve.status,
-            message=solve.message,
-            time_s=solve.time_s,
-            variables=solve.variables,
-            binaries=solve.binaries,
-            rows=solve.rows,
-            blocks=solve.blocks,
-            nodes=solve.nodes,
-            mip_gap=solve.mip_gap,
-        )
+        """The fields of ``solve`` this record has (the same names, units and values)."""
+        return cls(**{f.name: getattr(solve, f.name) for f in dataclasses.fields(cls)})
 
 
 @dataclass(frozen=True)
