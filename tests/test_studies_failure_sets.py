@@ -16,6 +16,7 @@ from casadi_debris.studies.failure_sets import (
     axis_ratios,
     failure_sets,
     set_authority,
+    weakest_axis,
 )
 from lp_reference import ZERO_FORCE, largest_alpha
 
@@ -87,3 +88,11 @@ def test_worst_per_axis_and_weakest_ratio_against_brute_force():
     np.testing.assert_array_equal(
         weakest, [min(v / np.repeat(disturbance, 2)) for v in every.values()]
     )
+
+
+def test_weakest_axis_is_the_least_ratio_then_the_least_authority():
+    authority = dict(zip(SIGNED_AXES, [3.0, 2.0, 5.0, 1.0, 4.0, 6.0], strict=True))
+    assert weakest_axis(axis_ratios(authority, np.array([1.0, 1.0, 1.0])), authority) == "-y"
+    # Without disturbance every ratio is inf: the least authority decides.
+    assert weakest_axis(axis_ratios(authority, np.zeros(3)), authority) == "-y"
+    assert weakest_axis(axis_ratios(authority, np.array([4.0, 0.0, 1.0])), authority) == "-x"

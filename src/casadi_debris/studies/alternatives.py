@@ -34,6 +34,7 @@ from casadi_debris.studies.failure_sets import (
     axis_ratios,
     first_least,
     set_authority,
+    weakest_axis,
 )
 from casadi_debris.units import MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
 
@@ -166,7 +167,7 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
     disturbance_Nm = np.abs(np.asarray(problem.disturbance.amplitude_mNm, dtype=float)) / MN_PER_N
     authority = torque_authority(geometry, zero_net_force=True)
     ratio = axis_ratios(authority, disturbance_Nm)
-    weakest = min(SIGNED_AXES, key=lambda name: (ratio[name], authority[name]))
+    weakest = weakest_axis(ratio, authority)
     # kg/s per N m -> g per (mN m h)
     per_mNm_h = G_PER_KG * SECONDS_PER_HOUR / MNM_PER_NM
     fuel = {k: v * per_mNm_h for k, v in fuel_per_torque(allocator, authority).items()}

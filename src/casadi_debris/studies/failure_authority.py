@@ -30,12 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState
-from casadi_debris.config import SIGNED_AXES, Problem
+from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, torque_authority
 from casadi_debris.model import Model
 from casadi_debris.studies.failure_cases import FailureCase
 from casadi_debris.studies.failure_records import HoldingRecord
-from casadi_debris.studies.failure_sets import axis_ratios
+from casadi_debris.studies.failure_sets import axis_ratios, weakest_axis
 from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
 HOLDING_SAMPLES = 360
@@ -121,8 +121,7 @@ class CaseAuthority:
     @property
     def worst_axis(self) -> str:
         """The signed axis of least authority relative to the disturbance."""
-        ratio = self.ratio
-        return min(SIGNED_AXES, key=lambda name: (ratio[name], self.torque_Nm[name]))
+        return weakest_axis(self.ratio, self.torque_Nm)
 
     @property
     def worst_ratio(self) -> float:

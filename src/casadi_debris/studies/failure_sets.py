@@ -77,6 +77,12 @@ def authority_without(geometry: Geometry, failed: tuple[int, ...]) -> np.ndarray
     return np.array([authority[name] for name in SIGNED_AXES])
 
 
+def weakest_axis(ratio: dict[str, float], authority_Nm: dict[str, float]) -> str:
+    """The signed axis of least authority over the disturbance (of least authority among
+    equal ratios, e.g. axes without disturbance)."""
+    return min(SIGNED_AXES, key=lambda name: (ratio[name], authority_Nm[name]))
+
+
 @dataclass(frozen=True, eq=False)
 class SetAuthority:
     """The authority left after each set of failed CubeSats.
