@@ -13,6 +13,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_controller_path, default_problem_path
 from casadi_debris.report.failures import write_failures
 from casadi_debris.studies.failure_records import FailureStudyRecord
+from test_studies_failure_records import RUN_KEYS
 
 PROBLEMS = default_problem_path().parent
 FILES = {"summary.json", "cases.csv", "report.md", "reallocation.csv", "authority_loss.png"}
@@ -144,24 +145,6 @@ HOLDING_KEYS = {
     "saturated_fraction",
     "depletion_time_s",
     "first_depleted_cubesat",
-}
-RUN_KEYS = {
-    "manoeuvre",
-    "error_key",
-    "error",
-    "required",
-    "met",
-    "runs",
-    "worst_case_id",
-    "fuel_kg",
-    "fuel_worst_cubesat_kg",
-    "fuel_per_cubesat_kg",
-    "fuel_spread",
-    "torque_saturated_s",
-    "settle_time_s",
-    "stage_switches",
-    "wall_time_s",
-    "error_message",
 }
 
 

@@ -12,6 +12,27 @@ from casadi_debris.studies.failure_records import (
     ThrustChange,
 )
 
+RUN_KEYS = {
+    "manoeuvre",
+    "error_key",
+    "error",
+    "required",
+    "met",
+    "runs",
+    "worst_case_id",
+    "fuel_kg",
+    "fuel_worst_cubesat_kg",
+    "fuel_per_cubesat_kg",
+    "fuel_spread",
+    "torque_saturated_s",
+    "settle_time_s",
+    "stage_switches",
+    "wall_time_s",
+    "error_message",
+}
+"""What ``summary.json`` promises of every run verdict (a closed-loop ``failures`` test
+checks them on a flown campaign)."""
+
 
 def _case(met: bool) -> FailureCaseRecord:
     slew = RunVerdict(
@@ -59,22 +80,5 @@ def test_a_case_with_closed_loop_verdicts_reads_back_from_its_json_text():
 
 def test_a_run_verdict_writes_every_figure_it_promises():
     written = _case(True).to_json()["closed_loop"]["nominal"]["slew"]
-    assert set(written) == {
-        "manoeuvre",
-        "error_key",
-        "error",
-        "required",
-        "met",
-        "runs",
-        "worst_case_id",
-        "fuel_kg",
-        "fuel_worst_cubesat_kg",
-        "fuel_per_cubesat_kg",
-        "fuel_spread",
-        "torque_saturated_s",
-        "settle_time_s",
-        "stage_switches",
-        "wall_time_s",
-        "error_message",
-    }
+    assert set(written) == RUN_KEYS
     assert written["fuel_per_cubesat_kg"] == [0.004, 0.006] and written["error_message"] is None
