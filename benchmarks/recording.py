@@ -31,6 +31,7 @@ import shlex
 import subprocess
 import sys
 import time
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +63,35 @@ def resolve(args: argparse.Namespace, full: dict[str, Any], quick: dict[str, Any
         if getattr(args, key) is None:
             setattr(args, key, value)
     return {key: getattr(args, key) for key in full}
+
+
+def start_benchmark(
+    name: str,
+    description: str | None,
+    *,
+    quick: str,
+    full: dict[str, Any],
+    reduced: dict[str, Any],
+    arguments: Mapping[str, Mapping[str, Any]] | None = None,
+    libraries: tuple[str, ...] = (),
+    argv: list[str] | None = None,
+) -> tuple[argparse.Namespace, Recording, dict[str, Any]]:
+    """What every benchmark's ``main`` does first: its command line, its recording, its settings.
+
+    ``arguments`` maps each of the benchmark's own options (``"--repeat"``) to the keywords
+    of :meth:`argparse.ArgumentParser.add_argument`; the recording options follow
+    (:func:`add_options`, ``quick`` describing the reduced run). The recording starts
+    (its clock, the machine's load) once the command line is read; ``full`` and
+    ``reduced`` fill the options left at ``None`` (:func:`resolve`). Returns the parsed
+    options, the recording and the settings used.
+    """
+    parser = argparse.ArgumentParser(description=description)
+    for flag, keywords in (arguments or {}).items():
+        parser.add_argument(flag, **keywords)
+    add_options(parser, name, quick)
+    args = parser.parse_args(argv)
+    recording = Recording(name, args, libraries)
+    return args, recording, resolve(args, full, reduced)
 
 
 def _cpu_model() -> str | None:
@@ -118,7 +148,7 @@ def _machine_cpu_s() -> tuple[float, float] | None:
     return (user + nice + system + irq + softirq) / tick, steal / tick
 
 
-def _own_cpu_s() -> float:
+def own_cpu_s() -> float:
     """CPU seconds of this process and of its children that have ended."""
     own = resource.getrusage(resource.RUSAGE_SELF)
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -147,12 +177,12 @@ class Recording:
         self.clock = time.perf_counter()
         self.load_before = _load()
         self.machine_cpu = _machine_cpu_s()
-        self.own_cpu = _own_cpu_s()
+        self.own_cpu = own_cpu_s()
 
     def finish(self, settings: dict[str, Any], results: dict[str, Any]) -> dict[str, Any]:
         """Print ``results`` with ``machine`` and ``run``; write to the files asked for."""
         elapsed_s = time.perf_counter() - self.clock
-        own_s = _own_cpu_s() - self.own_cpu
+        own_s = own_cpu_s() - self.own_cpu
         machine_now = _machine_cpu_s()
         other_share = steal_share = None
         if machine_now is not None and self.machine_cpu is not None:
