@@ -12,13 +12,10 @@ from casadi_debris.cli.common import (
     BoundedFloat,
     comma_list,
     echo_json,
-    friendly_errors,
     in_range,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
     workers_option,
 )
@@ -89,10 +86,7 @@ def solar_cases(text: str) -> tuple[str, ...]:
     help="Seed of the Monte Carlo.",
 )
 @workers_option
-@out_folder_option("deorbit")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("deorbit")
 def deorbit(
     problem_file: Path | None,
     solar: str,

@@ -9,15 +9,13 @@ from typing import TYPE_CHECKING
 import click
 
 from casadi_debris.cli.common import (
-    allow_mismatch_option,
     comma_list,
-    controller_option,
+    controller_options,
     echo_json,
-    friendly_errors,
+    folder_option,
     in_range,
-    json_option,
     main,
-    overwrite_option,
+    output_options,
     problem_argument,
     say,
     uncertainty_sample_options,
@@ -44,12 +42,9 @@ from casadi_debris.report.folders import (
 
 @main.command()
 @problem_argument
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
+@folder_option(
+    "Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
+    name="out_dir",
 )
 @click.option(
     "--mu-points",
@@ -72,9 +67,7 @@ from casadi_debris.report.folders import (
     help=f"D-scale orders tried at each step (1 to {MAX_D_ORDERS_TRIED} of {D_ORDER}).",
 )
 @uncertainty_sample_options
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def synthesize(
     problem_file: Path | None,
     out_dir: Path | None,
@@ -153,8 +146,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 
 @main.command()
 @problem_argument
-@controller_option
-@allow_mismatch_option
+@controller_options
 @click.option(
     "--samples",
     type=in_range(MARGIN_SAMPLES),
@@ -165,17 +157,9 @@ def _d_orders(text: str) -> tuple[int, ...]:
 @click.option(
     "--seed", type=in_range(limits.SEED), default=None, help="Seed of the samples [problem's]."
 )
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Folder for summary.json and the plots [runs/margins-<problem>].",
-)
+@folder_option("Folder for summary.json and the plots [runs/margins-<problem>].", name="out_dir")
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def margins(
     problem_file: Path | None,
     controller_path: Path | None,
