@@ -45,10 +45,9 @@ from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PseudoInverseAllocator, available_solvers
 from casadi_debris.config import default_problem_path, problem_from_dict
 from casadi_debris.geometry import build_geometry
+from casadi_debris.units import MN_PER_N, US_PER_S
 from recording import start_benchmark
 
-US_PER_S = 1e6
-MN_PER_N = 1e3
 SEED = 20240404
 
 

@@ -51,10 +51,9 @@ from casadi_debris.simulation import (
     simulate,
 )
 from casadi_debris.simulation.closed_loop import release_compiled_steps
+from casadi_debris.units import DEG_PER_RAD
 from recording import start_benchmark
 from step_timing import loop_start, loop_step
-
-DEG_PER_RAD = 180.0 / np.pi
 
 
 def scipy_loop(problem, model, controller, reference, seconds: float) -> float:
