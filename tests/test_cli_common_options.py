@@ -223,3 +223,27 @@ def test_a_bad_problem_file_is_still_one_line_and_exit_2(args: list[str], tmp_pa
     assert result.stderr.count("\n") == 1 and result.stderr.startswith("error: ")
     assert "no_such_problem" in result.stderr
     assert not (tmp_path / "run").exists()
+
+
+@pytest.mark.parametrize(
+    ("name", "flag", "default", "help_text", "limit"),
+    [
+        ("synthesize", "--mu-points", 150, "Frequencies of the mu grid.", "MU_POINTS"),
+        ("synthesize", "--max-iterations", 8, "D-K iterations at most.", "DK_ITERATIONS"),
+        ("margins", "--samples", 3000, "Sampled uncertain plants.", "MARGIN_SAMPLES"),
+        ("deorbit", "--seed", 20250103, "Seed of the Monte Carlo.", "SEED"),
+    ],
+)
+def test_bounded_options_keep_their_range_default_and_help(
+    name: str, flag: str, default: int, help_text: str, limit: str
+) -> None:
+    from casadi_debris.config import limits
+
+    allowed = getattr(limits, limit)
+    option = _options(name)[flag]
+    assert option.default == default and option.show_default is True  # type: ignore[attr-defined]
+    assert option.help == help_text  # type: ignore[attr-defined]
+    assert isinstance(option.type, click.IntRange)
+    assert (option.type.min, option.type.max) == (allowed.low, allowed.high)
+    below = CliRunner().invoke(main, [name, flag, str(allowed.low - 1)])
+    assert below.exit_code == 2 and flag in below.stderr

@@ -222,6 +222,11 @@ def in_range(allowed: Range) -> click.ParamType:
     )
 
 
+def bounded_option(flag: str, allowed: Range, default: float, help: str) -> Decorator:
+    """An option whose values must lie in ``allowed`` (:func:`in_range`), its default shown."""
+    return click.option(flag, type=in_range(allowed), default=default, show_default=True, help=help)
+
+
 def uncertainty_sample_options(command: Callable[..., Any]) -> Callable[..., Any]:
     """``--samples`` and ``--seed`` of a design's uncertainty-weight fit."""
     command = click.option(

@@ -10,9 +10,9 @@ import click
 
 from casadi_debris.cli.common import (
     BoundedFloat,
+    bounded_option,
     comma_list,
     echo_json,
-    in_range,
     main,
     problem_argument,
     run_folder_options,
@@ -78,13 +78,7 @@ def solar_cases(text: str) -> tuple[str, ...]:
     show_default=True,
     help="Lifetime Monte Carlo runs of the governing plan (solar cycles, C_D).",
 )
-@click.option(
-    "--seed",
-    type=in_range(SEED),
-    default=20250103,
-    show_default=True,
-    help="Seed of the Monte Carlo.",
-)
+@bounded_option("--seed", SEED, 20250103, "Seed of the Monte Carlo.")
 @workers_option
 @run_folder_options("deorbit")
 def deorbit(

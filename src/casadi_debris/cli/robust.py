@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import click
 
 from casadi_debris.cli.common import (
+    bounded_option,
     comma_list,
     controller_options,
     echo_json,
@@ -46,20 +47,8 @@ from casadi_debris.report.folders import (
     "Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
     name="out_dir",
 )
-@click.option(
-    "--mu-points",
-    type=in_range(MU_POINTS),
-    default=150,
-    show_default=True,
-    help="Frequencies of the mu grid.",
-)
-@click.option(
-    "--max-iterations",
-    type=in_range(DK_ITERATIONS),
-    default=8,
-    show_default=True,
-    help="D-K iterations at most.",
-)
+@bounded_option("--mu-points", MU_POINTS, 150, "Frequencies of the mu grid.")
+@bounded_option("--max-iterations", DK_ITERATIONS, 8, "D-K iterations at most.")
 @click.option(
     "--d-orders",
     default="1,2,4",
@@ -147,13 +136,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 @main.command()
 @problem_argument
 @controller_options
-@click.option(
-    "--samples",
-    type=in_range(MARGIN_SAMPLES),
-    default=3000,
-    show_default=True,
-    help="Sampled uncertain plants.",
-)
+@bounded_option("--samples", MARGIN_SAMPLES, 3000, "Sampled uncertain plants.")
 @click.option(
     "--seed", type=in_range(limits.SEED), default=None, help="Seed of the samples [problem's]."
 )
