@@ -46,7 +46,7 @@ from casadi_debris.allocation import Allocator, PseudoInverseAllocator, availabl
 from casadi_debris.config import default_problem_path, problem_from_dict
 from casadi_debris.geometry import build_geometry
 from casadi_debris.units import MN_PER_N, US_PER_S
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 SEED = 20240404
 
@@ -185,22 +185,20 @@ def engines_scaling(problem, rng: np.random.Generator, calls: int) -> dict:
     return timings
 
 
+OPTIONS = {
+    "--calls": Setting(2000, 300, "demands per back-end and case (2000)"),
+    "--solvers": {"default": None, "help": "comma-separated (default: all)"},
+    "--series-steps": Setting(12_000, 2000, "steps of the allocate_series history (12,000)"),
+    "--series-repeats": Setting(5, 3, "allocate_series runs (5)"),
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
         "allocation",
         __doc__.splitlines()[0],
-        quick="300 demands, 2000 steps, 3 series runs",
-        full={"calls": 2000, "series_steps": 12_000, "series_repeats": 5},
-        reduced={"calls": 300, "series_steps": 2000, "series_repeats": 3},
-        arguments={
-            "--calls": {"type": int, "help": "demands per back-end and case (2000)"},
-            "--solvers": {"default": None, "help": "comma-separated (default: all)"},
-            "--series-steps": {
-                "type": int,
-                "help": "steps of the allocate_series history (12,000)",
-            },
-            "--series-repeats": {"type": int, "help": "allocate_series runs (5)"},
-        },
+        "300 demands, 2000 steps, 3 series runs",
+        OPTIONS,
         libraries=("daqp", "osqp", "qpsolvers", "clarabel"),
     )
 

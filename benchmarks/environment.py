@@ -27,7 +27,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import ENVIRONMENT_TORQUES, load_problem
 from casadi_debris.model import build_model
 from casadi_debris.simulation import scenario_reference
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 from step_timing import interleaved_step_us, loop_start, loop_step, ratio_report, variant_loops
 
 CHUNK = 1000
@@ -43,15 +43,13 @@ def build(problem, record, jit: bool) -> tuple:
     return loop, *loop_start(model, loop, reference, CHUNK), model.nominal_parameters
 
 
+OPTIONS = {
+    "--repeat": Setting(15, 5, "interleaved roll-outs of each (15)"),
+}
+
+
 def main() -> None:
-    args, recording, settings = start_benchmark(
-        "environment",
-        __doc__,
-        quick="5 repeats",
-        full={"repeat": 15},
-        reduced={"repeat": 5},
-        arguments={"--repeat": {"type": int, "help": "interleaved roll-outs of each (15)"}},
-    )
+    args, recording, settings = start_benchmark("environment", __doc__, "5 repeats", OPTIONS)
     paper = load_problem("paper_pointing")
     problems = {
         name: dataclasses.replace(

@@ -26,24 +26,21 @@ from casadi_debris import load_problem
 from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
 from casadi_debris.orbit.lifetime_mc import lifetime_monte_carlo
 from casadi_debris.orbit.plan import plan_deorbit
-from recording import own_cpu_s, start_benchmark
+from recording import Setting, own_cpu_s, start_benchmark
 
 SEED = 20250103
 TARGET_S = 60.0
 
 
+OPTIONS = {
+    "--runs": Setting(1000, 200, "Monte Carlo runs per campaign (1000)"),
+    "--workers": Setting(2, 2, "local worker processes (2)"),
+}
+
+
 def main() -> None:
     _args, recording, settings = start_benchmark(
-        "lifetime_mc",
-        __doc__,
-        quick="200 runs",
-        full={"runs": 1000, "workers": 2},
-        reduced={"runs": 200, "workers": 2},
-        arguments={
-            "--runs": {"type": int, "help": "Monte Carlo runs per campaign (1000)"},
-            "--workers": {"type": int, "help": "local worker processes (2)"},
-        },
-        libraries=("pymsis",),
+        "lifetime_mc", __doc__, "200 runs", OPTIONS, libraries=("pymsis",)
     )
     problem = load_problem()
     plan_settings = DeorbitSettings(solar=("low",), minimum_swarm=False)

@@ -23,7 +23,7 @@ from casadi_debris.robust.interconnect import generalized_plant
 from casadi_debris.robust.uncertainty import frequency_response
 from casadi_debris.robust.weights import recorded_performance_weights, weight_system
 from casadi_debris.workflows.controller import load_controller
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 TARGETS = {"mu_bounds_200_s": 20.0}
 BLOCKS = [("complex", 3), ("complex", 6)]
@@ -51,18 +51,15 @@ def paper_responses(omega: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
+OPTIONS = {
+    "--points": Setting(200, 200, "frequencies, 1e-4 .. 1e2 rad/s (200)"),
+    "--repeats": Setting(3, 1, "timed runs per controller (3)"),
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
-        "mu_bounds",
-        __doc__,
-        quick="one run per controller",
-        full={"points": 200, "repeats": 3},
-        reduced={"points": 200, "repeats": 1},
-        arguments={
-            "--points": {"type": int, "help": "frequencies, 1e-4 .. 1e2 rad/s (200)"},
-            "--repeats": {"type": int, "help": "timed runs per controller (3)"},
-        },
-        libraries=("control", "slycot"),
+        "mu_bounds", __doc__, "one run per controller", OPTIONS, libraries=("control", "slycot")
     )
     omega = np.logspace(-4, 2, args.points)
     results = {}

@@ -20,21 +20,20 @@ import numpy as np
 
 from casadi_debris.robust.examples import DISTILLATION_BLOCKS, distillation_column
 from casadi_debris.robust.musyn import musyn
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 DKPY_MU = 1.0360
 TARGETS = {"synthesis_s": 30.0}
 
 
+OPTIONS = {
+    "--points": Setting(61, 61, "frequency points, 1e-3 .. 1e3 rad/s (61)"),
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
-        "musyn_distillation",
-        __doc__,
-        quick="the same run",
-        full={"points": 61},
-        reduced={"points": 61},
-        arguments={"--points": {"type": int, "help": "frequency points, 1e-3 .. 1e3 rad/s (61)"}},
-        libraries=("control", "slycot"),
+        "musyn_distillation", __doc__, "the same run", OPTIONS, libraries=("control", "slycot")
     )
     omega = np.logspace(-3, 3, args.points)
     start = time.perf_counter()

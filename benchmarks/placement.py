@@ -17,7 +17,7 @@ from casadi_debris import load_problem
 from casadi_debris.studies.placement_candidates import face_candidates
 from casadi_debris.studies.placement_data import placement_data
 from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings, solve_placement
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 FULL_CASES = [
     (2, 24, "worst-axis"), (2, 20, "worst-axis"), (2, 12, "worst-axis"),
@@ -59,14 +59,17 @@ def run_case(grid: int, count: int, objective: str, time_limit_s: float) -> dict
     }
 
 
+OPTIONS = {
+    "--time-limit": Setting(600.0, 60.0, "seconds per case (600)"),
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
         "placement",
         __doc__,
-        quick="three cases, 60 s each at most",
-        full={"time_limit": 600.0},
-        reduced={"time_limit": 60.0},
-        arguments={"--time-limit": {"type": float, "help": "seconds per case (600)"}},
+        "three cases, 60 s each at most",
+        OPTIONS,
         libraries=("scipy", "highspy"),
     )
     cases = QUICK_CASES if args.quick else FULL_CASES

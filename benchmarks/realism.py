@@ -43,7 +43,7 @@ from casadi_debris.simulation import scenario_reference
 from casadi_debris.simulation.closed_loop import StepInput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 from step_timing import interleaved_step_us, loop_start, loop_step, ratio_report, variant_loops
 
 CHUNK = 1000
@@ -104,15 +104,13 @@ def build(problem, record, jit: bool) -> tuple:
     return loop, z0, inputs, model.nominal_parameters
 
 
+OPTIONS = {
+    "--repeat": Setting(15, 5, "interleaved roll-outs of each (15)"),
+}
+
+
 def main() -> None:
-    args, recording, settings = start_benchmark(
-        "realism",
-        __doc__,
-        quick="5 repeats",
-        full={"repeat": 15},
-        reduced={"repeat": 5},
-        arguments={"--repeat": {"type": int, "help": "interleaved roll-outs of each (15)"}},
-    )
+    args, recording, settings = start_benchmark("realism", __doc__, "5 repeats", OPTIONS)
     paper = load_problem("paper_pointing")
     problems = {name: dataclasses.replace(paper, **extra) for name, extra in VARIANTS.items()}
     loops = variant_loops(problems, build)

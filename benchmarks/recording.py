@@ -32,6 +32,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -65,29 +66,51 @@ def resolve(args: argparse.Namespace, full: dict[str, Any], quick: dict[str, Any
     return {key: getattr(args, key) for key in full}
 
 
+@dataclass(frozen=True)
+class Setting:
+    """A benchmark option whose value the run records: in the full run and in ``--quick``.
+
+    Its type is that of ``full`` (a string option takes the text as given).
+    """
+
+    full: Any
+    quick: Any
+    help: str
+
+    def keywords(self) -> dict[str, Any]:
+        """The keywords of :meth:`argparse.ArgumentParser.add_argument` (default None)."""
+        kind = type(self.full)
+        return {"help": self.help} if kind is str else {"type": kind, "help": self.help}
+
+
 def start_benchmark(
     name: str,
     description: str | None,
-    *,
     quick: str,
-    full: dict[str, Any],
-    reduced: dict[str, Any],
-    arguments: Mapping[str, Mapping[str, Any]] | None = None,
+    options: Mapping[str, Setting | Mapping[str, Any]],
+    *,
     libraries: tuple[str, ...] = (),
     argv: list[str] | None = None,
 ) -> tuple[argparse.Namespace, Recording, dict[str, Any]]:
     """What every benchmark's ``main`` does first: its command line, its recording, its settings.
 
-    ``arguments`` maps each of the benchmark's own options (``"--repeat"``) to the keywords
-    of :meth:`argparse.ArgumentParser.add_argument`; the recording options follow
-    (:func:`add_options`, ``quick`` describing the reduced run). The recording starts
-    (its clock, the machine's load) once the command line is read; ``full`` and
-    ``reduced`` fill the options left at ``None`` (:func:`resolve`). Returns the parsed
-    options, the recording and the settings used.
+    ``options`` are the benchmark's own, by flag (``"--repeat"``), in the order ``--help``
+    lists them: a :class:`Setting`, or the keywords of
+    :meth:`argparse.ArgumentParser.add_argument` for an option the settings do not
+    record. The recording options follow (:func:`add_options`, ``quick`` describing the
+    reduced run). The recording starts (its clock, the machine's load) once the command
+    line is read; the settings left at ``None`` take their full or quick value
+    (:func:`resolve`). Returns the parsed options, the recording and the settings used.
     """
     parser = argparse.ArgumentParser(description=description)
-    for flag, keywords in (arguments or {}).items():
-        parser.add_argument(flag, **keywords)
+    full, reduced = {}, {}
+    for flag, option in options.items():
+        if isinstance(option, Setting):
+            key = flag.lstrip("-").replace("-", "_")
+            full[key], reduced[key] = option.full, option.quick
+            parser.add_argument(flag, **option.keywords())
+        else:
+            parser.add_argument(flag, **option)
     add_options(parser, name, quick)
     args = parser.parse_args(argv)
     recording = Recording(name, args, libraries)

@@ -52,7 +52,7 @@ from casadi_debris.simulation import (
 )
 from casadi_debris.simulation.closed_loop import release_compiled_steps
 from casadi_debris.units import DEG_PER_RAD
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 from step_timing import loop_start, loop_step
 
 
@@ -84,19 +84,17 @@ def scipy_loop(problem, model, controller, reference, seconds: float) -> float:
     return (time.perf_counter() - started) / steps
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 1, "runs of each timing, median kept (3)"),
+    "--corners": Setting(256, 16, "corner cases of the Monte Carlo (256)"),
+    "--workers": {"default": "1,2"},
+    "--scipy-s": Setting(20.0, 5.0, "seconds of the scipy loop (20)"),
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
-        "simulation",
-        __doc__,
-        quick="1 repeat, 16 corners, 5 s of the scipy loop",
-        full={"repeat": 3, "corners": 256, "scipy_s": 20.0},
-        reduced={"repeat": 1, "corners": 16, "scipy_s": 5.0},
-        arguments={
-            "--repeat": {"type": int, "help": "runs of each timing, median kept (3)"},
-            "--corners": {"type": int, "help": "corner cases of the Monte Carlo (256)"},
-            "--workers": {"default": "1,2"},
-            "--scipy-s": {"type": float, "help": "seconds of the scipy loop (20)"},
-        },
+        "simulation", __doc__, "1 repeat, 16 corners, 5 s of the scipy loop", OPTIONS
     )
     settings["workers"] = args.workers
     os.environ.setdefault("OMP_NUM_THREADS", "1")

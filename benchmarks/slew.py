@@ -27,7 +27,7 @@ from casadi_debris.slew import (
     fuel_optimal_slew,
     time_optimal_slew,
 )
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 PAPER_DURATION_S = 1228.0
 PAPER_FUEL_KG = 2.8e-4
@@ -46,15 +46,13 @@ def measure(
     return profile, walls, solves
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 1, "runs of each method, medians kept (3)"),
+}
+
+
 def main() -> None:
-    args, recording, settings = start_benchmark(
-        "slew",
-        __doc__,
-        quick="each method once",
-        full={"repeat": 3},
-        reduced={"repeat": 1},
-        arguments={"--repeat": {"type": int, "help": "runs of each method, medians kept (3)"}},
-    )
+    args, recording, settings = start_benchmark("slew", __doc__, "each method once", OPTIONS)
     problem = load_problem()
     z, pi = "z", math.pi
     cases = {

@@ -23,7 +23,7 @@ from collections.abc import Callable
 from casadi_debris import load_problem
 from casadi_debris.config import Problem
 from casadi_debris.slew import SlewProfile, bang_bang_slew, fuel_optimal_slew, time_optimal_slew
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 SLEWS = {
     "z_180deg": ("z", math.pi),
@@ -63,14 +63,16 @@ def methods(problem: Problem) -> dict[str, Callable[[str | tuple, float], SlewPr
     }
 
 
+OPTIONS = {
+    "--slews": Setting(
+        ",".join(SLEWS), "z_180deg,y_45deg", f"comma-separated, of {', '.join(SLEWS)} (all)"
+    ),
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
-        "slew_battery",
-        __doc__,
-        quick="180 deg about z and 45 deg about y",
-        full={"slews": ",".join(SLEWS)},
-        reduced={"slews": "z_180deg,y_45deg"},
-        arguments={"--slews": {"help": f"comma-separated, of {', '.join(SLEWS)} (all)"}},
+        "slew_battery", __doc__, "180 deg about z and 45 deg about y", OPTIONS
     )
     slews = {name: SLEWS[name] for name in args.slews.split(",")}
     problem = load_problem()

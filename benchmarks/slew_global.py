@@ -26,7 +26,7 @@ import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.slew import RigidBody, SlewProfile, time_optimal_slew
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 BENCHMARK_S = 3.2431
 BENCHMARK_TOLERANCE = 5e-4
@@ -51,15 +51,13 @@ def measure(make: Callable[[], SlewProfile], repeat: int) -> tuple[SlewProfile, 
     }
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 1, "runs of each slew, medians kept (3)"),
+}
+
+
 def main() -> None:
-    args, recording, settings = start_benchmark(
-        "slew_global",
-        __doc__,
-        quick="each slew once",
-        full={"repeat": 3},
-        reduced={"repeat": 1},
-        arguments={"--repeat": {"type": int, "help": "runs of each slew, medians kept (3)"}},
-    )
+    args, recording, settings = start_benchmark("slew_global", __doc__, "each slew once", OPTIONS)
     problem = load_problem()
     body = RigidBody(inertia_kgm2=np.eye(3), torque_max_Nm=(1.0, 1.0, 1.0))
     cases: dict[str, Callable[[], SlewProfile]] = {

@@ -26,7 +26,7 @@ from casadi_debris.config import Problem, default_controller_path
 from casadi_debris.robust.analysis import margin_study
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import design_controller
-from recording import start_benchmark
+from recording import Setting, start_benchmark
 
 TARGETS = {"synthesis_s": 60.0, "margin_sweep_s_2_workers": 30.0}  # the design's, on 2 cores
 
@@ -51,18 +51,15 @@ def margin_sweeps(problem: Problem, controller: control.StateSpace, samples: int
     }
 
 
+OPTIONS = {
+    "--samples": Setting(3000, 300, "plants of the margin sweep (3000)"),
+    "--sweep-only": {"action": "store_true", "help": "sweep the shipped controller"},
+}
+
+
 def main() -> None:
     args, recording, settings = start_benchmark(
-        "synthesis",
-        __doc__,
-        quick="a 300-sample sweep",
-        full={"samples": 3000},
-        reduced={"samples": 300},
-        arguments={
-            "--samples": {"type": int, "help": "plants of the margin sweep (3000)"},
-            "--sweep-only": {"action": "store_true", "help": "sweep the shipped controller"},
-        },
-        libraries=("control", "slycot"),
+        "synthesis", __doc__, "a 300-sample sweep", OPTIONS, libraries=("control", "slycot")
     )
     settings["sweep_only"] = args.sweep_only
     problem = load_problem()
