@@ -5,6 +5,10 @@ writes it to ``docs/benchmarks/<name>.json``, from which the documentation's
 benchmark page renders its tables at build time; with ``--out FILE`` to ``FILE``.
 ``--quick`` runs a reduced version (fewer samples or repeats, same measurements).
 
+A script starts with :func:`start_benchmark`, given a table of its options: each
+:class:`Setting` it records, with its value in the full and in the quick run, and
+any other option as ``add_argument`` keywords.
+
 The object gets two entries besides the benchmark's own:
 
 - ``machine``: CPU count and model, platform, the versions of Python and of
