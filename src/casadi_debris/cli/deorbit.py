@@ -10,15 +10,12 @@ import click
 
 from casadi_debris.cli.common import (
     BoundedFloat,
+    bounded_option,
     comma_list,
     echo_json,
-    friendly_errors,
-    in_range,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
     workers_option,
 )
@@ -81,18 +78,9 @@ def solar_cases(text: str) -> tuple[str, ...]:
     show_default=True,
     help="Lifetime Monte Carlo runs of the governing plan (solar cycles, C_D).",
 )
-@click.option(
-    "--seed",
-    type=in_range(SEED),
-    default=20250103,
-    show_default=True,
-    help="Seed of the Monte Carlo.",
-)
+@bounded_option("--seed", SEED, 20250103, "Seed of the Monte Carlo.")
 @workers_option
-@out_folder_option("deorbit")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("deorbit")
 def deorbit(
     problem_file: Path | None,
     solar: str,

@@ -7,16 +7,7 @@ from typing import Any
 
 import click
 
-from casadi_debris.cli.common import (
-    echo_json,
-    friendly_errors,
-    json_option,
-    main,
-    out_folder_option,
-    overwrite_option,
-    problem_argument,
-    say,
-)
+from casadi_debris.cli.common import echo_json, main, problem_argument, run_folder_options, say
 from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import default_run_folder
@@ -32,10 +23,7 @@ from casadi_debris.report.folders import default_run_folder
     help="Minimum transfer time, or minimum propellant (throttled, time at most 10 % over the "
     "guidance law's).",
 )
-@out_folder_option("transfer")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("transfer")
 def transfer(
     problem_file: Path | None, objective: str, out: Path | None, overwrite: bool, as_json: bool
 ) -> None:
