@@ -24,7 +24,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
 SECONDS_PER_HOUR = 3600.0
@@ -117,6 +117,7 @@ def burn(
         jit=not no_jit,
     )
     folder = out or default_run_folder("burn", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     burn_plan(problem, request)  # refuses what cannot be flown before the long part
     controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     say(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")

@@ -23,7 +23,7 @@ from casadi_debris.config import load_problem
 from casadi_debris.config.limits import SEED
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 MAX_SAMPLES = 100_000
 
@@ -119,6 +119,7 @@ def deorbit(
         workers=workers,
     )
     folder = out or default_run_folder("deorbit", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     say(f"Planning the deorbit of {problem.name} ({', '.join(settings.solar)} solar activity) ...")
     report = deorbit_into(problem, folder, settings, overwrite=overwrite)
     if as_json:

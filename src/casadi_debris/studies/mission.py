@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.config.checks import check_transfer_end
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
@@ -138,6 +139,7 @@ def transfer_per_engine(problem: Problem) -> tuple[float, np.ndarray, np.ndarray
     (each CubeSat's strongest engine burns, the others not); each CubeSat's thrust time
     [s], shape (n_cubesats,)."""
     g0 = problem.constants.standard_gravity_m_s2
+    check_transfer_end(problem)
     try:
         dv = check_transfer(problem)
     except ProblemFileError:  # launched into the debris' orbit: nothing to transfer
