@@ -135,6 +135,8 @@ def _years(value: float) -> str:
 
 def _text(plan: Any) -> str:
     """The cases as a table, then the verdict, the smallest swarm and the Monte Carlo."""
+    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+
     rows = [
         [
             c.solar,
@@ -159,22 +161,30 @@ def _text(plan: Any) -> str:
             "propellant [kg]",
             "firing [h]",
             "burn [d]",
-            "stages",
+            "stages begun",
             "re-entry [y]",
             "meets",
         ],
         rows,
     )
     verdict = "meets" if plan.meets_five_year_rule else "does NOT meet"
+    asked = [c.solar for c in plan.cases]
+    # The Monte Carlo below draws whole solar cycles: say when the verdict is narrower.
+    scope = (
+        ""
+        if set(asked) == set(SOLAR_CASES)
+        else f" under {' and '.join(asked)} solar activity only"
+    )
     need = (
-        f"needs {plan.deorbit_dv_m_s:.1f} m/s ({plan.stages_needed} stages)"
+        f"needs {plan.deorbit_dv_m_s:.1f} m/s ({plan.stages_needed} stages' impulse)"
         if math.isfinite(plan.deorbit_dv_m_s)
         else "is out of reach: at this thrust no burn ends in time"
     )
     lines = [
         table,
         f"swarm's torque-free dv {plan.capacity_dv_m_s:.1f} m/s; governing case "
-        f"{plan.governing_case} {need}: the swarm {verdict} the {plan.limit_years:g}-year rule",
+        f"{plan.governing_case} {need}: the swarm {verdict} the "
+        f"{plan.limit_years:g}-year rule{scope}",
     ]
     smallest = plan.minimum_swarm
     if smallest is not None:
