@@ -17,15 +17,25 @@ grouped), to compare the two.
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import time
 
 from casadi_debris import load_problem
 from casadi_debris.orbit.transfer import TARGET_SEGMENTS, plan_transfer
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 WEAK = "differential_2u"  # 0.1 mN engines, one stage: about a hundred burns
+
+
+OPTIONS = {
+    "--problems": Setting(
+        f"paper,{WEAK}", "paper", f"comma-separated problem names (paper,{WEAK})"
+    ),
+    "--repeats": Setting(3, 1, "plans per problem (3)"),
+    "--intervals": Setting(
+        TARGET_SEGMENTS, TARGET_SEGMENTS, "most shooting intervals, 0: one per arc (28)"
+    ),
+}
 
 
 def _cpu_s() -> float:
@@ -56,21 +66,10 @@ def _plan(name: str, intervals: int | None) -> dict[str, float | int | bool | st
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--problems", help=f"comma-separated problem names (paper,{WEAK})")
-    parser.add_argument("--repeats", type=int, help="plans per problem (3)")
-    parser.add_argument("--intervals", type=int, help="most shooting intervals, 0: one per arc")
-    add_options(parser, "transfer", "the paper only, one repeat")
-    args = parser.parse_args()
-    recording = Recording("transfer", args)
-    settings = resolve(
-        args,
-        full={"problems": f"paper,{WEAK}", "repeats": 3, "intervals": None},
-        quick={"problems": "paper", "repeats": 1, "intervals": None},
+    _args, recording, settings = start_benchmark(
+        "transfer", __doc__, "the paper only, one repeat", OPTIONS
     )
     intervals = settings["intervals"]
-    if intervals is None:
-        intervals = TARGET_SEGMENTS
     results = {}
     for name in settings["problems"].split(","):
         runs = [_plan(name, intervals or None) for _ in range(settings["repeats"])]
