@@ -18,12 +18,11 @@ duration ``T_last`` in [0, its life]. The burns are cut into arcs (a few per
 burn when they are few); the arcs are grouped into at most ``intervals``
 shooting intervals of consecutive arcs, each with one yaw (and throttle) and
 its arcs integrated one after the other inside it. So a weak swarm's hundred
-burns give the NLP no more variables than the paper's seven: the problem
-keeps its size and IPOPT its iteration count, and the staging stays exact
-(every burn boundary is an arc boundary). Objectives:
+burns give the NLP no more variables than the paper's seven, and the staging
+stays exact (every burn boundary is an arc boundary). Objectives:
 
 - ``"time"``: throttle 1, minimise the transfer time (the sum of the burns);
-- ``"propellant"``: throttle per segment in [0, 1], minimise m0 - mf with the
+- ``"propellant"``: throttle per shooting interval in [0, 1], minimise m0 - mf with the
   transfer time at most ``time_limit_s``.
 
 Terminal constraints: the target's semi-major axis and inclination (the node is
