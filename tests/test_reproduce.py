@@ -15,6 +15,7 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
+from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure, table_figures
 from casadi_debris.report.reproduce import (
     ReproductionRow,
@@ -106,11 +107,7 @@ def _results() -> dict[str, Any]:
     """Results that reproduce every row, in the shapes the workflow passes."""
     torque = {"+x": 4.62, "-x": 4.7, "+y": 1.97, "-y": 2.0, "+z": 4.3, "-z": 4.27}
     return {
-        "model": {
-            "mass_kg": 668.2,
-            "inertia_hub_cubesats_kgm2": np.diag([250.0, 68.0, 250.0]).tolist(),
-            "torque_max_mNm": torque,
-        },
+        "model": _model(668.2, np.diag([250.0, 68.0, 250.0]), torque),
         "budgets": {
             "dv_one_stage_one_face_m_s": 6.9,
             "dv_three_stages_one_face_m_s": 20.7,
@@ -139,6 +136,16 @@ def _results() -> dict[str, Any]:
         "slew_duration_s": 1228.0,
         "pointing": _campaign({"max_error_arcsec": 26.9}, "max_error_arcsec", 27.0),
     }
+
+
+def _model(mass_kg: float, inertia: np.ndarray, torque: dict[str, float]) -> ModelDescription:
+    """A description holding only the figures the rows read."""
+    return ModelDescription(
+        problem="paper", problem_path="", problem_sha256="", mass_kg=mass_kg, cog_m=(),
+        inertia_hub_cubesats_kgm2=tuple(map(tuple, inertia.tolist())), inertia_total_kgm2=(),
+        array_angle_deg=(), torque_max_mNm=torque, torque_max_zero_force_mNm={}, modes=(),
+        thrusters=(), notes=(),
+    )  # fmt: skip
 
 
 def _campaign(nominal: dict[str, float], worst_key: str, worst: float) -> CampaignSummary:
@@ -212,7 +219,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     results = _results()
     if group is None:
         results[field] = value
-    elif isinstance(results[group], CampaignSummary):
+    elif isinstance(results[group], CampaignSummary | ModelDescription):
         results[group] = dataclasses.replace(results[group], **{field: value})
     else:
         results[group][field] = value

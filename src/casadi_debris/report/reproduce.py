@@ -16,6 +16,7 @@ import numpy as np
 
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
+from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginReport
 
@@ -138,16 +139,15 @@ BUDGET_KEYS = (
 )
 
 
-def model_rows(model: dict[str, Any]) -> list[ReproductionRow]:
-    """Mass, inertia and torque authority (``model`` as from
-    :func:`~casadi_debris.report.describe.describe_model`)."""
-    torque = model["torque_max_mNm"]
+def model_rows(model: ModelDescription) -> list[ReproductionRow]:
+    """Mass, inertia and torque authority of the combined system."""
+    torque = model.torque_max_mNm
     # The paper gives one authority per axis: the smaller of + and - is what
     # the controller can count on.
     torque_axes = [min(torque[f"+{a}"], torque[f"-{a}"]) for a in "xyz"]
-    inertia = np.diag(np.asarray(model["inertia_hub_cubesats_kgm2"]))
+    inertia = np.diag(np.asarray(model.inertia_hub_cubesats_kgm2))
     return [
-        paper_row("mass_kg", model["mass_kg"]),
+        paper_row("mass_kg", model.mass_kg),
         paper_row("inertia_hub_cubesats_diag_kgm2", inertia.tolist()),
         paper_row("torque_max_mNm", torque_axes),
     ]
@@ -225,7 +225,7 @@ def pointing_rows(
 
 
 def reproduction_rows(
-    model: dict[str, Any],
+    model: ModelDescription,
     budgets: dict[str, float],
     controller: dict[str, Any],
     margins: MarginReport,

@@ -23,7 +23,7 @@ from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem, default_problem_path, load_problem, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.describe import describe_model
+from casadi_debris.report.describe import ModelDescription, describe_model
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.report.reproduce import (
     ReproductionRow,
@@ -280,7 +280,7 @@ def reproduce_paper(
 
 def _rows(
     problem: Problem,
-    model_summary: dict[str, Any],
+    model_summary: ModelDescription,
     budgets: dict[str, float],
     record: ControllerRecord,
     margins: MarginReport,
