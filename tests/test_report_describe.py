@@ -10,10 +10,17 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris import load_problem
+from casadi_debris.budgets import compute_budgets
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.describe import ModelDescription, describe_model, model_text
+from casadi_debris.report.describe import (
+    BudgetReport,
+    ModelDescription,
+    budget_report,
+    describe_model,
+    model_text,
+)
 
 GALLERY = default_problem_path().parent / "gallery"
 
@@ -78,3 +85,18 @@ def test_model_json_keeps_its_keys_and_reads_back(name: str) -> None:
     assert [t["max_thrust_mN"] for t in data["thrusters"]] == pytest.approx(
         [e.max_thrust_N * 1e3 for e in geometry.engines], rel=1e-12
     )
+
+
+def test_budget_json_is_the_figures_by_key_with_how_and_reads_back() -> None:
+    problem = load_problem()
+    items = compute_budgets(problem)
+    printed = CliRunner().invoke(main, ["budget", "--json"])
+    assert printed.exit_code == 0, printed.output
+    data = json.loads(printed.output)
+    keys = [item.key for item in items]
+    assert list(data) == ["problem", "problem_sha256", *keys, "how"]
+    assert [data[k] for k in keys] == [item.value for item in items]
+    assert data["how"] == {item.key: item.how for item in items}
+    assert data["problem_sha256"] == problem.sha256
+    report = BudgetReport.from_json(data)
+    assert report == budget_report(problem, items) and report.to_json() == data

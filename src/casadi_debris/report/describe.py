@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -13,7 +13,7 @@ from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, torque_authority
 from casadi_debris.model import Model, assembled_modes, build_model
 from casadi_debris.model.cantilever import shape_integrals
-from casadi_debris.records import Record
+from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import format_cell, format_table
 from casadi_debris.report.paper import paper_figures
 from casadi_debris.units import MN_PER_N
@@ -321,6 +321,29 @@ def _thrusters_table(thrusters: Sequence[Thruster]) -> str:
 
 def _offdiag(matrix: np.ndarray) -> list[float]:
     return [float(matrix[0, 1]), float(matrix[0, 2]), float(matrix[1, 2])]
+
+
+@dataclass(frozen=True)
+class BudgetReport(Record):
+    """``casadi-debris budget --json``: the problem, every budget figure under its own key
+    (a mapping, flattened: the keys carry the units, ``dv_transfer_m_s``, and
+    :func:`~casadi_debris.budgets.compute_budgets` decides them), and ``how`` each was
+    computed, by the same keys."""
+
+    problem: str
+    problem_sha256: str
+    figures: dict[str, float] = field(metadata=FLATTENED)
+    how: dict[str, str]
+
+
+def budget_report(problem: Problem, items: Sequence[BudgetItem]) -> BudgetReport:
+    """The budget ``items`` of ``problem`` as a record."""
+    return BudgetReport(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        figures={item.key: item.value for item in items},
+        how={item.key: item.how for item in items},
+    )
 
 
 def budget_text(items: Sequence[BudgetItem], problem_label: str, show_paper: bool) -> str:
