@@ -18,6 +18,7 @@ from casadi_debris.cli import main
 from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure, table_figures
 from casadi_debris.report.reproduce import (
+    ControllerFigures,
     ReproductionRow,
     ReproductionSummary,
     report_markdown,
@@ -117,12 +118,9 @@ def _results() -> dict[str, Any]:
             "dv_transfer_m_s": 144.0,
             "detumble_time_h": 16.5,
         },
-        "controller": {
-            "mu_peak": 0.92,
-            "mu_peak_reduced": 0.93,
-            "order_full": 49,
-            "order_reduced": 25,
-        },
+        "controller": ControllerFigures(
+            mu_peak=0.92, mu_peak_reduced=0.93, order_full=49, order_reduced=25
+        ),
         "margins": {
             "nominal": {"gain_margin_db": 14.0, "phase_margin_deg": 47.5, "delay_margin_s": 9.0},
             "sampled_min": {
@@ -219,7 +217,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     results = _results()
     if group is None:
         results[field] = value
-    elif isinstance(results[group], CampaignSummary | ModelDescription):
+    elif isinstance(results[group], CampaignSummary | ModelDescription | ControllerFigures):
         results[group] = dataclasses.replace(results[group], **{field: value})
     else:
         results[group][field] = value
@@ -233,7 +231,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
 
 def test_a_controller_without_its_full_order_still_reproduces():
     results = _results()
-    results["controller"]["order_full"] = None
+    results["controller"] = dataclasses.replace(results["controller"], order_full=None)
     row = _rows(results)["controller_order"]
     assert row.reproduced is True and row.ours == "— / 25"
     assert row.ours_values == (None, 25.0)

@@ -19,6 +19,7 @@ from casadi_debris.report.common import format_figure
 from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginReport
+from casadi_debris.robust.controller import ControllerRecord
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
     from casadi_debris.report.simulation import CampaignSummary
@@ -158,12 +159,32 @@ def budget_rows(budgets: dict[str, float]) -> list[ReproductionRow]:
     return [paper_row(key, budgets[key]) for key in BUDGET_KEYS]
 
 
-def controller_rows(controller: dict[str, Any]) -> list[ReproductionRow]:
-    """Peak μ and order of the controller (``mu_peak``, ``mu_peak_reduced``,
-    ``order_full`` (None if unknown), ``order_reduced``)."""
+@dataclass(frozen=True)
+class ControllerFigures:
+    """What the reproduction reads of a controller: peak μ of the full and the reduced
+    loop, and their orders (``order_full`` None for a file without its full order)."""
+
+    mu_peak: float | None
+    mu_peak_reduced: float | None
+    order_full: int | None
+    order_reduced: int
+
+    @classmethod
+    def of(cls, record: ControllerRecord) -> ControllerFigures:
+        """The figures of a controller file."""
+        return cls(
+            mu_peak=record.mu_peak,
+            mu_peak_reduced=record.mu_peak_reduced,
+            order_full=None if record.full is None else record.full.nstates,
+            order_reduced=record.reduced.nstates,
+        )
+
+
+def controller_rows(controller: ControllerFigures) -> list[ReproductionRow]:
+    """Peak μ and order of the controller."""
     return [
-        paper_row("mu_peak", [controller["mu_peak"], controller["mu_peak_reduced"]]),
-        paper_row("controller_order", [controller["order_full"], controller["order_reduced"]]),
+        paper_row("mu_peak", [controller.mu_peak, controller.mu_peak_reduced]),
+        paper_row("controller_order", [controller.order_full, controller.order_reduced]),
     ]
 
 
@@ -227,7 +248,7 @@ def pointing_rows(
 def reproduction_rows(
     model: ModelDescription,
     budgets: dict[str, float],
-    controller: dict[str, Any],
+    controller: ControllerFigures,
     margins: MarginReport,
     slew: CampaignSummary,
     slew_duration_s: float | None,

@@ -16,7 +16,6 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
@@ -26,6 +25,7 @@ from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.describe import ModelDescription, describe_model
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.report.reproduce import (
+    ControllerFigures,
     ReproductionRow,
     ReproductionSummary,
     report_markdown,
@@ -195,16 +195,6 @@ def _slew_duration_s(slew_problem: Problem) -> float | None:
     return slew.duration_s
 
 
-def _controller_figures(record: ControllerRecord) -> dict[str, Any]:
-    """Peak mu and orders of the controller, as the reproduction rows read them."""
-    return {
-        "mu_peak": record.mu_peak,
-        "mu_peak_reduced": record.mu_peak_reduced,
-        "order_full": None if record.full is None else record.full.nstates,
-        "order_reduced": record.reduced.nstates,
-    }
-
-
 def reproduce_paper(
     out: str | Path,
     *,
@@ -292,7 +282,7 @@ def _rows(
     return reproduction_rows(
         model_summary,
         budgets,
-        _controller_figures(record),
+        ControllerFigures.of(record),
         margins,
         campaigns["slew"],
         slew_duration_s,
