@@ -18,10 +18,14 @@ from casadi_debris.config import Problem
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure
 from casadi_debris.report.robust import MarginReport
-from casadi_debris.robust.performance_search import DesignSearch
+
+# WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
+from casadi_debris.report.simulation import WorstFigure
+from casadi_debris.robust.performance_search import DesignAttempt, DesignSearch
+from casadi_debris.robust.requirements import ScalingFigures
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
-    from casadi_debris.report.simulation import CampaignSummary, WorstFigure
+    from casadi_debris.report.simulation import CampaignSummary
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -208,8 +212,8 @@ class DesignSummary(Record):
     mu_peak_reduced: float | None
     guaranteed_pointing_arcsec: list[float] | None
     required_pointing_arcsec: Any
-    scalings: dict[str, Any]
-    attempts: list[dict[str, Any]]
+    scalings: ScalingFigures
+    attempts: tuple[DesignAttempt, ...]
     seed: int | None
     slew: CampaignFigures
     pointing: CampaignFigures
