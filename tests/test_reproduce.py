@@ -188,7 +188,7 @@ def test_rows_follow_the_papers_table_and_reproduce():
     assert rows["margins_sampled"].result == "margins over 3000 sampled plants [dB, deg, s]"
     assert rows["slew_envelope_cases"].ours == "256 (worst error 0.65°)"
     assert rows["pointing"].ours == "26.9 / 27 (256 cases)"
-    assert rows["mass_kg"].to_dict() == {
+    assert rows["mass_kg"].entry().to_json() == {
         "key": "mass_kg",
         "result": "total mass [kg]",
         "paper": "668",
@@ -225,7 +225,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     failed = [k for k, row in rows.items() if row.reproduced is not True]
     assert failed == ([] if key is None else [key])
     if key is not None:
-        assert rows[key].to_dict()["reproduced"] is False
+        assert rows[key].entry().reproduced is False
         assert rows[key].verdict == "❌ not reproduced"
 
 
@@ -243,8 +243,15 @@ def test_report_renders_the_verdict_from_the_boolean():
     summary = ReproductionSummary(
         problem="paper", problem_sha256="0" * 64, controller_path="/c.json", quick=True,
         workers=1, time_s=1.0, reproduced=0, rows=2,
-        table=[row.to_dict(), undecided.to_dict()], out_dir="/report",
+        table=(row.entry(), undecided.entry()), out_dir="/report",
     )  # fmt: skip
+    # One JSON form: the table's rows keep their keys, the verdict as printed, and read back.
+    data = json.loads(json.dumps(summary.to_json()))
+    assert list(data["table"][0]) == [
+        "key", "result", "paper", "accepted", "ours", "verdict", "reproduced", "ours_values",
+    ]  # fmt: skip
+    assert [r["verdict"] for r in data["table"]] == ["❌ not reproduced", "—"]
+    assert ReproductionSummary.from_json(data) == summary
     report = report_markdown([row, undecided], summary, [])
     assert "| total mass [kg] | 668 | ±0.5 | 1 | ❌ not reproduced |" in report
     assert "| x | 1 | — | 1 | — |" in report

@@ -54,7 +54,7 @@ def reproduce(
     )
     echo_verdicts(
         summary,
-        summary.table,
+        [row.to_json() for row in summary.table],
         TABLE_KEYS,
         f"{summary.reproduced} of {summary.rows} rows reproduced; "
         f"report: {out.absolute() / 'report.md'} ({summary.time_s:.0f} s)",

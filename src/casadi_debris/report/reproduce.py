@@ -63,27 +63,41 @@ class ReproductionRow:
             return "—"
         return "✅ reproduced" if self.reproduced else "❌ not reproduced"
 
-    def to_dict(self) -> dict[str, Any]:
-        """The row for ``summary.json`` (``result``, ``paper``, ``accepted``, ``ours``,
-        ``verdict`` as printed; ``reproduced`` true, false or null; ``key``,
-        ``ours_values``)."""
-        return {
-            "key": self.key,
-            "result": self.result,
-            "paper": self.paper,
-            "accepted": self.accepted,
-            "ours": self.ours,
-            "verdict": self.verdict,
-            "reproduced": self.reproduced,
-            "ours_values": list(self.ours_values),
-        }
+    def entry(self) -> TableEntry:
+        """The row as ``summary.json``'s table holds it."""
+        return TableEntry(
+            key=self.key,
+            result=self.result,
+            paper=self.paper,
+            accepted=self.accepted,
+            ours=self.ours,
+            verdict=self.verdict,
+            reproduced=self.reproduced,
+            ours_values=self.ours_values,
+        )
+
+
+@dataclass(frozen=True)
+class TableEntry(Record):
+    """A row of ``summary.json``'s table: ``result``, ``paper``, ``accepted``, ``ours`` and
+    ``verdict`` as printed; ``reproduced`` true, false or null (not judged); the figure's
+    ``key`` and ``ours_values`` (see :class:`ReproductionRow`)."""
+
+    key: str
+    result: str
+    paper: str
+    accepted: str
+    ours: str
+    verdict: str
+    reproduced: bool | None
+    ours_values: tuple[float | None, ...]
 
 
 @dataclass(frozen=True)
 class ReproductionSummary(Record):
     """A reproduction's ``summary.json``: the table and how the run was made.
 
-    ``table`` holds the rows as :meth:`ReproductionRow.to_dict` gives them;
+    ``table`` holds the rows as :meth:`ReproductionRow.entry` gives them;
     ``reproduced`` counts the rows within tolerance, of ``rows``; ``time_s`` is the
     wall time [s].
     """
@@ -96,7 +110,7 @@ class ReproductionSummary(Record):
     time_s: float
     reproduced: int
     rows: int
-    table: list[dict[str, Any]]
+    table: tuple[TableEntry, ...]
     out_dir: str
 
 

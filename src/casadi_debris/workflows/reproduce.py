@@ -226,7 +226,7 @@ def reproduce_paper(
     Returns
     -------
     ReproductionSummary
-        What ``summary.json`` holds: the rows (``ReproductionRow.to_dict``), with
+        What ``summary.json`` holds: the rows (``ReproductionRow.entry``), with
         ``reproduced`` of ``rows``.
     """
     started = time.perf_counter()
@@ -261,7 +261,7 @@ def reproduce_paper(
             time_s=time.perf_counter() - started,
             reproduced=sum(row.reproduced is True for row in rows),
             rows=len(rows),
-            table=[row.to_dict() for row in rows],
+            table=tuple(row.entry() for row in rows),
             out_dir=str(out.absolute()),
         )
         _write_report(staging, rows, summary)
