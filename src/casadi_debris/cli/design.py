@@ -82,7 +82,7 @@ def design(
     )
     echo_verdicts(
         summary,
-        summary.rows,
+        [row.to_json() for row in summary.rows],
         TABLE_KEYS,
         f"{summary.requirements_met} of {summary.requirements} requirements met; "
         f"controller: {folder.absolute() / 'controller.json'}; "

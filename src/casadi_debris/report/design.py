@@ -66,17 +66,31 @@ class RequirementRow:
             return "—"
         return "✅ met" if self.met else "❌ not met"
 
-    def to_dict(self) -> dict[str, Any]:
-        """The row for ``summary.json``."""
-        return {
-            "key": self.key,
-            "result": self.result,
-            "required": self.required,
-            "ours": self.ours,
-            "verdict": self.verdict,
-            "met": self.met,
-            "values": list(self.values),
-        }
+    def entry(self) -> RequirementEntry:
+        """The row as ``summary.json`` holds it."""
+        return RequirementEntry(
+            key=self.key,
+            result=self.result,
+            required=self.required,
+            ours=self.ours,
+            verdict=self.verdict,
+            met=self.met,
+            values=self.values,
+        )
+
+
+@dataclass(frozen=True)
+class RequirementEntry(Record):
+    """A row of a design's ``summary.json``: :class:`RequirementRow` with its verdict as
+    printed."""
+
+    key: str
+    result: str
+    required: str
+    ours: str
+    verdict: str
+    met: bool | None
+    values: tuple[float | None, ...]
 
 
 def _row(
@@ -196,7 +210,7 @@ class DesignSummary(Record):
 
     ``method`` is ``"mu"`` (D-K μ-synthesis), ``"pd"`` or ``"lqr"`` (see
     :mod:`casadi_debris.robust.classical`; their μ fields are None and ``attempts`` empty).
-    ``rows`` are the requirement rows (:meth:`RequirementRow.to_dict`);
+    ``rows`` are the requirement rows (:meth:`RequirementRow.entry`);
     ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
     μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
     performance level; ``time_s`` the wall time [s].
@@ -217,7 +231,7 @@ class DesignSummary(Record):
     seed: int | None
     slew: CampaignFigures
     pointing: CampaignFigures
-    rows: list[dict[str, Any]]
+    rows: tuple[RequirementEntry, ...]
     time_s: float
     out_dir: str
     quick: bool

@@ -291,7 +291,7 @@ def _summary(
         seed=None if search is None else search.design.samples.seed,
         slew=figures["slew"],
         pointing=figures["pointing"],
-        rows=[row.to_dict() for row in rows],
+        rows=tuple(row.entry() for row in rows),
         time_s=time.perf_counter() - started,
         out_dir=str(out.absolute()),
         quick=how.quick,
