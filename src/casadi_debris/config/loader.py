@@ -149,7 +149,9 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
                 else str(exc)
             )
             raise ProblemFileError("", message, str(path)) from None
-        raise ProblemFileError("extends", f"{path} {exc}", str(chain[-1])) from None
+        shipped = " (nor a shipped problem: casadi-debris problems lists them)"
+        hint = shipped if str(exc) == "does not exist" else ""
+        raise ProblemFileError("extends", f"{path} {exc}{hint}", str(chain[-1])) from None
     parent = data.get("extends")
     if parent is None:
         return data, raw
