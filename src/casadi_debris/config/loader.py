@@ -170,7 +170,9 @@ def shipped_problems() -> dict[str, Path]:
     exists where it looks, reads the shipped file.
     """
     root = Path(str(resources.files("casadi_debris") / "problems"))
-    return {path.stem: path for path in sorted(root.rglob("*.toml"))}
+    # The paper's first, then the gallery's (sub-folders), each by name.
+    paths = sorted(root.rglob("*.toml"), key=lambda p: (len(p.relative_to(root).parts), p.name))
+    return {path.stem: path for path in paths}
 
 
 def problem_path(name_or_path: str | Path) -> Path:
