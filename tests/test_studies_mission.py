@@ -140,6 +140,7 @@ def test_the_command_writes_the_folder(tmp_path: Path):
     assert set(summary) >= {"detumble_time_h", "transfer_dv_m_s", "deorbit_dv_m_s",
                             "reentry_years", "meets_five_year_rule"}  # fmt: skip
     assert list(summary["reentry_years"]) == ["high"]
+    assert summary["problem_sha256"] == load_problem().sha256
     assert MissionSummary.from_json(summary).to_json() == summary
     assert {p.name for p in out.iterdir()} >= {"summary.json", "phases.csv", "propellant.csv",
                                                "mission.png", "mission.pdf", "altitude.png",
@@ -149,3 +150,22 @@ def test_the_command_writes_the_folder(tmp_path: Path):
 def test_the_command_refuses_bad_cases(tmp_path: Path):
     bad = CliRunner().invoke(main, ["mission", "--solar", "medium", "--out", str(tmp_path / "b")])
     assert bad.exit_code == 2 and "--solar" in bad.output and not (tmp_path / "b").exists()
+
+
+def test_a_transfer_that_does_not_end_on_the_debris_orbit_is_refused(tmp_path: Path):
+    problem = tmp_path / "p.toml"
+    problem.write_text('extends = "paper"\n\n[orbit]\naltitude_km = 600.0\n')
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["mission", str(problem), "--out", str(out)])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1
+    assert "transfer.to_altitude_km" in result.stderr and "600" in result.stderr
+    assert not out.exists()
+
+
+def test_an_existing_folder_is_refused_before_any_progress_line(tmp_path: Path):
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    result = CliRunner().invoke(main, ["mission", "--out", str(out)])
+    assert result.exit_code == 2 and result.stderr.count("\n") == 1, result.stderr
+    assert "--out" in result.stderr and (out / "notes.txt").read_text() == "mine"

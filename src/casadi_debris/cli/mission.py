@@ -20,7 +20,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.cli.deorbit import limit_years_option, solar_cases, solar_option
 from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 
 @main.command()
@@ -51,8 +51,12 @@ def mission(
     from casadi_debris.workflows.mission import mission_into
 
     cases = solar_cases(solar)
+    from casadi_debris.config.checks import check_transfer_end
+
     problem = load_problem(problem_file)
+    check_transfer_end(problem)
     folder = out or default_run_folder("mission", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     settings = DeorbitSettings(solar=cases, limit_years=limit_years, minimum_swarm=False, samples=0)
     say(f"Mission of {problem.name}: transfer, detumble, deorbit, decay ...")
     summary = mission_into(problem, folder, settings=settings, overwrite=overwrite)

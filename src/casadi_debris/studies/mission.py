@@ -37,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.config.checks import check_transfer_end
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
@@ -83,10 +84,12 @@ class MissionSummary(Record):
     torque-free mix of the deorbit burn can use (per CubeSat in
     ``stranded_per_cubesat_kg``); ``propellant_left_kg`` all that is left after the
     burn, stranded included; ``capacity_per_stage_kg`` what each CubeSat's stages carry
-    when full (summed over its engines).
+    when full (summed over its engines). ``problem_sha256`` hashes the problem file (and
+    the files it extends).
     """
 
     problem: str
+    problem_sha256: str
     detumble_time_h: float | None
     transfer_dv_m_s: float
     transfer_time_days: float
@@ -138,6 +141,7 @@ def transfer_per_engine(problem: Problem) -> tuple[float, np.ndarray, np.ndarray
     (each CubeSat's strongest engine burns, the others not); each CubeSat's thrust time
     [s], shape (n_cubesats,)."""
     g0 = problem.constants.standard_gravity_m_s2
+    check_transfer_end(problem)
     try:
         dv = check_transfer(problem)
     except ProblemFileError:  # launched into the debris' orbit: nothing to transfer
@@ -298,6 +302,7 @@ def _summary(
     reentry = {c.solar: _finite(c.reentry_years) for c in plan.cases}
     return MissionSummary(
         problem=problem.name,
+        problem_sha256=problem.sha256,
         detumble_time_h=run.time_to_threshold_h,
         transfer_dv_m_s=dv_transfer,
         transfer_time_days=transfer_days,
