@@ -78,7 +78,7 @@ def design(
     )
     echo_verdicts(
         summary,
-        [row.to_json() for row in summary.rows],
+        summary.rows,
         TABLE_KEYS,
         f"{summary.requirements_met} of {summary.requirements} requirements met; "
         f"controller: {folder.absolute() / 'controller.json'}; "
