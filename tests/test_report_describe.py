@@ -13,7 +13,7 @@ from casadi_debris import load_problem
 from casadi_debris.budgets import compute_budgets
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.geometry import build_geometry
+from casadi_debris.geometry import build_geometry, max_thrust_N
 from casadi_debris.report.describe import (
     BudgetReport,
     ModelDescription,
@@ -55,6 +55,25 @@ def test_a_rigid_debris_says_its_array_uncertainties_are_dropped() -> None:
     assert "uncertainty.array_angle_deg" in note and "bending_frequency_fraction" in note
     text = model_text(summary, show_paper=False)
     assert "Flexible modes: none" in text and text.endswith(note)
+
+
+def test_an_axis_the_engines_cannot_hold_is_noted_against_an_independent_lp() -> None:
+    from scipy.optimize import linprog
+
+    problem = load_problem(GALLERY / "differential_2u.toml")
+    geometry = build_geometry(problem)
+    limits = max_thrust_N(geometry)
+    noted = " ".join(describe_model(problem).notes)
+    bounds = list(zip(np.zeros_like(limits), limits, strict=True))
+    for index, axis in enumerate("xyz"):
+        # Largest torque either way about the axis at zero net force, by LPs of our own.
+        authority_mNm = [
+            -linprog(-sign * geometry.torque_map[index], A_eq=geometry.force_map,
+                     b_eq=np.zeros(3), bounds=bounds).fun * 1e3
+            for sign in (1.0, -1.0)
+        ]  # fmt: skip
+        below = min(authority_mNm) < problem.disturbance.amplitude_mNm[index]
+        assert below == (f"cannot hold the debris about {axis}" in noted), axis
 
 
 def test_engines_of_one_cubesat_share_its_id() -> None:

@@ -120,8 +120,28 @@ def describe_model(problem: Problem) -> ModelDescription:
         },
         modes=_modes(problem, model),
         thrusters=_thrusters(problem, geometry),
-        notes=tuple(_notes(problem, model.parameter_names)),
+        notes=tuple(_notes(problem, model.parameter_names) + _authority_notes(problem, geometry)),
     )
+
+
+def _authority_notes(problem: Problem, geometry: Geometry) -> list[str]:
+    """Body axes the engines cannot hold against the disturbance at zero net force."""
+    zero_force_mNm = {
+        k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
+    }
+    notes = []
+    for index, axis in enumerate("xyz"):
+        disturbance_mNm = float(problem.disturbance.amplitude_mNm[index])
+        short = {s: zero_force_mNm[s] for s in (f"+{axis}", f"-{axis}")}
+        short = {s: v for s, v in short.items() if v < disturbance_mNm}
+        if short:
+            # Round-off of an LP with no authority gives 1e-20, not 0.
+            given = ", ".join(f"{s} {v if v > 1e-12 else 0.0:.3g}" for s, v in short.items())
+            notes.append(
+                f"the engines give {given} mNm at zero net force, below the disturbance's "
+                f"{disturbance_mNm:g} mNm: this swarm cannot hold the debris about {axis}"
+            )
+    return notes
 
 
 def _modes(problem: Problem, model: Model) -> tuple[FlexibleMode, ...]:
