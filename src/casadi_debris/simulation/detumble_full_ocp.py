@@ -19,6 +19,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.simulation.closed_loop import SimulationError
+from casadi_debris.simulation.detumble import held_torque_rates
 
 SUBSTEPS = 2
 GREEDY_STEPS_PER_INTERVAL = 4
@@ -120,21 +121,8 @@ def full_time_optimal_detumble(
 def _step(inertia: np.ndarray) -> ca.Function:
     """``omega, tau, dt -> omega(dt)`` under a held torque (Runge-Kutta 4)."""
     omega, tau, dt = ca.MX.sym("omega", 3), ca.MX.sym("tau", 3), ca.MX.sym("dt")
-    inverse = ca.DM(np.linalg.inv(inertia))
-    body = ca.DM(inertia)
-
-    def rate(w: ca.MX) -> ca.MX:
-        return inverse @ (tau - ca.cross(w, body @ w))
-
-    h = dt / SUBSTEPS
-    w = omega
-    for _ in range(SUBSTEPS):
-        k1 = rate(w)
-        k2 = rate(w + h / 2 * k1)
-        k3 = rate(w + h / 2 * k2)
-        k4 = rate(w + h * k3)
-        w = w + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-    return ca.Function("rate_step", [omega, tau, dt], [w])
+    after = held_torque_rates(inertia, omega, tau, dt, SUBSTEPS)
+    return ca.Function("rate_step", [omega, tau, dt], [after])
 
 
 def _greedy_guess(
