@@ -11,6 +11,9 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_controller_path, default_problem_path
+from casadi_debris.report.failures import write_failures
+from casadi_debris.studies.failure_records import FailureStudyRecord
+from test_studies_failure_records import RUN_KEYS
 
 PROBLEMS = default_problem_path().parent
 FILES = {"summary.json", "cases.csv", "report.md", "reallocation.csv", "authority_loss.png"}
@@ -93,6 +96,90 @@ def test_the_table_is_ranked_worst_first(static_run: tuple[Path, dict]) -> None:
     assert "authority_loss.png" in report and rows[0]["failed"] in report
 
 
+STUDY_KEYS = {
+    "problem",
+    "problem_sha256",
+    "max_failed",
+    "stages",
+    "closed_loop",
+    "corner_sets",
+    "workers",
+    "jit",
+    "cubesats",
+    "disturbance_mNm",
+    "requirements",
+    "manoeuvres",
+    "corner_plants",
+    "case_count",
+    "cases_met",
+    "cases_not_met",
+    "baseline",
+    "cases",
+    "wall_time_s",
+    "controller_path",
+    "quick",
+    "max_corners",
+    "out_dir",
+}
+CASE_KEYS = {
+    "case_id",
+    "failed",
+    "failed_stage",
+    "stage",
+    "label",
+    "torque_max_zero_force_mNm",
+    "authority_ratio",
+    "worst_axis",
+    "worst_ratio",
+    "authority_loss",
+    "holding",
+    "reallocation",
+    "closed_loop",
+}
+HOLDING_KEYS = {
+    "period_s",
+    "fuel_per_period_kg",
+    "fuel_per_cubesat_kg",
+    "fuel_spread",
+    "thrust_per_cubesat_mN",
+    "saturated_fraction",
+    "depletion_time_s",
+    "first_depleted_cubesat",
+}
+
+
+def test_the_json_keeps_its_keys_and_reads_back_into_its_record(
+    static_run: tuple[Path, dict],
+) -> None:
+    """Other tools read these names: the typed record writes exactly them."""
+    out, summary = static_run
+    assert set(summary) == STUDY_KEYS and summary["out_dir"] == str(out.absolute())
+    for case in [summary["baseline"], *summary["cases"]]:
+        assert set(case) == CASE_KEYS
+        assert set(case["holding"]) == HOLDING_KEYS
+        assert case["closed_loop"] == {"met": None, "nominal": {}, "corners": {}}
+        for change in case["reallocation"]:
+            assert set(change) == {"cubesat", "thrust_before_mN", "thrust_after_mN"}
+    record = FailureStudyRecord.from_json(summary)
+    assert record.to_json() == summary
+    assert [c.case_id for c in record.cases] == [c["case_id"] for c in summary["cases"]]
+    assert record.baseline.holding is not None
+    assert record.baseline.holding.thrust_per_cubesat_mN == tuple(
+        summary["baseline"]["holding"]["thrust_per_cubesat_mN"]
+    )
+
+
+def test_the_files_redraw_from_the_written_summary(
+    static_run: tuple[Path, dict], tmp_path: Path
+) -> None:
+    """A script rebuilds the record from ``summary.json`` and writes the same tables."""
+    out, summary = static_run
+    write_failures(tmp_path, FailureStudyRecord.from_json(summary))
+    for name in ("cases.csv", "reallocation.csv", "report.md"):
+        assert (tmp_path / name).read_text() == (out / name).read_text()
+    assert json.loads((tmp_path / "summary.json").read_text()) == summary
+
+
 def test_an_existing_folder_it_did_not_write_is_refused(tmp_path: Path) -> None:
     out = tmp_path / "theirs"
     out.mkdir()
@@ -129,6 +216,9 @@ def test_closed_loop_on_two_workers_shows_progress_and_judges_every_case(tmp_pat
             met = met and all(v["met"] for v in case["closed_loop"]["corners"].values())
         assert case["closed_loop"]["met"] is met
     assert len([c for c in summary["cases"] if c["closed_loop"]["corners"]]) == 1
+    runs = [r for c in summary["cases"] for r in c["closed_loop"]["nominal"].values()]
+    assert {frozenset(r) for r in runs} == {frozenset(RUN_KEYS)}
+    assert FailureStudyRecord.from_json(summary).to_json() == summary
     assert "cases meet the requirements" in stdout
 
 

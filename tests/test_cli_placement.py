@@ -13,6 +13,7 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, load_problem
 from casadi_debris.geometry import build_geometry, torque_authority
+from casadi_debris.studies.placement_records import ParetoFigures, PlacementSummary
 from casadi_debris.units import MNM_PER_NM
 
 
@@ -88,6 +89,106 @@ def test_summary_reports_the_solver_and_worst_failure(placed):
         assert all(1 <= c <= 12 for c in worst["failed"][name])
     for name in ("summary.json", "report.md", "layout.png", "placement.toml"):
         assert (out / name).is_file()
+
+
+FIGURE_KEYS = {
+    "count",
+    "torque_max_zero_force_mNm",
+    "ratio_to_disturbance",
+    "worst_axis",
+    "worst_ratio",
+    "rigid_slew_s",
+    "slowest_slew_s",
+    "dv_one_stage_m_s",
+    "weakest_dv_one_stage_m_s",
+    "added_inertia_kgm2",
+    "mass_kg",
+}
+FAILURE_KEYS = {"failures", "sets", "torque_min_zero_force_mNm", "worst_ratio", "failed"}
+SUMMARY_KEYS = FIGURE_KEYS | {
+    "problem",
+    "problem_sha256",
+    "objective",
+    "count_limits",
+    "candidates",
+    "limits",
+    "solver",
+    "chosen",
+    "worst_failure",
+    "input_layout",
+    "pareto",
+    "out_dir",
+}
+SOLVER_KEYS = {
+    "backend",
+    "optimal",
+    "objective",
+    "upper_bound",
+    "gap",
+    "mip_rel_gap",
+    "method",
+    "blocks_extensive",
+    "blocks_used",
+    "time_s",
+    "solves",
+}
+SOLVE_KEYS = {"status", "message", "time_s", "variables", "binaries", "rows", "blocks"} | {
+    "nodes",
+    "mip_gap",
+}
+
+
+def test_the_json_keeps_its_keys_and_is_the_written_summary(placed):
+    """Other tools read these names: the typed summary writes exactly them."""
+    out, summary = placed
+    assert json.loads((out / "summary.json").read_text()) == summary
+    assert set(summary) == SUMMARY_KEYS
+    assert set(summary["input_layout"]) == FIGURE_KEYS | {"among_candidates", "worst_failure"}
+    assert set(summary["worst_failure"]) == set(summary["input_layout"]["worst_failure"])
+    assert set(summary["worst_failure"]) == FAILURE_KEYS
+    assert set(summary["solver"]) == SOLVER_KEYS
+    assert {frozenset(s) for s in summary["solver"]["solves"]} == {frozenset(SOLVE_KEYS)}
+    assert set(summary["candidates"]) == {"grid_per_face", "mounts", "candidates", "side_engines"}
+    assert set(summary["limits"]) == {"max_added_inertia_kgm2", "max_slew_s", "slew_angle_deg"}
+    assert {frozenset(c) for c in summary["chosen"]} == {
+        frozenset({"cubesat", "candidate", "mount", "face", "template", "position_corner_m"})
+    }
+    assert summary["pareto"] == [] and summary["out_dir"] == str(out.absolute())
+    assert [c["cubesat"] for c in summary["chosen"]] == list(range(1, 13))
+
+
+def test_the_summary_reads_back_into_its_record(placed):
+    _, summary = placed
+    record = PlacementSummary.from_json(summary)
+    assert record.to_json() == summary
+    assert record.figures.count == summary["count"] == len(record.chosen)
+    assert record.solver.solves[0].status == summary["solver"]["solves"][0]["status"]
+    assert (
+        record.input_layout.worst_failure.failed
+        == summary["input_layout"]["worst_failure"]["failed"]
+    )
+    with pytest.raises(ValueError, match="unknown field"):
+        PlacementSummary.from_json({**summary, "extra": 1})
+
+
+def test_pareto_points_keep_their_keys_and_read_back():
+    point = ParetoFigures("N=8", 8, 1.44, "+y", 2319.2, 0.0, None, True, True, (2, 3, 5))
+    written = point.to_json()
+    assert set(written) == {
+        "label",
+        "count",
+        "worst_ratio",
+        "worst_axis",
+        "slowest_slew_s",
+        "weakest_dv_one_stage_m_s",
+        "max_slew_s",
+        "optimal",
+        "on_front",
+        "candidates",
+    }
+    assert written["candidates"] == [2, 3, 5] and written["max_slew_s"] is None
+    assert ParetoFigures.from_json(written) == point
+    assert ParetoFigures.from_json({**written, "candidates": None}).candidates is None
 
 
 def test_refuses_to_overwrite_a_folder_it_did_not_write(runner, tmp_path):

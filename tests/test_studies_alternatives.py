@@ -79,8 +79,10 @@ def test_failure_tolerance_matches_brute_force_with_an_independent_lp():
                 / disturbance_Nm[AXIS_NAMES.index(n[1])]
                 for n in SIGNED_AXES
             )
-        worst = min(ratios, key=ratios.get)
+        least = min(ratios.values())
+        # Symmetric sets tie to round-off: the first of them in lexicographic order is reported.
+        worst = next(s for s, r in ratios.items() if r <= least + 1e-6 * abs(least))
         assert found is not None and found.sets == len(ratios)
-        assert found.worst_ratio == pytest.approx(ratios[worst], rel=1e-6)
+        assert found.worst_ratio == pytest.approx(least, rel=1e-6)
         assert found.failed == [k + 1 for k in worst]
         assert found.sets_above_disturbance == sum(r > 1.0 for r in ratios.values())

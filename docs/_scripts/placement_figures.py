@@ -58,14 +58,16 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as scratch:
         root = Path(scratch)
         for count in (12, 16, 20):
-            summary = run_placement(problem, root / f"n{count}", PlacementSettings((count, count)))
+            summary = run_placement(
+                problem, root / f"n{count}", PlacementSettings((count, count))
+            ).to_json()
             numbers[f"best_{count}"] = brief(summary)
         summary = run_placement(
             problem,
             root / "n24",
             PlacementSettings((24, 24), time_limit_s=args.pareto_time_limit),
             pareto_counts=default_pareto_counts(24),
-        )
+        ).to_json()
         numbers["best_24"] = brief(summary)
         numbers["paper"] = {key: summary["input_layout"][key] for key in KEEP}
         numbers["pareto"] = summary["pareto"]
@@ -73,7 +75,9 @@ def main() -> None:
         shutil.copy(root / "n24" / "pareto.png", FIGURES / "placement_pareto.png")
         for grid in (3, 4):
             settings = PlacementSettings((24, 24), failures=2, time_limit_s=args.double_time_limit)
-            summary = run_placement(problem, root / f"double{grid}", settings, grid=(grid, grid))
+            summary = run_placement(
+                problem, root / f"double{grid}", settings, grid=(grid, grid)
+            ).to_json()
             numbers[f"double_{grid}x{grid}"] = brief(summary)
         numbers["paper_worst_double"] = summary["input_layout"]["worst_failure"]
     print(json.dumps(json_ready(numbers), indent=1))

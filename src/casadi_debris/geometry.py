@@ -35,9 +35,11 @@ from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
+from scipy.linalg import block_diag
 from scipy.optimize import linprog
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Array, Problem
+from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.units import MN_PER_N
 
 
@@ -274,13 +276,76 @@ def max_thrust_N(geometry: Geometry) -> np.ndarray:
     return np.array([e.max_thrust_N for e in geometry.engines])
 
 
-def torque_authority(
-    geometry: Geometry, zero_net_force: bool = False, available: np.ndarray | None = None
-) -> dict[str, float]:
-    """Largest pure torque about each signed body axis, by linear programming.
+def signed_axis(name: str) -> tuple[int, float]:
+    """Axis index and sign of ``"+x"`` ... ``"-z"``."""
+    return AXIS_NAMES.index(name[1]), 1.0 if name[0] == "+" else -1.0
+
+
+def axis_authority_Nm(
+    torque_map: np.ndarray,
+    force_map: np.ndarray,
+    max_thrust_N: np.ndarray,
+    zero_net_force: bool = True,
+) -> np.ndarray:
+    """Largest pure torque about each signed body axis [N m], by one linear programme.
 
     For each signed axis a, maximise tau_a subject to the other two torque
     components being zero, 0 <= f_i <= f_max,i and, optionally, zero net force.
+    The six axes are independent blocks of one LP (the sum of six independent
+    maxima is maximised by each block's own maximum), which saves five solver
+    calls; thrust is counted in units of the largest bound, so that HiGHS'
+    absolute tolerances see numbers of order one.
+
+    Parameters
+    ----------
+    torque_map, force_map : ndarray, shape (3, n)
+        Per newton of each engine (about any point when the force cancels).
+    max_thrust_N : ndarray, shape (n,)
+        Upper thrust bounds (0 for an engine that may not fire).
+    zero_net_force : bool
+        Also require the engines' forces to cancel.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+        In the order of ``SIGNED_AXES`` (+x, -x, +y, -y, +z, -z).
+
+    Raises
+    ------
+    CasadiDebrisError
+        HiGHS failed (the LP itself is always feasible: no thrust at all).
+    """
+    limits = np.asarray(max_thrust_N, dtype=float)
+    n = len(limits)
+    if n == 0 or not np.any(limits > 0):
+        return np.zeros(len(SIGNED_AXES))
+    unit = float(np.max(limits))
+    blocks, objective = [], []
+    for name in SIGNED_AXES:
+        axis, sign = signed_axis(name)
+        rows = torque_map[[a for a in range(3) if a != axis]]
+        blocks.append(np.vstack([rows, force_map]) if zero_net_force else rows)
+        objective.append(-sign * torque_map[axis])
+    a_eq = block_diag(*blocks)
+    upper = np.tile(limits / unit, len(SIGNED_AXES))
+    result = linprog(
+        np.concatenate(objective),
+        A_eq=a_eq,
+        b_eq=np.zeros(a_eq.shape[0]),
+        bounds=[(0.0, float(u)) for u in upper],
+        method="highs",
+    )
+    if result.status != 0 or result.x is None:
+        raise CasadiDebrisError(f"torque authority LP failed: {result.message}")
+    per_block = -np.array(objective) * result.x.reshape(len(SIGNED_AXES), n)
+    return np.maximum(per_block.sum(axis=1), 0.0) * unit + 0.0  # + 0.0: no -0.0
+
+
+def torque_authority(
+    geometry: Geometry, zero_net_force: bool = False, available: np.ndarray | None = None
+) -> dict[str, float]:
+    """Largest pure torque about each signed body axis, by linear programming
+    (:func:`axis_authority_Nm` on the geometry's engines).
 
     Parameters
     ----------
@@ -298,25 +363,8 @@ def torque_authority(
     limits = max_thrust_N(geometry)
     if available is not None:
         limits = np.where(available, limits, 0.0)
-    authority: dict[str, float] = {}
-    for name in SIGNED_AXES:
-        axis = AXIS_NAMES.index(name[1])
-        sign = 1.0 if name[0] == "+" else -1.0
-        others = [a for a in range(3) if a != axis]
-        a_eq = geometry.torque_map[others]
-        if zero_net_force:
-            a_eq = np.vstack([a_eq, geometry.force_map])
-        result = linprog(
-            -sign * geometry.torque_map[axis],
-            A_eq=a_eq,
-            b_eq=np.zeros(len(a_eq)),
-            bounds=list(zip(np.zeros_like(limits), limits, strict=True)),
-            method="highs",
-        )
-        authority[name] = (
-            -float(result.fun) if result.status == 0 and result.fun is not None else 0.0
-        )
-    return authority
+    authority = axis_authority_Nm(geometry.torque_map, geometry.force_map, limits, zero_net_force)
+    return dict(zip(SIGNED_AXES, authority.tolist(), strict=True))
 
 
 def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:

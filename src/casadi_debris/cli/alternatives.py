@@ -30,7 +30,7 @@ from casadi_debris.report.common import format_table
     type=click.IntRange(0, 2),
     default=2,
     show_default=True,
-    help="Fail every set of up to this many CubeSats (an LP per set and signed axis).",
+    help="Fail every set of up to this many CubeSats (an LP per set).",
 )
 @click.option(
     "--out",

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
@@ -28,6 +28,10 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import check_output_folder, default_run_folder
 
+if TYPE_CHECKING:
+    from casadi_debris.studies.failure_records import FailureStudyRecord
+
+_MET = {True: "yes", False: "no", None: "—"}
 SHOWN = 10
 """Worst cases the text output lists."""
 MAX_CORNERS = 2048
@@ -47,22 +51,22 @@ def _progress(as_json: bool) -> Any:
     return progress
 
 
-def _text(summary: dict[str, Any]) -> str:
+def _text(summary: FailureStudyRecord) -> str:
     rows = []
-    for case in summary["cases"][:SHOWN]:
-        torque = case["torque_max_zero_force_mNm"]
-        runs = case["closed_loop"]["nominal"]
+    for case in summary.cases[:SHOWN]:
+        torque = case.torque_max_zero_force_mNm
+        runs = case.closed_loop.nominal
         rows.append(
             [
-                " ".join(map(str, case["failed"])) or "—",
-                " ".join(map(str, case["failed_stage"])) or "—",
+                " ".join(map(str, case.failed)) or "—",
+                " ".join(map(str, case.failed_stage)) or "—",
                 f"{min(torque.values()):.3g} ({min(torque, key=torque.__getitem__)})",
-                f"{case['worst_ratio']:.3g}",
+                f"{case.worst_ratio:.3g}",
                 *(
-                    f"{runs[m]['error']:.4g}" if m in runs and runs[m]["error"] is not None else "—"
+                    f"{runs[m].error:.4g}" if m in runs and runs[m].error is not None else "—"
                     for m in ("slew", "pointing")
                 ),
-                {True: "yes", False: "no"}.get(case["closed_loop"]["met"], "—"),
+                _MET[case.closed_loop.met],
             ]
         )
     headers = [
@@ -75,14 +79,14 @@ def _text(summary: dict[str, Any]) -> str:
         "met",
     ]
     verdict = (
-        f"{summary['cases_met']} of {summary['case_count']} cases meet the requirements; "
-        if summary["manoeuvres"]
+        f"{summary.cases_met} of {summary.case_count} cases meet the requirements; "
+        if summary.manoeuvres
         else ""
     )
     return (
         format_table(headers, rows)
-        + f"\n{verdict}{summary['case_count']} cases written to {summary['out_dir']} "
-        f"({summary['wall_time_s']:.0f} s)"
+        + f"\n{verdict}{summary.case_count} cases written to {summary.out_dir} "
+        f"({summary.wall_time_s:.0f} s)"
     )
 
 

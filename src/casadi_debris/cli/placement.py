@@ -7,6 +7,7 @@ import os
 import sys
 from collections.abc import Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import click
 
@@ -26,6 +27,9 @@ from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import default_run_folder
+
+if TYPE_CHECKING:
+    from casadi_debris.studies.placement_records import PlacementSummary
 
 OBJECTIVE_NAMES = ("worst-axis", "worst-single-failure", "worst-double-failure")
 MAX_INERTIA_KGM2 = 1e6
@@ -214,28 +218,23 @@ def _count(text: str) -> int:
     return int(text)
 
 
-def _print_summary(summary: dict) -> None:
-    chosen, own = summary, summary["input_layout"]
-    rows = [
-        ["CubeSats", chosen["count"], own["count"]],
-        ["worst axis", chosen["worst_axis"], own["worst_axis"]],
-        ["worst authority / disturbance", chosen["worst_ratio"], own["worst_ratio"]],
-        [
-            f"worst of {chosen['worst_failure']['failures']} failed",
-            chosen["worst_failure"]["worst_ratio"],
-            own["worst_failure"]["worst_ratio"],
-        ],
-        ["slowest rigid slew [s]", chosen["slowest_slew_s"], own["slowest_slew_s"]],
+def _print_summary(summary: PlacementSummary) -> None:
+    chosen, own = summary.figures, summary.input_layout.figures
+    worst, own_worst = summary.worst_failure, summary.input_layout.worst_failure
+    rows: list[list[object]] = [
+        ["CubeSats", chosen.count, own.count],
+        ["worst axis", chosen.worst_axis, own.worst_axis],
+        ["worst authority / disturbance", chosen.worst_ratio, own.worst_ratio],
+        [f"worst of {worst.failures} failed", worst.worst_ratio, own_worst.worst_ratio],
+        ["slowest rigid slew [s]", chosen.slowest_slew_s, own.slowest_slew_s],
         [
             "weakest one-stage Δv [m/s]",
-            chosen["weakest_dv_one_stage_m_s"],
-            own["weakest_dv_one_stage_m_s"],
+            chosen.weakest_dv_one_stage_m_s,
+            own.weakest_dv_one_stage_m_s,
         ],
     ]
     click.echo(format_table(["", "chosen", "input layout"], rows))
-    solver = summary["solver"]
-    status = "optimal" if solver["optimal"] else "NOT proven optimal"
-    click.echo(
-        f"MILP: {status}, gap {solver['gap']:.3g}, {solver['time_s']:.1f} s ({solver['method']})"
-    )
-    click.echo(f"written to {summary['out_dir']} (placement.toml, report.md)")
+    solver = summary.solver
+    status = "optimal" if solver.optimal else "NOT proven optimal"
+    click.echo(f"MILP: {status}, gap {solver.gap:.3g}, {solver.time_s:.1f} s ({solver.method})")
+    click.echo(f"written to {summary.out_dir} (placement.toml, report.md)")

@@ -24,7 +24,13 @@ import numpy as np
 
 from casadi_debris.config import SIGNED_AXES
 from casadi_debris.plots.failures import plot_authority_loss
+from casadi_debris.records import to_jsonable
 from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.studies.failure_records import (
+    FailureCaseRecord,
+    FailureStudyRecord,
+    RunVerdict,
+)
 from casadi_debris.units import SECONDS_PER_DAY
 
 REPORT_ROWS = 25
@@ -33,14 +39,14 @@ RISES_SHOWN = 3
 HEATMAP = "authority_loss.png"
 
 
-def _ids(ids: list[int]) -> str:
+def _ids(ids: tuple[int, ...]) -> str:
     return " ".join(str(i) for i in ids)
 
 
-def _run_figure(case: dict[str, Any], where: str, name: str) -> float | None:
+def _run_figure(runs: dict[str, RunVerdict], name: str) -> float | None:
     """The judged figure of a manoeuvre's worst run (None: not flown)."""
-    run = case["closed_loop"][where].get(name)
-    return None if run is None else run["error"]
+    run = runs.get(name)
+    return None if run is None else run.error
 
 
 def _met(value: bool | None) -> str:
@@ -51,36 +57,37 @@ def _days(seconds: float | None) -> float | None:
     return None if seconds is None else seconds / SECONDS_PER_DAY
 
 
-def _rises(case: dict[str, Any]) -> str:
-    rises = case.get("reallocation") or []
+def _rises(case: FailureCaseRecord) -> str:
     return ", ".join(
-        f"{r['cubesat']} (+{r['thrust_after_mN'] - r['thrust_before_mN']:.3g} mN)"
-        for r in rises[:RISES_SHOWN]
+        f"{r.cubesat} (+{r.thrust_after_mN - r.thrust_before_mN:.3g} mN)"
+        for r in case.reallocation[:RISES_SHOWN]
     )
 
 
-def case_row(rank: int, case: dict[str, Any]) -> dict[str, Any]:
-    """One case as a table row, display units in the keys."""
-    holding = case["holding"] or {}
-    torque = case["torque_max_zero_force_mNm"]
-    return {
+def case_row(rank: int, case: FailureCaseRecord) -> dict[str, Any]:
+    """One case as a table row (a CSV line), display units in the keys."""
+    holding, loop = case.holding, case.closed_loop
+    torque = case.torque_max_zero_force_mNm
+    row = {
         "rank": rank,
-        "case_id": case["case_id"],
-        "failed": _ids(case["failed"]),
-        "failed_stage": _ids(case["failed_stage"]),
+        "case_id": case.case_id,
+        "failed": _ids(case.failed),
+        "failed_stage": _ids(case.failed_stage),
         **{f"torque_{axis}_mNm": torque[axis] for axis in SIGNED_AXES},
-        "worst_axis": case["worst_axis"],
-        "worst_ratio": case["worst_ratio"],
-        "slew_max_error_deg": _run_figure(case, "nominal", "slew"),
-        "pointing_max_error_arcsec": _run_figure(case, "nominal", "pointing"),
-        "corners_slew_max_error_deg": _run_figure(case, "corners", "slew"),
-        "corners_pointing_max_error_arcsec": _run_figure(case, "corners", "pointing"),
-        "met": _met(case["closed_loop"]["met"]),
-        "holding_fuel_per_period_kg": holding.get("fuel_per_period_kg"),
-        "holding_fuel_spread": holding.get("fuel_spread"),
-        "depletion_days": _days(holding.get("depletion_time_s")),
+        "worst_axis": case.worst_axis,
+        "worst_ratio": case.worst_ratio,
+        "slew_max_error_deg": _run_figure(loop.nominal, "slew"),
+        "pointing_max_error_arcsec": _run_figure(loop.nominal, "pointing"),
+        "corners_slew_max_error_deg": _run_figure(loop.corners, "slew"),
+        "corners_pointing_max_error_arcsec": _run_figure(loop.corners, "pointing"),
+        "met": _met(loop.met),
+        "holding_fuel_per_period_kg": None if holding is None else holding.fuel_per_period_kg,
+        "holding_fuel_spread": None if holding is None else holding.fuel_spread,
+        "depletion_days": _days(None if holding is None else holding.depletion_time_s),
         "thrust_rises": _rises(case),
     }
+    # As the summary's JSON has them: a non-finite figure is no figure.
+    return {k: to_jsonable(v) for k, v in row.items()}
 
 
 COLUMN_TITLES = {
@@ -115,33 +122,32 @@ def _markdown_cells(row: dict[str, Any]) -> list[str]:
     ]
 
 
-def failures_markdown(summary: dict[str, Any], rows: list[dict[str, Any]]) -> str:
+def failures_markdown(summary: FailureStudyRecord, rows: list[dict[str, Any]]) -> str:
     """``report.md``: what was run, the baseline, the worst cases, the heat map."""
-    baseline = summary["baseline"]
-    torque = baseline["torque_max_zero_force_mNm"]
-    requirements = ", ".join(f"{k} ≤ {v:g}" for k, v in summary["requirements"].items())
-    flown = ", ".join(f"{m['name']} ({m['duration_s']:g} s)" for m in summary["manoeuvres"])
+    torque = summary.baseline.torque_max_zero_force_mNm
+    requirements = ", ".join(f"{k} ≤ {v:g}" for k, v in summary.requirements.items())
+    flown = ", ".join(f"{m.name} ({m.duration_s:g} s)" for m in summary.manoeuvres)
     lines = [
-        f"# Failure campaign: {summary['problem']}",
+        f"# Failure campaign: {summary.problem}",
         "",
-        f"{summary['case_count']} cases: every set of 1 to {summary['max_failed']} failed "
-        f"CubeSats of {summary['cubesats']}"
-        + (", and stage 1 lost on each CubeSat" if summary["stages"] else "")
+        f"{summary.case_count} cases: every set of 1 to {summary.max_failed} failed "
+        f"CubeSats of {summary.cubesats}"
+        + (", and stage 1 lost on each CubeSat" if summary.stages else "")
         + ". Every failure at time 0.",
         "",
         f"Whole swarm: authority {format_figure([torque[a] for a in SIGNED_AXES], 3)} mNm "
         f"(+x / −x / +y / −y / +z / −z, zero net force) against a disturbance of "
-        f"{format_figure(summary['disturbance_mNm'], 3)} mNm (x / y / z).",
+        f"{format_figure(list(summary.disturbance_mNm), 3)} mNm (x / y / z).",
         "",
     ]
-    if summary["manoeuvres"]:
+    if summary.manoeuvres:
         lines += [
             f"Closed loop (nominal plant): {flown}; requirements {requirements}. "
-            f"{summary['cases_met']} cases meet them, {summary['cases_not_met']} do not"
+            f"{summary.cases_met} cases meet them, {summary.cases_not_met} do not"
             + (
-                f"; the {summary['corner_sets']} worst also flew {summary['corner_plants']} "
+                f"; the {summary.corner_sets} worst also flew {summary.corner_plants} "
                 "corners of the uncertainty set."
-                if summary["corner_plants"]
+                if summary.corner_plants
                 else "."
             ),
             "",
@@ -176,17 +182,19 @@ def _write_table(path: Path, rows: list[dict[str, Any]]) -> None:
         writer.writerows({k: "" if v is None else v for k, v in row.items()} for row in rows)
 
 
-def reallocation_rows(summary: dict[str, Any]) -> list[dict[str, Any]]:
+def reallocation_rows(summary: FailureStudyRecord) -> list[dict[str, Any]]:
     """Each case's mean holding thrust per CubeSat beside the whole swarm's [mN]."""
-    before = (summary["baseline"]["holding"] or {}).get("thrust_per_cubesat_mN")
+    if summary.baseline.holding is None:
+        return []
+    before = summary.baseline.holding.thrust_per_cubesat_mN
     rows = []
-    for case in summary["cases"]:
-        after = (case["holding"] or {}).get("thrust_per_cubesat_mN")
-        if before is None or after is None:
+    for case in summary.cases:
+        if case.holding is None:
             continue
+        after = case.holding.thrust_per_cubesat_mN
         rows += [
             {
-                "case_id": case["case_id"],
+                "case_id": case.case_id,
                 "cubesat": index + 1,
                 "thrust_before_mN": old,
                 "thrust_after_mN": new,
@@ -197,26 +205,29 @@ def reallocation_rows(summary: dict[str, Any]) -> list[dict[str, Any]]:
     return rows
 
 
-def single_failure_loss(summary: dict[str, Any]) -> tuple[list[int], np.ndarray, np.ndarray]:
+def single_failure_loss(summary: FailureStudyRecord) -> tuple[list[int], np.ndarray, np.ndarray]:
     """(CubeSat ids, authority lost (n, 6), left at or below the disturbance (n, 6)) of the
     single-CubeSat cases, by CubeSat."""
     singles = sorted(
-        (c for c in summary["cases"] if len(c["failed"]) == 1 and not c["failed_stage"]),
-        key=lambda c: c["failed"][0],
+        (c for c in summary.cases if len(c.failed) == 1 and not c.failed_stage),
+        key=lambda c: c.failed[0],
     )
-    loss = np.array([[c["authority_loss"][a] or 0.0 for a in SIGNED_AXES] for c in singles])
-    weak = np.array([[_at_most_one(c["authority_ratio"][a]) for a in SIGNED_AXES] for c in singles])
-    return [c["failed"][0] for c in singles], loss.reshape(-1, 6), weak.reshape(-1, 6)
+    loss = np.array(
+        [[(c.authority_loss or {}).get(a) or 0.0 for a in SIGNED_AXES] for c in singles]
+    )
+    weak = np.array([[_at_most_one(c.authority_ratio[a]) for a in SIGNED_AXES] for c in singles])
+    return [c.failed[0] for c in singles], loss.reshape(-1, 6), weak.reshape(-1, 6)
 
 
 def _at_most_one(ratio: float | None) -> bool:
-    """Authority at or below the disturbance (None: no disturbance about that axis)."""
+    """Authority at or below the disturbance (None or NaN, as JSON gives back infinity: no
+    disturbance about that axis)."""
     return ratio is not None and ratio <= 1.0
 
 
-def write_failures(folder: Path, summary: dict[str, Any]) -> None:
+def write_failures(folder: Path, summary: FailureStudyRecord) -> None:
     """Every file of a failure campaign into ``folder`` (see the module)."""
-    rows = [case_row(rank, case) for rank, case in enumerate(summary["cases"], start=1)]
+    rows = [case_row(rank, case) for rank, case in enumerate(summary.cases, start=1)]
     _write_table(folder / "cases.csv", rows)
     moved = reallocation_rows(summary)
     if moved:
@@ -227,7 +238,7 @@ def write_failures(folder: Path, summary: dict[str, Any]) -> None:
             folder / HEATMAP,
             loss,
             ids,
-            f"{summary['problem']}: authority lost by one failed CubeSat",
+            f"{summary.problem}: authority lost by one failed CubeSat",
             weak,
         )
     (folder / "report.md").write_text(failures_markdown(summary, rows))

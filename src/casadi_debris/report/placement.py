@@ -14,15 +14,13 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
+from casadi_debris.config import Problem
 from casadi_debris.config.schema import CubeSat
 from casadi_debris.plots.placement import plot_layout, plot_pareto
 from casadi_debris.report.common import format_figure, write_json_atomic
-from casadi_debris.studies.placement import InputLayout, PlacementStudy
-from casadi_debris.studies.placement_authority import WorstFailures
-from casadi_debris.studies.placement_metrics import LayoutMetrics
+from casadi_debris.studies.placement import PlacementStudy
 from casadi_debris.studies.placement_pareto import ParetoPoint
-from casadi_debris.units import MNM_PER_NM
+from casadi_debris.studies.placement_records import PlacementSummary
 
 PLACEMENT_FILE = "placement.toml"
 NAME_LENGTH = 64
@@ -85,197 +83,54 @@ def placement_toml(problem: Problem, cubesats: tuple[CubeSat, ...], note: str) -
     return "\n".join(header + body) + "\n"
 
 
-def _mNm(values: dict[str, float] | np.ndarray) -> dict[str, float]:
-    if isinstance(values, dict):
-        return {name: float(values[name]) * MNM_PER_NM for name in SIGNED_AXES}
-    return {name: float(v) * MNM_PER_NM for name, v in zip(SIGNED_AXES, values, strict=True)}
-
-
-def metrics_dict(metrics: LayoutMetrics) -> dict[str, Any]:
-    """A layout's figures with units in the names."""
-    return {
-        "count": metrics.count,
-        "torque_max_zero_force_mNm": _mNm(metrics.authority_Nm),
-        "ratio_to_disturbance": {name: float(metrics.ratio[name]) for name in SIGNED_AXES},
-        "worst_axis": metrics.worst_axis,
-        "worst_ratio": metrics.worst_ratio,
-        "rigid_slew_s": dict(zip(AXIS_NAMES, metrics.slew_s.tolist(), strict=True)),
-        "slowest_slew_s": metrics.slowest_slew_s,
-        "dv_one_stage_m_s": {name: metrics.dv_one_stage_m_s[name] for name in SIGNED_AXES},
-        "weakest_dv_one_stage_m_s": metrics.weakest_dv_m_s,
-        "added_inertia_kgm2": dict(
-            zip(AXIS_NAMES, metrics.added_inertia_kgm2.tolist(), strict=True)
-        ),
-        "mass_kg": metrics.mass_kg,
-    }
-
-
-def failures_dict(
-    worst: WorstFailures, ids: dict[int, int], disturbance_Nm: np.ndarray
-) -> dict[str, Any]:
-    """The worst failure set per axis, CubeSats by their 1-based ids in the layout."""
-    ratio = worst.ratio(disturbance_Nm)
-    return {
-        "failures": worst.failures,
-        "sets": worst.sets,
-        "torque_min_zero_force_mNm": _mNm(worst.authority_Nm),
-        "worst_ratio": float(np.min(ratio)),
-        "failed": {
-            name: sorted(ids[c] for c in failed)
-            for name, failed in zip(SIGNED_AXES, worst.worst_set, strict=True)
-        },
-    }
-
-
-def _input_dict(layout: InputLayout, disturbance_Nm: np.ndarray) -> dict[str, Any]:
-    ids = {i: i + 1 for i in range(layout.metrics.count)}
-    return {
-        **metrics_dict(layout.metrics),
-        "among_candidates": layout.among_candidates is not None,
-        "worst_failure": failures_dict(layout.worst, ids, disturbance_Nm),
-    }
-
-
-def pareto_dicts(points: list[ParetoPoint]) -> list[dict[str, Any]]:
-    return [
-        {
-            "label": p.label,
-            "count": p.metrics.count,
-            "worst_ratio": p.metrics.worst_ratio,
-            "worst_axis": p.metrics.worst_axis,
-            "slowest_slew_s": p.metrics.slowest_slew_s,
-            "weakest_dv_one_stage_m_s": p.metrics.weakest_dv_m_s,
-            "max_slew_s": p.max_slew_s,
-            "optimal": p.optimal,
-            "on_front": p.on_front,
-            "candidates": None if p.chosen is None else [c + 1 for c in p.chosen],
-        }
-        for p in points
-    ]
-
-
-def placement_summary(
-    study: PlacementStudy, objective: str, pareto: list[ParetoPoint]
-) -> dict[str, Any]:
-    """What ``summary.json`` and ``--json`` hold (display units in the names)."""
-    solution, data_d = study.solution, np.abs(study.problem.disturbance.amplitude_mNm) / MNM_PER_NM
-    ids = {candidate: i + 1 for i, candidate in enumerate(solution.chosen)}
-    chosen = [
-        {
-            "cubesat": i + 1,
-            "candidate": c.index + 1,
-            "mount": c.mount + 1,
-            "face": c.face,
-            "template": c.template,
-            "position_corner_m": c.cubesat.position_corner_m.tolist(),
-        }
-        for i, c in enumerate(study.chosen)
-    ]
-    candidates = study.candidates
-    return {
-        "problem": study.problem.name,
-        "problem_sha256": study.problem.sha256,
-        "objective": objective,
-        "count_limits": list(study.settings.count),
-        "candidates": {
-            "grid_per_face": list(candidates.grid),
-            "mounts": candidates.n_mounts,
-            "candidates": len(candidates.candidates),
-            "side_engines": list(candidates.side_engine_options),
-        },
-        "limits": {
-            "max_added_inertia_kgm2": study.settings.max_added_inertia_kgm2,
-            "max_slew_s": study.settings.max_slew_s,
-            "slew_angle_deg": study.settings.slew_angle_deg,
-        },
-        "solver": _solver_dict(study),
-        "chosen": chosen,
-        **metrics_dict(study.metrics),
-        "worst_failure": failures_dict(solution.worst, ids, data_d),
-        "input_layout": _input_dict(study.input_layout, data_d),
-        "pareto": pareto_dicts(pareto),
-    }
-
-
-def _solver_dict(study: PlacementStudy) -> dict[str, Any]:
-    solution = study.solution
-    return {
-        "backend": "HiGHS (scipy.optimize.milp)",
-        "optimal": solution.optimal,
-        "objective": solution.objective,
-        "upper_bound": solution.upper_bound,
-        "gap": solution.gap,
-        "mip_rel_gap": study.settings.mip_rel_gap,
-        "method": solution.method,
-        "blocks_extensive": solution.blocks_total,
-        "blocks_used": solution.blocks_used,
-        "time_s": solution.time_s,
-        "solves": [
-            {
-                "status": s.status,
-                "message": s.message,
-                "time_s": s.time_s,
-                "variables": s.variables,
-                "binaries": s.binaries,
-                "rows": s.rows,
-                "blocks": s.blocks,
-                "nodes": s.nodes,
-                "mip_gap": s.mip_gap,
-            }
-            for s in solution.solves
-        ],
-    }
-
-
-def placement_markdown(summary: dict[str, Any]) -> str:
+def placement_markdown(summary: PlacementSummary) -> str:
     """``report.md``: the chosen layout beside the input one, the solver's status."""
-    solver = summary["solver"]
-    input_layout = summary["input_layout"]
+    solver, chosen, own = summary.solver, summary.figures, summary.input_layout.figures
     rows = [
-        ("CubeSats", summary["count"], input_layout["count"]),
-        ("worst axis", summary["worst_axis"], input_layout["worst_axis"]),
-        ("worst authority / disturbance", summary["worst_ratio"], input_layout["worst_ratio"]),
+        ("CubeSats", chosen.count, own.count),
+        ("worst axis", chosen.worst_axis, own.worst_axis),
+        ("worst authority / disturbance", chosen.worst_ratio, own.worst_ratio),
         (
             "authority +x,-x,+y,-y,+z,-z [mNm]",
-            list(summary["torque_max_zero_force_mNm"].values()),
-            list(input_layout["torque_max_zero_force_mNm"].values()),
+            list(chosen.torque_max_zero_force_mNm.values()),
+            list(own.torque_max_zero_force_mNm.values()),
         ),
         (
-            f"worst of {summary['worst_failure']['failures']} failed: authority / disturbance",
-            summary["worst_failure"]["worst_ratio"],
-            input_layout["worst_failure"]["worst_ratio"],
+            f"worst of {summary.worst_failure.failures} failed: authority / disturbance",
+            summary.worst_failure.worst_ratio,
+            summary.input_layout.worst_failure.worst_ratio,
         ),
         (
             "rigid slew x,y,z [s]",
-            list(summary["rigid_slew_s"].values()),
-            list(input_layout["rigid_slew_s"].values()),
+            list(chosen.rigid_slew_s.values()),
+            list(own.rigid_slew_s.values()),
         ),
         (
             "one-stage Δv, weakest direction [m/s]",
-            summary["weakest_dv_one_stage_m_s"],
-            input_layout["weakest_dv_one_stage_m_s"],
+            chosen.weakest_dv_one_stage_m_s,
+            own.weakest_dv_one_stage_m_s,
         ),
         (
             "added inertia x,y,z [kg m²]",
-            list(summary["added_inertia_kgm2"].values()),
-            list(input_layout["added_inertia_kgm2"].values()),
+            list(chosen.added_inertia_kgm2.values()),
+            list(own.added_inertia_kgm2.values()),
         ),
     ]
     lines = [
-        f"# Placement for {summary['problem']} ({summary['objective']})",
+        f"# Placement for {summary.problem} ({summary.objective})",
         "",
         "| figure | chosen | input layout |",
         "| --- | --- | --- |",
         *(f"| {name} | {_cell(a)} | {_cell(b)} |" for name, a, b in rows),
         "",
-        f"Solver: {solver['backend']}, {solver['method']} form, "
-        f"{'optimal' if solver['optimal'] else 'NOT proven optimal'}: objective "
-        f"{format_figure(solver['objective'])}, bound {format_figure(solver['upper_bound'])}, "
-        f"gap {format_figure(solver['gap'])}, {format_figure(solver['time_s'])} s.",
+        f"Solver: {solver.backend}, {solver.method} form, "
+        f"{'optimal' if solver.optimal else 'NOT proven optimal'}: objective "
+        f"{format_figure(solver.objective)}, bound {format_figure(solver.upper_bound)}, "
+        f"gap {format_figure(solver.gap)}, {format_figure(solver.time_s)} s.",
         "",
         "![layout](layout.png)",
     ]
-    if summary["pareto"]:
+    if summary.pareto:
         lines += ["", "![Pareto front](pareto.png)"]
     return "\n".join(lines) + "\n"
 
@@ -285,7 +140,7 @@ def _cell(value: Any) -> str:
 
 
 def write_placement(
-    folder: Path, study: PlacementStudy, summary: dict[str, Any], pareto: list[ParetoPoint]
+    folder: Path, study: PlacementStudy, summary: PlacementSummary, pareto: list[ParetoPoint]
 ) -> None:
     """``placement.toml``, ``summary.json``, ``report.md``, ``layout.png`` (and ``pareto.png``)."""
     cubesats = study.candidates.cubesats(study.solution.chosen)
@@ -293,7 +148,7 @@ def write_placement(
         placement_toml(
             study.problem,
             cubesats,
-            f"{summary['objective']}, worst ratio "
+            f"{summary.objective}, worst ratio "
             f"{study.metrics.worst_ratio:.4g} ({study.metrics.worst_axis})",
         )
     )

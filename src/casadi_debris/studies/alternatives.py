@@ -13,22 +13,29 @@ engines, 2U CubeSats firing differentially, fewer CubeSats with more thrust) in 
   each signed axis at zero net force, per unit torque, an LP (the flow is linear in the
   torque up to the authority, so one solve per axis gives it);
 - **failure tolerance**: the weakest-axis ratio left after the worst single and the worst
-  double CubeSat failure (every set, an LP each), and how many of the single and double
+  double CubeSat failure (every set, an LP each:
+  :mod:`~casadi_debris.studies.failure_sets`), and how many of the single and double
   failures keep every signed axis above the disturbance;
 - **mass**: the swarm's added mass and the combined body's.
 """
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem, signed_axis_vector
+from casadi_debris.config import SIGNED_AXES, Problem, signed_axis_vector
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
 from casadi_debris.records import Record
+from casadi_debris.studies.failure_sets import (
+    authority_without,
+    axis_ratios,
+    first_least,
+    set_authority,
+    weakest_axis,
+)
 from casadi_debris.units import MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
 
 G_PER_KG = 1e3
@@ -76,16 +83,6 @@ class SwarmFigures(Record):
     fuel_per_torque_time_g_per_mNm_h: dict[str, float]
     single_failure: FailureTolerance | None
     double_failure: FailureTolerance | None
-
-
-def _ratio(authority_Nm: dict[str, float], disturbance_Nm: np.ndarray) -> dict[str, float]:
-    """Authority over the disturbance amplitude per signed axis (inf where it is zero)."""
-    return {
-        name: value / disturbance_Nm[AXIS_NAMES.index(name[1])]
-        if disturbance_Nm[AXIS_NAMES.index(name[1])] > 0
-        else float("inf")
-        for name, value in authority_Nm.items()
-    }
 
 
 def fuel_per_torque(allocator: Allocator, authority_Nm: dict[str, float]) -> dict[str, float]:
@@ -138,17 +135,17 @@ def failure_tolerance(
     n_cubesats = len(geometry.cubesats)
     if n_cubesats <= size:
         return None
-    owner = geometry.engine_cubesat
-    worst: tuple[float, tuple[int, ...]] = (float("inf"), ())
-    above = 0
-    sets = list(itertools.combinations(range(n_cubesats), size))
-    for failed in sets:
-        available = ~np.isin(owner, failed)
-        authority = torque_authority(geometry, zero_net_force=True, available=available)
-        ratio = min(_ratio(authority, disturbance_Nm).values()) + 0.0  # no -0.0
-        above += ratio > 1.0
-        worst = min(worst, (ratio, failed))
-    return FailureTolerance([k + 1 for k in worst[1]], worst[0], len(sets), above)
+    found = set_authority(
+        range(n_cubesats), size, lambda failed: authority_without(geometry, failed)
+    )
+    weakest = found.weakest_ratio(disturbance_Nm)
+    worst = first_least(weakest)
+    return FailureTolerance(
+        failed=[k + 1 for k in found.sets[worst]],
+        worst_ratio=float(weakest.min()),
+        sets=len(found.sets),
+        sets_above_disturbance=int(np.sum(weakest > 1.0)),
+    )
 
 
 def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
@@ -169,8 +166,8 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
     allocator = Allocator.from_problem(problem, geometry)
     disturbance_Nm = np.abs(np.asarray(problem.disturbance.amplitude_mNm, dtype=float)) / MN_PER_N
     authority = torque_authority(geometry, zero_net_force=True)
-    ratio = _ratio(authority, disturbance_Nm)
-    weakest = min(SIGNED_AXES, key=lambda name: (ratio[name], authority[name]))
+    ratio = axis_ratios(authority, disturbance_Nm)
+    weakest = weakest_axis(ratio, authority)
     # kg/s per N m -> g per (mN m h)
     per_mNm_h = G_PER_KG * SECONDS_PER_HOUR / MNM_PER_NM
     fuel = {k: v * per_mNm_h for k, v in fuel_per_torque(allocator, authority).items()}

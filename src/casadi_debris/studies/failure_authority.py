@@ -2,8 +2,8 @@
 
 Authority
     The largest pure torque about each signed body axis at zero net force
-    with the engines that can still fire (one LP per signed axis,
-    :func:`~casadi_debris.geometry.torque_authority`), and its ratio to the
+    with the engines that can still fire (one LP, the six signed axes as its
+    blocks: :func:`~casadi_debris.geometry.torque_authority`), and its ratio to the
     disturbance's amplitude about that axis (the paper's "2.8 times the
     worst-case disturbance").
 
@@ -30,11 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState
-from casadi_debris.config import SIGNED_AXES, Problem
+from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, torque_authority
 from casadi_debris.model import Model
 from casadi_debris.studies.failure_cases import FailureCase
 from casadi_debris.studies.failure_records import HoldingRecord
+from casadi_debris.studies.failure_sets import axis_ratios, weakest_axis
 from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
 HOLDING_SAMPLES = 360
@@ -115,25 +116,17 @@ class CaseAuthority:
     @property
     def ratio(self) -> dict[str, float]:
         """Authority over the disturbance's amplitude about each signed axis (inf: none)."""
-        return {
-            name: _ratio(value, float(self.disturbance_Nm["xyz".index(name[1])]))
-            for name, value in self.torque_Nm.items()
-        }
+        return axis_ratios(self.torque_Nm, self.disturbance_Nm)
 
     @property
     def worst_axis(self) -> str:
         """The signed axis of least authority relative to the disturbance."""
-        ratio = self.ratio
-        return min(SIGNED_AXES, key=lambda name: (ratio[name], self.torque_Nm[name]))
+        return weakest_axis(self.ratio, self.torque_Nm)
 
     @property
     def worst_ratio(self) -> float:
         """The least of :attr:`ratio`."""
         return self.ratio[self.worst_axis]
-
-
-def _ratio(torque_Nm: float, disturbance_Nm: float) -> float:
-    return torque_Nm / disturbance_Nm if disturbance_Nm > 0 else float("inf")
 
 
 def holding_torque_Nm(problem: Problem, model: Model) -> np.ndarray:

@@ -17,13 +17,13 @@ still do, not how it copes with the instant of the failure.
 
 from __future__ import annotations
 
-import itertools
 from dataclasses import dataclass
 from math import comb
 
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.studies.failure_sets import failure_sets
 
 FAILED_STAGE = 0
 """The stage a stage-failure case loses (0-based): the first, so the next takes over at once."""
@@ -134,9 +134,9 @@ def failure_cases(n_cubesats: int, max_failed: int, *, stages: bool = True) -> l
     """
     check_max_failed(max_failed, n_cubesats)
     cases = [
-        FailureCase(cubesats=combo)
+        FailureCase(cubesats=failed)
         for size in range(1, max_failed + 1)
-        for combo in itertools.combinations(range(n_cubesats), size)
+        for failed in failure_sets(range(n_cubesats), size)
     ]
     if stages:
         cases += [FailureCase(stage_of=(i,)) for i in range(n_cubesats)]

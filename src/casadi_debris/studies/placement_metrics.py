@@ -21,6 +21,7 @@ from casadi_debris.config.schema import CubeSat
 from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
 from casadi_debris.slew.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration
+from casadi_debris.studies.failure_sets import axis_ratios
 from casadi_debris.studies.placement_data import bare_debris
 
 DIRECTION_TOLERANCE = 1e-9
@@ -130,9 +131,7 @@ def layout_metrics(
     geometry = build_geometry(placed)
     authority = torque_authority(geometry, zero_net_force=True)
     disturbance = np.abs(np.asarray(problem.disturbance.amplitude_mNm, dtype=float)) * 1e-3
-    ratio: dict[str, float] = {
-        name: authority[name] / disturbance[AXIS_NAMES.index(name[1])] for name in SIGNED_AXES
-    }
+    ratio = axis_ratios(authority, disturbance)
     _, bare_inertia = bare_debris(problem)
     return LayoutMetrics(
         count=len(cubesats),

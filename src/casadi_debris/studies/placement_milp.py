@@ -44,10 +44,10 @@ from scipy.optimize import Bounds, LinearConstraint, milp
 
 from casadi_debris.config import SIGNED_AXES
 from casadi_debris.errors import InputShapeError
+from casadi_debris.geometry import signed_axis
 from casadi_debris.studies.placement_authority import (
     WorstFailures,
     layout_authority_Nm,
-    signed_axis,
     worst_failures,
 )
 from casadi_debris.studies.placement_data import PlacementData

@@ -16,20 +16,20 @@ Example
 >>> from casadi_debris.workflows.failures import failures_folder
 >>> summary = failures_folder(load_problem("problems/paper_slew.toml"), "runs/failures",
 ...                           FailureSettings(max_failed=2, workers=2))  # doctest: +SKIP
->>> summary["cases"][0]["failed"], summary["cases"][0]["closed_loop"]["met"]  # doctest: +SKIP
+>>> summary.cases[0].failed, summary.cases[0].closed_loop.met  # doctest: +SKIP
 """
 
 from __future__ import annotations
 
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 from casadi_debris.config import Problem
 from casadi_debris.model import build_model
 from casadi_debris.report.failures import write_failures
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.studies.failure_cases import check_max_failed
+from casadi_debris.studies.failure_records import FailureStudyRecord
 from casadi_debris.studies.failure_runs import StageProgress, manoeuvres
 from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
 from casadi_debris.workflows.campaign import CaseSelection
@@ -108,7 +108,7 @@ def failures_folder(
     quick: bool = False,
     overwrite: bool = False,
     progress: StageProgress | None = None,
-) -> dict[str, Any]:
+) -> FailureStudyRecord:
     """Run the failure campaign of ``problem`` into the folder ``out``.
 
     Parameters are those of :func:`run_failure_study`, and
@@ -121,8 +121,8 @@ def failures_folder(
 
     Returns
     -------
-    dict
-        What ``summary.json`` holds.
+    FailureStudyRecord
+        What ``summary.json`` holds (its ``to_json``).
     """
     out = Path(out)
     with RunFolder.claim(out, overwrite=overwrite, command="failures") as staging:
@@ -142,6 +142,5 @@ def failures_folder(
             max_corners=max_corners,
             out_dir=str(out.absolute()),
         )
-        summary = record.to_json()
-        write_failures(staging, summary)
-    return summary
+        write_failures(staging, record)
+    return record

@@ -7,15 +7,15 @@ Example
 >>> from casadi_debris.workflows.placement import run_placement
 >>> summary = run_placement(load_problem(), "runs/placement",
 ...                         PlacementSettings(count=(24, 24)))  # doctest: +SKIP
->>> summary["torque_max_zero_force_mNm"]["+y"]  # doctest: +SKIP
+>>> summary.figures.torque_max_zero_force_mNm["+y"]  # doctest: +SKIP
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
@@ -23,12 +23,13 @@ from casadi_debris.config import SIGNED_AXES, Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.geometry import build_geometry, torque_authority
 from casadi_debris.report.folders import RunFolder, check_output_folder
-from casadi_debris.report.placement import PLACEMENT_FILE, placement_summary, write_placement
+from casadi_debris.report.placement import PLACEMENT_FILE, write_placement
 from casadi_debris.studies.placement import PlacementStudy, optimise_placement
 from casadi_debris.studies.placement_candidates import DEFAULT_GRID, face_candidates
 from casadi_debris.studies.placement_data import placement_data
 from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings
 from casadi_debris.studies.placement_pareto import ParetoPoint, pareto_front
+from casadi_debris.studies.placement_records import PlacementSummary, placement_summary
 
 LOGGER = logging.getLogger(__name__)
 AUTHORITY_RELATIVE_TOLERANCE = 1e-9
@@ -69,7 +70,7 @@ def run_placement(
     pareto_counts: Sequence[int] | None = None,
     overwrite: bool = False,
     progress: Callable[[str], None] | None = None,
-) -> dict[str, Any]:
+) -> PlacementSummary:
     """Optimise the layout, sweep the Pareto front, write the result folder.
 
     Parameters
@@ -91,8 +92,8 @@ def run_placement(
 
     Returns
     -------
-    dict
-        :func:`~casadi_debris.report.placement.placement_summary` plus ``out_dir``.
+    PlacementSummary
+        What ``summary.json`` holds (its ``to_json``), ``out_dir`` included.
     """
     if not Path(problem.source).is_file():
         raise InputShapeError(f"placement needs a problem loaded from a file; got {problem.source}")
@@ -106,8 +107,7 @@ def run_placement(
         say(f"Pareto sweep over {len(pareto_counts)} counts")
         points = pareto_front(problem, data, pareto_counts, settings)
     objective = next(name for name, k in OBJECTIVES.items() if k == settings.failures)
-    summary = placement_summary(study, objective, points)
-    summary["out_dir"] = str(out.absolute())
+    summary = replace(placement_summary(study, objective, points), out_dir=str(out.absolute()))
     with RunFolder.claim(out, overwrite=overwrite, command="placement") as staging:
         write_placement(staging, study, summary, points)
         check_written_layout(staging / PLACEMENT_FILE, study)
