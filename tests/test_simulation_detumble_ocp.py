@@ -141,3 +141,14 @@ def test_a_spherical_body_or_a_lopsided_polytope_is_refused() -> None:
     lopsided = np.vstack([ball, [[0.0, 0.0, 9e-3]]])
     with pytest.raises(SimulationError, match="centrally symmetric"):
         time_optimal_detumble(np.diag([3.0, 4.0, 5.0]), lopsided, np.ones(41), np.ones(3), 1e-4)
+
+
+@pytest.mark.slow
+def test_a_body_with_two_equal_moments_is_solved_between_its_bounds() -> None:
+    """The Zenit-2 stage: its polhodes circle the symmetry axis; steering far from the
+    greedy law would stop the braking, so the angles are cut to those that brake."""
+    zenit = load_problem("zenit2_upper_stage")
+    rate = np.asarray(zenit.detumble.initial_rate_rad_s, dtype=float)
+    s = problem_time_optimal_detumble(zenit, rate, THRESHOLD).summary
+    assert momentum_bound_s(zenit, rate) / 3600.0 < s.averaged_bound_h
+    assert s.averaged_bound_h <= s.time_h <= s.greedy_time_h

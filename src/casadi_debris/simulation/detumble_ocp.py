@@ -173,8 +173,8 @@ def time_optimal_detumble(
     table = polhode_averages(
         body, vertices, np.asarray(vertex_fuel_kg_s, float), labels=labels, angles=angles
     )
-    if not np.all(table.braking_Nm < 0.0):
-        raise SimulationError("torque polytope: some polhode cannot be braked at every angle")
+    table = _braking_angles(table)
+    centre = len(table.angles) // 2  # theta = 0, the greedy law
     momentum0 = np.asarray(inertia_kgm2, float) @ np.asarray(initial_rate_rad_s, float)
     h0 = float(np.linalg.norm(momentum0))
     # Any state with every rate below the threshold has |H| <= sqrt(3) J_max threshold.
@@ -197,7 +197,7 @@ def time_optimal_detumble(
         fuel_kg=float(fuel[-1]),
         greedy_time_h=float(greedy[1][-1]) / 3600.0,
         greedy_fuel_kg=float(greedy[2][-1]),
-        averaged_bound_h=(h0 - h_end) / float(np.max(-table.braking_Nm[:, N_ANGLES // 2])) / 3600.0,
+        averaged_bound_h=(h0 - h_end) / float(np.max(-table.braking_Nm[:, centre])) / 3600.0,
         initial_momentum_Nms=h0,
         final_momentum_Nms=h_end,
         initial_label=s0,
@@ -207,6 +207,28 @@ def time_optimal_detumble(
     )
     momentum = h0 * np.exp(-problem.grid)
     return DetumbleOcp(momentum, time_s, label, angle, greedy[1], summary)
+
+
+def _braking_angles(table: PolhodeAverages) -> PolhodeAverages:
+    """The table cut to the widest range of angles about 0 that brakes on every polhode
+    (beyond, steering can cost all braking and ``dt/dx`` has no meaning)."""
+    braking = np.all(table.braking_Nm < 0.0, axis=0)
+    centre = len(table.angles) // 2
+    if not braking[centre]:
+        raise SimulationError("torque polytope: the greedy law cannot brake on some polhode")
+    reach = 0
+    while reach < centre and braking[centre - reach - 1] and braking[centre + reach + 1]:
+        reach += 1
+    if reach < 2:
+        raise SimulationError("torque polytope: no room to steer the polhode while braking")
+    kept = slice(centre - reach, centre + reach + 1)
+    return PolhodeAverages(
+        table.labels,
+        table.angles[kept],
+        table.braking_Nm[:, kept],
+        table.drift_Nm_per_kgm2[:, kept],
+        table.fuel_kg_s[:, kept],
+    )
 
 
 def _check_symmetric(vertices: np.ndarray) -> None:
