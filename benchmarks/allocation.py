@@ -34,7 +34,6 @@ Usage: python benchmarks/allocation.py [--calls N] [--solvers daqp,osqp] [--seri
 
 from __future__ import annotations
 
-import argparse
 import math
 import time
 import tomllib
@@ -46,10 +45,9 @@ from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PseudoInverseAllocator, available_solvers
 from casadi_debris.config import default_problem_path, problem_from_dict
 from casadi_debris.geometry import build_geometry
-from recording import Recording, add_options, resolve
+from casadi_debris.units import MN_PER_N, US_PER_S
+from recording import Setting, start_benchmark
 
-US_PER_S = 1e6
-MN_PER_N = 1e3
 SEED = 20240404
 
 
@@ -187,21 +185,21 @@ def engines_scaling(problem, rng: np.random.Generator, calls: int) -> dict:
     return timings
 
 
+OPTIONS = {
+    "--calls": Setting(2000, 300, "demands per back-end and case (2000)"),
+    "--solvers": {"default": None, "help": "comma-separated (default: all)"},
+    "--series-steps": Setting(12_000, 2000, "steps of the allocate_series history (12,000)"),
+    "--series-repeats": Setting(5, 3, "allocate_series runs (5)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--calls", type=int, help="demands per back-end and case (2000)")
-    parser.add_argument("--solvers", default=None, help="comma-separated (default: all)")
-    parser.add_argument(
-        "--series-steps", type=int, help="steps of the allocate_series history (12,000)"
-    )
-    parser.add_argument("--series-repeats", type=int, help="allocate_series runs (5)")
-    add_options(parser, "allocation", "300 demands, 2000 steps, 3 series runs")
-    args = parser.parse_args()
-    recording = Recording("allocation", args, ("daqp", "osqp", "qpsolvers", "clarabel"))
-    settings = resolve(
-        args,
-        full={"calls": 2000, "series_steps": 12_000, "series_repeats": 5},
-        quick={"calls": 300, "series_steps": 2000, "series_repeats": 3},
+    args, recording, settings = start_benchmark(
+        "allocation",
+        __doc__.splitlines()[0],
+        "300 demands, 2000 steps, 3 series runs",
+        OPTIONS,
+        libraries=("daqp", "osqp", "qpsolvers", "clarabel"),
     )
 
     problem = load_problem()

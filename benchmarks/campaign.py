@@ -31,7 +31,6 @@ Targets: 256 corners <= 25 s on 2 cores; the 300 failure cases in closed loop
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import resource
@@ -64,7 +63,7 @@ from casadi_debris.workflows.campaign import CaseSelection
 from casadi_debris.workflows.controller import load_controller
 from casadi_debris.workflows.design import verification_problems
 from casadi_debris.workflows.failures import DEFAULT_CORNERS
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 CHUNK = 1000
 REPEAT = 3
@@ -256,24 +255,23 @@ def baseline(src: str, cases: int, workers: int) -> dict[str, float]:
     return {"src": src, **answer}
 
 
+OPTIONS = {
+    "--corners": Setting(256, 32, "corner cases (256)"),
+    "--max-failed": Setting(2, 1, "largest failed set (2: 300 cases)"),
+    "--workers": {"type": int, "default": 2},
+    "--batch": {"type": int, "default": 16, "help": "cases per compiled call"},
+    "--alone-cases": Setting(8, 4, "cases timed on the VM (8)"),
+    "--failure-cases": {
+        "type": int,
+        "help": "keep the first N failure cases (a smoke test)",
+    },
+    "--baseline-src": {"help": "another checkout's src to time the corners with"},
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--corners", type=int, help="corner cases (256)")
-    parser.add_argument("--max-failed", type=int, help="largest failed set (2: 300 cases)")
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--batch", type=int, default=16, help="cases per compiled call")
-    parser.add_argument("--alone-cases", type=int, help="cases timed on the VM (8)")
-    parser.add_argument(
-        "--failure-cases", type=int, help="keep the first N failure cases (a smoke test)"
-    )
-    parser.add_argument("--baseline-src", help="another checkout's src to time the corners with")
-    add_options(parser, "campaign", "32 corners, single failures (24 cases), 4 cases alone")
-    args = parser.parse_args()
-    recording = Recording("campaign", args)
-    settings = resolve(
-        args,
-        full={"corners": 256, "max_failed": 2, "alone_cases": 8},
-        quick={"corners": 32, "max_failed": 1, "alone_cases": 4},
+    args, recording, settings = start_benchmark(
+        "campaign", __doc__, "32 corners, single failures (24 cases), 4 cases alone", OPTIONS
     )
     settings |= {"workers": args.workers, "batch": args.batch}
     problem = load_problem(default_problem_path().parent / "paper_slew.toml")

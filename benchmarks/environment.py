@@ -21,20 +21,14 @@ work slows them alike; the best and the median of the repeats are kept.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import json
-import os
-
-import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import ENVIRONMENT_TORQUES, default_controller_path, load_problem
+from casadi_debris.config import ENVIRONMENT_TORQUES, load_problem
 from casadi_debris.model import build_model
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import build_loop_step, discretize_controller, scenario_reference
-from recording import Recording, add_options, resolve
-from step_timing import interleaved_step_us, ratio_report
+from casadi_debris.simulation import scenario_reference
+from recording import Setting, start_benchmark
+from step_timing import interleaved_step_us, loop_start, loop_step, ratio_report, variant_loops
 
 CHUNK = 1000
 VARIANTS = {"none": (), "gravity_gradient": ("gravity_gradient",), "all": ENVIRONMENT_TORQUES}
@@ -44,40 +38,26 @@ def build(problem, record, jit: bool) -> tuple:
     """The compiled-or-not loop step of ``problem`` and the inputs of 1000 periods."""
     model = build_model(problem)
     reference = scenario_reference(problem)
-    period = float(reference.time_s[1] - reference.time_s[0])
     allocator = Allocator.from_problem(problem, model.geometry)
-    loop = build_loop_step(
-        model,
-        model.nominal_parameters,
-        discretize_controller(record.reduced, period),
-        allocator.authority_polytope(),
-        integrator_steps=problem.simulation.integrator_steps,
-        chunk_steps=CHUNK,
-        jit=jit,
-    )
-    z0 = np.concatenate([model.initial_state(), np.zeros(loop.n_controller)])
-    inputs = np.vstack(
-        [reference.time_s[:CHUNK], reference.quaternion_BN[:CHUNK].T, np.zeros((3, CHUNK))]
-    )
-    return loop, z0, inputs, model.nominal_parameters
+    loop = loop_step(problem, model, record, reference, allocator, CHUNK, jit=jit)
+    return loop, *loop_start(model, loop, reference, CHUNK), model.nominal_parameters
+
+
+OPTIONS = {
+    "--repeat": Setting(15, 5, "interleaved roll-outs of each (15)"),
+}
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, help="interleaved roll-outs of each (15)")
-    add_options(parser, "environment", "5 repeats")
-    args = parser.parse_args()
-    recording = Recording("environment", args)
-    settings = resolve(args, full={"repeat": 15}, quick={"repeat": 5})
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    args, recording, settings = start_benchmark("environment", __doc__, "5 repeats", OPTIONS)
     paper = load_problem("paper_pointing")
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
-    loops = {}
-    for jit in (False, True):
-        for name, torques in VARIANTS.items():
-            environment = dataclasses.replace(paper.environment, torques=torques)
-            problem = dataclasses.replace(paper, environment=environment)
-            loops[jit, name] = build(problem, record, jit)
+    problems = {
+        name: dataclasses.replace(
+            paper, environment=dataclasses.replace(paper.environment, torques=torques)
+        )
+        for name, torques in VARIANTS.items()
+    }
+    loops = variant_loops(problems, build)
     walls = interleaved_step_us(loops, args.repeat, CHUNK)
     report = ratio_report(loops, walls, VARIANTS, "none")
     report["target_ratio"] = 2.0

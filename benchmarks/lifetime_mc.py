@@ -20,35 +20,28 @@ cores would take.
 
 from __future__ import annotations
 
-import argparse
-import resource
 import time
 
 from casadi_debris import load_problem
 from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
 from casadi_debris.orbit.lifetime_mc import lifetime_monte_carlo
 from casadi_debris.orbit.plan import plan_deorbit
-from recording import Recording, add_options, resolve
+from recording import Setting, own_cpu_s, start_benchmark
 
 SEED = 20250103
 TARGET_S = 60.0
 
 
-def _cpu_s() -> float:
-    """CPU seconds of this process and of its ended children (the workers)."""
-    own = resource.getrusage(resource.RUSAGE_SELF)
-    children = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+OPTIONS = {
+    "--runs": Setting(1000, 200, "Monte Carlo runs per campaign (1000)"),
+    "--workers": Setting(2, 2, "local worker processes (2)"),
+}
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--runs", type=int, help="Monte Carlo runs per campaign (1000)")
-    parser.add_argument("--workers", type=int, help="local worker processes (2)")
-    add_options(parser, "lifetime_mc", "200 runs")
-    args = parser.parse_args()
-    recording = Recording("lifetime_mc", args, libraries=("pymsis",))
-    settings = resolve(args, full={"runs": 1000, "workers": 2}, quick={"runs": 200, "workers": 2})
+    _args, recording, settings = start_benchmark(
+        "lifetime_mc", __doc__, "200 runs", OPTIONS, libraries=("pymsis",)
+    )
     problem = load_problem()
     plan_settings = DeorbitSettings(solar=("low",), minimum_swarm=False)
     plan = plan_deorbit(problem, plan_settings)
@@ -59,7 +52,7 @@ def main() -> None:
         ("natural", 0.0, 180.0),
         ("plan", governing.flown_dv_m_s, governing.arc_half_width_deg),
     ):
-        start, cpu_start = time.perf_counter(), _cpu_s()
+        start, cpu_start = time.perf_counter(), own_cpu_s()
         campaign = lifetime_monte_carlo(
             problem,
             runs=settings["runs"],
@@ -70,7 +63,7 @@ def main() -> None:
             workers=settings["workers"],
             model=model,
         )
-        wall, cpu = time.perf_counter() - start, _cpu_s() - cpu_start
+        wall, cpu = time.perf_counter() - start, own_cpu_s() - cpu_start
         results[name] = {
             "dv_m_s": dv,
             "arc_half_width_deg": half_width,

@@ -22,7 +22,6 @@ The best and the median of the repeats are kept.
 
 from __future__ import annotations
 
-import argparse
 import os
 import statistics
 import time
@@ -34,7 +33,7 @@ from casadi_debris.model import build_model
 from casadi_debris.simulation import CampaignSetup, Case, scenario_reference
 from casadi_debris.simulation.monte_carlo import CaseRunner
 from casadi_debris.workflows.controller import controller_for
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 
 def _case(model, name: str, value: float, parameters: np.ndarray) -> Case:
@@ -42,15 +41,15 @@ def _case(model, name: str, value: float, parameters: np.ndarray) -> Case:
     return Case(f"bench-{name}", "varied", 0, 0, zero, parameters, varied=((name, value),))
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 2, "cases of each kind (3)"),
+    "--duration-s": Setting(1500.0, 300.0, "length of the slew run (1500)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, help="cases of each kind (3)")
-    parser.add_argument("--duration-s", type=float, help="length of the slew run (1500)")
-    add_options(parser, "montecarlo_varied", "300 s runs, 2 repeats")
-    args = parser.parse_args()
-    recording = Recording("montecarlo_varied", args)
-    settings = resolve(
-        args, full={"repeat": 3, "duration_s": 1500.0}, quick={"repeat": 2, "duration_s": 300.0}
+    args, recording, settings = start_benchmark(
+        "montecarlo_varied", __doc__, "300 s runs, 2 repeats", OPTIONS
     )
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     problem = with_duration(load_problem("paper_slew"), args.duration_s)

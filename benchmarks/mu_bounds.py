@@ -11,7 +11,6 @@ peak upper and lower bounds, their gap, the frequency of the peak and the wall t
 
 from __future__ import annotations
 
-import argparse
 import statistics
 import time
 
@@ -24,7 +23,7 @@ from casadi_debris.robust.interconnect import generalized_plant
 from casadi_debris.robust.uncertainty import frequency_response
 from casadi_debris.robust.weights import recorded_performance_weights, weight_system
 from casadi_debris.workflows.controller import load_controller
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 TARGETS = {"mu_bounds_200_s": 20.0}
 BLOCKS = [("complex", 3), ("complex", 6)]
@@ -52,15 +51,15 @@ def paper_responses(omega: np.ndarray) -> dict[str, np.ndarray]:
     }
 
 
+OPTIONS = {
+    "--points": Setting(200, 200, "frequencies, 1e-4 .. 1e2 rad/s (200)"),
+    "--repeats": Setting(3, 1, "timed runs per controller (3)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--points", type=int, help="frequencies, 1e-4 .. 1e2 rad/s (200)")
-    parser.add_argument("--repeats", type=int, help="timed runs per controller (3)")
-    add_options(parser, "mu_bounds", "one run per controller")
-    args = parser.parse_args()
-    recording = Recording("mu_bounds", args, ("control", "slycot"))
-    settings = resolve(
-        args, full={"points": 200, "repeats": 3}, quick={"points": 200, "repeats": 1}
+    args, recording, settings = start_benchmark(
+        "mu_bounds", __doc__, "one run per controller", OPTIONS, libraries=("control", "slycot")
     )
     omega = np.logspace(-4, 2, args.points)
     results = {}

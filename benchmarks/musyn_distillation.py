@@ -14,26 +14,27 @@ less.
 
 from __future__ import annotations
 
-import argparse
 import time
 
 import numpy as np
 
 from casadi_debris.robust.examples import DISTILLATION_BLOCKS, distillation_column
 from casadi_debris.robust.musyn import musyn
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 DKPY_MU = 1.0360
 TARGETS = {"synthesis_s": 30.0}
 
 
+OPTIONS = {
+    "--points": Setting(61, 61, "frequency points, 1e-3 .. 1e3 rad/s (61)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--points", type=int, help="frequency points, 1e-3 .. 1e3 rad/s (61)")
-    add_options(parser, "musyn_distillation", "the same run")
-    args = parser.parse_args()
-    recording = Recording("musyn_distillation", args, ("control", "slycot"))
-    settings = resolve(args, full={"points": 61}, quick={"points": 61})
+    args, recording, settings = start_benchmark(
+        "musyn_distillation", __doc__, "the same run", OPTIONS, libraries=("control", "slycot")
+    )
     omega = np.logspace(-3, 3, args.points)
     start = time.perf_counter()
     result = musyn(distillation_column(), DISTILLATION_BLOCKS, 2, 2, omega=omega)

@@ -11,14 +11,13 @@ gap, extensive or generated form and its size. Each solve has a time limit
 
 from __future__ import annotations
 
-import argparse
 import time
 
 from casadi_debris import load_problem
 from casadi_debris.studies.placement_candidates import face_candidates
 from casadi_debris.studies.placement_data import placement_data
 from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings, solve_placement
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 FULL_CASES = [
     (2, 24, "worst-axis"), (2, 20, "worst-axis"), (2, 12, "worst-axis"),
@@ -60,13 +59,19 @@ def run_case(grid: int, count: int, objective: str, time_limit_s: float) -> dict
     }
 
 
+OPTIONS = {
+    "--time-limit": Setting(600.0, 60.0, "seconds per case (600)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--time-limit", type=float, help="seconds per case (600)")
-    add_options(parser, "placement", "three cases, 60 s each at most")
-    args = parser.parse_args()
-    recording = Recording("placement", args, ("scipy", "highspy"))
-    settings = resolve(args, full={"time_limit": 600.0}, quick={"time_limit": 60.0})
+    args, recording, settings = start_benchmark(
+        "placement",
+        __doc__,
+        "three cases, 60 s each at most",
+        OPTIONS,
+        libraries=("scipy", "highspy"),
+    )
     cases = QUICK_CASES if args.quick else FULL_CASES
     results = []
     for grid, count, objective in cases:

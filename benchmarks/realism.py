@@ -24,10 +24,7 @@ the per-step ratios against it, the target at most 2.
 
 from __future__ import annotations
 
-import argparse
 import dataclasses
-import json
-import os
 
 import numpy as np
 
@@ -39,17 +36,15 @@ from casadi_debris.config import (
     Gyro,
     Sensors,
     StarTracker,
-    default_controller_path,
     load_problem,
 )
 from casadi_debris.model import build_model
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import build_loop_step, discretize_controller, scenario_reference
+from casadi_debris.simulation import scenario_reference
 from casadi_debris.simulation.closed_loop import StepInput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
-from recording import Recording, add_options, resolve
-from step_timing import interleaved_step_us, ratio_report
+from recording import Setting, start_benchmark
+from step_timing import interleaved_step_us, loop_start, loop_step, ratio_report, variant_loops
 
 CHUNK = 1000
 SENSORS = {
@@ -95,22 +90,13 @@ def build(problem, record, jit: bool) -> tuple:
     period = float(reference.time_s[1] - reference.time_s[0])
     allocator = Allocator.from_problem(problem, model.geometry)
     realism = Realism.of(problem, period)
-    loop = build_loop_step(
-        model,
-        model.nominal_parameters,
-        discretize_controller(record.reduced, period),
-        allocator.authority_polytope(),
-        integrator_steps=problem.simulation.integrator_steps,
-        chunk_steps=CHUNK,
-        jit=jit,
-        realism=realism,
-        basis=engine_basis(allocator) if realism and realism.engine_level else None,
+    basis = engine_basis(allocator) if realism and realism.engine_level else None
+    loop = loop_step(
+        problem, model, record, reference, allocator, CHUNK, jit=jit, realism=realism, basis=basis
     )
-    z0 = np.concatenate([model.initial_state(), np.zeros(loop.n_controller)])
+    z0, step_inputs = loop_start(model, loop, reference, CHUNK)
     inputs = np.zeros((loop.n_inputs, CHUNK))
-    inputs[: StepInput.SIZE] = np.vstack(
-        [reference.time_s[:CHUNK], reference.quaternion_BN[:CHUNK].T, np.zeros((3, CHUNK))]
-    )
+    inputs[: StepInput.SIZE] = step_inputs
     if realism is not None:
         z0 = np.concatenate([z0, realism.initial_aux(problem, reference.quaternion_BN[0])])
         noise = draw_noise(problem, model.geometry, reference.time_s[:CHUNK])
@@ -118,21 +104,17 @@ def build(problem, record, jit: bool) -> tuple:
     return loop, z0, inputs, model.nominal_parameters
 
 
+OPTIONS = {
+    "--repeat": Setting(15, 5, "interleaved roll-outs of each (15)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, help="interleaved roll-outs of each (15)")
-    add_options(parser, "realism", "5 repeats")
-    args = parser.parse_args()
-    recording = Recording("realism", args)
-    settings = resolve(args, full={"repeat": 15}, quick={"repeat": 5})
-    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    args, recording, settings = start_benchmark("realism", __doc__, "5 repeats", OPTIONS)
     paper = load_problem("paper_pointing")
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
-    loops = {}
+    problems = {name: dataclasses.replace(paper, **extra) for name, extra in VARIANTS.items()}
+    loops = variant_loops(problems, build)
     for jit in (False, True):
-        for name, extra in VARIANTS.items():
-            problem = dataclasses.replace(paper, **extra)
-            loops[jit, name] = build(problem, record, jit)
         loop, *rest = loops[jit, "ideal"]
         loops[jit, "today"] = (TodayRoll(loop), *rest)
     walls = interleaved_step_us(loops, args.repeat, CHUNK)

@@ -5,6 +5,10 @@ writes it to ``docs/benchmarks/<name>.json``, from which the documentation's
 benchmark page renders its tables at build time; with ``--out FILE`` to ``FILE``.
 ``--quick`` runs a reduced version (fewer samples or repeats, same measurements).
 
+A script starts with :func:`start_benchmark`, given a table of its options: each
+:class:`Setting` it records, with its value in the full and in the quick run, and
+any other option as ``add_argument`` keywords.
+
 The object gets two entries besides the benchmark's own:
 
 - ``machine``: CPU count and model, platform, the versions of Python and of
@@ -31,6 +35,8 @@ import shlex
 import subprocess
 import sys
 import time
+from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -62,6 +68,57 @@ def resolve(args: argparse.Namespace, full: dict[str, Any], quick: dict[str, Any
         if getattr(args, key) is None:
             setattr(args, key, value)
     return {key: getattr(args, key) for key in full}
+
+
+@dataclass(frozen=True)
+class Setting:
+    """A benchmark option whose value the run records: in the full run and in ``--quick``.
+
+    Its type is that of ``full`` (a string option takes the text as given).
+    """
+
+    full: Any
+    quick: Any
+    help: str
+
+    def keywords(self) -> dict[str, Any]:
+        """The keywords of :meth:`argparse.ArgumentParser.add_argument` (default None)."""
+        kind = type(self.full)
+        return {"help": self.help} if kind is str else {"type": kind, "help": self.help}
+
+
+def start_benchmark(
+    name: str,
+    description: str | None,
+    quick: str,
+    options: Mapping[str, Setting | Mapping[str, Any]],
+    *,
+    libraries: tuple[str, ...] = (),
+    argv: list[str] | None = None,
+) -> tuple[argparse.Namespace, Recording, dict[str, Any]]:
+    """What every benchmark's ``main`` does first: its command line, its recording, its settings.
+
+    ``options`` are the benchmark's own, by flag (``"--repeat"``), in the order ``--help``
+    lists them: a :class:`Setting`, or the keywords of
+    :meth:`argparse.ArgumentParser.add_argument` for an option the settings do not
+    record. The recording options follow (:func:`add_options`, ``quick`` describing the
+    reduced run). The recording starts (its clock, the machine's load) once the command
+    line is read; the settings left at ``None`` take their full or quick value
+    (:func:`resolve`). Returns the parsed options, the recording and the settings used.
+    """
+    parser = argparse.ArgumentParser(description=description)
+    full, reduced = {}, {}
+    for flag, option in options.items():
+        if isinstance(option, Setting):
+            key = flag.lstrip("-").replace("-", "_")
+            full[key], reduced[key] = option.full, option.quick
+            parser.add_argument(flag, **option.keywords())
+        else:
+            parser.add_argument(flag, **option)
+    add_options(parser, name, quick)
+    args = parser.parse_args(argv)
+    recording = Recording(name, args, libraries)
+    return args, recording, resolve(args, full, reduced)
 
 
 def _cpu_model() -> str | None:
@@ -118,7 +175,7 @@ def _machine_cpu_s() -> tuple[float, float] | None:
     return (user + nice + system + irq + softirq) / tick, steal / tick
 
 
-def _own_cpu_s() -> float:
+def own_cpu_s() -> float:
     """CPU seconds of this process and of its children that have ended."""
     own = resource.getrusage(resource.RUSAGE_SELF)
     children = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -147,12 +204,12 @@ class Recording:
         self.clock = time.perf_counter()
         self.load_before = _load()
         self.machine_cpu = _machine_cpu_s()
-        self.own_cpu = _own_cpu_s()
+        self.own_cpu = own_cpu_s()
 
     def finish(self, settings: dict[str, Any], results: dict[str, Any]) -> dict[str, Any]:
         """Print ``results`` with ``machine`` and ``run``; write to the files asked for."""
         elapsed_s = time.perf_counter() - self.clock
-        own_s = _own_cpu_s() - self.own_cpu
+        own_s = own_cpu_s() - self.own_cpu
         machine_now = _machine_cpu_s()
         other_share = steal_share = None
         if machine_now is not None and self.machine_cpu is not None:

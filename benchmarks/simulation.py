@@ -28,7 +28,6 @@ The design's targets: <= 40 us per closed-loop step; 256 corners <= 90 s on
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import statistics
@@ -44,7 +43,6 @@ from casadi_debris.model import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
-    build_loop_step,
     corner_cases,
     discretize_controller,
     jit_cache,
@@ -53,9 +51,9 @@ from casadi_debris.simulation import (
     simulate,
 )
 from casadi_debris.simulation.closed_loop import release_compiled_steps
-from recording import Recording, add_options, resolve
-
-DEG_PER_RAD = 180.0 / np.pi
+from casadi_debris.units import DEG_PER_RAD
+from recording import Setting, start_benchmark
+from step_timing import loop_start, loop_step
 
 
 def scipy_loop(problem, model, controller, reference, seconds: float) -> float:
@@ -86,19 +84,17 @@ def scipy_loop(problem, model, controller, reference, seconds: float) -> float:
     return (time.perf_counter() - started) / steps
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 1, "runs of each timing, median kept (3)"),
+    "--corners": Setting(256, 16, "corner cases of the Monte Carlo (256)"),
+    "--workers": {"default": "1,2"},
+    "--scipy-s": Setting(20.0, 5.0, "seconds of the scipy loop (20)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, help="runs of each timing, median kept (3)")
-    parser.add_argument("--corners", type=int, help="corner cases of the Monte Carlo (256)")
-    parser.add_argument("--workers", default="1,2")
-    parser.add_argument("--scipy-s", type=float, help="seconds of the scipy loop (20)")
-    add_options(parser, "simulation", "1 repeat, 16 corners, 5 s of the scipy loop")
-    args = parser.parse_args()
-    recording = Recording("simulation", args)
-    settings = resolve(
-        args,
-        full={"repeat": 3, "corners": 256, "scipy_s": 20.0},
-        quick={"repeat": 1, "corners": 16, "scipy_s": 5.0},
+    args, recording, settings = start_benchmark(
+        "simulation", __doc__, "1 repeat, 16 corners, 5 s of the scipy loop", OPTIONS
     )
     settings["workers"] = args.workers
     os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -107,21 +103,10 @@ def main() -> None:
     model = build_model(problem)
     record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
-    period = float(reference.time_s[1] - reference.time_s[0])
     allocator = Allocator.from_problem(problem, model.geometry)
 
-    loop = build_loop_step(
-        model,
-        model.nominal_parameters,
-        discretize_controller(record.reduced, period),
-        allocator.authority_polytope(),
-        integrator_steps=problem.simulation.integrator_steps,
-        chunk_steps=1000,
-    )
-    z0 = np.concatenate([model.initial_state(), np.zeros(loop.n_controller)])
-    inputs = np.vstack(
-        [reference.time_s[:1000], reference.quaternion_BN[:1000].T, np.zeros((3, 1000))]
-    )
+    loop = loop_step(problem, model, record, reference, allocator, 1000)
+    z0, inputs = loop_start(model, loop, reference, 1000)
     p = model.nominal_parameters
 
     def per_step(step_loop) -> float:
@@ -136,15 +121,7 @@ def main() -> None:
 
     def build_compiled():
         started = time.perf_counter()
-        built = build_loop_step(
-            model,
-            p,
-            discretize_controller(record.reduced, period),
-            allocator.authority_polytope(),
-            integrator_steps=problem.simulation.integrator_steps,
-            chunk_steps=1000,
-            jit=True,
-        )
+        built = loop_step(problem, model, record, reference, allocator, 1000, jit=True)
         return built, time.perf_counter() - started
 
     previous_cache = os.environ.get(jit_cache.CACHE_ENV)

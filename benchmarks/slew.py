@@ -15,7 +15,6 @@ time-optimal slew <= 5 s to solve; flexible within 1.10 x the limit.
 
 from __future__ import annotations
 
-import argparse
 import math
 import statistics
 import time
@@ -28,7 +27,7 @@ from casadi_debris.slew import (
     fuel_optimal_slew,
     time_optimal_slew,
 )
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 PAPER_DURATION_S = 1228.0
 PAPER_FUEL_KG = 2.8e-4
@@ -47,13 +46,13 @@ def measure(
     return profile, walls, solves
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 1, "runs of each method, medians kept (3)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, help="runs of each method, medians kept (3)")
-    add_options(parser, "slew", "each method once")
-    args = parser.parse_args()
-    recording = Recording("slew", args)
-    settings = resolve(args, full={"repeat": 3}, quick={"repeat": 1})
+    args, recording, settings = start_benchmark("slew", __doc__, "each method once", OPTIONS)
     problem = load_problem()
     z, pi = "z", math.pi
     cases = {

@@ -17,14 +17,13 @@ the rigid eigenaxis limit of their slew.
 
 from __future__ import annotations
 
-import argparse
 import math
 from collections.abc import Callable
 
 from casadi_debris import load_problem
 from casadi_debris.config import Problem
 from casadi_debris.slew import SlewProfile, bang_bang_slew, fuel_optimal_slew, time_optimal_slew
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 SLEWS = {
     "z_180deg": ("z", math.pi),
@@ -64,13 +63,17 @@ def methods(problem: Problem) -> dict[str, Callable[[str | tuple, float], SlewPr
     }
 
 
+OPTIONS = {
+    "--slews": Setting(
+        ",".join(SLEWS), "z_180deg,y_45deg", f"comma-separated, of {', '.join(SLEWS)} (all)"
+    ),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--slews", help=f"comma-separated, of {', '.join(SLEWS)} (all)")
-    add_options(parser, "slew_battery", "180 deg about z and 45 deg about y")
-    args = parser.parse_args()
-    recording = Recording("slew_battery", args)
-    settings = resolve(args, full={"slews": ",".join(SLEWS)}, quick={"slews": "z_180deg,y_45deg"})
+    args, recording, settings = start_benchmark(
+        "slew_battery", __doc__, "180 deg about z and 45 deg about y", OPTIONS
+    )
     slews = {name: SLEWS[name] for name in args.slews.split(",")}
     problem = load_problem()
     results = {}

@@ -17,7 +17,6 @@ slews >= 95 % of the starts agreeing and the multi-start <= 10 s.
 
 from __future__ import annotations
 
-import argparse
 import math
 import statistics
 import time
@@ -27,7 +26,7 @@ import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.slew import RigidBody, SlewProfile, time_optimal_slew
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 BENCHMARK_S = 3.2431
 BENCHMARK_TOLERANCE = 5e-4
@@ -52,13 +51,13 @@ def measure(make: Callable[[], SlewProfile], repeat: int) -> tuple[SlewProfile, 
     }
 
 
+OPTIONS = {
+    "--repeat": Setting(3, 1, "runs of each slew, medians kept (3)"),
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeat", type=int, help="runs of each slew, medians kept (3)")
-    add_options(parser, "slew_global", "each slew once")
-    args = parser.parse_args()
-    recording = Recording("slew_global", args)
-    settings = resolve(args, full={"repeat": 3}, quick={"repeat": 1})
+    args, recording, settings = start_benchmark("slew_global", __doc__, "each slew once", OPTIONS)
     problem = load_problem()
     body = RigidBody(inertia_kgm2=np.eye(3), torque_max_Nm=(1.0, 1.0, 1.0))
     cases: dict[str, Callable[[], SlewProfile]] = {

@@ -1,13 +1,59 @@
 """Per-step timing of closed-loop steps, interleaved so that other load hits all alike.
 
-Shared by the benchmarks that compare variants of the compiled step
-(``environment.py``, ``realism.py``).
+Shared by the benchmarks that time the compiled step (``environment.py``,
+``realism.py``, ``simulation.py``).
 """
 
 from __future__ import annotations
 
+import json
+import os
 import statistics
 import time
+
+import numpy as np
+
+from casadi_debris.config import default_controller_path
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.simulation import build_loop_step, discretize_controller
+
+
+def variant_loops(problems: dict, build) -> dict:
+    """``build(problem, record, jit)`` of every variant flying the shipped controller, on
+    CasADi's virtual machine and compiled, keyed by ``(jit, name)``; one thread each."""
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    return {
+        (jit, name): build(problem, record, jit)
+        for jit in (False, True)
+        for name, problem in problems.items()
+    }
+
+
+def loop_step(problem, model, record, reference, allocator, chunk: int, **options):
+    """The closed-loop step of ``problem`` flying ``record``'s controller at the reference's
+    period, rolled out ``chunk`` periods at a time; ``options`` go to ``build_loop_step``
+    (``jit``, ``realism``, ``basis``)."""
+    period = float(reference.time_s[1] - reference.time_s[0])
+    return build_loop_step(
+        model,
+        model.nominal_parameters,
+        discretize_controller(record.reduced, period),
+        allocator.authority_polytope(),
+        integrator_steps=problem.simulation.integrator_steps,
+        chunk_steps=chunk,
+        **options,
+    )
+
+
+def loop_start(model, loop, reference, chunk: int) -> tuple[np.ndarray, np.ndarray]:
+    """The initial state of ``loop`` (plant at rest, controller zero) and the inputs of
+    its first ``chunk`` periods: time, reference quaternion, zero feed-forward."""
+    z0 = np.concatenate([model.initial_state(), np.zeros(loop.n_controller)])
+    inputs = np.vstack(
+        [reference.time_s[:chunk], reference.quaternion_BN[:chunk].T, np.zeros((3, chunk))]
+    )
+    return z0, inputs
 
 
 def interleaved_step_us(loops: dict, repeat: int, chunk: int) -> dict:

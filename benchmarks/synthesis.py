@@ -15,7 +15,6 @@ The design's targets: synthesis <= 60 s, margin sweep <= 30 s on 2 cores.
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import time
@@ -27,7 +26,7 @@ from casadi_debris.config import Problem, default_controller_path
 from casadi_debris.robust.analysis import margin_study
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import design_controller
-from recording import Recording, add_options, resolve
+from recording import Setting, start_benchmark
 
 TARGETS = {"synthesis_s": 60.0, "margin_sweep_s_2_workers": 30.0}  # the design's, on 2 cores
 
@@ -52,14 +51,16 @@ def margin_sweeps(problem: Problem, controller: control.StateSpace, samples: int
     }
 
 
+OPTIONS = {
+    "--samples": Setting(3000, 300, "plants of the margin sweep (3000)"),
+    "--sweep-only": {"action": "store_true", "help": "sweep the shipped controller"},
+}
+
+
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--samples", type=int, help="plants of the margin sweep (3000)")
-    parser.add_argument("--sweep-only", action="store_true", help="sweep the shipped controller")
-    add_options(parser, "synthesis", "a 300-sample sweep")
-    args = parser.parse_args()
-    recording = Recording("synthesis", args, ("control", "slycot"))
-    settings = resolve(args, full={"samples": 3000}, quick={"samples": 300})
+    args, recording, settings = start_benchmark(
+        "synthesis", __doc__, "a 300-sample sweep", OPTIONS, libraries=("control", "slycot")
+    )
     settings["sweep_only"] = args.sweep_only
     problem = load_problem()
     if args.sweep_only:

@@ -230,3 +230,51 @@ def test_engines_on_two_parallel_faces_only_make_a_flat_set_and_are_refused(
     assert _is_flat(geometry, limits, free_force)
     with pytest.raises(AllocationError, match="flat"):
         authority_polytope(geometry.torque_map, geometry.force_map, limits, free_force=free_force)
+
+
+# ----------------------------------------------------------------------------- a burn's slice
+
+
+def test_the_slice_at_a_net_force_holds_exactly_the_torques_reachable_with_it(
+    geometry: Geometry,
+) -> None:
+    """Each vertex is reached with the force delivered (HiGHS, in mN); each facet's
+    support value with the force is its offset; at zero force it is the usual polytope."""
+    from scipy.optimize import linprog
+
+    g = geometry
+    limits = max_thrust_N(g)
+    phi = np.array([0.0, -2.3e-3, 0.0])
+    polytope = authority_polytope(g.torque_map, g.force_map, limits, force_N=phi)
+    bounds = [(0.0, f * 1e3) for f in limits]
+    for vertex in polytope.vertices:
+        fit = linprog(
+            np.zeros(len(limits)),
+            A_eq=np.vstack([g.torque_map, g.force_map]),
+            b_eq=np.concatenate([vertex, phi]) * 1e3,
+            bounds=bounds,
+            method="highs",
+        )
+        assert fit.status == 0
+    for normal, offset in zip(polytope.normals, polytope.offsets, strict=True):
+        best = linprog(
+            -(normal @ g.torque_map),
+            A_eq=g.force_map,
+            b_eq=phi * 1e3,
+            bounds=bounds,
+            method="highs",
+        )
+        assert -best.fun * 1e-3 == pytest.approx(offset, rel=1e-7, abs=1e-12)
+    zero = authority_polytope(g.torque_map, g.force_map, limits, force_N=np.zeros(3))
+    usual = authority_polytope(g.torque_map, g.force_map, limits)
+    assert np.allclose(zero.axis_reach(), usual.axis_reach(), rtol=1e-12)
+    # Delivering the force leaves less torque.
+    assert np.all(polytope.axis_reach() <= usual.axis_reach() * (1 + 1e-12))
+    with pytest.raises(AllocationError):
+        authority_polytope(g.torque_map, g.force_map, limits, free_force=True, force_N=phi)
+
+
+def test_a_flat_polytope_names_the_axes_without_torque() -> None:
+    torque_map = np.array([[1.0, -1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0]])
+    with pytest.raises(AllocationError, match=r"cannot torque about \+y, -y at zero net force"):
+        authority_polytope(torque_map, np.zeros((3, 4)), np.ones(4), free_force=True)

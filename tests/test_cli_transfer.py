@@ -25,6 +25,9 @@ def _problem(tmp_path: Path, transfer: str) -> Path:
         ((-10.0, 97.5, 685.0, 98.1), "from_altitude_km"),
         ((550.0, 97.5, 685.0, 190.0), "to_inclination_deg"),
         ((685.0, 98.1, 685.0, 98.1), "transfer"),  # the same orbit twice: nothing to do
+        # The transfer must end on the debris' [orbit] (685 km, 98.1 deg).
+        ((550.0, 97.5, 800.0, 98.1), "transfer.to_altitude_km"),
+        ((550.0, 97.5, 685.0, 97.9), "transfer.to_inclination_deg"),
     ],
 )
 def test_bad_transfers_are_refused_in_one_line(

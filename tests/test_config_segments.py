@@ -159,6 +159,34 @@ BAD = [
     ),
     ({"kind": "hold", "duration_s": 9.0, "method": "bang-bang"}, "[0].method", "only for a slew"),
     ({"kind": "track", "frame": "lvlh", "blend_s": 0.1}, "simulation.segments[0].blend_s", "least"),
+    ({"kind": "burn", "duration_s": 9.0}, "simulation.segments[0].direction", "missing"),
+    ({"kind": "burn", "direction": "up"}, "simulation.segments[0].direction", "must be one of"),
+    (
+        {"kind": "burn", "direction": "normal", "frame": "lvlh"},
+        "simulation.segments[0].frame",
+        "no other target",
+    ),
+    (
+        {"kind": "burn", "direction": "normal", "body_axis": [0, 0, 0]},
+        "simulation.segments[0].body_axis",
+        "zero",
+    ),
+    (
+        {"kind": "burn", "direction": "normal", "thrust_fraction": 1.5},
+        "simulation.segments[0].thrust_fraction",
+        "at most",
+    ),
+    (
+        {"kind": "burn", "direction": "normal", "thrust_fraction": 0.5, "thrust_mN": 1.0},
+        "simulation.segments[0].thrust_mN",
+        "not both",
+    ),
+    (
+        {"kind": "track", "frame": "lvlh", "direction": "normal"},
+        "simulation.segments[0].direction",
+        "only for a burn",
+    ),
+    ({"kind": "burn", "direction": "normal", "method": "bang-bang"}, "[0].method", "only for a"),
 ]
 
 
@@ -214,3 +242,11 @@ def test_reference_and_tables_agree(
     with pytest.raises(ProblemFileError) as caught:
         problem_from_dict(fresh_data, "<test>")
     assert caught.value.field == key
+
+
+def test_a_burn_reads_its_axis_and_thrust(fresh_data: dict[str, Any]) -> None:
+    segment = {"kind": "burn", "direction": "antinormal", "body_axis": "-z", "thrust_mN": 1.5}
+    burn = sequence(fresh_data, [segment]).simulation.segments[0].burn
+    assert burn is not None
+    assert (burn.direction, burn.body_axis, burn.thrust_mN) == ("antinormal", "-z", 1.5)
+    assert burn.thrust_fraction == 1.0

@@ -234,3 +234,13 @@ def test_format_table_aligns_columns():
     assert lines[0].startswith("a       value")
     assert set(lines[1]) <= {"-", " "}
     assert "1.235" in lines[2] and "[1, 2]" in lines[3]
+
+
+@pytest.mark.parametrize(
+    ("outcome", "word", "text"),
+    [(True, "met", "✅ met"), (False, "met", "❌ not met"), (None, "reproduced", "—")],
+)
+def test_a_verdict_reads_as_printed(outcome: bool | None, word: str, text: str) -> None:
+    from casadi_debris.report.common import verdict_text
+
+    assert verdict_text(outcome, word) == text

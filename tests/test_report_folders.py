@@ -106,6 +106,48 @@ def test_an_empty_folder_is_used_and_a_result_replaced_only_with_overwrite(tmp_p
     assert sorted(p.name for p in tmp_path.iterdir()) == ["run"]
 
 
+@pytest.mark.parametrize("added", ["notes.txt", "sub/notes.txt", "newfolder"])
+def test_a_result_holding_a_users_file_is_never_replaced(tmp_path: Path, added: str) -> None:
+    target = tmp_path / "run"
+    with RunFolder.claim(target) as staging:
+        _result(staging, "first")
+        (staging / "sub").mkdir()
+    user = target / added
+    if added == "newfolder":
+        user.mkdir()
+    else:
+        user.parent.mkdir(exist_ok=True)
+        user.write_text("mine")
+    with pytest.raises(OutputError, match=f"holds {added}, not written by casadi-debris"):
+        RunFolder.claim(target, overwrite=True)
+    assert user.exists() and _whole_result(target) == "first"
+
+
+def test_a_users_file_added_during_the_run_stops_the_swap(tmp_path: Path) -> None:
+    target = tmp_path / "run"
+    with RunFolder.claim(target) as staging:
+        _result(staging, "first")
+    folder = RunFolder.claim(target, overwrite=True)
+    _result(folder.staging, "second")
+    (target / "notes.txt").write_text("mine")
+    with pytest.raises(OutputError, match="the new result is in"):
+        folder.commit()
+    assert (target / "notes.txt").read_text() == "mine" and _whole_result(target) == "first"
+    assert _whole_result(folder.staging) == "second"
+
+
+def test_a_result_whose_marker_lists_no_files_is_not_replaced(tmp_path: Path) -> None:
+    target = tmp_path / "run"
+    with RunFolder.claim(target) as staging:
+        _result(staging, "first")
+    marker = json.loads((target / MARKER_NAME).read_text())
+    del marker["files"]
+    (target / MARKER_NAME).write_text(json.dumps(marker))
+    with pytest.raises(OutputError, match="does not list the files its run wrote"):
+        RunFolder.claim(target, overwrite=True)
+    assert _whole_result(target) == "first"
+
+
 def test_an_error_leaves_the_old_result_and_no_temporaries(tmp_path: Path) -> None:
     target = tmp_path / "run"
     with RunFolder.claim(target) as staging:

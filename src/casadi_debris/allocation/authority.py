@@ -88,13 +88,19 @@ class AuthorityPolytope:
 
 
 def _support(
-    direction: np.ndarray, torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray
+    direction: np.ndarray,
+    torque_map: np.ndarray,
+    equality: np.ndarray,
+    upper: np.ndarray,
+    force: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Torque of the engines' point that maximises ``direction . tau``."""
+    """Torque of the engines' point that maximises ``direction . tau`` (net force ``force``,
+    default zero, when ``equality`` holds the force rows)."""
+    rhs = np.zeros(len(equality)) if force is None else force
     result = linprog(
         -(direction @ torque_map),
         A_eq=equality if len(equality) else None,
-        b_eq=np.zeros(len(equality)) if len(equality) else None,
+        b_eq=rhs if len(equality) else None,
         bounds=list(zip(np.zeros_like(upper), upper, strict=True)),
         method="highs",
     )
@@ -109,8 +115,13 @@ def authority_polytope(
     max_thrust_N: np.ndarray,
     *,
     free_force: bool = False,
+    force_N: np.ndarray | None = None,
 ) -> AuthorityPolytope:
     """Facets of the torque polytope of unidirectional engines.
+
+    With ``force_N`` it is the slice of the wrench polytope at that net force,
+    ``{B f : 0 <= f <= f_max, F f = force_N}``: the torques the engines can add
+    while they deliver the force exactly (a burn's).
 
     Parameters
     ----------
@@ -120,6 +131,8 @@ def authority_polytope(
         Thrust limit of every engine [N] (0 for a failed engine).
     free_force : bool
         Drop the zero-net-force condition.
+    force_N : ndarray, shape (3,), optional
+        Net force held [N] instead of zero (not with ``free_force``).
 
     Returns
     -------
@@ -147,10 +160,15 @@ def authority_polytope(
     torque_map = np.asarray(torque_map, dtype=float)
     upper = np.asarray(max_thrust_N, dtype=float)
     equality = np.zeros((0, len(upper))) if free_force else np.asarray(force_map, dtype=float)
-    key = _key(torque_map, equality, upper)
+    force = None
+    if force_N is not None:
+        if free_force:
+            raise AllocationError("give either force_N or free_force, not both")
+        force = np.asarray(force_N, dtype=float).reshape(3)
+    key = _key(torque_map, equality, upper, *([] if force is None else [force]))
     known = _KNOWN.get(key)
     if known is None:
-        known = _KNOWN[key] = _polytope(torque_map, equality, upper)
+        known = _KNOWN[key] = _polytope(torque_map, equality, upper, force)
         for array in (known.normals, known.offsets, known.vertices):
             array.flags.writeable = False  # shared by every caller from now on
         if len(_KNOWN) > KNOWN_POLYTOPES:
@@ -163,17 +181,36 @@ _KNOWN: dict[bytes, AuthorityPolytope] = {}
 KNOWN_POLYTOPES = 1024
 
 
-def _key(torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray) -> bytes:
+def _key(*arrays: np.ndarray) -> bytes:
     digest = hashlib.sha256()
-    for array in (torque_map, equality, upper):
+    for array in arrays:
         digest.update(f"{array.shape}".encode())
         digest.update(np.ascontiguousarray(array).tobytes())
     return digest.digest()
 
 
-def _polytope(torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray) -> AuthorityPolytope:
+def _flat_message(
+    axes: np.ndarray, points: list[np.ndarray], tolerance: float, force: np.ndarray | None
+) -> str:
+    """Which signed body axes the engines cannot torque about, for a flat polytope."""
+    names = ("+x", "+y", "+z", "-x", "-y", "-z")
+    reach = [float(axis @ point) for axis, point in zip(axes, points, strict=True)]
+    weak = [name for name, value in zip(names, reach, strict=True) if value <= tolerance]
+    at = "zero net force" if force is None else "the demanded net force"
+    about = ", ".join(weak) if weak else "one direction"
+    return (
+        f"the engines cannot torque about {about} at {at} (a flat authority polytope): give "
+        "that axis engines with a lever arm about it (e.g. side engines or CubeSats on "
+        "another face)"
+    )
+
+
+def _polytope(
+    torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray, force: np.ndarray | None
+) -> AuthorityPolytope:
     """The body of :func:`authority_polytope` (which keeps what it found)."""
-    points = [_support(d, torque_map, equality, upper) for d in np.vstack([np.eye(3), -np.eye(3)])]
+    axes = np.vstack([np.eye(3), -np.eye(3)])
+    points = [_support(d, torque_map, equality, upper, force) for d in axes]
     size = max(float(np.abs(points).max()), np.finfo(float).tiny)
     tolerance = SUPPORT_RTOL * size
     for _ in range(MAX_ROUNDS):
@@ -181,13 +218,13 @@ def _polytope(torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray) -
             hull = ConvexHull(np.array(points))
         except Exception as exc:  # scipy raises QhullError for flat point sets
             raise AllocationError(
-                "authority polytope is flat: the engines left cannot torque every axis"
+                _flat_message(axes, points[: len(axes)], tolerance, force)
             ) from exc
         normals = hull.equations[:, :3]
         offsets = -hull.equations[:, 3]
         new_points = []
         for normal, offset in zip(*_unique_facets(normals, offsets), strict=True):
-            point = _support(normal, torque_map, equality, upper)
+            point = _support(normal, torque_map, equality, upper, force)
             if normal @ point > offset + tolerance:
                 new_points.append(point)
         if not new_points:

@@ -13,6 +13,7 @@ from __future__ import annotations
 from casadi_debris.cli import (  # noqa: F401
     allocate,  # allocate
     alternatives,  # alternatives
+    burn,  # burn
     compare,  # compare
     deorbit,  # deorbit
     describe,  # model, budget, schema, problems

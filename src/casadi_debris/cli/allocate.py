@@ -20,7 +20,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import AllocationError
-from casadi_debris.units import MN_PER_N
+from casadi_debris.units import MN_PER_N, MNM_PER_NM, US_PER_S
 
 if TYPE_CHECKING:
     from casadi_debris.allocation import (
@@ -36,7 +36,6 @@ if TYPE_CHECKING:
 DEFAULT_SOLVER = "daqp"
 SATURATION_MODES = ("scale", "least_squares")
 
-US_PER_S = 1e6
 # The API's demand arguments and the options (and display units) they come from.
 DEMAND_OPTIONS = {"torque_Nm": ("--torque-mNm", "mNm"), "force_N": ("--force-mN", "mN")}
 
@@ -136,14 +135,14 @@ def _payload(
         "failed_cubesats": dead,
         # [CubeSat, engine of that CubeSat], 1-based, for engines failed on their own.
         "failed_engines": state.to_dict()["failed_engines"],
-        "torque_demand_mNm": result.demand_torque_Nm * MN_PER_N,
-        "torque_achieved_mNm": result.torque_Nm * MN_PER_N,
+        "torque_demand_mNm": result.demand_torque_Nm * MNM_PER_NM,
+        "torque_achieved_mNm": result.torque_Nm * MNM_PER_NM,
         "force_demand_mN": None
         if result.demand_force_N is None
         else result.demand_force_N * MN_PER_N,
         "force_achieved_mN": result.force_N * MN_PER_N,
         "fuel_rate_kg_s": result.fuel_rate_kg_s,
-        "torque_authority_mNm": {k: v * MN_PER_N for k, v in authority_Nm.items()},
+        "torque_authority_mNm": {k: v * MNM_PER_NM for k, v in authority_Nm.items()},
         "solver": result.solver,
         "iterations": result.iterations,
         "solve_time_us": result.solve_time_s * US_PER_S,
@@ -292,7 +291,7 @@ def allocate(
     force_N = None if force_mN is None else [f / MN_PER_N for f in force_mN]
     try:
         result = allocator.allocate(
-            [t / MN_PER_N for t in torque_mNm], force_N, free_force=free_force
+            [t / MNM_PER_NM for t in torque_mNm], force_N, free_force=free_force
         )
     except DemandError as error:
         raise AllocationError(_demand_message(error, torque_mNm, force_mN)) from None

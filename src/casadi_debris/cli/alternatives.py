@@ -6,14 +6,7 @@ from pathlib import Path
 
 import click
 
-from casadi_debris.cli.common import (
-    echo_json,
-    friendly_errors,
-    json_option,
-    main,
-    overwrite_option,
-    say,
-)
+from casadi_debris.cli.common import echo_json, folder_option, main, output_options, say
 from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
 
@@ -32,16 +25,8 @@ from casadi_debris.report.common import format_table
     show_default=True,
     help="Fail every set of up to this many CubeSats (an LP per set).",
 )
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=Path("runs") / "alternatives",
-    show_default=True,
-    help="Run folder.",
-)
-@overwrite_option
-@json_option
-@friendly_errors
+@folder_option(default=Path("runs") / "alternatives")
+@output_options
 def alternatives(
     problem_files: tuple[Path, ...], max_failed: int, out: Path, overwrite: bool, as_json: bool
 ) -> None:

@@ -56,14 +56,27 @@ problem_argument = click.argument(
 json_option = click.option("--json", "as_json", is_flag=True, help="Print JSON for scripts.")
 
 
-def out_folder_option(command: str) -> Callable[[Callable[..., Any]], Callable[..., Any]]:
-    """``--out DIR``: the run folder, by default ``runs/<command>-<problem>``."""
+Decorator = Callable[[Callable[..., Any]], Callable[..., Any]]
+
+
+def folder_option(
+    help: str | None = "Run folder.", *, default: Path | None = None, name: str = "out"
+) -> Decorator:
+    """``--out DIR``: the folder a command writes into (a folder, never a file), passed to
+    the command as ``name``; a ``default`` other than None is shown in the help."""
     return click.option(
         "--out",
+        name,
         type=click.Path(path_type=Path, file_okay=False),
-        default=None,
-        help=f"Run folder [runs/{command}-<problem>].",
+        default=default,
+        show_default=default is not None,
+        help=help,
     )
+
+
+def out_folder_option(command: str) -> Decorator:
+    """``--out DIR``: the run folder, by default ``runs/<command>-<problem>``."""
+    return folder_option(f"Run folder [runs/{command}-<problem>].")
 
 
 controller_option = click.option(
@@ -110,6 +123,26 @@ overwrite_option = click.option(
     help="Replace an existing result written by casadi-debris (atomically); "
     "without it an existing non-empty output is refused.",
 )
+
+
+def output_options(command: Callable[..., None]) -> Callable[..., None]:
+    """What every command that writes ends with: ``--overwrite``, ``--json`` and toolkit
+    errors as one stderr line (:func:`friendly_errors`)."""
+    return overwrite_option(json_option(friendly_errors(command)))
+
+
+def run_folder_options(command: str) -> Decorator:
+    """``--out DIR`` (by default ``runs/<command>-<problem>``), then :func:`output_options`."""
+
+    def decorate(function: Callable[..., None]) -> Callable[..., Any]:
+        return out_folder_option(command)(output_options(function))
+
+    return decorate
+
+
+def controller_options(command: Callable[..., Any]) -> Callable[..., Any]:
+    """``--controller FILE`` and ``--allow-mismatch``: the controller a command flies."""
+    return controller_option(allow_mismatch_option(command))
 
 
 def comma_list(text: str, option: str, example: str) -> list[str]:
@@ -187,6 +220,11 @@ def in_range(allowed: Range) -> click.ParamType:
     return BoundedFloat(
         allowed.low, allowed.high, low_open=allowed.low_open, high_open=allowed.high_open
     )
+
+
+def bounded_option(flag: str, allowed: Range, default: float, help: str) -> Decorator:
+    """An option whose values must lie in ``allowed`` (:func:`in_range`), its default shown."""
+    return click.option(flag, type=in_range(allowed), default=default, show_default=True, help=help)
 
 
 def uncertainty_sample_options(command: Callable[..., Any]) -> Callable[..., Any]:

@@ -7,14 +7,12 @@ from pathlib import Path
 import click
 
 from casadi_debris.cli.common import (
-    allow_mismatch_option,
     comma_list,
-    controller_option,
+    controller_options,
     echo_json,
-    friendly_errors,
-    json_option,
+    folder_option,
     main,
-    overwrite_option,
+    output_options,
     say,
 )
 from casadi_debris.config import SLEW_METHODS, load_problem
@@ -29,17 +27,9 @@ from casadi_debris.report.common import format_table
     "--methods",
     help=f"Slew methods to compare on slew problems, comma-separated ({', '.join(SLEW_METHODS)}).",
 )
-@controller_option
-@allow_mismatch_option
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=Path("runs") / "compare",
-    show_default=True,
-)
-@overwrite_option
-@json_option
-@friendly_errors
+@controller_options
+@folder_option(None, default=Path("runs") / "compare")
+@output_options
 def compare(
     problem_files: tuple[Path, ...],
     methods: str | None,

@@ -10,15 +10,12 @@ import click
 
 from casadi_debris.cli.common import (
     BoundedFloat,
+    bounded_option,
     comma_list,
     echo_json,
-    friendly_errors,
-    in_range,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
     workers_option,
 )
@@ -26,7 +23,7 @@ from casadi_debris.config import load_problem
 from casadi_debris.config.limits import SEED
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 MAX_SAMPLES = 100_000
 
@@ -81,18 +78,9 @@ def solar_cases(text: str) -> tuple[str, ...]:
     show_default=True,
     help="Lifetime Monte Carlo runs of the governing plan (solar cycles, C_D).",
 )
-@click.option(
-    "--seed",
-    type=in_range(SEED),
-    default=20250103,
-    show_default=True,
-    help="Seed of the Monte Carlo.",
-)
+@bounded_option("--seed", SEED, 20250103, "Seed of the Monte Carlo.")
 @workers_option
-@out_folder_option("deorbit")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("deorbit")
 def deorbit(
     problem_file: Path | None,
     solar: str,
@@ -131,6 +119,7 @@ def deorbit(
         workers=workers,
     )
     folder = out or default_run_folder("deorbit", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     say(f"Planning the deorbit of {problem.name} ({', '.join(settings.solar)} solar activity) ...")
     report = deorbit_into(problem, folder, settings, overwrite=overwrite)
     if as_json:
@@ -146,6 +135,8 @@ def _years(value: float) -> str:
 
 def _text(plan: Any) -> str:
     """The cases as a table, then the verdict, the smallest swarm and the Monte Carlo."""
+    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+
     rows = [
         [
             c.solar,
@@ -170,22 +161,30 @@ def _text(plan: Any) -> str:
             "propellant [kg]",
             "firing [h]",
             "burn [d]",
-            "stages",
+            "stages begun",
             "re-entry [y]",
             "meets",
         ],
         rows,
     )
     verdict = "meets" if plan.meets_five_year_rule else "does NOT meet"
+    asked = [c.solar for c in plan.cases]
+    # The Monte Carlo below draws whole solar cycles: say when the verdict is narrower.
+    scope = (
+        ""
+        if set(asked) == set(SOLAR_CASES)
+        else f" under {' and '.join(asked)} solar activity only"
+    )
     need = (
-        f"needs {plan.deorbit_dv_m_s:.1f} m/s ({plan.stages_needed} stages)"
+        f"needs {plan.deorbit_dv_m_s:.1f} m/s ({plan.stages_needed} stages' impulse)"
         if math.isfinite(plan.deorbit_dv_m_s)
         else "is out of reach: at this thrust no burn ends in time"
     )
     lines = [
         table,
         f"swarm's torque-free dv {plan.capacity_dv_m_s:.1f} m/s; governing case "
-        f"{plan.governing_case} {need}: the swarm {verdict} the {plan.limit_years:g}-year rule",
+        f"{plan.governing_case} {need}: the swarm {verdict} the "
+        f"{plan.limit_years:g}-year rule{scope}",
     ]
     smallest = plan.minimum_swarm
     if smallest is not None:

@@ -8,11 +8,9 @@ from typing import TYPE_CHECKING, cast
 import click
 
 from casadi_debris.cli.common import (
-    friendly_errors,
-    json_option,
     main,
     out_folder_option,
-    overwrite_option,
+    output_options,
     problem_argument,
     uncertainty_sample_options,
     workers_option,
@@ -42,9 +40,7 @@ TABLE_KEYS = ("result", "required", "ours", "verdict")
 )
 @uncertainty_sample_options
 @workers_option
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def design(
     problem_file: Path | None,
     out: Path | None,

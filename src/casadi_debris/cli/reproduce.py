@@ -7,14 +7,7 @@ from typing import Any
 
 import click
 
-from casadi_debris.cli.common import (
-    echo_json,
-    friendly_errors,
-    json_option,
-    main,
-    overwrite_option,
-    workers_option,
-)
+from casadi_debris.cli.common import echo_json, folder_option, main, output_options, workers_option
 from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_table
@@ -23,19 +16,11 @@ TABLE_KEYS = ("result", "paper", "accepted", "ours", "verdict")
 
 
 @main.command()
-@click.option(
-    "--out",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=Path("runs") / "reproduce",
-    show_default=True,
-    help="Report folder.",
-)
+@folder_option("Report folder.", default=Path("runs") / "reproduce")
 @click.option("--quick", is_flag=True, help="Fewer samples and corners, shorter pointing run (CI).")
 @click.option("--resynthesize", is_flag=True, help="Design the controller anew (≈1 min).")
 @workers_option
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def reproduce(
     out: Path, quick: bool, resynthesize: bool, workers: int, overwrite: bool, as_json: bool
 ) -> None:

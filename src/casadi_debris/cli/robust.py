@@ -9,15 +9,14 @@ from typing import TYPE_CHECKING
 import click
 
 from casadi_debris.cli.common import (
-    allow_mismatch_option,
+    bounded_option,
     comma_list,
-    controller_option,
+    controller_options,
     echo_json,
-    friendly_errors,
+    folder_option,
     in_range,
-    json_option,
     main,
-    overwrite_option,
+    output_options,
     problem_argument,
     say,
     uncertainty_sample_options,
@@ -44,27 +43,12 @@ from casadi_debris.report.folders import (
 
 @main.command()
 @problem_argument
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
+@folder_option(
+    "Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
+    name="out_dir",
 )
-@click.option(
-    "--mu-points",
-    type=in_range(MU_POINTS),
-    default=150,
-    show_default=True,
-    help="Frequencies of the mu grid.",
-)
-@click.option(
-    "--max-iterations",
-    type=in_range(DK_ITERATIONS),
-    default=8,
-    show_default=True,
-    help="D-K iterations at most.",
-)
+@bounded_option("--mu-points", MU_POINTS, 150, "Frequencies of the mu grid.")
+@bounded_option("--max-iterations", DK_ITERATIONS, 8, "D-K iterations at most.")
 @click.option(
     "--d-orders",
     default="1,2,4",
@@ -72,9 +56,7 @@ from casadi_debris.report.folders import (
     help=f"D-scale orders tried at each step (1 to {MAX_D_ORDERS_TRIED} of {D_ORDER}).",
 )
 @uncertainty_sample_options
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def synthesize(
     problem_file: Path | None,
     out_dir: Path | None,
@@ -153,29 +135,14 @@ def _d_orders(text: str) -> tuple[int, ...]:
 
 @main.command()
 @problem_argument
-@controller_option
-@allow_mismatch_option
-@click.option(
-    "--samples",
-    type=in_range(MARGIN_SAMPLES),
-    default=3000,
-    show_default=True,
-    help="Sampled uncertain plants.",
-)
+@controller_options
+@bounded_option("--samples", MARGIN_SAMPLES, 3000, "Sampled uncertain plants.")
 @click.option(
     "--seed", type=in_range(limits.SEED), default=None, help="Seed of the samples [problem's]."
 )
-@click.option(
-    "--out",
-    "out_dir",
-    type=click.Path(path_type=Path, file_okay=False),
-    default=None,
-    help="Folder for summary.json and the plots [runs/margins-<problem>].",
-)
+@folder_option("Folder for summary.json and the plots [runs/margins-<problem>].", name="out_dir")
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def margins(
     problem_file: Path | None,
     controller_path: Path | None,

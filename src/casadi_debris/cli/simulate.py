@@ -13,21 +13,19 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from casadi_debris.cli.common import (
-    allow_mismatch_option,
     batch_option,
-    controller_option,
+    controller_options,
     counter_progress,
     echo_json,
     failed_cubesat_indices,
-    friendly_errors,
+    folder_option,
     in_range,
     is_quiet,
-    json_option,
     main,
     no_jit_option,
-    out_folder_option,
-    overwrite_option,
+    output_options,
     problem_argument,
+    run_folder_options,
     say,
     workers_option,
 )
@@ -195,13 +193,10 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
     help="CubeSats failed from the start, by id (as `casadi-debris model` lists them), added "
     "to the problem's [[simulation.failures]].",
 )
-@controller_option
-@allow_mismatch_option
-@click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
+@controller_options
+@folder_option()
 @click.option("--no-plots", is_flag=True, help="Skip the PNGs.")
-@overwrite_option
-@json_option
-@friendly_errors
+@output_options
 def simulate(
     problem_file: Path | None,
     corner: int | None,
@@ -236,26 +231,16 @@ def simulate(
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
     problem = _as_asked(problem, duration_s, (axis, angle_deg), failed)
-    from casadi_debris.allocation import Allocator
     from casadi_debris.report.simulation import figure_title, write_run
     from casadi_debris.simulation import scenario_reference
-    from casadi_debris.simulation import simulate as run_simulation
+    from casadi_debris.simulation.monte_carlo import fly_case
     from casadi_debris.workflows.campaign import run_summary
     from casadi_debris.workflows.controller import controller_for
 
     record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     problem, model, case = _chosen_case(problem, parameters_file, corner, sample, seed)
     reference = scenario_reference(problem)
-    allocator = Allocator.from_problem(problem, model.geometry)
-    result = run_simulation(
-        problem,
-        model,
-        record.reduced,
-        reference,
-        parameters=case.parameters,
-        allocator=allocator,
-        noise_seed=case.noise_seed(problem),
-    )
+    result = fly_case(problem, model, record.reduced, reference, case)
     summary = run_summary(problem, case, result, resolved, record)
     segments = _segment_figures(problem, result, reference)
     if out is not None:
@@ -461,14 +446,10 @@ def stage_progress(as_json: bool) -> Callable[[str], Callable[[int, int], None] 
     "processes. Connects only there; Dask unpickles what the scheduler sends, so give only "
     "a scheduler you trust.",
 )
-@controller_option
-@allow_mismatch_option
+@controller_options
 @no_jit_option
 @batch_option
-@out_folder_option("montecarlo")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("montecarlo")
 def montecarlo(
     problem_file: Path | None,
     corners: bool,

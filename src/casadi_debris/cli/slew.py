@@ -17,11 +17,10 @@ import numpy as np
 from casadi_debris.cli.common import (
     BoundedFloat,
     echo_json,
-    friendly_errors,
+    folder_option,
     in_range,
-    json_option,
     main,
-    overwrite_option,
+    output_options,
     problem_argument,
     say,
 )
@@ -361,10 +360,8 @@ def axis_options(axis_default: str, angle_default: str) -> Callable[[F], F]:
     show_default=True,
     help="Seed of the random initial guesses.",
 )
-@click.option("--out", type=click.Path(path_type=Path, file_okay=False), help="Run folder.")
-@overwrite_option
-@json_option
-@friendly_errors
+@folder_option()
+@output_options
 def slew(
     problem_file: Path | None,
     axis: str | tuple[float, float, float] | None,

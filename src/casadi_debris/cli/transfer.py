@@ -7,19 +7,10 @@ from typing import Any
 
 import click
 
-from casadi_debris.cli.common import (
-    echo_json,
-    friendly_errors,
-    json_option,
-    main,
-    out_folder_option,
-    overwrite_option,
-    problem_argument,
-    say,
-)
+from casadi_debris.cli.common import echo_json, main, problem_argument, run_folder_options, say
 from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 
 @main.command()
@@ -32,10 +23,7 @@ from casadi_debris.report.folders import default_run_folder
     help="Minimum transfer time, or minimum propellant (throttled, time at most 10 % over the "
     "guidance law's).",
 )
-@out_folder_option("transfer")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("transfer")
 def transfer(
     problem_file: Path | None, objective: str, out: Path | None, overwrite: bool, as_json: bool
 ) -> None:
@@ -46,12 +34,15 @@ def transfer(
     propellant, stages per CubeSat, and whether the swarm's own stages suffice
     (if not: how far they get and what more it takes).
     """
+    from casadi_debris.config.checks import check_transfer_end
     from casadi_debris.orbit.transfer import check_transfer
     from casadi_debris.workflows.transfer import transfer_into
 
     problem = load_problem(problem_file)
+    check_transfer_end(problem)
     check_transfer(problem)
     folder = out or default_run_folder("transfer", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     say(f"Planning the transfer of {problem.name} (minimum {objective}) ...")
     result = transfer_into(problem, folder, objective=objective, overwrite=overwrite)  # type: ignore[arg-type]
     if as_json:
@@ -66,7 +57,7 @@ def transfer(
         ["guidance time [days]", result.guidance_time_days],
         ["own stages: dv [m/s]", result.available_dv_m_s],
         ["own stages: firing time [days]", result.available_time_days],
-        ["swarm suffices", result.swarm_suffices],
+        ["swarm suffices", "yes" if result.swarm_suffices else "no"],
     ]
     if not result.swarm_suffices:
         rows += [

@@ -88,9 +88,12 @@ from casadi_debris.config.schema import (
     Weights,
 )
 from casadi_debris.config.segments import (
+    BURN_DIRECTIONS,
     SEGMENT_KINDS,
     SLEW_METHODS,
     TRACK_FRAMES,
+    BurnDirection,
+    BurnSettings,
     Segment,
     SegmentKind,
     SlewMethod,
@@ -103,6 +106,7 @@ from casadi_debris.config.varied import problem_with_values
 
 __all__ = [
     "AXIS_NAMES",
+    "BURN_DIRECTIONS",
     "DEFAULT_MONTECARLO",
     "DEFAULT_REQUIREMENTS",
     "DEFAULT_SIMULATION",
@@ -118,6 +122,8 @@ __all__ = [
     "Actuators",
     "Array",
     "AxisName",
+    "BurnDirection",
+    "BurnSettings",
     "Constants",
     "ControllerTiming",
     "CubeSat",

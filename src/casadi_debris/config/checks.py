@@ -1,11 +1,12 @@
-"""Physical checks shared by the table readers: inertia and points on hub faces."""
+"""Physical checks shared by the table readers and the commands: inertia, points on hub
+faces, the transfer ending on the debris' orbit."""
 
 from __future__ import annotations
 
 import numpy as np
 
 from casadi_debris.config.limits import PRINCIPAL_INERTIA_KGM2
-from casadi_debris.config.schema import AXIS_NAMES
+from casadi_debris.config.schema import AXIS_NAMES, Problem
 from casadi_debris.config.table import Table
 from casadi_debris.errors import ProblemFileError
 
@@ -114,3 +115,35 @@ def check_outside_hub(
             f"{point.tolist()} m is not on or above the hub face {face} "
             f"(hub spans 0 .. {hub_size.tolist()} m)",
         )
+
+
+# The transfer's end and the debris' orbit are one orbit written twice (to round-off).
+TRANSFER_END_TOLERANCE = 1e-9
+
+
+def check_transfer_end(problem: Problem) -> None:
+    """Raise unless the ``[transfer]`` ends on the debris' ``[orbit]``.
+
+    The transfer brings the CubeSats to the debris, so its end and the debris' orbit are
+    the same orbit written twice; a problem that changes one and not the other would
+    charge a transfer to where the debris is not.
+
+    Raises
+    ------
+    ProblemFileError
+        ``transfer.to_altitude_km`` or ``transfer.to_inclination_deg`` differs from
+        ``orbit.altitude_km`` or ``orbit.inclination_deg``.
+    """
+    transfer, orbit = problem.transfer, problem.orbit
+    pairs = (
+        ("altitude_km", "km", transfer.to_altitude_km, orbit.altitude_km),
+        ("inclination_deg", "deg", transfer.to_inclination_deg, orbit.inclination_deg),
+    )
+    for name, unit, end, debris in pairs:
+        if abs(end - debris) > TRANSFER_END_TOLERANCE * max(1.0, abs(debris)):
+            raise ProblemFileError(
+                f"transfer.to_{name}",
+                f"is {end:g} {unit} but the debris' orbit.{name} is {debris:g} {unit}; the "
+                "transfer ends at the debris' orbit: give both the same value",
+                problem.source,
+            )

@@ -156,6 +156,9 @@ def _sequence_example() -> dict[str, Any]:
         },
         {"kind": "track", "frame": "lvlh", "euler_deg": [0.0, 5.0, 0.0], "duration_s": 100.0},
         {"kind": "track", "frame": "lvlh", "axis": "z", "angle_deg": 5.0, "duration_s": 100.0},
+        {"kind": "burn", "direction": "retrograde", "body_axis": "-y", "duration_s": 200.0},
+        {"kind": "burn", "direction": "normal", "thrust_fraction": 0.5, "duration_s": 200.0},
+        {"kind": "burn", "direction": "prograde", "thrust_mN": 1.0, "duration_s": 200.0},
         {"kind": "track", "frame": "lvlh", "quaternion": [1.0, 0.0, 0.0, 0.0], "blend_s": 60.0},
     ]
     return {

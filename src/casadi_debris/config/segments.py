@@ -7,6 +7,11 @@ A run's reference is a sequence of segments flown one after the other:
   with the OCP or the zero-vibration shaper); it lasts as long as the slew.
 - ``hold``: keep the attitude the previous segment left.
 - ``track``: follow the orbit's LVLH frame, or point a body axis at nadir.
+- ``burn``: a track of the LVLH frame that holds ``body_axis`` (default the swarm's
+  strongest torque-free thrust direction) along ``direction`` (prograde, retrograde,
+  normal, antinormal) while the engines thrust along it: ``thrust_fraction`` (default 1)
+  of the largest torque-free thrust, or ``thrust_mN``. The engines fire once the body
+  turns with the frame (after ``blend_s``) until the segment ends (or starts to stop).
 
 Targets (:class:`Target`), each written with one group of keys:
 
@@ -38,10 +43,15 @@ from casadi_debris.config.table import Table, frozen_array
 
 SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
 SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
-SegmentKind = Literal["slew", "hold", "track"]
+SegmentKind = Literal["slew", "hold", "track", "burn"]
 TargetKind = Literal["rotation", "attitude", "frame"]
 TrackFrame = Literal["lvlh", "nadir"]
-SEGMENT_KINDS: tuple[SegmentKind, ...] = ("slew", "hold", "track")
+SEGMENT_KINDS: tuple[SegmentKind, ...] = ("slew", "hold", "track", "burn")
+BurnDirection = Literal["prograde", "retrograde", "normal", "antinormal"]
+BURN_DIRECTIONS: tuple[BurnDirection, ...] = ("prograde", "retrograde", "normal", "antinormal")
+"""Where a burn thrusts, in the orbit's LVLH frame: along track, against it, along the
+orbit normal, against it."""
+_BURN_KEYS = ("direction", "body_axis", "thrust_fraction", "thrust_mN")
 TRACK_FRAMES: tuple[TrackFrame, ...] = ("lvlh", "nadir")
 FLEXIBLE_METHODS = ("ocp", "shaper")
 AXIS_TEXTS = ("x", "y", "z", "+x", "+y", "+z", "-x", "-y", "-z")
@@ -146,12 +156,33 @@ class SlewReference:
 
 
 @dataclass(frozen=True, eq=False)
+class BurnSettings:
+    """What a burn segment thrusts with.
+
+    Attributes
+    ----------
+    direction : {"prograde", "retrograde", "normal", "antinormal"}
+    body_axis : str or tuple of 3 floats, or None
+        The thrust axis (None: the swarm's strongest torque-free direction).
+    thrust_fraction : float
+        Of the largest torque-free thrust along the axis.
+    thrust_mN : float or None
+        The thrust itself, instead of the fraction.
+    """
+
+    direction: BurnDirection
+    body_axis: str | tuple[float, float, float] | None = None
+    thrust_fraction: float = 1.0
+    thrust_mN: float | None = None
+
+
+@dataclass(frozen=True, eq=False)
 class Segment:
     """One ``[[simulation.segments]]`` entry.
 
     Attributes
     ----------
-    kind : {"slew", "hold", "track"}
+    kind : {"slew", "hold", "track", "burn"}
     start_s : float or None
         When it starts [s]; None: when the previous one ends (a gap between
         segments holds the attitude the previous one left).
@@ -165,6 +196,8 @@ class Segment:
     blend_s : float
         A track: how long its start (and a segment after it) takes to join
         the new reference, rate and attitude [s].
+    burn : BurnSettings or None
+        Given for a burn (a track of the LVLH frame whose offset the burn sets).
     """
 
     kind: SegmentKind
@@ -173,6 +206,7 @@ class Segment:
     target: Target | None = None
     slew: SlewSettings | None = None
     blend_s: float = DEFAULT_BLEND_S
+    burn: BurnSettings | None = None
 
 
 def read_axis(t: Table, name: str) -> str | tuple[float, float, float]:
@@ -326,6 +360,7 @@ def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Se
     duration_s = t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None
     target: Target | None = None
     slew: SlewSettings | None = None
+    burn: BurnSettings | None = None
     blend_s = DEFAULT_BLEND_S
     if kind == "slew":
         slew = read_slew_settings(t, methods)
@@ -340,18 +375,46 @@ def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Se
             raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
     elif kind == "track":
         target = read_frame_target(t)
-        if t.has("blend_s"):
-            blend_s = t.number("blend_s", limits.BLEND_S)
+    elif kind == "burn":
+        burn = _read_burn(t)
+    if kind in ("track", "burn") and t.has("blend_s"):
+        blend_s = t.number("blend_s", limits.BLEND_S)
+    if kind != "burn":
+        extra = _given(t, _BURN_KEYS)
+        if extra:
+            raise t.error(t.key(extra[0]), "only for a burn segment")
     if kind != "slew":
         extra = _given(t, _SLEW_KEYS)
         if extra:
             raise t.error(t.key(extra[0]), "only for a slew segment")
-    if kind == "hold":
+    if kind in ("hold", "burn"):
         extra = _given(t, (*_TARGET_KEYS, *_NADIR_KEYS, "frame"))
+        why = {
+            "hold": "a hold keeps the attitude it starts at: no target",
+            "burn": "a burn points body_axis along direction: no other target",
+        }
         if extra:
-            raise t.error(t.key(extra[0]), "a hold keeps the attitude it starts at: no target")
+            raise t.error(t.key(extra[0]), why[kind])
     t.done()
-    return Segment(kind, start_s, duration_s, target, slew, blend_s)
+    return Segment(kind, start_s, duration_s, target, slew, blend_s, burn)
+
+
+def _read_burn(t: Table) -> BurnSettings:
+    """A burn's keys: ``direction`` (required), ``body_axis``, ``thrust_fraction`` or
+    ``thrust_mN``."""
+    if not t.has("direction"):
+        raise t.error(t.key("direction"), f"missing: a burn needs one of {BURN_DIRECTIONS}")
+    if t.has("thrust_fraction") and t.has("thrust_mN"):
+        raise t.error(t.key("thrust_mN"), "give thrust_fraction or thrust_mN, not both")
+    direction: BurnDirection = t.text("direction", BURN_DIRECTIONS)
+    return BurnSettings(
+        direction=direction,
+        body_axis=read_axis(t, "body_axis") if t.has("body_axis") else None,
+        thrust_fraction=(
+            t.number("thrust_fraction", limits.positive(1.0)) if t.has("thrust_fraction") else 1.0
+        ),
+        thrust_mN=t.number("thrust_mN", limits.THRUST_MN) if t.has("thrust_mN") else None,
+    )
 
 
 def read_segments(

@@ -9,6 +9,10 @@ indices up in a space-weather file it downloads, and nothing here may reach the
 network. The three named levels are the long-term values of ECSS-E-ST-10-04C
 (Space environment, 2008), Table 6-3, which that standard prescribes for
 analyses longer than a week (the daily value then equals the 81-day mean):
+clause 7.2.1.2c, of which SPENVIS keeps a copy
+(https://www.spenvis.oma.be/ecss/e_st_10_04c/ecss_07_02_01.htm). The numbers
+below are from memory of Table 6-3: no public copy of the table itself was at
+hand to check them against.
 
 ======  =====  ======  ==
 level   F10.7  F10.7a  Ap

@@ -202,16 +202,35 @@ class DeorbitModel:
     thrust: SwarmThrust
 
     @classmethod
-    def from_problem(cls, problem: Problem, settings: DeorbitSettings) -> DeorbitModel:
+    def from_problem(
+        cls,
+        problem: Problem,
+        settings: DeorbitSettings,
+        *,
+        thrust: SwarmThrust | None = None,
+        mass_kg: float | None = None,
+    ) -> DeorbitModel:
+        """The model of ``problem``'s debris and swarm.
+
+        ``thrust`` (default: the swarm with full tanks, :func:`swarm_thrust`) and
+        ``mass_kg`` (default: the combined body's) describe a swarm that has already
+        spent some of its propellant.
+        """
         geometry = build_geometry(problem)
-        thrust = swarm_thrust(problem, geometry)
+        thrust = thrust or swarm_thrust(problem, geometry)
         cd = settings.drag_coefficient
         # The debris flies against its push: the flow comes along -direction, body axes.
         held = [
-            ballistic(problem, geometry=geometry, flow_body=-s.direction_body, drag_coefficient=cd)
+            ballistic(
+                problem,
+                geometry=geometry,
+                flow_body=-s.direction_body,
+                drag_coefficient=cd,
+                mass_kg=mass_kg,
+            )
             for s in thrust.segments
         ]
-        tumbling = ballistic(problem, geometry=geometry, drag_coefficient=cd)
+        tumbling = ballistic(problem, geometry=geometry, drag_coefficient=cd, mass_kg=mass_kg)
         decay = tumbling if settings.tumbling else held[0]
         earth = Earth.from_problem(problem)
         return cls(

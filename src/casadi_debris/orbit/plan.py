@@ -81,7 +81,12 @@ class DeorbitPlan(Record):
     monte_carlo: LifetimeCampaign | None = None
 
 
-def plan_deorbit(problem: Problem, settings: DeorbitSettings | None = None) -> DeorbitPlan:
+def plan_deorbit(
+    problem: Problem,
+    settings: DeorbitSettings | None = None,
+    *,
+    model: DeorbitModel | None = None,
+) -> DeorbitPlan:
     """The least Δv (and propellant, time, stages) that re-enters the debris within five years.
 
     Parameters
@@ -90,6 +95,9 @@ def plan_deorbit(problem: Problem, settings: DeorbitSettings | None = None) -> D
         The debris' circular orbit (``[orbit]``), its faces and mass, the swarm.
     settings : DeorbitSettings, optional
         Solar cases, limit, strategies, C_D, minimum swarm search, Monte Carlo.
+    model : DeorbitModel, optional
+        Built from ``problem`` and ``settings`` when not given; a caller that has one
+        (a swarm with part of its propellant spent, say) passes it and it is used as is.
 
     Returns
     -------
@@ -105,7 +113,7 @@ def plan_deorbit(problem: Problem, settings: DeorbitSettings | None = None) -> D
     True
     """
     settings = settings or DeorbitSettings()
-    model = DeorbitModel.from_problem(problem, settings)
+    model = model or DeorbitModel.from_problem(problem, settings)
     cases = tuple(plan_case(model, solar_case(name), settings) for name in settings.solar)
     plan = assemble_plan(problem, model, settings, cases)
     governing = next(c for c in cases if c.solar == plan.governing_case)

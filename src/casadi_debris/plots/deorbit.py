@@ -10,10 +10,9 @@ import numpy as np
 
 from casadi_debris.orbit.curves import CaseTrajectory
 from casadi_debris.plots import save_figure
-from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
+from casadi_debris.units import M_PER_KM, SECONDS_PER_YEAR
 
 SOLAR_COLOURS = {"low": "#1f5fbf", "mean": "#2e7d32", "high": "#c2185b"}
-DAYS_PER_YEAR = 365.25
 SAMPLES = 400
 
 
@@ -33,14 +32,14 @@ def plot_decay(
     figure, axes = plt.subplots(figsize=(8, 4.8))
     for item in trajectories:
         history = item.history
-        years = history.time_s / (DAYS_PER_YEAR * SECONDS_PER_DAY)
+        years = history.time_s / SECONDS_PER_YEAR
         grid = np.linspace(0.0, years[-1], SAMPLES)
         perigee = np.interp(grid, years, history.perigee_altitude_m) / M_PER_KM
         apogee = np.interp(grid, years, history.apogee_altitude_m) / M_PER_KM
         colour = SOLAR_COLOURS.get(item.solar, "0.3")
         axes.fill_between(grid, perigee, apogee, color=colour, alpha=0.25, lw=0)
         axes.plot(grid, perigee, color=colour, label=f"{item.solar}: perigee (band to apogee)")
-        end = history.burn_end_s / (DAYS_PER_YEAR * SECONDS_PER_DAY)
+        end = history.burn_end_s / SECONDS_PER_YEAR
         if end > 0:
             axes.axvline(end, color=colour, ls=":", lw=0.9)
     axes.axvline(limit_years, color="k", ls="--", lw=1.0, label=f"{limit_years:g}-year limit")

@@ -1,59 +1,130 @@
-"""The mission figure: the timeline of phases and the propellant each CubeSat spends."""
+"""The mission's figures: the timeline, the propellant per CubeSat and stage, and the
+altitude and perigee of every solar case from the start of the transfer."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 
+from casadi_debris.orbit.curves import CaseTrajectory
 from casadi_debris.plots import save_figure
-from casadi_debris.studies.mission import MissionSummary
+from casadi_debris.plots.deorbit import SOLAR_COLOURS
+from casadi_debris.studies.mission import DAYS_PER_YEAR, MissionSummary
+from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
 
 PHASE_COLOURS = {"transfer": "#1f5fbf", "detumble": "#ef8f00", "deorbit burn": "#c2185b",
                  "decay": "0.6"}  # fmt: skip
+BEYOND_HORIZON_DAYS = 200 * DAYS_PER_YEAR
+SAMPLES = 600
 
 
 def plot_mission(summary: MissionSummary, path: Path) -> Path:
     """Top: each phase as a bar over time (days, log scale: hours to years), the
-    five-year limit from the burn's start. Bottom: propellant per CubeSat, stacked by phase,
-    against what each carries."""
-    figure, (timeline, fuel) = plt.subplots(2, 1, figsize=(8, 7))
+    five-year limit from the burn's start. Bottom: propellant of each CubeSat's stages
+    (stage 1, 2, ... left to right), stacked by phase, inside what each stage carries."""
+    figure, (timeline, fuel) = plt.subplots(
+        2, 1, figsize=(11, 7.5), gridspec_kw={"height_ratios": [1, 1.3]}
+    )
+    _timeline(timeline, summary)
+    _stages(fuel, summary)
+    return save_figure(figure, path)
+
+
+def _timeline(axes: plt.Axes, summary: MissionSummary) -> None:
     phases = summary.phases
     for row, phase in enumerate(phases):
         start = max(phase.start_days, 1e-2)
-        length = phase.duration_days if phase.duration_days is not None else 200 * 365.25
-        timeline.barh(row, length, left=start, color=PHASE_COLOURS.get(phase.name, "0.4"))
+        length = phase.duration_days if phase.duration_days is not None else BEYOND_HORIZON_DAYS
+        axes.barh(row, length, left=start, color=PHASE_COLOURS.get(phase.name, "0.4"))
         label = phase.note if phase.duration_days is not None else phase.note + " (beyond horizon)"
-        timeline.text(start, row + 0.38, label, fontsize=7, va="bottom")
+        axes.text(start, row + 0.38, label, fontsize=7, va="bottom")
     burn = next(p for p in phases if p.name == "deorbit burn")
-    limit = burn.start_days + summary.limit_years * 365.25
-    timeline.axvline(
-        limit,
-        color="k",
-        ls="--",
-        lw=1.0,
+    limit = burn.start_days + summary.limit_years * DAYS_PER_YEAR
+    axes.axvline(
+        limit, color="k", ls="--", lw=1.0,
         label=f"{summary.limit_years:g} years after the burn starts",
-    )
-    timeline.set_xscale("log")
-    timeline.set_yticks(range(len(phases)), [p.name for p in phases])
-    timeline.invert_yaxis()
-    timeline.set_xlabel("days from the start of the transfer")
-    timeline.legend(fontsize=7, loc="lower right")
+    )  # fmt: skip
+    axes.set_xscale("log")
+    axes.set_yticks(range(len(phases)), [p.name for p in phases])
+    axes.invert_yaxis()
+    axes.set_xlabel("days from the start of the transfer")
+    axes.legend(fontsize=7, loc="upper right")
+    axes.set_title(f"{summary.problem}: {verdict(summary)}")
+
+
+def verdict(summary: MissionSummary) -> str:
+    """One line: meets the rule, or under which solar cases it does not."""
     late = [c for c, y in summary.reentry_years.items() if y is None or y > summary.limit_years]
-    verdict = (
-        "meets the five-year rule under every solar case"
-        if not late
-        else f"misses the five-year rule under {', '.join(late)} solar activity"
-    )
-    timeline.set_title(f"{summary.problem}: {verdict}")
-    ids = np.arange(1, len(summary.propellant_per_cubesat_kg["transfer"]) + 1)
-    bottom = np.zeros(len(ids))
-    for name, values in summary.propellant_per_cubesat_kg.items():
-        grams = np.asarray(values) * 1e3
-        fuel.bar(ids, grams, bottom=bottom, color=PHASE_COLOURS.get(name, "0.4"), label=name)
+    if not late:
+        return "meets the five-year rule under every solar case"
+    return f"misses the five-year rule under {', '.join(late)} solar activity"
+
+
+def _stages(axes: plt.Axes, summary: MissionSummary) -> None:
+    capacity = np.asarray(summary.capacity_per_stage_kg) * 1e3
+    n_cubesats, n_stages = capacity.shape
+    width = 0.8 / n_stages
+    x = (
+        np.arange(1, n_cubesats + 1)[:, None]
+        + (np.arange(n_stages)[None, :] - (n_stages - 1) / 2) * width
+    ).ravel()
+    bottom = np.zeros(x.size)
+    for book in summary.books:
+        grams = np.asarray(book.per_stage_kg).ravel() * 1e3
+        axes.bar(x, grams, width=width * 0.9, bottom=bottom,
+                 color=PHASE_COLOURS.get(book.phase, "0.4"), label=book.phase)  # fmt: skip
         bottom += grams
-    fuel.set_xlabel("CubeSat")
-    fuel.set_ylabel("propellant [g]")
-    fuel.legend(fontsize=7, ncols=3)
+    axes.bar(x, capacity.ravel(), width=width * 0.9, fill=False, edgecolor="0.3", lw=0.6,
+             label="stage capacity")  # fmt: skip
+    axes.set_xticks(np.arange(1, n_cubesats + 1))
+    axes.tick_params(axis="x", labelsize=7)
+    axes.set_xlabel(f"CubeSat (stages 1 to {n_stages} left to right)")
+    axes.set_ylabel("propellant [g]")
+    stranded = summary.propellant_stranded_kg * 1e3
+    axes.set_title(
+        f"used {summary.propellant_used_kg:.2f} of {summary.propellant_total_kg:.2f} kg; "
+        f"stranded (no torque-free mix can burn it) {stranded:.0f} g",
+        fontsize=9,
+    )
+    axes.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+
+
+def plot_altitude(
+    summary: MissionSummary, trajectories: Sequence[CaseTrajectory], path: Path
+) -> Path:
+    """Mean altitude (top) and perigee (bottom) of each solar case over the years from the
+    start of the transfer: the debris' orbit until the burn starts, then the burn (dotted
+    line: its end) and the decay; the limit counted from the burn's start."""
+    burn = next(p for p in summary.phases if p.name == "deorbit burn")
+    offset_years = burn.start_days / DAYS_PER_YEAR
+    figure, (mean, perigee) = plt.subplots(2, 1, figsize=(8, 6.5), sharex=True)
+    for item in trajectories:
+        history = item.history
+        years = history.time_s / (DAYS_PER_YEAR * SECONDS_PER_DAY)
+        grid = np.linspace(0.0, years[-1], SAMPLES)
+        altitude = (history.semi_major_axis_m - history.radius_m) / M_PER_KM
+        colour = SOLAR_COLOURS.get(item.solar, "0.3")
+        end = offset_years + history.burn_end_s / (DAYS_PER_YEAR * SECONDS_PER_DAY)
+        for axes, values in ((mean, altitude), (perigee, history.perigee_altitude_m / M_PER_KM)):
+            curve = np.interp(grid, years, values)
+            axes.plot(
+                np.concatenate([[0.0], offset_years + grid]),
+                np.concatenate([[curve[0]], curve]),
+                color=colour,
+                label=f"{item.solar} solar activity",
+            )
+            if end > offset_years:
+                axes.axvline(end, color=colour, ls=":", lw=0.9)
+    for axes in (mean, perigee):
+        axes.axvline(offset_years + summary.limit_years, color="k", ls="--", lw=1.0,
+                     label=f"{summary.limit_years:g} years after the burn starts")  # fmt: skip
+        axes.grid(True, ls=":", color="0.6")
+    mean.set_ylabel("mean altitude [km]")
+    perigee.set_ylabel("perigee altitude [km]")
+    perigee.set_xlabel("years from the start of the transfer (dotted: each case's burn ends)")
+    mean.legend(fontsize=8)
+    mean.set_title(f"{summary.problem}: {verdict(summary)}", fontsize=10)
     return save_figure(figure, path)

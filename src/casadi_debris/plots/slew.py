@@ -110,7 +110,7 @@ def plot_slew_comparison(profiles: Mapping[str, SlewProfile], path: Path) -> Pat
     return save_figure(figure, path)
 
 
-SEGMENT_SHADES = {"slew": "0.88", "hold": "white", "track": "#dcebf7"}
+SEGMENT_SHADES = {"slew": "0.88", "hold": "white", "track": "#dcebf7", "burn": "#fbe3d0"}
 
 
 def shade_segments(axis: plt.Axes, records: Sequence[SegmentRecord], label: bool) -> None:

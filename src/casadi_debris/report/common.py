@@ -57,6 +57,13 @@ def format_figure(value: Any, digits: int = 4) -> str:
     return f"{float(value):.{digits}g}"
 
 
+def verdict_text(outcome: bool | None, word: str) -> str:
+    """A verdict as printed: ``✅ <word>``, ``❌ not <word>``, or ``—`` when not judged."""
+    if outcome is None:
+        return "—"
+    return f"✅ {word}" if outcome else f"❌ not {word}"
+
+
 def json_ready(value: Any) -> Any:
     """``value`` for ``json.dumps``: records by field, numpy as lists, non-finite as None."""
     return to_jsonable(value)

@@ -16,7 +16,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure
+from casadi_debris.report.common import format_figure, verdict_text
 from casadi_debris.report.robust import MarginReport
 from casadi_debris.robust.performance_search import DesignSearch
 
@@ -58,9 +58,7 @@ class RequirementRow:
     @property
     def verdict(self) -> str:
         """✅/❌ with words, "—" when not judged."""
-        if self.met is None:
-            return "—"
-        return "✅ met" if self.met else "❌ not met"
+        return verdict_text(self.met, "met")
 
     def to_dict(self) -> dict[str, Any]:
         """The row for ``summary.json``."""

@@ -10,8 +10,9 @@ Every command that writes results goes through this module:
   the two folders in one atomic ``renameat2(RENAME_EXCHANGE)`` where Linux
   offers it (two renames elsewhere), then removes the old one, so that a kill
   at any moment leaves either the old or the new result whole.
-- Only folders this toolkit wrote (they hold :data:`MARKER_NAME`) are ever
-  replaced, even with ``overwrite``; a folder of the user's is never deleted.
+- Only folders this toolkit wrote (they hold :data:`MARKER_NAME`, which lists
+  every file the run wrote) are ever replaced, even with ``overwrite``, and only
+  while they hold nothing else: a folder or file of the user's is never deleted.
 - Temporaries carry their writer's process id in their name. A run that finds
   temporaries of a dead process beside its target cleans them up (and puts back
   an old result that a killed swap left aside).
@@ -136,6 +137,52 @@ def _is_ours(folder: Path) -> bool:
     return (folder / MARKER_NAME).is_file()
 
 
+def _entries(folder: Path) -> list[str]:
+    """Every file and folder below ``folder`` but the marker, as sorted relative paths."""
+    found = []
+    for root, folders, files in os.walk(folder):
+        for name in [*folders, *files]:
+            found.append((Path(root) / name).relative_to(folder).as_posix())
+    return sorted(entry for entry in found if entry != MARKER_NAME)
+
+
+def foreign_entries(folder: Path) -> list[str] | None:
+    """What in a result folder its run did not write (a user's files), or None if unknown.
+
+    The marker lists what the run wrote; a marker without that list (an older
+    version's, or damaged) says nothing about the rest, so None.
+    """
+    try:
+        written = json.loads((folder / MARKER_NAME).read_text()).get("files")
+    except (OSError, ValueError, AttributeError):
+        return None
+    if not isinstance(written, list):
+        return None
+    known = set(written)
+    return [entry for entry in _entries(folder) if entry not in known]
+
+
+def _check_replaceable(folder: Path, shown: str | Path, option: str) -> None:
+    """Refuse to replace a result folder that holds anything its run did not write."""
+    if not _is_ours(folder):
+        raise OutputError(
+            f"{option}: {shown} was not written by casadi-debris (no {MARKER_NAME}); "
+            "it is never replaced, choose another folder"
+        )
+    foreign = foreign_entries(folder)
+    if foreign is None:
+        raise OutputError(
+            f"{option}: {shown} does not list the files its run wrote (an older result); "
+            "it is not replaced, choose another folder"
+        )
+    if foreign:
+        more = f" and {len(foreign) - 1} more" if len(foreign) > 1 else ""
+        raise OutputError(
+            f"{option}: {shown} holds {foreign[0]}{more}, not written by casadi-debris; "
+            "it is never replaced, move it out or choose another folder"
+        )
+
+
 def _check_room(parent: Path, expected_bytes: int | None, option: str) -> None:
     if not os.access(parent, os.W_OK | os.X_OK):
         raise OutputError(f"{option}: cannot write in {parent} (permission denied)")
@@ -201,11 +248,7 @@ def check_output_folder(
                     f"{option}: {path} exists and is not empty; "
                     "pass --overwrite to replace a previous result"
                 )
-            if not _is_ours(target):
-                raise OutputError(
-                    f"{option}: {path} was not written by casadi-debris (no {MARKER_NAME}); "
-                    "it is never replaced, choose another folder"
-                )
+            _check_replaceable(target, path, option)
             if Path.cwd().resolve().is_relative_to(target.resolve()):
                 raise OutputError(f"{option}: {path} holds the working folder; run from elsewhere")
     _check_room(_existing_parent(target, option), expected_bytes, option)
@@ -243,6 +286,8 @@ def write_marker(folder: Path, command: str) -> None:
         "version": __version__,
         "command": command,
         "written_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+        # What may be replaced later: anything else found there is the user's.
+        "files": _entries(folder),
     }
     (folder / MARKER_NAME).write_text(json.dumps(record, indent=1) + "\n")
 
@@ -310,8 +355,10 @@ def move_into_place(staged: Path, target: Path, *, overwrite: bool = False) -> P
         raise OutputError(
             f"{target} appeared while the run was working; the new result is in {staged}"
         )
-    if not _is_ours(target):
-        raise OutputError(f"{target} was not written by casadi-debris; it is never replaced")
+    try:
+        _check_replaceable(target, target, "--out")
+    except OutputError as error:
+        raise OutputError(f"{error}; the new result is in {staged}") from None
     if _exchange(staged, target):
         shutil.rmtree(staged)
         return target

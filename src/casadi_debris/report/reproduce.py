@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure
+from casadi_debris.report.common import format_figure, verdict_text
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginReport
 
@@ -57,9 +57,7 @@ class ReproductionRow:
     @property
     def verdict(self) -> str:
         """The verdict as printed: ✅/❌ with words, "—" when not judged."""
-        if self.reproduced is None:
-            return "—"
-        return "✅ reproduced" if self.reproduced else "❌ not reproduced"
+        return verdict_text(self.reproduced, "reproduced")
 
     def to_dict(self) -> dict[str, Any]:
         """The row for ``summary.json`` (``result``, ``paper``, ``accepted``, ``ours``,

@@ -337,6 +337,7 @@ def build_loop_step(
     jit: bool = False,
     realism: Realism | None = None,
     basis: EngineBasis | None = None,
+    force_N: np.ndarray | None = None,
 ) -> LoopStep:
     """Compile one control period of the closed loop for one parameter set.
 
@@ -367,21 +368,22 @@ def build_loop_step(
         Realistic sensors, estimator, delay and engines (None: the paper's loop).
     basis : EngineBasis, optional
         The allocator's thrust per unit torque, needed when an effect acts per engine.
+    force_N : ndarray, shape (3,), optional
+        Net force in body axes held on the plant every period (a burn's; ideal loop only).
 
     Returns
     -------
     LoopStep
     """
+    extra = (realism, basis, force_N)
     if jit and integrator == "rk4":
         compiler = c_compiler()
         if compiler is not None:
             key = _jit_key(model, controller, polytope, integrator_steps, chunk_steps)
-            key += _realism_key(realism, basis)
+            key += _realism_key(realism, basis) + ("" if force_N is None else repr(list(force_N)))
             if key not in _JIT_STEPS:
                 _JIT_STEPS[key] = _compiled(
-                    _loop_step(
-                        model, None, controller, polytope, integrator_steps, "rk4", realism, basis
-                    ),
+                    _loop_step(model, None, controller, polytope, integrator_steps, "rk4", *extra),
                     compiler,
                     model,
                     controller,
@@ -391,9 +393,7 @@ def build_loop_step(
             cached = _JIT_STEPS[key]
             if cached is not None:
                 return cached
-    step = _loop_step(
-        model, parameters, controller, polytope, integrator_steps, integrator, realism, basis
-    )
+    step = _loop_step(model, parameters, controller, polytope, integrator_steps, integrator, *extra)
     return LoopStep.of(step, model, controller, chunk_steps, realism=realism)
 
 
@@ -493,6 +493,7 @@ def _loop_step(
     integrator: str,
     realism: Realism | None = None,
     basis: EngineBasis | None = None,
+    force_N: np.ndarray | None = None,
 ) -> ca.Function:
     """The step Function (expanded to scalar operations for RK4, shared terms computed once).
 
@@ -531,7 +532,8 @@ def _loop_step(
             s[StepInput.FEEDFORWARD_NM],
             *facets_in,
         )
-        force, rest_next, y = ca.DM.zeros(3), xc_next_z, ca.vertcat(demand_z, scale_z, error_z)
+        force = ca.DM.zeros(3) if force_N is None else ca.DM(np.asarray(force_N, dtype=float))
+        rest_next, y = xc_next_z, ca.vertcat(demand_z, scale_z, error_z)
     else:
         torque, force, rest_next, y = realistic_law(
             realism, model, law, basis, n_plant, n_ctrl, period

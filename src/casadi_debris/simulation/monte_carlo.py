@@ -339,23 +339,37 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         jit = False
     elif model is None:
         model = build_model(problem)
-    # A fresh allocator (about 1 ms) for every case: its QP workspaces keep the
-    # last solution as a warm start, which would make a case's last bits depend
-    # on the case the worker ran before it, and a resumed campaign differ.
-    allocator = Allocator.from_problem(problem, model.geometry)
-    result = simulate(
+    result = fly_case(problem, model, setup.controller, setup.reference, case, jit=jit)
+    summary = CaseSummary(case.identity(), result.summary())
+    return CaseOutcome(case, summary, bin_bands(setup, result))
+
+
+def fly_case(
+    problem: Problem,
+    model: Model,
+    controller: control.StateSpace,
+    reference: Reference,
+    case: Case,
+    *,
+    jit: bool = False,
+) -> ClosedLoopResult:
+    """The closed loop of one case: its parameters, failures and noise seed.
+
+    A fresh allocator (about 1 ms) for every case: its QP workspaces keep the
+    last solution as a warm start, which would make a case's last bits depend
+    on the case run before it, and a resumed campaign differ.
+    """
+    return simulate(
         problem,
         model,
-        setup.controller,
-        setup.reference,
+        controller,
+        reference,
         parameters=case.parameters,
         failures=case.failures,
-        allocator=allocator,
+        allocator=Allocator.from_problem(problem, model.geometry),
         jit=jit,
         noise_seed=case.noise_seed(problem),
     )
-    summary = CaseSummary(case.identity(), result.summary())
-    return CaseOutcome(case, summary, bin_bands(setup, result))
 
 
 def _rebuilt(problem: Problem, case: Case) -> tuple[Problem, Model]:

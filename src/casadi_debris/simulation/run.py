@@ -22,9 +22,11 @@ import control
 import numpy as np
 
 from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionState
+from casadi_debris.allocation.authority import authority_polytope
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.model import Model, Parameters
 from casadi_debris.simulation.batched import roll_together
+from casadi_debris.simulation.burn_plan import BurnWindow, burn_thrust_N, burn_windows
 from casadi_debris.simulation.closed_loop import (
     DiscreteController,
     SimulationError,
@@ -184,7 +186,8 @@ def simulate_many(
     realism = Realism.of(problem, period)
     rollouts = [_Rollout.of(problem, model, reference, discrete, run, realism) for run in runs]
     errors = None
-    if jit and integrator == "rk4" and realism is None and rollouts:
+    burns = any(r.burns for r in rollouts)  # the batched step has no force input
+    if jit and integrator == "rk4" and realism is None and rollouts and not burns:
         errors = roll_together(
             rollouts,
             model,
@@ -318,6 +321,11 @@ class _Rollout:
         self.states[0] = self.z[: self.model.layout.size]
         self.k = 0
         self.polytope: AuthorityPolytope | None = None
+        self.force_N: np.ndarray | None = None  # a burn's net force on the plant, body axes
+        self.burns = burn_windows(self.reference, self.period)
+        self.burning: BurnWindow | None = None
+        if self.burns and self.realism is not None:
+            raise SimulationError("a burn flies the ideal loop: no realistic sensors or engines")
 
     @property
     def finished(self) -> bool:
@@ -331,11 +339,45 @@ class _Rollout:
             _, failure = self.pending.pop(0)
             self.events.append(apply_failure(failure, self.engines, k * self.period))
             self.polytope = None
+        burning = next((w for w in self.burns if w.start <= k < w.stop), None)
+        if burning is not self.burning:  # a burn starts or ends: its force changes the authority
+            self.burning, self.polytope = burning, None
         if self.polytope is None:
             self.allocator.update_from_state(self.engines)
-            self.polytope = self.allocator.authority_polytope()
+            self.polytope = self.torque_authority()
             self.authority.append((k * self.period, self.polytope.axis_reach()))
-        return k, min(self.n, k + chunk_steps, self.pending[0][0] if self.pending else self.n)
+        stop = min(self.n, k + chunk_steps, self.pending[0][0] if self.pending else self.n)
+        return k, min([stop, *(e for w in self.burns for e in (w.start, w.stop) if k < e < stop)])
+
+    def torque_authority(self) -> AuthorityPolytope:
+        """The torques the loop saturates to, with the engines' current limits: during a
+        burn those it can add while delivering the burn's force (sets ``force_N``)."""
+        if self.burning is None:
+            self.force_N = None
+            return self.allocator.authority_polytope()
+        plan = self.burning.plan
+        # A thrust beyond the engines is an error at the burn's start; later (engines
+        # spent during it) the burn goes on with what is left.
+        thrust = burn_thrust_N(self.allocator, plan, strict=self.k == self.burning.start)
+        self.force_N = thrust * plan.body_axis
+        return authority_polytope(
+            self.allocator.torque_map,
+            self.allocator.force_map,
+            self.allocator.max_thrust_N,
+            force_N=self.force_N,
+        )
+
+    def allocate(self, torques_Nm: np.ndarray) -> tuple[np.ndarray, int]:
+        """Each engine's thrust for the applied torques (k, 3) (and a burn's force), and the
+        point solves it took."""
+        if self.force_N is None:
+            allocation = self.allocator.allocate_series(torques_Nm)
+            return allocation.thrust_N, allocation.point_solves
+        forces = np.tile(self.force_N, (len(torques_Nm), 1))
+        batch = self.allocator.allocate_batch(torques_Nm, forces_N=forces)
+        if not batch.feasible.all():
+            raise SimulationError("the allocator could not deliver a burn's force and torque")
+        return batch.thrust_N, len(torques_Nm)
 
     def roll_alone(self, chunk_steps: int, loop_options: dict[str, Any]) -> Exception | None:
         """Every stretch on this run's own step (rebuilt with each authority); what it raised."""
@@ -353,6 +395,7 @@ class _Rollout:
                         self.polytope,
                         chunk_steps=chunk_steps,
                         basis=engine_basis(self.allocator) if self._engine_level else None,
+                        force_N=self.force_N,
                         **loop_options,
                     )
                     built_for = self.polytope
@@ -374,11 +417,8 @@ class _Rollout:
         else:
             applied = y_all[:, StepOutput.APPLIED_NM]
         engine_level = self._engine_level
-        allocation = self.allocator.allocate_series(
-            y_all[:, StepOutput.COMMAND_NM] if engine_level else applied
-        )
-        self.point_solves += allocation.point_solves
-        thrust = allocation.thrust_N
+        thrust, solves = self.allocate(y_all[:, StepOutput.COMMAND_NM] if engine_level else applied)
+        self.point_solves += solves
         if engine_level:  # the engines' effects on the allocated thrust
             change = y_all[:, StepOutput.THRUST_CHANGE_START :]
             thrust = np.clip(thrust + change, 0.0, self.allocator.max_thrust_N)

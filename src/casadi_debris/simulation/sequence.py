@@ -9,7 +9,9 @@ left at its start time:
   LVLH frame being the frame's attitude at the slew's end (found by fixed-point
   iteration on the slew's duration when the method picks it);
 - a hold keeps that attitude;
-- a track follows its frame (:mod:`casadi_debris.simulation.targets`).
+- a track follows its frame (:mod:`casadi_debris.simulation.targets`); a burn is a
+  track of the LVLH frame holding its thrust axis along its direction, whose engines
+  fire from ``blend_s`` on (:mod:`casadi_debris.simulation.burn_plan`).
 
 Slews and holds start and end at rest, so where they meet the reference is
 continuous in attitude and rate as it stands. A track moves at the orbit rate:
@@ -29,13 +31,18 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem, Segment, Simulation, SlewSettings, Target
+from casadi_debris.config.segments import axis_unit_vector
 from casadi_debris.environment.orbit import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
 from casadi_debris.records import Record
+from casadi_debris.simulation.burn_plan import BurnPlan, burn_offset, strongest_axis
 from casadi_debris.simulation.targets import body_rates, frame_attitude, track_attitudes
 from casadi_debris.slew import SlewProfile, SlewTarget, slew_about_axis, slew_between
+from casadi_debris.units import MN_PER_N
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
+TRACKS = ("track", "burn")
+"""Segments that turn with the LVLH frame (a burn is a track that also thrusts)."""
 FRAME_ITERATIONS = 12
 """Largest number of secant steps putting a slew's end onto a moving frame."""
 FRAME_DURATION_TOLERANCE_S = 1e-3
@@ -63,6 +70,11 @@ class Piece:
         The slew's torque is added to the controller's demand.
     blend_s : float
         Joined to the piece before over its first ``blend_s`` (0: as it stands).
+    burn : BurnPlan or None
+        A burn's plan (its ``duration_s`` the firing's).
+    firing_s : (float, float) or None
+        When a burn's engines fire [s]: once the body turns with the frame, until the
+        piece ends or starts to stop.
     """
 
     kind: str
@@ -73,6 +85,8 @@ class Piece:
     slew: SlewProfile | None = None
     feedforward: bool = False
     blend_s: float = 0.0
+    burn: BurnPlan | None = None
+    firing_s: tuple[float, float] | None = None
 
     def end_attitude(self) -> np.ndarray:
         """q_BN at the piece's end, shape (4,)."""
@@ -135,7 +149,7 @@ class _Builder:
             self.pieces.append(Piece("hold", self.time_s, start, _held(self.attitude)))
         self.time_s = start
         key = self.key or f"simulation.segments[{index}]"
-        lead_s = following.blend_s / 2 if following and following.kind == "track" else 0.0
+        lead_s = following.blend_s / 2 if following and following.kind in TRACKS else 0.0
         if segment.kind == "slew":
             piece = self._slew(segment, index, key, lead_s)
         else:
@@ -165,9 +179,10 @@ class _Builder:
     ) -> Piece:
         """A track, from rest (or from the track before) and, unless the run ends or a
         track follows, to rest (:func:`~casadi_debris.simulation.targets.track_attitudes`)."""
-        assert segment.target is not None  # the reader gives every track its frame
+        # The reader gives every track its frame; a burn's comes from its axis and direction.
+        assert segment.target is not None or segment.burn is not None
         before = self.pieces[-1] if self.pieces else None
-        stop = following is not None and following.kind != "track"
+        stop = following is not None and following.kind not in TRACKS
         needed = segment.blend_s * (2 if stop else 1)
         if window_s[1] - window_s[0] < needed:
             raise ProblemFileError(
@@ -177,17 +192,51 @@ class _Builder:
                 + f" does not fit in the track's {window_s[1] - window_s[0]:g} s",
                 self.problem.source,
             )
-        offset = IDENTITY if segment.target.quaternion is None else segment.target.quaternion
+        burn, firing = None, None
+        if segment.burn is not None:
+            burn, target = self._burn(segment, index, window_s, stop)
+            firing = (window_s[0] + segment.blend_s, window_s[1] - (segment.blend_s if stop else 0))
+        else:
+            assert segment.target is not None
+            target = segment.target
+        offset = IDENTITY if target.quaternion is None else target.quaternion
         attitudes = track_attitudes(
             self.orbit,
             offset,
             window_s,
             segment.blend_s,
             None if before is None else before.attitude,
-            from_track=before is not None and before.kind == "track",
+            from_track=before is not None and before.kind in TRACKS,
             stop=stop,
         )
-        return Piece("track", *window_s, attitudes, index, blend_s=segment.blend_s)
+        kind = "track" if burn is None else "burn"
+        return Piece(
+            kind, *window_s, attitudes, index, blend_s=segment.blend_s, burn=burn, firing_s=firing
+        )
+
+    def _burn(
+        self, segment: Segment, index: int, window_s: tuple[float, float], stop: bool
+    ) -> tuple[BurnPlan, Target]:
+        """A burn segment's plan and the LVLH offset holding its axis along its direction."""
+        settings = segment.burn
+        assert settings is not None
+        axis = (
+            strongest_axis(self.problem)
+            if settings.body_axis is None
+            else axis_unit_vector(settings.body_axis)
+        )
+        firing = window_s[1] - window_s[0] - segment.blend_s * (2 if stop else 1)
+        if firing <= 0.0:
+            raise ProblemFileError(
+                f"{self.key or f'simulation.segments[{index}]'}.duration_s",
+                "leaves the engines no time to fire: the burn reaches the frame after "
+                f"blend_s ({segment.blend_s:g} s)" + (" and stops as long" if stop else ""),
+                self.problem.source,
+            )
+        thrust_N = None if settings.thrust_mN is None else settings.thrust_mN / MN_PER_N
+        plan = BurnPlan(settings.direction, axis, firing, settings.thrust_fraction, thrust_N)
+        offset = burn_offset(plan.body_axis, plan.direction_lvlh)
+        return plan, Target("frame", quaternion=offset, frame="lvlh")
 
     def _slew(self, segment: Segment, index: int, key: str, lead_s: float) -> Piece:
         """A slew from where the reference is; onto a frame, aimed at its attitude

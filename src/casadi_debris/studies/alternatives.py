@@ -69,10 +69,12 @@ class SwarmFigures(Record):
 
     ``fuel_per_torque_time_g_per_mNm_h``: grams of propellant per mN·m of pure torque held
     for an hour, per signed axis; ``single_failure`` and ``double_failure`` are None when
-    the swarm has too few CubeSats for such a set.
+    the swarm has too few CubeSats for such a set; ``problem_sha256`` hashes the problem
+    file (and the files it extends).
     """
 
     problem: str
+    problem_sha256: str
     cubesats: int
     engines: int
     swarm_mass_kg: float
@@ -177,6 +179,7 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
     ]
     return SwarmFigures(
         problem=problem.name,
+        problem_sha256=problem.sha256,
         cubesats=len(geometry.cubesats),
         engines=len(geometry.engines),
         swarm_mass_kg=float(sum(c.mass_kg for c in geometry.cubesats)),

@@ -8,34 +8,47 @@ The phases, in the order the swarm flies them, each from its own model:
    propellant by the rocket equation with the CubeSat's mass and its strongest engine;
    the time at that thrust.
 2. **Detumble** after docking: the closed-loop rigid-body run of
-   :func:`~casadi_debris.simulation.detumble.detumble` (allocator, staging, fuel).
-3. **Deorbit**: :func:`~casadi_debris.orbit.plan_deorbit` gives the least Δv each solar
-   case needs. The swarm burns what it still carries after the transfer and the detumble:
-   the Δv of the propellant left, with the plan's torque-free exhaust speed
-   (``capacity / ln(M / (M - m_all))``, ``m_all`` every stage's propellant). A case
-   whose need exceeds that flies what is left and its re-entry is computed for it.
+   :func:`~casadi_debris.simulation.detumble.detumble` (allocator, staging, fuel). The
+   run starts from full tanks: the transfer burns less than a stage, so the stages the
+   detumble fires keep their thrust.
+3. **Deorbit**: the swarm as the transfer and the detumble leave it, engine by engine
+   (the torque-free impulse LP of :func:`~casadi_debris.orbit.propulsion.swarm_thrust`
+   on what each engine still carries; what no torque-free mix can use is *stranded*),
+   and the docked body's mass without the propellant burnt so far;
+   :func:`~casadi_debris.orbit.plan_deorbit` on that model gives each solar case's least
+   Δv and flies it, or everything usable when that is less.
 4. **Decay** to re-entry; the five-year verdict is the deorbit plan's rule (counted from
    the burn's start) under every solar case.
 
-Propellant is booked per phase and per CubeSat; a shortfall is reported, not hidden.
+Propellant is booked engine by engine and stage by stage
+(:mod:`~casadi_debris.studies.propellant_books`): the transfer on each CubeSat's
+strongest engine, the detumble as the run's allocator fired the engines, the deorbit
+burn (the governing case's) as the torque-free mixes of its directions, in the plan's
+order (strongest with full tanks first).
+A shortfall is reported, not hidden.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.config.checks import check_transfer_end
 from casadi_debris.errors import ProblemFileError
+from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
 from casadi_debris.orbit.atmosphere import solar_case
 from casadi_debris.orbit.curves import CaseTrajectory
-from casadi_debris.orbit.deorbit import DeorbitModel
+from casadi_debris.orbit.deorbit import DeorbitCase, DeorbitModel
+from casadi_debris.orbit.propulsion import DIRECTION_DECIMALS, SwarmThrust, swarm_thrust
 from casadi_debris.orbit.transfer import check_transfer
 from casadi_debris.records import Record
 from casadi_debris.simulation.detumble import DetumbleResult, detumble
+from casadi_debris.studies.propellant_books import PhaseBook, PropellantBooks, detumble_engine_kg
 from casadi_debris.units import SECONDS_PER_DAY
 
 DAYS_PER_YEAR = 365.25
@@ -63,12 +76,20 @@ class MissionSummary(Record):
 
     ``reentry_years`` (per solar case, from the deorbit burn's start; None beyond the
     plan's horizon) is for the Δv the swarm still has, ``deorbit_dv_m_s`` the governing
-    case's least Δv, ``deorbit_dv_available_m_s`` what the propellant left after transfer
-    and detumble gives. ``propellant_per_cubesat_kg`` maps each phase to one value per
-    CubeSat (CubeSat ``k + 1`` at index ``k``).
+    case's least Δv, ``deorbit_dv_available_m_s`` the torque-free Δv of the propellant
+    left after transfer and detumble (``deorbit_dv_capacity_m_s``: with full tanks).
+    ``propellant_per_cubesat_kg`` maps each phase to one value per CubeSat (CubeSat
+    ``k + 1`` at index ``k``); ``books`` has the same per stage, and the stages each
+    CubeSat has begun by each phase's end. ``propellant_stranded_kg`` is what no
+    torque-free mix of the deorbit burn can use (per CubeSat in
+    ``stranded_per_cubesat_kg``); ``propellant_left_kg`` all that is left after the
+    burn, stranded included; ``capacity_per_stage_kg`` what each CubeSat's stages carry
+    when full (summed over its engines). ``problem_sha256`` hashes the problem file (and
+    the files it extends).
     """
 
     problem: str
+    problem_sha256: str
     detumble_time_h: float | None
     transfer_dv_m_s: float
     transfer_time_days: float
@@ -79,38 +100,64 @@ class MissionSummary(Record):
     deorbit_dv_needed_m_s: dict[str, float | None]
     meets_five_year_rule: bool
     limit_years: float
+    governing_case: str
     propellant_total_kg: float
     propellant_used_kg: float
+    propellant_left_kg: float
+    propellant_stranded_kg: float
+    stranded_per_cubesat_kg: list[float]
+    capacity_per_stage_kg: list[list[float]]
     propellant_per_cubesat_kg: dict[str, list[float]]
+    books: list[PhaseBook]
     phases: list[MissionPhase]
 
 
 @dataclass(frozen=True, eq=False)
 class Mission:
-    """The summary and what its figures draw: the detumble run and each case's decay."""
+    """The summary and what its figures draw: the detumble run and each case's decay.
+
+    ``plan`` is the deorbit plan of the swarm as the transfer and detumble leave it,
+    ``model`` that swarm and body (its thrust: the directions' torque-free mixes).
+    """
 
     summary: MissionSummary
     detumble: DetumbleResult
     trajectories: tuple[CaseTrajectory, ...]
     plan: DeorbitPlan
+    model: DeorbitModel
 
 
 def transfer_per_cubesat(problem: Problem) -> tuple[float, np.ndarray, np.ndarray]:
     """Edelbaum Δv [m/s] of the ``[transfer]``, and each CubeSat's propellant [kg] and
     thrust time [s] flying it alone on its strongest engine."""
-    constants = problem.constants
+    dv, engine_kg, time_s = transfer_per_engine(problem)
+    cubesat = np.asarray(problem.engine_cubesats)
+    n = len(problem.cubesats)
+    return dv, np.bincount(cubesat, weights=engine_kg, minlength=n), time_s
+
+
+def transfer_per_engine(problem: Problem) -> tuple[float, np.ndarray, np.ndarray]:
+    """Edelbaum Δv [m/s]; each engine's transfer propellant [kg], shape (n_engines,)
+    (each CubeSat's strongest engine burns, the others not); each CubeSat's thrust time
+    [s], shape (n_cubesats,)."""
+    g0 = problem.constants.standard_gravity_m_s2
+    check_transfer_end(problem)
     try:
         dv = check_transfer(problem)
     except ProblemFileError:  # launched into the debris' orbit: nothing to transfer
         dv = 0.0
-    propellant, time_s = [], []
+    engine_kg = np.zeros(len(problem.engines))
+    time_s = []
+    first = 0
     for cubesat in problem.cubesats:
-        engine = max(cubesat.engines, key=lambda e: e.thrust_per_stage_mN)
-        exhaust = engine.isp_s * constants.standard_gravity_m_s2
+        k = max(range(len(cubesat.engines)), key=lambda j: cubesat.engines[j].thrust_per_stage_mN)
+        engine = cubesat.engines[k]
+        exhaust = engine.isp_s * g0
         used = cubesat.mass_kg * (1.0 - math.exp(-dv / exhaust))
-        propellant.append(used)
+        engine_kg[first + k] = used
         time_s.append(used * exhaust / (engine.thrust_per_stage_mN * 1e-3))
-    return dv, np.array(propellant), np.array(time_s)
+        first += len(cubesat.engines)
+    return dv, engine_kg, np.array(time_s)
 
 
 def propellant_per_cubesat_kg(problem: Problem) -> np.ndarray:
@@ -119,6 +166,43 @@ def propellant_per_cubesat_kg(problem: Problem) -> np.ndarray:
     return np.array(
         [sum(e.stages * e.stage_propellant_kg(g0) for e in c.engines) for c in problem.cubesats]
     )
+
+
+def thrust_left(
+    problem: Problem, geometry: Geometry, left_Ns: np.ndarray, full: SwarmThrust
+) -> SwarmThrust:
+    """The torque-free thrust of the swarm whose engine ``i`` carries ``left_Ns[i]`` [N s].
+
+    The LP of :func:`swarm_thrust` on the problem with each engine's stage life cut in
+    proportion to what it has left (thrust and directions unchanged); the stages keep
+    their full impulse (``full.stage_impulse_Ns``) for counting. The directions keep the
+    order of ``full`` (strongest with full tanks first: the plan's order): the uneven
+    leftovers of the detumble change the thrusts by a percent or so, and re-sorting on
+    them could swap directions of very different drag area, changing the plan for no
+    reason of its own.
+    """
+    capacity = full.engine_capacity_Ns
+    fractions = iter(np.divide(left_Ns, capacity, out=np.zeros_like(capacity), where=capacity > 0))
+    cubesats = tuple(
+        dataclasses.replace(
+            c,
+            engines=tuple(
+                dataclasses.replace(e, stage_life_h=e.stage_life_h * float(next(fractions)))
+                for e in c.engines
+            ),
+        )
+        for c in problem.cubesats
+    )
+    thrust = swarm_thrust(dataclasses.replace(problem, cubesats=cubesats), geometry)
+    rank = {_key(s.direction_body): i for i, s in enumerate(full.segments)}
+    segments = sorted(thrust.segments, key=lambda s: rank.get(_key(s.direction_body), len(rank)))
+    return dataclasses.replace(
+        thrust, segments=tuple(segments), stage_impulse_Ns=full.stage_impulse_Ns
+    )
+
+
+def _key(direction: np.ndarray) -> tuple[float, ...]:
+    return tuple(np.round(direction, DIRECTION_DECIMALS).tolist())
 
 
 def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> Mission:
@@ -135,95 +219,108 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
     Returns
     -------
     Mission
+
+    Raises
+    ------
+    AllocationError
+        A CubeSat's strongest engine does not carry the transfer's propellant.
     """
     settings = settings or DeorbitSettings(minimum_swarm=False, samples=0)
-    dv_transfer, transfer_kg, transfer_s = transfer_per_cubesat(problem)
+    geometry = build_geometry(problem)
+    books = PropellantBooks.from_problem(problem)
+    dv_transfer, transfer_kg, transfer_s = transfer_per_engine(problem)
+    pages = [books.burn("transfer", transfer_kg)]
     tumble = detumble(problem)
-    plan = plan_deorbit(problem, settings)
-    model = DeorbitModel.from_problem(problem, settings)
-    total = propellant_per_cubesat_kg(problem)
-    left_kg = float(total.sum() - transfer_kg.sum() - tumble.summary.fuel_kg)
-    mass = plan.mass_kg
-    exhaust = plan.capacity_dv_m_s / math.log(mass / (mass - total.sum()))
-    available = exhaust * math.log(mass / (mass - max(left_kg, 0.0)))
-    trajectories, reentry, needed = [], {}, {}
-    for case in plan.cases:
-        flown = (
-            min(case.deorbit_dv_m_s, available) if math.isfinite(case.deorbit_dv_m_s) else available
-        )
-        density = model.density(solar_case(case.solar))
-        history = model.fly(flown, density, case.arc_half_width_deg, settings.horizon_years)
-        years = history.reentry_years
-        reentry[case.solar] = years if math.isfinite(years) else None
-        needed[case.solar] = case.deorbit_dv_m_s if math.isfinite(case.deorbit_dv_m_s) else None
-        trajectories.append(
-            CaseTrajectory(case.solar, history, np.array([flown]), np.array([years]))
-        )
-    meets = all(y is not None and y <= settings.limit_years for y in reentry.values())
-    transfer = (dv_transfer, transfer_kg, transfer_s)
-    propellant = (available, left_kg, total)
+    pages.append(books.burn("detumble", detumble_engine_kg(problem, tumble)))
+    full = swarm_thrust(problem, geometry)
+    thrust = thrust_left(problem, geometry, books.left_impulse_Ns(), full)
+    mass = geometry.mass_kg - float(books.used_kg.sum())
+    model = DeorbitModel.from_problem(problem, settings, thrust=thrust, mass_kg=mass)
+    plan = plan_deorbit(problem, settings, model=model)
+    governing = next(c for c in plan.cases if c.solar == plan.governing_case)
+    usable_kg = thrust.engine_impulse(thrust.impulse_Ns) / books.exhaust_m_s
+    stranded = books.per_cubesat(np.clip(books.left_kg() - usable_kg, 0.0, None))
+    deorbit_kg = thrust.engine_impulse(governing.impulse_Ns) / books.exhaust_m_s
+    pages.append(books.burn("deorbit burn", deorbit_kg))
+    trajectories = [_trajectory(model, case, settings) for case in plan.cases]
+    # With full tanks: the same rocket equation on the same model (no second build).
+    capacity = dataclasses.replace(
+        model, thrust=full, decay=model.decay.with_mass(geometry.mass_kg)
+    ).capacity_dv_m_s
     summary = _summary(
-        problem, plan, tumble, transfer, propellant, reentry, needed, meets, trajectories
+        problem, plan, tumble, (dv_transfer, transfer_s), books, pages, stranded, capacity
     )
-    return Mission(summary, tumble, tuple(trajectories), plan)
+    return Mission(summary, tumble, tuple(trajectories), plan, model)
+
+
+def _trajectory(
+    model: DeorbitModel, case: DeorbitCase, settings: DeorbitSettings
+) -> CaseTrajectory:
+    """The case's flown plan, burn and decay, for the figures."""
+    density = model.density(solar_case(case.solar))
+    history = model.fly(case.flown_dv_m_s, density, case.arc_half_width_deg, settings.horizon_years)
+    return CaseTrajectory(
+        case.solar, history, np.array([case.flown_dv_m_s]), np.array([history.reentry_years])
+    )
+
+
+def _finite(value: float) -> float | None:
+    return value if math.isfinite(value) else None
 
 
 def _summary(
     problem: Problem,
     plan: DeorbitPlan,
     tumble: DetumbleResult,
-    transfer: tuple[float, np.ndarray, np.ndarray],
-    propellant: tuple[float, float, np.ndarray],
-    reentry: dict[str, float | None],
-    needed: dict[str, float | None],
-    meets: bool,
-    trajectories: list[CaseTrajectory],
+    transfer: tuple[float, np.ndarray],
+    books: PropellantBooks,
+    pages: list[PhaseBook],
+    stranded: np.ndarray,
+    capacity_dv_m_s: float,
 ) -> MissionSummary:
     """The summary and the timeline (the governing case's burn and decay)."""
-    dv_transfer, transfer_kg, transfer_s = transfer
-    available, left_kg, total = propellant
+    dv_transfer, transfer_s = transfer
     run = tumble.summary
+    governing = next(c for c in plan.cases if c.solar == plan.governing_case)
     transfer_days = float(transfer_s.max()) / SECONDS_PER_DAY
     detumble_days = run.duration_s / SECONDS_PER_DAY
-    governing = next(t for t in trajectories if t.solar == plan.governing_case)
-    burn_days = governing.history.burn_end_s / SECONDS_PER_DAY
-    deorbit_kg = max(left_kg, 0.0) * min(1.0, plan.deorbit_dv_m_s / available) if available else 0.0
+    burn_days = governing.burn_duration_days
     start_burn = transfer_days + detumble_days
-    decay_years = reentry[plan.governing_case]
+    decay_years = _finite(governing.reentry_years)
+    kg = {page.phase: page.propellant_kg for page in pages}
     phases = [
-        MissionPhase("transfer", 0.0, transfer_days, dv_transfer, float(transfer_kg.sum()),
+        MissionPhase("transfer", 0.0, transfer_days, dv_transfer, kg["transfer"],
                      "each CubeSat alone, before docking (Edelbaum)"),
-        MissionPhase("detumble", transfer_days, detumble_days, run.dv_used_m_s, run.fuel_kg,
+        MissionPhase("detumble", transfer_days, detumble_days, run.dv_used_m_s, kg["detumble"],
                      "docked, closed loop, rigid body"),
-        MissionPhase("deorbit burn", start_burn, burn_days, min(plan.deorbit_dv_m_s, available),
-                     deorbit_kg, f"governing case: {plan.governing_case} solar activity"),
+        MissionPhase("deorbit burn", start_burn, burn_days, governing.flown_dv_m_s,
+                     kg["deorbit burn"], f"governing case: {plan.governing_case} solar activity"),
         MissionPhase("decay", start_burn + burn_days,
                      None if decay_years is None else decay_years * DAYS_PER_YEAR - burn_days,
                      None, 0.0, "natural decay to re-entry"),
     ]  # fmt: skip
-    remaining = np.maximum(total - transfer_kg - np.asarray(run.fuel_per_cubesat_kg), 0.0)
-    share = remaining / remaining.sum() if remaining.sum() > 0 else remaining
-    used = float(transfer_kg.sum() + run.fuel_kg + deorbit_kg)
+    reentry = {c.solar: _finite(c.reentry_years) for c in plan.cases}
     return MissionSummary(
         problem=problem.name,
+        problem_sha256=problem.sha256,
         detumble_time_h=run.time_to_threshold_h,
         transfer_dv_m_s=dv_transfer,
         transfer_time_days=transfer_days,
         deorbit_dv_m_s=plan.deorbit_dv_m_s,
-        deorbit_dv_available_m_s=available,
-        deorbit_dv_capacity_m_s=plan.capacity_dv_m_s,
+        deorbit_dv_available_m_s=plan.capacity_dv_m_s,
+        deorbit_dv_capacity_m_s=capacity_dv_m_s,
         reentry_years=reentry,
-        deorbit_dv_needed_m_s=needed,
-        meets_five_year_rule=meets,
+        deorbit_dv_needed_m_s={c.solar: _finite(c.deorbit_dv_m_s) for c in plan.cases},
+        meets_five_year_rule=all(y is not None and y <= plan.limit_years for y in reentry.values()),
         limit_years=plan.limit_years,
-        propellant_total_kg=float(total.sum()),
-        propellant_used_kg=used,
-        propellant_per_cubesat_kg={
-            "transfer": transfer_kg.tolist(),
-            "detumble": list(run.fuel_per_cubesat_kg),
-            # Booked in proportion to what each CubeSat has left (the burns' engines are
-            # not tracked one by one over the 1000-day burn).
-            "deorbit burn": (deorbit_kg * share).tolist(),
-        },
+        governing_case=plan.governing_case,
+        propellant_total_kg=float(books.capacity_kg.sum()),
+        propellant_used_kg=float(books.used_kg.sum()),
+        propellant_left_kg=float(books.left_kg().sum()),
+        propellant_stranded_kg=float(stranded.sum()),
+        stranded_per_cubesat_kg=stranded.tolist(),
+        capacity_per_stage_kg=books.per_cubesat(books.capacity_kg).tolist(),
+        propellant_per_cubesat_kg={page.phase: page.per_cubesat_kg for page in pages},
+        books=pages,
         phases=phases,
     )

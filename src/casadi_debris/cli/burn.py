@@ -1,0 +1,165 @@
+"""``casadi-debris burn``: thrusting while pointing, flown in closed loop."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import click
+
+from casadi_debris.cli.common import (
+    BoundedFloat,
+    allow_mismatch_option,
+    controller_option,
+    echo_json,
+    friendly_errors,
+    json_option,
+    main,
+    no_jit_option,
+    out_folder_option,
+    overwrite_option,
+    problem_argument,
+    say,
+)
+from casadi_debris.config import load_problem
+from casadi_debris.errors import InputShapeError
+from casadi_debris.report.common import format_table
+from casadi_debris.report.folders import check_output_folder, default_run_folder
+
+DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
+SECONDS_PER_HOUR = 3600.0
+
+
+@main.command()
+@problem_argument
+@click.option(
+    "--direction",
+    type=click.Choice(DIRECTIONS),
+    default="retrograde",
+    show_default=True,
+    help="Where the thrust points, in the orbit's LVLH frame.",
+)
+@click.option(
+    "--hours",
+    type=BoundedFloat(0.0, 24.0, low_open=True),
+    default=0.25,
+    show_default=True,
+    help="Engines on [h].",
+)
+@click.option(
+    "--body-axis",
+    help="Thrust axis in body axes: x, -y, ... or a,b,c [the swarm's strongest torque-free "
+    "direction].",
+)
+@click.option(
+    "--thrust-fraction",
+    type=BoundedFloat(0.0, 1.0, low_open=True),
+    default=None,
+    help="Of the largest torque-free thrust along the axis [1].",
+)
+@click.option(
+    "--thrust-mN",
+    "thrust_mN",
+    type=BoundedFloat(0.0, 1e6, low_open=True),
+    default=None,
+    help="The thrust itself [mN] (instead of --thrust-fraction).",
+)
+@click.option(
+    "--first-stage-left-s",
+    type=BoundedFloat(0.0, 1e7),
+    default=None,
+    help="Start with every engine's first stage holding this much full-thrust time [s] "
+    "(to see stages switch in a short burn) [full].",
+)
+@controller_option
+@allow_mismatch_option
+@no_jit_option
+@out_folder_option("burn")
+@overwrite_option
+@json_option
+@friendly_errors
+def burn(
+    problem_file: Path | None,
+    direction: str,
+    hours: float,
+    body_axis: str | None,
+    thrust_fraction: float | None,
+    thrust_mN: float | None,
+    first_stage_left_s: float | None,
+    controller_path: Path | None,
+    allow_mismatch: bool,
+    no_jit: bool,
+    out: Path | None,
+    overwrite: bool,
+    as_json: bool,
+) -> None:
+    """Fly a burn: the thrust axis held along an LVLH direction by the attitude loop on the
+    flexible model, while the engines deliver the thrust and the loop's torque together.
+
+    Reports the thrust axis' pointing error, Δv (simulated, analytic, rocket equation),
+    the propellant split between Δv and attitude, and stage switches.
+    """
+    from casadi_debris.workflows.burn import BurnRequest, burn_into, burn_plan
+    from casadi_debris.workflows.controller import controller_for
+
+    if thrust_fraction is not None and thrust_mN is not None:
+        raise InputShapeError("--thrust-mN: give either --thrust-fraction or --thrust-mN")
+    problem = load_problem(problem_file)
+    request = BurnRequest(
+        direction=direction,  # type: ignore[arg-type]  # click.Choice checked it
+        duration_s=hours * SECONDS_PER_HOUR,
+        body_axis=None if body_axis is None else _axis(body_axis),
+        thrust_fraction=1.0 if thrust_fraction is None else thrust_fraction,
+        thrust_mN=thrust_mN,
+        first_stage_left_s=first_stage_left_s,
+        controller=controller_path,
+        allow_mismatch=allow_mismatch,
+        jit=not no_jit,
+    )
+    folder = out or default_run_folder("burn", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
+    burn_plan(problem, request)  # refuses what cannot be flown before the long part
+    controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
+    say(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")
+    report = burn_into(problem, folder, request, overwrite=overwrite)
+    if as_json:
+        echo_json(report)
+        return
+    b = report.burn
+    rows: list[list[Any]] = [
+        ["thrust [mN]", b.thrust_mN],
+        [
+            "pointing error, max / last half [arcsec]",
+            f"{b.pointing_max_arcsec:.4g} / {b.pointing_steady_max_arcsec:.4g}",
+        ],
+        ["requirement [arcsec]", b.pointing_requirement_arcsec],
+        ["dv along the direction [m/s]", b.dv_along_m_s],
+        ["dv thrust t / M [m/s]", b.dv_m_s],
+        ["dv from the plant's momentum [m/s]", b.dv_plant_m_s],
+        ["propellant, dv share [kg]", b.fuel_dv_kg],
+        ["propellant, attitude share [kg]", b.fuel_attitude_kg],
+        ["stage switches", b.run.stage_switches],
+        ["array tip deflection from the thrust [m]", b.array_tip_deflection_m],
+        ["wall time [s]", f"{b.run.wall_time_s:.1f}"],
+    ]
+    click.echo(format_table(["figure", "value"], rows))
+    click.echo(f"written to {report.out_dir}")
+
+
+def _axis(text: str) -> tuple[float, float, float]:
+    """``x``, ``-y``, ... or ``a,b,c`` (not all zero) as a vector."""
+    from casadi_debris.config.segments import AXIS_TEXTS, axis_unit_vector
+
+    name = text.strip().lower()
+    if name in AXIS_TEXTS:
+        x, y, z = (float(v) for v in axis_unit_vector(name))
+        return (x, y, z)
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 3 or not all(abs(v) < 1e6 for v in values) or not any(values):
+        raise InputShapeError(
+            f"--body-axis: x, -y, ... or three numbers a,b,c not all zero, got {text!r}"
+        )
+    return (values[0], values[1], values[2])

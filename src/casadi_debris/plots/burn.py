@@ -1,0 +1,65 @@
+"""The burn figure: thrust-axis pointing error, thrust, and the propellant split."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from casadi_debris.plots import save_figure
+from casadi_debris.simulation.burn import BurnRun
+from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
+from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
+
+GRAMS_PER_KG = 1e3
+
+
+def plot_burn(
+    burn: BurnRun, series: BurnSeries, summary: BurnSummary, path: Path, *, title: str
+) -> Path:
+    """Pointing error of the thrust axis against the requirement, the thrust along the
+    axis and of every engine together, and the running propellant split, with the stage
+    switches marked.
+
+    Parameters
+    ----------
+    burn : BurnRun
+    series : BurnSeries
+    summary : BurnSummary
+    path : Path
+        PNG to write (a PDF beside it).
+    title : str
+    """
+    result = burn.result
+    minutes = result.time_s / 60.0
+    figure, (pointing, thrust, fuel) = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    pointing.plot(minutes, burn.pointing_error_rad * ARCSEC_PER_RAD, color="C0", lw=1.0)
+    pointing.axhline(
+        summary.pointing_requirement_arcsec, color="k", ls="--", lw=0.8, label="requirement"
+    )
+    pointing.set_ylabel("thrust-axis error [arcsec]")
+    pointing.set_ylim(bottom=0.0)
+    thrust.plot(minutes[:-1], series.thrust_along_N * MN_PER_N, color="C1", label="net, along axis")
+    total = result.thrust_N.sum(axis=1) * MN_PER_N
+    thrust.plot(minutes[:-1], total, color="C2", lw=0.8, label="every engine, summed")
+    thrust.set_ylabel("thrust [mN]")
+    thrust.set_ylim(bottom=0.0)
+    fuel.plot(minutes, series.fuel_dv_kg * GRAMS_PER_KG, color="C3", label="Δv (force alone)")
+    fuel.plot(minutes, series.fuel_attitude_kg * GRAMS_PER_KG, color="C4", label="attitude")
+    fuel.set_ylabel("propellant [g]")
+    fuel.set_xlabel("time [min]")
+    switches = [e.time_s / 60.0 for e in summary.run.events if e.stage_switch]
+    for ax in (pointing, thrust, fuel):
+        for when in switches:
+            ax.axvline(when, color="0.5", ls=":", lw=0.8)
+        ax.grid(True, ls=":", color="0.6")
+    if switches:
+        pointing.plot([], [], color="0.5", ls=":", label=f"stage switches ({len(switches)})")
+    for ax in (pointing, thrust, fuel):
+        ax.legend(fontsize=7)
+    pointing.set_title(
+        f"{title}: {summary.direction} burn, Δv {summary.dv_along_m_s * 1e3:.3g} mm/s, "
+        f"max error {np.round(summary.pointing_max_arcsec, 1)} arcsec"
+    )
+    return save_figure(figure, path)
