@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
@@ -12,13 +13,15 @@ from casadi_debris.cli import main
 
 def test_a_small_tumble_writes_its_folder_and_json(tmp_path: Path) -> None:
     out = tmp_path / "d"
-    arguments = ["detumble", "--rate-rad-s", "0.02,0.03,-0.02", "--out", str(out), "--json"]
+    arguments = ["detumble", "--rate-rad-s", "0.02,0.03,-0.02", "--no-ocp", "--out", str(out)]
+    arguments.append("--json")
     result = CliRunner().invoke(main, arguments)
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     assert summary == json.loads((out / "summary.json").read_text())
     assert summary["initial_rate_rad_s"] == [0.02, 0.03, -0.02]
     assert summary["momentum_bound_h"] <= summary["time_to_threshold_h"]
+    assert summary["ocp_time_h"] is None and summary["ocp_method"] is None
     assert len(summary["fuel_per_cubesat_kg"]) == 24
     assert {p.name for p in out.iterdir()} >= {"summary.json", "series.csv", "detumble.png"}
 
@@ -28,3 +31,21 @@ def test_bad_rates_are_refused_in_one_line(tmp_path: Path) -> None:
         result = CliRunner().invoke(main, ["detumble", "--rate-rad-s", rates, "--out", "x"])
         assert result.exit_code == 2, result.output
         assert result.stderr.count("\n") == 1 and "--rate-rad-s" in result.stderr
+
+
+@pytest.mark.slow
+def test_the_time_optimal_detumble_lies_between_the_bound_and_the_closed_loop(
+    tmp_path: Path,
+) -> None:
+    out = tmp_path / "d"
+    arguments = ["detumble", "--rate-rad-s", "0.05,0.05,0.05", "--out", str(out), "--json"]
+    result = CliRunner().invoke(main, arguments)
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert summary["ocp_method"].startswith("time-optimal OCP")
+    assert summary["momentum_bound_h"] < summary["ocp_averaged_bound_h"]
+    assert summary["ocp_averaged_bound_h"] < summary["ocp_time_h"]
+    assert summary["ocp_time_h"] < summary["ocp_greedy_time_h"] < summary["time_to_threshold_h"]
+    assert 0.0 < summary["ocp_fuel_kg"] < summary["fuel_kg"]
+    table = CliRunner().invoke(main, [*arguments[:-1], "--overwrite"])
+    assert "time-optimal detumble, averaged OCP [h]" in table.stdout

@@ -12,7 +12,7 @@ from casadi_debris.simulation.detumble import DetumbleResult
 from casadi_debris.units import MNM_PER_NM
 
 AXES = ("x", "y", "z")
-LINE_STYLES = (":", "-.", "--")
+LINE_STYLES = (":", "-.", (0, (10, 3)), "--")
 BINS = 600
 
 
