@@ -3,12 +3,15 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
 
+from casadi_debris import load_problem
 from casadi_debris.cli import main
+from casadi_debris.geometry import build_geometry, torque_authority
 
 
 def test_a_small_tumble_writes_its_folder_and_json(tmp_path: Path) -> None:
@@ -23,6 +26,15 @@ def test_a_small_tumble_writes_its_folder_and_json(tmp_path: Path) -> None:
     assert summary["momentum_bound_h"] <= summary["time_to_threshold_h"]
     assert summary["ocp_time_h"] is None and summary["ocp_method"] is None
     assert len(summary["fuel_per_cubesat_kg"]) == 24
+    # The budget's per-axis braking is for the tumble flown, not the problem file's.
+    geometry = build_geometry(load_problem())
+    authority = torque_authority(geometry)
+    inertia = geometry.inertia_hub_cubesats_kgm2
+    braking_s = max(
+        inertia[i, i] * abs(w) / authority[("-" if w > 0 else "+") + "xyz"[i]]
+        for i, w in enumerate([0.02, 0.03, -0.02])
+    )
+    assert summary["budget_time_h"] == pytest.approx(braking_s / 3600.0, rel=1e-12)
     assert {p.name for p in out.iterdir()} >= {"summary.json", "series.csv", "detumble.png"}
 
 
@@ -49,3 +61,12 @@ def test_the_time_optimal_detumble_lies_between_the_bound_and_the_closed_loop(
     assert 0.0 < summary["ocp_fuel_kg"] < summary["fuel_kg"]
     table = CliRunner().invoke(main, [*arguments[:-1], "--overwrite"])
     assert "time-optimal detumble, averaged OCP [h]" in table.stdout
+
+
+def test_a_body_at_rest_draws_its_figure_without_warnings(tmp_path: Path) -> None:
+    arguments = ["detumble", "--rate-rad-s", "0,0,0", "--no-ocp", "--out", str(tmp_path / "d")]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = CliRunner().invoke(main, arguments)
+    assert result.exit_code == 0, result.output
+    assert (tmp_path / "d" / "detumble.png").stat().st_size > 0

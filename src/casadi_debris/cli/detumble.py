@@ -21,7 +21,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 MAX_RATE_RAD_S = 100.0
 
@@ -87,6 +87,7 @@ def detumble(
     problem = load_problem(problem_file)
     rate = None if rate_rad_s is None else _rates(rate_rad_s)
     folder = out or default_run_folder("detumble", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     say(f"Detumbling {problem.name} (rigid body, {period_s:g} s control period) ...")
     report = detumble_into(
         problem,

@@ -11,6 +11,7 @@ Example
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -31,8 +32,7 @@ from casadi_debris.simulation.detumble import (
     detumble,
 )
 from casadi_debris.simulation.detumble_ocp import problem_time_optimal_detumble
-
-SECONDS_PER_HOUR = 3600.0
+from casadi_debris.units import SECONDS_PER_HOUR
 
 
 def detumble_into(
@@ -74,7 +74,12 @@ def detumble_into(
         gain_per_s=gain_per_s,
         period_s=period_s,
     )
-    budgets = budgets_as_dict(compute_budgets(problem))
+    # The budget's estimates for the tumble flown, which --rate-rad-s may have changed.
+    flown = dataclasses.replace(
+        problem,
+        detumble=dataclasses.replace(problem.detumble, initial_rate_rad_s=result.rate_rad_s[0]),
+    )
+    budgets = budgets_as_dict(compute_budgets(flown))
     report = DetumbleReport(
         problem=problem.name,
         problem_sha256=problem.sha256,
