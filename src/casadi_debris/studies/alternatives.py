@@ -36,9 +36,7 @@ from casadi_debris.studies.failure_sets import (
     set_authority,
     weakest_axis,
 )
-from casadi_debris.units import MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
-
-G_PER_KG = 1e3
+from casadi_debris.units import G_PER_KG, MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
 
 
 @dataclass(frozen=True)

@@ -49,9 +49,7 @@ from casadi_debris.orbit.transfer import check_transfer
 from casadi_debris.records import Record
 from casadi_debris.simulation.detumble import DetumbleResult, detumble
 from casadi_debris.studies.propellant_books import PhaseBook, PropellantBooks, detumble_engine_kg
-from casadi_debris.units import SECONDS_PER_DAY
-
-DAYS_PER_YEAR = 365.25
+from casadi_debris.units import DAYS_PER_YEAR, SECONDS_PER_DAY
 
 
 @dataclass(frozen=True)
