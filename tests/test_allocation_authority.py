@@ -272,3 +272,9 @@ def test_the_slice_at_a_net_force_holds_exactly_the_torques_reachable_with_it(
     assert np.all(polytope.axis_reach() <= usual.axis_reach() * (1 + 1e-12))
     with pytest.raises(AllocationError):
         authority_polytope(g.torque_map, g.force_map, limits, free_force=True, force_N=phi)
+
+
+def test_a_flat_polytope_names_the_axes_without_torque() -> None:
+    torque_map = np.array([[1.0, -1.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, -1.0]])
+    with pytest.raises(AllocationError, match=r"cannot torque about \+y, -y at zero net force"):
+        authority_polytope(torque_map, np.zeros((3, 4)), np.ones(4), free_force=True)

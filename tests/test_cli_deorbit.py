@@ -30,7 +30,7 @@ def test_one_case_writes_its_folder_and_json(tmp_path: Path) -> None:
         "lifetime_vs_dv.png",
     }
 
-    text = CliRunner().invoke(main, arguments[:-1] + ["--out", str(tmp_path / "t")])
+    text = CliRunner().invoke(main, [*arguments[:-3], "--out", str(tmp_path / "t")])
     assert text.exit_code == 0, text.output
     assert "5-year rule under high solar activity only" in text.stdout
 

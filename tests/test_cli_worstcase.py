@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import csv
 import json
 from pathlib import Path
 
@@ -10,7 +11,16 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
+from casadi_debris.report.worstcase import WorstCaseSummary
 
+IDENTITY_KEYS = {
+    "problem", "problem_sha256", "plant_sha256", "controller_path", "controller_plant_sha256",
+    "out_dir",
+}  # fmt: skip
+SEARCH_KEYS = {
+    "max_error_deg", "source", "evaluation", "normalized", "parameters", "simulations",
+    "screen_worst_corners", "seed", "final_step", "time_s", "local_search",
+}  # fmt: skip
 SLEW = default_problem_path().parent / "paper_slew.toml"
 
 
@@ -58,6 +68,16 @@ def test_worstcase_parameters_rerun_by_simulate_give_the_reported_error(
     assert summary["search"]["simulations"] <= 3
     for name in ("summary.json", "worst_parameters.json", "evaluations.csv", "worstcase.png"):
         assert (out / name).is_file()
+    # The JSON keeps its keys (no mu: none of its key), on stdout and on disk, and reads back.
+    assert set(summary) == IDENTITY_KEYS | {"search"} and set(summary["search"]) == SEARCH_KEYS
+    assert json.loads((out / "summary.json").read_text()) == summary
+    assert WorstCaseSummary.from_json(summary).to_json() == summary
+    worst = json.loads((out / "worst_parameters.json").read_text())
+    assert set(worst) == {"case_id", "parameters", "normalized", "max_error_deg"}
+    with (out / "evaluations.csv").open() as handle:
+        errors = [float(row["max_error_deg"]) for row in csv.DictReader(handle)]
+    assert len(errors) == summary["search"]["simulations"]
+    assert max(errors) == summary["search"]["max_error_deg"] == worst["max_error_deg"]
     code, stdout, err = invoke(
         "simulate", str(short_slew), "--parameters", str(out / "worst_parameters.json"), "--json"
     )

@@ -124,6 +124,26 @@ def test_unknown_key_is_named(fresh_data, key):
         problem_from_dict(fresh_data)
 
 
+@pytest.mark.parametrize(
+    ("key", "meant"),
+    [("hub.mas_kg", "mass_kg"), ("engine.isp", "isp_s"), ("orbit.altitude_m", "altitude_km")],
+)
+def test_an_unknown_key_close_to_a_known_one_is_suggested(fresh_data, key, meant):
+    section, wrong = key.split(".")
+    fresh_data[section][wrong] = fresh_data[section][meant]  # as when a parent gives it
+    with pytest.raises(ProblemFileError, match=f"{key}: unknown key; did you mean {meant}"):
+        problem_from_dict(fresh_data)
+    del fresh_data[section][meant]
+    with pytest.raises(ProblemFileError, match=rf"{section}\.{meant}: missing \(is {wrong} a"):
+        problem_from_dict(fresh_data)
+
+
+def test_an_unknown_key_far_from_every_known_one_gets_no_guess(fresh_data):
+    fresh_data["hub"]["zzz"] = 1.0
+    with pytest.raises(ProblemFileError, match=r"hub\.zzz: unknown key$"):
+        problem_from_dict(fresh_data)
+
+
 def test_unknown_key_inside_a_mode_is_named(fresh_data):
     fresh_data["arrays"][0]["modes"][1]["omega_hz"] = 3.0
     with pytest.raises(ProblemFileError, match=r"arrays\[0\]\.modes\[1\]\.omega_hz: unknown key"):

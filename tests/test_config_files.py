@@ -99,6 +99,7 @@ def test_extends_must_be_a_path_string(tmp_path):
 def test_missing_parent_names_extends(tmp_path):
     message = _refused(_child(tmp_path, "absent.toml"), "extends", "does not exist")
     assert "absent.toml" in message
+    assert "nor a shipped problem" in _refused(_child(tmp_path, "papr"), "extends", "papr")
 
 
 def test_oversized_files_are_refused(tmp_path):

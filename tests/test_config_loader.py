@@ -12,7 +12,7 @@ from click.testing import CliRunner
 
 from casadi_debris import load_problem
 from casadi_debris.cli import main
-from casadi_debris.config import problem_path, shipped_problems
+from casadi_debris.config import default_problem_path, problem_path, shipped_problems
 from casadi_debris.errors import ProblemFileError
 
 PACKAGE_PROBLEMS = Path(__file__).parents[1] / "src" / "casadi_debris" / "problems"
@@ -76,3 +76,9 @@ def test_problems_lists_every_shipped_problem_and_each_loads() -> None:
     assert [row["name"] for row in rows] == list(shipped_problems())
     for row in rows:
         assert load_problem(row["name"]).description == row["description"]
+
+
+def test_the_papers_problems_are_listed_before_the_gallery() -> None:
+    root = default_problem_path().parent
+    depths = [len(path.relative_to(root).parts) for path in shipped_problems().values()]
+    assert depths == sorted(depths) and next(iter(shipped_problems())) == "paper"

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import json
 import tomllib
+from collections.abc import Sequence
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -28,7 +29,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem, default_problem_path
 from casadi_debris.geometry import build_geometry, torque_authority
 from casadi_debris.model import build_model, linearize
-from casadi_debris.report.describe import describe_model
+from casadi_debris.report.describe import Thruster, describe_model
 
 GALLERY = default_problem_path().parent / "gallery"
 FILES = sorted(GALLERY.glob("*.toml"))
@@ -94,15 +95,15 @@ def _hand_count_and_mass(path: Path) -> tuple[int, float]:
     return count, bodies["hub"]["mass_kg"] + arrays_kg + cubesats_kg
 
 
-def _lp_authority(thrusters: list[dict[str, Any]]) -> dict[str, float]:
+def _lp_authority(thrusters: Sequence[Thruster]) -> dict[str, float]:
     """Largest pure torque per signed axis with zero net force, by an LP written here [N m].
 
     Torque of an engine: r x F, r its ``position_m`` (from the CoG), F its
     ``direction`` times its thrust in [0, ``max_thrust_mN``].
     """
-    r = np.array([t["position_m"] for t in thrusters], dtype=float)
-    d = np.array([t["direction"] for t in thrusters], dtype=float)
-    f_max = np.array([t["max_thrust_mN"] for t in thrusters], dtype=float) * 1e-3
+    r = np.array([t.position_m for t in thrusters], dtype=float)
+    d = np.array([t.direction for t in thrusters], dtype=float)
+    f_max = np.array([t.max_thrust_mN for t in thrusters], dtype=float) * 1e-3
     torque_per_N = np.cross(r, d).T  # (3, n)
     authority = {}
     for name in SIGNED_AXES:
@@ -163,7 +164,7 @@ def test_torque_authority_matches_an_independent_lp(path):
     assert all(authority[name] > 0.0 for name in SIGNED_AXES), authority
     # describe_model rounds positions to 1 um; the optimal firings pair engines that share
     # their rounded coordinates, so the rounding cancels to round-off on these files.
-    ours = _lp_authority(describe_model(_problem(path))["thrusters"])
+    ours = _lp_authority(describe_model(_problem(path)).thrusters)
     for name in SIGNED_AXES:
         assert ours[name] == pytest.approx(authority[name], rel=RTOL), name
 

@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
-from casadi_debris.records import FLATTENED, Record, to_jsonable
+from casadi_debris.records import FLATTENED, OPTIONAL, Record, to_jsonable
 from casadi_debris.simulation import CaseIdentity, CaseSummary, EventRecord
 from run_summaries import zero_run_summary
 
@@ -65,3 +65,18 @@ def test_a_campaign_case_is_one_flat_row_that_reads_back() -> None:
     assert row["events"][0]["cubesat"] == 3 and "run" not in row and "identity" not in row
     assert CaseSummary.from_json(row) == case
     assert math.isnan(CaseSummary.from_json({**row, "fuel_kg": None}).run.fuel_kg)
+
+
+@dataclass(frozen=True)
+class Stages(Record):
+    name: str
+    skipped: Inner | None = field(default=None, metadata=OPTIONAL)
+    ran: Inner | None = field(default=None, metadata=OPTIONAL)
+
+
+def test_an_optional_field_is_absent_when_none_and_none_when_absent() -> None:
+    record = Stages("run", ran=Inner("b", (1.0,)))
+    data = record.to_json()
+    assert data == {"name": "run", "ran": {"name": "b", "values": [1.0]}}
+    assert Stages.from_json(json.loads(json.dumps(data))) == record
+    assert Stages.from_json({"name": "x"}) == Stages("x")

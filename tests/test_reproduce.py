@@ -15,8 +15,10 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
+from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure, table_figures
 from casadi_debris.report.reproduce import (
+    ControllerFigures,
     ReproductionRow,
     ReproductionSummary,
     report_markdown,
@@ -106,11 +108,7 @@ def _results() -> dict[str, Any]:
     """Results that reproduce every row, in the shapes the workflow passes."""
     torque = {"+x": 4.62, "-x": 4.7, "+y": 1.97, "-y": 2.0, "+z": 4.3, "-z": 4.27}
     return {
-        "model": {
-            "mass_kg": 668.2,
-            "inertia_hub_cubesats_kgm2": np.diag([250.0, 68.0, 250.0]).tolist(),
-            "torque_max_mNm": torque,
-        },
+        "model": _model(668.2, np.diag([250.0, 68.0, 250.0]), torque),
         "budgets": {
             "dv_one_stage_one_face_m_s": 6.9,
             "dv_three_stages_one_face_m_s": 20.7,
@@ -120,12 +118,9 @@ def _results() -> dict[str, Any]:
             "dv_transfer_m_s": 144.0,
             "detumble_time_h": 16.5,
         },
-        "controller": {
-            "mu_peak": 0.92,
-            "mu_peak_reduced": 0.93,
-            "order_full": 49,
-            "order_reduced": 25,
-        },
+        "controller": ControllerFigures(
+            mu_peak=0.92, mu_peak_reduced=0.93, order_full=49, order_reduced=25
+        ),
         "margins": {
             "nominal": {"gain_margin_db": 14.0, "phase_margin_deg": 47.5, "delay_margin_s": 9.0},
             "sampled_min": {
@@ -139,6 +134,16 @@ def _results() -> dict[str, Any]:
         "slew_duration_s": 1228.0,
         "pointing": _campaign({"max_error_arcsec": 26.9}, "max_error_arcsec", 27.0),
     }
+
+
+def _model(mass_kg: float, inertia: np.ndarray, torque: dict[str, float]) -> ModelDescription:
+    """A description holding only the figures the rows read."""
+    return ModelDescription(
+        problem="paper", problem_path="", problem_sha256="", mass_kg=mass_kg, cog_m=(),
+        inertia_hub_cubesats_kgm2=tuple(map(tuple, inertia.tolist())), inertia_total_kgm2=(),
+        array_angle_deg=(), torque_max_mNm=torque, torque_max_zero_force_mNm={}, modes=(),
+        thrusters=(), notes=(),
+    )  # fmt: skip
 
 
 def _campaign(nominal: dict[str, float], worst_key: str, worst: float) -> CampaignSummary:
@@ -183,7 +188,7 @@ def test_rows_follow_the_papers_table_and_reproduce():
     assert rows["margins_sampled"].result == "margins over 3000 sampled plants [dB, deg, s]"
     assert rows["slew_envelope_cases"].ours == "256 (worst error 0.65°)"
     assert rows["pointing"].ours == "26.9 / 27 (256 cases)"
-    assert rows["mass_kg"].to_dict() == {
+    assert rows["mass_kg"].entry().to_json() == {
         "key": "mass_kg",
         "result": "total mass [kg]",
         "paper": "668",
@@ -212,7 +217,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     results = _results()
     if group is None:
         results[field] = value
-    elif isinstance(results[group], CampaignSummary):
+    elif isinstance(results[group], CampaignSummary | ModelDescription | ControllerFigures):
         results[group] = dataclasses.replace(results[group], **{field: value})
     else:
         results[group][field] = value
@@ -220,13 +225,13 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     failed = [k for k, row in rows.items() if row.reproduced is not True]
     assert failed == ([] if key is None else [key])
     if key is not None:
-        assert rows[key].to_dict()["reproduced"] is False
+        assert rows[key].entry().reproduced is False
         assert rows[key].verdict == "❌ not reproduced"
 
 
 def test_a_controller_without_its_full_order_still_reproduces():
     results = _results()
-    results["controller"]["order_full"] = None
+    results["controller"] = dataclasses.replace(results["controller"], order_full=None)
     row = _rows(results)["controller_order"]
     assert row.reproduced is True and row.ours == "— / 25"
     assert row.ours_values == (None, 25.0)
@@ -238,8 +243,15 @@ def test_report_renders_the_verdict_from_the_boolean():
     summary = ReproductionSummary(
         problem="paper", problem_sha256="0" * 64, controller_path="/c.json", quick=True,
         workers=1, time_s=1.0, reproduced=0, rows=2,
-        table=[row.to_dict(), undecided.to_dict()], out_dir="/report",
+        table=(row.entry(), undecided.entry()), out_dir="/report",
     )  # fmt: skip
+    # One JSON form: the table's rows keep their keys, the verdict as printed, and read back.
+    data = json.loads(json.dumps(summary.to_json()))
+    assert list(data["table"][0]) == [
+        "key", "result", "paper", "accepted", "ours", "verdict", "reproduced", "ours_values",
+    ]  # fmt: skip
+    assert [r["verdict"] for r in data["table"]] == ["❌ not reproduced", "—"]
+    assert ReproductionSummary.from_json(data) == summary
     report = report_markdown([row, undecided], summary, [])
     assert "| total mass [kg] | 668 | ±0.5 | 1 | ❌ not reproduced |" in report
     assert "| x | 1 | — | 1 | — |" in report

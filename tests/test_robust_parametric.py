@@ -9,6 +9,9 @@ reaches the predicted performance level at the predicted frequency.
 
 from __future__ import annotations
 
+import dataclasses
+import json
+
 import control
 import numpy as np
 import pytest
@@ -17,7 +20,7 @@ from casadi_debris import load_problem
 from casadi_debris.model import build_model, linearize
 from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant
 from casadi_debris.robust.parametric_loop import parametric_closed_loop
-from casadi_debris.robust.parametric_mu import parametric_mu
+from casadi_debris.robust.parametric_mu import ParametricMu, ParametricMuSummary, parametric_mu
 from casadi_debris.robust.uncertainty import frequency_response, parameters_from_normalized
 from casadi_debris.robust.weights import recorded_performance_weights
 from casadi_debris.workflows.controller import load_controller
@@ -62,11 +65,17 @@ def _casadi_loop(problem, model, controller, weights, normalized) -> control.Sta
     return parametric_closed_loop(exact, controller, weights)
 
 
-@pytest.mark.slow
-def test_bounds_and_worst_perturbations_on_one_angle(setting) -> None:
-    problem, model, controller, weights = setting
+@pytest.fixture(scope="module")
+def one_angle(setting) -> ParametricMu:
+    problem, _, controller, weights = setting
     omega = np.logspace(-3, 1, 12)
-    result = parametric_mu(problem, controller, weights, angles=1, omega=omega, lmi_points=1)
+    return parametric_mu(problem, controller, weights, angles=1, omega=omega, lmi_points=1)
+
+
+@pytest.mark.slow
+def test_bounds_and_worst_perturbations_on_one_angle(setting, one_angle) -> None:
+    problem, model, controller, weights = setting
+    result = one_angle
     for bounds in (result.stability, result.performance):
         assert np.all(bounds.lower <= bounds.upper * (1 + 1e-6))
         assert 0 < bounds.peak_lower <= bounds.peak_upper
@@ -84,3 +93,43 @@ def test_bounds_and_worst_perturbations_on_one_angle(setting) -> None:
     loop = _casadi_loop(problem, model, controller, weights, worst.normalized_unclipped)
     gain = np.linalg.norm(frequency_response(loop, np.array([worst.omega_rad_s]))[0], 2)
     assert gain == pytest.approx(worst.mu_lower, rel=0.05)
+
+
+# The keys ``worstcase``'s summary.json holds under "mu": scripts read them, so they stay.
+SUMMARY_KEYS = {
+    "real_parameters", "real_block_sizes", "array_angles_deg", "frequencies", "fit_residual",
+    "analysis_plant_modes", "seed", "time_s", "stability", "performance",
+}  # fmt: skip
+BOUNDS_KEYS = {"mu_upper", "mu_lower", "gap", "margin_upper", "margin_lower", "lmi_points"}
+WORST_KEYS = {
+    "omega_rad_s", "array_angle_deg", "determinant", "clipped", "normalized_unclipped",
+    "normalized",
+}  # fmt: skip
+
+
+@pytest.mark.slow
+def test_the_summary_keeps_its_keys_and_reads_back(one_angle) -> None:
+    result = one_angle
+    summary = result.summary()
+    data = json.loads(json.dumps(summary.to_json()))
+    assert set(data) == SUMMARY_KEYS and data["frequencies"] == 12
+    assert ParametricMuSummary.from_json(data) == summary
+    for kind in ("stability", "performance"):
+        bounds, entry = getattr(result, kind), data[kind]
+        assert set(entry) == BOUNDS_KEYS | {"worst"} and set(entry["worst"]) == WORST_KEYS
+        # The figures from the grids themselves.
+        upper, lower = float(np.max(bounds.upper)), float(np.max(bounds.lower))
+        assert entry["mu_upper"] == upper and entry["mu_lower"] == lower
+        assert entry["gap"] == pytest.approx((upper - lower) / upper, rel=1e-12)
+        assert entry["margin_upper"] * upper == pytest.approx(1.0, rel=1e-12)
+        assert entry["margin_lower"] * lower == pytest.approx(1.0, rel=1e-12)
+        worst = bounds.worst
+        assert list(entry["worst"]["normalized"]) == list(result.parameter_names)
+        assert list(entry["worst"]["normalized"].values()) == worst.normalized.tolist()
+        assert entry["worst"]["clipped"] == bool(np.any(np.abs(worst.normalized_unclipped) > 1))
+        assert entry["worst"]["array_angle_deg"] == result.angle_deg[worst.angle_index]
+    # A structure without a perturbation writes no "worst" key and reads back as None.
+    bare = dataclasses.replace(result.stability, worst=None)
+    data["stability"] = dataclasses.replace(result, stability=bare).summary().to_json()["stability"]
+    assert "worst" not in data["stability"]
+    assert ParametricMuSummary.from_json(data).stability.worst is None

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -63,3 +64,18 @@ def test_a_guarantee_at_the_smallest_ratio_stops_the_halving(monkeypatch, proble
     search, tried = _fake_search(monkeypatch, 0.01, problem=problem, min_ve_ratio=0.25)
     assert tried == [1.0, 0.5, 0.25]
     assert math.isclose(search.chosen.ve_ratio, 0.25)
+
+
+@pytest.mark.parametrize("guaranteed", [(40.0, 61.5, 40.0), None])
+def test_an_attempt_is_a_record_that_reads_back(guaranteed) -> None:
+    attempt = DesignAttempt(1.5, 0.9, 0.95, guaranteed, 3, 12.0)
+    data = json.loads(json.dumps(attempt.to_json()))
+    assert data == {
+        "ve_ratio": 1.5,
+        "mu_peak": 0.9,
+        "mu_peak_reduced": 0.95,
+        "guaranteed_pointing_arcsec": None if guaranteed is None else list(guaranteed),
+        "iterations": 3,
+        "time_s": 12.0,
+    }
+    assert DesignAttempt.from_json(data) == attempt

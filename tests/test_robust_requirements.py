@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -12,7 +13,11 @@ from scipy.optimize import linprog
 from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
 from casadi_debris.geometry import Geometry
-from casadi_debris.robust.requirements import DISTURBANCE_TO_AUTHORITY, derived_scalings
+from casadi_debris.robust.requirements import (
+    DISTURBANCE_TO_AUTHORITY,
+    ScalingFigures,
+    derived_scalings,
+)
 
 
 def _authority_mNm(geometry: Geometry, axis: int, sign: float) -> float:
@@ -88,3 +93,18 @@ def test_impossible_designs_are_refused_naming_the_cause(problem, amplitude, ve_
 def test_an_undisturbed_axis_keeps_a_finite_scaling(problem):
     scalings = derived_scalings(_with_disturbance(problem, [0.7, 0.0, 0.7]))
     assert np.all(np.isfinite(scalings.error_deg)) and scalings.disturbance_mNm[1] > 0
+
+
+def test_the_figures_are_the_scalings_by_name_and_read_back(problem):
+    scalings = derived_scalings(problem, ve_ratio=2.0)
+    figures = scalings.figures()
+    data = json.loads(json.dumps(figures.to_json()))
+    assert data == {
+        "error_scaling_deg": scalings.error_deg.tolist(),
+        "control_scaling_mNm": scalings.control_mNm.tolist(),
+        "disturbance_scaling_mNm": scalings.disturbance_mNm.tolist(),
+        "ve_ratio": 2.0,
+        "disturbance_frequency_rad_s": scalings.disturbance_frequency_rad_s,
+        "pointing_per_mu_arcsec": scalings.pointing_per_mu_arcsec.tolist(),
+    }
+    assert ScalingFigures.from_json(data) == figures

@@ -41,6 +41,7 @@ def test_the_paper_swarm_couples_need_the_analytic_flow_per_torque():
     of the couple of largest torque, 2 / (c max (b_i + b_j)), over opposed pairs."""
     problem = load_problem()
     figures = swarm_figures(problem, max_failed=0)
+    assert figures.problem_sha256 == problem.sha256 != ""
     geometry = build_geometry(problem)
     exhaust = problem.engine.isp_s * problem.constants.standard_gravity_m_s2
     directions = np.array([e.direction for e in geometry.engines])

@@ -140,6 +140,7 @@ def test_the_command_writes_the_folder(tmp_path: Path):
     assert set(summary) >= {"detumble_time_h", "transfer_dv_m_s", "deorbit_dv_m_s",
                             "reentry_years", "meets_five_year_rule"}  # fmt: skip
     assert list(summary["reentry_years"]) == ["high"]
+    assert summary["problem_sha256"] == load_problem().sha256
     assert MissionSummary.from_json(summary).to_json() == summary
     assert {p.name for p in out.iterdir()} >= {"summary.json", "phases.csv", "propellant.csv",
                                                "mission.png", "mission.pdf", "altitude.png",

@@ -13,6 +13,7 @@ from click.testing import CliRunner
 from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
+from casadi_debris.report.design import DesignSummary
 from casadi_debris.workflows.controller import load_controller
 from casadi_debris.workflows.design import SLEW_RUN_FACTOR, _classical, verification_problems
 from casadi_debris.workflows.reproduce import QUICK
@@ -120,3 +121,10 @@ def test_design_with_a_pid_is_verified_like_the_mu_design(tmp_path: Path):
     slew = json.loads((out / "slew" / "summary.json").read_text())
     assert summary["rows"][1]["values"][1] == slew["worst"]["max_error_deg"]["value"]
     assert "PID controller for paper" in (out / "report.md").read_text()
+    # One JSON form: on stdout and on disk, read back into the record it came from.
+    assert json.loads((out / "summary.json").read_text()) == summary
+    assert DesignSummary.from_json(summary).to_json() == summary
+    assert set(summary["scalings"]) == {
+        "error_scaling_deg", "control_scaling_mNm", "disturbance_scaling_mNm", "ve_ratio",
+        "disturbance_frequency_rad_s", "pointing_per_mu_arcsec",
+    }  # fmt: skip

@@ -20,7 +20,9 @@ Verdict(name='slew', error_deg=None, met=False)
 A field declared ``field(metadata=FLATTENED)`` holds another record whose keys are written into
 its parent's (a campaign case is its identity and its run's figures, in one
 flat row); a flattened ``dict`` field holds the keys no other field claims
-(settings that differ from one method to another). Non-finite floats become
+(settings that differ from one method to another). A field declared
+``field(default=None, metadata=OPTIONAL)`` is left out of the JSON when None and
+None when its key is missing (a stage that did not run). Non-finite floats become
 ``null``, numpy values plain numbers and lists.
 """
 
@@ -38,6 +40,9 @@ T = TypeVar("T")
 FLATTEN = "records.flatten"
 # ``field(metadata=FLATTENED)``: the field's record writes its keys into its parent's object.
 FLATTENED = types.MappingProxyType({FLATTEN: True})
+OMIT = "records.omit_none"
+# ``field(default=None, metadata=OPTIONAL)``: no key at all when the value is None.
+OPTIONAL = types.MappingProxyType({OMIT: True})
 
 
 class Record:
@@ -60,6 +65,8 @@ def to_jsonable(value: Any) -> Any:
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         out: dict[str, Any] = {}
         for field in dataclasses.fields(value):
+            if field.metadata.get(OMIT) and getattr(value, field.name) is None:
+                continue
             item = to_jsonable(getattr(value, field.name))
             if field.metadata.get(FLATTEN):
                 out.update(item)

@@ -189,13 +189,28 @@ def _key(*arrays: np.ndarray) -> bytes:
     return digest.digest()
 
 
+def _flat_message(
+    axes: np.ndarray, points: list[np.ndarray], tolerance: float, force: np.ndarray | None
+) -> str:
+    """Which signed body axes the engines cannot torque about, for a flat polytope."""
+    names = ("+x", "+y", "+z", "-x", "-y", "-z")
+    reach = [float(axis @ point) for axis, point in zip(axes, points, strict=True)]
+    weak = [name for name, value in zip(names, reach, strict=True) if value <= tolerance]
+    at = "zero net force" if force is None else "the demanded net force"
+    about = ", ".join(weak) if weak else "one direction"
+    return (
+        f"the engines cannot torque about {about} at {at} (a flat authority polytope): give "
+        "that axis engines with a lever arm about it (e.g. side engines or CubeSats on "
+        "another face)"
+    )
+
+
 def _polytope(
     torque_map: np.ndarray, equality: np.ndarray, upper: np.ndarray, force: np.ndarray | None
 ) -> AuthorityPolytope:
     """The body of :func:`authority_polytope` (which keeps what it found)."""
-    points = [
-        _support(d, torque_map, equality, upper, force) for d in np.vstack([np.eye(3), -np.eye(3)])
-    ]
+    axes = np.vstack([np.eye(3), -np.eye(3)])
+    points = [_support(d, torque_map, equality, upper, force) for d in axes]
     size = max(float(np.abs(points).max()), np.finfo(float).tiny)
     tolerance = SUPPORT_RTOL * size
     for _ in range(MAX_ROUNDS):
@@ -203,7 +218,7 @@ def _polytope(
             hull = ConvexHull(np.array(points))
         except Exception as exc:  # scipy raises QhullError for flat point sets
             raise AllocationError(
-                "authority polytope is flat: the engines left cannot torque every axis"
+                _flat_message(axes, points[: len(axes)], tolerance, force)
             ) from exc
         normals = hull.equations[:, :3]
         offsets = -hull.equations[:, 3]

@@ -25,9 +25,9 @@ from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import check_output_folder, default_run_folder
+from casadi_debris.units import SECONDS_PER_HOUR
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
-SECONDS_PER_HOUR = 3600.0
 
 
 @main.command()

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import click
 
@@ -40,16 +39,13 @@ def model(problem_file: Path | None, as_json: bool) -> None:
 @friendly_errors
 def budget(problem_file: Path | None, as_json: bool) -> None:
     """Δv, propellant, lifetime, transfer and detumble budgets."""
-    from casadi_debris.budgets import budgets_as_dict, compute_budgets
-    from casadi_debris.report.describe import budget_text
+    from casadi_debris.budgets import compute_budgets
+    from casadi_debris.report.describe import budget_report, budget_text
 
     problem = load_problem(problem_file)
     items = compute_budgets(problem)
     if as_json:
-        payload: dict[str, Any] = {"problem": problem.name, "problem_sha256": problem.sha256}
-        payload.update(budgets_as_dict(items))
-        payload["how"] = {item.key: item.how for item in items}
-        echo_json(payload)
+        echo_json(budget_report(problem, items))
     else:
         label = f"{problem.name} ({problem.source})"
         click.echo(budget_text(items, label, problem.name == PAPER_PROBLEM_NAME))

@@ -21,7 +21,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
+from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 MAX_RATE_RAD_S = 100.0
 
@@ -53,6 +53,11 @@ MAX_RATE_RAD_S = 100.0
     show_default=True,
     help="Control period: the torque is held over it.",
 )
+@click.option(
+    "--no-ocp",
+    is_flag=True,
+    help="Skip the time-optimal detumble (averaged OCP, about 20 s).",
+)
 @out_folder_option("detumble")
 @overwrite_option
 @json_option
@@ -63,6 +68,7 @@ def detumble(
     threshold_rad_s: float,
     gain_per_s: float,
     period_s: float,
+    no_ocp: bool,
     out: Path | None,
     overwrite: bool,
     as_json: bool,
@@ -73,13 +79,15 @@ def detumble(
     (a vertex of the zero-net-force authority), then linear damping once they can.
     The arrays are taken as rigid: the flexible model is not valid at such rates.
     Reports the time to the threshold, fuel per CubeSat, stage switches and Δv
-    beside the budget's per-axis estimate and a momentum bound.
+    beside the budget's per-axis estimate, a momentum bound and the time-optimal
+    detumble (an OCP over the rates averaged over their precession).
     """
     from casadi_debris.workflows.detumble import detumble_into
 
     problem = load_problem(problem_file)
     rate = None if rate_rad_s is None else _rates(rate_rad_s)
     folder = out or default_run_folder("detumble", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
     say(f"Detumbling {problem.name} (rigid body, {period_s:g} s control period) ...")
     report = detumble_into(
         problem,
@@ -88,6 +96,7 @@ def detumble(
         threshold_rad_s=threshold_rad_s,
         gain_per_s=gain_per_s,
         period_s=period_s,
+        ocp=not no_ocp,
         overwrite=overwrite,
     )
     if as_json:
@@ -100,6 +109,7 @@ def detumble(
         ["budget: per-axis braking, full rigid inertia [h]", report.budget_time_full_rigid_h],
         ["budget: per-axis braking, hub + CubeSats (paper) [h]", report.budget_time_h],
         ["momentum bound [h]", report.momentum_bound_h],
+        *_ocp_rows(report),
         ["fuel [kg]", run.fuel_kg],
         ["worst CubeSat fuel [kg]", run.fuel_worst_cubesat_kg],
         ["dv used [m/s]", run.dv_used_m_s],
@@ -109,6 +119,20 @@ def detumble(
     ]
     click.echo(format_table(["figure", "value"], rows))
     click.echo(f"written to {report.out_dir}")
+
+
+def _ocp_rows(report: Any) -> list[list[Any]]:
+    """The time-optimal detumble's rows, or why it is missing."""
+    if report.ocp_method is None:
+        return []
+    if report.ocp_time_h is None:
+        return [["time-optimal detumble", report.ocp_method]]
+    return [
+        ["time-optimal detumble, averaged OCP [h]", report.ocp_time_h],
+        ["  its fuel [kg]", report.ocp_fuel_kg],
+        ["  greedy law, same averaged model [h]", report.ocp_greedy_time_h],
+        ["  no averaged control is faster than [h]", report.ocp_averaged_bound_h],
+    ]
 
 
 def _rates(text: str) -> list[float]:

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import click
 
@@ -49,16 +49,17 @@ def reproduce(
 
 def echo_verdicts(
     summary: Record,
-    rows: list[dict[str, Any]],
+    rows: Sequence[Record],
     keys: tuple[str, ...],
     closing: str,
     *,
     as_json: bool,
 ) -> None:
     """A checked run's summary as JSON, or its table of verdicts (columns ``keys`` of
-    ``rows``) and a closing line."""
+    ``rows``' JSON) and a closing line."""
     if as_json:
         echo_json(summary)
         return
-    click.echo(format_table(list(keys), [[row[key] for key in keys] for row in rows]))
+    table = [[row.to_json()[key] for key in keys] for row in rows]
+    click.echo(format_table(list(keys), table))
     click.echo(closing)

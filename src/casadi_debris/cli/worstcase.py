@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 import click
 
@@ -25,6 +25,9 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import limits, load_problem
 from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import default_run_folder
+
+if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the command
+    from casadi_debris.report.worstcase import WorstCaseSummary
 
 
 @main.command()
@@ -113,37 +116,35 @@ def worstcase(
     if not is_quiet():
         say("")
     click.echo(format_table(["figure", "value", "note"], _rows(summary)))
-    click.echo(f"written to {summary['out_dir']}")
+    click.echo(f"written to {summary.identity.out_dir}")
 
 
-def _rows(summary: dict[str, Any]) -> list[list[str]]:
+def _rows(summary: WorstCaseSummary) -> list[list[str]]:
     """The table the command prints: the bounds, the search, the campaign's worst."""
     rows = []
-    for kind in ("stability", "performance"):
-        entry = summary.get("mu", {}).get(kind)
-        if entry:
+    if summary.mu is not None:
+        for kind, bounds in (
+            ("stability", summary.mu.stability),
+            ("performance", summary.mu.performance),
+        ):
             rows.append(
                 [
                     f"mu robust {kind}",
-                    f"{entry['mu_lower']:.4f} .. {entry['mu_upper']:.4f}",
-                    f"gap {entry['gap']:.1%}",
+                    f"{bounds.mu_lower:.4f} .. {bounds.mu_upper:.4f}",
+                    f"gap {bounds.gap:.1%}",
                 ]
             )
-    if "search" in summary:
-        found = summary["search"]
+    if summary.search is not None:
+        found = summary.search
         rows.append(
-            [
-                "worst max error [deg]",
-                f"{found['max_error_deg']:.4f}",
-                f"{found['simulations']} runs",
-            ]
+            ["worst max error [deg]", f"{found.max_error_deg:.4f}", f"{found.simulations} runs"]
         )
-    if "campaign" in summary:
+    if summary.campaign is not None:
         rows.append(
             [
                 "corner campaign worst [deg]",
-                f"{summary['campaign']['worst_max_error_deg']:.4f}",
-                ", ".join(summary["campaign"]["worst_cases"][:2]),
+                f"{summary.campaign.worst_max_error_deg:.4f}",
+                ", ".join(summary.campaign.worst_cases[:2]),
             ]
         )
     return rows

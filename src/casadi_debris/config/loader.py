@@ -149,7 +149,9 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
                 else str(exc)
             )
             raise ProblemFileError("", message, str(path)) from None
-        raise ProblemFileError("extends", f"{path} {exc}", str(chain[-1])) from None
+        shipped = " (nor a shipped problem: casadi-debris problems lists them)"
+        hint = shipped if str(exc) == "does not exist" else ""
+        raise ProblemFileError("extends", f"{path} {exc}{hint}", str(chain[-1])) from None
     parent = data.get("extends")
     if parent is None:
         return data, raw
@@ -168,7 +170,9 @@ def shipped_problems() -> dict[str, Path]:
     exists where it looks, reads the shipped file.
     """
     root = Path(str(resources.files("casadi_debris") / "problems"))
-    return {path.stem: path for path in sorted(root.rglob("*.toml"))}
+    # The paper's first, then the gallery's (sub-folders), each by name.
+    paths = sorted(root.rglob("*.toml"), key=lambda p: (len(p.relative_to(root).parts), p.name))
+    return {path.stem: path for path in paths}
 
 
 def problem_path(name_or_path: str | Path) -> Path:

@@ -8,6 +8,7 @@ short, whatever the file holds.
 
 from __future__ import annotations
 
+import difflib
 import json
 import math
 import re
@@ -120,7 +121,10 @@ class Table:
         """The value of ``name`` unchecked; marks it taken; refuses a missing key."""
         self.taken.add(name)
         if name not in self.data:
-            raise self.error(self.key(name), "missing")
+            spare = [str(k) for k in self.data if k not in self.taken]
+            close = difflib.get_close_matches(name, spare, n=1)
+            hint = f" (is {close[0]} a misspelling of it?)" if close else ""
+            raise self.error(self.key(name), f"missing{hint}")
         return self.data[name]
 
     def table(self, name: str) -> Table:
@@ -299,4 +303,6 @@ class Table:
         """Refuse any key no reader took."""
         unknown = sorted(set(self.data) - self.taken, key=str)
         if unknown:
-            raise self.error(self.key(unknown[0]), "unknown key")
+            close = difflib.get_close_matches(str(unknown[0]), sorted(self.taken), n=1)
+            hint = f"; did you mean {close[0]}?" if close else ""
+            raise self.error(self.key(unknown[0]), f"unknown key{hint}")

@@ -12,7 +12,7 @@ from casadi_debris.simulation.detumble import DetumbleResult
 from casadi_debris.units import MNM_PER_NM
 
 AXES = ("x", "y", "z")
-LINE_STYLES = (":", "-.", "--")
+LINE_STYLES = (":", "-.", (0, (10, 3)), "--")
 BINS = 600
 
 
@@ -37,7 +37,11 @@ def plot_detumble(
     hours = result.time_s[starts] / 3600.0
     for i, axis in enumerate(AXES):
         colour = AXIS_COLOURS[axis]
-        largest = np.maximum.reduceat(np.abs(result.rate_rad_s[:-1, i]), starts)
+        # Floored at 1 % of the threshold so that a body at rest still has a log axis.
+        largest = np.maximum(
+            np.maximum.reduceat(np.abs(result.rate_rad_s[:-1, i]), starts),
+            0.01 * summary.threshold_rad_s,
+        )
         rates.semilogy(hours, largest, color=colour, label=f"|ω{axis}|, largest per bin")
         low = np.minimum.reduceat(result.torque_Nm[:, i], starts) * MNM_PER_NM
         high = np.maximum.reduceat(result.torque_Nm[:, i], starts) * MNM_PER_NM
@@ -47,12 +51,16 @@ def plot_detumble(
         rates.axvline(value, color="0.3", ls=style, lw=0.9, label=label)
     rates.set_ylabel("body rate [rad/s]")
     rates.legend(fontsize=7, ncols=2)
+    if not np.any(result.torque_Nm):
+        torque.set_ylim(-1.0, 1.0)  # no torque at all: an axis matplotlib need not guess
     torque.set_ylabel("torque [mNm], range per bin")
     torque.set_xlabel("time [h]")
     per_cubesat = np.asarray(summary.fuel_per_cubesat_kg) * 1e3
     fuel.bar(np.arange(1, len(per_cubesat) + 1), per_cubesat, color="0.4")
     fuel.set_xlabel("CubeSat")
     fuel.set_ylabel("propellant [g]")
+    if not np.any(per_cubesat):
+        fuel.set_ylim(0.0, 1.0)
     for ax in (rates, torque, fuel):
         ax.grid(True, ls=":", color="0.6")
     done = summary.time_to_threshold_h

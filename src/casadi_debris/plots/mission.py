@@ -12,8 +12,8 @@ import numpy as np
 from casadi_debris.orbit.curves import CaseTrajectory
 from casadi_debris.plots import save_figure
 from casadi_debris.plots.deorbit import SOLAR_COLOURS
-from casadi_debris.studies.mission import DAYS_PER_YEAR, MissionSummary
-from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
+from casadi_debris.studies.mission import MissionSummary
+from casadi_debris.units import DAYS_PER_YEAR, M_PER_KM, SECONDS_PER_DAY
 
 PHASE_COLOURS = {"transfer": "#1f5fbf", "detumble": "#ef8f00", "deorbit burn": "#c2185b",
                  "decay": "0.6"}  # fmt: skip

@@ -3,38 +3,148 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from casadi_debris.budgets import BudgetItem
 from casadi_debris.config import Problem
-from casadi_debris.geometry import torque_authority
-from casadi_debris.model import assembled_modes, build_model
+from casadi_debris.geometry import Geometry, torque_authority
+from casadi_debris.model import Model, assembled_modes, build_model
 from casadi_debris.model.cantilever import shape_integrals
+from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import format_cell, format_table
 from casadi_debris.report.paper import paper_figures
 from casadi_debris.units import MN_PER_N
 
 
-def _rounded(matrix: np.ndarray, digits: int = 6) -> list:
+def _rounded(values: np.ndarray, digits: int = 6) -> np.ndarray:
     # + 0.0 turns -0.0 into 0.0 so directions print without a stray sign.
-    return (np.round(np.asarray(matrix, dtype=float), digits) + 0.0).tolist()
+    return np.round(np.asarray(values, dtype=float), digits) + 0.0
 
 
-def describe_model(problem: Problem) -> dict[str, Any]:
-    """The combined system in display units (the ``casadi-debris model`` output).
+def _vector(values: np.ndarray) -> tuple[float, ...]:
+    return tuple(_rounded(values).tolist())
 
-    Returns
-    -------
-    dict
-        ``mass_kg``, ``cog_m`` (hub-corner frame), ``inertia_hub_cubesats_kgm2``,
-        ``inertia_total_kgm2`` (3x3 about the CoG), ``torque_max_mNm`` and
-        ``torque_max_zero_force_mNm`` ({"+x": ...}), ``modes`` (assembled
-        free-free modes with their cantilever origin), ``thrusters``.
+
+def _matrix(values: np.ndarray) -> tuple[tuple[float, ...], ...]:
+    return tuple(tuple(row) for row in _rounded(values).tolist())
+
+
+@dataclass(frozen=True)
+class FlexibleMode(Record):
+    """An assembled free-free mode with its cantilever origin.
+
+    ``array`` names the arrays that carry it (``"1+2"``, from 1); ``name`` and
+    ``kind`` its cantilever mode; ``symmetry`` ``"in-phase"``, ``"anti-phase"``
+    or ``"-"``; ``omega_rad_s``/``zeta`` the cantilever's, ``omega_free_rad_s``/
+    ``zeta_free`` the assembled free-floating body's; ``mass_fraction`` and
+    ``root_inertia_fraction`` the cantilever's effective shares.
     """
+
+    array: str
+    name: str
+    kind: str
+    symmetry: str
+    omega_rad_s: float
+    omega_free_rad_s: float
+    zeta: float
+    zeta_free: float
+    mass_fraction: float
+    root_inertia_fraction: float
+
+
+@dataclass(frozen=True)
+class Thruster(Record):
+    """One engine as a user numbers it (all from 1).
+
+    ``cubesat_engine`` is its number among its CubeSat's engines (what a failure's
+    ``engine`` names); ``face`` its CubeSat's docking face (None off the faces);
+    ``position_m`` from the CoG and ``direction`` (unit force on the body) in the
+    body frame, rounded to 1e-6.
+    """
+
+    engine: int
+    cubesat: int
+    cubesat_engine: int
+    isp_s: float
+    face: str | None
+    position_m: tuple[float, ...]
+    direction: tuple[float, ...]
+    max_thrust_mN: float
+
+
+@dataclass(frozen=True)
+class ModelDescription(Record):
+    """The combined system in display units (``casadi-debris model``).
+
+    ``cog_m`` is in the hub-corner frame; ``inertia_hub_cubesats_kgm2`` and
+    ``inertia_total_kgm2`` (arrays included) are 3x3 about the CoG;
+    ``torque_max_mNm`` and ``torque_max_zero_force_mNm`` the torque authority by
+    signed axis (``"+x"`` ... ``"-z"``: JSON keys, not names, hence a mapping);
+    ``notes`` what the problem file gives that this debris does not use.
+    """
+
+    problem: str
+    problem_path: str
+    problem_sha256: str
+    mass_kg: float
+    cog_m: tuple[float, ...]
+    inertia_hub_cubesats_kgm2: tuple[tuple[float, ...], ...]
+    inertia_total_kgm2: tuple[tuple[float, ...], ...]
+    array_angle_deg: tuple[float, ...]
+    torque_max_mNm: dict[str, float]
+    torque_max_zero_force_mNm: dict[str, float]
+    modes: tuple[FlexibleMode, ...]
+    thrusters: tuple[Thruster, ...]
+    notes: tuple[str, ...]
+
+
+def describe_model(problem: Problem) -> ModelDescription:
+    """The combined system in display units (the ``casadi-debris model`` output)."""
     model = build_model(problem)
     geometry = model.geometry
+    return ModelDescription(
+        problem=problem.name,
+        problem_path=problem.source,
+        problem_sha256=problem.sha256,
+        mass_kg=geometry.mass_kg,
+        cog_m=_vector(geometry.cog_corner_m),
+        inertia_hub_cubesats_kgm2=_matrix(geometry.inertia_hub_cubesats_kgm2),
+        inertia_total_kgm2=_matrix(geometry.inertia_total_kgm2),
+        array_angle_deg=tuple(array.angle_deg for array in problem.arrays),
+        torque_max_mNm={k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
+        torque_max_zero_force_mNm={
+            k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
+        },
+        modes=_modes(problem, model),
+        thrusters=_thrusters(problem, geometry),
+        notes=tuple(_notes(problem, model.parameter_names) + _authority_notes(problem, geometry)),
+    )
+
+
+def _authority_notes(problem: Problem, geometry: Geometry) -> list[str]:
+    """Body axes the engines cannot hold against the disturbance at zero net force."""
+    zero_force_mNm = {
+        k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
+    }
+    notes = []
+    for index, axis in enumerate("xyz"):
+        disturbance_mNm = float(problem.disturbance.amplitude_mNm[index])
+        short = {s: zero_force_mNm[s] for s in (f"+{axis}", f"-{axis}")}
+        short = {s: v for s, v in short.items() if v < disturbance_mNm}
+        if short:
+            # Round-off of an LP with no authority gives 1e-20, not 0.
+            given = ", ".join(f"{s} {v if v > 1e-12 else 0.0:.3g}" for s, v in short.items())
+            notes.append(
+                f"the engines give {given} mNm at zero net force, below the disturbance's "
+                f"{disturbance_mNm:g} mNm: this swarm cannot hold the debris about {axis}"
+            )
+    return notes
+
+
+def _modes(problem: Problem, model: Model) -> tuple[FlexibleMode, ...]:
     modes = []
     with_modes = sorted({a for a, _ in model.layout.mode_labels})  # array numbers, from 1
     for assembled in assembled_modes(model):
@@ -44,58 +154,44 @@ def describe_model(problem: Problem) -> dict[str, Any]:
         integrals = shape_integrals(cantilever.kind, cantilever.order)
         carrying = [str(i + 1) for i, s in enumerate(share) if s > 0.1]
         phase = assembled["in_phase"]
+        bending = cantilever.kind == "bending"
         modes.append(
-            {
-                "array": "+".join(carrying),
-                "name": cantilever.name,
-                "kind": cantilever.kind,
-                "symmetry": "-" if phase is None else ("in-phase" if phase else "anti-phase"),
-                "omega_rad_s": cantilever.omega_rad_s,
-                "omega_free_rad_s": assembled["omega_rad_s"],
-                "zeta": array.damping_ratio,
-                "zeta_free": assembled["zeta"],
-                "mass_fraction": integrals.mass_fraction if cantilever.kind == "bending" else 0.0,
-                "root_inertia_fraction": (
-                    integrals.root_inertia_fraction
-                    if cantilever.kind == "bending"
-                    else integrals.mass_fraction
+            FlexibleMode(
+                array="+".join(carrying),
+                name=cantilever.name,
+                kind=cantilever.kind,
+                symmetry="-" if phase is None else ("in-phase" if phase else "anti-phase"),
+                omega_rad_s=cantilever.omega_rad_s,
+                omega_free_rad_s=assembled["omega_rad_s"],
+                zeta=array.damping_ratio,
+                zeta_free=assembled["zeta"],
+                mass_fraction=integrals.mass_fraction if bending else 0.0,
+                root_inertia_fraction=(
+                    integrals.root_inertia_fraction if bending else integrals.mass_fraction
                 ),
-            }
+            )
         )
-    thrusters = [
-        {
-            "engine": engine.index + 1,
-            "cubesat": engine.cubesat + 1,
+    return tuple(modes)
+
+
+def _thrusters(problem: Problem, geometry: Geometry) -> tuple[Thruster, ...]:
+    return tuple(
+        Thruster(
+            engine=engine.index + 1,
+            cubesat=engine.cubesat + 1,
             # Its number among its CubeSat's own engines: what a failure's `engine` names.
-            "cubesat_engine": sum(
+            cubesat_engine=sum(
                 e.cubesat == engine.cubesat for e in geometry.engines[: engine.index]
             )
             + 1,
-            "isp_s": problem.engines[engine.index].isp_s,
-            "face": geometry.cubesats[engine.cubesat].face,
-            "position_m": _rounded(engine.position_m),
-            "direction": _rounded(engine.direction),
-            "max_thrust_mN": engine.max_thrust_N * MN_PER_N,
-        }
+            isp_s=problem.engines[engine.index].isp_s,
+            face=geometry.cubesats[engine.cubesat].face,
+            position_m=_vector(engine.position_m),
+            direction=_vector(engine.direction),
+            max_thrust_mN=engine.max_thrust_N * MN_PER_N,
+        )
         for engine in geometry.engines
-    ]
-    return {
-        "problem": problem.name,
-        "problem_path": problem.source,
-        "problem_sha256": problem.sha256,
-        "mass_kg": geometry.mass_kg,
-        "cog_m": _rounded(geometry.cog_corner_m),
-        "inertia_hub_cubesats_kgm2": _rounded(geometry.inertia_hub_cubesats_kgm2),
-        "inertia_total_kgm2": _rounded(geometry.inertia_total_kgm2),
-        "array_angle_deg": [array.angle_deg for array in problem.arrays],
-        "torque_max_mNm": {k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
-        "torque_max_zero_force_mNm": {
-            k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
-        },
-        "modes": modes,
-        "thrusters": thrusters,
-        "notes": _notes(problem, model.parameter_names),
-    }
+    )
 
 
 def _paper_cells(key: str, ours: Any, show_paper: bool) -> list[str]:
@@ -107,22 +203,22 @@ def _paper_cells(key: str, ours: Any, show_paper: bool) -> list[str]:
     return [format_cell(paper), mark]
 
 
-def model_text(summary: dict[str, Any], show_paper: bool) -> str:
+def model_text(summary: ModelDescription, show_paper: bool) -> str:
     """Readable tables of :func:`describe_model`'s output."""
     headers = (
         ["quantity", "toolkit", "paper", "check"] if show_paper else ["quantity", "value", "", ""]
     )
     parts = [
-        f"Problem {summary['problem']} ({summary['problem_path']})",
+        f"Problem {summary.problem} ({summary.problem_path})",
         "",
         format_table(headers, _quantity_rows(summary, show_paper)),
         "",
-        _modes_heading(summary["array_angle_deg"]),
-        _modes_table(summary["modes"]),
+        _modes_heading(summary.array_angle_deg),
+        _modes_table(summary.modes),
         "",
         "Engines (body frame B, origin at the CoG; direction = unit force on the body)",
-        _thrusters_table(summary["thrusters"]),
-        *(f"note: {note}" for note in summary["notes"]),
+        _thrusters_table(summary.thrusters),
+        *(f"note: {note}" for note in summary.notes),
     ]
     return "\n".join(parts)
 
@@ -143,19 +239,20 @@ def _notes(problem: Problem, parameter_names: tuple[str, ...]) -> list[str]:
     ]
 
 
-def _quantity_rows(summary: dict[str, Any], show_paper: bool) -> list[list[Any]]:
+def _quantity_rows(summary: ModelDescription, show_paper: bool) -> list[list[Any]]:
     """Mass, CoG, inertia and torque authority, each with the paper's figure when shown."""
-    torque = summary["torque_max_mNm"]
+    torque = summary.torque_max_mNm
     torque_pos = [torque["+x"], torque["+y"], torque["+z"]]
     torque_neg = [torque["-x"], torque["-y"], torque["-z"]]
-    inertia_hc = np.array(summary["inertia_hub_cubesats_kgm2"])
+    zero_force = summary.torque_max_zero_force_mNm
+    inertia_hc = np.array(summary.inertia_hub_cubesats_kgm2)
     return [
         [
             "total mass [kg]",
-            summary["mass_kg"],
-            *_paper_cells("mass_kg", summary["mass_kg"], show_paper),
+            summary.mass_kg,
+            *_paper_cells("mass_kg", summary.mass_kg, show_paper),
         ],
-        ["CoG, hub-corner frame [m]", summary["cog_m"], "", ""],
+        ["CoG, hub-corner frame [m]", list(summary.cog_m), "", ""],
         [
             "hub + CubeSats inertia diag [kg m^2]",
             np.diag(inertia_hc).tolist(),
@@ -164,7 +261,7 @@ def _quantity_rows(summary: dict[str, Any], show_paper: bool) -> list[list[Any]]
         ["hub + CubeSats inertia off-diag xy,xz,yz", _offdiag(inertia_hc), "", ""],
         [
             "full rigid inertia diag (arrays incl.)",
-            np.diag(summary["inertia_total_kgm2"]).tolist(),
+            np.diag(summary.inertia_total_kgm2).tolist(),
             "",
             "",
         ],
@@ -180,20 +277,20 @@ def _quantity_rows(summary: dict[str, Any], show_paper: bool) -> list[list[Any]]
         ],
         [
             "  zero net force, +x,+y,+z",
-            [summary["torque_max_zero_force_mNm"][k] for k in ("+x", "+y", "+z")],
+            [zero_force[k] for k in ("+x", "+y", "+z")],
             "",
             "",
         ],
         [
             "  zero net force, -x,-y,-z",
-            [summary["torque_max_zero_force_mNm"][k] for k in ("-x", "-y", "-z")],
+            [zero_force[k] for k in ("-x", "-y", "-z")],
             "",
             "",
         ],
     ]
 
 
-# Header next to the summary key it shows, so that the two cannot drift apart.
+# Header next to the mode's field it shows, so that the two cannot drift apart.
 _MODE_COLUMNS = (
     ("array", "array"),
     ("mode", "name"),
@@ -206,7 +303,7 @@ _MODE_COLUMNS = (
 )
 
 
-def _modes_heading(angles_deg: list[float]) -> str:
+def _modes_heading(angles_deg: Sequence[float]) -> str:
     if not angles_deg:
         return "Flexible modes: none (a rigid debris, no arrays)"
     return (
@@ -216,26 +313,26 @@ def _modes_heading(angles_deg: list[float]) -> str:
     )
 
 
-def _modes_table(modes: list[dict[str, Any]]) -> str:
+def _modes_table(modes: Sequence[FlexibleMode]) -> str:
     """The assembled flexible modes with their cantilever origin."""
     return format_table(
         [header for header, _ in _MODE_COLUMNS],
-        [[mode[key] for _, key in _MODE_COLUMNS] for mode in modes],
+        [[getattr(mode, name) for _, name in _MODE_COLUMNS] for mode in modes],
     )
 
 
-def _thrusters_table(thrusters: list[dict[str, Any]]) -> str:
+def _thrusters_table(thrusters: Sequence[Thruster]) -> str:
     """Each CubeSat engine: face, position, force direction and thrust."""
     return format_table(
         ["engine", "cubesat", "face", "position [m]", "direction", "max thrust [mN]"],
         [
             [
-                t["engine"],
-                t["cubesat"],
-                t["face"] or "-",
-                t["position_m"],
-                t["direction"],
-                t["max_thrust_mN"],
+                t.engine,
+                t.cubesat,
+                t.face or "-",
+                list(t.position_m),
+                list(t.direction),
+                t.max_thrust_mN,
             ]
             for t in thrusters
         ],
@@ -244,6 +341,29 @@ def _thrusters_table(thrusters: list[dict[str, Any]]) -> str:
 
 def _offdiag(matrix: np.ndarray) -> list[float]:
     return [float(matrix[0, 1]), float(matrix[0, 2]), float(matrix[1, 2])]
+
+
+@dataclass(frozen=True)
+class BudgetReport(Record):
+    """``casadi-debris budget --json``: the problem, every budget figure under its own key
+    (a mapping, flattened: the keys carry the units, ``dv_transfer_m_s``, and
+    :func:`~casadi_debris.budgets.compute_budgets` decides them), and ``how`` each was
+    computed, by the same keys."""
+
+    problem: str
+    problem_sha256: str
+    figures: dict[str, float] = field(metadata=FLATTENED)
+    how: dict[str, str]
+
+
+def budget_report(problem: Problem, items: Sequence[BudgetItem]) -> BudgetReport:
+    """The budget ``items`` of ``problem`` as a record."""
+    return BudgetReport(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        figures={item.key: item.value for item in items},
+        how={item.key: item.how for item in items},
+    )
 
 
 def budget_text(items: Sequence[BudgetItem], problem_label: str, show_paper: bool) -> str:

@@ -18,10 +18,14 @@ from casadi_debris.config import Problem
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, verdict_text
 from casadi_debris.report.robust import MarginReport
-from casadi_debris.robust.performance_search import DesignSearch
+
+# WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
+from casadi_debris.report.simulation import WorstFigure
+from casadi_debris.robust.performance_search import DesignAttempt, DesignSearch
+from casadi_debris.robust.requirements import ScalingFigures
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
-    from casadi_debris.report.simulation import CampaignSummary, WorstFigure
+    from casadi_debris.report.simulation import CampaignSummary
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -60,17 +64,31 @@ class RequirementRow:
         """✅/❌ with words, "—" when not judged."""
         return verdict_text(self.met, "met")
 
-    def to_dict(self) -> dict[str, Any]:
-        """The row for ``summary.json``."""
-        return {
-            "key": self.key,
-            "result": self.result,
-            "required": self.required,
-            "ours": self.ours,
-            "verdict": self.verdict,
-            "met": self.met,
-            "values": list(self.values),
-        }
+    def entry(self) -> RequirementEntry:
+        """The row as ``summary.json`` holds it."""
+        return RequirementEntry(
+            key=self.key,
+            result=self.result,
+            required=self.required,
+            ours=self.ours,
+            verdict=self.verdict,
+            met=self.met,
+            values=self.values,
+        )
+
+
+@dataclass(frozen=True)
+class RequirementEntry(Record):
+    """A row of a design's ``summary.json``: :class:`RequirementRow` with its verdict as
+    printed."""
+
+    key: str
+    result: str
+    required: str
+    ours: str
+    verdict: str
+    met: bool | None
+    values: tuple[float | None, ...]
 
 
 def _row(
@@ -190,7 +208,7 @@ class DesignSummary(Record):
 
     ``method`` is ``"mu"`` (D-K μ-synthesis), ``"pd"`` or ``"lqr"`` (see
     :mod:`casadi_debris.robust.classical`; their μ fields are None and ``attempts`` empty).
-    ``rows`` are the requirement rows (:meth:`RequirementRow.to_dict`);
+    ``rows`` are the requirement rows (:meth:`RequirementRow.entry`);
     ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
     μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
     performance level; ``time_s`` the wall time [s].
@@ -206,12 +224,12 @@ class DesignSummary(Record):
     mu_peak_reduced: float | None
     guaranteed_pointing_arcsec: list[float] | None
     required_pointing_arcsec: Any
-    scalings: dict[str, Any]
-    attempts: list[dict[str, Any]]
+    scalings: ScalingFigures
+    attempts: tuple[DesignAttempt, ...]
     seed: int | None
     slew: CampaignFigures
     pointing: CampaignFigures
-    rows: list[dict[str, Any]]
+    rows: tuple[RequirementEntry, ...]
     time_s: float
     out_dir: str
     quick: bool

@@ -34,6 +34,19 @@ class DetumbleReport(Record):
         momentum cannot shrink faster than the largest torque.
     run : DetumbleSummary
     out_dir : str or None
+    ocp_method : str or None
+        How ``ocp_time_h`` was found, or why it was not (None when not asked for).
+    ocp_time_h, ocp_fuel_kg : float or None
+        The time-optimal detumble (averaged OCP) and its propellant: between the
+        momentum bound and the closed loop.
+    ocp_greedy_time_h : float or None
+        The averaged model flown with the closed loop's greedy law: what the closed
+        loop tends to as its control period shrinks.
+    ocp_averaged_bound_h : float or None
+        No control averaged over the precession brakes faster than the greedy law on
+        the best polhode: a bound on the averaged OCP (not on the closed loop's
+        rates step by step; ``momentum_bound_h`` is that one).
+    ocp_solver_status : str or None
     """
 
     problem: str
@@ -44,6 +57,12 @@ class DetumbleReport(Record):
     momentum_bound_h: float
     run: DetumbleSummary = field(metadata=FLATTENED)
     out_dir: str | None = None
+    ocp_method: str | None = None
+    ocp_time_h: float | None = None
+    ocp_fuel_kg: float | None = None
+    ocp_greedy_time_h: float | None = None
+    ocp_averaged_bound_h: float | None = None
+    ocp_solver_status: str | None = None
 
 
 def write_detumble(folder: Path, result: DetumbleResult, report: DetumbleReport) -> None:
@@ -60,4 +79,6 @@ def write_detumble(folder: Path, result: DetumbleResult, report: DetumbleReport)
         "per-axis braking estimate": report.budget_time_full_rigid_h,
         "momentum bound": report.momentum_bound_h,
     }
+    if report.ocp_time_h is not None:
+        marks["time-optimal (averaged OCP)"] = report.ocp_time_h
     plot_detumble(result, folder / "detumble.png", title=report.problem, marks_h=marks)

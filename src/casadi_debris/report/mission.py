@@ -17,8 +17,7 @@ from casadi_debris.plots.deorbit import plot_decay
 from casadi_debris.plots.mission import plot_altitude, plot_mission
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.studies.mission import Mission
-
-G_PER_KG = 1e3
+from casadi_debris.units import G_PER_KG
 
 
 def write_mission(folder: Path, mission: Mission) -> None:

@@ -16,8 +16,10 @@ import numpy as np
 
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, verdict_text
+from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginReport
+from casadi_debris.robust.controller import ControllerRecord
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
     from casadi_debris.report.simulation import CampaignSummary
@@ -59,27 +61,41 @@ class ReproductionRow:
         """The verdict as printed: ✅/❌ with words, "—" when not judged."""
         return verdict_text(self.reproduced, "reproduced")
 
-    def to_dict(self) -> dict[str, Any]:
-        """The row for ``summary.json`` (``result``, ``paper``, ``accepted``, ``ours``,
-        ``verdict`` as printed; ``reproduced`` true, false or null; ``key``,
-        ``ours_values``)."""
-        return {
-            "key": self.key,
-            "result": self.result,
-            "paper": self.paper,
-            "accepted": self.accepted,
-            "ours": self.ours,
-            "verdict": self.verdict,
-            "reproduced": self.reproduced,
-            "ours_values": list(self.ours_values),
-        }
+    def entry(self) -> TableEntry:
+        """The row as ``summary.json``'s table holds it."""
+        return TableEntry(
+            key=self.key,
+            result=self.result,
+            paper=self.paper,
+            accepted=self.accepted,
+            ours=self.ours,
+            verdict=self.verdict,
+            reproduced=self.reproduced,
+            ours_values=self.ours_values,
+        )
+
+
+@dataclass(frozen=True)
+class TableEntry(Record):
+    """A row of ``summary.json``'s table: ``result``, ``paper``, ``accepted``, ``ours`` and
+    ``verdict`` as printed; ``reproduced`` true, false or null (not judged); the figure's
+    ``key`` and ``ours_values`` (see :class:`ReproductionRow`)."""
+
+    key: str
+    result: str
+    paper: str
+    accepted: str
+    ours: str
+    verdict: str
+    reproduced: bool | None
+    ours_values: tuple[float | None, ...]
 
 
 @dataclass(frozen=True)
 class ReproductionSummary(Record):
     """A reproduction's ``summary.json``: the table and how the run was made.
 
-    ``table`` holds the rows as :meth:`ReproductionRow.to_dict` gives them;
+    ``table`` holds the rows as :meth:`ReproductionRow.entry` gives them;
     ``reproduced`` counts the rows within tolerance, of ``rows``; ``time_s`` is the
     wall time [s].
     """
@@ -92,7 +108,7 @@ class ReproductionSummary(Record):
     time_s: float
     reproduced: int
     rows: int
-    table: list[dict[str, Any]]
+    table: tuple[TableEntry, ...]
     out_dir: str
 
 
@@ -136,16 +152,15 @@ BUDGET_KEYS = (
 )
 
 
-def model_rows(model: dict[str, Any]) -> list[ReproductionRow]:
-    """Mass, inertia and torque authority (``model`` as from
-    :func:`~casadi_debris.report.describe.describe_model`)."""
-    torque = model["torque_max_mNm"]
+def model_rows(model: ModelDescription) -> list[ReproductionRow]:
+    """Mass, inertia and torque authority of the combined system."""
+    torque = model.torque_max_mNm
     # The paper gives one authority per axis: the smaller of + and - is what
     # the controller can count on.
     torque_axes = [min(torque[f"+{a}"], torque[f"-{a}"]) for a in "xyz"]
-    inertia = np.diag(np.asarray(model["inertia_hub_cubesats_kgm2"]))
+    inertia = np.diag(np.asarray(model.inertia_hub_cubesats_kgm2))
     return [
-        paper_row("mass_kg", model["mass_kg"]),
+        paper_row("mass_kg", model.mass_kg),
         paper_row("inertia_hub_cubesats_diag_kgm2", inertia.tolist()),
         paper_row("torque_max_mNm", torque_axes),
     ]
@@ -156,12 +171,32 @@ def budget_rows(budgets: dict[str, float]) -> list[ReproductionRow]:
     return [paper_row(key, budgets[key]) for key in BUDGET_KEYS]
 
 
-def controller_rows(controller: dict[str, Any]) -> list[ReproductionRow]:
-    """Peak μ and order of the controller (``mu_peak``, ``mu_peak_reduced``,
-    ``order_full`` (None if unknown), ``order_reduced``)."""
+@dataclass(frozen=True)
+class ControllerFigures:
+    """What the reproduction reads of a controller: peak μ of the full and the reduced
+    loop, and their orders (``order_full`` None for a file without its full order)."""
+
+    mu_peak: float | None
+    mu_peak_reduced: float | None
+    order_full: int | None
+    order_reduced: int
+
+    @classmethod
+    def of(cls, record: ControllerRecord) -> ControllerFigures:
+        """The figures of a controller file."""
+        return cls(
+            mu_peak=record.mu_peak,
+            mu_peak_reduced=record.mu_peak_reduced,
+            order_full=None if record.full is None else record.full.nstates,
+            order_reduced=record.reduced.nstates,
+        )
+
+
+def controller_rows(controller: ControllerFigures) -> list[ReproductionRow]:
+    """Peak μ and order of the controller."""
     return [
-        paper_row("mu_peak", [controller["mu_peak"], controller["mu_peak_reduced"]]),
-        paper_row("controller_order", [controller["order_full"], controller["order_reduced"]]),
+        paper_row("mu_peak", [controller.mu_peak, controller.mu_peak_reduced]),
+        paper_row("controller_order", [controller.order_full, controller.order_reduced]),
     ]
 
 
@@ -223,9 +258,9 @@ def pointing_rows(
 
 
 def reproduction_rows(
-    model: dict[str, Any],
+    model: ModelDescription,
     budgets: dict[str, float],
-    controller: dict[str, Any],
+    controller: ControllerFigures,
     margins: MarginReport,
     slew: CampaignSummary,
     slew_duration_s: float | None,

@@ -10,17 +10,23 @@ campaign's envelope when one is given).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.model import Model, ParameterLayout, Parameters
 from casadi_debris.plots.simulation import plot_closed_loop
+from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.report.simulation import run_figures_options
-from casadi_debris.robust.parametric_mu import ParametricMu
+from casadi_debris.robust.parametric_mu import (
+    KINDS,
+    ParametricMu,
+    ParametricMuSummary,
+    WorstPerturbation,
+)
 from casadi_debris.robust.uncertainty import parameters_from_normalized
 from casadi_debris.simulation import Envelope
 from casadi_debris.simulation.monte_carlo import Bands, Extremes
@@ -30,20 +36,117 @@ from casadi_debris.simulation.worst_case import WorstCaseSearch
 TIE = 1e-9
 
 
+@dataclass(frozen=True)
+class ParameterFile(Record):
+    """A parameters file ``simulate --parameters`` runs: ``parameters`` by name (SI) and
+    their box positions ``normalized`` (-1 .. 1), by name since the model's parameters
+    differ from one debris to another.
+
+    The mu files add the lower bound's perturbation (``clipped``,
+    ``normalized_unclipped``, ``mu_lower``, ``omega_rad_s`` [rad/s]); the search's
+    file its ``max_error_deg`` [deg]. Those absent are left out of the file.
+    """
+
+    case_id: str
+    parameters: dict[str, float]
+    normalized: dict[str, float]
+    clipped: bool | None = field(default=None, metadata=OPTIONAL)
+    normalized_unclipped: dict[str, float] | None = field(default=None, metadata=OPTIONAL)
+    mu_lower: float | None = field(default=None, metadata=OPTIONAL)
+    omega_rad_s: float | None = field(default=None, metadata=OPTIONAL)
+    max_error_deg: float | None = field(default=None, metadata=OPTIONAL)
+
+
+@dataclass(frozen=True)
+class CampaignWorst(Record):
+    """The corner campaign a search is compared with: its ``folder``, its number of
+    ``cases``, its largest error [deg] and the case(s) that reach it."""
+
+    folder: str
+    cases: int
+    worst_max_error_deg: float
+    worst_cases: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class SearchSummary(Record):
+    """The worst slew found (:class:`~casadi_debris.simulation.worst_case.WorstCaseSearch`).
+
+    ``evaluation`` is the worst run's index among the ``simulations``; ``normalized``
+    and ``parameters`` its box positions and values (SI) by name;
+    ``screen_worst_corners`` the five corners the screening ranked worst; ``time_s``
+    the search's wall time [s]; ``local_search`` says the answer is a local optimum.
+    ``minus_campaign_worst_deg`` (with a campaign only): how far above the campaign's
+    worst the search went [deg].
+    """
+
+    max_error_deg: float
+    source: str
+    evaluation: int
+    normalized: dict[str, float]
+    parameters: dict[str, float]
+    simulations: int
+    screen_worst_corners: tuple[int, ...]
+    seed: int
+    final_step: float
+    time_s: float
+    local_search: bool = True
+    minus_campaign_worst_deg: float | None = field(default=None, metadata=OPTIONAL)
+
+
+@dataclass(frozen=True)
+class WorstCaseIdentity(Record):
+    """What names a worst-case run: the problem, the controller and their plants, the folder."""
+
+    problem: str
+    problem_sha256: str
+    plant_sha256: str
+    controller_path: str
+    controller_plant_sha256: str
+    out_dir: str
+
+
+@dataclass(frozen=True)
+class WorstCaseSummary(Record):
+    """``casadi-debris worstcase``'s ``summary.json``: the identity, then the stages that
+    ran (a skipped stage, or no ``--campaign``, leaves its key out)."""
+
+    identity: WorstCaseIdentity = field(metadata=FLATTENED)
+    mu: ParametricMuSummary | None = field(default=None, metadata=OPTIONAL)
+    campaign: CampaignWorst | None = field(default=None, metadata=OPTIONAL)
+    search: SearchSummary | None = field(default=None, metadata=OPTIONAL)
+
+
 def parameter_file(
-    layout: ParameterLayout, normalized: np.ndarray, values: np.ndarray, case_id: str, **extra: Any
-) -> dict[str, Any]:
-    """What a parameters file holds: ``parameters`` by name (SI) and their box positions."""
-    named = Parameters.from_vector(layout, values).to_dict()
-    return {
-        "case_id": case_id,
-        "parameters": named,
-        "normalized": dict(zip(layout.names, np.asarray(normalized).tolist(), strict=True)),
-        **extra,
-    }
+    layout: ParameterLayout,
+    normalized: np.ndarray,
+    values: np.ndarray,
+    case_id: str,
+    *,
+    perturbation: WorstPerturbation | None = None,
+    max_error_deg: float | None = None,
+) -> ParameterFile:
+    """The parameters file of ``values`` (SI) at box positions ``normalized``, with the mu
+    lower bound's ``perturbation`` or the search's ``max_error_deg`` [deg] when given."""
+    return ParameterFile(
+        case_id=case_id,
+        parameters=Parameters.from_vector(layout, values).to_dict(),
+        normalized=_named(layout, normalized),
+        clipped=None if perturbation is None else perturbation.clipped,
+        normalized_unclipped=None
+        if perturbation is None
+        else _named(layout, perturbation.normalized_unclipped),
+        mu_lower=None if perturbation is None else perturbation.mu_lower,
+        omega_rad_s=None if perturbation is None else perturbation.omega_rad_s,
+        max_error_deg=max_error_deg,
+    )
 
 
-def campaign_envelope(folder: Path) -> tuple[Envelope, dict[str, Any]]:
+def _named(layout: ParameterLayout, normalized: np.ndarray) -> dict[str, float]:
+    return dict(zip(layout.names, np.asarray(normalized).tolist(), strict=True))
+
+
+def campaign_envelope(folder: Path) -> tuple[Envelope, CampaignWorst]:
     """A finished corner campaign's envelope and its worst case(s)."""
     from casadi_debris.report.campaign_dataset import open_campaign
 
@@ -58,79 +161,66 @@ def campaign_envelope(folder: Path) -> tuple[Envelope, dict[str, Any]]:
         torque_Nm=Extremes(torque[:, :, 0].min(axis=0), torque[:, :, 1].max(axis=0)),
     )
     top = float(np.max(worst))
-    tied = [c for c, e in zip(cases, worst, strict=True) if e >= top * (1 - TIE)]
-    return Envelope(time_s, bands, len(cases)), {
-        "folder": str(Path(folder).absolute()),
-        "cases": len(cases),
-        "worst_max_error_deg": top,
-        "worst_cases": tied,
-    }
+    tied = tuple(c for c, e in zip(cases, worst, strict=True) if e >= top * (1 - TIE))
+    return Envelope(time_s, bands, len(cases)), CampaignWorst(
+        folder=str(Path(folder).absolute()),
+        cases=len(cases),
+        worst_max_error_deg=top,
+        worst_cases=tied,
+    )
 
 
 def write_worst_cases(
     folder: Path,
     problem: Problem,
     model: Model,
-    identity: dict[str, Any],
+    identity: WorstCaseIdentity,
     mu: ParametricMu | None,
     search: WorstCaseSearch | None,
     campaign: Path | None,
-) -> dict[str, Any]:
-    """Write everything into the staging ``folder``; returns the summary.
-
-    ``identity`` holds what names the run (problem, controller, plants, out_dir).
-    """
+) -> WorstCaseSummary:
+    """Write everything into the staging ``folder``; returns the summary."""
     layout = model.parameter_layout
-    summary: dict[str, Any] = dict(identity)
     if mu is not None:
-        summary["mu"] = mu.summary()
-        for kind in ("stability", "performance"):
+        for kind in KINDS:
             worst = getattr(mu, kind).worst
             if worst is not None:
                 values = parameters_from_normalized(problem, model, worst.normalized)
                 data = parameter_file(
-                    layout,
-                    worst.normalized,
-                    values,
-                    f"mu-{kind}",
-                    clipped=worst.clipped,
-                    normalized_unclipped=dict(
-                        zip(layout.names, worst.normalized_unclipped.tolist(), strict=True)
-                    ),
-                    mu_lower=worst.mu_lower,
-                    omega_rad_s=worst.omega_rad_s,
+                    layout, worst.normalized, values, f"mu-{kind}", perturbation=worst
                 )
                 write_json_atomic(folder / f"mu_{kind}_parameters.json", data)
-    envelope = None
+    envelope, compared = None, None
     if campaign is not None:
-        envelope, summary["campaign"] = campaign_envelope(campaign)
+        envelope, compared = campaign_envelope(campaign)
+    found = None
     if search is not None:
-        summary["search"] = _search_summary(search, layout, summary.get("campaign"))
+        found = _search_summary(search, layout, compared)
         _write_search(folder, problem, search, layout, envelope)
+    summary = WorstCaseSummary(identity, None if mu is None else mu.summary(), compared, found)
     write_json_atomic(folder / "summary.json", summary)
     return summary
 
 
 def _search_summary(
-    search: WorstCaseSearch, layout: ParameterLayout, campaign: dict[str, Any] | None
-) -> dict[str, Any]:
+    search: WorstCaseSearch, layout: ParameterLayout, campaign: CampaignWorst | None
+) -> SearchSummary:
     best = search.best
-    out: dict[str, Any] = {
-        "max_error_deg": best.max_error_deg,
-        "source": best.source,
-        "evaluation": best.index,
-        "normalized": dict(zip(layout.names, best.normalized.tolist(), strict=True)),
-        "parameters": Parameters.from_vector(layout, best.parameters).to_dict(),
-        "simulations": search.simulations,
-        "screen_worst_corners": [int(k) for k in search.screen_order[:5]],
-        "seed": search.seed,
-        "final_step": search.final_step,
-        "time_s": search.time_s,
-        "local_search": True,
-    }
-    if campaign is not None:
-        out["minus_campaign_worst_deg"] = best.max_error_deg - campaign["worst_max_error_deg"]
-    return out
+    return SearchSummary(
+        max_error_deg=best.max_error_deg,
+        source=best.source,
+        evaluation=best.index,
+        normalized=_named(layout, best.normalized),
+        parameters=Parameters.from_vector(layout, best.parameters).to_dict(),
+        simulations=search.simulations,
+        screen_worst_corners=tuple(int(k) for k in search.screen_order[:5]),
+        seed=search.seed,
+        final_step=search.final_step,
+        time_s=search.time_s,
+        minus_campaign_worst_deg=None
+        if campaign is None
+        else best.max_error_deg - campaign.worst_max_error_deg,
+    )
 
 
 def _write_search(
@@ -146,7 +236,8 @@ def _write_search(
     )
     write_json_atomic(folder / "worst_parameters.json", data)
     rows = np.array([e.normalized for e in search.evaluations])
-    columns: dict[str, Any] = {
+    # A CSV table: its columns are the model's parameters, named at run time.
+    columns: dict[str, np.ndarray] = {
         "evaluation": np.array([e.index for e in search.evaluations]),
         "source": np.array([e.source for e in search.evaluations]),
         "max_error_deg": np.array([e.max_error_deg for e in search.evaluations]),

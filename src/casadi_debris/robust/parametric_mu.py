@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import logging
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import control
@@ -34,6 +34,7 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
 from casadi_debris.model import build_model, linearization_function
+from casadi_debris.records import OPTIONAL, Record
 from casadi_debris.robust.blocks import block_structure
 from casadi_debris.robust.mixed_mu import PeakBounds, mu_bounds
 from casadi_debris.robust.mu import mu_upper_bound
@@ -141,44 +142,92 @@ class ParametricMu:
     modes: str
     time_s: float
 
-    def summary(self) -> dict[str, Any]:
+    def summary(self) -> ParametricMuSummary:
         """Figures for JSON (frequencies in rad/s, angles in deg)."""
-        out: dict[str, Any] = {
-            "real_parameters": list(self.real_names),
-            "real_block_sizes": list(self.ranks),
-            "array_angles_deg": self.angle_deg.tolist(),
-            "frequencies": len(self.omega),
-            "fit_residual": self.residual,
-            "analysis_plant_modes": self.modes,
-            "seed": self.seed,
-            "time_s": self.time_s,
-        }
-        for kind in KINDS:
-            bounds: RealMuBounds = getattr(self, kind)
-            worst = bounds.worst
-            entry: dict[str, Any] = {
-                "mu_upper": bounds.peak_upper,
-                "mu_lower": bounds.peak_lower,
-                "gap": bounds.gap,
-                "margin_upper": 1.0 / bounds.peak_upper,
-                "margin_lower": 1.0 / bounds.peak_lower if bounds.peak_lower else None,
-                "lmi_points": bounds.lmi_points,
-            }
-            if worst is not None:
-                entry["worst"] = {
-                    "omega_rad_s": worst.omega_rad_s,
-                    "array_angle_deg": float(self.angle_deg[worst.angle_index]),
-                    "determinant": worst.determinant,
-                    "clipped": worst.clipped,
-                    "normalized_unclipped": dict(
-                        zip(self.parameter_names, worst.normalized_unclipped.tolist(), strict=True)
-                    ),
-                    "normalized": dict(
-                        zip(self.parameter_names, worst.normalized.tolist(), strict=True)
-                    ),
-                }
-            out[kind] = entry
-        return out
+        bounds = {kind: self._bounds_summary(getattr(self, kind)) for kind in KINDS}
+        return ParametricMuSummary(
+            real_parameters=self.real_names,
+            real_block_sizes=self.ranks,
+            array_angles_deg=tuple(self.angle_deg.tolist()),
+            frequencies=len(self.omega),
+            fit_residual=float(self.residual),
+            analysis_plant_modes=self.modes,
+            seed=self.seed,
+            time_s=self.time_s,
+            stability=bounds["stability"],
+            performance=bounds["performance"],
+        )
+
+    def _bounds_summary(self, bounds: RealMuBounds) -> MuBoundsSummary:
+        worst = bounds.worst
+        return MuBoundsSummary(
+            mu_upper=float(bounds.peak_upper),
+            mu_lower=float(bounds.peak_lower),
+            gap=float(bounds.gap),
+            margin_upper=1.0 / bounds.peak_upper,
+            margin_lower=1.0 / bounds.peak_lower if bounds.peak_lower else None,
+            lmi_points=bounds.lmi_points,
+            worst=None
+            if worst is None
+            else MuWorstSummary(
+                omega_rad_s=worst.omega_rad_s,
+                array_angle_deg=float(self.angle_deg[worst.angle_index]),
+                determinant=worst.determinant,
+                clipped=worst.clipped,
+                normalized_unclipped=self._named(worst.normalized_unclipped),
+                normalized=self._named(worst.normalized),
+            ),
+        )
+
+    def _named(self, normalized: np.ndarray) -> dict[str, float]:
+        return dict(zip(self.parameter_names, normalized.tolist(), strict=True))
+
+
+@dataclass(frozen=True)
+class MuWorstSummary(Record):
+    """The lower bound's worst perturbation (:class:`WorstPerturbation`) in JSON form.
+
+    ``array_angle_deg`` is the grid's offset [deg]; ``normalized`` and
+    ``normalized_unclipped`` the parameters' box positions by name (the model's
+    parameters differ from one debris to another, hence a mapping).
+    """
+
+    omega_rad_s: float
+    array_angle_deg: float
+    determinant: float
+    clipped: bool
+    normalized_unclipped: dict[str, float]
+    normalized: dict[str, float]
+
+
+@dataclass(frozen=True)
+class MuBoundsSummary(Record):
+    """Peak bounds of one structure: ``margin_* = 1 / mu_*`` (``margin_lower`` None
+    when no lower bound was found); ``worst`` absent when no perturbation was found."""
+
+    mu_upper: float
+    mu_lower: float
+    gap: float
+    margin_upper: float
+    margin_lower: float | None
+    lmi_points: int
+    worst: MuWorstSummary | None = field(default=None, metadata=OPTIONAL)
+
+
+@dataclass(frozen=True)
+class ParametricMuSummary(Record):
+    """:meth:`ParametricMu.summary`: the grids, the fit and both bounds (``time_s`` [s])."""
+
+    real_parameters: tuple[str, ...]
+    real_block_sizes: tuple[int, ...]
+    array_angles_deg: tuple[float, ...]
+    frequencies: int
+    fit_residual: float
+    analysis_plant_modes: str
+    seed: int
+    time_s: float
+    stability: MuBoundsSummary
+    performance: MuBoundsSummary
 
 
 def top_frequencies(curve: np.ndarray, count: int) -> list[int]:

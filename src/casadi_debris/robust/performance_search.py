@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
+from casadi_debris.records import Record
 from casadi_debris.robust.design import (
     ControllerDesign,
     SynthesisSettings,
@@ -43,7 +44,7 @@ REFINEMENTS = 3
 
 
 @dataclass(frozen=True)
-class DesignAttempt:
+class DesignAttempt(Record):
     """One D-K design at one performance level.
 
     Attributes
@@ -70,19 +71,6 @@ class DesignAttempt:
     def guarantees(self) -> bool:
         """Whether the reduced controller has mu <= 1."""
         return self.guaranteed_pointing_arcsec is not None
-
-    def to_dict(self) -> dict[str, object]:
-        """JSON-ready."""
-        return {
-            "ve_ratio": self.ve_ratio,
-            "mu_peak": self.mu_peak,
-            "mu_peak_reduced": self.mu_peak_reduced,
-            "guaranteed_pointing_arcsec": None
-            if self.guaranteed_pointing_arcsec is None
-            else list(self.guaranteed_pointing_arcsec),
-            "iterations": self.iterations,
-            "time_s": self.time_s,
-        }
 
 
 @dataclass(frozen=True, eq=False)

@@ -31,6 +31,7 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
+from casadi_debris.records import Record
 from casadi_debris.robust.uncertainty import frequency_response
 from casadi_debris.robust.weights import PerformanceWeights, performance_weights
 from casadi_debris.units import ARCSEC_PER_DEG, MN_PER_N, SECONDS_PER_MINUTE
@@ -87,16 +88,30 @@ class DerivedScalings:
             disturbance_scaling=np.diag(self.disturbance_mNm),
         )
 
-    def to_dict(self) -> dict[str, object]:
-        """JSON-ready, units in the keys."""
-        return {
-            "error_scaling_deg": self.error_deg.tolist(),
-            "control_scaling_mNm": self.control_mNm.tolist(),
-            "disturbance_scaling_mNm": self.disturbance_mNm.tolist(),
-            "ve_ratio": self.ve_ratio,
-            "disturbance_frequency_rad_s": self.disturbance_frequency_rad_s,
-            "pointing_per_mu_arcsec": self.pointing_per_mu_arcsec.tolist(),
-        }
+    def figures(self) -> ScalingFigures:
+        """The scalings as a summary gives them, units in the names."""
+        return ScalingFigures(
+            error_scaling_deg=tuple(self.error_deg.tolist()),
+            control_scaling_mNm=tuple(self.control_mNm.tolist()),
+            disturbance_scaling_mNm=tuple(self.disturbance_mNm.tolist()),
+            ve_ratio=self.ve_ratio,
+            disturbance_frequency_rad_s=self.disturbance_frequency_rad_s,
+            pointing_per_mu_arcsec=tuple(self.pointing_per_mu_arcsec.tolist()),
+        )
+
+
+@dataclass(frozen=True)
+class ScalingFigures(Record):
+    """:class:`DerivedScalings` in a summary: Ve [deg], Vu and Vd [mNm] per axis, Ve over
+    the requirement's, the disturbance frequency [rad/s] and the pointing error per unit
+    of μ [arcsec] per axis."""
+
+    error_scaling_deg: tuple[float, ...]
+    control_scaling_mNm: tuple[float, ...]
+    disturbance_scaling_mNm: tuple[float, ...]
+    ve_ratio: float
+    disturbance_frequency_rad_s: float
+    pointing_per_mu_arcsec: tuple[float, ...]
 
 
 def authority_per_axis_mNm(geometry: Geometry) -> np.ndarray:

@@ -25,6 +25,7 @@ import logging
 import math
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -134,7 +135,6 @@ def rate_damping_stretch(
     is integrated (Runge-Kutta 4, ``SUBSTEPS`` steps).
     """
     inertia = ca.DM(inertia_kgm2)
-    inverse = ca.DM(np.linalg.inv(inertia_kgm2))
     omega = ca.SX.sym("omega", 3)
     momentum = inertia @ omega
     demand = -gain_per_s * momentum
@@ -147,18 +147,7 @@ def rate_damping_stretch(
         fastest = ca.if_else(score < best, ca.DM(vertex), fastest)
         best = ca.fmin(score, best)
     torque = ca.if_else(scale >= 1.0, demand, fastest)
-
-    def rate(w: ca.SX) -> ca.SX:
-        return inverse @ (torque - ca.cross(w, inertia @ w))
-
-    h = period_s / SUBSTEPS
-    w = omega
-    for _ in range(SUBSTEPS):
-        k1 = rate(w)
-        k2 = rate(w + h / 2 * k1)
-        k3 = rate(w + h / 2 * k2)
-        k4 = rate(w + h * k3)
-        w = w + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    w = held_torque_rates(inertia_kgm2, omega, torque, period_s, SUBSTEPS)
     step = ca.Function("detumble_step", [omega], [w, torque, ca.fmin(scale, 1.0)])
     compiler = c_compiler()
     if compiler is not None:
@@ -167,6 +156,37 @@ def rate_damping_stretch(
         except CompileError as exc:
             LOGGER.warning("the detumble runs on CasADi's virtual machine: %s", exc)
     return step.mapaccum("detumble_stretch", STRETCH_STEPS, [0], [0])
+
+
+def held_torque_rates(
+    inertia_kgm2: np.ndarray, omega: Any, torque: Any, duration_s: Any, substeps: int
+) -> Any:
+    """The rates after ``duration_s`` of ``J omega' = tau - omega x J omega`` with ``tau``
+    held (Runge-Kutta 4 in ``substeps`` steps), as a CasADi expression (SX or MX).
+
+    Parameters
+    ----------
+    inertia_kgm2 : ndarray, shape (3, 3)
+    omega, torque : CasADi expressions, shape (3,)
+        Rates at the start [rad/s] and the held torque [N m].
+    duration_s : float or CasADi expression
+    substeps : int
+    """
+    inertia = ca.DM(inertia_kgm2)
+    inverse = ca.DM(np.linalg.inv(inertia_kgm2))
+
+    def rate(w: Any) -> Any:
+        return inverse @ (torque - ca.cross(w, inertia @ w))
+
+    h = duration_s / substeps
+    w = omega
+    for _ in range(substeps):
+        k1 = rate(w)
+        k2 = rate(w + h / 2 * k1)
+        k3 = rate(w + h / 2 * k2)
+        k4 = rate(w + h * k3)
+        w = w + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    return w
 
 
 def detumble(

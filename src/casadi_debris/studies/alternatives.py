@@ -36,9 +36,7 @@ from casadi_debris.studies.failure_sets import (
     set_authority,
     weakest_axis,
 )
-from casadi_debris.units import MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
-
-G_PER_KG = 1e3
+from casadi_debris.units import G_PER_KG, MN_PER_N, MNM_PER_NM, SECONDS_PER_HOUR
 
 
 @dataclass(frozen=True)
@@ -69,10 +67,12 @@ class SwarmFigures(Record):
 
     ``fuel_per_torque_time_g_per_mNm_h``: grams of propellant per mN·m of pure torque held
     for an hour, per signed axis; ``single_failure`` and ``double_failure`` are None when
-    the swarm has too few CubeSats for such a set.
+    the swarm has too few CubeSats for such a set; ``problem_sha256`` hashes the problem
+    file (and the files it extends).
     """
 
     problem: str
+    problem_sha256: str
     cubesats: int
     engines: int
     swarm_mass_kg: float
@@ -177,6 +177,7 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
     ]
     return SwarmFigures(
         problem=problem.name,
+        problem_sha256=problem.sha256,
         cubesats=len(geometry.cubesats),
         engines=len(geometry.engines),
         swarm_mass_kg=float(sum(c.mass_kg for c in geometry.cubesats)),

@@ -49,9 +49,7 @@ from casadi_debris.orbit.transfer import check_transfer
 from casadi_debris.records import Record
 from casadi_debris.simulation.detumble import DetumbleResult, detumble
 from casadi_debris.studies.propellant_books import PhaseBook, PropellantBooks, detumble_engine_kg
-from casadi_debris.units import SECONDS_PER_DAY
-
-DAYS_PER_YEAR = 365.25
+from casadi_debris.units import DAYS_PER_YEAR, SECONDS_PER_DAY
 
 
 @dataclass(frozen=True)
@@ -84,10 +82,12 @@ class MissionSummary(Record):
     torque-free mix of the deorbit burn can use (per CubeSat in
     ``stranded_per_cubesat_kg``); ``propellant_left_kg`` all that is left after the
     burn, stranded included; ``capacity_per_stage_kg`` what each CubeSat's stages carry
-    when full (summed over its engines).
+    when full (summed over its engines). ``problem_sha256`` hashes the problem file (and
+    the files it extends).
     """
 
     problem: str
+    problem_sha256: str
     detumble_time_h: float | None
     transfer_dv_m_s: float
     transfer_time_days: float
@@ -300,6 +300,7 @@ def _summary(
     reentry = {c.solar: _finite(c.reentry_years) for c in plan.cases}
     return MissionSummary(
         problem=problem.name,
+        problem_sha256=problem.sha256,
         detumble_time_h=run.time_to_threshold_h,
         transfer_dv_m_s=dv_transfer,
         transfer_time_days=transfer_days,

@@ -293,8 +293,8 @@ def run_campaign_folder(
 
     Returns
     -------
-    dict
-        The campaign summary, as written to ``summary.json``.
+    CampaignSummary
+        What ``summary.json`` holds.
 
     Raises
     ------
@@ -319,14 +319,12 @@ def run_campaign_folder(
         outcomes, failures = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
         if not outcomes:
             raise CasesFailedError(failures)  # nothing to summarise; the folder stays
-        how = _identifying(problem, record, resolved, out, moved_to) | {
-            "workers": workers,
-            "scheduler": scheduler,
-            "resumed_cases": len(done),
-            "compiled_step": bool(jit and c_compiler()),
-            "failed_cases": [_failure_record(f) for f in failures],
-        }
-        summary = _summarise_and_write(folder, setup, model, identity, outcomes, how)
+        run = _described(
+            problem, record, identity, (resolved, out.absolute()), moved_to, workers=workers,
+            scheduler=scheduler, resumed_cases=len(done),
+            compiled_step=bool(jit and c_compiler()), failures=failures,
+        )  # fmt: skip
+        summary = _summarise_and_write(folder, setup, model, identity, outcomes, run)
         folder.finish()
     return summary
 
@@ -337,20 +335,36 @@ def _setup(problem: Problem, record: ControllerRecord, jit: bool, batch: int) ->
     return CampaignSetup.create(problem, record.reduced, reference, jit=jit, batch_cases=batch)
 
 
-def _identifying(
+def _described(
     problem: Problem,
     record: ControllerRecord,
-    controller_path: Path,
-    out: Path,
+    identity: CampaignRecord,
+    paths: tuple[Path, Path],
     moved_to: tuple[Path, Path] | None,
-) -> dict[str, str]:
-    """The files and plants a campaign summary names (paths as they will end up)."""
-    return {
-        "controller_path": str(_final(controller_path, moved_to)),
-        "plant_sha256": problem.plant_sha256,
-        "controller_plant_sha256": record.problem_sha256,
-        "out_dir": str(_final(out.absolute(), moved_to)),
-    }
+    *,
+    workers: int,
+    scheduler: str | None,
+    resumed_cases: int,
+    compiled_step: bool,
+    failures: list[CaseFailure],
+) -> CampaignRun:
+    """What was run and how, as the summary gives it beside the worst cases: the files
+    and plants it names (``paths``: the controller and the folder, as they will end up)."""
+    controller_path, out = (_final(path, moved_to) for path in paths)
+    return CampaignRun(
+        controller_path=str(controller_path),
+        controller_sha256=identity.controller_sha256,
+        plant_sha256=problem.plant_sha256,
+        controller_plant_sha256=record.problem_sha256,
+        out_dir=str(out),
+        case_kind=identity.case_kind,
+        seed=identity.seed,
+        workers=workers,
+        scheduler=scheduler,
+        resumed_cases=resumed_cases,
+        compiled_step=compiled_step,
+        failed_cases=[_failure_record(f) for f in failures],
+    )
 
 
 def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
@@ -375,16 +389,16 @@ def _summarise_and_write(
     model: Model,
     identity: CampaignRecord,
     outcomes: list[CaseOutcome],
-    how: dict[str, Any],
+    run: CampaignRun,
 ) -> CampaignSummary:
     """Run the nominal case, then write the campaign's tables, figures and summary."""
     problem = setup.problem
-    controller_path = Path(how["controller_path"])
+    controller_path = Path(run.controller_path)
     allocator = Allocator.from_problem(problem, model.geometry)
     nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
     statistics = statistics_of(
-        problem, outcomes, model.parameter_layout.names, len(how["failed_cases"])
+        problem, outcomes, model.parameter_layout.names, len(run.failed_cases)
     )
     LOGGER.info(
         "%s: %d of %d cases within %s <= %g",
@@ -395,7 +409,6 @@ def _summarise_and_write(
         statistics.requirement,
     )
     nominal_figures = {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS}
-    run = _described(identity, how)
     summary = campaign_summary(problem, setup, outcomes, nominal_figures, run, statistics)
     write_campaign(
         folder.partial,
@@ -420,16 +433,6 @@ def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) ->
         seed=cases[0].seed,
         case_ids=tuple(c.case_id for c in cases),
         envelope_bin_s=setup.bin_s,
-    )
-
-
-def _described(identity: CampaignRecord, how: dict[str, Any]) -> CampaignRun:
-    """What was run and how, as the summary gives it beside the worst cases."""
-    return CampaignRun(
-        controller_sha256=identity.controller_sha256,
-        case_kind=identity.case_kind,
-        seed=identity.seed,
-        **how,
     )
 
 

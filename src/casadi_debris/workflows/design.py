@@ -22,7 +22,7 @@ import logging
 import math
 import time
 from collections.abc import Callable
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Literal
 
@@ -36,6 +36,7 @@ from casadi_debris.report.design import (
     CampaignFigures,
     DesignFigures,
     DesignSummary,
+    RequirementRow,
     classical_markdown,
     design_markdown,
     requirement_rows,
@@ -189,7 +190,7 @@ def design_for_problem(
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, folders, workers, stage)
         limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
-        how = {"quick": quick, "workers": workers, "controller_path": str(out / "controller.json")}
+        how = _How(quick, workers, str(out / "controller.json"))
         figures = DesignFigures.present_in(staging)
         if search is not None:
             rows = requirement_rows(problem, search, margins, campaigns, limits)
@@ -227,8 +228,8 @@ def _record(search: DesignSearch) -> Any:
     record = search.design.record
     details = {
         **record.details,
-        "derived_scalings": search.scalings.to_dict(),
-        "performance_search": [a.to_dict() for a in search.attempts],
+        "derived_scalings": search.scalings.figures().to_json(),
+        "performance_search": [a.to_json() for a in search.attempts],
     }
     return replace(record, details=details)
 
@@ -250,17 +251,26 @@ def _classical(problem: Problem, method: ClassicalMethod) -> ControllerRecord:
     )
 
 
+@dataclass(frozen=True)
+class _How:
+    """How a design ran, as its summary records it (the controller as it will end up)."""
+
+    quick: bool
+    workers: int
+    controller_path: str
+
+
 def _summary(
     problem: Problem,
     search: DesignSearch | None,
     method: str,
-    rows: list[Any],
+    rows: list[RequirementRow],
     campaigns: dict[str, CampaignSummary],
     out: Path,
     started: float,
-    how: dict[str, Any],
+    how: _How,
 ) -> DesignSummary:
-    """What ``summary.json`` holds (``how``: quick, workers, controller_path)."""
+    """What ``summary.json`` holds."""
     judged = [row for row in rows if row.met is not None]
     figures = {name: CampaignFigures(c.cases, c.worst, c.nominal) for name, c in campaigns.items()}
     chosen = None if search is None else search.chosen
@@ -276,15 +286,15 @@ def _summary(
         mu_peak_reduced=None if chosen is None else chosen.mu_peak_reduced,
         guaranteed_pointing_arcsec=None if guaranteed is None else list(guaranteed),
         required_pointing_arcsec=problem.requirements.pointing_arcsec,
-        scalings=derived_scalings(problem).to_dict()
-        if search is None
-        else search.scalings.to_dict(),
-        attempts=[] if search is None else [a.to_dict() for a in search.attempts],
+        scalings=(derived_scalings(problem) if search is None else search.scalings).figures(),
+        attempts=() if search is None else tuple(search.attempts),
         seed=None if search is None else search.design.samples.seed,
         slew=figures["slew"],
         pointing=figures["pointing"],
-        rows=[row.to_dict() for row in rows],
+        rows=tuple(row.entry() for row in rows),
         time_s=time.perf_counter() - started,
         out_dir=str(out.absolute()),
-        **how,
+        quick=how.quick,
+        workers=how.workers,
+        controller_path=how.controller_path,
     )

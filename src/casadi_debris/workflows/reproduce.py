@@ -16,16 +16,16 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem, default_problem_path, load_problem, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.describe import describe_model
+from casadi_debris.report.describe import ModelDescription, describe_model
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.report.reproduce import (
+    ControllerFigures,
     ReproductionRow,
     ReproductionSummary,
     report_markdown,
@@ -195,16 +195,6 @@ def _slew_duration_s(slew_problem: Problem) -> float | None:
     return slew.duration_s
 
 
-def _controller_figures(record: ControllerRecord) -> dict[str, Any]:
-    """Peak mu and orders of the controller, as the reproduction rows read them."""
-    return {
-        "mu_peak": record.mu_peak,
-        "mu_peak_reduced": record.mu_peak_reduced,
-        "order_full": None if record.full is None else record.full.nstates,
-        "order_reduced": record.reduced.nstates,
-    }
-
-
 def reproduce_paper(
     out: str | Path,
     *,
@@ -236,7 +226,7 @@ def reproduce_paper(
     Returns
     -------
     ReproductionSummary
-        What ``summary.json`` holds: the rows (``ReproductionRow.to_dict``), with
+        What ``summary.json`` holds: the rows (``ReproductionRow.entry``), with
         ``reproduced`` of ``rows``.
     """
     started = time.perf_counter()
@@ -271,7 +261,7 @@ def reproduce_paper(
             time_s=time.perf_counter() - started,
             reproduced=sum(row.reproduced is True for row in rows),
             rows=len(rows),
-            table=[row.to_dict() for row in rows],
+            table=tuple(row.entry() for row in rows),
             out_dir=str(out.absolute()),
         )
         _write_report(staging, rows, summary)
@@ -280,7 +270,7 @@ def reproduce_paper(
 
 def _rows(
     problem: Problem,
-    model_summary: dict[str, Any],
+    model_summary: ModelDescription,
     budgets: dict[str, float],
     record: ControllerRecord,
     margins: MarginReport,
@@ -292,7 +282,7 @@ def _rows(
     return reproduction_rows(
         model_summary,
         budgets,
-        _controller_figures(record),
+        ControllerFigures.of(record),
         margins,
         campaigns["slew"],
         slew_duration_s,

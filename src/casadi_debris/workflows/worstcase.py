@@ -22,7 +22,11 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.model import build_model
 from casadi_debris.report.folders import RunFolder, check_output_folder
-from casadi_debris.report.worstcase import write_worst_cases
+from casadi_debris.report.worstcase import (
+    WorstCaseIdentity,
+    WorstCaseSummary,
+    write_worst_cases,
+)
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.parametric_mu import ParametricMu, parametric_mu
 from casadi_debris.robust.weights import recorded_performance_weights
@@ -128,9 +132,9 @@ def run_worstcase_folder(
     campaign: str | Path | None = None,
     overwrite: bool = False,
     **options: Any,
-) -> dict[str, Any]:
+) -> WorstCaseSummary:
     """:func:`worst_cases` written into the folder ``out`` (see
-    :mod:`casadi_debris.report.worstcase`); returns the summary.
+    :mod:`casadi_debris.report.worstcase`); returns what ``summary.json`` holds.
 
     ``campaign``: a finished corner campaign folder of the same problem, whose
     envelope the worst run is drawn over and whose worst case it is compared with.
@@ -139,14 +143,14 @@ def run_worstcase_folder(
     out = Path(out)
     check_output_folder(out, overwrite=overwrite)
     found = worst_cases(problem, controller_path, **options)
-    identity = {
-        "problem": problem.name,
-        "problem_sha256": problem.sha256,
-        "plant_sha256": problem.plant_sha256,
-        "controller_path": str(found.controller_path),
-        "controller_plant_sha256": found.record.problem_sha256,
-        "out_dir": str(out.absolute()),
-    }
+    identity = WorstCaseIdentity(
+        problem=problem.name,
+        problem_sha256=problem.sha256,
+        plant_sha256=problem.plant_sha256,
+        controller_path=str(found.controller_path),
+        controller_plant_sha256=found.record.problem_sha256,
+        out_dir=str(out.absolute()),
+    )
     with RunFolder.claim(out, overwrite=overwrite, command="worstcase") as staging:
         return write_worst_cases(
             staging,
