@@ -12,11 +12,11 @@ from scipy.integrate import quad, solve_ivp
 from casadi_debris.orbit.atmosphere import SOLAR_CASES, density_table
 from casadi_debris.orbit.lifetime import (
     REENTRY_PERIGEE_KM,
-    SECONDS_PER_YEAR,
     Burn,
     Earth,
     propagate_decay,
 )
+from casadi_debris.units import SECONDS_PER_YEAR
 
 EARTH = Earth(mu_m3_s2=3.986004418e14, radius_m=6378137.0)
 STILL_EARTH = Earth(mu_m3_s2=3.986004418e14, radius_m=6378137.0, rotation_rad_s=0.0)

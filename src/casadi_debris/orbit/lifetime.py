@@ -46,10 +46,9 @@ from scipy.integrate import solve_ivp
 
 from casadi_debris.config import Problem
 from casadi_debris.environment.orbit import EARTH_ROTATION_RAD_S
-from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
+from casadi_debris.units import M_PER_KM, SECONDS_PER_YEAR
 
 REENTRY_PERIGEE_KM = 120.0
-SECONDS_PER_YEAR = 365.25 * SECONDS_PER_DAY
 # Trapezoid nodes over the orbit, by the altitude swing a e: the integrand goes as
 # exp((a e / H) cos E), whose n-th Fourier term falls as (a e / 2H)^n / n!, so that
 # 8 nodes are exact to rounding below a e = 5 km and 32 below 150 km (H >= 20 km).

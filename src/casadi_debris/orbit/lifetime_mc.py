@@ -29,9 +29,10 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.orbit.atmosphere import density_table, log_interp
 from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
-from casadi_debris.orbit.lifetime import SECONDS_PER_YEAR, DensityFunction
+from casadi_debris.orbit.lifetime import DensityFunction
 from casadi_debris.parallel import ItemFailure, no_context, parallel_map
 from casadi_debris.records import Record
+from casadi_debris.units import SECONDS_PER_YEAR
 
 CYCLE_YEARS = 11.0
 CYCLE_MIN_SFU = 65.0
