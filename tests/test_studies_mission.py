@@ -169,3 +169,15 @@ def test_an_existing_folder_is_refused_before_any_progress_line(tmp_path: Path):
     result = CliRunner().invoke(main, ["mission", "--out", str(out)])
     assert result.exit_code == 2 and result.stderr.count("\n") == 1, result.stderr
     assert "--out" in result.stderr and (out / "notes.txt").read_text() == "mine"
+
+
+@pytest.mark.slow
+def test_the_extra_stages_asked_for_make_a_swarm_that_meets_the_rule(tmp_path: Path, paper_mission):
+    summary = paper_mission.summary
+    extra = summary.extra_stages_needed
+    assert not summary.meets_five_year_rule and extra is not None and extra >= 1
+    # Built independently: a swarm whose engines carry that many more stages from launch.
+    path = tmp_path / "more_stages.toml"
+    path.write_text(f'extends = "paper"\nname = "more"\n\n[engine]\nstages = {3 + extra}\n')
+    topped = plan_mission(load_problem(path), DeorbitSettings(minimum_swarm=False, samples=0))
+    assert topped.summary.meets_five_year_rule and topped.summary.extra_stages_needed == 0

@@ -80,6 +80,11 @@ def mission(
         f"{verdict} the {summary.limit_years:g}-year rule; deorbit Δv left after transfer and "
         f"detumble {left:.1f} of {capacity:.1f} m/s"
     )
+    extra = summary.extra_stages_needed
+    if extra is None:
+        click.echo("more stages per engine would not meet it: the swarm itself must change")
+    elif extra:
+        click.echo(f"{extra} more stage(s) on every engine would meet it")
     click.echo(
         f"propellant used {summary.propellant_used_kg:.3f} of {summary.propellant_total_kg:.3f}"
         f" kg; stranded (no torque-free mix can burn it) {summary.propellant_stranded_kg:.3f} kg"

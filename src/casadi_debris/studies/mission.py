@@ -51,6 +51,9 @@ from casadi_debris.simulation.detumble import DetumbleResult, detumble
 from casadi_debris.studies.propellant_books import PhaseBook, PropellantBooks, detumble_engine_kg
 from casadi_debris.units import DAYS_PER_YEAR, SECONDS_PER_DAY
 
+MAX_EXTRA_STAGES = 10
+"""More stages per engine than this is another swarm, not the same one topped up."""
+
 
 @dataclass(frozen=True)
 class MissionPhase(Record):
@@ -83,7 +86,9 @@ class MissionSummary(Record):
     ``stranded_per_cubesat_kg``); ``propellant_left_kg`` all that is left after the
     burn, stranded included; ``capacity_per_stage_kg`` what each CubeSat's stages carry
     when full (summed over its engines). ``problem_sha256`` hashes the problem file (and
-    the files it extends).
+    the files it extends). ``extra_stages_needed``: how many more stages on every engine
+    would make the mission meet the rule (0 when it does; None when
+    :data:`MAX_EXTRA_STAGES` would not).
     """
 
     problem: str
@@ -97,6 +102,7 @@ class MissionSummary(Record):
     reentry_years: dict[str, float | None]
     deorbit_dv_needed_m_s: dict[str, float | None]
     meets_five_year_rule: bool
+    extra_stages_needed: int | None
     limit_years: float
     governing_case: str
     propellant_total_kg: float
@@ -231,7 +237,8 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
     tumble = detumble(problem)
     pages.append(books.burn("detumble", detumble_engine_kg(problem, tumble)))
     full = swarm_thrust(problem, geometry)
-    thrust = thrust_left(problem, geometry, books.left_impulse_Ns(), full)
+    left_Ns = books.left_impulse_Ns()  # before the deorbit burn
+    thrust = thrust_left(problem, geometry, left_Ns, full)
     mass = geometry.mass_kg - float(books.used_kg.sum())
     model = DeorbitModel.from_problem(problem, settings, thrust=thrust, mass_kg=mass)
     plan = plan_deorbit(problem, settings, model=model)
@@ -245,10 +252,41 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
     capacity = dataclasses.replace(
         model, thrust=full, decay=model.decay.with_mass(geometry.mass_kg)
     ).capacity_dv_m_s
+    extra = 0
+    if not plan.meets_five_year_rule:
+        stage_kg = float((full.stage_impulse_Ns / books.exhaust_m_s).sum())
+        extra = extra_stages_needed(problem, settings, (geometry, full), (left_Ns, mass, stage_kg))
     summary = _summary(
         problem, plan, tumble, (dv_transfer, transfer_s), books, pages, stranded, capacity
     )
+    summary = dataclasses.replace(summary, extra_stages_needed=extra)
     return Mission(summary, tumble, tuple(trajectories), plan, model)
+
+
+def extra_stages_needed(
+    problem: Problem,
+    settings: DeorbitSettings,
+    swarm: tuple[Geometry, SwarmThrust],
+    before_burn: tuple[np.ndarray, float, float],
+) -> int | None:
+    """The fewest more stages on every engine with which the deorbit meets the rule.
+
+    ``before_burn`` is what the swarm has when the deorbit burn starts: each engine's
+    impulse left [N s], shape (n_engines,), the mass [kg], and one more stage's
+    propellant on every engine [kg]. Each extra stage adds a full stage's impulse to
+    every engine and its propellant to the mass; the deorbit is then planned again (its
+    least Δv grows with the mass). None when :data:`MAX_EXTRA_STAGES` would not do.
+    """
+    geometry, full = swarm
+    left_Ns, mass_kg, stage_kg = before_burn
+    for extra in range(1, MAX_EXTRA_STAGES + 1):
+        topped_Ns = left_Ns + extra * full.stage_impulse_Ns
+        thrust = thrust_left(problem, geometry, topped_Ns, full)
+        heavier = mass_kg + extra * stage_kg
+        model = DeorbitModel.from_problem(problem, settings, thrust=thrust, mass_kg=heavier)
+        if plan_deorbit(problem, settings, model=model).meets_five_year_rule:
+            return extra
+    return None
 
 
 def _trajectory(
@@ -310,6 +348,7 @@ def _summary(
         reentry_years=reentry,
         deorbit_dv_needed_m_s={c.solar: _finite(c.deorbit_dv_m_s) for c in plan.cases},
         meets_five_year_rule=all(y is not None and y <= plan.limit_years for y in reentry.values()),
+        extra_stages_needed=0,
         limit_years=plan.limit_years,
         governing_case=plan.governing_case,
         propellant_total_kg=float(books.capacity_kg.sum()),
