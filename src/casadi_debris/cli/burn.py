@@ -9,16 +9,12 @@ import click
 
 from casadi_debris.cli.common import (
     BoundedFloat,
-    allow_mismatch_option,
-    controller_option,
+    controller_options,
     echo_json,
-    friendly_errors,
-    json_option,
     main,
     no_jit_option,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
 )
 from casadi_debris.config import load_problem
@@ -71,13 +67,9 @@ DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
     help="Start with every engine's first stage holding this much full-thrust time [s] "
     "(to see stages switch in a short burn) [full].",
 )
-@controller_option
-@allow_mismatch_option
+@controller_options
 @no_jit_option
-@out_folder_option("burn")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("burn")
 def burn(
     problem_file: Path | None,
     direction: str,

@@ -10,12 +10,9 @@ import click
 from casadi_debris.cli.common import (
     BoundedFloat,
     echo_json,
-    friendly_errors,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
 )
 from casadi_debris.config import load_problem
@@ -58,10 +55,7 @@ MAX_RATE_RAD_S = 100.0
     is_flag=True,
     help="Skip the time-optimal detumble (averaged OCP, about 20 s).",
 )
-@out_folder_option("detumble")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("detumble")
 def detumble(
     problem_file: Path | None,
     rate_rad_s: str | None,

@@ -8,18 +8,14 @@ from typing import TYPE_CHECKING, Any
 import click
 
 from casadi_debris.cli.common import (
-    allow_mismatch_option,
     batch_option,
-    controller_option,
+    controller_options,
     echo_json,
-    friendly_errors,
     is_quiet,
-    json_option,
     main,
     no_jit_option,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
     workers_option,
 )
@@ -126,15 +122,11 @@ def _text(summary: FailureStudyRecord) -> str:
     help="Corners each of those flies, spread evenly over the set.",
 )
 @click.option("--quick", is_flag=True, help="A shorter pointing run (as design --quick).")
-@controller_option
-@allow_mismatch_option
+@controller_options
 @workers_option
 @no_jit_option
 @batch_option
-@out_folder_option("failures")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("failures")
 def failures(
     problem_file: Path | None,
     max_failed: int,

@@ -9,12 +9,9 @@ import click
 
 from casadi_debris.cli.common import (
     echo_json,
-    friendly_errors,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
 )
 from casadi_debris.cli.deorbit import limit_years_option, solar_cases, solar_option
@@ -27,10 +24,7 @@ from casadi_debris.report.folders import check_output_folder, default_run_folder
 @problem_argument
 @solar_option
 @limit_years_option
-@out_folder_option("mission")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("mission")
 def mission(
     problem_file: Path | None,
     solar: str,

@@ -15,12 +15,9 @@ from casadi_debris.cli.common import (
     BoundedFloat,
     comma_list,
     echo_json,
-    friendly_errors,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
 )
 from casadi_debris.config import load_problem
@@ -126,10 +123,7 @@ def parse_inertia(text: str | None) -> tuple[float, float, float] | None:
     show_default=True,
     help="Seconds for the MILP (each one of the sweep too).",
 )
-@out_folder_option("placement")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("placement")
 def placement(
     problem_file: Path | None,
     count: int | None,

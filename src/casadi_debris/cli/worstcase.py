@@ -8,18 +8,14 @@ from typing import TYPE_CHECKING
 import click
 
 from casadi_debris.cli.common import (
-    allow_mismatch_option,
-    controller_option,
+    controller_options,
     counter_progress,
     echo_json,
-    friendly_errors,
     in_range,
     is_quiet,
-    json_option,
     main,
-    out_folder_option,
-    overwrite_option,
     problem_argument,
+    run_folder_options,
     say,
 )
 from casadi_debris.config import limits, load_problem
@@ -32,8 +28,7 @@ if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the comma
 
 @main.command()
 @problem_argument
-@controller_option
-@allow_mismatch_option
+@controller_options
 @click.option(
     "--budget",
     type=click.IntRange(1, 1000),
@@ -57,10 +52,7 @@ if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the comma
     help="A finished corner campaign (montecarlo --out) to compare with and draw under the "
     "worst run.",
 )
-@out_folder_option("worstcase")
-@overwrite_option
-@json_option
-@friendly_errors
+@run_folder_options("worstcase")
 def worstcase(
     problem_file: Path | None,
     controller_path: Path | None,
