@@ -252,7 +252,7 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
     capacity = dataclasses.replace(
         model, thrust=full, decay=model.decay.with_mass(geometry.mass_kg)
     ).capacity_dv_m_s
-    extra = 0
+    extra: int | None = 0
     if not plan.meets_five_year_rule:
         stage_kg = float((full.stage_impulse_Ns / books.exhaust_m_s).sum())
         extra = extra_stages_needed(problem, settings, (geometry, full), (left_Ns, mass, stage_kg))
