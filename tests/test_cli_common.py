@@ -104,6 +104,7 @@ def test_allocate_options_are_the_allocators_own() -> None:
     assert allocate.DEFAULT_SOLVER == allocation.DEFAULT_SOLVER
 
 
+@pytest.mark.slow
 def test_quiet_prints_no_progress_and_verbose_logs_the_stages(tmp_path) -> None:
     from casadi_debris.config import default_problem_path
 

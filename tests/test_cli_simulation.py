@@ -392,6 +392,7 @@ def test_montecarlo_samples_are_reproducible(short_slew: Path, tmp_path: Path) -
     assert [r["seed"] for r in tables[0]] == ["11", "11"]
 
 
+@pytest.mark.slow
 def test_montecarlo_on_dask_gives_the_same_numbers(short_slew: Path, tmp_path: Path) -> None:
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True) as cluster:

@@ -176,6 +176,7 @@ def test_thruster_level_fuel_optimal_respects_engines(
     assert np.linalg.norm(error) < 1e-5
 
 
+@pytest.mark.slow
 def test_thruster_level_zero_net_force_at_a_torque_fraction(
     problem: Problem, geometry: Geometry
 ) -> None:

@@ -93,6 +93,7 @@ def test_zero_vibration_shaper_option_says_so(problem: Problem, rigid_optimum: A
     assert slew.residual_energy_J <= slew.settings["residual_energy_limit_J"]
 
 
+@pytest.mark.slow
 def test_flexible_slew_about_an_axis_that_excites_no_mode(problem: Problem) -> None:
     slew = time_optimal_slew(problem, "x", math.pi / 2, flexible=True)
     assert slew.settings["flexible_method"] == "ocp"
@@ -125,6 +126,7 @@ def test_flexible_fuel_optimal_meets_the_limit_for_about_the_rigid_fuel(
     assert modal_energy(problem, model, final) <= slew.settings["residual_energy_limit_J"]
 
 
+@pytest.mark.slow
 def test_flexible_fuel_optimal_just_above_the_flexible_minimum(
     problem: Problem, flexible_optimum: Any
 ) -> None:
