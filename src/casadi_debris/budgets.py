@@ -22,6 +22,7 @@ from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
 
 # Edelbaum's formula lives with the transfer; re-exported here, beside the other budget lines.
+from casadi_debris.orbit.transfer import transfer_dv_m_s
 from casadi_debris.orbit.transfer_averaged import edelbaum_dv as edelbaum_dv
 from casadi_debris.units import SECONDS_PER_HOUR
 
@@ -189,15 +190,10 @@ def _rocket_equation_items(
 
 def _transfer_item(problem: Problem) -> BudgetItem:
     """Edelbaum Δv of the problem's orbit transfer."""
-    constants, transfer = problem.constants, problem.transfer
+    transfer = problem.transfer
     return BudgetItem(
         "dv_transfer_m_s",
-        edelbaum_dv(
-            constants.earth_mu_km3_s2,
-            constants.earth_radius_km + transfer.from_altitude_km,
-            constants.earth_radius_km + transfer.to_altitude_km,
-            math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
-        ),
+        transfer_dv_m_s(problem),
         f"Edelbaum, circular {transfer.from_altitude_km:g} km /"
         f" {transfer.from_inclination_deg:g} deg -> {transfer.to_altitude_km:g} km /"
         f" {transfer.to_inclination_deg:g} deg",

@@ -34,12 +34,10 @@ def transfer(
     propellant, stages per CubeSat, and whether the swarm's own stages suffice
     (if not: how far they get and what more it takes).
     """
-    from casadi_debris.config.checks import check_transfer_end
     from casadi_debris.orbit.transfer import check_transfer
     from casadi_debris.workflows.transfer import transfer_into
 
     problem = load_problem(problem_file)
-    check_transfer_end(problem)
     check_transfer(problem)
     folder = out or default_run_folder("transfer", problem.name)
     check_output_folder(folder, overwrite=overwrite)

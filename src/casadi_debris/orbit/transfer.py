@@ -27,6 +27,7 @@ from dataclasses import dataclass
 import casadi as ca
 
 from casadi_debris.config import Problem
+from casadi_debris.config.checks import check_transfer_end
 from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular
@@ -211,21 +212,30 @@ def _solve_ocp(
         data = dataclasses.replace(data, burns=burns[:count])
 
 
+def transfer_dv_m_s(problem: Problem) -> float:
+    """Edelbaum's Δv [m/s] between the ``[transfer]`` table's circular orbits (0 for one
+    orbit written twice), unchecked."""
+    constants, transfer = problem.constants, problem.transfer
+    return edelbaum_dv(
+        constants.earth_mu_km3_s2,
+        constants.earth_radius_km + transfer.from_altitude_km,
+        constants.earth_radius_km + transfer.to_altitude_km,
+        math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
+    )
+
+
 def check_transfer(problem: Problem) -> float:
     """Edelbaum's Δv [m/s] of the problem's ``[transfer]``, refusing one with nothing to do.
 
     Raises
     ------
     ProblemFileError
-        The from and to orbits are the same.
+        The transfer does not end on the debris' ``[orbit]``
+        (:func:`~casadi_debris.config.checks.check_transfer_end`), or the from and to
+        orbits are the same.
     """
-    constants, transfer = problem.constants, problem.transfer
-    dv = edelbaum_dv(
-        constants.earth_mu_km3_s2,
-        constants.earth_radius_km + transfer.from_altitude_km,
-        constants.earth_radius_km + transfer.to_altitude_km,
-        math.radians(abs(transfer.to_inclination_deg - transfer.from_inclination_deg)),
-    )
+    check_transfer_end(problem)
+    dv = transfer_dv_m_s(problem)
     if dv <= 0.0:
         raise ProblemFileError("transfer", "the from and to orbits are the same: nothing to do")
     return dv

@@ -38,14 +38,13 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.config.checks import check_transfer_end
-from casadi_debris.errors import ProblemFileError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
 from casadi_debris.orbit.atmosphere import solar_case
 from casadi_debris.orbit.curves import CaseTrajectory
 from casadi_debris.orbit.deorbit import DeorbitCase, DeorbitModel
 from casadi_debris.orbit.propulsion import DIRECTION_DECIMALS, SwarmThrust, swarm_thrust
-from casadi_debris.orbit.transfer import check_transfer
+from casadi_debris.orbit.transfer import transfer_dv_m_s
 from casadi_debris.records import Record
 from casadi_debris.simulation.detumble import DetumbleResult, detumble
 from casadi_debris.studies.propellant_books import PhaseBook, PropellantBooks, detumble_engine_kg
@@ -146,10 +145,7 @@ def transfer_per_engine(problem: Problem) -> tuple[float, np.ndarray, np.ndarray
     [s], shape (n_cubesats,)."""
     g0 = problem.constants.standard_gravity_m_s2
     check_transfer_end(problem)
-    try:
-        dv = check_transfer(problem)
-    except ProblemFileError:  # launched into the debris' orbit: nothing to transfer
-        dv = 0.0
+    dv = transfer_dv_m_s(problem)  # 0 for CubeSats launched into the debris' orbit
     engine_kg = np.zeros(len(problem.engines))
     time_s = []
     first = 0
