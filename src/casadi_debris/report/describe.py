@@ -105,6 +105,9 @@ def describe_model(problem: Problem) -> ModelDescription:
     """The combined system in display units (the ``casadi-debris model`` output)."""
     model = build_model(problem)
     geometry = model.geometry
+    zero_force_mNm = {
+        k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
+    }
     return ModelDescription(
         problem=problem.name,
         problem_path=problem.source,
@@ -115,20 +118,18 @@ def describe_model(problem: Problem) -> ModelDescription:
         inertia_total_kgm2=_matrix(geometry.inertia_total_kgm2),
         array_angle_deg=tuple(array.angle_deg for array in problem.arrays),
         torque_max_mNm={k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
-        torque_max_zero_force_mNm={
-            k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
-        },
+        torque_max_zero_force_mNm=zero_force_mNm,
         modes=_modes(problem, model),
         thrusters=_thrusters(problem, geometry),
-        notes=tuple(_notes(problem, model.parameter_names) + _authority_notes(problem, geometry)),
+        notes=tuple(
+            _notes(problem, model.parameter_names) + _authority_notes(problem, zero_force_mNm)
+        ),
     )
 
 
-def _authority_notes(problem: Problem, geometry: Geometry) -> list[str]:
-    """Body axes the engines cannot hold against the disturbance at zero net force."""
-    zero_force_mNm = {
-        k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
-    }
+def _authority_notes(problem: Problem, zero_force_mNm: dict[str, float]) -> list[str]:
+    """Body axes the engines cannot hold against the disturbance at zero net force
+    (``zero_force_mNm``: the authority by signed axis [mN m])."""
     notes = []
     for index, axis in enumerate("xyz"):
         disturbance_mNm = float(problem.disturbance.amplitude_mNm[index])
