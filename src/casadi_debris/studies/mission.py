@@ -253,9 +253,8 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
         stage_kg = float((full.stage_impulse_Ns / books.exhaust_m_s).sum())
         extra = extra_stages_needed(problem, settings, (geometry, full), (left_Ns, mass, stage_kg))
     summary = _summary(
-        problem, plan, tumble, (dv_transfer, transfer_s), books, pages, stranded, capacity
+        problem, plan, tumble, (dv_transfer, transfer_s), books, pages, stranded, (capacity, extra)
     )
-    summary = dataclasses.replace(summary, extra_stages_needed=extra)
     return Mission(summary, tumble, tuple(trajectories), plan, model)
 
 
@@ -308,10 +307,13 @@ def _summary(
     books: PropellantBooks,
     pages: list[PhaseBook],
     stranded: np.ndarray,
-    capacity_dv_m_s: float,
+    capacity_and_extra: tuple[float, int | None],
 ) -> MissionSummary:
-    """The summary and the timeline (the governing case's burn and decay)."""
+    """The summary and the timeline (the governing case's burn and decay);
+    ``capacity_and_extra``: the deorbit Δv with full tanks [m/s] and the extra stages
+    on every engine that would meet the rule."""
     dv_transfer, transfer_s = transfer
+    capacity_dv_m_s, extra_stages = capacity_and_extra
     run = tumble.summary
     governing = next(c for c in plan.cases if c.solar == plan.governing_case)
     transfer_days = float(transfer_s.max()) / SECONDS_PER_DAY
@@ -344,7 +346,7 @@ def _summary(
         reentry_years=reentry,
         deorbit_dv_needed_m_s={c.solar: _finite(c.deorbit_dv_m_s) for c in plan.cases},
         meets_five_year_rule=all(y is not None and y <= plan.limit_years for y in reentry.values()),
-        extra_stages_needed=0,
+        extra_stages_needed=extra_stages,
         limit_years=plan.limit_years,
         governing_case=plan.governing_case,
         propellant_total_kg=float(books.capacity_kg.sum()),
