@@ -14,13 +14,13 @@ from casadi_debris.cli.common import (
     main,
     no_jit_option,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 from casadi_debris.units import SECONDS_PER_HOUR
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
@@ -108,8 +108,7 @@ def burn(
         allow_mismatch=allow_mismatch,
         jit=not no_jit,
     )
-    folder = out or default_run_folder("burn", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "burn", problem.name, overwrite)
     burn_plan(problem, request)  # refuses what cannot be flown before the long part
     controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
     say(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")

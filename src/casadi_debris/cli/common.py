@@ -79,6 +79,16 @@ def out_folder_option(command: str) -> Decorator:
     return folder_option(f"Run folder [runs/{command}-<problem>].")
 
 
+def run_folder(out: Path | None, command: str, problem_name: str, overwrite: bool) -> Path:
+    """The run folder ``--out`` names (default ``runs/<command>-<problem>``), checked
+    before any work or progress line, so that a refusal is the only line printed."""
+    from casadi_debris.report.folders import check_output_folder, default_run_folder
+
+    folder = out or default_run_folder(command, problem_name)
+    check_output_folder(folder, overwrite=overwrite)
+    return folder
+
+
 controller_option = click.option(
     "--controller",
     "controller_path",

@@ -15,6 +15,7 @@ from casadi_debris.cli.common import (
     echo_json,
     main,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
     workers_option,
@@ -23,7 +24,6 @@ from casadi_debris.config import load_problem
 from casadi_debris.config.limits import SEED
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 MAX_SAMPLES = 100_000
 
@@ -118,8 +118,7 @@ def deorbit(
         seed=seed,
         workers=workers,
     )
-    folder = out or default_run_folder("deorbit", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "deorbit", problem.name, overwrite)
     say(f"Planning the deorbit of {problem.name} ({', '.join(settings.solar)} solar activity) ...")
     report = deorbit_into(problem, folder, settings, overwrite=overwrite)
     if as_json:

@@ -12,13 +12,13 @@ from casadi_debris.cli.common import (
     out_folder_option,
     output_options,
     problem_argument,
+    run_folder,
     uncertainty_sample_options,
     workers_option,
 )
 from casadi_debris.cli.reproduce import echo_verdicts
 from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import load_problem
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 if TYPE_CHECKING:
     from casadi_debris.workflows.design import DesignMethod
@@ -62,8 +62,7 @@ def design(
     from casadi_debris.workflows.design import design_for_problem
 
     problem = load_problem(problem_file)
-    folder = out or default_run_folder("design", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "design", problem.name, overwrite)
     settings = SynthesisSettings(samples=samples, seed=seed)
 
     summary = design_for_problem(

@@ -12,13 +12,13 @@ from casadi_debris.cli.common import (
     echo_json,
     main,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 MAX_RATE_RAD_S = 100.0
 
@@ -80,8 +80,7 @@ def detumble(
 
     problem = load_problem(problem_file)
     rate = None if rate_rad_s is None else _rates(rate_rad_s)
-    folder = out or default_run_folder("detumble", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "detumble", problem.name, overwrite)
     say(f"Detumbling {problem.name} (rigid body, {period_s:g} s control period) ...")
     report = detumble_into(
         problem,

@@ -15,6 +15,7 @@ from casadi_debris.cli.common import (
     main,
     no_jit_option,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
     workers_option,
@@ -22,7 +23,6 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 if TYPE_CHECKING:
     from casadi_debris.studies.failure_records import FailureStudyRecord
@@ -154,8 +154,7 @@ def failures(
         raise InputShapeError(
             f"--max-failed: between 1 and {count} (the problem's CubeSats); got {max_failed}"
         )
-    folder = out or default_run_folder("failures", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "failures", problem.name, overwrite)
     from casadi_debris.studies.failures import FailureSettings
     from casadi_debris.workflows.failures import failures_folder
 

@@ -11,13 +11,13 @@ from casadi_debris.cli.common import (
     echo_json,
     main,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
 )
 from casadi_debris.cli.deorbit import limit_years_option, solar_cases, solar_option
 from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 
 @main.command()
@@ -49,8 +49,7 @@ def mission(
 
     problem = load_problem(problem_file)
     check_transfer_end(problem)
-    folder = out or default_run_folder("mission", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "mission", problem.name, overwrite)
     settings = DeorbitSettings(solar=cases, limit_years=limit_years, minimum_swarm=False, samples=0)
     say(f"Mission of {problem.name}: transfer, detumble, deorbit, decay ...")
     summary = mission_into(problem, folder, settings=settings, overwrite=overwrite)

@@ -18,6 +18,7 @@ from casadi_debris.cli.common import (
     main,
     output_options,
     problem_argument,
+    run_folder,
     say,
     uncertainty_sample_options,
 )
@@ -160,8 +161,7 @@ def margins(
 
     problem = load_problem(problem_file)
     record, path = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
-    folder = out_dir or default_run_folder("margins", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out_dir, "margins", problem.name, overwrite)
 
     def progress(done: int, total: int) -> None:
         say(f"  {done}/{total} sampled plants")

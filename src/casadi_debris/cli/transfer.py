@@ -7,10 +7,16 @@ from typing import Any
 
 import click
 
-from casadi_debris.cli.common import echo_json, main, problem_argument, run_folder_options, say
+from casadi_debris.cli.common import (
+    echo_json,
+    main,
+    problem_argument,
+    run_folder,
+    run_folder_options,
+    say,
+)
 from casadi_debris.config import load_problem
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder, default_run_folder
 
 
 @main.command()
@@ -39,8 +45,7 @@ def transfer(
 
     problem = load_problem(problem_file)
     check_transfer(problem)
-    folder = out or default_run_folder("transfer", problem.name)
-    check_output_folder(folder, overwrite=overwrite)
+    folder = run_folder(out, "transfer", problem.name, overwrite)
     say(f"Planning the transfer of {problem.name} (minimum {objective}) ...")
     result = transfer_into(problem, folder, objective=objective, overwrite=overwrite)  # type: ignore[arg-type]
     if as_json:
