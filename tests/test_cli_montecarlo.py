@@ -30,10 +30,10 @@ def short_problem(tmp_path: Path) -> Path:
     return problem
 
 
-def _start(tmp_path: Path, problem: Path, out: str = "mc") -> subprocess.Popen:
+def _start(tmp_path: Path, problem: Path, out: str = "mc", samples: int = 60) -> subprocess.Popen:
     temporary = tmp_path / "tmp"
     temporary.mkdir(exist_ok=True)
-    args = ["montecarlo", str(problem), "--samples", "60", "--workers", "2", "--out", out]
+    args = ["montecarlo", str(problem), "--samples", str(samples), "--workers", "2", "--out", out]
     return subprocess.Popen(
         [sys.executable, "-m", "casadi_debris.cli", *args],
         cwd=tmp_path,
@@ -120,7 +120,9 @@ def test_killing_the_parent_alone_ends_its_workers_and_leaves_no_temporary(
 
 
 def test_ctrl_c_keeps_the_cases_and_says_how_to_resume(tmp_path: Path, short_problem: Path) -> None:
-    parent = _start(tmp_path, short_problem)
+    # Enough cases that the campaign is still running when Ctrl-C comes: with a warm
+    # compiled-step cache on an idle machine, 60 of them end in about a second.
+    parent = _start(tmp_path, short_problem, samples=3000)
     try:
         workers = _wait_for_workers(parent)
         os.killpg(parent.pid, signal.SIGINT)  # what Ctrl-C in a terminal does
