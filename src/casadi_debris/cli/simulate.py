@@ -69,8 +69,13 @@ def summary_text(summary: RunRecord) -> str:
         ["max torque x, y, z [mNm]", ", ".join(f"{v:.3g}" for v in run.max_torque_mNm)],
         ["stage switches", run.stage_switches],
         ["wall time [s]", f"{run.wall_time_s:.2f}"],
+        ["requirements met", _yes_no(summary.requirements_met)],
     ]
     return format_table(["figure", "value"], rows)
+
+
+def _yes_no(value: bool | None) -> str:
+    return "not judged" if value is None else ("yes" if value else "no")
 
 
 def segments_text(segments: Sequence[SegmentFigures] | None) -> str:
@@ -260,6 +265,12 @@ def simulate(
         echo_json(summary)
     else:
         click.echo(summary_text(summary) + segments_text(segments))
+    if summary.requirement_shortfalls:
+        click.echo(
+            "warning: the run misses its requirements: "
+            + "; ".join(summary.requirement_shortfalls),
+            err=True,
+        )
 
 
 def _chosen_case(

@@ -34,6 +34,7 @@ from scipy import stats
 from casadi_debris.config import Problem
 from casadi_debris.records import Record
 from casadi_debris.simulation.monte_carlo import CaseOutcome
+from casadi_debris.simulation.summary import RunSummary
 
 # Figures of merit of a case (fields of RunSummary, unit in the name).
 FIGURES = (
@@ -195,6 +196,38 @@ def requirement_of(problem: Problem) -> tuple[str, float]:
     if problem.simulation.reference == "hold":
         return "max_error_arcsec", problem.requirements.pointing_arcsec
     return "max_error_deg", problem.requirements.slew_error_deg
+
+
+def requirement_shortfalls(problem: Problem, run: RunSummary) -> tuple[str, ...]:
+    """How one run misses the problem's ``[requirements]``, one sentence each (none: met).
+
+    A hold is judged by its largest pointing error against ``pointing_arcsec``; a
+    slew or a sequence by its largest error against ``slew_error_deg`` and by where
+    it ends: a run that ends farther from its reference than the slew bound has lost
+    it (a saturated loop that never turned), whatever its peak said on the way.
+    """
+    figure, bound = requirement_of(problem)
+    value = float(getattr(run, figure))
+    shortfalls = []
+    if not value <= bound:  # NaN fails too
+        if figure == "max_error_arcsec":
+            what = f"largest pointing error {value:.4g} arcsec"
+            needed = f"{bound:g} arcsec ([requirements] pointing_arcsec)"
+        else:
+            what = f"largest attitude error {value:.4g} deg"
+            needed = f"{bound:g} deg ([requirements] slew_error_deg)"
+        shortfalls.append(f"{what} exceeds {needed}")
+    final_deg = run.final_error_arcsec / 3600.0
+    if figure == "max_error_deg" and not final_deg <= bound:
+        shortfalls.append(
+            f"ends {final_deg:.4g} deg off its reference, outside the slew bound {bound:g} deg"
+        )
+    if shortfalls and run.min_scale < 1.0:
+        # Saturation alone is no shortfall, but beside one it is the likely cause.
+        shortfalls.append(
+            f"the engines could not give the torque asked for {run.torque_saturated_s:.1f} s"
+        )
+    return tuple(shortfalls)
 
 
 def case_quantities(

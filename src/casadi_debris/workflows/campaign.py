@@ -30,7 +30,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.model import Model, Parameters, build_model
-from casadi_debris.records import FLATTENED, Record
+from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
 from casadi_debris.report.simulation import (
@@ -64,7 +64,7 @@ from casadi_debris.simulation.monte_carlo import (
     SchedulerError,
 )
 from casadi_debris.simulation.sampling import varied_case, varied_cases
-from casadi_debris.simulation.statistics import statistics_of
+from casadi_debris.simulation.statistics import requirement_shortfalls, statistics_of
 from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.workflows.controller import controller_for
 
@@ -203,6 +203,10 @@ class RunRecord(Record):
         Where the run was written, if it was.
     run : RunSummary
         The figures, written into the same JSON object.
+    requirements_met : bool or None
+        Whether the run meets the problem's ``[requirements]`` (None: not judged).
+    requirement_shortfalls : tuple of str or None
+        How it misses them, one sentence each (None when met or not judged).
     """
 
     problem: str
@@ -214,6 +218,8 @@ class RunRecord(Record):
     controller_path: str
     out_dir: str | None = None
     run: RunSummary = field(metadata=FLATTENED)
+    requirements_met: bool | None = field(default=None, metadata=OPTIONAL)
+    requirement_shortfalls: tuple[str, ...] | None = field(default=None, metadata=OPTIONAL)
 
 
 def run_summary(
@@ -223,7 +229,10 @@ def run_summary(
     controller_path: Path,
     record: ControllerRecord | None = None,
 ) -> RunRecord:
-    """A run's figures plus what identifies it (case, seed, files, the plants)."""
+    """A run's figures plus what identifies it (case, seed, files, the plants), judged
+    against the problem's ``[requirements]``."""
+    run = result.summary()
+    shortfalls = requirement_shortfalls(problem, run)
     return RunRecord(
         problem=problem.name,
         problem_sha256=problem.sha256,
@@ -232,7 +241,9 @@ def run_summary(
         case_id=case.case_id,
         seed=case.seed,
         controller_path=str(controller_path),
-        run=result.summary(),
+        run=run,
+        requirements_met=not shortfalls,
+        requirement_shortfalls=shortfalls or None,
     )
 
 
