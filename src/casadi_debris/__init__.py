@@ -1,12 +1,53 @@
 """casadi_debris: attitude control of space debris with docked iESE CubeSats.
 
-Start with :func:`load_problem` (the paper's setup by default), then
-:func:`casadi_debris.geometry.build_geometry` and
-:func:`casadi_debris.model.build_model`.
+Every job of the command line is a function here, named like the command, taking a
+problem (a :class:`Problem`, a problem file or a shipped name) and keyword settings:
+
+>>> import casadi_debris as cd
+>>> problem = cd.load_problem("paper_slew")
+>>> run = cd.simulate(problem, duration_s=300.0)  # doctest: +SKIP
+>>> run.summary.requirements_met  # doctest: +SKIP
+True
+
+The jobs are imported when first used, so that ``import casadi_debris`` stays quick.
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+from casadi_debris._version import __version__
 from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
-__all__ = ["CasadiDebrisError", "Problem", "ProblemFileError", "load_problem"]
-__version__ = "0.1.0"  # the one place the version is written (pyproject.toml reads it)
+if TYPE_CHECKING:
+    from casadi_debris.workflows.simulate import SimulationResult, simulate
+
+# Name -> the module that defines it, imported on first use.
+_LAZY = {
+    "simulate": "casadi_debris.workflows.simulate",
+    "SimulationResult": "casadi_debris.workflows.simulate",
+}
+
+__all__ = [
+    "CasadiDebrisError",
+    "Problem",
+    "ProblemFileError",
+    "SimulationResult",
+    "__version__",
+    "load_problem",
+    "simulate",
+]
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'casadi_debris' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

@@ -14,7 +14,7 @@ from typing import Any
 
 import click
 
-from casadi_debris import __version__
+from casadi_debris._version import __version__
 from casadi_debris.config.limits import SEED, UNCERTAINTY_SAMPLES, Range
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.report.common import json_ready

@@ -30,7 +30,7 @@ from casadi_debris.cli.common import (
     workers_option,
 )
 from casadi_debris.cli.slew import axis_options
-from casadi_debris.config import Problem, limits, load_problem, with_duration
+from casadi_debris.config import Problem, limits, load_problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table, write_csv, write_json_atomic
@@ -40,8 +40,6 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
-    from casadi_debris.model import Model
-    from casadi_debris.simulation.cases import Case
     from casadi_debris.simulation.segment_figures import SegmentFigures
     from casadi_debris.simulation.statistics import CampaignStatistics
     from casadi_debris.workflows.campaign import RunRecord
@@ -137,22 +135,6 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
     return times, torque * NM_PER_MNM
 
 
-def read_parameters_file(path: Path) -> tuple[Any, str]:
-    """The ``parameters`` mapping of a JSON file and the case id it gives (default its stem)."""
-    import json
-
-    try:
-        data = json.loads(read_regular_file(path).decode("utf-8"))
-    except UnreadableFileError as exc:
-        raise InputShapeError(f"--parameters {path}: {exc}") from None
-    except (UnicodeDecodeError, ValueError) as exc:
-        raise InputShapeError(f"--parameters {path}: not JSON ({exc})") from None
-    if not isinstance(data, dict) or "parameters" not in data:
-        raise InputShapeError(f"--parameters {path}: expected an object with 'parameters'")
-    case_id = data.get("case_id", path.stem)
-    return data["parameters"], case_id if isinstance(case_id, str) else path.stem
-
-
 @main.command()
 @problem_argument
 @click.option(
@@ -235,141 +217,35 @@ def simulate(
             raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
-    problem = _as_asked(problem, duration_s, (axis, angle_deg), failed)
-    from casadi_debris.report.simulation import figure_title, write_run
-    from casadi_debris.simulation import scenario_reference
-    from casadi_debris.simulation.monte_carlo import fly_case
-    from casadi_debris.workflows.campaign import run_summary
-    from casadi_debris.workflows.controller import controller_for
+    from casadi_debris.workflows.simulate import simulate as simulate_run
 
-    record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
-    problem, model, case = _chosen_case(problem, parameters_file, corner, sample, seed)
-    reference = scenario_reference(problem)
-    result = fly_case(problem, model, record.reduced, reference, case)
-    summary = run_summary(problem, case, result, resolved, record)
-    segments = _segment_figures(problem, result, reference)
+    run = simulate_run(
+        problem,
+        controller=controller_path,
+        allow_mismatch=allow_mismatch,
+        corner=corner,
+        sample=sample,
+        seed=seed,
+        parameters=parameters_file,
+        duration_s=duration_s,
+        axis=axis,
+        angle_deg=angle_deg,
+        failed=[i + 1 for i in failed_cubesat_indices(failed, len(problem.cubesats))],
+    )
+    summary = run.summary
     if out is not None:
-        with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
-            summary = dataclasses.replace(summary, out_dir=str(out.absolute()))
-            write_run(
-                staging,
-                result,
-                summary,
-                problem,
-                with_plots=not no_plots,
-                title=f"{figure_title(problem)} ({case.case_id})",
-            )
-            if segments is not None:
-                write_json_atomic(staging / "segments.json", {"segments": list(segments)})
+        run.save(out, overwrite=overwrite, plots=not no_plots)
+        summary = dataclasses.replace(summary, out_dir=str(out.absolute()))
     if as_json:
         echo_json(summary)
     else:
-        click.echo(summary_text(summary) + segments_text(segments))
+        click.echo(summary_text(summary) + segments_text(run.segments))
     if summary.requirement_shortfalls:
         click.echo(
             "warning: the run misses its requirements: "
             + "; ".join(summary.requirement_shortfalls),
             err=True,
         )
-
-
-def _chosen_case(
-    problem: Problem,
-    parameters_file: Path | None,
-    corner: int | None,
-    sample: int | None,
-    seed: int | None,
-) -> tuple[Problem, Model, Case]:
-    """The problem, model and case a ``simulate`` run flies (``--parameters``, ``--corner``,
-    ``--sample`` or the nominal); a case of ``[[montecarlo.vary]]`` that changes keys of
-    the problem file flies its own problem and model."""
-    from casadi_debris.config import problem_with_values
-    from casadi_debris.model import build_model
-    from casadi_debris.workflows.campaign import one_case, parameters_case
-
-    model = build_model(problem)
-    if parameters_file is not None:
-        if corner is not None or sample is not None:
-            raise InputShapeError("give one of --corner, --sample and --parameters")
-        case = parameters_case(problem, model, *read_parameters_file(parameters_file))
-    else:
-        case = one_case(problem, model, corner, sample, seed)
-    if case.file_values:
-        problem = problem_with_values(problem, case.file_values)
-        model = build_model(problem)
-    return problem, model, case
-
-
-def _as_asked(
-    problem: Problem,
-    duration_s: float | None,
-    slew: tuple[str | tuple[float, float, float] | None, float | None],
-    failed: str | None,
-) -> Problem:
-    """``problem`` with the run length, the slew's axis and angle, and the CubeSats failed
-    from the start that the options give."""
-    if duration_s is not None:
-        problem = with_duration(problem, duration_s, field="--duration-s")
-    if slew != (None, None):
-        problem = _with_slew(problem, *slew)
-    if failed is not None:
-        problem = _with_failed(problem, failed_cubesat_indices(failed, len(problem.cubesats)))
-    return problem
-
-
-def _segment_figures(problem: Problem, result: Any, reference: Any) -> Any:
-    """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
-    if problem.simulation.reference != "sequence":
-        return None
-    from casadi_debris.simulation.segment_figures import segment_figures
-
-    return segment_figures(result, reference.pieces)
-
-
-def _with_slew(
-    problem: Problem, axis: str | tuple[float, float, float] | None, angle_deg: float | None
-) -> Problem:
-    """``problem`` with its one slew turned about ``axis`` by ``angle_deg`` (None: its own).
-
-    The slew keeps its method and timing; a bang-bang timed by its duration keeps the
-    torque fraction that duration gives instead (another turn takes another time).
-    """
-    from dataclasses import replace
-
-    slew = problem.simulation.slew
-    option = "--axis" if axis is not None else "--angle-deg"
-    if slew is None:
-        flies = (
-            "[[simulation.segments]] (edit their targets)"
-            if problem.simulation.reference == "sequence"
-            else "no slew (give a problem with a [simulation.slew], e.g. paper_slew)"
-        )
-        raise InputShapeError(f"{option}: {problem.name} flies {flies}")
-    changed = replace(
-        slew,
-        axis=slew.axis if axis is None else axis,
-        angle_deg=slew.angle_deg if angle_deg is None else angle_deg,
-    )
-    if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
-        # The file's duration sets the share of the authority its slew uses; another turn
-        # flies at that share (paper_slew: 0.561), not in that time.
-        from casadi_debris.simulation import generate_slew
-
-        fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
-        changed = replace(changed, duration_s=None, torque_fraction=fraction)
-        say(f"The slew about the new axis at {problem.name}'s torque fraction {fraction:.3f}.")
-    return replace(problem, simulation=replace(problem.simulation, slew=changed))
-
-
-def _with_failed(problem: Problem, cubesats: list[int]) -> Problem:
-    """``problem`` with the CubeSats (0-based) failed at time 0, before its own failures."""
-    from dataclasses import replace
-
-    from casadi_debris.config import FailureEvent
-
-    events = tuple(FailureEvent(0.0, i, None) for i in cubesats) + problem.simulation.failures
-    ordered = tuple(sorted(events, key=lambda event: event.time_s))
-    return replace(problem, simulation=replace(problem.simulation, failures=ordered))
 
 
 def _open_loop(

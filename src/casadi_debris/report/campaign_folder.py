@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris import __version__
+from casadi_debris._version import __version__
 from casadi_debris.processes import process_alive
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.folders import (

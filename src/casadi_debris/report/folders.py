@@ -38,7 +38,7 @@ import time
 from pathlib import Path
 from types import TracebackType
 
-from casadi_debris import __version__
+from casadi_debris._version import __version__
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.processes import process_alive
 

@@ -25,7 +25,7 @@ DESIGN_KEYS = ("mu_peak", "mu_peak_reduced", "order_full", "order_reduced")
 
 
 def _toolkit_version() -> str:
-    from casadi_debris import __version__  # the package root; imported late, it imports config
+    from casadi_debris._version import __version__
 
     return __version__
 

@@ -1,0 +1,283 @@
+"""One closed-loop run (``casadi-debris simulate``): the problem's reference flown by the
+μ controller, the allocator and the staged engines on the flexible model.
+
+Example
+-------
+>>> import casadi_debris as cd
+>>> run = cd.simulate("paper_slew", duration_s=300.0)  # doctest: +SKIP
+>>> run.summary.max_error_deg, run.summary.requirements_met  # doctest: +SKIP
+(0.0171, True)
+>>> run.save("runs/slew-300s")  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from casadi_debris.config import FailureEvent, Problem, load_problem, with_duration
+from casadi_debris.errors import InputShapeError
+from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.workflows.campaign import RunRecord, one_case, parameters_case, run_summary
+from casadi_debris.workflows.controller import controller_for
+
+if TYPE_CHECKING:
+    from casadi_debris.model import Model
+    from casadi_debris.simulation.cases import Case
+    from casadi_debris.simulation.reference import Reference
+    from casadi_debris.simulation.run import ClosedLoopResult
+    from casadi_debris.simulation.segment_figures import SegmentFigures
+
+LOGGER = logging.getLogger(__name__)
+
+Axis = str | tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """One closed-loop run: the problem flown, its arrays and its figures.
+
+    Attributes
+    ----------
+    problem : Problem
+        The problem as flown (with the run length, slew and failures asked for).
+    result : ClosedLoopResult
+        Every time series, SI units.
+    summary : RunRecord
+        The figures in display units, with ``requirements_met``.
+    segments : tuple of SegmentFigures or None
+        Each segment's window, largest error and fuel, for a problem that flies
+        ``[[simulation.segments]]``.
+    """
+
+    problem: Problem
+    result: ClosedLoopResult
+    summary: RunRecord
+    segments: tuple[SegmentFigures, ...] | None = None
+
+    def save(self, folder: str | Path, *, overwrite: bool = False, plots: bool = True) -> Path:
+        """Write the run into ``folder`` as the command does: ``summary.json``,
+        ``series.csv``, ``closed_loop.png`` and ``thrust.png`` (with ``plots``), and
+        ``segments.json`` for a sequence.
+
+        The folder is written whole or not at all; an existing one is replaced only
+        with ``overwrite`` and only if this toolkit wrote it.
+
+        Returns
+        -------
+        Path
+            The folder written.
+        """
+        from casadi_debris.report.simulation import figure_title, write_run
+
+        out = Path(folder)
+        check_output_folder(out, overwrite=overwrite)
+        summary = dataclasses.replace(self.summary, out_dir=str(out.absolute()))
+        with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
+            write_run(
+                staging,
+                self.result,
+                summary,
+                self.problem,
+                with_plots=plots,
+                title=f"{figure_title(self.problem)} ({summary.case_id})",
+            )
+            if self.segments is not None:
+                write_json_atomic(staging / "segments.json", {"segments": list(self.segments)})
+        return out
+
+
+def simulate(
+    problem: Problem | str | Path | None = None,
+    *,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    corner: int | None = None,
+    sample: int | None = None,
+    seed: int | None = None,
+    parameters: str | Path | None = None,
+    duration_s: float | None = None,
+    axis: Axis | None = None,
+    angle_deg: float | None = None,
+    failed: Sequence[int] = (),
+) -> SimulationResult:
+    """Fly the problem's ``[simulation]`` reference in closed loop.
+
+    Parameters
+    ----------
+    problem : Problem, str or Path, optional
+        A problem, a problem file or a shipped name (``"paper_slew"``); default the paper.
+    controller : str or Path, optional
+        A controller file (``controller.json`` of ``design``); default the shipped paper
+        controller, which flies only the paper's plant.
+    allow_mismatch : bool
+        Fly a controller designed for another plant anyway.
+    corner, sample, seed : int, optional
+        Fly corner ``corner`` (0-based) of the uncertainty set, or random sample
+        ``sample`` drawn with ``seed`` (default the problem's ``montecarlo.seed``);
+        default the nominal plant.
+    parameters : str or Path, optional
+        A JSON file ``{"parameters": {name: value}}`` (as ``worstcase`` writes it).
+    duration_s : float, optional
+        End time [s]; default the problem's.
+    axis, angle_deg : optional
+        Turn the problem's one slew about ``axis`` (``"x"``, ``"-y"`` or a body vector)
+        by ``angle_deg`` [deg] instead.
+    failed : sequence of int
+        CubeSats failed from the start, by 1-based id, on top of the problem's
+        ``[[simulation.failures]]``.
+
+    Returns
+    -------
+    SimulationResult
+
+    Raises
+    ------
+    InputShapeError
+        An option that does not fit the problem (named).
+    ControllerMismatchError
+        The controller was designed for another plant (and ``allow_mismatch`` is false).
+    """
+    if not isinstance(problem, Problem):
+        problem = load_problem(problem)
+    problem = _as_asked(problem, duration_s, axis, angle_deg, failed)
+    from casadi_debris.simulation import scenario_reference
+    from casadi_debris.simulation.monte_carlo import fly_case
+
+    record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
+    problem, model, case = _chosen_case(problem, parameters, corner, sample, seed)
+    reference = scenario_reference(problem)
+    result = fly_case(problem, model, record.reduced, reference, case)
+    return SimulationResult(
+        problem=problem,
+        result=result,
+        summary=run_summary(problem, case, result, resolved, record),
+        segments=_segment_figures(problem, result, reference),
+    )
+
+
+def _chosen_case(
+    problem: Problem,
+    parameters: str | Path | None,
+    corner: int | None,
+    sample: int | None,
+    seed: int | None,
+) -> tuple[Problem, Model, Case]:
+    """The problem, model and case a run flies (``parameters``, ``corner``, ``sample`` or
+    the nominal); a case of ``[[montecarlo.vary]]`` that changes keys of the problem file
+    flies its own problem and model."""
+    from casadi_debris.config import problem_with_values
+    from casadi_debris.model import build_model
+
+    model = build_model(problem)
+    if parameters is not None:
+        if corner is not None or sample is not None:
+            raise InputShapeError("give one of --corner, --sample and --parameters")
+        case = parameters_case(problem, model, *read_parameters_file(Path(parameters)))
+    else:
+        case = one_case(problem, model, corner, sample, seed)
+    if case.file_values:
+        problem = problem_with_values(problem, case.file_values)
+        model = build_model(problem)
+    return problem, model, case
+
+
+def read_parameters_file(path: Path) -> tuple[Any, str]:
+    """The ``parameters`` mapping of a JSON file and the case id it gives (default its stem)."""
+    import json
+
+    from casadi_debris.config.loader import UnreadableFileError, read_regular_file
+
+    try:
+        data = json.loads(read_regular_file(path).decode("utf-8"))
+    except UnreadableFileError as exc:
+        raise InputShapeError(f"--parameters {path}: {exc}") from None
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise InputShapeError(f"--parameters {path}: not JSON ({exc})") from None
+    if not isinstance(data, dict) or "parameters" not in data:
+        raise InputShapeError(f"--parameters {path}: expected an object with 'parameters'")
+    case_id = data.get("case_id", path.stem)
+    return data["parameters"], case_id if isinstance(case_id, str) else path.stem
+
+
+def _as_asked(
+    problem: Problem,
+    duration_s: float | None,
+    axis: Axis | None,
+    angle_deg: float | None,
+    failed: Sequence[int],
+) -> Problem:
+    """``problem`` with the run length, the slew's axis and angle, and the CubeSats failed
+    from the start that were asked for."""
+    if duration_s is not None:
+        problem = with_duration(problem, duration_s, field="--duration-s")
+    if axis is not None or angle_deg is not None:
+        problem = _with_slew(problem, axis, angle_deg)
+    if failed:
+        problem = _with_failed(problem, failed)
+    return problem
+
+
+def _segment_figures(
+    problem: Problem, result: ClosedLoopResult, reference: Reference
+) -> tuple[SegmentFigures, ...] | None:
+    """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
+    if problem.simulation.reference != "sequence":
+        return None
+    from casadi_debris.simulation.segment_figures import segment_figures
+
+    return tuple(segment_figures(result, reference.pieces))
+
+
+def _with_slew(problem: Problem, axis: Axis | None, angle_deg: float | None) -> Problem:
+    """``problem`` with its one slew turned about ``axis`` by ``angle_deg`` (None: its own).
+
+    The slew keeps its method and timing; a bang-bang timed by its duration keeps the
+    torque fraction that duration gives instead (another turn takes another time).
+    """
+    slew = problem.simulation.slew
+    option = "--axis" if axis is not None else "--angle-deg"
+    if slew is None:
+        flies = (
+            "[[simulation.segments]] (edit their targets)"
+            if problem.simulation.reference == "sequence"
+            else "no slew (give a problem with a [simulation.slew], e.g. paper_slew)"
+        )
+        raise InputShapeError(f"{option}: {problem.name} flies {flies}")
+    changed = dataclasses.replace(
+        slew,
+        axis=slew.axis if axis is None else axis,
+        angle_deg=slew.angle_deg if angle_deg is None else angle_deg,
+    )
+    if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
+        # The file's duration sets the share of the authority its slew uses; another turn
+        # flies at that share (paper_slew: 0.561), not in that time.
+        from casadi_debris.simulation import generate_slew
+
+        fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
+        changed = dataclasses.replace(changed, duration_s=None, torque_fraction=fraction)
+        LOGGER.info(
+            "The slew about the new axis at %s's torque fraction %.3f.", problem.name, fraction
+        )
+    simulation = dataclasses.replace(problem.simulation, slew=changed)
+    return dataclasses.replace(problem, simulation=simulation)
+
+
+def _with_failed(problem: Problem, cubesat_ids: Sequence[int]) -> Problem:
+    """``problem`` with the CubeSats (1-based ids) failed at time 0, before its own
+    failures."""
+    count = len(problem.cubesats)
+    bad = sorted({i for i in cubesat_ids if not 1 <= i <= count})
+    if bad:
+        raise InputShapeError(f"--failed: CubeSat ids run from 1 to {count}; got {bad}")
+    indices = sorted({i - 1 for i in cubesat_ids})
+    events = tuple(FailureEvent(0.0, i, None) for i in indices) + problem.simulation.failures
+    ordered = tuple(sorted(events, key=lambda event: event.time_s))
+    return dataclasses.replace(
+        problem, simulation=dataclasses.replace(problem.simulation, failures=ordered)
+    )
