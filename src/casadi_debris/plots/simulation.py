@@ -11,6 +11,7 @@ from matplotlib.axes import Axes
 
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
+from casadi_debris.simulation.monte_carlo import Extremes
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
@@ -61,13 +62,12 @@ def plot_closed_loop(
             result.time_s[:-1], result.torque_Nm[:, i] * 1e3, where="post", color=colour, lw=1.0
         )
         _draw_authority(bottom, result, i, colour)
+    bands = envelope.bands if envelope is not None else None
+    error_peak = _peak(result.error_rad, bands.error_rad if bands is not None else None)
     if requirement is not None:
-        for sign in (1, -1):
-            label = f"requirement ±{requirement:g} {error_unit}" if sign > 0 else None
-            middle.axhline(sign * requirement, color="k", ls="--", lw=0.8, label=label)
-        middle.legend(loc="upper right", fontsize=8)
-    bottom.plot([], [], color="0.3", ls=":", lw=1.0, label="authority about +axis / -axis")
-    bottom.legend(loc="upper right", fontsize=8)
+        _draw_requirement(middle, requirement, error_peak * scale, error_unit)
+    torque_peak = _peak(result.torque_Nm, bands.torque_Nm if bands is not None else None)
+    _fit_torque(bottom, result, torque_peak * MNM_PER_NM)
     middle.set_ylabel(f"error [{error_unit}]")
     bottom.set_ylabel("torque [mNm]")
     bottom.set_xlabel("time [s]")
@@ -78,6 +78,67 @@ def plot_closed_loop(
     if title:
         top.set_title(title)
     return save_figure(figure, path)
+
+
+OFF_SCALE = 2.5
+"""A limit line more than this many times the data's peak is noted, not drawn: drawn, it
+would squash the data into a flat line."""
+
+
+def _peak(values: np.ndarray, bands: Extremes | None = None) -> float:
+    """Largest magnitude of ``values`` and of the envelope ``bands`` (min/max), NaN skipped."""
+    arrays = [np.asarray(values)]
+    if bands is not None:
+        arrays += [np.asarray(bands.min), np.asarray(bands.max)]
+    finite = [np.abs(a[np.isfinite(a)]) for a in arrays]
+    return max((float(a.max()) for a in finite if a.size), default=0.0)
+
+
+def _draw_requirement(axes: Axes, requirement: float, peak: float, unit: str) -> None:
+    """The requirement at ± as dashed lines when they are in range of the data; else the
+    panel keeps the data's scale and says where the requirement is."""
+    label = f"requirement ±{requirement:g} {unit}"
+    if peak <= 0.0 or requirement <= OFF_SCALE * peak:
+        for sign in (1, -1):
+            axes.axhline(
+                sign * requirement, color="k", ls="--", lw=0.8, label=label if sign > 0 else None
+            )
+        axes.legend(loc="upper right", fontsize=8)
+        return
+    axes.set_ylim(-1.15 * peak, 1.15 * peak)
+    axes.text(
+        0.99,
+        0.96,
+        f"↑ {label}: off scale, {requirement / peak:.3g} × the largest error",
+        transform=axes.transAxes,
+        ha="right",
+        va="top",
+        fontsize=8,
+        bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.6"},
+    )
+
+
+def _fit_torque(axes: Axes, result: ClosedLoopResult, peak_mNm: float) -> None:
+    """The authority lines' legend; when the least authority is far above the torque, the
+    panel keeps the torque's scale and says where the authority is."""
+    authority = np.asarray(result.authority_Nm) * MNM_PER_NM
+    least = float(np.min(authority)) if authority.size else 0.0
+    if peak_mNm > 0.0 and least > OFF_SCALE * peak_mNm:
+        axes.set_ylim(-1.15 * peak_mNm, 1.15 * peak_mNm)
+        axes.text(
+            0.99,
+            0.96,
+            f"↑ authority (dotted) off scale: at least {least:.3g} mNm, "
+            f"{least / peak_mNm:.3g} × the largest torque",
+            transform=axes.transAxes,
+            ha="right",
+            va="top",
+            fontsize=8,
+            bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.6"},
+        )
+        return
+    axes.plot([], [], color="0.3", ls=":", lw=1.0, label="authority about +axis / -axis")
+    axes.legend(loc="upper right", fontsize=8)
 
 
 def _envelope_note(
