@@ -97,3 +97,46 @@ def test_the_remedy_is_said_only_when_there_is_a_gap(paper, extra, words) -> Non
     assert text.count("Meets the 5-year rule under every solar case") == int(meets)
     if words:
         assert words in text
+
+
+def _timeline_boxes(summary: MissionSummary, monkeypatch, tmp_path) -> tuple:
+    """The timeline's label boxes, bar boxes and axes box in display units, as written."""
+    import casadi_debris.plots.mission as mission_plots
+
+    kept: list = []
+    real = mission_plots.save_figure
+
+    def keep(figure, path):
+        figure.tight_layout()  # as save_figure lays it out
+        figure.canvas.draw()
+        timeline = figure.axes[0]
+        renderer = figure.canvas.get_renderer()
+        labels = [t.get_window_extent(renderer) for t in timeline.texts]
+        bars = [p.get_window_extent(renderer) for p in timeline.patches]
+        kept.append((labels, bars, timeline.get_window_extent(renderer)))
+        return real(figure, path)
+
+    monkeypatch.setattr(mission_plots, "save_figure", keep)
+    mission_plots.plot_mission(summary, tmp_path / "mission.png")
+    return kept[0]
+
+
+def _beyond_horizon(paper: MissionSummary) -> MissionSummary:
+    """The paper's mission as if the debris never came down: the decay has no end."""
+    phases = list(paper.phases)
+    phases[-1] = dataclasses.replace(phases[-1], duration_days=None)
+    return dataclasses.replace(paper, phases=phases)
+
+
+@pytest.mark.parametrize("beyond", [False, True])
+def test_the_timeline_labels_overlap_neither_each_other_nor_the_bars(
+    paper, monkeypatch, tmp_path, beyond
+) -> None:
+    summary = _beyond_horizon(paper) if beyond else paper
+    labels, bars, frame = _timeline_boxes(summary, monkeypatch, tmp_path)
+    assert len(labels) == len(summary.phases) and len(bars) == len(summary.phases)
+    for i, label in enumerate(labels):
+        assert frame.x0 - 1 <= label.x0 and label.x1 <= frame.x1 + 1, i  # inside the axes
+        assert frame.y0 - 1 <= label.y0 and label.y1 <= frame.y1 + 1, i
+        assert not any(label.overlaps(bar) for bar in bars), i
+        assert not any(label.overlaps(other) for other in labels[i + 1 :]), i
