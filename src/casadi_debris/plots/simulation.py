@@ -8,6 +8,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.lines import Line2D
 
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
@@ -200,22 +201,18 @@ def plot_thrust(
     path : Path
     groups : dict
         Panel title (e.g. ``"+x face"``) -> (engine index, 0-based; its label, e.g.
-        ``"CubeSat 3"``) for every engine drawn there.
+        ``"CubeSat 3"``) for every engine drawn there. The legend, beside each panel,
+        gives a colour per CubeSat and a line style per engine of a CubeSat, both
+        numbered from the run's own propulsion state.
     title : str
     """
     n_panels = len(groups) + 1
     rows = (n_panels + 1) // 2
-    figure, axes = plt.subplots(rows, 2, figsize=(11, 2.6 * rows), squeeze=False)
+    figure, axes = plt.subplots(rows, 2, figsize=(14, 2.6 * rows), squeeze=False)
     flat = axes.ravel()
     for ax, (name, engines) in zip(flat, groups.items(), strict=False):
-        for engine, label in engines:
-            lost = result.propulsion.failed_cubesats[result.propulsion.engine_cubesat[engine]]
-            label = f"{label} (failed)" if lost else label
-            ax.plot(result.time_s[:-1], result.thrust_N[:, engine] * MN_PER_N, lw=0.8, label=label)
+        _thrust_panel(ax, result, [engine for engine, _ in engines])
         ax.set_title(name, fontsize=9)
-        ax.set_ylabel("thrust [mN]")
-        ax.grid(True, ls=":", color="0.6")
-        ax.legend(fontsize=7, ncols=2, loc="upper right")
     fuel = result.fuel_per_cubesat_kg * 1e6
     bars = flat[len(groups)]
     bars.bar(np.arange(1, len(fuel) + 1), fuel, color="0.4")
@@ -229,6 +226,46 @@ def plot_thrust(
     if title:
         figure.suptitle(title)
     return save_figure(figure, path)
+
+
+ENGINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)))
+"""Line style of a CubeSat's 1st, 2nd, ... engine (its colour is its CubeSat's)."""
+
+
+def _thrust_panel(ax: Axes, result: ClosedLoopResult, engines: list[int]) -> None:
+    """The thrust of ``engines`` (0-based), a colour per CubeSat and a line style per engine
+    of it, with a legend beside the panel that names each CubeSat (failed ones marked) and,
+    when a CubeSat has several engines, each style."""
+    owners = result.propulsion.engine_cubesat
+    cubesats = list(dict.fromkeys(int(owners[e]) for e in engines))
+    several = False
+    for engine in engines:
+        cubesat = int(owners[engine])
+        own = int(np.sum(owners[:engine] == cubesat))  # its number among its CubeSat's engines
+        several = several or own > 0 or int(np.sum(owners == cubesat)) > 1
+        ax.plot(
+            result.time_s[:-1],
+            result.thrust_N[:, engine] * MN_PER_N,
+            lw=0.9,
+            color=f"C{cubesats.index(cubesat) % 10}",
+            ls=ENGINE_STYLES[own % len(ENGINE_STYLES)],
+        )
+    failed = result.propulsion.failed_cubesats
+    handles = [
+        Line2D([], [], color=f"C{i % 10}",
+               label=f"CubeSat {c + 1}" + (" (failed)" if failed[c] else ""))
+        for i, c in enumerate(cubesats)
+    ]  # fmt: skip
+    if several:
+        most = max(int(np.sum(owners == c)) for c in cubesats)
+        handles += [
+            Line2D([], [], color="0.35", ls=ENGINE_STYLES[k % len(ENGINE_STYLES)],
+                   label=f"engine {k + 1}")
+            for k in range(min(most, len(ENGINE_STYLES)))
+        ]  # fmt: skip
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_ylabel("thrust [mN]")
+    ax.grid(True, ls=":", color="0.6")
 
 
 def _euler_deg(quaternion: np.ndarray) -> np.ndarray:
