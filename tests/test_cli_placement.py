@@ -258,3 +258,41 @@ def test_objective_names_are_the_studies_own():
     from casadi_debris.studies.placement_milp import OBJECTIVES
 
     assert tuple(OBJECTIVES) == OBJECTIVE_NAMES
+
+
+_CHATTY_PLACEMENT = """
+import os, sys
+import casadi_debris.studies.placement_milp as placement_milp
+from casadi_debris.cli import main
+
+real = placement_milp.milp
+
+def chatty(*args, **kwargs):
+    # What HiGHS does at times whatever its log options: print from C on descriptor 1.
+    os.write(1, b"Running HiGHS 9.9.9: chatter\\nPresolving model\\n")
+    return real(*args, **kwargs)
+
+placement_milp.milp = chatty
+main(sys.argv[1:])
+"""
+
+
+@pytest.mark.parametrize("verbose", [False, True])
+def test_solver_log_lines_stay_quiet_unless_verbose(tmp_path, verbose):
+    """The solver's own lines reach neither stdout nor the terminal, except with -v."""
+    args = ["-v"] if verbose else []
+    args += ["placement", "--count", "8", "--candidates", "2x2", "--out", str(tmp_path / "r")]
+    for json_flag in ([], ["--json"]):
+        run = subprocess.run(
+            [sys.executable, "-c", _CHATTY_PLACEMENT, *args, *json_flag],
+            capture_output=True,
+            text=True,
+            check=False,
+        )
+        assert run.returncode == 0, run.stderr
+        assert "chatter" not in run.stdout and "Presolving" not in run.stdout
+        assert ("chatter" in run.stderr) == verbose, run.stderr
+        assert ("HiGHS: Running HiGHS 9.9.9: chatter" in run.stderr) == verbose, run.stderr
+        if json_flag:
+            assert json.loads(run.stdout)["count"] == 8
+        args = [*args[:-1], str(tmp_path / "r2")]

@@ -32,7 +32,9 @@ import numpy.typing as npt
 
 from casadi_debris.allocation.state_input import (
     checked_id,
+    checked_pair,
     engine_stage_matrix,
+    listed,
     per_engine,
     per_stage,
 )
@@ -565,19 +567,16 @@ class PropulsionState:
             if key in data:
                 values = engine_stage_matrix(data[key], key, self.n_stages, self.n_engines)
                 setattr(state, key, values)
-        for cubesat in data.get("failed_cubesats", []):
+        for cubesat in listed(data, "failed_cubesats", "CubeSat ids"):
             state.fail_cubesat(checked_id(cubesat, "failed_cubesats", "CubeSat", self.n_cubesats))
-        for pair in data.get("failed_stages", []):
-            if not isinstance(pair, list | tuple) or len(pair) != 2:
-                raise AllocationError("failed_stages entries must be [cubesat, stage] pairs")
+        cubesats = ("CubeSat", self.n_cubesats)
+        for pair in listed(data, "failed_stages", "[cubesat, stage] pairs"):
             state.fail_stage(
-                checked_id(pair[0], "failed_stages", "CubeSat", self.n_cubesats),
-                checked_id(pair[1], "failed_stages", "stage", self.n_stages),
+                *checked_pair(pair, "failed_stages", cubesats, ("stage", self.n_stages))
             )
-        for pair in data.get("failed_engines", []):
-            if not isinstance(pair, list | tuple) or len(pair) != 2:
-                raise AllocationError("failed_engines entries must be [cubesat, engine] pairs")
-            cubesat = checked_id(pair[0], "failed_engines", "CubeSat", self.n_cubesats)
+        for pair in listed(data, "failed_engines", "[cubesat, engine] pairs"):
+            # The pair's form first, then the engine against its own CubeSat's count.
+            cubesat, _ = checked_pair(pair, "failed_engines", cubesats, ("engine", self.n_engines))
             count = int(np.sum(self.engine_cubesat == cubesat))
             state.fail_engine(cubesat, checked_id(pair[1], "failed_engines", "engine", count))
         state._check()

@@ -6,6 +6,7 @@ are 1-based. Each check raises with the argument's name.
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 import numpy as np
@@ -16,10 +17,46 @@ from casadi_debris.errors import AllocationError, InputShapeError
 def checked_id(value: Any, name: str, what: str, count: int) -> int:
     """The 0-based index of a 1-based id read from a user's file."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer):
-        raise AllocationError(f"{name} entries must be integers, got {value!r}")
+        raise AllocationError(f"{name} entries must be integer ids (from 1), got {_shown(value)}")
     if not 1 <= value <= count:
-        raise AllocationError(f"{name}: {what} {value} out of range 1..{count}")
+        # Ids count from 1: a 0 is most likely a 0-based id.
+        hint = " (ids count from 1)" if value == 0 else ""
+        raise AllocationError(f"{name}: {what} {value} out of range 1..{count}{hint}")
     return int(value) - 1
+
+
+def listed(data: dict[str, Any], key: str, entries: str) -> list[Any]:
+    """The list under ``key`` of a user's state file (empty when absent); ``entries`` says
+    what its entries are, for the message when it is not a list."""
+    value = data.get(key, [])
+    if not isinstance(value, list):
+        raise AllocationError(f"{key} must be a list of {entries}, got {_shown(value)}")
+    return value
+
+
+def checked_pair(
+    entry: Any, key: str, first: tuple[str, int], second: tuple[str, int]
+) -> tuple[int, int]:
+    """The 0-based indices of one ``[first, second]`` pair of 1-based ids under ``key``;
+    ``first`` and ``second`` are (what, count), e.g. ("CubeSat", 24)."""
+    if not isinstance(entry, list) or len(entry) != 2:
+        raise AllocationError(
+            f"{key} entries must be [{first[0].lower()}, {second[0].lower()}] pairs, "
+            f"got {_shown(entry)}"
+        )
+    return (
+        checked_id(entry[0], key, first[0], first[1]),
+        checked_id(entry[1], key, second[0], second[1]),
+    )
+
+
+def _shown(value: Any) -> str:
+    """A user's value in a message as JSON writes it (the file is JSON), cut short."""
+    try:
+        text = json.dumps(value)
+    except (TypeError, ValueError):
+        text = repr(value)
+    return text if len(text) <= 40 else text[:39] + "…"
 
 
 def checked_vector(values: Any, name: str) -> np.ndarray:

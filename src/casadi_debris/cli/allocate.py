@@ -19,7 +19,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import load_problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
-from casadi_debris.errors import AllocationError
+from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.units import MN_PER_N, MNM_PER_NM, US_PER_S
 
 if TYPE_CHECKING:
@@ -106,8 +106,8 @@ def _read_state(path: Path | None, template: PropulsionState) -> PropulsionState
         ) from None
     try:
         return template.updated_from_dict(data)
-    except AllocationError as exc:
-        raise AllocationError(f"{path}: {exc}") from None
+    except (AllocationError, InputShapeError) as exc:
+        raise AllocationError(f"--stage-state {path}: {exc}") from None
 
 
 def _payload(

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 import click
 
@@ -17,7 +16,6 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.cli.deorbit import limit_years_option, solar_cases, solar_option
 from casadi_debris.config import load_problem
-from casadi_debris.report.common import format_table
 
 
 @main.command()
@@ -42,6 +40,7 @@ def mission(
     and stage), mission.png, altitude.png and decay.png (and each figure as PDF).
     """
     from casadi_debris.orbit.deorbit import DeorbitSettings
+    from casadi_debris.report.mission import mission_text
     from casadi_debris.workflows.mission import mission_into
 
     cases = solar_cases(solar)
@@ -56,30 +55,5 @@ def mission(
     if as_json:
         echo_json(summary)
         return
-    rows: list[list[Any]] = [
-        [p.name, p.start_days, p.duration_days, p.dv_m_s, p.propellant_kg] for p in summary.phases
-    ]
-    click.echo(
-        format_table(["phase", "start [d]", "duration [d]", "dv [m/s]", "propellant [kg]"], rows)
-    )
-    for case, years in summary.reentry_years.items():
-        need = summary.deorbit_dv_needed_m_s[case]
-        when = "beyond the horizon" if years is None else f"{years:.2f} years"
-        needs = "no Δv up to the search bound" if need is None else f"{need:.1f} m/s"
-        click.echo(f"{case} solar activity: needs {needs}, re-enters in {when}")
-    verdict = "meets" if summary.meets_five_year_rule else "does NOT meet"
-    left, capacity = summary.deorbit_dv_available_m_s, summary.deorbit_dv_capacity_m_s
-    click.echo(
-        f"{verdict} the {summary.limit_years:g}-year rule; deorbit Δv left after transfer and "
-        f"detumble {left:.1f} of {capacity:.1f} m/s"
-    )
-    extra = summary.extra_stages_needed
-    if extra is None:
-        click.echo("more stages per engine would not meet it: the swarm itself must change")
-    elif extra:
-        click.echo(f"{extra} more stage(s) on every engine would meet it")
-    click.echo(
-        f"propellant used {summary.propellant_used_kg:.3f} of {summary.propellant_total_kg:.3f}"
-        f" kg; stranded (no torque-free mix can burn it) {summary.propellant_stranded_kg:.3f} kg"
-    )
+    click.echo(mission_text(summary, settings.horizon_years))
     click.echo(f"written to {folder.absolute()}")

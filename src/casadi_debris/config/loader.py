@@ -8,6 +8,7 @@ one loaded.
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import os
 import stat
@@ -142,15 +143,11 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
         raw = read_regular_file(path)
         data = _parse(raw)
     except UnreadableFileError as exc:
+        missing = str(exc) == "does not exist"
         if not chain:
-            message = (
-                "no such problem file (nor a shipped problem: casadi-debris problems lists them)"
-                if str(exc) == "does not exist"
-                else str(exc)
-            )
+            message = f"no such problem file {_nor_shipped(path)}" if missing else str(exc)
             raise ProblemFileError("", message, str(path)) from None
-        shipped = " (nor a shipped problem: casadi-debris problems lists them)"
-        hint = shipped if str(exc) == "does not exist" else ""
+        hint = f" {_nor_shipped(path)}" if missing else ""
         raise ProblemFileError("extends", f"{path} {exc}{hint}", str(chain[-1])) from None
     parent = data.get("extends")
     if parent is None:
@@ -160,6 +157,18 @@ def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[dict[str, Any]
         return merge_problem(base, data), base_raw + raw
     except RecursionError:
         raise ProblemFileError("", "tables nested too deeply", str(path)) from None
+
+
+def _nor_shipped(path: Path) -> str:
+    """What to say of a missing problem file: the shipped problem whose name is closest
+    to its name (a typo of ``paper_slew``), if one is close, and where the list is."""
+    names = list(shipped_problems())
+    close = difflib.get_close_matches(path.name.removesuffix(".toml"), names, n=1, cutoff=0.6)
+    if path.suffix in ("", ".toml") and close:
+        return (
+            f"(nor a shipped problem: did you mean {close[0]}? casadi-debris problems lists them)"
+        )
+    return "(nor a shipped problem: casadi-debris problems lists them)"
 
 
 def shipped_problems() -> dict[str, Path]:

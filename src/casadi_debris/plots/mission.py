@@ -3,6 +3,7 @@ altitude and perigee of every solar case from the start of the transfer."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -33,26 +34,56 @@ def plot_mission(summary: MissionSummary, path: Path) -> Path:
     return save_figure(figure, path)
 
 
+BAR_HEIGHT = 0.45
+LEFT_DAYS = 1e-2
+"""The timeline's left edge: a quarter of a minute, below any phase's start but the first."""
+
+
 def _timeline(axes: plt.Axes, summary: MissionSummary) -> None:
+    """Each phase a bar (log days) with its note and duration in the gap below it: from the
+    bar's start, or ending at the bar's end when it starts in the right part of the axis,
+    so that no label runs over another bar or out of the axes."""
     phases = summary.phases
-    for row, phase in enumerate(phases):
-        start = max(phase.start_days, 1e-2)
+    spans = []
+    for phase in phases:
+        start = max(phase.start_days, LEFT_DAYS)
         length = phase.duration_days if phase.duration_days is not None else BEYOND_HORIZON_DAYS
-        axes.barh(row, length, left=start, color=PHASE_COLOURS.get(phase.name, "0.4"))
-        label = phase.note if phase.duration_days is not None else phase.note + " (beyond horizon)"
-        axes.text(start, row + 0.38, label, fontsize=7, va="bottom")
+        spans.append((start, start + length))
+    right = 3.0 * max(end for _, end in spans)
+    axes.set_xscale("log")
+    axes.set_xlim(LEFT_DAYS, right)
+    for row, (phase, (start, end)) in enumerate(zip(phases, spans, strict=True)):
+        colour = PHASE_COLOURS.get(phase.name, "0.4")
+        axes.barh(row, end - start, left=start, height=BAR_HEIGHT, color=colour)
+        label = f"{phase.note}: {_duration(phase.duration_days)}"
+        fraction = math.log(start / LEFT_DAYS) / math.log(right / LEFT_DAYS)
+        at, align = (start, "left") if fraction < 0.55 else (end, "right")
+        axes.text(
+            at, row + BAR_HEIGHT / 2 + 0.04, label, fontsize=7, va="top", ha=align,
+            bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.5, "alpha": 0.85},
+        )  # fmt: skip
     burn = next(p for p in phases if p.name == "deorbit burn")
     limit = burn.start_days + summary.limit_years * DAYS_PER_YEAR
     axes.axvline(
         limit, color="k", ls="--", lw=1.0,
         label=f"{summary.limit_years:g} years after the burn starts",
     )  # fmt: skip
-    axes.set_xscale("log")
     axes.set_yticks(range(len(phases)), [p.name for p in phases])
-    axes.invert_yaxis()
+    axes.set_ylim(len(phases) - 0.35, -0.6)  # inverted: the first phase on top
     axes.set_xlabel("days from the start of the transfer")
     axes.legend(fontsize=7, loc="upper right")
     axes.set_title(f"{summary.problem}: {verdict(summary)}")
+
+
+def _duration(days: float | None) -> str:
+    """A phase's length in the unit that reads best (hours, days or years)."""
+    if days is None:
+        return "beyond the horizon"
+    if days < 1.0:
+        return f"{24.0 * days:.3g} h"
+    if days < 2.0 * DAYS_PER_YEAR:
+        return f"{days:.3g} days"
+    return f"{days / DAYS_PER_YEAR:.3g} years"
 
 
 def verdict(summary: MissionSummary) -> str:

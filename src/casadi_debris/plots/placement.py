@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -9,6 +10,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import Rectangle
 
+from casadi_debris.config import Problem
+from casadi_debris.geometry import array_axes
 from casadi_debris.plots import save_figure
 from casadi_debris.studies.placement import PlacementStudy
 from casadi_debris.studies.placement_pareto import ParetoPoint
@@ -16,6 +19,51 @@ from casadi_debris.studies.placement_pareto import ParetoPoint
 VIEWS = ((0, 1), (0, 2), (1, 2))
 """Projections drawn: x-y, x-z, y-z (hub-corner frame)."""
 ARROW_M = 0.25
+
+
+ARRAY_COLOUR = "#ef8f00"
+
+
+def array_outlines_corner_m(problem: Problem) -> list[np.ndarray]:
+    """Each array as the four corners of its undeformed panel at its nominal angle, in the
+    hub-corner frame, shape (4, 3) each: root edge (hinge -+ half the width), then the tip
+    edge a length out along the array's extent."""
+    outlines = []
+    for array in problem.arrays:
+        extent, width, _ = (
+            np.array(v, dtype=float).ravel()
+            for v in array_axes(array.direction, math.radians(array.angle_deg))
+        )
+        half = 0.5 * array.width_m * width
+        tip = array.length_m * extent
+        root = np.asarray(array.hinge_corner_m, dtype=float)
+        outlines.append(np.array([root - half, root + half, root + half + tip, root - half + tip]))
+    return outlines
+
+
+def _draw_arrays(axis: plt.Axes, problem: Problem, view: tuple[int, int]) -> None:
+    """The arrays projected on the view: filled panels (a thick line when seen edge-on),
+    numbered from 1 at their tips, so that a CubeSat or a plume in their way shows."""
+    first, second = view
+    for number, corners in enumerate(array_outlines_corner_m(problem), start=1):
+        axis.fill(
+            corners[:, first],
+            corners[:, second],
+            facecolor=ARRAY_COLOUR,
+            edgecolor=ARRAY_COLOUR,
+            alpha=0.35,
+            linewidth=2.0,
+            label="arrays (nominal angle)" if number == 1 else None,
+        )
+        tip = corners[2:].mean(axis=0)
+        axis.annotate(
+            str(number),
+            (tip[first], tip[second]),
+            color="0.25",
+            fontsize="small",
+            ha="center",
+            va="center",
+        )
 
 
 def _in_view(face: str | None, view: tuple[int, int]) -> bool:
@@ -27,6 +75,7 @@ def _draw_view(axis: plt.Axes, study: PlacementStudy, view: tuple[int, int]) -> 
     first, second = view
     size = study.problem.hub.size_m
     axis.add_patch(Rectangle((0, 0), size[first], size[second], fill=False, edgecolor="0.3"))
+    _draw_arrays(axis, study.problem, view)
     shown = [c for c in study.candidates.candidates if _in_view(c.face, view)]
     everywhere = np.array([c.cubesat.position_corner_m for c in shown]).reshape(-1, 3)
     axis.plot(
@@ -81,8 +130,8 @@ def plot_layout(study: PlacementStudy, path: Path) -> Path:
     Each view shows the faces seen edge-on (x-y: the +-x and +-y faces, ...), so
     every face appears in two views and its thrust lies in the plane. Chosen
     CubeSats are blue dots with their engines' thrust on the body as red arrows,
-    the input layout hollow squares, the other candidates grey dots. Hub-corner
-    frame, metres.
+    the input layout hollow squares, the other candidates grey dots, the arrays
+    orange panels at their nominal angle. Hub-corner frame, metres.
     """
     figure, axes = plt.subplots(1, 3, figsize=(12, 4.6))
     for axis, view in zip(axes, VIEWS, strict=True):

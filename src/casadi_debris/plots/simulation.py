@@ -8,9 +8,11 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.lines import Line2D
 
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
+from casadi_debris.simulation.monte_carlo import Extremes
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
@@ -61,13 +63,12 @@ def plot_closed_loop(
             result.time_s[:-1], result.torque_Nm[:, i] * 1e3, where="post", color=colour, lw=1.0
         )
         _draw_authority(bottom, result, i, colour)
+    bands = envelope.bands if envelope is not None else None
+    error_peak = _peak(result.error_rad, bands.error_rad if bands is not None else None)
     if requirement is not None:
-        for sign in (1, -1):
-            label = f"requirement ±{requirement:g} {error_unit}" if sign > 0 else None
-            middle.axhline(sign * requirement, color="k", ls="--", lw=0.8, label=label)
-        middle.legend(loc="upper right", fontsize=8)
-    bottom.plot([], [], color="0.3", ls=":", lw=1.0, label="authority about +axis / -axis")
-    bottom.legend(loc="upper right", fontsize=8)
+        _draw_requirement(middle, requirement, error_peak * scale, error_unit)
+    torque_peak = _peak(result.torque_Nm, bands.torque_Nm if bands is not None else None)
+    _fit_torque(bottom, result, torque_peak * MNM_PER_NM)
     middle.set_ylabel(f"error [{error_unit}]")
     bottom.set_ylabel("torque [mNm]")
     bottom.set_xlabel("time [s]")
@@ -78,6 +79,67 @@ def plot_closed_loop(
     if title:
         top.set_title(title)
     return save_figure(figure, path)
+
+
+OFF_SCALE = 2.5
+"""A limit line more than this many times the data's peak is noted, not drawn: drawn, it
+would squash the data into a flat line."""
+
+
+def _peak(values: np.ndarray, bands: Extremes | None = None) -> float:
+    """Largest magnitude of ``values`` and of the envelope ``bands`` (min/max), NaN skipped."""
+    arrays = [np.asarray(values)]
+    if bands is not None:
+        arrays += [np.asarray(bands.min), np.asarray(bands.max)]
+    finite = [np.abs(a[np.isfinite(a)]) for a in arrays]
+    return max((float(a.max()) for a in finite if a.size), default=0.0)
+
+
+def _draw_requirement(axes: Axes, requirement: float, peak: float, unit: str) -> None:
+    """The requirement at ± as dashed lines when they are in range of the data; else the
+    panel keeps the data's scale and says where the requirement is."""
+    label = f"requirement ±{requirement:g} {unit}"
+    if peak <= 0.0 or requirement <= OFF_SCALE * peak:
+        for sign in (1, -1):
+            axes.axhline(
+                sign * requirement, color="k", ls="--", lw=0.8, label=label if sign > 0 else None
+            )
+        axes.legend(loc="upper right", fontsize=8)
+        return
+    axes.set_ylim(-1.15 * peak, 1.15 * peak)
+    axes.text(
+        0.99,
+        0.96,
+        f"↑ {label}: off scale, {requirement / peak:.3g} × the largest error",
+        transform=axes.transAxes,
+        ha="right",
+        va="top",
+        fontsize=8,
+        bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.6"},
+    )
+
+
+def _fit_torque(axes: Axes, result: ClosedLoopResult, peak_mNm: float) -> None:
+    """The authority lines' legend; when the least authority is far above the torque, the
+    panel keeps the torque's scale and says where the authority is."""
+    authority = np.asarray(result.authority_Nm) * MNM_PER_NM
+    least = float(np.min(authority)) if authority.size else 0.0
+    if peak_mNm > 0.0 and least > OFF_SCALE * peak_mNm:
+        axes.set_ylim(-1.15 * peak_mNm, 1.15 * peak_mNm)
+        axes.text(
+            0.99,
+            0.96,
+            f"↑ authority (dotted) off scale: at least {least:.3g} mNm, "
+            f"{least / peak_mNm:.3g} × the largest torque",
+            transform=axes.transAxes,
+            ha="right",
+            va="top",
+            fontsize=8,
+            bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.6"},
+        )
+        return
+    axes.plot([], [], color="0.3", ls=":", lw=1.0, label="authority about +axis / -axis")
+    axes.legend(loc="upper right", fontsize=8)
 
 
 def _envelope_note(
@@ -139,22 +201,18 @@ def plot_thrust(
     path : Path
     groups : dict
         Panel title (e.g. ``"+x face"``) -> (engine index, 0-based; its label, e.g.
-        ``"CubeSat 3"``) for every engine drawn there.
+        ``"CubeSat 3"``) for every engine drawn there. The legend, beside each panel,
+        gives a colour per CubeSat and a line style per engine of a CubeSat, both
+        numbered from the run's own propulsion state.
     title : str
     """
     n_panels = len(groups) + 1
     rows = (n_panels + 1) // 2
-    figure, axes = plt.subplots(rows, 2, figsize=(11, 2.6 * rows), squeeze=False)
+    figure, axes = plt.subplots(rows, 2, figsize=(14, 2.6 * rows), squeeze=False)
     flat = axes.ravel()
     for ax, (name, engines) in zip(flat, groups.items(), strict=False):
-        for engine, label in engines:
-            lost = result.propulsion.failed_cubesats[result.propulsion.engine_cubesat[engine]]
-            label = f"{label} (failed)" if lost else label
-            ax.plot(result.time_s[:-1], result.thrust_N[:, engine] * MN_PER_N, lw=0.8, label=label)
+        _thrust_panel(ax, result, [engine for engine, _ in engines])
         ax.set_title(name, fontsize=9)
-        ax.set_ylabel("thrust [mN]")
-        ax.grid(True, ls=":", color="0.6")
-        ax.legend(fontsize=7, ncols=2, loc="upper right")
     fuel = result.fuel_per_cubesat_kg * 1e6
     bars = flat[len(groups)]
     bars.bar(np.arange(1, len(fuel) + 1), fuel, color="0.4")
@@ -168,6 +226,46 @@ def plot_thrust(
     if title:
         figure.suptitle(title)
     return save_figure(figure, path)
+
+
+ENGINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)))
+"""Line style of a CubeSat's 1st, 2nd, ... engine (its colour is its CubeSat's)."""
+
+
+def _thrust_panel(ax: Axes, result: ClosedLoopResult, engines: list[int]) -> None:
+    """The thrust of ``engines`` (0-based), a colour per CubeSat and a line style per engine
+    of it, with a legend beside the panel that names each CubeSat (failed ones marked) and,
+    when a CubeSat has several engines, each style."""
+    owners = result.propulsion.engine_cubesat
+    cubesats = list(dict.fromkeys(int(owners[e]) for e in engines))
+    several = False
+    for engine in engines:
+        cubesat = int(owners[engine])
+        own = int(np.sum(owners[:engine] == cubesat))  # its number among its CubeSat's engines
+        several = several or own > 0 or int(np.sum(owners == cubesat)) > 1
+        ax.plot(
+            result.time_s[:-1],
+            result.thrust_N[:, engine] * MN_PER_N,
+            lw=0.9,
+            color=f"C{cubesats.index(cubesat) % 10}",
+            ls=ENGINE_STYLES[own % len(ENGINE_STYLES)],
+        )
+    failed = result.propulsion.failed_cubesats
+    handles = [
+        Line2D([], [], color=f"C{i % 10}",
+               label=f"CubeSat {c + 1}" + (" (failed)" if failed[c] else ""))
+        for i, c in enumerate(cubesats)
+    ]  # fmt: skip
+    if several:
+        most = max(int(np.sum(owners == c)) for c in cubesats)
+        handles += [
+            Line2D([], [], color="0.35", ls=ENGINE_STYLES[k % len(ENGINE_STYLES)],
+                   label=f"engine {k + 1}")
+            for k in range(min(most, len(ENGINE_STYLES)))
+        ]  # fmt: skip
+    ax.legend(handles=handles, fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.set_ylabel("thrust [mN]")
+    ax.grid(True, ls=":", color="0.6")
 
 
 def _euler_deg(quaternion: np.ndarray) -> np.ndarray:

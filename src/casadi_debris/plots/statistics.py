@@ -55,6 +55,9 @@ def plot_statistics(
 
 
 def _histogram(ax: plt.Axes, stats: FigureStatistics, values: np.ndarray) -> None:
+    """The cases' histogram over the data's own range, with the mean, 99th percentile and
+    mean + 3σ; the requirement drawn when near that range, else said to be off scale (drawn
+    far away it would squash every case into one bar)."""
     finite = values[np.isfinite(values)]
     ax.hist(finite, bins=min(40, max(5, len(finite) // 4)), color="#7a9cc6", edgecolor="white")
     lines = [
@@ -62,13 +65,35 @@ def _histogram(ax: plt.Axes, stats: FigureStatistics, values: np.ndarray) -> Non
         (stats.p99, "99th percentile", "#555555", "--"),
         (stats.mean_plus_3sigma, "mean + 3σ", "#555555", ":"),
     ]
-    if stats.requirement is not None:
-        lines.append((stats.requirement, f"requirement {stats.requirement:g}", "#c0392b", "-"))
+    shown = [v for v, *_ in lines if np.isfinite(v)] + finite.tolist()
+    low, high = (min(shown), max(shown)) if shown else (0.0, 1.0)
+    reach = high - low if high > low else max(abs(high) * 0.1, 1e-12)
+    requirement = stats.requirement
+    if requirement is not None and low - reach <= requirement <= high + reach:
+        lines.append((requirement, f"requirement {requirement:g}", "#c0392b", "-"))
+        low, high = min(low, requirement), max(high, requirement)
+    elif requirement is not None:
+        right = requirement > high
+        extreme = f"largest case {finite.max():.3g}" if right else f"smallest {finite.min():.3g}"
+        ax.text(
+            0.98 if right else 0.02,
+            0.97,
+            f"{'→' if right else '←'} requirement {requirement:g}, off scale ({extreme})",
+            transform=ax.transAxes,
+            ha="right" if right else "left",
+            va="top",
+            fontsize=8,
+            color="#c0392b",
+            bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "#c0392b"},
+        )
+        ax.set_ylim(top=1.18 * ax.get_ylim()[1])  # room for the note above the bars
     for value, label, colour, style in lines:
         ax.axvline(value, color=colour, linestyle=style, linewidth=1.4, label=f"{label}")
+    margin = 0.05 * (high - low if high > low else reach)
+    ax.set_xlim(low - margin, high + margin)
     ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4))
     ax.set(xlabel=stats.figure, ylabel="cases", title=f"{stats.figure} over {stats.cases} cases")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="center right")
 
 
 def _tornado(ax: plt.Axes, driver: Driver) -> None:

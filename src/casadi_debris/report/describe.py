@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -10,7 +11,7 @@ import numpy as np
 
 from casadi_debris.budgets import BudgetItem
 from casadi_debris.config import Problem
-from casadi_debris.geometry import Geometry, torque_authority
+from casadi_debris.geometry import Geometry, array_axes, torque_authority
 from casadi_debris.model import Model, assembled_modes, build_model
 from casadi_debris.model.cantilever import shape_integrals
 from casadi_debris.records import FLATTENED, Record
@@ -56,6 +57,30 @@ class FlexibleMode(Record):
 
 
 @dataclass(frozen=True)
+class ArrayOrientation(Record):
+    """Which way one array lies and faces, in the body frame B (unit vectors rounded to 1e-6).
+
+    ``array`` is its number (from 1); ``hinge_m`` its root point from the CoG and
+    ``hinge_corner_m`` the same point in the hub-corner frame; ``hinge_axis`` the
+    axis ``angle_deg`` (theta_SA) turns it about (``extent`` or its opposite,
+    whichever points along a positive body axis); ``extent`` the direction it
+    extends in from the hinge, ``width`` its in-plane width direction and ``normal``
+    the normal of its face at ``angle_deg``. At angle 0 the normal is the hub axis
+    after the extent's main axis in cyclic order (x, y, z, x): an array along ±y
+    faces +z, one along ±z faces +x, one along ±x faces +y.
+    """
+
+    array: int
+    hinge_m: tuple[float, ...]
+    hinge_corner_m: tuple[float, ...]
+    hinge_axis: tuple[float, ...]
+    extent: tuple[float, ...]
+    width: tuple[float, ...]
+    normal: tuple[float, ...]
+    angle_deg: float
+
+
+@dataclass(frozen=True)
 class Thruster(Record):
     """One engine as a user numbers it (all from 1).
 
@@ -83,6 +108,7 @@ class ModelDescription(Record):
     ``inertia_total_kgm2`` (arrays included) are 3x3 about the CoG;
     ``torque_max_mNm`` and ``torque_max_zero_force_mNm`` the torque authority by
     signed axis (``"+x"`` ... ``"-z"``: JSON keys, not names, hence a mapping);
+    ``arrays`` each array's hinge, extent, width and normal in B;
     ``notes`` what the problem file gives that this debris does not use.
     """
 
@@ -94,6 +120,7 @@ class ModelDescription(Record):
     inertia_hub_cubesats_kgm2: tuple[tuple[float, ...], ...]
     inertia_total_kgm2: tuple[tuple[float, ...], ...]
     array_angle_deg: tuple[float, ...]
+    arrays: tuple[ArrayOrientation, ...]
     torque_max_mNm: dict[str, float]
     torque_max_zero_force_mNm: dict[str, float]
     modes: tuple[FlexibleMode, ...]
@@ -117,6 +144,7 @@ def describe_model(problem: Problem) -> ModelDescription:
         inertia_hub_cubesats_kgm2=_matrix(geometry.inertia_hub_cubesats_kgm2),
         inertia_total_kgm2=_matrix(geometry.inertia_total_kgm2),
         array_angle_deg=tuple(array.angle_deg for array in problem.arrays),
+        arrays=_array_orientations(problem, geometry),
         torque_max_mNm={k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
         torque_max_zero_force_mNm=zero_force_mNm,
         modes=_modes(problem, model),
@@ -175,6 +203,30 @@ def _modes(problem: Problem, model: Model) -> tuple[FlexibleMode, ...]:
     return tuple(modes)
 
 
+def _array_orientations(problem: Problem, geometry: Geometry) -> tuple[ArrayOrientation, ...]:
+    """Each array's hinge and axes in B, from the same :func:`array_axes` the model uses."""
+    orientations = []
+    for index, (array, hinge_m) in enumerate(zip(problem.arrays, geometry.hinges_m, strict=True)):
+        extent, width, normal = (
+            np.array(v, dtype=float).ravel()
+            for v in array_axes(array.direction, math.radians(array.angle_deg))
+        )
+        main = int(np.argmax(np.abs(extent)))
+        orientations.append(
+            ArrayOrientation(
+                array=index + 1,
+                hinge_m=_vector(hinge_m),
+                hinge_corner_m=_vector(array.hinge_corner_m),
+                hinge_axis=_vector(extent if extent[main] > 0 else -extent),
+                extent=_vector(extent),
+                width=_vector(width),
+                normal=_vector(normal),
+                angle_deg=array.angle_deg,
+            )
+        )
+    return tuple(orientations)
+
+
 def _thrusters(problem: Problem, geometry: Geometry) -> tuple[Thruster, ...]:
     return tuple(
         Thruster(
@@ -214,6 +266,7 @@ def model_text(summary: ModelDescription, show_paper: bool) -> str:
         "",
         format_table(headers, _quantity_rows(summary, show_paper)),
         "",
+        *_arrays_section(summary.arrays),
         _modes_heading(summary.array_angle_deg),
         _modes_table(summary.modes),
         "",
@@ -302,6 +355,35 @@ _MODE_COLUMNS = (
     ("mass frac", "mass_fraction"),
     ("root inertia frac", "root_inertia_fraction"),
 )
+
+
+def _arrays_section(arrays: Sequence[ArrayOrientation]) -> list[str]:
+    """The arrays' hinges and axes, with the rule for angle 0 (nothing for a rigid debris)."""
+    if not arrays:
+        return []
+    table = format_table(
+        ["array", "hinge [m]", "hinge axis", "extent", "width", "normal", "angle [deg]"],
+        [
+            [
+                a.array,
+                list(a.hinge_m),
+                list(a.hinge_axis),
+                list(a.extent),
+                list(a.width),
+                list(a.normal),
+                a.angle_deg,
+            ]
+            for a in arrays
+        ],
+    )
+    return [
+        "Arrays (body frame B, origin at the CoG). The angle turns an array about its hinge"
+        " axis; at angle 0",
+        "its normal is the hub axis after its extent's in the cyclic order x, y, z (an array"
+        " along y faces z, along z faces x, along x faces y).",
+        table,
+        "",
+    ]
 
 
 def _modes_heading(angles_deg: Sequence[float]) -> str:

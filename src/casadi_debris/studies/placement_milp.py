@@ -30,11 +30,15 @@ the bounds meet within the MIP gap. Both forms are exact at convergence.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import logging
 import math
+import os
+import sys
+import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -337,17 +341,18 @@ def solve_blocks(
     integrality = np.zeros(n_vars, dtype=int)
     integrality[:n_c] = 1
     began = time.perf_counter()
-    result = milp(
-        objective,
-        integrality=integrality,
-        bounds=Bounds(np.zeros(n_vars), upper),
-        constraints=rows.constraint(),
-        options={
-            "disp": False,
-            "mip_rel_gap": settings.mip_rel_gap,
-            "time_limit": max(time_limit_s, 1.0),
-        },
-    )
+    with solver_output_logged("HiGHS"):
+        result = milp(
+            objective,
+            integrality=integrality,
+            bounds=Bounds(np.zeros(n_vars), upper),
+            constraints=rows.constraint(),
+            options={
+                "disp": False,
+                "mip_rel_gap": settings.mip_rel_gap,
+                "time_limit": max(time_limit_s, 1.0),
+            },
+        )
     elapsed = time.perf_counter() - began
     x = result.x
     dual = getattr(result, "mip_dual_bound", None)
@@ -370,6 +375,30 @@ def solve_blocks(
         "MILP %d blocks, %d variables: %s in %.2f s", len(blocks), n_vars, record.message, elapsed
     )
     return record, (np.round(x[:n_c]) if x is not None else None)
+
+
+@contextlib.contextmanager
+def solver_output_logged(solver: str) -> Iterator[None]:
+    """Send what C code prints on standard output meanwhile to the log (INFO: shown with
+    ``-v``), each line prefixed by ``solver``.
+
+    HiGHS prints some lines from C whatever its log options say; caught at the file
+    descriptor, they can neither clutter a terminal nor break JSON on stdout.
+    """
+    sys.stdout.flush()
+    saved = os.dup(1)
+    with tempfile.TemporaryFile() as caught:
+        try:
+            os.dup2(caught.fileno(), 1)
+            yield
+        finally:
+            sys.stdout.flush()
+            os.dup2(saved, 1)
+            os.close(saved)
+            caught.seek(0)
+            for line in caught.read().decode(errors="replace").splitlines():
+                if line.strip():
+                    LOGGER.info("%s: %s", solver, line.rstrip())
 
 
 def extensive_variables(data: PlacementData, failures: int) -> tuple[int, int]:
