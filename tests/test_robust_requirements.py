@@ -106,5 +106,8 @@ def test_the_figures_are_the_scalings_by_name_and_read_back(problem):
         "ve_ratio": 2.0,
         "disturbance_frequency_rad_s": scalings.disturbance_frequency_rad_s,
         "pointing_per_mu_arcsec": scalings.pointing_per_mu_arcsec.tolist(),
+        "reference_scaling_deg": scalings.reference_deg.tolist(),
     }
     assert ScalingFigures.from_json(data) == figures
+    # The reference is the requirement's Ve, whatever the ratio (Ve loosens alone).
+    np.testing.assert_allclose(scalings.reference_deg, scalings.error_deg / 2.0, rtol=1e-15)

@@ -376,4 +376,5 @@ def _weight_settings(problem: Problem, performance: PerformanceWeights) -> dict[
         "error_scaling_deg": np.diag(performance.error_scaling).tolist(),
         "control_scaling_mNm": np.diag(performance.control_scaling).tolist(),
         "disturbance_scaling_mNm": np.diag(performance.disturbance_scaling).tolist(),
+        "reference_scaling_deg": np.diag(performance.reference).tolist(),
     }

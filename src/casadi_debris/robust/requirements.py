@@ -19,6 +19,13 @@ problem's sine disturbance of amplitudes A at w_d the steady error on axis i is
 at most ``beta Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``. Ve is set so that this
 bound equals the requirement at beta = 1, times a ``ve_ratio``: above 1 when the
 requirement cannot be guaranteed, below 1 for a design that does better.
+
+The reference scaling Vr (what the loop must follow, w_e's size) stays at the
+requirement's Ve whatever ``ve_ratio``: in the paper's form Vr is Ve, so loosening Ve
+would also ask the loop to follow a reference ``ve_ratio`` times larger with the same
+torque, and μ rose as Ve loosened (0.917, 0.978, 1.69, 3.25 at 1, 2, 4, 8 times Ve for the
+shipped controller on the paper's plant). Held apart, a looser Ve only scales the error
+rows down, and μ of any fixed controller cannot rise.
 """
 
 from __future__ import annotations
@@ -57,6 +64,8 @@ class DerivedScalings:
     pointing_per_mu_arcsec : ndarray, shape (3,)
         The guaranteed steady pointing error per unit mu [arcsec]:
         ``Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``.
+    reference_deg : ndarray, shape (3,)
+        Vr [deg]: the Ve at ``ve_ratio`` 1, whatever ``ve_ratio`` (see the module's note).
     """
 
     error_deg: np.ndarray
@@ -65,6 +74,7 @@ class DerivedScalings:
     ve_ratio: float
     disturbance_frequency_rad_s: float
     pointing_per_mu_arcsec: np.ndarray
+    reference_deg: np.ndarray
 
     def guaranteed_pointing_arcsec(self, mu_peak: float) -> np.ndarray | None:
         """The pointing bound of a design reaching ``mu_peak`` (None when mu > 1).
@@ -86,6 +96,7 @@ class DerivedScalings:
             error_scaling=np.diag(self.error_deg),
             control_scaling=np.diag(self.control_mNm),
             disturbance_scaling=np.diag(self.disturbance_mNm),
+            reference_scaling=np.diag(self.reference_deg),
         )
 
     def figures(self) -> ScalingFigures:
@@ -97,6 +108,7 @@ class DerivedScalings:
             ve_ratio=self.ve_ratio,
             disturbance_frequency_rad_s=self.disturbance_frequency_rad_s,
             pointing_per_mu_arcsec=tuple(self.pointing_per_mu_arcsec.tolist()),
+            reference_scaling_deg=tuple(self.reference_deg.tolist()),
         )
 
 
@@ -104,7 +116,8 @@ class DerivedScalings:
 class ScalingFigures(Record):
     """:class:`DerivedScalings` in a summary: Ve [deg], Vu and Vd [mNm] per axis, Ve over
     the requirement's, the disturbance frequency [rad/s] and the pointing error per unit
-    of μ [arcsec] per axis."""
+    of μ [arcsec] per axis, and Vr [deg] (the reference scaling, held at the requirement's
+    Ve)."""
 
     error_scaling_deg: tuple[float, ...]
     control_scaling_mNm: tuple[float, ...]
@@ -112,6 +125,7 @@ class ScalingFigures(Record):
     ve_ratio: float
     disturbance_frequency_rad_s: float
     pointing_per_mu_arcsec: tuple[float, ...]
+    reference_scaling_deg: tuple[float, ...] = ()
 
 
 def authority_per_axis_mNm(geometry: Geometry) -> np.ndarray:
@@ -167,7 +181,8 @@ def derived_scalings(
     error_gain = abs(complex(frequency_response(error_weight, np.array([omega_d]))[0, 0, 0]))
     per_unit = float(np.linalg.norm(amplitude / disturbance)) / error_gain
     required_deg = problem.requirements.pointing_arcsec / ARCSEC_PER_DEG
-    error = np.full(3, ve_ratio * required_deg / per_unit)
+    reference = np.full(3, required_deg / per_unit)
+    error = ve_ratio * reference
     return DerivedScalings(
         error_deg=error,
         control_mNm=control,
@@ -175,4 +190,5 @@ def derived_scalings(
         ve_ratio=float(ve_ratio),
         disturbance_frequency_rad_s=omega_d,
         pointing_per_mu_arcsec=error * per_unit * ARCSEC_PER_DEG,
+        reference_deg=reference,
     )
