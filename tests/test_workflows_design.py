@@ -126,5 +126,9 @@ def test_design_with_a_pid_is_verified_like_the_mu_design(tmp_path: Path):
     assert DesignSummary.from_json(summary).to_json() == summary
     assert set(summary["scalings"]) == {
         "error_scaling_deg", "control_scaling_mNm", "disturbance_scaling_mNm", "ve_ratio",
-        "disturbance_frequency_rad_s", "pointing_per_mu_arcsec",
+        "disturbance_frequency_rad_s", "pointing_per_mu_arcsec", "reference_scaling_deg",
     }  # fmt: skip
+    assert summary["body"]["bandwidth_from"] == "paper"
+    assert summary["requirements_met"] is (
+        summary["requirements_passed"] == summary["requirements"]
+    )

@@ -66,6 +66,8 @@ class DerivedScalings:
         ``Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``.
     reference_deg : ndarray, shape (3,)
         Vr [deg]: the Ve at ``ve_ratio`` 1, whatever ``ve_ratio`` (see the module's note).
+    base : PerformanceWeights, optional
+        Whose We and Wu the design uses (default: the problem's ``[weights]``).
     """
 
     error_deg: np.ndarray
@@ -75,6 +77,7 @@ class DerivedScalings:
     disturbance_frequency_rad_s: float
     pointing_per_mu_arcsec: np.ndarray
     reference_deg: np.ndarray
+    base: PerformanceWeights | None = None
 
     def guaranteed_pointing_arcsec(self, mu_peak: float) -> np.ndarray | None:
         """The pointing bound of a design reaching ``mu_peak`` (None when mu > 1).
@@ -88,8 +91,8 @@ class DerivedScalings:
         return mu_peak * self.pointing_per_mu_arcsec
 
     def performance_weights(self, problem: Problem) -> PerformanceWeights:
-        """The problem's We and Wu with these Ve, Vu and Vd."""
-        base = performance_weights(problem)
+        """We and Wu (:attr:`base`, else the problem's) with these Ve, Vr, Vu and Vd."""
+        base = self.base or performance_weights(problem)
         return PerformanceWeights(
             error=base.error,
             control_effort=base.control_effort,
@@ -97,6 +100,7 @@ class DerivedScalings:
             control_scaling=np.diag(self.control_mNm),
             disturbance_scaling=np.diag(self.disturbance_mNm),
             reference_scaling=np.diag(self.reference_deg),
+            parameters=base.parameters,
         )
 
     def figures(self) -> ScalingFigures:
@@ -135,7 +139,10 @@ def authority_per_axis_mNm(geometry: Geometry) -> np.ndarray:
 
 
 def derived_scalings(
-    problem: Problem, ve_ratio: float = 1.0, geometry: Geometry | None = None
+    problem: Problem,
+    ve_ratio: float = 1.0,
+    geometry: Geometry | None = None,
+    base: PerformanceWeights | None = None,
 ) -> DerivedScalings:
     """Ve, Vu and Vd for ``problem`` (see the module's note).
 
@@ -146,6 +153,9 @@ def derived_scalings(
         > 0: Ve is this times the Ve whose guarantee is the pointing requirement.
     geometry : Geometry, optional
         The problem's (built when not given).
+    base : PerformanceWeights, optional
+        Whose We (for the guarantee) and Wu the design uses; default the problem's
+        (:mod:`~casadi_debris.robust.body_weights` derives them from the body).
 
     Raises
     ------
@@ -177,7 +187,7 @@ def derived_scalings(
     share = np.maximum(amplitude / amplitude.max(), SMALLEST_DISTURBANCE_SHARE)
     disturbance = DISTURBANCE_TO_AUTHORITY * control * share
     omega_d = 2.0 * math.pi / (SECONDS_PER_MINUTE * problem.disturbance.period_min)
-    error_weight = performance_weights(problem).error
+    error_weight = (base or performance_weights(problem)).error
     error_gain = abs(complex(frequency_response(error_weight, np.array([omega_d]))[0, 0, 0]))
     per_unit = float(np.linalg.norm(amplitude / disturbance)) / error_gain
     required_deg = problem.requirements.pointing_arcsec / ARCSEC_PER_DEG
@@ -191,4 +201,5 @@ def derived_scalings(
         disturbance_frequency_rad_s=omega_d,
         pointing_per_mu_arcsec=error * per_unit * ARCSEC_PER_DEG,
         reference_deg=reference,
+        base=base,
     )

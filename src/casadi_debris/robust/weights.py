@@ -46,6 +46,10 @@ class PerformanceWeights:
         errors but also asks the loop to follow a larger reference with the same
         torque (the K S Ve block), so on a fixed controller μ can rise as Ve loosens.
         With Vr fixed, only the error rows scale by Ve^-1, and μ cannot rise.
+    parameters : mapping, optional
+        The parameters of We and Wu when they are not the problem's ``[weights]``
+        (``closed_loop_bandwidth_rad_s``, ``epsilon``, ``control_rolloff_rad_s``,
+        ``control_rolloff_high_frequency_gain``), as a controller file records them.
     """
 
     error: control.StateSpace
@@ -54,6 +58,7 @@ class PerformanceWeights:
     control_scaling: np.ndarray
     disturbance_scaling: np.ndarray
     reference_scaling: np.ndarray | None = None
+    parameters: Mapping[str, float] | None = None
 
     @property
     def reference(self) -> np.ndarray:
