@@ -319,8 +319,8 @@ def design_markdown(
         f"- Ve = {format_figure(scalings.error_deg.tolist())} deg: {scalings.ve_ratio:.3g} x the "
         "level whose robust-performance bound is the pointing requirement.",
         f"- Vr = {format_figure(scalings.reference_deg.tolist())} deg: the reference the loop "
-        "must follow, held at the requirement's Ve whatever Ve (a looser Ve then cannot "
-        "raise μ).",
+        "must follow: Ve, held at the requirement's Ve when Ve loosens beyond it (a looser "
+        "Ve then cannot raise μ).",
         "",
         "The guaranteed pointing is the steady error under the problem's sine disturbance "
         "that μ ≤ 1 bounds for every plant the fitted uncertainty weight covers: "

@@ -20,12 +20,14 @@ at most ``beta Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``. Ve is set so that this
 bound equals the requirement at beta = 1, times a ``ve_ratio``: above 1 when the
 requirement cannot be guaranteed, below 1 for a design that does better.
 
-The reference scaling Vr (what the loop must follow, w_e's size) stays at the
-requirement's Ve whatever ``ve_ratio``: in the paper's form Vr is Ve, so loosening Ve
-would also ask the loop to follow a reference ``ve_ratio`` times larger with the same
-torque, and μ rose as Ve loosened (0.917, 0.978, 1.69, 3.25 at 1, 2, 4, 8 times Ve for the
-shipped controller on the paper's plant). Held apart, a looser Ve only scales the error
-rows down, and μ of any fixed controller cannot rise.
+The reference scaling Vr (what the loop must follow, w_e's size) is the paper's, Ve,
+up to the requirement's Ve, and stays there when Ve loosens beyond it: in the paper's
+form a looser Ve also asks the loop to follow a reference ``ve_ratio`` times larger with
+the same torque, and μ rose as Ve loosened (0.917, 0.978, 1.69, 3.25 at 1, 2, 4, 8 times
+Ve for the shipped controller on the paper's plant), so the search, which loosens Ve
+when μ > 1, walked away from its goal. Held, a looser Ve only scales the error rows
+down, and μ of any fixed controller cannot rise. At or below ratio 1 nothing changes
+from the paper's form (the paper's own design is the same).
 """
 
 from __future__ import annotations
@@ -65,7 +67,7 @@ class DerivedScalings:
         The guaranteed steady pointing error per unit mu [arcsec]:
         ``Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``.
     reference_deg : ndarray, shape (3,)
-        Vr [deg]: the Ve at ``ve_ratio`` 1, whatever ``ve_ratio`` (see the module's note).
+        Vr [deg]: Ve up to ``ve_ratio`` 1, the Ve at ratio 1 beyond (see the module's note).
     base : PerformanceWeights, optional
         Whose We and Wu the design uses (default: the problem's ``[weights]``).
     """
@@ -120,8 +122,8 @@ class DerivedScalings:
 class ScalingFigures(Record):
     """:class:`DerivedScalings` in a summary: Ve [deg], Vu and Vd [mNm] per axis, Ve over
     the requirement's, the disturbance frequency [rad/s] and the pointing error per unit
-    of μ [arcsec] per axis, and Vr [deg] (the reference scaling, held at the requirement's
-    Ve)."""
+    of μ [arcsec] per axis, and Vr [deg] (the reference scaling: Ve, held at the
+    requirement's Ve when Ve loosens beyond it)."""
 
     error_scaling_deg: tuple[float, ...]
     control_scaling_mNm: tuple[float, ...]
@@ -191,8 +193,8 @@ def derived_scalings(
     error_gain = abs(complex(frequency_response(error_weight, np.array([omega_d]))[0, 0, 0]))
     per_unit = float(np.linalg.norm(amplitude / disturbance)) / error_gain
     required_deg = problem.requirements.pointing_arcsec / ARCSEC_PER_DEG
-    reference = np.full(3, required_deg / per_unit)
-    error = ve_ratio * reference
+    error = np.full(3, ve_ratio * required_deg / per_unit)
+    reference = min(ve_ratio, 1.0) * error / ve_ratio
     return DerivedScalings(
         error_deg=error,
         control_mNm=control,
