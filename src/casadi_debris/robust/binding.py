@@ -192,3 +192,45 @@ def mu_limit(lowest_mu: float, at_ve_ratio: float, max_ve_ratio: float) -> Bindi
         ),
         figures={"lowest_mu": lowest_mu, "at_ve_ratio": at_ve_ratio},
     )
+
+
+def margins_limit(
+    gain_margin_db: float,
+    phase_margin_deg: float,
+    unstable: int,
+    samples: int,
+    bandwidth_rad_s: float | None,
+) -> BindingLimit:
+    """Margins over the sampled plants below the conventional ones, or unstable samples.
+
+    Parameters
+    ----------
+    gain_margin_db, phase_margin_deg : float
+        Smallest over the samples.
+    unstable : int
+        Sampled loops that are unstable.
+    samples : int
+    bandwidth_rad_s : float or None
+        The design's We bandwidth (None: not a μ design).
+    """
+    lower = (
+        "a lower bandwidth"
+        if bandwidth_rad_s is None
+        else f"a bandwidth below {bandwidth_rad_s:.3g} rad/s"
+    )
+    return BindingLimit(
+        requirement="margins_sampled",
+        limit=(
+            f"the uncertainty at crossover: over {samples} sampled plants the smallest margins "
+            f"are {gain_margin_db:.3g} dB and {phase_margin_deg:.3g} deg, {unstable} loops unstable"
+        ),
+        remedies=(
+            f"{lower} ([weights] closed_loop_bandwidth_rad_s), or a smaller uncertainty set",
+        ),
+        figures={
+            "gain_margin_db": gain_margin_db,
+            "phase_margin_deg": phase_margin_deg,
+            "unstable_samples": unstable,
+            "samples": samples,
+        },
+    )

@@ -48,6 +48,7 @@ from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.binding import (
     BindingLimit,
     BodyLimits,
+    margins_limit,
     mu_limit,
     pointing_limit,
     slew_limit,
@@ -249,6 +250,17 @@ def _verdict(
         orders = [verified.record.reduced.nstates] * 2
         rows = verification_rows(problem, verified.margins, campaigns, limits, orders)
     binding = binding_limits(problem, rows, campaigns, search, verified.slew_problem)
+    if False in (row.met for row in rows if row.key in ("margins_sampled", "unstable_samples")):
+        sampled = verified.margins.sampled_min
+        binding += (
+            margins_limit(
+                sampled.gain_margin_db,
+                sampled.phase_margin_deg,
+                verified.margins.unstable_samples,
+                verified.margins.samples,
+                None if body is None else body.bandwidth_rad_s,
+            ),
+        )
     how = replace(how, body=body, binding=binding)
     summary = _summary(problem, search, method, rows, campaigns, out, started, how)
     if search is not None:
