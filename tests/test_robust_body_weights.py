@@ -90,6 +90,18 @@ def test_a_weight_the_problem_sets_itself_is_kept(tmp_path: Path):
     assert weights.figures.rolloff_from == "derived"
     as_given = body_weights(load_problem(path), "problem")
     assert as_given.rolloff_rad_s == 3.75 and as_given.figures.rolloff_from == "problem"
+    # The paper's roll-off on a body whose first mode is 1.2 rad/s (0.96 in the set): said.
+    warning = as_given.inherited_warning(papers_body=False)
+    assert warning is not None and "above the first mode (0.96 rad/s)" in warning
+    assert "bandwidth" not in warning  # 0.004 is the problem's own, not the paper's
+    assert body_weights(load_problem(), "problem").inherited_warning(papers_body=True) is None
+
+
+def test_the_papers_bandwidth_on_a_heavier_body_is_said_to_ask_too_much_torque():
+    weights = body_weights(load_problem(TEST_PROBLEMS / "large_single_array.toml"), "problem")
+    warning = weights.inherited_warning(papers_body=False)
+    ratio = (0.028 / weights.figures.derived_bandwidth_rad_s) ** 2
+    assert warning is not None and f"asks {ratio:.3g} times the torque" in warning
 
 
 def test_a_disturbance_that_takes_the_whole_authority_is_refused(tmp_path: Path):

@@ -135,6 +135,29 @@ class BodyWeights:
             "control_rolloff_high_frequency_gain": self.high_frequency_gain,
         }
 
+    def inherited_warning(self, papers_body: bool) -> str | None:
+        """What using the paper's bandwidth or roll-off on another body costs (None: it does
+        not)."""
+        f = self.figures
+        if papers_body:
+            return None
+        costs = []
+        if f.bandwidth_from == "problem" and f.bandwidth_rad_s == f.paper_bandwidth_rad_s:
+            ratio = (f.bandwidth_rad_s / f.derived_bandwidth_rad_s) ** 2
+            costs.append(
+                f"bandwidth {f.bandwidth_rad_s:.4g} rad/s asks {ratio:.3g} times the torque the "
+                f"authority holds at the slew error (this body's: {f.derived_bandwidth_rad_s:.4g})"
+            )
+        if f.rolloff_from == "problem" and f.rolloff_rad_s == f.paper_rolloff_rad_s:
+            if f.first_mode_rad_s is not None and f.rolloff_rad_s > f.first_mode_rad_s:
+                where = f"above the first mode ({f.first_mode_rad_s:.3g} rad/s)"
+            else:
+                where = f"where this body's rule puts {f.derived_rolloff_rad_s:.4g}"
+            costs.append(f"roll-off {f.rolloff_rad_s:.4g} rad/s, {where}")
+        if not costs:
+            return None
+        return "using the paper's weights, tuned for another body: " + "; ".join(costs)
+
     def apply(self, weights: PerformanceWeights) -> PerformanceWeights:
         """``weights`` with these We and Wu."""
         error, effort = dynamic_weights(

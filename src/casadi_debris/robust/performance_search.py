@@ -22,7 +22,12 @@ from dataclasses import dataclass
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.records import Record
-from casadi_debris.robust.body_weights import BodyWeights, WeightsChoice, body_weights
+from casadi_debris.robust.body_weights import (
+    BodyWeights,
+    WeightsChoice,
+    body_weights,
+    is_papers_body,
+)
 from casadi_debris.robust.design import (
     ControllerDesign,
     SynthesisSettings,
@@ -143,6 +148,9 @@ def search_design(
     geometry = build_geometry(problem)
     body = body_weights(problem, weights, geometry)
     base = body.apply(performance_weights(problem))
+    warning = body.inherited_warning(is_papers_body(problem))
+    if warning:
+        LOGGER.warning(warning)
     say(
         f"weights: bandwidth {body.bandwidth_rad_s:.4g} rad/s ({body.figures.bandwidth_from}), "
         f"roll-off {body.rolloff_rad_s:.4g} rad/s ({body.figures.rolloff_from})"
