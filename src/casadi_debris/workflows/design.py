@@ -356,31 +356,32 @@ def binding_limits(
         found.append(mu_limit(lowest.mu_peak_reduced, lowest.ve_ratio, loosest))
     body = _body_limits(problem)
     required = problem.requirements
-    if met.get("pointing_arcsec") is False:
-        worst = _worst(campaigns["pointing"], "max_error_arcsec")
-        found.append(pointing_limit(body, worst, required.pointing_arcsec))
+    worst_pointing = _worst(campaigns["pointing"], "max_error_arcsec")
+    if met.get("pointing_arcsec") is False and worst_pointing is not None:
+        found.append(pointing_limit(body, worst_pointing, required.pointing_arcsec))
     elif met.get("guaranteed_pointing_arcsec") is False and search is not None:
         guaranteed = search.chosen.guaranteed_pointing_arcsec
         if guaranteed is not None:
             limit = pointing_limit(body, max(guaranteed), required.pointing_arcsec)
             found.append(replace(limit, requirement="guaranteed_pointing_arcsec"))
-    if met.get("slew_max_error_deg") is False:
-        slew = campaigns["slew"]
+    slew = campaigns["slew"]
+    worst_slew = _worst(slew, "max_error_deg")
+    if met.get("slew_max_error_deg") is False and worst_slew is not None:
         reference = slew_problem.simulation.slew
         fraction = None if reference is None else reference.torque_fraction
         saturated = (
             slew.worst["torque_saturated_s"].value if "torque_saturated_s" in slew.worst else None
         )
-        found.append(
-            slew_limit(_worst(slew, "max_error_deg"), required.slew_error_deg, fraction, saturated)
-        )
+        found.append(slew_limit(worst_slew, required.slew_error_deg, fraction, saturated))
     return tuple(found)
 
 
-def _worst(campaign: CampaignSummary, key: str) -> float:
-    """The larger of a campaign's nominal figure and its worst corner's."""
-    values = [campaign.nominal.get(key), campaign.worst[key].value]
-    return max(float(v) for v in values if v is not None)
+def _worst(campaign: CampaignSummary, key: str) -> float | None:
+    """The larger of a campaign's nominal figure and its worst corner's (None: no run gave it)."""
+    worst = campaign.worst.get(key)
+    candidates = (campaign.nominal.get(key), None if worst is None else worst.value)
+    values = [float(v) for v in candidates if v is not None]
+    return max(values) if values else None
 
 
 def _body_limits(problem: Problem) -> BodyLimits:
