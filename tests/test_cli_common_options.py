@@ -50,6 +50,7 @@ PARAMETERS = {
         "out",
         "quick",
         "method",
+        "weights",
         "samples",
         "seed",
         "workers",

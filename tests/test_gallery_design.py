@@ -1,9 +1,12 @@
-"""``casadi-debris design --quick`` on every gallery problem (slow: minutes each).
+"""``casadi-debris design --quick`` on every gallery problem and the test debris of
+``tests/problems`` (slow: minutes each).
 
 Each design either ends with a controller for exactly that plant, whose report agrees
 with its files and whose guarantee follows from its mu, or is refused in one line
 because the disturbance exceeds the swarm's torque authority about an axis, which the
-test checks by its own LP-free reading of ``model --json``.
+test checks by its own LP-free reading of ``model --json``. A design that ends either
+meets every requirement or names, for each one it misses, the limit that binds with
+its numbers and what would meet it.
 """
 
 from __future__ import annotations
@@ -19,7 +22,18 @@ from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
 
-FILES = sorted((default_problem_path().parent / "gallery").glob("*.toml"))
+FILES = sorted((default_problem_path().parent / "gallery").glob("*.toml")) + sorted(
+    (Path(__file__).parent / "problems").glob("*.toml")
+)
+COVERED = {
+    "mu_peak": {"mu_peak"},
+    "guaranteed_pointing_arcsec": {"mu_peak", "guaranteed_pointing_arcsec"},
+    "pointing_arcsec": {"pointing_arcsec"},
+    "slew_max_error_deg": {"slew_max_error_deg"},
+    "margins_sampled": {"margins_sampled"},
+    "unstable_samples": {"margins_sampled"},
+}
+"""Which binding limits may explain each missed requirement."""
 
 pytestmark = pytest.mark.slow
 
@@ -68,4 +82,16 @@ def test_design_on_a_gallery_problem(path: Path, tmp_path: Path) -> None:
     assert rows["slew_max_error_deg"]["values"][1] == pytest.approx(
         slew["worst"]["max_error_deg"]["value"]
     )
-    assert (out / "report.md").read_text().count("| ") > 10
+    report = (out / "report.md").read_text()
+    assert report.count("| ") > 10
+    judged = [row for row in summary["rows"] if row["met"] is not None]
+    assert summary["requirements_met"] is all(row["met"] for row in judged)
+    assert summary["requirements_passed"] == sum(row["met"] is True for row in judged)
+    named = {limit["requirement"] for limit in summary["binding"]}
+    for row in judged:
+        if row["met"] is False:
+            assert COVERED[row["key"]] & named, (row["key"], summary["binding"])
+    for limit in summary["binding"]:
+        assert limit["remedies"] and any(ch.isdigit() for ch in limit["limit"])
+    assert ("Requirements NOT met" in report) is (not summary["requirements_met"])
+    assert summary["body"]["bandwidth_rad_s"] > 0

@@ -5,8 +5,16 @@ from __future__ import annotations
 import json
 
 from casadi_debris import load_problem
-from casadi_debris.report.design import CampaignFigures, DesignSummary, RequirementRow
+from casadi_debris.report.design import (
+    CampaignFigures,
+    DesignSummary,
+    RequirementRow,
+    binding_lines,
+    body_lines,
+)
 from casadi_debris.report.simulation import WorstFigure
+from casadi_debris.robust.binding import slew_limit
+from casadi_debris.robust.body_weights import body_weights
 from casadi_debris.robust.performance_search import DesignAttempt
 from casadi_debris.robust.requirements import derived_scalings
 
@@ -18,13 +26,14 @@ def test_a_design_summary_reads_back_from_its_json() -> None:
         8, {"max_error_deg": WorstFigure(0.6, "corner-0003")}, {"max_error_deg": 0.45}
     )
     summary = DesignSummary(
-        problem="paper", problem_sha256="a" * 64, plant_sha256="b" * 64, requirements_met=3,
-        requirements=4, method="mu", mu_peak=0.92, mu_peak_reduced=0.93,
+        problem="paper", problem_sha256="a" * 64, plant_sha256="b" * 64, requirements_met=False,
+        requirements_passed=3, requirements=4, method="mu", mu_peak=0.92, mu_peak_reduced=0.93,
         guaranteed_pointing_arcsec=[55.0, 60.0, 55.0], required_pointing_arcsec=60.0,
         scalings=derived_scalings(problem).figures(),
         attempts=(DesignAttempt(1.0, 0.92, 0.93, (55.0, 60.0, 55.0), 3, 100.0),),
         seed=0, slew=campaign, pointing=campaign, rows=(row.entry(),),
         time_s=300.0, out_dir="/d", quick=True, workers=1, controller_path="/d/controller.json",
+        binding=(slew_limit(0.9, 0.6, 0.5, 12.0),), body=body_weights(problem, "derived").figures,
     )  # fmt: skip
     data = json.loads(json.dumps(summary.to_json()))
     assert data["attempts"][0]["guaranteed_pointing_arcsec"] == [55.0, 60.0, 55.0]
@@ -45,3 +54,16 @@ def test_a_design_summary_reads_back_from_its_json() -> None:
         }
     ]
     assert DesignSummary.from_json(data) == summary
+    assert data["requirements_met"] is False and data["binding"][0]["requirement"] == (
+        "slew_max_error_deg"
+    )
+
+
+def test_the_report_says_loudly_when_requirements_are_not_met() -> None:
+    problem = load_problem()
+    limit = slew_limit(0.9, 0.6, 0.5, 12.0)
+    lines = "\n".join(binding_lines((limit,)))
+    assert "## What binds" in lines and "torque fraction 0.333" in lines
+    assert binding_lines(()) == []
+    body = "\n".join(body_lines(body_weights(problem, "derived").figures))
+    assert "derived from this body" in body and "0.028" in body

@@ -106,5 +106,11 @@ def test_the_figures_are_the_scalings_by_name_and_read_back(problem):
         "ve_ratio": 2.0,
         "disturbance_frequency_rad_s": scalings.disturbance_frequency_rad_s,
         "pointing_per_mu_arcsec": scalings.pointing_per_mu_arcsec.tolist(),
+        "reference_scaling_deg": scalings.reference_deg.tolist(),
     }
     assert ScalingFigures.from_json(data) == figures
+    # Looser than the requirement, the reference stays at the requirement's Ve (Ve loosens
+    # alone); tighter, it is Ve, as in the paper's form.
+    np.testing.assert_allclose(scalings.reference_deg, scalings.error_deg / 2.0, rtol=1e-15)
+    tight = derived_scalings(problem, ve_ratio=0.5)
+    np.testing.assert_array_equal(tight.reference_deg, tight.error_deg)

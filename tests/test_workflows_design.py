@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -126,5 +127,46 @@ def test_design_with_a_pid_is_verified_like_the_mu_design(tmp_path: Path):
     assert DesignSummary.from_json(summary).to_json() == summary
     assert set(summary["scalings"]) == {
         "error_scaling_deg", "control_scaling_mNm", "disturbance_scaling_mNm", "ve_ratio",
-        "disturbance_frequency_rad_s", "pointing_per_mu_arcsec",
+        "disturbance_frequency_rad_s", "pointing_per_mu_arcsec", "reference_scaling_deg",
     }  # fmt: skip
+    assert summary["body"]["bandwidth_from"] == "paper"
+    assert summary["requirements_met"] is (
+        summary["requirements_passed"] == summary["requirements"]
+    )
+
+
+def test_each_missed_requirement_gets_its_binding_limit_from_the_runs(problem):
+    """The wiring from the requirement rows and the campaigns to the limits: the worst of
+    nominal and corner, the slew's own torque fraction, nothing for a requirement met."""
+    from types import SimpleNamespace
+
+    from casadi_debris.report.design import RequirementRow
+    from casadi_debris.report.simulation import WorstFigure
+    from casadi_debris.workflows.design import binding_limits
+
+    slew_problem, _ = verification_problems(problem, QUICK)
+    pointing = SimpleNamespace(
+        nominal={"max_error_arcsec": 70.0},
+        worst={"max_error_arcsec": WorstFigure(81.0, "corner-0002")},
+    )
+    slew = SimpleNamespace(
+        nominal={"max_error_deg": 0.5},
+        worst={
+            "max_error_deg": WorstFigure(0.9, "corner-0001"),
+            "torque_saturated_s": WorstFigure(30.0, "corner-0001"),
+        },
+    )
+    rows = [
+        RequirementRow("pointing_arcsec", "", "", "", (70.0, 81.0), False),
+        RequirementRow("slew_max_error_deg", "", "", "", (0.5, 0.9), False),
+        RequirementRow("margins_sampled", "", "", "", (13.0, 45.0), True),
+    ]
+    campaigns = {"pointing": pointing, "slew": slew}
+    limits = binding_limits(problem, rows, campaigns, None, slew_problem)  # type: ignore[arg-type]
+    assert [b.requirement for b in limits] == ["pointing_arcsec", "slew_max_error_deg"]
+    assert limits[0].figures["worst_arcsec"] == 81.0 and limits[0].figures["axis"] == "y"
+    fraction = slew_problem.simulation.slew.torque_fraction
+    assert limits[1].figures["torque_fraction"] == fraction
+    assert f"torque fraction {fraction * 0.6 / 0.9:.3g}" in limits[1].remedies[0]
+    met = [dataclasses.replace(row, met=True) for row in rows]
+    assert binding_limits(problem, met, campaigns, None, slew_problem) == ()  # type: ignore[arg-type]

@@ -66,7 +66,7 @@ def row(path: Path, workers: int) -> str:
         f"{_value(rows['pointing_arcsec']):.1f} / {_value(rows['pointing_arcsec'], 1):.1f}",
         f"{_value(rows['slew_max_error_deg']):.3f} / {_value(rows['slew_max_error_deg'], 1):.3f}",
         f"{_value(rows['margins_sampled']):.1f} / {_value(rows['margins_sampled'], 1):.1f}",
-        f"{summary['requirements_met']} of {summary['requirements']}",
+        f"{summary['requirements_passed']} of {summary['requirements']}",
     ]
     return "| " + " | ".join(cells) + " |"
 

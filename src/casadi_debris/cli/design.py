@@ -21,6 +21,7 @@ from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import load_problem
 
 if TYPE_CHECKING:
+    from casadi_debris.robust.body_weights import WeightsChoice
     from casadi_debris.workflows.design import DesignMethod
 
 TABLE_KEYS = ("result", "required", "ours", "verdict")
@@ -38,6 +39,15 @@ TABLE_KEYS = ("result", "required", "ours", "verdict")
     help="mu: D-K mu-synthesis; pd, pid, lqr: per-axis PD, PID or LQG on the rigid body, "
     "to compare.",
 )
+@click.option(
+    "--weights",
+    type=click.Choice(["auto", "derived", "problem"]),
+    default="auto",
+    show_default=True,
+    help="Bandwidth and roll-off of the weights: auto derives them from the body unless the "
+    "problem is the paper's body or sets its own; derived always; problem takes [weights] "
+    "as they are (inherited ones included).",
+)
 @uncertainty_sample_options
 @workers_option
 @output_options
@@ -46,6 +56,7 @@ def design(
     out: Path | None,
     quick: bool,
     method: str,
+    weights: str,
     samples: int | None,
     seed: int | None,
     workers: int,
@@ -74,12 +85,13 @@ def design(
         workers=workers,
         overwrite=overwrite,
         progress=stage_progress(as_json),
+        weights=cast("WeightsChoice", weights),  # a click.Choice of those
     )
     echo_verdicts(
         summary,
         summary.rows,
         TABLE_KEYS,
-        f"{summary.requirements_met} of {summary.requirements} requirements met; "
+        f"{summary.requirements_passed} of {summary.requirements} requirements met; "
         f"controller: {folder.absolute() / 'controller.json'}; "
         f"report: {folder.absolute() / 'report.md'} ({summary.time_s:.0f} s)",
         as_json=as_json,

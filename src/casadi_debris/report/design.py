@@ -21,6 +21,8 @@ from casadi_debris.report.robust import MarginReport
 
 # WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
 from casadi_debris.report.simulation import WorstFigure
+from casadi_debris.robust.binding import BindingLimit
+from casadi_debris.robust.body_weights import BodyFigures
 from casadi_debris.robust.performance_search import DesignAttempt, DesignSearch
 from casadi_debris.robust.requirements import ScalingFigures
 
@@ -208,6 +210,12 @@ class DesignSummary(Record):
 
     ``method`` is ``"mu"`` (D-K μ-synthesis), ``"pd"`` or ``"lqr"`` (see
     :mod:`casadi_debris.robust.classical`; their μ fields are None and ``attempts`` empty).
+    ``requirements_met`` is True only when every judged requirement is met
+    (``requirements_passed`` of ``requirements`` are); when it is False, ``binding``
+    names each missed requirement's limit with its numbers and what would meet it
+    (:mod:`casadi_debris.robust.binding`), and the controller written is the best found.
+    ``body`` holds the body figures the bandwidth and roll-off come from and where each
+    came from (:mod:`casadi_debris.robust.body_weights`).
     ``rows`` are the requirement rows (:meth:`RequirementRow.entry`);
     ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
     μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
@@ -217,7 +225,8 @@ class DesignSummary(Record):
     problem: str
     problem_sha256: str
     plant_sha256: str
-    requirements_met: int
+    requirements_met: bool
+    requirements_passed: int
     requirements: int
     method: str
     mu_peak: float | None
@@ -235,6 +244,8 @@ class DesignSummary(Record):
     quick: bool
     workers: int
     controller_path: str
+    binding: tuple[BindingLimit, ...] = ()
+    body: BodyFigures | None = None
 
 
 @dataclass(frozen=True)
@@ -290,23 +301,26 @@ def design_markdown(
     lines = [
         f"# Controller design for {problem.name}",
         "",
-        f"{summary.requirements_met} of {summary.requirements} requirements met "
-        f"({summary.time_s:.0f} s). Controller: `controller.json` "
+        f"{headline(summary)} ({summary.time_s:.0f} s). Controller: `controller.json` "
         f"(plant sha256 {problem.plant_sha256[:12]}).",
         "",
         "| result | required | ours | verdict |",
         "|---|---|---|---|",
         *[f"| {r.result} | {r.required} | {r.ours} | {r.verdict} |" for r in rows],
         "",
+        *binding_lines(summary.binding),
         "## Weights",
         "",
+        *body_lines(summary.body),
         f"- Vu = {format_figure(scalings.control_mNm.tolist())} mNm: the torque authority "
         "per axis with zero net force (smaller sign).",
         f"- Vd = {format_figure(scalings.disturbance_mNm.tolist())} mNm: 1 % of Vu, shaped by "
         "the disturbance amplitudes.",
         f"- Ve = {format_figure(scalings.error_deg.tolist())} deg: {scalings.ve_ratio:.3g} x the "
         "level whose robust-performance bound is the pointing requirement.",
-        "- We and Wu: the problem's `[weights]` dynamic weights.",
+        f"- Vr = {format_figure(scalings.reference_deg.tolist())} deg: the reference the loop "
+        "must follow: Ve, held at the requirement's Ve when Ve loosens beyond it (a looser "
+        "Ve then cannot raise μ).",
         "",
         "The guaranteed pointing is the steady error under the problem's sine disturbance "
         "that μ ≤ 1 bounds for every plant the fitted uncertainty weight covers: "
@@ -341,8 +355,7 @@ def classical_markdown(
     lines = [
         f"# {summary.method.upper()} controller for {problem.name}",
         "",
-        f"{summary.requirements_met} of {summary.requirements} requirements met "
-        f"({summary.time_s:.0f} s). Controller: `controller.json` "
+        f"{headline(summary)} ({summary.time_s:.0f} s). Controller: `controller.json` "
         f"(plant sha256 {problem.plant_sha256[:12]}), designed on the rigid body; the "
         "flexible modes and the uncertainty are judged by the margins and the corners below.",
         "",
@@ -352,7 +365,79 @@ def classical_markdown(
         "",
         f"Settings: {settings}.",
         "",
+        *binding_lines(summary.binding),
     ]
     for title, path in figures.entries:
         lines += [f"## {title}", "", f"![{title}]({path})", ""]
     return "\n".join(lines)
+
+
+def headline(summary: DesignSummary) -> str:
+    """ "All N requirements met", or how many were and that the controller is the best found."""
+    if summary.requirements_met:
+        return f"All {summary.requirements} requirements met"
+    return (
+        f"Requirements NOT met: {summary.requirements_passed} of {summary.requirements}; "
+        "the controller written is the best found, not one that meets them"
+    )
+
+
+def binding_lines(binding: tuple[BindingLimit, ...]) -> list[str]:
+    """The report's section on the limits that bind (none when every requirement is met)."""
+    if not binding:
+        return []
+    lines = ["## What binds", ""]
+    for limit in binding:
+        lines.append(f"- **{limit.requirement}**: {limit.limit}. What would meet it:")
+        lines += [f"    - {remedy}" for remedy in limit.remedies]
+    lines += [
+        "",
+        "The remedies are estimates from scaling laws (see `casadi_debris.robust.binding`); "
+        "design again to confirm.",
+        "",
+    ]
+    return lines
+
+
+def body_lines(body: BodyFigures | None) -> list[str]:
+    """How the bandwidth and roll-off were chosen, with the body figures behind them."""
+    if body is None:
+        return ["- We and Wu: the problem's `[weights]`.", ""]
+    origin = {
+        "derived": "derived from this body",
+        "problem": "the problem's own `[weights]`",
+        "paper": "the paper's, tuned for this (the paper's) body",
+    }
+    hold = ", ".join(f"{w:.3g}" for w in body.hold_bandwidth_rad_s)
+    mode = (
+        "no flexible mode: a tenth of the slower of the star tracker and the control "
+        "loop's Nyquist frequency"
+        if body.first_mode_rad_s is None
+        else f"1.2 times below the lowest first bending frequency, {body.first_mode_rad_s:.3g} "
+        "rad/s"
+    )
+    lines = [
+        f"- We bandwidth {body.bandwidth_rad_s:.4g} rad/s, {origin[body.bandwidth_from]}. "
+        f"The rule: per axis sqrt((τ − A) / (J e_slew)), the stiffness at which the torque "
+        f"left by the disturbance answers the allowed slew error, = {hold} rad/s (J = "
+        f"{format_figure(list(body.inertia_kgm2))} kg m², τ = "
+        f"{format_figure(list(body.authority_mNm))} mNm, A = "
+        f"{format_figure(list(body.disturbance_mNm))} mNm); the smallest, at most 1/30 of the "
+        f"roll-off: {body.derived_bandwidth_rad_s:.4g} rad/s.",
+        f"- Wu roll-off {body.rolloff_rad_s:.4g} rad/s, {origin[body.rolloff_from]}. The rule: "
+        f"{mode}: {body.derived_rolloff_rad_s:.4g} rad/s.",
+    ]
+    inherited = [
+        (name, used, paper)
+        for name, used, paper, origin_ in (
+            ("bandwidth", body.bandwidth_rad_s, body.paper_bandwidth_rad_s, body.bandwidth_from),
+            ("roll-off", body.rolloff_rad_s, body.paper_rolloff_rad_s, body.rolloff_from),
+        )
+        if origin_ == "derived" and used != paper
+    ]
+    for name, used, paper in inherited:
+        lines.append(
+            f"- The paper's {name} ({paper:.4g} rad/s, inherited through `extends`) was tuned "
+            f"for another body; this design uses {used:.4g} rad/s."
+        )
+    return [*lines, ""]

@@ -368,12 +368,17 @@ def _record_details(
 def _weight_settings(problem: Problem, performance: PerformanceWeights) -> dict[str, Any]:
     """The performance weights the design used, as the controller file records them."""
     weights = problem.weights
-    return {
+    dynamic = {
         "closed_loop_bandwidth_rad_s": weights.closed_loop_bandwidth_rad_s,
         "epsilon": weights.epsilon,
         "control_rolloff_rad_s": weights.control_rolloff_rad_s,
         "control_rolloff_high_frequency_gain": weights.control_rolloff_high_frequency_gain,
+    }
+    return {
+        **dynamic,
+        **(performance.parameters or {}),
         "error_scaling_deg": np.diag(performance.error_scaling).tolist(),
         "control_scaling_mNm": np.diag(performance.control_scaling).tolist(),
         "disturbance_scaling_mNm": np.diag(performance.disturbance_scaling).tolist(),
+        "reference_scaling_deg": np.diag(performance.reference).tolist(),
     }

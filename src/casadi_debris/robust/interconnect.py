@@ -6,11 +6,14 @@ Signals (3 each, deg and mNm as in the paper's scalings)::
     plant input  up = u + Vd w_d + W w_delta      (input-multiplicative uncertainty)
     z_delta         = u + Vd w_d                  (what Delta sees)
     y               = star tracker(P_c up)        (measured attitude)
-    e               = Ve w_e - y                  (tracking error, controller input)
+    e               = Vr w_e - y                  (tracking error, controller input)
     z_e             = We Ve^-1 e,   z_u = Wu Vu^-1 u
 
 so that, with Delta = 0, [z_e; z_u] = diag(We Ve^-1, Wu Vu^-1) [S, -S P; K S, -K S P]
-diag(Ve, Vd) [w_e; w_d] (the paper's four-block problem).
+diag(Vr, Vd) [w_e; w_d]: the paper's four-block problem, whose Vr is its Ve (the
+default of :class:`~casadi_debris.robust.weights.PerformanceWeights`). With Vr = Ve a
+looser Ve also scales up the reference the loop must follow (the K S Ve block), so μ can
+rise as Ve loosens; with Vr held, Ve scales only the error rows and μ cannot rise.
 """
 
 from __future__ import annotations
@@ -100,7 +103,7 @@ def generalized_plant(
         named(error_weight, "e", "z_e", "We"),
         named(effort_weight, "u", "z_u", "Wu"),
         named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
-        named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
+        named(static_gain(weights.reference), "w_e", "r", "Vr"),
         control.summing_junction(["u", "d"], "z_delta", dimension=N_CHANNELS, name="plant_input"),
         control.summing_junction(["z_delta", "w_out"], "up", dimension=N_CHANNELS, name="delta"),
         control.summing_junction(["r", "-y"], "e", dimension=N_CHANNELS, name="error"),

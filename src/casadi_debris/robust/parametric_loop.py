@@ -6,7 +6,7 @@ block::
 
     plant input  up = u + Vd w_d
     [q; y]          = P_lft [w; up]        (w = z q per real block)
-    e               = Ve w_e - y,   u = K e
+    e               = Vr w_e - y,   u = K e    (Vr: the reference scaling, Ve by default)
     z_e             = We Ve^-1 e,   z_u = Wu Vu^-1 u
 
 The closed loop maps [w; w_e; w_d] to [q; z_e; z_u]. Robust stability is mu
@@ -35,7 +35,7 @@ def _parts(plant: ParametricPlant, weights: PerformanceWeights) -> list[control.
         named(error_weight, "e", "z_e", "We"),
         named(effort_weight, "u", "z_u", "Wu"),
         named(static_gain(weights.disturbance_scaling), "w_d", "d", "Vd"),
-        named(static_gain(weights.error_scaling), "w_e", "r", "Ve"),
+        named(static_gain(weights.reference), "w_e", "r", "Vr"),
         control.summing_junction(["u", "d"], "up", dimension=3, name="plant_input"),
         control.summing_junction(["r", "-y"], "e", dimension=3, name="error"),
     ]

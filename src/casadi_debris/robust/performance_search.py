@@ -22,6 +22,12 @@ from dataclasses import dataclass
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.records import Record
+from casadi_debris.robust.body_weights import (
+    BodyWeights,
+    WeightsChoice,
+    body_weights,
+    is_papers_body,
+)
 from casadi_debris.robust.design import (
     ControllerDesign,
     SynthesisSettings,
@@ -31,6 +37,7 @@ from casadi_debris.robust.design import (
 )
 from casadi_debris.robust.musyn import Iteration
 from casadi_debris.robust.requirements import DerivedScalings, derived_scalings
+from casadi_debris.robust.weights import performance_weights
 
 LOGGER = logging.getLogger(__name__)
 
@@ -86,11 +93,15 @@ class DesignSearch:
         Its Ve, Vu and Vd.
     attempts : list of DesignAttempt
         In the order tried.
+    body : BodyWeights or None
+        The dynamic weights We and Wu and the body figures they come from (None: the
+        problem's ``[weights]``).
     """
 
     design: ControllerDesign
     scalings: DerivedScalings
     attempts: list[DesignAttempt]
+    body: BodyWeights | None = None
 
     @property
     def chosen(self) -> DesignAttempt:
@@ -109,6 +120,7 @@ def search_design(
     min_ve_ratio: float = MIN_VE_RATIO,
     max_ve_ratio: float = MAX_VE_RATIO,
     refinements: int = REFINEMENTS,
+    weights: WeightsChoice = "auto",
 ) -> DesignSearch:
     """The design with the best guaranteed pointing (see the module's note).
 
@@ -122,6 +134,8 @@ def search_design(
         Smallest and largest Ve tried, relative to the requirement's.
     refinements : int
         Bisections between the last failure and the first success.
+    weights : {"auto", "derived", "problem"}
+        Where We and Wu come from (:func:`~casadi_debris.robust.body_weights.body_weights`).
 
     Returns
     -------
@@ -132,10 +146,19 @@ def search_design(
     say("sampling the uncertainty set and fitting its weight")
     fit = fit_uncertainty(problem, settings)
     geometry = build_geometry(problem)
+    body = body_weights(problem, weights, geometry)
+    base = body.apply(performance_weights(problem))
+    warning = body.inherited_warning(is_papers_body(problem))
+    if warning:
+        LOGGER.warning(warning)
+    say(
+        f"weights: bandwidth {body.bandwidth_rad_s:.4g} rad/s ({body.figures.bandwidth_from}), "
+        f"roll-off {body.rolloff_rad_s:.4g} rad/s ({body.figures.rolloff_from})"
+    )
     found: dict[float, tuple[ControllerDesign, DerivedScalings, DesignAttempt]] = {}
 
     def attempt(ve_ratio: float) -> DesignAttempt:
-        scalings = derived_scalings(problem, ve_ratio, geometry)
+        scalings = derived_scalings(problem, ve_ratio, geometry, base)
         say(f"D-K at Ve = {scalings.error_deg[0]:.4g} deg ({ve_ratio:.3g} x the requirement's)")
         design, outcome = _design_at(problem, settings, fit, scalings, say)
         found[ve_ratio] = (design, scalings, outcome)
@@ -151,7 +174,7 @@ def search_design(
                 failing = middle
     attempts = [entry[2] for entry in found.values()]
     design, scalings, _ = found[_best(attempts).ve_ratio]
-    return DesignSearch(design, scalings, attempts)
+    return DesignSearch(design, scalings, attempts, body)
 
 
 def _bracket(

@@ -19,6 +19,15 @@ problem's sine disturbance of amplitudes A at w_d the steady error on axis i is
 at most ``beta Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``. Ve is set so that this
 bound equals the requirement at beta = 1, times a ``ve_ratio``: above 1 when the
 requirement cannot be guaranteed, below 1 for a design that does better.
+
+The reference scaling Vr (what the loop must follow, w_e's size) is the paper's, Ve,
+up to the requirement's Ve, and stays there when Ve loosens beyond it: in the paper's
+form a looser Ve also asks the loop to follow a reference ``ve_ratio`` times larger with
+the same torque, and μ rose as Ve loosened (0.917, 0.978, 1.69, 3.25 at 1, 2, 4, 8 times
+Ve for the shipped controller on the paper's plant), so the search, which loosens Ve
+when μ > 1, walked away from its goal. Held, a looser Ve only scales the error rows
+down, and μ of any fixed controller cannot rise. At or below ratio 1 nothing changes
+from the paper's form (the paper's own design is the same).
 """
 
 from __future__ import annotations
@@ -57,6 +66,10 @@ class DerivedScalings:
     pointing_per_mu_arcsec : ndarray, shape (3,)
         The guaranteed steady pointing error per unit mu [arcsec]:
         ``Ve_i ||Vd^-1 A||_2 / |We(j w_d)|``.
+    reference_deg : ndarray, shape (3,)
+        Vr [deg]: Ve up to ``ve_ratio`` 1, the Ve at ratio 1 beyond (see the module's note).
+    base : PerformanceWeights, optional
+        Whose We and Wu the design uses (default: the problem's ``[weights]``).
     """
 
     error_deg: np.ndarray
@@ -65,6 +78,8 @@ class DerivedScalings:
     ve_ratio: float
     disturbance_frequency_rad_s: float
     pointing_per_mu_arcsec: np.ndarray
+    reference_deg: np.ndarray
+    base: PerformanceWeights | None = None
 
     def guaranteed_pointing_arcsec(self, mu_peak: float) -> np.ndarray | None:
         """The pointing bound of a design reaching ``mu_peak`` (None when mu > 1).
@@ -78,14 +93,16 @@ class DerivedScalings:
         return mu_peak * self.pointing_per_mu_arcsec
 
     def performance_weights(self, problem: Problem) -> PerformanceWeights:
-        """The problem's We and Wu with these Ve, Vu and Vd."""
-        base = performance_weights(problem)
+        """We and Wu (:attr:`base`, else the problem's) with these Ve, Vr, Vu and Vd."""
+        base = self.base or performance_weights(problem)
         return PerformanceWeights(
             error=base.error,
             control_effort=base.control_effort,
             error_scaling=np.diag(self.error_deg),
             control_scaling=np.diag(self.control_mNm),
             disturbance_scaling=np.diag(self.disturbance_mNm),
+            reference_scaling=np.diag(self.reference_deg),
+            parameters=base.parameters,
         )
 
     def figures(self) -> ScalingFigures:
@@ -97,6 +114,7 @@ class DerivedScalings:
             ve_ratio=self.ve_ratio,
             disturbance_frequency_rad_s=self.disturbance_frequency_rad_s,
             pointing_per_mu_arcsec=tuple(self.pointing_per_mu_arcsec.tolist()),
+            reference_scaling_deg=tuple(self.reference_deg.tolist()),
         )
 
 
@@ -104,7 +122,8 @@ class DerivedScalings:
 class ScalingFigures(Record):
     """:class:`DerivedScalings` in a summary: Ve [deg], Vu and Vd [mNm] per axis, Ve over
     the requirement's, the disturbance frequency [rad/s] and the pointing error per unit
-    of μ [arcsec] per axis."""
+    of μ [arcsec] per axis, and Vr [deg] (the reference scaling: Ve, held at the
+    requirement's Ve when Ve loosens beyond it)."""
 
     error_scaling_deg: tuple[float, ...]
     control_scaling_mNm: tuple[float, ...]
@@ -112,6 +131,7 @@ class ScalingFigures(Record):
     ve_ratio: float
     disturbance_frequency_rad_s: float
     pointing_per_mu_arcsec: tuple[float, ...]
+    reference_scaling_deg: tuple[float, ...] = ()
 
 
 def authority_per_axis_mNm(geometry: Geometry) -> np.ndarray:
@@ -121,7 +141,10 @@ def authority_per_axis_mNm(geometry: Geometry) -> np.ndarray:
 
 
 def derived_scalings(
-    problem: Problem, ve_ratio: float = 1.0, geometry: Geometry | None = None
+    problem: Problem,
+    ve_ratio: float = 1.0,
+    geometry: Geometry | None = None,
+    base: PerformanceWeights | None = None,
 ) -> DerivedScalings:
     """Ve, Vu and Vd for ``problem`` (see the module's note).
 
@@ -132,6 +155,9 @@ def derived_scalings(
         > 0: Ve is this times the Ve whose guarantee is the pointing requirement.
     geometry : Geometry, optional
         The problem's (built when not given).
+    base : PerformanceWeights, optional
+        Whose We (for the guarantee) and Wu the design uses; default the problem's
+        (:mod:`~casadi_debris.robust.body_weights` derives them from the body).
 
     Raises
     ------
@@ -163,11 +189,12 @@ def derived_scalings(
     share = np.maximum(amplitude / amplitude.max(), SMALLEST_DISTURBANCE_SHARE)
     disturbance = DISTURBANCE_TO_AUTHORITY * control * share
     omega_d = 2.0 * math.pi / (SECONDS_PER_MINUTE * problem.disturbance.period_min)
-    error_weight = performance_weights(problem).error
+    error_weight = (base or performance_weights(problem)).error
     error_gain = abs(complex(frequency_response(error_weight, np.array([omega_d]))[0, 0, 0]))
     per_unit = float(np.linalg.norm(amplitude / disturbance)) / error_gain
     required_deg = problem.requirements.pointing_arcsec / ARCSEC_PER_DEG
     error = np.full(3, ve_ratio * required_deg / per_unit)
+    reference = min(ve_ratio, 1.0) * error / ve_ratio
     return DerivedScalings(
         error_deg=error,
         control_mNm=control,
@@ -175,4 +202,6 @@ def derived_scalings(
         ve_ratio=float(ve_ratio),
         disturbance_frequency_rad_s=omega_d,
         pointing_per_mu_arcsec=error * per_unit * ARCSEC_PER_DEG,
+        reference_deg=reference,
+        base=base,
     )

@@ -39,6 +39,17 @@ class PerformanceWeights:
         Wu = (s + w_u) / (h s + w_u) I3: unit gain to w_u, then roll-off.
     error_scaling, control_scaling, disturbance_scaling : ndarray, shape (3, 3)
         Ve [deg], Vu [mNm], Vd [mNm].
+    reference_scaling : ndarray, shape (3, 3), optional
+        Vr [deg]: the size of the reference the loop must follow (the input w_e is
+        scaled by it). The paper uses one matrix for both, Vr = Ve (the default).
+        Kept apart, because Ve then plays two parts: a looser Ve tolerates larger
+        errors but also asks the loop to follow a larger reference with the same
+        torque (the K S Ve block), so on a fixed controller μ can rise as Ve loosens.
+        With Vr fixed, only the error rows scale by Ve^-1, and μ cannot rise.
+    parameters : mapping, optional
+        The parameters of We and Wu when they are not the problem's ``[weights]``
+        (``closed_loop_bandwidth_rad_s``, ``epsilon``, ``control_rolloff_rad_s``,
+        ``control_rolloff_high_frequency_gain``), as a controller file records them.
     """
 
     error: control.StateSpace
@@ -46,24 +57,57 @@ class PerformanceWeights:
     error_scaling: np.ndarray
     control_scaling: np.ndarray
     disturbance_scaling: np.ndarray
+    reference_scaling: np.ndarray | None = None
+    parameters: Mapping[str, float] | None = None
+
+    @property
+    def reference(self) -> np.ndarray:
+        """Vr [deg], shape (3, 3): :attr:`reference_scaling`, else Ve (the paper's)."""
+        return self.error_scaling if self.reference_scaling is None else self.reference_scaling
 
 
 def _diagonal(transfer: control.TransferFunction, gains: np.ndarray) -> control.StateSpace:
     return control.append(*[control.ss(transfer * float(g)) for g in gains])
 
 
+def dynamic_weights(
+    bandwidth_rad_s: float, epsilon: float, rolloff_rad_s: float, high_frequency_gain: float
+) -> tuple[control.StateSpace, control.StateSpace]:
+    """We and Wu, each 3 x 3 diagonal (the paper's forms).
+
+    Parameters
+    ----------
+    bandwidth_rad_s : float
+        w_cl of We = (s + w_cl sqrt3) / (2 s + eps w_cl sqrt3) [rad/s].
+    epsilon : float
+        eps of We.
+    rolloff_rad_s : float
+        w_u of Wu = (s + w_u) / (h s + w_u) [rad/s].
+    high_frequency_gain : float
+        h of Wu.
+
+    Returns
+    -------
+    We, Wu : control.StateSpace
+    """
+    crossover = bandwidth_rad_s * math.sqrt(3.0)
+    error = control.tf([1.0, crossover], [2.0, epsilon * crossover])
+    effort = control.tf([1.0, rolloff_rad_s], [high_frequency_gain, rolloff_rad_s])
+    return _diagonal(error, np.ones(3)), _diagonal(effort, np.ones(3))
+
+
 def performance_weights(problem: Problem) -> PerformanceWeights:
     """The paper's We, Wu, Ve, Vu, Vd from the problem file."""
     w = problem.weights
-    crossover = w.closed_loop_bandwidth_rad_s * math.sqrt(3.0)
-    error = control.tf([1.0, crossover], [2.0, w.epsilon * crossover])
-    effort = control.tf(
-        [1.0, w.control_rolloff_rad_s],
-        [w.control_rolloff_high_frequency_gain, w.control_rolloff_rad_s],
+    error, effort = dynamic_weights(
+        w.closed_loop_bandwidth_rad_s,
+        w.epsilon,
+        w.control_rolloff_rad_s,
+        w.control_rolloff_high_frequency_gain,
     )
     return PerformanceWeights(
-        error=_diagonal(error, np.ones(3)),
-        control_effort=_diagonal(effort, np.ones(3)),
+        error=error,
+        control_effort=effort,
         error_scaling=np.diag(w.error_scaling_deg),
         control_scaling=np.diag(w.control_scaling_mNm),
         disturbance_scaling=np.diag(w.disturbance_scaling_mNm),
@@ -79,11 +123,39 @@ def recorded_performance_weights(
     (:mod:`casadi_debris.robust.requirements`); its file records the ones it used.
     """
     weights = performance_weights(problem)
+    error_weight, effort_weight = weights.error, weights.control_effort
+    dynamic = ("closed_loop_bandwidth_rad_s", "epsilon", "control_rolloff_rad_s")
+    if all(isinstance(recorded.get(k), int | float) for k in dynamic):
+        error_weight, effort_weight = dynamic_weights(
+            float(recorded["closed_loop_bandwidth_rad_s"]),
+            float(recorded["epsilon"]),
+            float(recorded["control_rolloff_rad_s"]),
+            float(
+                recorded.get(
+                    "control_rolloff_high_frequency_gain",
+                    problem.weights.control_rolloff_high_frequency_gain,
+                )
+            ),
+        )
     keys = ("error_scaling_deg", "control_scaling_mNm", "disturbance_scaling_mNm")
     if not all(key in recorded for key in keys):
-        return weights
+        return PerformanceWeights(
+            error_weight,
+            effort_weight,
+            weights.error_scaling,
+            weights.control_scaling,
+            weights.disturbance_scaling,
+        )
     error, control, disturbance = (np.diag(np.asarray(recorded[k], dtype=float)) for k in keys)
-    return PerformanceWeights(weights.error, weights.control_effort, error, control, disturbance)
+    reference = recorded.get("reference_scaling_deg")
+    return PerformanceWeights(
+        error_weight,
+        effort_weight,
+        error,
+        control,
+        disturbance,
+        None if reference is None else np.diag(np.asarray(reference, dtype=float)),
+    )
 
 
 @dataclass(frozen=True, eq=False)

@@ -13,7 +13,7 @@ Example
 >>> from casadi_debris.workflows.design import design_for_problem
 >>> summary = design_for_problem(load_problem("problems/gallery/one_array.toml"),
 ...                              "runs/design-one_array", quick=True)  # doctest: +SKIP
->>> summary.requirements_met, summary.requirements  # doctest: +SKIP
+>>> summary.requirements_met, summary.binding  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -43,7 +43,22 @@ from casadi_debris.report.design import (
     verification_rows,
 )
 from casadi_debris.report.folders import RunFolder
+from casadi_debris.report.robust import MarginReport
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
+from casadi_debris.robust.binding import (
+    BindingLimit,
+    BodyLimits,
+    margins_limit,
+    mu_limit,
+    pointing_limit,
+    slew_limit,
+)
+from casadi_debris.robust.body_weights import (
+    BodyWeights,
+    WeightsChoice,
+    body_weights,
+    hold_bandwidth_rad_s,
+)
 from casadi_debris.robust.classical import ClassicalMethod, classical_record
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings
@@ -140,6 +155,7 @@ def design_for_problem(
     workers: int = 1,
     overwrite: bool = False,
     progress: StageProgress | None = None,
+    weights: WeightsChoice = "auto",
 ) -> DesignSummary:
     """Design a controller for ``problem`` and verify it into the folder ``out``.
 
@@ -163,12 +179,17 @@ def design_for_problem(
         Replace a report folder this toolkit wrote.
     progress : callable, optional
         As :func:`~casadi_debris.workflows.reproduce.reproduce_paper`'s.
+    weights : {"auto", "derived", "problem"}
+        Where the bandwidth and roll-off come from: ``"auto"`` derives them from the body
+        unless the problem is the paper's body or sets its own
+        (:mod:`~casadi_debris.robust.body_weights`).
 
     Returns
     -------
     DesignSummary
         What ``summary.json`` holds: ``rows`` (each requirement with ``met``),
-        ``requirements_met`` of ``requirements``, ``attempts``, ``scalings``,
+        ``requirements_met`` (all of them), ``requirements_passed`` of ``requirements``,
+        ``binding`` (the limit behind each one missed), ``body``, ``attempts``, ``scalings``,
         ``controller_path``, ...
     """
     started = time.perf_counter()
@@ -182,28 +203,78 @@ def design_for_problem(
     derived_scalings(problem)  # refuses a problem no controller can be designed for, first
     slew_problem, pointing_problem = verification_problems(problem, plan)
     with RunFolder.claim(out, overwrite=overwrite, command="design") as staging:
-        designed, search = _designed(problem, method, settings, stage, quick)
+        designed, search = _designed(problem, method, settings, stage, (quick, weights))
         controller_path = write_json_atomic(staging / "controller.json", designed.to_dict())
         record, controller_path = load_controller(controller_path)
         folders = (staging, out)
         margins = report_margins(problem, record, controller_path, plan, folders, stage)
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, folders, workers, stage)
-        limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
+        verified = _Verified(record, search, margins, campaigns, slew_problem)
         how = _How(quick, workers, str(out / "controller.json"))
-        figures = DesignFigures.present_in(staging)
-        if search is not None:
-            rows = requirement_rows(problem, search, margins, campaigns, limits)
-            summary = _summary(problem, search, method, rows, campaigns, out, started, how)
-            text = design_markdown(problem, search, rows, summary, figures)
-        else:
-            orders = [record.reduced.nstates] * 2
-            rows = verification_rows(problem, margins, campaigns, limits, orders)
-            summary = _summary(problem, None, method, rows, campaigns, out, started, how)
-            text = classical_markdown(problem, record.details, rows, summary, figures)
+        summary, text = _verdict(problem, method, verified, staging, (out, started, how, weights))
         (staging / "report.md").write_text(text)
         write_json_atomic(staging / "summary.json", summary)
     return summary
+
+
+@dataclass(frozen=True, eq=False)
+class _Verified:
+    """A controller and what verified it."""
+
+    record: ControllerRecord
+    search: DesignSearch | None
+    margins: MarginReport
+    campaigns: dict[str, CampaignSummary]
+    slew_problem: Problem
+
+
+def _verdict(
+    problem: Problem,
+    method: str,
+    verified: _Verified,
+    staging: Path,
+    run: tuple[Path, float, _How, WeightsChoice],
+) -> tuple[DesignSummary, str]:
+    """The summary and the report of a verified controller; warns when it misses a
+    requirement (``run``: the folder, the start time, how it ran, where its weights came
+    from)."""
+    out, started, how, weights = run
+    search, campaigns = verified.search, verified.campaigns
+    limits = torque_limits_mNm(Allocator.from_problem(problem, build_geometry(problem)))
+    body = body_weights(problem, weights) if search is None else search.body
+    figures = DesignFigures.present_in(staging)
+    if search is not None:
+        rows = requirement_rows(problem, search, verified.margins, campaigns, limits)
+    else:
+        orders = [verified.record.reduced.nstates] * 2
+        rows = verification_rows(problem, verified.margins, campaigns, limits, orders)
+    binding = binding_limits(problem, rows, campaigns, search, verified.slew_problem)
+    if False in (row.met for row in rows if row.key in ("margins_sampled", "unstable_samples")):
+        sampled = verified.margins.sampled_min
+        binding += (
+            margins_limit(
+                sampled.gain_margin_db,
+                sampled.phase_margin_deg,
+                verified.margins.unstable_samples,
+                verified.margins.samples,
+                None if body is None else body.bandwidth_rad_s,
+            ),
+        )
+    how = replace(how, body=body, binding=binding)
+    summary = _summary(problem, search, method, rows, campaigns, out, started, how)
+    if search is not None:
+        text = design_markdown(problem, search, rows, summary, figures)
+    else:
+        text = classical_markdown(problem, verified.record.details, rows, summary, figures)
+    if not summary.requirements_met:
+        LOGGER.warning(
+            "%s of %s requirements met: the controller written is the best found (%s)",
+            summary.requirements_passed,
+            summary.requirements,
+            "; ".join(f"{b.requirement}: {b.limit}" for b in summary.binding) or "see report.md",
+        )
+    return summary, text
 
 
 def _designed(
@@ -211,16 +282,18 @@ def _designed(
     method: DesignMethod,
     settings: SynthesisSettings | None,
     stage: Callable[[str], Any],
-    quick: bool,
+    how: tuple[bool, WeightsChoice],
 ) -> tuple[ControllerRecord, DesignSearch | None]:
-    """The controller ``method`` designs, and the μ design's search (None for the others)."""
+    """The controller ``method`` designs, and the μ design's search (None for the others);
+    ``how`` is (quick, where the weights come from)."""
+    quick, weights = how
     if method == "mu":
         stage("designing the controller (D-K iteration)")
         refinements = QUICK_REFINEMENTS if quick else REFINEMENTS
-        search = search_design(problem, settings, stage, refinements=refinements)
+        search = search_design(problem, settings, stage, refinements=refinements, weights=weights)
         return _record(search), search
     stage(f"designing the {method.upper()} controller on the rigid body")
-    return _classical(problem, method), None
+    return _classical(problem, method, weights), None
 
 
 def _record(search: DesignSearch) -> Any:
@@ -228,21 +301,25 @@ def _record(search: DesignSearch) -> Any:
     record = search.design.record
     details = {
         **record.details,
+        **({} if search.body is None else {"body_weights": search.body.figures.to_json()}),
         "derived_scalings": search.scalings.figures().to_json(),
         "performance_search": [a.to_json() for a in search.attempts],
     }
     return replace(record, details=details)
 
 
-def _classical(problem: Problem, method: ClassicalMethod) -> ControllerRecord:
-    """A PD or LQG controller on the rigid body: bandwidth from the problem's weights;
+def _classical(
+    problem: Problem, method: ClassicalMethod, weights: WeightsChoice = "auto"
+) -> ControllerRecord:
+    """A PD or LQG controller on the rigid body: bandwidth as the μ design's
+    (:func:`~casadi_debris.robust.body_weights.body_weights`);
     Bryson's weights from the slew requirement and the authority; the disturbance as
     process noise and :data:`MEASUREMENT_NOISE_ARCSEC` on the star tracker."""
     geometry = build_geometry(problem)
     return classical_record(
         method,
         geometry.inertia_total_kgm2,
-        bandwidth_rad_s=problem.weights.closed_loop_bandwidth_rad_s,
+        bandwidth_rad_s=body_weights(problem, weights, geometry).bandwidth_rad_s,
         angle_max_rad=np.full(3, math.radians(problem.requirements.slew_error_deg)),
         torque_max_Nm=authority_per_axis_mNm(geometry) * NM_PER_MNM,
         disturbance_Nm=np.abs(problem.disturbance.amplitude_mNm) * NM_PER_MNM,
@@ -253,11 +330,76 @@ def _classical(problem: Problem, method: ClassicalMethod) -> ControllerRecord:
 
 @dataclass(frozen=True)
 class _How:
-    """How a design ran, as its summary records it (the controller as it will end up)."""
+    """How a design ran, as its summary records it (the controller as it will end up),
+    with the body figures of its weights and the limits that bind."""
 
     quick: bool
     workers: int
     controller_path: str
+    body: BodyWeights | None = None
+    binding: tuple[BindingLimit, ...] = ()
+
+
+def binding_limits(
+    problem: Problem,
+    rows: list[RequirementRow],
+    campaigns: dict[str, CampaignSummary],
+    search: DesignSearch | None,
+    slew_problem: Problem,
+) -> tuple[BindingLimit, ...]:
+    """The limit that binds for each requirement missed (:mod:`casadi_debris.robust.binding`)."""
+    met = {row.key: row.met for row in rows}
+    found: list[BindingLimit] = []
+    if search is not None and not any(a.guarantees for a in search.attempts):
+        lowest = min(search.attempts, key=lambda a: a.mu_peak_reduced)
+        loosest = max(a.ve_ratio for a in search.attempts)
+        found.append(mu_limit(lowest.mu_peak_reduced, lowest.ve_ratio, loosest))
+    body = _body_limits(problem)
+    required = problem.requirements
+    worst_pointing = _worst(campaigns["pointing"], "max_error_arcsec")
+    if met.get("pointing_arcsec") is False and worst_pointing is not None:
+        found.append(pointing_limit(body, worst_pointing, required.pointing_arcsec))
+    elif met.get("guaranteed_pointing_arcsec") is False and search is not None:
+        guaranteed = search.chosen.guaranteed_pointing_arcsec
+        if guaranteed is not None:
+            limit = pointing_limit(body, max(guaranteed), required.pointing_arcsec)
+            found.append(replace(limit, requirement="guaranteed_pointing_arcsec"))
+    slew = campaigns["slew"]
+    worst_slew = _worst(slew, "max_error_deg")
+    if met.get("slew_max_error_deg") is False and worst_slew is not None:
+        reference = slew_problem.simulation.slew
+        fraction = None if reference is None else reference.torque_fraction
+        saturated = (
+            slew.worst["torque_saturated_s"].value if "torque_saturated_s" in slew.worst else None
+        )
+        found.append(slew_limit(worst_slew, required.slew_error_deg, fraction, saturated))
+    return tuple(found)
+
+
+def _worst(campaign: CampaignSummary, key: str) -> float | None:
+    """The larger of a campaign's nominal figure and its worst corner's (None: no run gave it)."""
+    worst = campaign.worst.get(key)
+    candidates = (campaign.nominal.get(key), None if worst is None else worst.value)
+    values = [float(v) for v in candidates if v is not None]
+    return max(values) if values else None
+
+
+def _body_limits(problem: Problem) -> BodyLimits:
+    """The body's inertia, authority, disturbance and hold bandwidth per axis, SI."""
+    geometry = build_geometry(problem)
+    inertia = np.diag(geometry.inertia_total_kgm2)
+    authority = authority_per_axis_mNm(geometry) * NM_PER_MNM
+    disturbance = np.abs(np.asarray(problem.disturbance.amplitude_mNm, dtype=float)) * NM_PER_MNM
+    error = math.radians(problem.requirements.slew_error_deg)
+    return BodyLimits(
+        inertia_kgm2=inertia,
+        authority_Nm=authority,
+        disturbance_Nm=disturbance,
+        hold_bandwidth_rad_s=hold_bandwidth_rad_s(inertia, authority, disturbance, error),
+        disturbance_frequency_rad_s=2.0
+        * math.pi
+        / (SECONDS_PER_MINUTE * problem.disturbance.period_min),
+    )
 
 
 def _summary(
@@ -279,7 +421,8 @@ def _summary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         plant_sha256=problem.plant_sha256,
-        requirements_met=sum(row.met is True for row in judged),
+        requirements_met=all(row.met is True for row in judged),
+        requirements_passed=sum(row.met is True for row in judged),
         requirements=len(judged),
         method=method,
         mu_peak=None if chosen is None else chosen.mu_peak,
@@ -297,4 +440,6 @@ def _summary(
         quick=how.quick,
         workers=how.workers,
         controller_path=how.controller_path,
+        binding=how.binding,
+        body=None if how.body is None else how.body.figures,
     )
