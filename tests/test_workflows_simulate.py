@@ -64,3 +64,21 @@ def test_failed_cubesats_are_one_based_and_checked() -> None:
     run = cd.simulate("paper_slew", duration_s=10.0, failed=[1, 24])
     failed = run.result.propulsion.failed_cubesats
     assert failed[0] and failed[23] and failed.sum() == 2
+
+
+def test_plot_returns_the_figures_save_writes_and_writes_nothing(
+    short_run: cd.SimulationResult, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    monkeypatch.chdir(tmp_path)
+    figures = short_run.plot()
+    assert set(figures) == {"closed_loop", "thrust"}
+    assert list(tmp_path.iterdir()) == []
+    error_axes = figures["closed_loop"].axes[1]
+    drawn = error_axes.lines[0].get_ydata()
+    # A slew is drawn in degrees: the first error line is the x error of the run.
+    np.testing.assert_allclose(drawn, np.degrees(short_run.result.error_rad[:, 0]))
+    for figure in figures.values():
+        plt.close(figure)

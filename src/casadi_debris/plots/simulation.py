@@ -8,6 +8,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from casadi_debris.plots import AXIS_COLOURS, save_figure
@@ -29,14 +30,27 @@ def plot_closed_loop(
     requirement: float | None = None,
     title: str = "",
 ) -> Path:
+    """:func:`closed_loop_figure` written to ``path`` (PNG, and PDF beside it)."""
+    figure = closed_loop_figure(
+        result, envelope=envelope, error_unit=error_unit, requirement=requirement, title=title
+    )
+    return save_figure(figure, path)
+
+
+def closed_loop_figure(
+    result: ClosedLoopResult,
+    *,
+    envelope: Envelope | None = None,
+    error_unit: str = "deg",
+    requirement: float | None = None,
+    title: str = "",
+) -> Figure:
     """Reference, attitude error and torque against time.
 
     Parameters
     ----------
     result : ClosedLoopResult
         The nominal run (solid lines).
-    path : Path
-        PNG to write.
     envelope : Envelope, optional
         Min/max over the Monte-Carlo cases (shaded).
     error_unit : {"deg", "arcsec"}
@@ -78,7 +92,8 @@ def plot_closed_loop(
         title = f"{title}\n{_envelope_note(result, envelope, scale, error_unit)}".strip()
     if title:
         top.set_title(title)
-    return save_figure(figure, path)
+    figure.tight_layout()
+    return figure
 
 
 OFF_SCALE = 2.5
@@ -193,12 +208,18 @@ def plot_thrust(
     groups: dict[str, list[tuple[int, str]]],
     title: str = "",
 ) -> Path:
+    """:func:`thrust_figure` written to ``path`` (PNG, and PDF beside it)."""
+    return save_figure(thrust_figure(result, groups, title), path)
+
+
+def thrust_figure(
+    result: ClosedLoopResult, groups: dict[str, list[tuple[int, str]]], title: str = ""
+) -> Figure:
     """Thrust of every engine (mN), a panel per group of engines, and propellant per CubeSat.
 
     Parameters
     ----------
     result : ClosedLoopResult
-    path : Path
     groups : dict
         Panel title (e.g. ``"+x face"``) -> (engine index, 0-based; its label, e.g.
         ``"CubeSat 3"``) for every engine drawn there. The legend, beside each panel,
@@ -225,7 +246,8 @@ def plot_thrust(
         ax.set_xlabel("time [s]")
     if title:
         figure.suptitle(title)
-    return save_figure(figure, path)
+    figure.tight_layout()
+    return figure
 
 
 ENGINE_STYLES = ("-", "--", ":", "-.", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)))

@@ -19,14 +19,15 @@ import csv
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
-from casadi_debris.plots.simulation import plot_closed_loop, plot_thrust
+from casadi_debris.plots import save_figure
+from casadi_debris.plots.simulation import closed_loop_figure, plot_closed_loop, thrust_figure
 from casadi_debris.plots.statistics import plot_statistics
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_dataset import (
@@ -41,6 +42,9 @@ from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResul
 from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
 from casadi_debris.slew import euler_angles_321
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
@@ -105,13 +109,20 @@ def write_run(
     if with_series:
         write_csv(folder / "series.csv", series_columns(result))
     if with_plots:
-        plot_closed_loop(
-            result,
-            folder / "closed_loop.png",
-            title=title or figure_title(problem),
-            **run_figures_options(problem),
-        )
-        plot_thrust(result, folder / "thrust.png", engine_groups(problem), figure_title(problem))
+        for name, figure in run_figures(result, problem, title).items():
+            save_figure(figure, folder / f"{name}.png")
+
+
+def run_figures(result: ClosedLoopResult, problem: Problem, title: str = "") -> dict[str, Figure]:
+    """A run's figures by file stem: ``closed_loop`` (reference, error against the
+    requirement, torque against the authority) and ``thrust`` (every engine, and the
+    propellant per CubeSat)."""
+    return {
+        "closed_loop": closed_loop_figure(
+            result, title=title or figure_title(problem), **run_figures_options(problem)
+        ),
+        "thrust": thrust_figure(result, engine_groups(problem), figure_title(problem)),
+    }
 
 
 def figure_title(problem: Problem, width: int = 90) -> str:

@@ -27,6 +27,8 @@ from casadi_debris.workflows.campaign import RunRecord, one_case, parameters_cas
 from casadi_debris.workflows.controller import controller_for
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from casadi_debris.model import Model
     from casadi_debris.simulation.cases import Case
     from casadi_debris.simulation.reference import Reference
@@ -59,6 +61,16 @@ class SimulationResult:
     result: ClosedLoopResult
     summary: RunRecord
     segments: tuple[SegmentFigures, ...] | None = None
+
+    def plot(self) -> dict[str, Figure]:
+        """The run's figures, by the file stem ``save`` writes them under:
+        ``closed_loop`` (reference, error against the requirement, torque against the
+        authority) and ``thrust`` (every engine, propellant per CubeSat). Nothing is
+        written; close them with ``matplotlib.pyplot.close``."""
+        from casadi_debris.report.simulation import figure_title, run_figures
+
+        title = f"{figure_title(self.problem)} ({self.summary.case_id})"
+        return run_figures(self.result, self.problem, title)
 
     def save(self, folder: str | Path, *, overwrite: bool = False, plots: bool = True) -> Path:
         """Write the run into ``folder`` as the command does: ``summary.json``,
