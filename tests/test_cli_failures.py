@@ -210,7 +210,7 @@ def test_closed_loop_on_two_workers_shows_progress_and_judges_every_case(tmp_pat
     assert summary["case_count"] == 24
     assert [m["duration_s"] for m in summary["manoeuvres"]] == [120.0, 60.0]
     assert summary["disturbance_period_s"] == 60.0
-    assert "covers 1 periods of the disturbance (60 s)" in (out / "report.md").read_text()
+    assert "covers one whole period of the disturbance (60 s)" in (out / "report.md").read_text()
     for case in summary["cases"]:
         nominal = case["closed_loop"]["nominal"]
         assert set(nominal) == {"slew", "pointing"}

@@ -192,7 +192,7 @@ def test_a_quick_campaign_sees_a_failure_of_one_signed_axis_over_the_whole_perio
     assert lost.torque_saturated_s == pytest.approx(period_s / 2.0, rel=0.05)
     # The report says what window the pointing covered and that it bounds the result.
     window = pointing_window(study.record())
-    assert "covers 1 periods of the disturbance" in window and "every phase" in window
+    assert "covers one whole period of the disturbance" in window and "every phase" in window
     short = dataclasses.replace(
         study.record(),
         manoeuvres=tuple(

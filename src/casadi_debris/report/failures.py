@@ -131,8 +131,9 @@ def pointing_window(summary: FailureStudyRecord) -> str:
     window = pointing[0].duration_s
     share = window / period
     if share >= 1.0 - 1e-9:
+        periods = "one whole period" if share < 1.0 + 1e-9 else f"{share:.3g} periods"
         return (
-            f"The pointing run covers {share:.3g} periods of the disturbance "
+            f"The pointing run covers {periods} of the disturbance "
             f"({period:g} s): every phase of it, each sign about each axis, so that a "
             "failure that removes the authority the disturbance asks for at any time "
             "shows in the error."
