@@ -120,6 +120,7 @@ STUDY_KEYS = {
     "quick",
     "max_corners",
     "out_dir",
+    "disturbance_period_s",
 }
 CASE_KEYS = {
     "case_id",
@@ -208,6 +209,8 @@ def test_closed_loop_on_two_workers_shows_progress_and_judges_every_case(tmp_pat
     summary = json.loads((out / "summary.json").read_text())
     assert summary["case_count"] == 24
     assert [m["duration_s"] for m in summary["manoeuvres"]] == [120.0, 60.0]
+    assert summary["disturbance_period_s"] == 60.0
+    assert "covers one whole period of the disturbance (60 s)" in (out / "report.md").read_text()
     for case in summary["cases"]:
         nominal = case["closed_loop"]["nominal"]
         assert set(nominal) == {"slew", "pointing"}

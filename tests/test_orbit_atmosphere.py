@@ -15,6 +15,7 @@ from casadi_debris.orbit.atmosphere import (
     msis_mean_density,
     solar_case,
 )
+from test_orbit_lifetime_msis import A_M, geodetic
 
 INCLINATION_DEG = 98.1
 
@@ -26,7 +27,9 @@ def table():
 
 def test_the_table_is_the_mean_over_randomly_sampled_orbit_points(table) -> None:
     # An independent average: NRLMSIS at random dates of a year, random UT and
-    # longitudes, and argument of latitude uniform over the orbit (fly-through mode).
+    # longitudes, and argument of latitude uniform over the orbit (fly-through mode),
+    # each point of the circle of radius a + 500 km placed on WGS-84 by the test's own
+    # conversion (the nearest point of the meridian ellipse).
     from pymsis import msis
 
     rng = np.random.default_rng(7)
@@ -34,14 +37,16 @@ def test_the_table_is_the_mean_over_randomly_sampled_orbit_points(table) -> None
     start = np.datetime64("2020-01-01T00:00", "m")
     dates = start + rng.integers(0, 366 * 24 * 60, n).astype("timedelta64[m]")
     u = rng.uniform(0.0, 2.0 * math.pi, n)
-    lats = np.degrees(np.arcsin(math.sin(math.radians(INCLINATION_DEG)) * np.sin(u)))
+    geocentric = np.arcsin(math.sin(math.radians(INCLINATION_DEG)) * np.sin(u))
+    radius = A_M + 500e3
+    lats, heights = geodetic(radius * np.cos(geocentric), radius * np.sin(geocentric))
     lons = rng.uniform(0.0, 360.0, n)
     case = SOLAR_CASES["mean"]
     out = msis.calculate(
         dates,
         lons,
-        lats,
-        np.full(n, 500.0),
+        np.degrees(lats),
+        heights / 1e3,
         f107s=np.full(n, case.f107_sfu),
         f107as=np.full(n, case.f107a_sfu),
         aps=np.full((n, 7), case.ap),

@@ -7,6 +7,7 @@ import math
 import socket
 
 import pytest
+from scipy.optimize import brentq
 
 from casadi_debris.errors import InputShapeError
 from casadi_debris.orbit import atmosphere
@@ -17,6 +18,7 @@ from casadi_debris.orbit.deorbit import (
     DeorbitSettings,
 )
 from casadi_debris.orbit.plan import DeorbitPlan, plan_deorbit
+from test_orbit_lifetime_msis import INCLINATION_DEG, Atmosphere, Spiral, lifetime_years
 
 HIGH_SPIRAL = DeorbitSettings(solar=("high",), strategies=("spiral",), minimum_swarm=False)
 
@@ -128,3 +130,44 @@ def test_the_paper_swarm_suffices_under_low_activity_only_by_apogee_arcs(problem
     assert model.fly(capacity, density, STRATEGIES["perigee_narrow"], 200.0).reentry_years < 5.0
     for name in STRATEGIES:
         assert model.fly(105.0, density, STRATEGIES[name], 200.0).reentry_years > 5.0
+
+
+def _spiral(model: DeorbitModel) -> Spiral:
+    """The model's swarm and body for the independent spiral of the lifetime tests."""
+    return Spiral(
+        thrust_N=tuple(s.thrust_N for s in model.thrust.segments),
+        impulse_Ns=tuple(s.impulse_Ns for s in model.thrust.segments),
+        burn_area_m2=model.burn_areas_m2,
+        decay_area_m2=model.decay.area_m2,
+        drag_coefficient=model.decay.drag_coefficient,
+        mass_kg=model.decay.mass_kg,
+        exhaust_speed_m_s=model.thrust.exhaust_speed_m_s,
+    )
+
+
+def test_the_least_dv_matches_an_independent_spiral_with_nrlmsis_called_directly(
+    problem, high_plan
+) -> None:
+    """High activity, lowering the whole orbit: the natural lifetime and the least Δv of the
+    plan against the test's own circular decay on NRLMSIS at geodetic coordinates."""
+    case = high_plan.cases[0]
+    model = DeorbitModel.from_problem(problem, HIGH_SPIRAL)
+    assert model.decay.area_m2 == pytest.approx(8.0) and model.decay.mass_kg == pytest.approx(668)
+    altitude_km = problem.orbit.altitude_km
+    assert problem.orbit.inclination_deg == INCLINATION_DEG  # the independent model's orbit
+    air = Atmosphere.of(solar_case("high"))
+    k = model.decay.drag_coefficient * model.decay.area_m2 / model.decay.mass_kg
+    assert case.natural_lifetime_years == pytest.approx(
+        lifetime_years(air, altitude_km, k), rel=5e-3
+    )
+    spiral = _spiral(model)
+    dv = brentq(
+        lambda dv: spiral.reentry_years(air, altitude_km, dv) - 5.0,
+        0.0,
+        high_plan.capacity_dv_m_s,
+        xtol=1e-3,
+    )
+    assert case.deorbit_dv_m_s == pytest.approx(dv, abs=0.1)
+    # On a spherical Earth the same debris needs far less (the old reading).
+    flat = Atmosphere.of(solar_case("high"), spherical=True)
+    assert spiral.reentry_years(flat, altitude_km, 0.6 * dv) < 5.0

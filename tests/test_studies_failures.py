@@ -3,6 +3,7 @@ same failures, verdicts against the requirements, ranking and the summary's cont
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_problem_path, with_duration
 from casadi_debris.geometry import torque_authority
 from casadi_debris.model import build_model
+from casadi_debris.report.failures import pointing_window
 from casadi_debris.simulation import corner_case
 from casadi_debris.studies.failure_cases import FailureCase
 from casadi_debris.studies.failure_records import FailureStudyRecord, RunVerdict
@@ -22,6 +24,7 @@ from casadi_debris.studies.failure_runs import manoeuvres
 from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
 from casadi_debris.units import MN_PER_N
 from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows.failures import run_failure_study
 
 PROBLEMS = default_problem_path().parent
 SLEW_S = 120.0  # the first two minutes of the paper's slew
@@ -152,3 +155,49 @@ def test_the_summary_reads_back_as_the_same_record(study: FailureStudy) -> None:
         again.cases[0].closed_loop.nominal["slew"].met
         is record.cases[0].closed_loop.nominal["slew"].met
     )
+
+
+# The CubeSats whose engines push about +y (ids from 1: 2, 4, 5, 7, 17, 18, 23, 24).
+PLUS_Y = (1, 3, 4, 6, 16, 17, 22, 23)
+
+
+def test_a_quick_campaign_sees_a_failure_of_one_signed_axis_over_the_whole_period() -> None:
+    """Without +y authority the body cannot hold against the half of the disturbance's
+    period that asks for +y: the pointing must come out worse than the whole swarm's. A run
+    shorter than half a period (the sine keeps one sign) would not see it."""
+    problem = load_problem()
+    geometry = build_model(problem).geometry
+    failed = FailureCase(cubesats=PLUS_Y)
+    # Independently of any LP: no engine left gives a positive torque about y, so no
+    # thrusts (all non-negative) can.
+    alive = np.isin(geometry.engine_cubesat, PLUS_Y, invert=True)
+    assert np.all(geometry.torque_map[1, alive] <= 0.0)
+    assert np.any(geometry.torque_map[1] > 0.0)
+    # The disturbance asks for +y (the torque that cancels it, -d_y) during half a period.
+    disturbance = problem.disturbance
+    period_s = disturbance.period_min * 60.0
+    assert disturbance.amplitude_mNm[1] > 0.0
+    study, _ = run_failure_study(
+        problem, FailureSettings(corner_sets=0), quick=True, cases=[failed]
+    )
+    pointing = next(m for m in study.manoeuvres if m.name == "pointing")
+    assert pointing.problem.simulation.duration_s >= period_s
+    whole = study.baseline.runs["pointing"]
+    lost = study.cases[0].runs["pointing"]
+    assert study.cases[0].authority.torque_Nm["+y"] == 0.0
+    assert whole.met is True
+    assert lost.error is not None and lost.error > max(10.0 * whole.error, lost.required)
+    assert lost.met is False and study.cases[0].met is False
+    # Out of reach, the engines saturate for about the half period that asks for +y.
+    assert lost.torque_saturated_s == pytest.approx(period_s / 2.0, rel=0.05)
+    # The report says what window the pointing covered and that it bounds the result.
+    window = pointing_window(study.record())
+    assert "covers one whole period of the disturbance" in window and "every phase" in window
+    short = dataclasses.replace(
+        study.record(),
+        manoeuvres=tuple(
+            dataclasses.replace(m, duration_s=1500.0) if m.name == "pointing" else m
+            for m in study.record().manoeuvres
+        ),
+    )
+    assert "do not bound" in pointing_window(short)

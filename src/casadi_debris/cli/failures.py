@@ -117,11 +117,14 @@ def _text(summary: FailureStudyRecord) -> str:
 @click.option(
     "--max-corners",
     type=click.IntRange(1, MAX_CORNERS),
-    default=16,
-    show_default=True,
-    help="Corners each of those flies, spread evenly over the set.",
+    default=None,
+    help="Corners each of those flies, spread evenly over the set [16; 4 with --quick].",
 )
-@click.option("--quick", is_flag=True, help="A shorter pointing run (as design --quick).")
+@click.option(
+    "--quick",
+    is_flag=True,
+    help="Fewer corners (4). The pointing run is one whole disturbance period either way.",
+)
 @controller_options
 @workers_option
 @no_jit_option
@@ -133,7 +136,7 @@ def failures(
     stages: bool,
     closed_loop: bool,
     corner_sets: int,
-    max_corners: int,
+    max_corners: int | None,
     quick: bool,
     controller_path: Path | None,
     allow_mismatch: bool,

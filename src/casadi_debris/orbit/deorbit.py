@@ -244,7 +244,9 @@ class DeorbitModel:
 
     def density(self, activity: SolarActivity) -> DensityFunction:
         """The averaged NRLMSIS density at a constant activity."""
-        table = density_table(round(math.degrees(self.inclination_rad), 3))
+        table = density_table(
+            round(math.degrees(self.inclination_rad), 3), radius_m=self.earth.radius_m
+        )
         profile = table.profile(activity.f107_sfu)
 
         def rho(altitude_m: np.ndarray, time_s: float) -> np.ndarray:

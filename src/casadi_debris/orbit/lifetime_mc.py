@@ -109,7 +109,9 @@ class LifetimeCampaign(Record):
 
 def cycle_density(model: DeorbitModel, draw: LifetimeDraw) -> DensityFunction:
     """The averaged density under this run's solar cycle."""
-    table = density_table(round(math.degrees(model.inclination_rad), 3))
+    table = density_table(
+        round(math.degrees(model.inclination_rad), 3), radius_m=model.earth.radius_m
+    )
 
     def rho(altitude_m: np.ndarray, time_s: float) -> np.ndarray:
         profile = table.profile(draw.f107(time_s))

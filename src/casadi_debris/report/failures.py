@@ -122,6 +122,30 @@ def _markdown_cells(row: dict[str, Any]) -> list[str]:
     ]
 
 
+def pointing_window(summary: FailureStudyRecord) -> str:
+    """What window the pointing run covered, and whether it bounds the pointing error."""
+    period = summary.disturbance_period_s
+    pointing = [m for m in summary.manoeuvres if m.name == "pointing"]
+    if not pointing or period is None or period <= 0.0:
+        return ""
+    window = pointing[0].duration_s
+    share = window / period
+    if share >= 1.0 - 1e-9:
+        periods = "one whole period" if share < 1.0 + 1e-9 else f"{share:.3g} periods"
+        return (
+            f"The pointing run covers {periods} of the disturbance "
+            f"({period:g} s): every phase of it, each sign about each axis, so that a "
+            "failure that removes the authority the disturbance asks for at any time "
+            "shows in the error."
+        )
+    return (
+        f"The pointing run covers only {share:.2g} of the disturbance's period "
+        f"({window:g} of {period:g} s): the disturbance does not go through every phase, "
+        "so a failure that removes the authority about one signed axis may not show; "
+        "these pointing figures do not bound the error over an orbit."
+    )
+
+
 def failures_markdown(summary: FailureStudyRecord, rows: list[dict[str, Any]]) -> str:
     """``report.md``: what was run, the baseline, the worst cases, the heat map."""
     torque = summary.baseline.torque_max_zero_force_mNm
@@ -143,6 +167,8 @@ def failures_markdown(summary: FailureStudyRecord, rows: list[dict[str, Any]]) -
     if summary.manoeuvres:
         lines += [
             f"Closed loop (nominal plant): {flown}; requirements {requirements}. "
+            + pointing_window(summary)
+            + " "
             f"{summary.cases_met} cases meet them, {summary.cases_not_met} do not"
             + (
                 f"; the {summary.corner_sets} worst also flew {summary.corner_plants} "

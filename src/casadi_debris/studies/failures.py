@@ -61,7 +61,7 @@ from casadi_debris.studies.failure_records import (
     ThrustChange,
 )
 from casadi_debris.studies.failure_runs import Manoeuvre, StageProgress, fly_cases
-from casadi_debris.units import MN_PER_N
+from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
 LOGGER = logging.getLogger(__name__)
 REALLOCATION_SHOWN = 5
@@ -243,6 +243,7 @@ class FailureStudy:
             jit=settings.jit,
             cubesats=len(self.problem.cubesats),
             disturbance_mNm=tuple(np.abs(self.problem.disturbance.amplitude_mNm).tolist()),
+            disturbance_period_s=self.problem.disturbance.period_min * SECONDS_PER_MINUTE,
             requirements={m.error_key: m.required for m in self.manoeuvres},
             manoeuvres=tuple(
                 ManoeuvreRecord(m.name, m.problem.name, m.problem.simulation.duration_s)
