@@ -6,7 +6,7 @@ Example
 >>> from casadi_debris.workflows.mission import mission_into
 >>> summary = mission_into(load_problem(), "runs/mission-paper")  # doctest: +SKIP
 >>> summary.meets_five_year_rule, summary.reentry_years  # doctest: +SKIP
-(False, {'low': 6.58, 'mean': 5.0, 'high': 5.0})
+(False, {'low': 7.57, 'mean': 5.0, 'high': 5.0})
 """
 
 from __future__ import annotations
