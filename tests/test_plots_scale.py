@@ -104,3 +104,23 @@ def test_the_histogram_spreads_over_the_cases_not_to_a_far_requirement(
     requirement_lines = [line for line in figure.lines[0] if np.allclose(line.get_xdata(), 0.6)]
     assert bool(requirement_lines) == requirement_drawn == (high >= 0.6)
     assert ("requirement 0.6, off scale" in " ".join(figure.texts[0])) == (not requirement_drawn)
+
+
+@pytest.mark.parametrize(("peak", "drawn"), [(50.0, True), (10.0, False), (0.0, True)])
+def test_a_one_sided_limit_is_drawn_in_range_and_noted_beyond(peak: float, drawn: bool) -> None:
+    """As the burn's pointing panel: errors from 0 up, the requirement 60 arcsec."""
+    import matplotlib.pyplot as plt
+
+    from casadi_debris.plots import limit_line
+
+    figure, axes = plt.subplots()
+    axes.plot([0.0, 1.0, 2.0], [0.0, peak, 0.5 * peak])
+    assert limit_line(axes, 60.0, peak, "requirement 60 arcsec", "error", both_signs=False) == drawn
+    at_limit = [line for line in axes.lines if np.allclose(line.get_ydata(), 60.0)]
+    assert len(at_limit) == int(drawn)
+    if not drawn:
+        low, high = axes.get_ylim()
+        assert low == 0.0 and peak < high < 60.0
+        [note] = axes.texts
+        assert note.get_text() == "↑ requirement 60 arcsec: off scale, 6 × the largest error"
+    plt.close(figure)

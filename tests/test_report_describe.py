@@ -204,7 +204,7 @@ def test_model_prints_each_arrays_hinge_extent_and_normal_as_the_guide_says(tmp_
         rigid = rigid + array.mass_kg * (cog @ cog * np.eye(3) - np.outer(cog, cog))
     np.testing.assert_allclose(rigid, geometry.inertia_total_kgm2, atol=1e-4)
     text = model_text(summary, show_paper=False)
-    assert "along y faces z" in text and "[0, 0.866, 0.5]" in text
+    assert "along ±y faces +z" in text and "[0, 0.866, 0.5]" in text
 
 
 def test_a_rigid_debris_prints_no_array_table() -> None:

@@ -7,7 +7,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from casadi_debris.plots import save_figure
+from casadi_debris.plots import limit_line, save_figure
 from casadi_debris.simulation.burn import BurnRun
 from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
@@ -34,10 +34,13 @@ def plot_burn(
     result = burn.result
     minutes = result.time_s / 60.0
     figure, (pointing, thrust, fuel) = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
-    pointing.plot(minutes, burn.pointing_error_rad * ARCSEC_PER_RAD, color="C0", lw=1.0)
-    pointing.axhline(
-        summary.pointing_requirement_arcsec, color="k", ls="--", lw=0.8, label="requirement"
-    )
+    error_arcsec = burn.pointing_error_rad * ARCSEC_PER_RAD
+    pointing.plot(minutes, error_arcsec, color="C0", lw=1.0)
+    requirement = summary.pointing_requirement_arcsec
+    finite = np.abs(error_arcsec[np.isfinite(error_arcsec)])
+    peak = float(finite.max()) if finite.size else 0.0
+    label = f"requirement {requirement:g} arcsec"
+    limit_line(pointing, requirement, peak, label, "error", both_signs=False)
     pointing.set_ylabel("thrust-axis error [arcsec]")
     pointing.set_ylim(bottom=0.0)
     thrust.plot(minutes[:-1], series.thrust_along_N * MN_PER_N, color="C1", label="net, along axis")
@@ -57,7 +60,8 @@ def plot_burn(
     if switches:
         pointing.plot([], [], color="0.5", ls=":", label=f"stage switches ({len(switches)})")
     for ax in (pointing, thrust, fuel):
-        ax.legend(fontsize=7)
+        if ax.get_legend_handles_labels()[0]:  # an off-scale requirement has no line
+            ax.legend(fontsize=7)
     pointing.set_title(
         f"{title}: {summary.direction} burn, Δv {summary.dv_along_m_s * 1e3:.3g} mm/s, "
         f"max error {np.round(summary.pointing_max_arcsec, 1)} arcsec"

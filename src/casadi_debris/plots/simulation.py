@@ -11,7 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.plots import AXIS_COLOURS, OFF_SCALE, limit_line, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
 from casadi_debris.simulation.monte_carlo import Extremes
 from casadi_debris.slew import euler_angles_321
@@ -96,11 +96,6 @@ def closed_loop_figure(
     return figure
 
 
-OFF_SCALE = 2.5
-"""A limit line more than this many times the data's peak is noted, not drawn: drawn, it
-would squash the data into a flat line."""
-
-
 def _peak(values: np.ndarray, bands: Extremes | None = None) -> float:
     """Largest magnitude of ``values`` and of the envelope ``bands`` (min/max), NaN skipped."""
     arrays = [np.asarray(values)]
@@ -111,27 +106,11 @@ def _peak(values: np.ndarray, bands: Extremes | None = None) -> float:
 
 
 def _draw_requirement(axes: Axes, requirement: float, peak: float, unit: str) -> None:
-    """The requirement at ± as dashed lines when they are in range of the data; else the
-    panel keeps the data's scale and says where the requirement is."""
-    label = f"requirement ±{requirement:g} {unit}"
-    if peak <= 0.0 or requirement <= OFF_SCALE * peak:
-        for sign in (1, -1):
-            axes.axhline(
-                sign * requirement, color="k", ls="--", lw=0.8, label=label if sign > 0 else None
-            )
+    """The requirement at ± as dashed lines when in range of the data, else a note."""
+    if limit_line(
+        axes, requirement, peak, f"requirement ±{requirement:g} {unit}", "error", both_signs=True
+    ):
         axes.legend(loc="upper right", fontsize=8)
-        return
-    axes.set_ylim(-1.15 * peak, 1.15 * peak)
-    axes.text(
-        0.99,
-        0.96,
-        f"↑ {label}: off scale, {requirement / peak:.3g} × the largest error",
-        transform=axes.transAxes,
-        ha="right",
-        va="top",
-        fontsize=8,
-        bbox={"boxstyle": "round", "facecolor": "white", "edgecolor": "0.6"},
-    )
 
 
 def _fit_torque(axes: Axes, result: ClosedLoopResult, peak_mNm: float) -> None:

@@ -377,10 +377,9 @@ def _arrays_section(arrays: Sequence[ArrayOrientation]) -> list[str]:
         ],
     )
     return [
-        "Arrays (body frame B, origin at the CoG). The angle turns an array about its hinge"
-        " axis; at angle 0",
-        "its normal is the hub axis after its extent's in the cyclic order x, y, z (an array"
-        " along y faces z, along z faces x, along x faces y).",
+        "Arrays (body frame B, origin at the CoG; the angle turns an array about its hinge axis)",
+        "At angle 0 an array's normal is the hub axis after its extent's in the order x, y, z, x:",
+        "an array along ±y faces +z, along ±z faces +x, along ±x faces +y.",
         table,
         "",
     ]
