@@ -82,3 +82,28 @@ def test_plot_returns_the_figures_save_writes_and_writes_nothing(
     np.testing.assert_allclose(drawn, np.degrees(short_run.result.error_rad[:, 0]))
     for figure in figures.values():
         plt.close(figure)
+
+
+def test_a_slew_turned_by_keyword_is_titled_by_what_flew() -> None:
+    import matplotlib.pyplot as plt
+
+    run = cd.simulate("paper_slew", duration_s=20.0, angle_deg=5.0)
+    assert run.problem.simulation.slew is not None
+    assert run.problem.simulation.slew.angle_deg == 5.0
+    figures = run.plot()
+    title = figures["closed_loop"].axes[0].get_title()
+    assert "5 deg" in title and "180" not in title
+    for figure in figures.values():
+        plt.close(figure)
+
+
+def test_the_shipped_controller_flies_another_plant_only_when_asked(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    from casadi_debris.workflows.controller import ControllerMismatchError
+
+    with pytest.raises(ControllerMismatchError, match="--allow-mismatch"):
+        cd.simulate("side_engines_12", duration_s=5.0)
+    run = cd.simulate("side_engines_12", duration_s=5.0, allow_mismatch=True)
+    assert run.summary.problem == "side_engines_12"
+    assert "designed for another plant" in caplog.text

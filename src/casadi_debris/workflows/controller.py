@@ -90,12 +90,13 @@ def controller_for(
     plant = problem.plant_sha256
     if record.problem_sha256 == plant:
         return record, resolved
-    if path is None:
+    if path is None and not allow_mismatch:
         raise ControllerMismatchError(
             "--controller",
             f"the shipped controller was designed for the paper's plant, and {problem.name} "
             "describes another; design one for it (casadi-debris design PROBLEM.toml) and pass "
-            f"--controller {default_run_folder('design', problem.name) / 'controller.json'}",
+            f"--controller {default_run_folder('design', problem.name) / 'controller.json'}, "
+            "or pass --allow-mismatch to fly the paper's controller on it anyway",
         )
     if not record.problem_sha256:
         # A controller of the user's own (plain A, B, C, D): nothing to check it against.

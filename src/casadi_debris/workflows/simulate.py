@@ -277,7 +277,12 @@ def _with_slew(problem: Problem, axis: Axis | None, angle_deg: float | None) -> 
             "The slew about the new axis at %s's torque fraction %.3f.", problem.name, fraction
         )
     simulation = dataclasses.replace(problem.simulation, slew=changed)
-    return dataclasses.replace(problem, simulation=simulation)
+    # The figures are titled from the description, which told of the file's own slew.
+    turned = (
+        changed.axis if isinstance(changed.axis, str) else ",".join(f"{v:g}" for v in changed.axis)
+    )
+    description = f"{changed.angle_deg:g} deg {changed.method} slew about {turned} ({problem.name})"
+    return dataclasses.replace(problem, simulation=simulation, description=description)
 
 
 def _with_failed(problem: Problem, cubesat_ids: Sequence[int]) -> Problem:
