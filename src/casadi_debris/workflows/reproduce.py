@@ -62,8 +62,10 @@ class Plan:
 
 
 FULL = Plan()
-QUICK = Plan(margin_samples=200, slew_cases=8, pointing_cases=4, pointing_duration_s=1500.0)
-"""A few minutes on two cores (CI); corners spread evenly over the set."""
+QUICK = Plan(margin_samples=200, slew_cases=8, pointing_cases=4)
+"""A few minutes on two cores (CI); corners spread evenly over the set. The pointing run
+keeps its whole orbit: a shorter one meets the disturbance with one sign only, and an
+authority that is weaker one way than the other would pass unseen."""
 FIGURES = [
     ("Slew (paper Fig. 4): error and torque, corner envelope shaded", "slew/envelope.png"),
     (
