@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
@@ -49,3 +50,51 @@ def test_the_wall_time_is_what_the_user_waited_and_covers_the_solve() -> None:
     summary = _slew("paper")
     waited = time.perf_counter() - started
     assert summary["solve_time_s"] <= summary["wall_time_s"] <= waited
+
+
+GALLERY_QUICK = ("rigid_no_arrays", "side_engines_12")
+GALLERY_SLOW = (
+    "differential_2u",
+    "fewer_stronger",
+    "one_array",
+    "three_faces",
+    "two_per_face",
+    "zenit2_upper_stage",
+)
+THRUSTER_SLEW = ("--method", "time-optimal", "--thrusters", "--starts", "1", "--sample-s", "20")
+
+
+def _thruster_slew_every_way(problem: str, tmp_path: Path) -> None:
+    """The thruster-level time-optimal slew as a user types it: plain text, --json, --out."""
+    runner = CliRunner()
+    plain = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW])
+    assert plain.exit_code == 0, plain.output
+    assert "time-optimal" in plain.stdout and "duration [s]" in plain.stdout
+    as_json = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--json"])
+    assert as_json.exit_code == 0, as_json.output
+    summary = json.loads(as_json.stdout)
+    assert summary["method"] == "time-optimal" and summary["thrusters"] is True
+    assert summary["duration_s"] > 0.0
+    out = tmp_path / problem
+    written = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--out", str(out)])
+    assert written.exit_code == 0, written.output
+    saved = json.loads((out / "summary.json").read_text())
+    assert saved["duration_s"] == pytest.approx(summary["duration_s"], rel=1e-6)
+    assert (out / "profile.csv").is_file() and (out / "slew.png").is_file()
+    header = (out / "profile.csv").read_text().splitlines()[0].split(",")
+    assert sum(column.startswith("thrust_") for column in header) == len(
+        load_problem(problem).engines
+    )
+
+
+@pytest.mark.parametrize("problem", ("paper", *GALLERY_QUICK))
+def test_thruster_level_time_optimal_slew_runs_every_way(problem: str, tmp_path: Path) -> None:
+    _thruster_slew_every_way(problem, tmp_path)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("problem", GALLERY_SLOW)
+def test_thruster_level_time_optimal_slew_runs_on_every_gallery_problem(
+    problem: str, tmp_path: Path
+) -> None:
+    _thruster_slew_every_way(problem, tmp_path)

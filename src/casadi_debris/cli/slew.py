@@ -90,8 +90,12 @@ def summary_text(summary: dict[str, Any]) -> str:
         rows += [
             ["starts agreeing", f"{summary['starts_agreeing']} of {summary['starts']}"],
             ["local optima [s]", optima],
-            ["switch-time refinement", summary["refinement"]],
         ]
+        # Only the torque-level search refines switch times; the thruster-level one has none.
+        if "refinement" in summary:
+            rows.append(["switch-time refinement", summary["refinement"]])
+        if "torque_box_duration_s" in summary:
+            rows.append(["torque-box optimum [s]", f"{summary['torque_box_duration_s']:.2f}"])
         if "verification_attitude_error_rad" in summary:
             residual = summary["verification_attitude_error_rad"]
             rows.append(["verification residual [rad]", f"{residual:.2g}"])
