@@ -11,6 +11,7 @@ from click.testing import CliRunner
 from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.simulation import scenario_reference
+from slew_reference import every_profile_checked  # noqa: F401 (autouse)
 
 
 def _slew(*arguments: str) -> dict:
@@ -98,3 +99,23 @@ def test_thruster_level_time_optimal_slew_runs_on_every_gallery_problem(
     problem: str, tmp_path: Path
 ) -> None:
     _thruster_slew_every_way(problem, tmp_path)
+
+
+def test_workers_1_solves_every_start_in_this_process(monkeypatch: pytest.MonkeyPatch) -> None:
+    import casadi_debris.parallel as parallel
+
+    def no_processes(*arguments: object, **keywords: object) -> None:
+        raise AssertionError("a worker process was started")
+
+    monkeypatch.setattr(parallel, "_process_map", no_processes)
+    arguments = ["--method", "time-optimal", "--starts", "4", "--workers", "1", "--sample-s", "20"]
+    result = CliRunner().invoke(main, ["slew", *arguments, "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert summary["workers"] == 1 and summary["starts"] == 4
+
+
+def test_workers_below_one_is_refused_naming_the_option() -> None:
+    result = CliRunner().invoke(main, ["slew", "--method", "time-optimal", "--workers", "0"])
+    assert result.exit_code == 2
+    assert "--workers" in result.output and "Traceback" not in result.output

@@ -12,7 +12,7 @@ from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, max_thrust_N
 from casadi_debris.model import build_model
 from casadi_debris.slew import RigidBody, time_optimal_slew
-from slew_reference import final_state
+from slew_reference import every_profile_checked, final_state  # noqa: F401 (autouse)
 
 
 def engine_torque_extents(geometry: Geometry) -> tuple[np.ndarray, np.ndarray]:

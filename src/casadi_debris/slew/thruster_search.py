@@ -108,7 +108,11 @@ def thruster_starts(
     intervals = (ocp.options.intervals or 40) * GUESS_SUBDIVISION
     knots = np.linspace(0.0, eigenaxis.total_s, intervals + 1)
     eigen_thrust = eigenaxis.controls(0.5 * (knots[:-1] + knots[1:]))
-    box_thrust = least_fuel_thrust(ocp.geometry, box.torque_Nm)[0]
+    # At zero net force the guesses hold it too: a guess off that plane cost IPOPT most
+    # of its time getting back to it.
+    box_thrust = least_fuel_thrust(
+        ocp.geometry, box.torque_Nm, zero_net_force=ocp.options.zero_net_force
+    )[0]
     peak = eigenaxis.peak_rate_rad_s
     bases = [
         ThrusterStart("eigenaxis", knots, eigen_thrust, peak),
