@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 from click.testing import CliRunner
@@ -10,6 +11,7 @@ from click.testing import CliRunner
 from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.simulation import scenario_reference
+from slew_reference import every_profile_checked  # noqa: F401 (autouse)
 
 
 def _slew(*arguments: str) -> dict:
@@ -49,3 +51,71 @@ def test_the_wall_time_is_what_the_user_waited_and_covers_the_solve() -> None:
     summary = _slew("paper")
     waited = time.perf_counter() - started
     assert summary["solve_time_s"] <= summary["wall_time_s"] <= waited
+
+
+GALLERY_QUICK = ("rigid_no_arrays", "side_engines_12")
+GALLERY_SLOW = (
+    "differential_2u",
+    "fewer_stronger",
+    "one_array",
+    "three_faces",
+    "two_per_face",
+    "zenit2_upper_stage",
+)
+THRUSTER_SLEW = ("--method", "time-optimal", "--thrusters", "--starts", "1", "--sample-s", "20")
+
+
+def _thruster_slew_every_way(problem: str, tmp_path: Path) -> None:
+    """The thruster-level time-optimal slew as a user types it: plain text, --json, --out."""
+    runner = CliRunner()
+    plain = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW])
+    assert plain.exit_code == 0, plain.output
+    assert "time-optimal" in plain.stdout and "duration [s]" in plain.stdout
+    as_json = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--json"])
+    assert as_json.exit_code == 0, as_json.output
+    summary = json.loads(as_json.stdout)
+    assert summary["method"] == "time-optimal" and summary["thrusters"] is True
+    assert summary["duration_s"] > 0.0
+    out = tmp_path / problem
+    written = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--out", str(out)])
+    assert written.exit_code == 0, written.output
+    saved = json.loads((out / "summary.json").read_text())
+    assert saved["duration_s"] == pytest.approx(summary["duration_s"], rel=1e-6)
+    assert (out / "profile.csv").is_file() and (out / "slew.png").is_file()
+    header = (out / "profile.csv").read_text().splitlines()[0].split(",")
+    assert sum(column.startswith("thrust_") for column in header) == len(
+        load_problem(problem).engines
+    )
+
+
+@pytest.mark.parametrize("problem", ("paper", *GALLERY_QUICK))
+def test_thruster_level_time_optimal_slew_runs_every_way(problem: str, tmp_path: Path) -> None:
+    _thruster_slew_every_way(problem, tmp_path)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("problem", GALLERY_SLOW)
+def test_thruster_level_time_optimal_slew_runs_on_every_gallery_problem(
+    problem: str, tmp_path: Path
+) -> None:
+    _thruster_slew_every_way(problem, tmp_path)
+
+
+def test_workers_1_solves_every_start_in_this_process(monkeypatch: pytest.MonkeyPatch) -> None:
+    import casadi_debris.parallel as parallel
+
+    def no_processes(*arguments: object, **keywords: object) -> None:
+        raise AssertionError("a worker process was started")
+
+    monkeypatch.setattr(parallel, "_process_map", no_processes)
+    arguments = ["--method", "time-optimal", "--starts", "4", "--workers", "1", "--sample-s", "20"]
+    result = CliRunner().invoke(main, ["slew", *arguments, "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    assert summary["workers"] == 1 and summary["starts"] == 4
+
+
+def test_workers_below_one_is_refused_naming_the_option() -> None:
+    result = CliRunner().invoke(main, ["slew", "--method", "time-optimal", "--workers", "0"])
+    assert result.exit_code == 2
+    assert "--workers" in result.output and "Traceback" not in result.output

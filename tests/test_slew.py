@@ -28,7 +28,7 @@ from casadi_debris.slew import (
     time_optimal_slew,
 )
 from casadi_debris.slew.transcription import COLLOCATION_DEGREE, radau_coefficients
-from slew_reference import final_state
+from slew_reference import every_profile_checked, final_state  # noqa: F401 (autouse)
 
 PAPER_SLEW_DURATION_S = 1228.0  # paper, Section IV.A
 PAPER_SLEW_FUEL_KG = 2.8e-4  # paper, Section IV.A; DESIGN.md accepts +-25 %
@@ -308,12 +308,14 @@ def test_cli_bang_bang_json_and_run_folder(tmp_path: Path) -> None:
         "max_torque_mNm",
         "fuel_kg",
         "residual_vibration_rad",
-        "limit_duration_s",
+        "eigenaxis_duration_s",
+        "limits_ok",
         "solve_time_s",
         "solver_status",
     ):
         assert key in summary
     assert summary["duration_s"] == pytest.approx(1228.0)
+    assert summary["limits_ok"] is True and summary["worst_axis_ratio"]["+z"] < 0.6
     assert {p.name for p in out.iterdir()} >= {"summary.json", "profile.csv", "slew.png"}
     header = (out / "profile.csv").read_text().splitlines()[0]
     assert "time_s" in header and "torque_z_mNm" in header and "yaw_deg" in header

@@ -43,9 +43,15 @@ def summary_for_output(profile: SlewProfile, problem_name: str) -> dict[str, Any
     """The summary with display units (mNm, deg) in the keys that need them."""
     summary = profile.summary().to_json()
     summary["angle_deg"] = math.degrees(summary.pop("angle_rad"))
-    for name in ("max_torque", "engine_torque_shortfall"):
+    for name in ("max_torque", "engine_torque_shortfall", "torque_map_residual"):
         if f"{name}_Nm" in summary:
             summary[f"{name}_mNm"] = np.multiply(summary.pop(f"{name}_Nm"), MNM_PER_NM).tolist()
+    for name in ("min_thrust", "max_net_force"):
+        if f"{name}_N" in summary:
+            summary[f"{name}_mN"] = summary.pop(f"{name}_N") * MN_PER_N
+    if "limits_authority_Nm" in summary:
+        authority = summary.pop("limits_authority_Nm")
+        summary["limits_authority_mNm"] = {k: v * MNM_PER_NM for k, v in authority.items()}
     return {"problem": problem_name, **summary}
 
 
@@ -72,11 +78,20 @@ def write_profile_csv(profile: SlewProfile, path: Path, thrust: bool) -> None:
 def summary_text(summary: dict[str, Any]) -> str:
     """A short table of the figures a reader looks for first."""
     torque = ", ".join(f"{v:.3g}" for v in summary["max_torque_mNm"])
+    eigenaxis = summary["eigenaxis_duration_s"]
+    eigenaxis = math.nan if eigenaxis is None else eigenaxis
+    ratios = summary["worst_axis_ratio"]
+    axis = max(ratios, key=ratios.get) if ratios else "-"
+    worst, worst_at = ratios.get(axis, math.nan), f"about {axis}"
+    if summary["worst_torque_set_ratio"] > worst:
+        worst, worst_at = summary["worst_torque_set_ratio"], "of the engines' torque set"
     rows = [
         ["method", summary["method"]],
         ["duration [s]", f"{summary['duration_s']:.2f}"],
-        ["rigid eigenaxis limit [s]", f"{summary['limit_duration_s']:.2f}"],
+        ["eigenaxis bang-bang time at this authority [s]", f"{eigenaxis:.2f}"],
         ["max torque x, y, z [mNm]", torque],
+        ["worst share of the authority", f"{worst:.4f} ({worst_at})"],
+        ["within the engines' limits", "yes" if summary["limits_ok"] else "NO"],
         ["fuel [kg]", f"{summary['fuel_kg']:.4g}"],
         ["residual vibration [rad]", f"{summary['residual_vibration_rad']:.3g}"],
         ["solve time [s]", f"{summary['solve_time_s']:.3f}"],
@@ -84,14 +99,18 @@ def summary_text(summary: dict[str, Any]) -> str:
         ["solver status", summary["solver_status"]],
     ]
     if "flexible_method" in summary:
-        rows.insert(6, ["flexible method", summary["flexible_method"]])
+        rows.insert(8, ["flexible method", summary["flexible_method"]])
     if "starts" in summary:
         optima = ", ".join(f"{value:.6g}" for value in summary["local_optima_s"])
         rows += [
             ["starts agreeing", f"{summary['starts_agreeing']} of {summary['starts']}"],
             ["local optima [s]", optima],
-            ["switch-time refinement", summary["refinement"]],
         ]
+        # Only the torque-level search refines switch times; the thruster-level one has none.
+        if "refinement" in summary:
+            rows.append(["switch-time refinement", summary["refinement"]])
+        if "torque_box_duration_s" in summary:
+            rows.append(["torque-box optimum [s]", f"{summary['torque_box_duration_s']:.2f}"])
         if "verification_attitude_error_rad" in summary:
             residual = summary["verification_attitude_error_rad"]
             rows.append(["verification residual [rad]", f"{residual:.2g}"])
@@ -141,6 +160,7 @@ class AxisParam(click.ParamType):
 F = TypeVar("F", bound=Callable[..., Any])
 MAX_RATE_DEG_S = 1e4
 MAX_STARTS = 1000
+MAX_WORKERS = 256
 MIN_SAMPLE_S = 1e-3
 # The slew functions name their parameters; the command line names its options.
 OPTION_OF_PARAMETER = {
@@ -172,6 +192,7 @@ class SlewRequest:
     sample_s: float
     starts: int | None = None
     seed: int = 0
+    workers: int | None = None
 
     def solve(self, problem: Problem) -> SlewProfile:
         """The profile of the chosen method."""
@@ -209,6 +230,7 @@ class SlewRequest:
             sample_s=self.sample_s,
             flexible_method=self.flexible_method,
             seed=self.seed,
+            workers=self.workers,
         )
         if self.starts is not None:  # else the library's default
             options = dataclasses.replace(options, starts=self.starts)
@@ -360,6 +382,12 @@ def axis_options(axis_default: str, angle_default: str) -> Callable[[F], F]:
     show_default=True,
     help="Seed of the random initial guesses.",
 )
+@click.option(
+    "--workers",
+    type=click.IntRange(1, MAX_WORKERS),
+    help="Time-optimal: processes for the starts; 1 solves them in this process "
+    "(default: two with at least four starts on two cores, else one).",
+)
 @folder_option()
 @output_options
 def slew(
@@ -378,6 +406,7 @@ def slew(
     sample_s: float,
     starts: int | None,
     seed: int,
+    workers: int | None,
     out: Path | None,
     overwrite: bool,
     as_json: bool,
@@ -396,7 +425,7 @@ def slew(
     if problem.simulation.reference == "sequence" and not (axis or angle_deg or method):
         one_slew: tuple[Any, ...] = (duration_s, torque_fraction, rate_limit_deg_s)
         one_slew += (smoothing_s or None, flexible or None, thrusters or None)
-        one_slew += (zero_net_force or None, starts)
+        one_slew += (zero_net_force or None, starts, workers)
         _fly_sequence(problem, sample_s, out, overwrite, as_json, one_slew)
         return
     given = {
@@ -417,6 +446,7 @@ def slew(
         sample_s=sample_s,
         starts=starts,
         seed=seed,
+        workers=workers,
     )
     try:
         profile = request.solve(problem)
@@ -425,6 +455,8 @@ def slew(
     summary = summary_for_output(profile, problem.name)
     # What the user waited for: the solve, the flexible check, the shaper, the model build.
     summary["wall_time_s"] = time.perf_counter() - started
+    if not summary["limits_ok"]:
+        say(_limits_warning(summary))
     if out is not None:
         from casadi_debris.plots.slew import plot_slew
 
@@ -438,6 +470,20 @@ def slew(
         click.echo(summary_text(summary))
 
 
+def _limits_warning(summary: dict[str, Any]) -> str:
+    """One line: what the profile needs beyond the engines, and what would fit."""
+    remedy = (
+        "the optimal slews at thruster level (--thrusters --zero-net-force) stay within them"
+        if not summary["thrusters"]
+        else "a smaller --torque-fraction or a longer --duration-s may fit"
+    )
+    return (
+        f"warning: this profile is not within the engines' limits "
+        f"({summary['limits_note']}; worst at t = {summary['worst_ratio_time_s']:.6g} s), "
+        f"so the closed loop cannot fly it as it is; {remedy}"
+    )
+
+
 ONE_SLEW_OPTIONS = (
     "--duration-s",
     "--torque-fraction",
@@ -447,6 +493,7 @@ ONE_SLEW_OPTIONS = (
     "--thrusters",
     "--zero-net-force",
     "--starts",
+    "--workers",
 )
 
 
@@ -489,6 +536,11 @@ def _fly_sequence(
                 folder / "reference.png",
                 figure_title(problem),
             )
+    if not summary.slews_within_limits:
+        say(
+            "warning: a slew is not within the engines' limits (authority share above 1): "
+            "the closed loop cannot fly it as it is"
+        )
     if as_json:
         echo_json(summary)
         return
@@ -501,10 +553,12 @@ def _fly_sequence(
             r.method or "",
             "" if r.angle_deg is None else f"{r.angle_deg:.2f}",
             "" if r.fuel_kg is None else f"{r.fuel_kg:.4g}",
+            "" if r.worst_authority_share is None else f"{r.worst_authority_share:.3f}",
         ]
         for r in summary.segments
     ]
     header = ["segment", "kind", "start [s]", "end [s]", "method", "angle [deg]", "fuel [kg]"]
+    header.append("authority share")
     click.echo(format_table(header, rows))
 
 

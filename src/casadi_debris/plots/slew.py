@@ -41,6 +41,7 @@ def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
         axes[0].plot(time, angles[:, index], color=colour, label=labels[axis])
         axes[1].plot(time, rates[:, index], color=colour)
         axes[2].step(time, torque[:, index], where="post", color=colour)
+    _authority_lines(axes[2], profile)
     axes[0].set_ylabel("angle [deg]")
     axes[0].legend(loc="best", fontsize="small")
     axes[1].set_ylabel("rate [deg/s]")
@@ -64,10 +65,24 @@ def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
     axes[0].set_title(
         f"{kind}: {np.degrees(profile.target.angle_rad):.0f} deg in {profile.duration_s:.1f} s, "
         f"fuel {profile.fuel_kg:.3g} kg"
+        + ("" if profile.limits.limits_ok else ", NOT within the engines' limits")
     )
     for axis in axes:
         axis.grid(True, linestyle=":")
     return save_figure(figure, path)
+
+
+def _authority_lines(axis: plt.Axes, profile: SlewProfile) -> None:
+    """The largest pure torque about each signed axis (the check's), dashed in the axis's
+    colour, when the torque comes within a factor of three of it (else off the scale)."""
+    authority = profile.limits.limits_authority_Nm
+    peak = float(np.max(np.abs(profile.torque_Nm), initial=0.0))
+    for name, limit in authority.items():
+        if 0.0 < limit <= 3.0 * peak:
+            sign = 1.0 if name[0] == "+" else -1.0
+            axis.axhline(
+                sign * limit * MNM_PER_NM, color=AXIS_COLOURS[name[1]], linestyle="--", lw=0.7
+            )
 
 
 def plot_slew_comparison(profiles: Mapping[str, SlewProfile], path: Path) -> Path:

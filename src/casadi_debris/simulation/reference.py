@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import logging
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -25,6 +26,8 @@ from casadi_debris.slew import (
 
 if TYPE_CHECKING:
     from casadi_debris.simulation.sequence import Piece
+
+logger = logging.getLogger(__name__)
 
 # Spacing of the slew profile the reference interpolates (its switching instants are added).
 PROFILE_SAMPLE_S = 1.0
@@ -118,12 +121,23 @@ def solve_slew(
             f"{key}.duration_s", "missing: a fuel-optimal slew needs its duration", problem.source
         )
     try:
-        return _slew_of(problem, target, settings, duration_s, sample_s)
+        slew = _slew_of(problem, target, settings, duration_s, sample_s)
     except SlewInfeasibleError as exc:
         named = f"{key}.duration_s" if duration_s is not None else key
         raise ProblemFileError(named, str(exc), problem.source) from None
     except InputShapeError as exc:
         raise ProblemFileError(key, str(exc), problem.source) from None
+    if not slew.limits.limits_ok:
+        # Flown anyway (the loop saturates with the direction kept), but never silently.
+        logger.warning(
+            "%s: the %s slew is not within the engines' limits (%s; worst at t = %.6g s): "
+            "the closed loop will saturate following it",
+            key,
+            slew.method,
+            slew.limits.limits_note,
+            slew.limits.worst_ratio_time_s,
+        )
+    return slew
 
 
 def _slew_of(

@@ -361,6 +361,12 @@ class SegmentRecord(Record):
         A slew's unit eigenaxis in body axes (those of its start).
     fuel_kg : float or None
         A slew profile's propellant (open loop).
+    limits_ok : bool or None
+        A slew profile within the engines' authority over its whole grid, gyroscopic
+        torque included (:mod:`casadi_debris.slew.limits`).
+    worst_authority_share : float or None
+        The largest share of the authority the slew's torque needs (per signed axis or
+        in the engines' torque set; above 1 the loop cannot follow it).
     """
 
     segment: int | None
@@ -371,6 +377,8 @@ class SegmentRecord(Record):
     angle_deg: float | None = None
     axis: tuple[float, ...] | None = None
     fuel_kg: float | None = None
+    limits_ok: bool | None = None
+    worst_authority_share: float | None = None
 
 
 def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentRecord, ...]:
@@ -388,9 +396,17 @@ def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentRec
                 angle_deg=None if slew is None else math.degrees(slew.target.angle_rad),
                 axis=None if slew is None else tuple(float(v) for v in slew.target.axis_B),
                 fuel_kg=None if slew is None else slew.fuel_kg,
+                limits_ok=None if slew is None else slew.limits.limits_ok,
+                worst_authority_share=None if slew is None else _worst_share(slew),
             )
         )
     return tuple(records)
+
+
+def _worst_share(slew: SlewProfile) -> float:
+    """The largest share of the authority a slew's torque needs (its limit check)."""
+    check = slew.limits
+    return max([check.worst_torque_set_ratio, *check.worst_axis_ratio.values()])
 
 
 @dataclass(frozen=True)
@@ -407,6 +423,8 @@ class ManoeuvreSummary(Record):
         The slew profiles' propellant, summed (open loop: no feedback, no disturbance).
     wall_time_s : float
         Solving every slew and sampling the reference.
+    slews_within_limits : bool
+        Every slew within the engines' authority (each segment's ``limits_ok``).
     """
 
     problem: str
@@ -414,6 +432,7 @@ class ManoeuvreSummary(Record):
     segments: tuple[SegmentRecord, ...]
     fuel_slews_kg: float
     wall_time_s: float
+    slews_within_limits: bool = True
 
 
 @dataclass(frozen=True, eq=False)
@@ -449,5 +468,6 @@ def manoeuvre_reference(problem: Problem, sample_s: float) -> ManoeuvreReference
         segments=records,
         fuel_slews_kg=float(sum(r.fuel_kg for r in records if r.fuel_kg is not None)),
         wall_time_s=time.perf_counter() - started,
+        slews_within_limits=all(r.limits_ok is not False for r in records),
     )
     return ManoeuvreReference(times, quaternion, body_rates(times, quaternion), summary)

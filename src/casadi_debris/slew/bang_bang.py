@@ -23,7 +23,12 @@ Given T and a (coast fills the time):  D^2 - (T + t_r) D + t_r T + Theta / a = 0
 With t_r = 0 and no coast this is the time-optimal single-axis slew, T = 2 sqrt(Theta / a).
 
 Torque: tau(t) = theta_ddot J e + theta_dot^2 (e x J e), J the full rigid inertia
-of the model (hub, CubeSats and both arrays).
+of the model (hub, CubeSats and both arrays). The acceleration a is sized on that
+whole torque (:func:`sized_timing`): about a non-principal axis the gyroscopic
+part e x J e is not small (on the paper's debris about (1, 1, 1) it needs 2.6 x the
+y authority if a is sized from J e alone), so a is the largest for which the
+torque stays within the authority about every signed axis and within the
+engines' torque set at zero net force, at every instant.
 
 The paper's 180 deg z slew "completed in 1228 s"
 -------------------------------------------------
@@ -40,9 +45,10 @@ Flexible Spacecraft", AIAA SciTech 2023 (cited by the paper for its reference).
 
 from __future__ import annotations
 
+import functools
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import casadi as ca
@@ -50,8 +56,10 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.geometry import torque_authority
 from casadi_debris.model import Model, build_model
 from casadi_debris.model.attitude import axis_angle_quaternion, quaternion_multiply
+from casadi_debris.slew.limits import authority_use
 from casadi_debris.slew.maneuver import (
     SlewTarget,
     check_positive,
@@ -233,6 +241,128 @@ def _about_axis(goal: SlewTarget, angle_rad: np.ndarray) -> np.ndarray:
     return quaternion_multiply(goal.q_initial_BN, axis_angle_quaternion(goal.axis_B, angle_rad))
 
 
+def sized_timing(
+    goal: SlewTarget,
+    inertia_kgm2: np.ndarray,
+    use: Callable[[np.ndarray], np.ndarray],
+    *,
+    duration_s: float | None = None,
+    torque_fraction: float | None = None,
+    rate_limit_rad_s: float | None = None,
+    smoothing_s: float = 0.0,
+) -> BangBangTiming:
+    """The bang-bang whose torque, gyroscopic part included, fits the authority.
+
+    The acceleration a is the largest for which the torque
+    tau = theta_ddot J e + theta_dot^2 e x J e needs at most ``torque_fraction``
+    (default 1) of the authority at every instant, ``use`` measuring the share a
+    torque needs (convex and positively homogeneous). theta_ddot stays in [-a, a] and
+    theta_dot^2 in [0, omega_peak^2], so the need is largest at one of the four
+    corners (+-a, 0), (+-a, omega_peak^2): exact without a ramp (the corners are
+    reached at the switch), a safe bound with one. Without ramp and rate limit
+    omega_peak^2 = a Theta and a follows in closed form; otherwise by bisection
+    (the need grows with a). A duration then sets the timing as
+    :func:`bang_bang_timing` does, with this a as the largest acceleration.
+
+    Parameters
+    ----------
+    goal : SlewTarget
+    inertia_kgm2 : ndarray, shape (3, 3)
+    use : callable
+        Torques (k, 3) N m -> share of the authority each needs, shape (k,).
+    duration_s, torque_fraction, rate_limit_rad_s, smoothing_s
+        As in :func:`bang_bang_timing`.
+
+    Raises
+    ------
+    SlewInfeasibleError
+        ``"infeasible: minimum is X s ..."`` for a duration below the fastest bang-bang
+        that fits; the authority gives no torque the slew needs.
+    """
+    if torque_fraction is not None:
+        check_torque_fraction(torque_fraction)
+    if duration_s is not None and rate_limit_rad_s is not None:
+        raise InputShapeError("give a duration or a rate limit, not both")
+    target = 1.0 if torque_fraction is None else torque_fraction
+    moment = np.asarray(inertia_kgm2, dtype=float) @ goal.axis_B
+    gyroscopic = np.cross(goal.axis_B, moment)
+    per_acceleration = float(np.max(use(np.array([moment, -moment]))))
+    if not math.isfinite(per_acceleration) or per_acceleration <= 0.0:
+        raise SlewInfeasibleError("infeasible: the engines give no torque the slew needs")
+
+    def timing_at(a: float) -> BangBangTiming:
+        return bang_bang_timing(
+            goal.angle_rad,
+            a,
+            torque_fraction=1.0,
+            rate_limit_rad_s=rate_limit_rad_s,
+            smoothing_s=smoothing_s,
+        )
+
+    if smoothing_s == 0.0 and rate_limit_rad_s is None:
+        corners = np.array([m + goal.angle_rad * gyroscopic for m in (moment, -moment)])
+        acceleration = target / max(per_acceleration, float(np.max(use(corners))))
+    else:
+        upper = target / per_acceleration
+        acceleration = _bisected(timing_at, moment, gyroscopic, use, upper, target)
+    try:
+        return bang_bang_timing(
+            goal.angle_rad,
+            acceleration,
+            duration_s=duration_s,
+            torque_fraction=None if duration_s is not None and torque_fraction is None else 1.0,
+            rate_limit_rad_s=rate_limit_rad_s,
+            smoothing_s=smoothing_s,
+        )
+    except SlewInfeasibleError as error:
+        raise SlewInfeasibleError(
+            f"{error} (the fastest eigenaxis bang-bang whose torque, gyroscopic part "
+            f"included, needs at most {target:.4g} x the authority at every instant)"
+        ) from None
+
+
+def timing_need(
+    timing: BangBangTiming,
+    moment: np.ndarray,
+    gyroscopic: np.ndarray,
+    use: Callable[[np.ndarray], np.ndarray],
+) -> float:
+    """The largest share of the authority the bang-bang's torque needs (corners of
+    :func:`sized_timing`); ``moment`` J e and ``gyroscopic`` e x J e, shape (3,)."""
+    a, rate2 = timing.acceleration_rad_s2, timing.peak_rate_rad_s**2
+    corners = np.array([a * moment, -a * moment, a * moment + rate2 * gyroscopic])
+    corners = np.vstack([corners, -a * moment + rate2 * gyroscopic])
+    return float(np.max(use(corners)))
+
+
+BISECTION_STEPS = 48
+
+
+def _bisected(
+    timing_at: Callable[[float], BangBangTiming],
+    moment: np.ndarray,
+    gyroscopic: np.ndarray,
+    use: Callable[[np.ndarray], np.ndarray],
+    upper: float,
+    target: float,
+) -> float:
+    """The largest acceleration in (0, ``upper``] whose timing needs at most ``target``
+    of the authority; a timing that cannot be built (a ramp longer than half its
+    phase) counts as too fast."""
+    low, high = 0.0, upper
+    for _ in range(BISECTION_STEPS):
+        middle = 0.5 * (low + high)
+        try:
+            fits = timing_need(timing_at(middle), moment, gyroscopic, use) <= target
+        except InputShapeError:
+            fits = False
+        low, high = (middle, high) if fits else (low, middle)
+    if low == 0.0:
+        timing_at(high)  # raises what keeps every acceleration out (the ramp), or
+        raise SlewInfeasibleError("infeasible: no bang-bang of this ramp fits the authority")
+    return low
+
+
 def bang_bang_slew(
     problem: Problem,
     axis: str | Sequence[float] = "z",
@@ -257,7 +387,10 @@ def bang_bang_slew(
     target : SlewTarget, optional
         Any rest-to-rest attitude pair (:func:`~casadi_debris.slew.slew_between`).
     duration_s, torque_fraction, rate_limit_rad_s, smoothing_s
-        See :func:`bang_bang_timing`; the paper's slew is ``duration_s=1228``.
+        See :func:`sized_timing`: ``torque_fraction`` is the largest share of the
+        authority (at zero net force, as the closed loop's allocator flies it) the
+        torque may need at any instant, gyroscopic torque included; the paper's
+        slew is ``duration_s=1228``.
     sample_s : float
         Output sample spacing (switching times are added).
     check_vibration : bool
@@ -268,8 +401,9 @@ def bang_bang_slew(
     Returns
     -------
     SlewProfile
-        ``settings`` holds torque_fraction, acceleration_rad_s2, peak_rate_rad_s,
-        coast_s, smoothing_s.
+        ``settings`` holds torque_fraction (the share of the authority the torque
+        needs at most), acceleration_rad_s2, peak_rate_rad_s, coast_s, smoothing_s.
+        A duration below the fastest bang-bang that fits raises SlewInfeasibleError.
 
     Example
     -------
@@ -284,10 +418,13 @@ def bang_bang_slew(
     rigid = build_model(problem, modes=[]) if model is None else model
     goal = slew_about_axis(axis, angle_rad) if target is None else target
     inertia = np.array(rigid.rigid_inertia(rigid.nominal_parameters))
+    # The time scale of the OCPs (J e alone); the profile itself is sized on its whole torque.
     alpha_max = eigenaxis_acceleration_limit(inertia, goal.axis_B, *torque_limits(rigid.geometry))
-    timing = bang_bang_timing(
-        goal.angle_rad,
-        alpha_max,
+    use = _loop_authority_use(rigid)
+    timing = sized_timing(
+        goal,
+        inertia,
+        use,
         duration_s=duration_s,
         torque_fraction=torque_fraction,
         rate_limit_rad_s=rate_limit_rad_s,
@@ -300,8 +437,52 @@ def bang_bang_slew(
         timing,
         inertia=inertia,
         alpha_max=alpha_max,
+        use=use,
         sample_s=sample_s,
         check_vibration=check_vibration,
+        started=started,
+    )
+
+
+def _loop_authority_use(rigid: Model) -> Callable[[np.ndarray], np.ndarray]:
+    """The share of the authority torques need, as the closed loop's allocator flies them:
+    at zero net force."""
+    authority = torque_authority(rigid.geometry, zero_net_force=True)
+    return functools.partial(
+        authority_use, rigid.geometry, zero_net_force=True, authority_Nm=authority
+    )
+
+
+def eigenaxis_guess(
+    problem: Problem, target: SlewTarget, duration_s: float, model: Model
+) -> SlewProfile:
+    """The eigenaxis bang-bang of ``duration_s`` with its acceleration from the duration
+    alone, no sizing on the authority: where the optimal slews start (a guess need not
+    be flyable, and about a non-principal axis this one is not; its ``limits`` say so).
+
+    Parameters
+    ----------
+    problem : Problem
+    target : SlewTarget
+    duration_s : float
+        At least the eigenaxis time on J e alone (``SlewOcp.limit_duration_s``), s.
+    model : Model
+        The rigid model.
+    """
+    started = time.perf_counter()
+    inertia = np.array(model.rigid_inertia(model.nominal_parameters))
+    alpha_max = eigenaxis_acceleration_limit(inertia, target.axis_B, *torque_limits(model.geometry))
+    timing = bang_bang_timing(target.angle_rad, alpha_max, duration_s=duration_s)
+    return _profile(
+        problem,
+        model,
+        target,
+        timing,
+        inertia=inertia,
+        alpha_max=alpha_max,
+        use=_loop_authority_use(model),
+        sample_s=DEFAULT_SAMPLE_S,
+        check_vibration=False,
         started=started,
     )
 
@@ -314,13 +495,17 @@ def _profile(
     *,
     inertia: np.ndarray,
     alpha_max: float,
+    use: Callable[[np.ndarray], np.ndarray],
     sample_s: float,
     check_vibration: bool,
     started: float,
 ) -> SlewProfile:
     """The bang-bang of ``timing`` sampled every ``sample_s`` seconds (and at its
     switches) as a profile; ``inertia`` (kg m^2, shape (3, 3)) and ``alpha_max``
-    (rad/s^2) are the rigid body's, ``started`` the ``time.perf_counter`` at the call."""
+    (rad/s^2) are the rigid body's, ``use`` the share of the authority torques need
+    (:func:`sized_timing`), ``started`` the ``time.perf_counter`` at the call."""
+    moment = inertia @ goal.axis_B
+    need = timing_need(timing, moment, np.cross(goal.axis_B, moment), use)
     input_function, motion_function = _eigenaxis_functions(timing, goal, inertia)
     total = timing.duration_s
     knots = np.cumsum([0.0] + [length for _, length, _, _ in timing.segments()])
@@ -328,7 +513,7 @@ def _profile(
     grid = sample_grid(total, sample_s, knots)
     values = np.array(motion_function.map(len(grid))(grid)).T
     settings = {
-        "torque_fraction": timing.acceleration_rad_s2 / alpha_max,
+        "torque_fraction": need,
         "acceleration_rad_s2": timing.acceleration_rad_s2,
         "peak_rate_rad_s": timing.peak_rate_rad_s,
         "coast_s": timing.coast_s,
@@ -355,4 +540,5 @@ def _profile(
         solver_status="analytic",
         settings=settings,
         check_vibration=check_vibration,
+        inertia_kgm2=inertia,
     )

@@ -37,9 +37,11 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.model.attitude import attitude_error
+from casadi_debris.slew.limits import axis_ratios, box_authority, box_check
 from casadi_debris.slew.maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
+    eigenaxis_duration_s,
     rigid_limit_duration,
 )
 from casadi_debris.slew.multistart import (
@@ -402,6 +404,8 @@ def rigid_body_profile(
         solver_status=result.status,
         residual_vibration_rad=0.0,
         residual_energy_J=0.0,
+        limits=box_check(grid, torque_samples, body.lower_Nm, body.upper_Nm),
+        eigenaxis_duration_s=_box_eigenaxis_s(body, target),
         settings={
             "final_attitude_error_rad": float(np.linalg.norm(final_error)),
             "final_rate_rad_s": float(np.linalg.norm(states[-1, 4:7])),
@@ -409,3 +413,14 @@ def rigid_body_profile(
             **result.report,
         },
     )
+
+
+def _box_eigenaxis_s(body: RigidBody, target: SlewTarget) -> float:
+    """The eigenaxis bang-bang time within the body's torque box, gyroscopic torque
+    included, s (:func:`~casadi_debris.slew.maneuver.eigenaxis_duration_s`)."""
+    authority = box_authority(body.lower_Nm, body.upper_Nm)
+
+    def use(torques_Nm: np.ndarray) -> np.ndarray:
+        return axis_ratios(authority, torques_Nm).max(axis=1)
+
+    return eigenaxis_duration_s(target.angle_rad, body.inertia_kgm2, target.axis_B, use)

@@ -1,7 +1,7 @@
 """Initial guesses of the slew OCP: controls on a time grid, a length, a peak rate.
 
 A rigid slew starts from the eigenaxis bang-bang
-(:func:`~casadi_debris.slew.bang_bang.bang_bang_slew`) at the requested
+(:func:`~casadi_debris.slew.bang_bang.eigenaxis_guess`) at the requested
 duration or at the rigid limit, its torque put in the OCP's controls (the
 least-fuel thrust at thruster level). A flexible slew starts from the rigid
 optimum through the zero-vibration shaper (:mod:`casadi_debris.slew.shaper`).
@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.slew.bang_bang import bang_bang_slew
+from casadi_debris.slew.bang_bang import eigenaxis_guess
 from casadi_debris.slew.ocp_problem import SlewOcp
 from casadi_debris.slew.profile import SlewProfile
 from casadi_debris.slew.propellant import least_fuel_thrust
@@ -59,12 +59,8 @@ class BangBangReferences:
         """Eigenaxis bang-bang of ``duration_s`` (s; at least the rigid limit)."""
         duration_s = max(duration_s, self.ocp.limit_duration_s)
         if duration_s not in self._profiles:
-            self._profiles[duration_s] = bang_bang_slew(
-                self.ocp.problem,
-                target=self.ocp.target,
-                duration_s=duration_s,
-                check_vibration=False,
-                model=self.ocp.rigid_model,
+            self._profiles[duration_s] = eigenaxis_guess(
+                self.ocp.problem, self.ocp.target, duration_s, self.ocp.rigid_model
             )
         return self._profiles[duration_s]
 
@@ -114,7 +110,7 @@ def control_guess(
     inputs = np.array(reference.input_function.map(len(times_s))(times_s)).T
     torque = np.clip(inputs[:, :3], ocp.lower, ocp.upper)
     if ocp.thrusters:
-        return least_fuel_thrust(ocp.geometry, torque)[0]
+        return least_fuel_thrust(ocp.geometry, torque, zero_net_force=ocp.options.zero_net_force)[0]
     if fuel:
         return np.hstack([np.maximum(torque, 0.0), np.maximum(-torque, 0.0)])
     return torque

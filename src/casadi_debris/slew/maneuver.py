@@ -28,7 +28,7 @@ the rigid eigenaxis limit every slew of this package is measured against.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -193,3 +193,41 @@ def eigenaxis_acceleration_limit(
 def rigid_limit_duration(angle_rad: float, alpha_max_rad_s2: float) -> float:
     """Rest-to-rest eigenaxis bang-bang time 2 sqrt(Theta / alpha_max), s."""
     return 2.0 * math.sqrt(angle_rad / alpha_max_rad_s2)
+
+
+def eigenaxis_duration_s(
+    angle_rad: float,
+    inertia_kgm2: np.ndarray,
+    axis_B: np.ndarray,
+    use: Callable[[np.ndarray], np.ndarray],
+) -> float:
+    """Rest-to-rest eigenaxis bang-bang time at the full authority, gyroscopic torque included, s.
+
+    With the acceleration +-a, the rate^2 grows from 0 to a Theta (no coast), so
+    tau / a runs over the segments between the vertices +-J e and +-J e + Theta e x J e;
+    ``use`` (convex, positively homogeneous: the share of the authority a torque needs,
+    1 the most) is largest at one of them, and the largest a is 1 / max use(vertex).
+    The profile is flyable (every instant within the authority), so the time-optimal
+    slew of the same authority is never longer.
+
+    Parameters
+    ----------
+    angle_rad : float
+    inertia_kgm2 : ndarray, shape (3, 3)
+    axis_B : ndarray, shape (3,)
+        Unit eigenaxis.
+    use : callable
+        Torques (k, 3) N m -> share of the authority each needs, shape (k,).
+
+    Raises
+    ------
+    SlewInfeasibleError
+        The authority gives no torque the slew needs.
+    """
+    moment = np.asarray(inertia_kgm2, dtype=float) @ axis_B
+    gyroscopic = angle_rad * np.cross(axis_B, moment)
+    vertices = np.array([moment, -moment, moment + gyroscopic, -moment + gyroscopic])
+    need = float(np.max(use(vertices)))
+    if not math.isfinite(need) or need <= 0.0:
+        raise SlewInfeasibleError("infeasible: the engines give no torque the slew needs")
+    return rigid_limit_duration(angle_rad, 1.0 / need)

@@ -71,6 +71,7 @@ def slew_profile(
     }
     if ocp.thrusters:
         settings["delta_v_m_s"] = float(np.linalg.norm(states[-1, lay.v]))
+        settings["zero_net_force"] = ocp.options.zero_net_force
     return finish_profile(
         problem=ocp.problem,
         geometry=ocp.geometry,
@@ -92,6 +93,10 @@ def slew_profile(
         settings=settings,
         check_vibration=check_vibration,
         flexible_model=ocp.flexible_model,
+        inertia_kgm2=ocp.inertia,
+        # The closed loop's allocator keeps the net force zero; a thruster-level
+        # profile carries its own thrust and the rule it was solved with.
+        zero_net_force=ocp.options.zero_net_force if ocp.thrusters else True,
     )
 
 

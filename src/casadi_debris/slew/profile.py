@@ -37,7 +37,8 @@ from casadi_debris.geometry import Geometry
 from casadi_debris.model import Model, build_model
 from casadi_debris.model.attitude import euler_angles_321
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.slew.maneuver import SlewTarget
+from casadi_debris.slew.limits import LimitCheck, authority_use, check_limits, unchecked
+from casadi_debris.slew.maneuver import SlewTarget, eigenaxis_duration_s
 from casadi_debris.slew.propellant import fuel_weights, least_fuel_thrust, propellant_kg
 
 RESIDUAL_WINDOW_PERIODS = 10.0
@@ -72,8 +73,12 @@ class SlewProfile:
     input_function : casadi.Function
         ``u(t) -> [tau (3) N m, 0 (3), F (3) N]``, the model input (no disturbance); zero
         before 0 and after the end.
-    duration_s, fuel_kg, limit_duration_s : float
-        Slew time; propellant; rigid eigenaxis limit 2 sqrt(Theta / alpha_max).
+    duration_s, fuel_kg : float
+        Slew time; propellant.
+    limit_duration_s : float
+        2 sqrt(Theta / alpha_max), alpha_max sized on J e alone: the time scale of
+        the OCPs. Neither achievable (off a principal axis the gyroscopic torque
+        exceeds the authority) nor a lower bound (three axes beat the eigenaxis).
     solve_time_s : float
         Wall time of the generation (OCP solve, or evaluating the bang-bang profile).
     solver_status : str
@@ -82,6 +87,13 @@ class SlewProfile:
         both from the full flexible model (nan if not checked).
     settings : dict
         The parameters that define the profile, units in the keys.
+    limits : LimitCheck
+        The torque (and thrust) against the engines over the whole grid
+        (:mod:`casadi_debris.slew.limits`).
+    eigenaxis_duration_s : float
+        The eigenaxis bang-bang time at the profile's torque fraction, gyroscopic
+        torque included (:func:`~casadi_debris.slew.maneuver.eigenaxis_duration_s`):
+        flyable, so the time-optimal slew at that authority is never longer.
     """
 
     method: str
@@ -103,6 +115,8 @@ class SlewProfile:
     residual_vibration_rad: float = math.nan
     residual_energy_J: float = math.nan
     settings: dict[str, Any] = field(default_factory=dict)
+    limits: LimitCheck = field(default_factory=unchecked)
+    eigenaxis_duration_s: float = math.nan
 
     @property
     def euler_angles_rad(self) -> np.ndarray:
@@ -123,16 +137,24 @@ class SlewProfile:
             axis_B=tuple(np.asarray(self.target.axis_B, dtype=float)),
             angle_rad=self.target.angle_rad,
             duration_s=self.duration_s,
-            limit_duration_s=self.limit_duration_s,
-            duration_over_limit=self.duration_s / self.limit_duration_s,
+            eigenaxis_duration_s=self.eigenaxis_duration_s,
+            duration_over_eigenaxis=self.duration_s / self.eigenaxis_duration_s,
+            limits_ok=self.limits.limits_ok,
             max_torque_Nm=tuple(self.max_torque_Nm),
             fuel_kg=self.fuel_kg,
             residual_vibration_rad=self.residual_vibration_rad,
             residual_energy_J=self.residual_energy_J,
             solve_time_s=self.solve_time_s,
             solver_status=self.solver_status,
-            settings=dict(self.settings),
+            settings={**self.settings, **_limit_keys(self.limits)},
         )
+
+
+def _limit_keys(check: LimitCheck) -> dict[str, Any]:
+    """The check's figures other than its verdict, as summary keys."""
+    keys = check.to_json()
+    keys.pop("limits_ok")
+    return keys
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -145,9 +167,15 @@ class SlewSummary(Record):
     flexible, thrusters : bool
     axis_B : tuple of 3 float
         Unit slew axis in the body frame.
-    angle_rad, duration_s, limit_duration_s : float
-        Slew angle, slew time and the rigid eigenaxis limit.
-    duration_over_limit : float
+    angle_rad, duration_s : float
+        Slew angle and slew time.
+    eigenaxis_duration_s : float
+        The eigenaxis bang-bang time at this torque fraction, gyroscopic torque
+        included: flyable, so the time-optimal slew is never longer (a bound above).
+    duration_over_eigenaxis : float
+    limits_ok : bool
+        The profile is within the engines' authority over its whole grid (the
+        check's figures are in the settings keys: ``worst_axis_ratio``, ...).
     max_torque_Nm : tuple of 3 float
         Largest |torque| per body axis.
     fuel_kg, residual_vibration_rad, residual_energy_J, solve_time_s : float
@@ -163,8 +191,9 @@ class SlewSummary(Record):
     axis_B: tuple[float, ...]
     angle_rad: float
     duration_s: float
-    limit_duration_s: float
-    duration_over_limit: float
+    eigenaxis_duration_s: float
+    duration_over_eigenaxis: float
+    limits_ok: bool
     max_torque_Nm: tuple[float, ...]
     fuel_kg: float
     residual_vibration_rad: float
@@ -304,8 +333,17 @@ def finish_profile(
     settings: dict[str, Any],
     check_vibration: bool = True,
     flexible_model: Model | None = None,
+    inertia_kgm2: np.ndarray,
+    zero_net_force: bool = True,
 ) -> SlewProfile:
     """Assemble a :class:`SlewProfile` from the sampled hub motion and its input.
+
+    Every profile is checked against the engines over its whole grid
+    (:func:`~casadi_debris.slew.limits.check_limits`) with the net-force rule
+    ``zero_net_force`` (the closed loop's allocator keeps it zero; a thruster-level
+    profile is checked with its own rule), its thrust too when ``thrusters``; and
+    given the eigenaxis bang-bang time at its torque fraction (``inertia_kgm2`` the
+    rigid inertia, kg m^2, shape (3, 3)).
 
     Propellant comes from ``interval_thrust_N`` (thrust held on each knot
     interval) when given, else from the least-fuel thrust of the torque at the
@@ -313,23 +351,18 @@ def finish_profile(
     piecewise-constant torque, second order otherwise).
     """
     torque = np.array(input_function.map(len(time_s))(time_s)).T[:, :N_TORQUE]
-    if interval_thrust_N is not None:
-        fuel = propellant_kg(problem, interval_thrust_N, np.diff(knots_s))
-        thrust = np.vstack([interval_thrust_N, np.zeros((1, interval_thrust_N.shape[1]))])[
-            np.clip(np.searchsorted(knots_s, time_s, side="right") - 1, 0, len(knots_s) - 1)
-        ]
-    else:
-        edges = np.unique(np.concatenate([time_s, knots_s]))
-        middles = 0.5 * (edges[:-1] + edges[1:])
-        middle_torque = np.array(input_function.map(len(middles))(middles)).T[:, :N_TORQUE]
-        weights = fuel_weights(problem)
-        middle_thrust, shortfall = least_fuel_thrust(geometry, middle_torque, weights)
-        fuel = propellant_kg(problem, middle_thrust, np.diff(edges))
-        thrust = least_fuel_thrust(geometry, torque, weights)[0]
-        settings = {
-            **settings,
-            "engine_torque_shortfall_Nm": float(np.max(np.linalg.norm(shortfall, axis=1))),
-        }
+    thrust, fuel, extra = _thrust_and_fuel(
+        problem, geometry, input_function, time_s, knots_s, interval_thrust_N, torque
+    )
+    settings = {**settings, **extra}
+    limits = check_limits(
+        geometry,
+        time_s,
+        torque,
+        zero_net_force=zero_net_force,
+        thrust_N=thrust if thrusters else None,
+    )
+    eigenaxis = _eigenaxis_duration(geometry, target, inertia_kgm2, zero_net_force, settings)
     vibration, energy = (math.nan, math.nan)
     if check_vibration:
         vibration, energy = residual_vibration(
@@ -355,4 +388,53 @@ def finish_profile(
         residual_vibration_rad=vibration,
         residual_energy_J=energy,
         settings=settings,
+        limits=limits,
+        eigenaxis_duration_s=eigenaxis,
     )
+
+
+def _thrust_and_fuel(
+    problem: Problem,
+    geometry: Geometry,
+    input_function: ca.Function,
+    time_s: np.ndarray,
+    knots_s: np.ndarray,
+    interval_thrust_N: np.ndarray | None,
+    torque: np.ndarray,
+) -> tuple[np.ndarray, float, dict[str, Any]]:
+    """Thrust at the samples (N, shape (n, n_engines)), propellant (kg) and the settings
+    they add (see :func:`finish_profile`)."""
+    if interval_thrust_N is not None:
+        fuel = propellant_kg(problem, interval_thrust_N, np.diff(knots_s))
+        thrust = np.vstack([interval_thrust_N, np.zeros((1, interval_thrust_N.shape[1]))])[
+            np.clip(np.searchsorted(knots_s, time_s, side="right") - 1, 0, len(knots_s) - 1)
+        ]
+        return thrust, fuel, {}
+    edges = np.unique(np.concatenate([time_s, knots_s]))
+    middles = 0.5 * (edges[:-1] + edges[1:])
+    middle_torque = np.array(input_function.map(len(middles))(middles)).T[:, :N_TORQUE]
+    weights = fuel_weights(problem)
+    middle_thrust, shortfall = least_fuel_thrust(geometry, middle_torque, weights)
+    fuel = propellant_kg(problem, middle_thrust, np.diff(edges))
+    thrust = least_fuel_thrust(geometry, torque, weights)[0]
+    return (
+        thrust,
+        fuel,
+        {"engine_torque_shortfall_Nm": float(np.max(np.linalg.norm(shortfall, axis=1)))},
+    )
+
+
+def _eigenaxis_duration(
+    geometry: Geometry,
+    target: SlewTarget,
+    inertia_kgm2: np.ndarray,
+    zero_net_force: bool,
+    settings: dict[str, Any],
+) -> float:
+    """The eigenaxis bang-bang time at the profile's torque fraction (1 if none), s."""
+    fraction = float(settings.get("torque_fraction", 1.0))
+
+    def use(torque_Nm: np.ndarray) -> np.ndarray:
+        return authority_use(geometry, torque_Nm, zero_net_force) / fraction
+
+    return eigenaxis_duration_s(target.angle_rad, inertia_kgm2, target.axis_B, use)

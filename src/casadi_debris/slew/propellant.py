@@ -59,7 +59,11 @@ def fuel_weights(problem: Problem) -> np.ndarray | None:
 
 
 def least_fuel_thrust(
-    geometry: Geometry, torque_Nm: np.ndarray, weights: np.ndarray | None = None
+    geometry: Geometry,
+    torque_Nm: np.ndarray,
+    weights: np.ndarray | None = None,
+    *,
+    zero_net_force: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Least-fuel thrust per torque sample, every engine within 0 <= f <= f_max.
 
@@ -77,6 +81,9 @@ def least_fuel_thrust(
     weights : ndarray, shape (n_engines,), optional
         Cost per newton of each engine, :func:`fuel_weights` (at least 1); default 1
         each, the least total thrust.
+    zero_net_force : bool
+        Also hold the net force F f at zero (exactly: no thrust at all meets it), as
+        the closed loop's allocator does; the shortfall then takes what that costs.
 
     Returns
     -------
@@ -102,6 +109,11 @@ def least_fuel_thrust(
     penalty = 1e3 * float(np.sum(cost_f * limits)) / scale
     # COO is what hstack builds from mixed formats anyway; naming it types the kron below.
     block = sp.hstack([sp.csr_matrix(torque_map), sp.identity(3), -sp.identity(3)], format="coo")
+    right = torque[active] * MILLI
+    if zero_net_force:  # rows F f = 0, in units of the torque rows' lever
+        force_rows = sp.hstack([sp.csr_matrix(geometry.force_map), sp.csr_matrix((3, 6))])
+        block = sp.vstack([block, force_rows], format="coo")
+        right = np.hstack([right, np.zeros((active.size, 3))])
     width = n_engines + 6
     a_eq = sp.kron(sp.identity(active.size, format="csr"), block, format="csr")
     cost = np.tile(np.concatenate([cost_f, penalty * np.ones(6)]), active.size)
@@ -111,7 +123,7 @@ def least_fuel_thrust(
     result = linprog(  # type: ignore[call-overload]
         cost,
         A_eq=a_eq,
-        b_eq=torque[active].ravel() * MILLI,
+        b_eq=right.ravel(),
         bounds=np.column_stack([np.zeros(active.size * width), upper * MILLI]),
         method="highs",
     )

@@ -1,0 +1,329 @@
+"""Every slew profile checked against the actuators that fly it, over its whole time grid.
+
+A profile's torque tau(t) is the control torque: with the body rate omega and
+acceleration alpha it is tau = J alpha + omega x J omega (the gyroscopic torque
+included), so checking tau checks everything the engines must give. Two
+measures of the authority a torque uses, both positively homogeneous and convex:
+
+- per signed axis: tau_i / A_+i where tau_i > 0, -tau_i / A_-i where tau_i < 0,
+  A the largest pure torque about each signed axis
+  (:func:`~casadi_debris.geometry.torque_authority`);
+- in the engines' torque set T = {B f : 0 <= f <= f_max (, F f = 0)}: the gauge
+  g(tau) = 1 / max {s : s tau in T}, one linear programme per distinct sample
+  (all of them solved together, block-diagonal, by HiGHS). g <= 1 is exactly
+  "the allocator can give tau"; a per-axis box can hold torques outside T
+  (its corners need up to twice the thrust the engines have on the paper's swarm).
+
+The net-force rule is the allocator's that flies the profile: the closed loop's
+allocator keeps the net force zero, so torque-level profiles (which it flies) are
+checked at zero net force; a thruster-level profile carries its own thrust and is
+checked with the rule it was solved with (``zero_net_force``). At thruster level
+every thrust must also lie within 0 <= f <= f_max and the torque must be B f (and
+the net force F f zero when asked). A profile passes when every ratio is at most
+1 (within ``RATIO_TOLERANCE``) and every thrust check holds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.optimize import linprog
+
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES
+from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
+from casadi_debris.records import OPTIONAL, Record
+
+# Relative slack on every ratio and bound: IPOPT meets its bounds to about 1e-8, HiGHS
+# its constraints to 1e-9 of the scaled data.
+RATIO_TOLERANCE = 1e-6
+# Thrust in units of the largest engine, torque in units of the largest lever times it.
+ZERO_TORQUE = 1e-12
+
+
+@dataclass(frozen=True)
+class LimitCheck(Record):
+    """How much of the actuators' authority a profile uses, worst over its time grid.
+
+    Attributes
+    ----------
+    limits_ok : bool
+        Every ratio <= 1 and every thrust check passed (within ``RATIO_TOLERANCE``).
+    limits_zero_net_force : bool
+        The torque set and authority were those at zero net force.
+    limits_authority_Nm : dict
+        Largest pure torque about each signed axis (``"+x"`` ... ``"-z"``), N m.
+    worst_axis_ratio : dict
+        Per signed axis, the largest torque need over the authority about it.
+    worst_torque_set_ratio : float
+        Largest gauge of the torque in the engines' torque set (1 = at its boundary).
+    worst_ratio_time_s : float
+        When the larger of the two worst ratios occurs, s from the slew's start.
+    max_thrust_ratio : float or None
+        Thruster level: largest f_i / f_max,i (None, and no JSON key, at torque level).
+    min_thrust_N : float or None
+        Thruster level: the smallest thrust, N (must not be negative).
+    torque_map_residual_Nm : float or None
+        Thruster level: largest |tau - B f|, N m.
+    max_net_force_N : float or None
+        Thruster level: largest |F f|, N (must be zero with ``limits_zero_net_force``).
+    limits_note : str
+        What failed, with the figures; empty when ``limits_ok``.
+    """
+
+    limits_ok: bool
+    limits_zero_net_force: bool
+    limits_authority_Nm: dict[str, float]
+    worst_axis_ratio: dict[str, float]
+    worst_torque_set_ratio: float
+    worst_ratio_time_s: float
+    max_thrust_ratio: float | None = field(default=None, metadata=OPTIONAL)
+    min_thrust_N: float | None = field(default=None, metadata=OPTIONAL)
+    torque_map_residual_Nm: float | None = field(default=None, metadata=OPTIONAL)
+    max_net_force_N: float | None = field(default=None, metadata=OPTIONAL)
+    limits_note: str = field(default="")
+
+
+def axis_ratios(authority_Nm: dict[str, float], torque_Nm: np.ndarray) -> np.ndarray:
+    """Need over authority about each signed axis, shape (n, 6) (``SIGNED_AXES`` order).
+
+    Parameters
+    ----------
+    authority_Nm : dict
+        Largest pure torque about ``"+x"`` ... ``"-z"``, N m (>= 0).
+    torque_Nm : ndarray, shape (n, 3)
+    """
+    torque = np.atleast_2d(np.asarray(torque_Nm, dtype=float))
+    ratios = np.zeros((torque.shape[0], len(SIGNED_AXES)))
+    for column, name in enumerate(SIGNED_AXES):
+        sign = 1.0 if name[0] == "+" else -1.0
+        need = np.maximum(sign * torque[:, AXIS_NAMES.index(name[1])], 0.0)
+        limit = authority_Nm[name]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratios[:, column] = np.where(need > 0.0, need / limit if limit > 0 else np.inf, 0.0)
+    return ratios
+
+
+def torque_set_ratio(geometry: Geometry, torque_Nm: np.ndarray, zero_net_force: bool) -> np.ndarray:
+    """Gauge of each torque in the engines' torque set (module notes), shape (n,).
+
+    0 for a zero torque, inf for one the engines cannot make in any amount.
+
+    Raises
+    ------
+    CasadiDebrisError
+        HiGHS failed on the (always feasible) linear programme.
+    """
+    torque = np.atleast_2d(np.asarray(torque_Nm, dtype=float))
+    gauge = np.zeros(torque.shape[0])
+    limits = max_thrust_N(geometry)
+    unit_f = float(np.max(limits)) if limits.size and np.max(limits) > 0 else 0.0
+    if unit_f == 0.0:
+        gauge[np.max(np.abs(torque), axis=1) > 0.0] = np.inf
+        return gauge
+    unit_tau = float(np.max(np.abs(geometry.torque_map))) * unit_f
+    scaled = torque / unit_tau
+    active = np.flatnonzero(np.max(np.abs(scaled), axis=1) > ZERO_TORQUE)
+    if active.size == 0:
+        return gauge
+    distinct, inverse = np.unique(scaled[active], axis=0, return_inverse=True)
+    scale = _largest_scales(geometry, distinct, limits / unit_f, zero_net_force)
+    with np.errstate(divide="ignore"):
+        gauge[active] = np.where(scale > 0.0, 1.0 / scale, np.inf)[np.ravel(inverse)]
+    return gauge
+
+
+def _largest_scales(
+    geometry: Geometry, torques: np.ndarray, limits: np.ndarray, zero_net_force: bool
+) -> np.ndarray:
+    """max s with s tau_k = B u, 0 <= u <= limits (, F u = 0), per row of ``torques``
+    (scaled units: B in units of the largest lever, u of the largest thrust)."""
+    n_engines = geometry.torque_map.shape[1]
+    torque_map = geometry.torque_map / float(np.max(np.abs(geometry.torque_map)))
+    count = torques.shape[0]
+    width = n_engines + 1
+    blocks = []
+    for row in torques:  # per sample: [u (n_engines), s]; B u - s tau = 0 (, F u = 0)
+        block = np.hstack([torque_map, -row[:, None]])
+        if zero_net_force:
+            block = np.vstack([block, np.hstack([geometry.force_map, np.zeros((3, 1))])])
+        blocks.append(sp.csr_matrix(block))
+    a_eq = sp.block_diag(blocks, format="csr")
+    cost = np.tile(np.concatenate([np.zeros(n_engines), [-1.0]]), count)
+    upper = np.tile(np.concatenate([limits, [np.inf]]), count)
+    result = linprog(  # type: ignore[call-overload]
+        cost,
+        A_eq=a_eq,
+        b_eq=np.zeros(a_eq.shape[0]),
+        bounds=np.column_stack([np.zeros(count * width), upper]),
+        method="highs",
+    )
+    if result.status != 0 or result.x is None:
+        raise CasadiDebrisError(f"torque-set LP of the slew check failed: {result.message}")
+    return np.asarray(result.x).reshape(count, width)[:, -1]
+
+
+def authority_use(
+    geometry: Geometry,
+    torque_Nm: np.ndarray,
+    zero_net_force: bool,
+    authority_Nm: dict[str, float] | None = None,
+) -> np.ndarray:
+    """The larger of the per-axis ratio and the torque-set gauge of each torque, shape (n,):
+    1 is the most the engines give (module notes).
+
+    Parameters
+    ----------
+    geometry : Geometry
+    torque_Nm : ndarray, shape (n, 3)
+    zero_net_force : bool
+        The allocator's net-force rule.
+    authority_Nm : dict, optional
+        :func:`~casadi_debris.geometry.torque_authority` with that rule, if at hand.
+    """
+    if authority_Nm is None:
+        authority_Nm = torque_authority(geometry, zero_net_force=zero_net_force)
+    per_axis = axis_ratios(authority_Nm, torque_Nm).max(axis=1)
+    return np.maximum(per_axis, torque_set_ratio(geometry, torque_Nm, zero_net_force))
+
+
+def check_limits(
+    geometry: Geometry,
+    time_s: np.ndarray,
+    torque_Nm: np.ndarray,
+    *,
+    zero_net_force: bool,
+    thrust_N: np.ndarray | None = None,
+) -> LimitCheck:
+    """The profile's torque (and thrust) against the engines (module notes).
+
+    Parameters
+    ----------
+    geometry : Geometry
+        The engines: torque and force maps, thrust limits.
+    time_s : ndarray, shape (n,)
+        The profile's time grid, s.
+    torque_Nm : ndarray, shape (n, 3)
+        Control torque at each instant (J alpha + omega x J omega), N m.
+    zero_net_force : bool
+        The net-force rule of the allocator that flies the profile.
+    thrust_N : ndarray, shape (n, n_engines), optional
+        Thruster level: the profile's own thrust at each instant, N.
+
+    Returns
+    -------
+    LimitCheck
+    """
+    authority = torque_authority(geometry, zero_net_force=zero_net_force)
+    per_axis = axis_ratios(authority, torque_Nm)
+    gauge = torque_set_ratio(geometry, torque_Nm, zero_net_force)
+    worst_each = np.maximum(per_axis.max(axis=1), gauge)
+    at = int(np.argmax(worst_each)) if len(worst_each) else 0
+    worst_axis = dict(zip(SIGNED_AXES, per_axis.max(axis=0, initial=0.0).tolist(), strict=True))
+    notes = []
+    bound = 1.0 + RATIO_TOLERANCE
+    for name, ratio in worst_axis.items():
+        if ratio > bound:
+            notes.append(
+                f"torque about {name} needs {ratio:.4g} x its authority "
+                f"({ratio * authority[name] * 1e3:.4g} of {authority[name] * 1e3:.4g} mNm)"
+            )
+    worst_set = float(np.max(gauge, initial=0.0))
+    if worst_set > bound:
+        notes.append(f"the torque needs {worst_set:.4g} x the engines' torque set")
+    thrust = _thrust_figures(geometry, torque_Nm, thrust_N, zero_net_force, notes)
+    return LimitCheck(
+        limits_ok=not notes,
+        limits_zero_net_force=zero_net_force,
+        limits_authority_Nm=authority,
+        worst_axis_ratio=worst_axis,
+        worst_torque_set_ratio=worst_set,
+        worst_ratio_time_s=float(np.asarray(time_s)[at]) if len(worst_each) else 0.0,
+        **thrust,
+        limits_note="; ".join(notes),
+    )
+
+
+def _thrust_figures(
+    geometry: Geometry,
+    torque_Nm: np.ndarray,
+    thrust_N: np.ndarray | None,
+    zero_net_force: bool,
+    notes: list[str],
+) -> dict[str, float | None]:
+    """Thruster level: bounds, torque = B f and net force; failures appended to ``notes``."""
+    if thrust_N is None:
+        return {}
+    thrust = np.atleast_2d(np.asarray(thrust_N, dtype=float))
+    limits = max_thrust_N(geometry)
+    unit = float(np.max(limits)) if limits.size else 1.0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(limits > 0, thrust / limits, np.where(thrust > 0, np.inf, 0.0))
+    most = float(np.max(ratio, initial=0.0))
+    least = float(np.min(thrust, initial=0.0))
+    residual = float(np.max(np.abs(thrust @ geometry.torque_map.T - torque_Nm), initial=0.0))
+    force = float(np.max(np.linalg.norm(thrust @ geometry.force_map.T, axis=1), initial=0.0))
+    lever = float(np.max(np.abs(geometry.torque_map)))
+    if most > 1.0 + RATIO_TOLERANCE:
+        notes.append(f"a thrust reaches {most:.4g} x its engine's limit")
+    if least < -RATIO_TOLERANCE * unit:
+        notes.append(f"a thrust is negative ({least * 1e3:.3g} mN)")
+    if residual > RATIO_TOLERANCE * unit * lever:
+        notes.append(f"the torque differs from B f by {residual * 1e3:.3g} mNm")
+    if zero_net_force and force > RATIO_TOLERANCE * unit:
+        notes.append(f"the net force reaches {force * 1e3:.3g} mN (asked zero)")
+    return {
+        "max_thrust_ratio": most,
+        "min_thrust_N": least,
+        "torque_map_residual_Nm": residual,
+        "max_net_force_N": force,
+    }
+
+
+def box_authority(lower_Nm: np.ndarray, upper_Nm: np.ndarray) -> dict[str, float]:
+    """A per-axis torque box (N m, shape (3,) each) as the authority about each signed axis."""
+    authority = {}
+    for index, axis in enumerate(AXIS_NAMES):
+        authority[f"+{axis}"] = float(upper_Nm[index])
+        authority[f"-{axis}"] = float(-lower_Nm[index])
+    return authority
+
+
+def box_check(
+    time_s: np.ndarray, torque_Nm: np.ndarray, lower_Nm: np.ndarray, upper_Nm: np.ndarray
+) -> LimitCheck:
+    """A torque against a per-axis box (a rigid body without engines: the box is its
+    actuators, and its gauge is the largest per-axis ratio)."""
+    authority = box_authority(lower_Nm, upper_Nm)
+    per_axis = axis_ratios(authority, torque_Nm)
+    worst_each = per_axis.max(axis=1)
+    worst_axis = dict(zip(SIGNED_AXES, per_axis.max(axis=0, initial=0.0).tolist(), strict=True))
+    worst = float(np.max(worst_each, initial=0.0))
+    ok = worst <= 1.0 + RATIO_TOLERANCE
+    return LimitCheck(
+        limits_ok=ok,
+        limits_zero_net_force=False,
+        limits_authority_Nm=authority,
+        worst_axis_ratio=worst_axis,
+        worst_torque_set_ratio=worst,
+        worst_ratio_time_s=float(np.asarray(time_s)[int(np.argmax(worst_each))])
+        if len(worst_each)
+        else 0.0,
+        limits_note="" if ok else f"the torque needs {worst:.4g} x the box",
+    )
+
+
+def unchecked() -> LimitCheck:
+    """The check of a profile built without one (never passes)."""
+    return LimitCheck(
+        limits_ok=False,
+        limits_zero_net_force=False,
+        limits_authority_Nm={},
+        worst_axis_ratio={},
+        worst_torque_set_ratio=math.nan,
+        worst_ratio_time_s=math.nan,
+        limits_note="not checked",
+    )
