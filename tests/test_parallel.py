@@ -95,6 +95,32 @@ def streamer(fifo: Path, x: int) -> np.ndarray:
     return np.full(512 * 1024, float(x))
 
 
+def catches_ctrl_c(calls: list[int], x: int) -> int:
+    """Ctrl-C during the item, caught by the item as CasADi's IPOPT does (a failed solve)."""
+    calls.append(x)
+    try:
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1.0)  # the handler runs here, before the sleep ends
+    except KeyboardInterrupt:
+        return -1
+    return x
+
+
+_CTRL_C_IN_FORK_HOOK = threading.Event()
+
+
+def _ctrl_c_in_fork_hook() -> None:
+    # Ctrl-C typed while the caller forks a worker: Python runs the handler in this hook
+    # and drops the KeyboardInterrupt it raises ("Exception ignored in ...").
+    if _CTRL_C_IN_FORK_HOOK.is_set():
+        _CTRL_C_IN_FORK_HOOK.clear()
+        os.kill(os.getpid(), signal.SIGINT)
+        sum(range(1000))  # bytecodes: the handler's chance to run here
+
+
+os.register_at_fork(after_in_parent=_ctrl_c_in_fork_hook)
+
+
 def broken_start() -> None:
     raise OSError("no model here")
 
@@ -304,6 +330,34 @@ def test_ctrl_c_while_results_of_megabytes_stream_in_stops_at_once(
     assert stopped - signalled < 10.0, f"stopped {stopped - signalled:.1f} s after Ctrl-C"
     assert received < 399  # the sleeping item never answered, the rest were cut short
     assert not _wait_gone(announcements.pids("worker"))
+
+
+def test_a_ctrl_c_the_item_caught_ends_the_map_after_that_item() -> None:
+    calls: list[int] = []
+    with (
+        pytest.raises(KeyboardInterrupt),
+        parallel_map(catches_ctrl_c, range(5), functools.partial(lambda c: c, calls)) as results,
+    ):
+        list(results)
+    assert calls == [0]
+
+
+@needs_proc
+def test_a_ctrl_c_dropped_in_a_fork_hook_still_stops_the_map(
+    announcements: Announcements,
+) -> None:
+    fifo = str(announcements.path)
+    _CTRL_C_IN_FORK_HOOK.set()
+    try:
+        with (
+            pytest.raises(KeyboardInterrupt),
+            parallel_map(sleeper, range(1, 5), functools.partial(Path, fifo), workers=2) as rs,
+        ):
+            list(rs)
+    finally:
+        _CTRL_C_IN_FORK_HOOK.clear()
+    announcements.drain()  # a worker may have started its item before it was killed
+    assert not _wait_gone(announcements.pids("worker") | announcements.pids("child"))
 
 
 @needs_proc

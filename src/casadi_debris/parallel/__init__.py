@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Any, Generic, NoReturn, TypeVar
 
+from casadi_debris.parallel._interrupts import Interrupts
 from casadi_debris.parallel._items import (
     SLOT,
     Job,
@@ -318,9 +319,13 @@ def _serial_map(
 ) -> Generator[Outcome, None, None]:
     if not items:
         return
-    worker = Worker(job, job.initializer())  # its exception is the caller's to see
-    for index, item in enumerate(items):
-        yield _outcome(index, item, call_item(worker, item, crosses=False), names, remote=False)
+    with Interrupts() as interrupts:
+        worker = Worker(job, job.initializer())  # its exception is the caller's to see
+        for index, item in enumerate(items):
+            returned = call_item(worker, item, crosses=False)
+            # A Ctrl-C that the item's solver caught (CasADi's IPOPT does) ends the map here.
+            interrupts.check()
+            yield _outcome(index, item, returned, names, remote=False)
 
 
 def _process_map(

@@ -41,6 +41,7 @@ from typing import Any
 # threadpoolctl ships no type information (no py.typed, no stubs).
 from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
 
+from casadi_debris.parallel._interrupts import Interrupts
 from casadi_debris.parallel._items import SLOT, Job, Raised, Returned, call_item
 
 # Read by OpenMP and BLAS libraries when they load: a worker sets them for the libraries it
@@ -78,20 +79,27 @@ def local_map(
     running: list[_Process] = []
     todo = deque(range(len(items)))
     try:
-        context = _start_method()
-        for _ in range(workers):
-            running.append(_start(context, job))
-        for worker in running:
-            yield from _give_next(worker, items, todo)
-        while busy := [w for w in running if w.index is not None]:
-            ready = set(wait([w.pipe for w in busy] + [w.process.sentinel for w in busy]))
-            for worker in busy:
-                if worker.pipe in ready or worker.process.sentinel in ready:
-                    answer = _receive(worker)
-                    # The worker's next item first: it works while the caller reads the answer.
-                    unsent = list(_give_next(worker, items, todo))
-                    yield answer
-                    yield from unsent
+        with Interrupts() as interrupts:
+            context = _start_method()
+            for _ in range(workers):
+                _start(context, job, running)
+                interrupts.check()
+            for worker in running:
+                yield from _give_next(worker, items, todo)
+            while busy := [w for w in running if w.index is not None]:
+                interrupts.check()
+                waited: list[Any] = [w.pipe for w in busy] + [w.process.sentinel for w in busy]
+                if interrupts.wakeup is not None:
+                    waited.append(interrupts.wakeup)
+                ready = set(wait(waited))
+                interrupts.check()
+                for worker in busy:
+                    if worker.pipe in ready or worker.process.sentinel in ready:
+                        answer = _receive(worker)
+                        # The worker's next item first: it works while the caller reads.
+                        unsent = list(_give_next(worker, items, todo))
+                        yield answer
+                        yield from unsent
     except BaseException:
         # Interrupted, closed early or failed: stop what runs instead of waiting for it.
         for worker in running:
@@ -112,16 +120,22 @@ def _start_method() -> BaseContext:
     return multiprocessing.get_context(method)
 
 
-def _start(context: BaseContext, job: Job) -> _Process:
-    """Start one worker and keep the caller's end of its pipe only."""
+def _start(context: BaseContext, job: Job, running: list[_Process]) -> None:
+    """Start one worker into ``running``, keeping the caller's end of its pipe only."""
     mine, theirs = context.Pipe(duplex=True)
     process = context.Process(  # type: ignore[attr-defined]
         target=_serve, args=(job, os.getpid(), theirs, mine), name="casadi_debris-worker"
     )
-    process.start()
-    # The caller's copy of the worker's end closed: the worker's death reads as an end of file.
-    theirs.close()
-    return _Process(process, mine)
+    # Ctrl-C held back while forking: raised in a fork hook (logging has one), Python drops
+    # it; released once the worker is in ``running``, to be killed with the others.
+    held = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        process.start()
+        # The caller's copy of the worker's end closed: its death reads as an end of file.
+        theirs.close()
+        running.append(_Process(process, mine))
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, held)
 
 
 def _give_next(
@@ -204,6 +218,8 @@ def _kill(process: BaseProcess) -> None:
 def _serve(job: Job, parent_pid: int, pipe: Connection, callers_end: Connection) -> None:
     """A worker's life: start, then answer items until told to end or the caller is gone."""
     callers_end.close()
+    signal.signal(signal.SIGINT, signal.default_int_handler)  # not the caller's map's
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # held back by the fork
     # A group of its own: Ctrl-C reaches the caller alone, which decides what to do,
     # and the caller can stop a worker together with the compiler it may be running.
     os.setpgrp()
