@@ -3,11 +3,17 @@
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import os
+import pty
+import re
+import select
 import signal
 import subprocess
 import sys
+import termios
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -30,30 +36,76 @@ def short_problem(tmp_path: Path) -> Path:
     return problem
 
 
-def _start(tmp_path: Path, problem: Path, out: str = "mc", samples: int = 60) -> subprocess.Popen:
-    temporary = tmp_path / "tmp"
-    temporary.mkdir(exist_ok=True)
-    args = ["montecarlo", str(problem), "--samples", str(samples), "--workers", "2", "--out", out]
-    return subprocess.Popen(
-        [sys.executable, "-m", "casadi_debris.cli", *args],
-        cwd=tmp_path,
-        env={**os.environ, "TMPDIR": str(temporary)},
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
+class Campaign:
+    """``casadi-debris montecarlo`` run on a terminal of its own (a pseudo-terminal), as a
+    user runs it: its progress bar, redrawn at every case, tells the test when cases are
+    done, and Ctrl-C is typed on the terminal."""
+
+    def __init__(self, tmp_path: Path, problem: Path, samples: int, *options: str) -> None:
+        temporary = tmp_path / "tmp"
+        temporary.mkdir(exist_ok=True)
+        args = ["montecarlo", str(problem), "--samples", str(samples), "--workers", "2"]
+        self.terminal, user_side = pty.openpty()
+        self.process = subprocess.Popen(
+            [sys.executable, "-m", "casadi_debris.cli", *args, *options, "--out", "mc"],
+            cwd=tmp_path,
+            env={**os.environ, "TMPDIR": str(temporary)},
+            stdin=user_side,
+            stdout=subprocess.DEVNULL,
+            stderr=user_side,
+            start_new_session=True,
+            preexec_fn=_take_terminal,
+        )
+        os.close(user_side)
+        self.output = ""
+        self.pid = self.process.pid
+
+    def wait_for_cases(self, count: int, limit_s: float = 300.0) -> int:
+        """Cases done, once at least ``count`` are (``limit_s`` only bounds a hang)."""
+        while (done := self.done()) < count:
+            ready, _, _ = select.select([self.terminal], [], [], limit_s)
+            assert ready and self._read(), f"{done} cases done, then nothing:\n{self.output}"
+        return done
+
+    def done(self) -> int:
+        counts = re.findall(r"(\d+)/\d+ cases", self.output)
+        return int(counts[-1]) if counts else 0
+
+    def ctrl_c(self) -> None:
+        os.write(self.terminal, b"\x03")
+
+    def finish(self) -> int:
+        """Read the terminal to its end; the exit status."""
+        while self._read():
+            pass
+        return self.process.wait()
+
+    def _read(self) -> bool:
+        try:
+            data = os.read(self.terminal, 65536)
+        except OSError:  # the other side closed: the campaign ended
+            return False
+        self.output += data.decode(errors="replace")
+        return bool(data)
+
+    def close(self) -> None:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.pid, signal.SIGKILL)
+        self.process.wait()
+        os.close(self.terminal)
 
 
-def _wait_for_workers(parent: subprocess.Popen) -> set[int]:
-    deadline = time.monotonic() + 120
-    workers: set[int] = set()
-    while len(workers) < 2 and time.monotonic() < deadline and parent.poll() is None:
-        time.sleep(0.2)
-        workers = _children(parent.pid)
-    assert len(workers) >= 2, "the campaign never started its workers"
-    time.sleep(1.0)
-    return workers
+def _take_terminal() -> None:
+    """In the campaign's process: its terminal becomes the session's controlling terminal."""
+    fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+
+
+@pytest.fixture()
+def campaigns() -> Iterator[list[Campaign]]:
+    started: list[Campaign] = []
+    yield started
+    for campaign in started:
+        campaign.close()
 
 
 def _wait_gone(workers: set[int]) -> list[int]:
@@ -86,74 +138,66 @@ def _children(pid: int) -> set[int]:
 
 
 def test_killing_the_parent_alone_ends_its_workers_and_leaves_no_temporary(
-    tmp_path: Path, short_problem: Path
+    tmp_path: Path, short_problem: Path, campaigns: list[Campaign]
 ) -> None:
-    parent = _start(tmp_path, short_problem)
-    try:
-        workers = _wait_for_workers(parent)
-        parent.send_signal(signal.SIGKILL)
-        parent.wait()
-        alive = _wait_gone(workers)
-        assert not alive, f"workers {alive} outlived their parent"
-        assert list((tmp_path / "tmp").iterdir()) == []
-        assert {p.name for p in tmp_path.iterdir()} == {"short.toml", "tmp", "mc.partial"}
-        # The next run takes the dead run's lock over and finishes the campaign.
-        resumed = CliRunner().invoke(
-            main,
-            [
-                "montecarlo",
-                str(short_problem),
-                "--samples",
-                "60",
-                "--workers",
-                "2",
-                "--out",
-                str(tmp_path / "mc"),
-                "--json",
-            ],
-        )
-        assert resumed.exit_code == 0, resumed.output
-        assert {p.name for p in tmp_path.iterdir()} == {"short.toml", "tmp", "mc"}
-    finally:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(parent.pid, signal.SIGKILL)
+    # Cases one by one on CasADi's virtual machine (about a second each): the campaign of
+    # 12 is still running when the test, told a case is done, kills it.
+    campaign = Campaign(tmp_path, short_problem, 12, "--no-jit")
+    campaigns.append(campaign)
+    campaign.wait_for_cases(1)
+    workers = _children(campaign.pid)
+    assert len(workers) == 2
+    os.kill(campaign.pid, signal.SIGKILL)
+    campaign.finish()
+    alive = _wait_gone(workers)
+    assert not alive, f"workers {alive} outlived their parent"
+    assert list((tmp_path / "tmp").iterdir()) == []
+    assert {p.name for p in tmp_path.iterdir()} == {"short.toml", "tmp", "mc.partial"}
+    # The next run takes the dead run's lock over and finishes the campaign.
+    again = ["--samples", "12", "--workers", "2", "--no-jit", "--out", str(tmp_path / "mc")]
+    resumed = CliRunner().invoke(main, ["montecarlo", str(short_problem), *again, "--json"])
+    assert resumed.exit_code == 0, resumed.output
+    assert {p.name for p in tmp_path.iterdir()} == {"short.toml", "tmp", "mc"}
 
 
-def test_ctrl_c_keeps_the_cases_and_says_how_to_resume(tmp_path: Path, short_problem: Path) -> None:
-    # Enough cases that the campaign is still running when Ctrl-C comes: with a warm
-    # compiled-step cache on an idle machine, 60 of them end in about a second.
-    parent = _start(tmp_path, short_problem, samples=3000)
-    try:
-        workers = _wait_for_workers(parent)
-        os.killpg(parent.pid, signal.SIGINT)  # what Ctrl-C in a terminal does
-        _, stderr = parent.communicate(timeout=60)
-        assert parent.returncode == 130, stderr
-        last = stderr.replace("\r", "\n").strip().splitlines()[-1]
-        assert last.startswith("interrupted: ") and "run the same command again" in last
-        assert "Traceback" not in stderr
-        assert not _wait_gone(workers)
-        partial = tmp_path / "mc.partial"
-        assert {p.name for p in partial.iterdir()} <= {"campaign.json", "cases"}
-    finally:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(parent.pid, signal.SIGKILL)
+def test_ctrl_c_keeps_the_cases_and_says_how_to_resume(
+    tmp_path: Path, short_problem: Path, campaigns: list[Campaign]
+) -> None:
+    # More cases than can run before Ctrl-C, whatever the machine: it is typed once the
+    # first is done, while the workers run their next batches and send their results.
+    campaign = Campaign(tmp_path, short_problem, 3000)
+    campaigns.append(campaign)
+    campaign.wait_for_cases(1)
+    workers = _children(campaign.pid)
+    typed = time.monotonic()
+    campaign.ctrl_c()
+    status = campaign.finish()
+    stopped_s = time.monotonic() - typed
+    assert status == 130, campaign.output
+    last = campaign.output.replace("\r", "\n").strip().splitlines()[-1]
+    kept = re.fullmatch(r"interrupted: (\d+) of 3000 cases are kept in (.+); (.+)", last)
+    assert kept and kept[3] == "run the same command again to resume", last
+    assert "Traceback" not in campaign.output
+    assert not _wait_gone(workers)
+    partial = tmp_path / "mc.partial"
+    assert Path(kept[2]).resolve() == partial.resolve()
+    assert {p.name for p in partial.iterdir()} <= {"campaign.json", "cases"}
+    assert len(list((partial / "cases").glob("*.json"))) == int(kept[1]) >= 1
+    assert stopped_s < 5.0, f"Ctrl-C took {stopped_s:.1f} s"
 
 
 def test_a_second_campaign_on_a_folder_in_use_is_refused(
-    tmp_path: Path, short_problem: Path
+    tmp_path: Path, short_problem: Path, campaigns: list[Campaign]
 ) -> None:
-    first = _start(tmp_path, short_problem)
-    try:
-        _wait_for_workers(first)
-        second = CliRunner().invoke(
-            main,
-            ["montecarlo", str(short_problem), "--samples", "60", "--out", str(tmp_path / "mc")],
-        )
-        assert second.exit_code == 2, second.output
-        assert f"in use by process {first.pid}" in second.output
-    finally:
-        with contextlib.suppress(ProcessLookupError):
-            os.killpg(first.pid, signal.SIGKILL)
+    first = Campaign(tmp_path, short_problem, 3000, "--no-jit")
+    campaigns.append(first)
+    first.wait_for_cases(1)
+    second = CliRunner().invoke(
+        main,
+        ["montecarlo", str(short_problem), "--samples", "60", "--out", str(tmp_path / "mc")],
+    )
+    assert second.exit_code == 2, second.output
+    assert f"in use by process {first.pid}" in second.output
 
 
 @pytest.mark.parametrize(

@@ -5,14 +5,17 @@ from __future__ import annotations
 
 import functools
 import os
+import select
 import signal
 import subprocess
 import sys
 import threading
 import time
 import uuid
+from collections.abc import Iterator
 from pathlib import Path
 
+import numpy as np
 import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
@@ -62,19 +65,60 @@ def blas_threads(context: None, x: int) -> list[int]:
     return [entry["num_threads"] for entry in threadpool_info() if entry["user_api"] == "blas"]
 
 
-def sleeper(folder: Path, x: int) -> int:
+def announce(fifo: Path, *words: object) -> None:
+    """Tell the test what this worker started: one line on the test's FIFO (atomic)."""
+    handle = os.open(fifo, os.O_WRONLY)
+    try:
+        os.write(handle, (" ".join(map(str, words)) + "\n").encode())
+    finally:
+        os.close(handle)
+
+
+def sleeper(fifo: Path, x: int) -> int:
     """Item 0 returns at once; the others start a longer-lived child process and sleep."""
     if x == 0:
         return os.getpid()
     child = subprocess.Popen(["sleep", "120"])
-    (folder / f"child-{child.pid}").touch()
-    (folder / f"worker-{os.getpid()}").touch()
+    announce(fifo, "child", child.pid)
+    announce(fifo, "worker", os.getpid())
     time.sleep(30)
     return x
 
 
-def the_folder(folder: str) -> Path:
-    return Path(folder)
+def streamer(fifo: Path, x: int) -> np.ndarray:
+    """Results of 4 MB (a pipe holds 64 KiB); item 5 tells the caller Ctrl-C and sleeps."""
+    if x == 5:
+        announce(fifo, "worker", os.getpid())
+        announce(fifo, "sigint", time.monotonic())
+        os.kill(os.getppid(), signal.SIGINT)
+        time.sleep(60)
+    return np.full(512 * 1024, float(x))
+
+
+def catches_ctrl_c(calls: list[int], x: int) -> int:
+    """Ctrl-C during the item, caught by the item as CasADi's IPOPT does (a failed solve)."""
+    calls.append(x)
+    try:
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1.0)  # the handler runs here, before the sleep ends
+    except KeyboardInterrupt:
+        return -1
+    return x
+
+
+_CTRL_C_IN_FORK_HOOK = threading.Event()
+
+
+def _ctrl_c_in_fork_hook() -> None:
+    # Ctrl-C typed while the caller forks a worker: Python runs the handler in this hook
+    # and drops the KeyboardInterrupt it raises ("Exception ignored in ...").
+    if _CTRL_C_IN_FORK_HOOK.is_set():
+        _CTRL_C_IN_FORK_HOOK.clear()
+        os.kill(os.getpid(), signal.SIGINT)
+        sum(range(1000))  # bytecodes: the handler's chance to run here
+
+
+os.register_at_fork(after_in_parent=_ctrl_c_in_fork_hook)
 
 
 def broken_start() -> None:
@@ -100,23 +144,59 @@ def _running(pid: int) -> bool:
 
 
 def _wait_gone(pids: set[int], timeout_s: float = 10.0) -> list[int]:
+    """The processes still running once ``pids`` ended (killed ones may take a moment)."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline and any(_running(p) for p in pids):
         time.sleep(0.05)
     return sorted(p for p in pids if _running(p))
 
 
-def _pids(folder: Path, prefix: str) -> set[int]:
-    return {int(p.name.split("-")[1]) for p in folder.glob(f"{prefix}-*")}
+class Announcements:
+    """A FIFO the workers write a line to when they start something: the test reads it as
+    events (a blocking read), instead of polling for files against a deadline."""
+
+    def __init__(self, folder: Path) -> None:
+        self.path = folder / "announcements"
+        os.mkfifo(self.path)
+        self._reader = os.open(self.path, os.O_RDONLY | os.O_NONBLOCK)
+        # A writer held open: with none, a read ends at once instead of waiting for a line.
+        self._writer = os.open(self.path, os.O_WRONLY)
+        self._pending = b""
+        self.lines: list[list[str]] = []
+
+    def pids(self, kind: str) -> set[int]:
+        return {int(words[1]) for words in self.lines if words[0] == kind}
+
+    def wait_for(self, kind: str, count: int, limit_s: float = 300.0) -> set[int]:
+        """The pids of ``kind`` once ``count`` are announced (``limit_s`` only bounds a hang)."""
+        while len(self.pids(kind)) < count:
+            ready, _, _ = select.select([self._reader], [], [], limit_s)
+            assert ready, f"only {len(self.pids(kind))} of {count} {kind} announced"
+            self._read()
+        return self.pids(kind)
+
+    def drain(self) -> None:
+        """Read what is there (lines written before the workers were killed)."""
+        while select.select([self._reader], [], [], 0)[0]:
+            if not self._read():
+                return
+
+    def _read(self) -> bool:
+        data = os.read(self._reader, 65536)
+        *lines, self._pending = (self._pending + data).split(b"\n")
+        self.lines += [line.decode().split() for line in lines]
+        return bool(data)
+
+    def close(self) -> None:
+        os.close(self._reader)
+        os.close(self._writer)
 
 
-def _wait_for(folder: Path, prefix: str, count: int, timeout_s: float = 60.0) -> set[int]:
-    deadline = time.monotonic() + timeout_s
-    while len(_pids(folder, prefix)) < count and time.monotonic() < deadline:
-        time.sleep(0.05)
-    found = _pids(folder, prefix)
-    assert len(found) >= count, f"only {len(found)} of {count} {prefix} processes started"
-    return found
+@pytest.fixture()
+def announcements(tmp_path: Path) -> Iterator[Announcements]:
+    fifo = Announcements(tmp_path)
+    yield fifo
+    fifo.close()
 
 
 # ----------------------------------------------------------------------------- tests
@@ -201,52 +281,103 @@ def test_an_initialiser_that_raises_stops_the_map() -> None:
 
 @needs_proc
 @pytest.mark.parametrize("how", ["exception in the loop", "Ctrl-C while waiting"])
-def test_an_interrupted_map_leaves_no_live_process(tmp_path: Path, how: str) -> None:
-    timer = None
+def test_an_interrupted_map_leaves_no_live_process(announcements: Announcements, how: str) -> None:
+    fifo = str(announcements.path)
     with (
         pytest.raises(KeyboardInterrupt),
-        parallel_map(
-            sleeper, range(6), functools.partial(the_folder, str(tmp_path)), workers=2
-        ) as results,
+        parallel_map(sleeper, range(6), functools.partial(Path, fifo), workers=2) as results,
     ):
         first = next(results)
         assert isinstance(first, ItemResult) and first.index == 0
         # Both workers busy, each with a child process of its own (as a compiler would be).
-        children = _wait_for(tmp_path, "child", 2)
-        workers = _wait_for(tmp_path, "worker", 2) | {first.value}
+        announcements.wait_for("child", 2)
+        announcements.wait_for("worker", 2)
         stopping = time.monotonic()
         if how == "Ctrl-C while waiting":
-            timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
-            timer.start()
+            # What a terminal does, from another thread while this one waits for a result.
+            threading.Thread(target=os.kill, args=(os.getpid(), signal.SIGINT)).start()
             next(results)
         raise KeyboardInterrupt
     # Killed, not waited for (each item sleeps 30 s).
     assert time.monotonic() - stopping < 10.0
-    if timer is not None:
-        timer.join()
+    announcements.drain()
+    workers = announcements.pids("worker") | {first.value}
     assert len(workers) == 2
-    alive = _wait_gone(workers | children)
+    alive = _wait_gone(workers | announcements.pids("child"))
     assert not alive, f"processes {alive} outlived the interrupted map"
 
 
 @needs_proc
-def test_workers_end_when_their_parent_is_killed(tmp_path: Path) -> None:
+def test_ctrl_c_while_results_of_megabytes_stream_in_stops_at_once(
+    announcements: Announcements,
+) -> None:
+    # A worker killed half-way through sending its result must not leave the caller waiting
+    # for the rest (ProcessPoolExecutor's shutdown did, for ever). Item 5 sends Ctrl-C to the
+    # caller while the other worker streams 4 MB results, then sleeps a minute.
+    received = 0
+    fifo = str(announcements.path)
+    with (
+        pytest.raises(KeyboardInterrupt),
+        parallel_map(streamer, range(400), functools.partial(Path, fifo), workers=2) as results,
+    ):
+        for result in results:
+            assert isinstance(result, ItemResult)
+            assert result.value.shape == (512 * 1024,) and result.value[0] == result.index
+            received += 1
+    stopped = time.monotonic()
+    announcements.drain()
+    (signalled,) = [float(words[1]) for words in announcements.lines if words[0] == "sigint"]
+    assert stopped - signalled < 10.0, f"stopped {stopped - signalled:.1f} s after Ctrl-C"
+    assert received < 399  # the sleeping item never answered, the rest were cut short
+    assert not _wait_gone(announcements.pids("worker"))
+
+
+def test_a_ctrl_c_the_item_caught_ends_the_map_after_that_item() -> None:
+    calls: list[int] = []
+    with (
+        pytest.raises(KeyboardInterrupt),
+        parallel_map(catches_ctrl_c, range(5), functools.partial(lambda c: c, calls)) as results,
+    ):
+        list(results)
+    assert calls == [0]
+
+
+@needs_proc
+def test_a_ctrl_c_dropped_in_a_fork_hook_still_stops_the_map(
+    announcements: Announcements,
+) -> None:
+    fifo = str(announcements.path)
+    _CTRL_C_IN_FORK_HOOK.set()
+    try:
+        with (
+            pytest.raises(KeyboardInterrupt),
+            parallel_map(sleeper, range(1, 5), functools.partial(Path, fifo), workers=2) as rs,
+        ):
+            list(rs)
+    finally:
+        _CTRL_C_IN_FORK_HOOK.clear()
+    announcements.drain()  # a worker may have started its item before it was killed
+    assert not _wait_gone(announcements.pids("worker") | announcements.pids("child"))
+
+
+@needs_proc
+def test_workers_end_when_their_parent_is_killed(announcements: Announcements) -> None:
     script = (
-        "import functools, sys\n"
+        "import functools, pathlib, sys\n"
         "sys.path.insert(0, sys.argv[2])\n"
-        "from test_parallel import sleeper, the_folder\n"
+        "from test_parallel import sleeper\n"
         "from casadi_debris.parallel import parallel_map\n"
-        "with parallel_map(sleeper, [1, 2], functools.partial(the_folder, sys.argv[1]),"
+        "with parallel_map(sleeper, [1, 2], functools.partial(pathlib.Path, sys.argv[1]),"
         " workers=2) as results:\n"
         "    list(results)\n"
     )
     parent = subprocess.Popen(
-        [sys.executable, "-c", script, str(tmp_path), str(Path(__file__).parent)],
+        [sys.executable, "-c", script, str(announcements.path), str(Path(__file__).parent)],
         start_new_session=True,
     )
     try:
-        workers = _wait_for(tmp_path, "worker", 2)
-        children = _wait_for(tmp_path, "child", 2)
+        workers = announcements.wait_for("worker", 2)
+        children = announcements.wait_for("child", 2)
         parent.send_signal(signal.SIGKILL)
         parent.wait()
         # The workers die with their parent; their children are their group's to stop.
@@ -255,7 +386,8 @@ def test_workers_end_when_their_parent_is_killed(tmp_path: Path) -> None:
     finally:
         if parent.poll() is None:
             parent.kill()
-        for pid in _pids(tmp_path, "child"):
+        announcements.drain()
+        for pid in announcements.pids("child"):
             if _running(pid):
                 os.kill(pid, signal.SIGKILL)
     assert children

@@ -15,7 +15,10 @@ The cache folder is ``platformdirs.user_cache_dir("casadi_debris")/jit``, or
   its own bytes, so a damaged file (truncated, overwritten) is found before it
   is loaded, removed and compiled again;
 - ``<key>.<random>.tmp``: a compile under way (one whose process was killed is
-  removed after an hour by the next compile).
+  removed after an hour by the next compile);
+- ``<key>.lock``, while ``key`` compiles: the other processes that need it wait
+  for it and load the library instead of compiling it too (an advisory ``flock``,
+  released when its holder ends, however it ends).
 
 A library is compiled into a temporary file of the same folder and moved into
 place with ``os.replace``: a reader sees a whole library or none, and two
@@ -27,6 +30,8 @@ written outside the folder: the compiler's own temporaries go there too.
 
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import functools
 import hashlib
 import logging
@@ -36,7 +41,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 import casadi as ca
@@ -51,6 +56,7 @@ CODEGEN_OPTIONS = {"prefix": "jit"}
 # The C comes on the compiler's standard input: no source file to write or clean.
 LIBRARY_FLAGS = ("-fPIC", "-shared", "-x", "c", "-")
 SUFFIX = ".so"
+LOCK_SUFFIX = ".lock"
 KEY_CHARS = 32
 DIGEST_CHARS = 16
 STALE_TEMPORARY_S = 3600.0
@@ -130,15 +136,52 @@ def compiled_library(function: ca.Function, compiler: str, flags: Sequence[str] 
             f"the JIT cache folder {folder} cannot be created ({exc}); "
             f"set {CACHE_ENV} to a writable folder"
         ) from exc
+    found = _cached(name, folder, key)
+    if found is not None:
+        return found
+    # One compile per key at a time: the processes that need the same library at once (a
+    # campaign's workers, parallel test runs) wait for the first instead of compiling it too.
+    with _compile_lock(folder, key):
+        found = _cached(name, folder, key)
+        if found is not None:
+            return found
+        LOGGER.info("JIT cache miss: compiling %s (%s) into %s", name, " ".join(command), folder)
+        started = time.perf_counter()
+        path = _compile_into(folder, key, source, command)
+    LOGGER.info("JIT cache: %s compiled in %.1f s", path.name, time.perf_counter() - started)
+    return path
+
+
+def _cached(name: str, folder: Path, key: str) -> Path | None:
+    """The library of ``key`` in ``folder`` if one is there, whole and loadable."""
     for path in sorted(folder.glob(f"{key}.*{SUFFIX}")):
         if _load_checked(name, path) is not None:
             LOGGER.info("JIT cache hit: %s loaded from %s", name, path)
             return path
-    LOGGER.info("JIT cache miss: compiling %s (%s) into %s", name, " ".join(command), folder)
-    started = time.perf_counter()
-    path = _compile_into(folder, key, source, command)
-    LOGGER.info("JIT cache: %s compiled in %.1f s", path.name, time.perf_counter() - started)
-    return path
+    return None
+
+
+@contextlib.contextmanager
+def _compile_lock(folder: Path, key: str) -> Iterator[None]:
+    """Hold ``folder/<key>.lock`` (an advisory lock, released when its process ends, however).
+
+    The file is removed by its holder when done: a process that waited on it looks
+    for the library again, and a process that comes later finds the library first.
+    """
+    path = folder / f"{key}{LOCK_SUFFIX}"
+    try:
+        handle = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as exc:
+        raise CompileError(f"the JIT cache folder {folder} cannot be written: {exc}") from exc
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            with contextlib.suppress(OSError):
+                path.unlink()
+    finally:
+        os.close(handle)  # releases the lock
 
 
 def c_source(function: ca.Function) -> str:

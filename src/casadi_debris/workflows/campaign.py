@@ -492,9 +492,9 @@ def _run_missing(
         if progress is not None:
             progress(len(finished) + len(failures), len(todo))
 
-    if progress is not None:
-        progress(0, len(todo))
     try:
+        if progress is not None:
+            progress(0, len(todo))
         run_campaign(
             setup,
             todo,

@@ -31,34 +31,42 @@ settings (a Dask nanny starts them with one BLAS thread already).
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
-import os
-import pickle
-import signal
-import threading
-import time
-import traceback
+import contextlib
 import uuid
 from collections.abc import Callable, Generator, Iterable, Iterator
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Any, Generic, NoReturn, TypeVar
 
-# threadpoolctl ships no type information (no py.typed, no stubs).
-from threadpoolctl import threadpool_limits  # type: ignore[import-untyped]
+from casadi_debris.parallel._interrupts import Interrupts
+from casadi_debris.parallel._items import (
+    SLOT,
+    Job,
+    Raised,
+    Returned,
+    StartFailed,
+    Worker,
+    call_item,
+    describe_error,
+)
+from casadi_debris.parallel._local import THREAD_VARIABLES, local_map
+
+__all__ = [
+    "THREAD_VARIABLES",
+    "ItemFailure",
+    "ItemResult",
+    "MapResults",
+    "RemoteError",
+    "SchedulerUnavailableError",
+    "WorkerStartError",
+    "describe_error",
+    "no_context",
+    "parallel_map",
+]
 
 T = TypeVar("T")  # an item
 R = TypeVar("R")  # what the function returns for an item
 C = TypeVar("C")  # a worker's context
-
-# Read by OpenMP and BLAS libraries when they load: a worker sets them for the libraries it
-# loads after it started (threadpoolctl limits those already loaded).
-THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
-_PARENT_WATCH_S = 1.0
-_PR_SET_PDEATHSIG = 1
 
 
 class WorkerStartError(RuntimeError):
@@ -225,7 +233,7 @@ def parallel_map(
     if workers < 1:
         raise ValueError(f"workers must be at least 1, got {workers}")
     chosen = list(items)
-    job = _Job(uuid.uuid4().hex, function, initializer)
+    job = Job(uuid.uuid4().hex, function, initializer)
     names = item_id
     if scheduler is not None:
         stream = _dask_map(job, chosen, scheduler, names)
@@ -268,158 +276,9 @@ class MapResults(Generic[T, R]):
         self.close()
 
 
-# ----------------------------------------------------------------------------- in a worker
-
-
-@dataclass(frozen=True)
-class _Job:
-    """What every worker of one map needs: sent once to each, not with every item."""
-
-    token: str
-    function: Callable[[Any, Any], Any]
-    initializer: Callable[[], Any]
-
-
-@dataclass(frozen=True)
-class _Succeeded:
-    value: Any
-
-
-@dataclass(frozen=True)
-class _Raised:
-    error_type: str
-    message: str
-    traceback: str
-    exception: Exception | None
-
-    @classmethod
-    def capture(cls, error: Exception, *, crosses: bool) -> _Raised:
-        """What ``error`` was; ``crosses``: it goes to another process (kept only if it pickles)."""
-        name, message, text = describe_error(error)
-        return cls(name, message, text, _sendable(error) if crosses else error)
-
-
-def describe_error(error: BaseException) -> tuple[str, str, str]:
-    """An exception as a failure records it: qualified type name, message, traceback text.
-
-    Examples
-    --------
-    >>> describe_error(ValueError("bad"))[:2]
-    ('ValueError', 'bad')
-    """
-    kind = type(error)
-    name = kind.__qualname__
-    if kind.__module__ not in ("builtins", "__main__"):
-        name = f"{kind.__module__}.{name}"
-    return name, str(error), "".join(traceback.format_exception(error))
-
-
-@dataclass(frozen=True)
-class _StartFailed:
-    raised: _Raised
-
-
-@dataclass
-class _Worker:
-    """A worker process's state for one map: its job and the context its initializer built."""
-
-    job: _Job
-    context: Any = None
-    start_error: _Raised | None = None
-
-
-class _Slot:
-    """The one place a worker keeps its state (one map at a time per worker process)."""
-
-    def __init__(self) -> None:
-        self.worker: _Worker | None = None
-        self.lock = threading.Lock()
-
-    def start(self, job: _Job) -> _Worker:
-        """Run ``job``'s initializer, or keep its failure for the items to report."""
-        worker = _Worker(job)
-        try:
-            worker.context = job.initializer()
-        except Exception as error:
-            worker.start_error = _Raised.capture(error, crosses=True)
-        self.worker = worker
-        return worker
-
-    def worker_for(self, job: _Job) -> _Worker:
-        """This process's worker of ``job``, started on first use (Dask: threads share it)."""
-        with self.lock:
-            worker = self.worker
-            if worker is None or worker.job.token != job.token:
-                worker = self.start(job)
-            return worker
-
-
-_SLOT = _Slot()
-
-
-def _sendable(error: Exception) -> Exception | None:
-    """``error`` if it survives pickling (as it must to cross processes), else None."""
-    try:
-        pickle.loads(pickle.dumps(error))
-    except Exception:
-        return None
-    return error
-
-
-def _call(worker: _Worker, item: Any, *, crosses: bool) -> _Succeeded | _Raised | _StartFailed:
-    if worker.start_error is not None:
-        return _StartFailed(worker.start_error)
-    try:
-        return _Succeeded(worker.job.function(worker.context, item))
-    except Exception as error:
-        return _Raised.capture(error, crosses=crosses)
-
-
-def _start_local_worker(job: _Job, parent_pid: int) -> None:
-    # A group of its own: Ctrl-C reaches the parent alone, which decides what to do,
-    # and the parent can stop a worker together with the compiler it may be running.
-    os.setpgrp()
-    _die_with_parent(parent_pid)
-    for name in THREAD_VARIABLES:
-        os.environ[name] = "1"
-    # One thread per worker: the workers already share the cores between them.
-    threadpool_limits(limits=1)
-    _SLOT.start(job)
-
-
-def _run_local_item(item: Any) -> _Succeeded | _Raised | _StartFailed:
-    worker = _SLOT.worker
-    if worker is None:  # the pool always runs its initializer first
-        raise RuntimeError("parallel_map: a worker ran an item before its initializer")
-    return _call(worker, item, crosses=True)
-
-
-def _run_dask_item(job: _Job, item: Any) -> _Succeeded | _Raised | _StartFailed:
-    return _call(_SLOT.worker_for(job), item, crosses=True)
-
-
-def _die_with_parent(parent_pid: int) -> None:
-    """Make this worker end when the process that started it ends, however it ends.
-
-    A killed parent (SIGKILL included) cannot stop its workers itself: on
-    Linux the kernel sends them SIGKILL (``prctl(PR_SET_PDEATHSIG)``); a
-    watcher thread covers other systems by checking the parent's id.
-    """
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-        libc.prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
-    except (OSError, AttributeError):
-        pass
-    if os.getppid() != parent_pid:  # the parent died before the line above
-        os._exit(1)
-
-    def watch() -> None:
-        while True:
-            time.sleep(_PARENT_WATCH_S)
-            if os.getppid() != parent_pid:
-                os._exit(1)
-
-    threading.Thread(target=watch, name="parent-watch", daemon=True).start()
+def _run_dask_item(job: Job, item: Any) -> Returned:
+    """A Dask task: one item, in the worker state of this Dask worker process."""
+    return call_item(SLOT.worker_for(job), item, crosses=True)
 
 
 # ----------------------------------------------------------------------------- in the caller
@@ -430,18 +289,18 @@ Outcome = ItemResult[Any, Any] | ItemFailure[Any]
 def _outcome(
     index: int,
     item: Any,
-    returned: _Succeeded | _Raised | _StartFailed,
+    returned: Returned,
     names: Callable[[Any], str] | None,
     *,
     remote: bool = True,
 ) -> Outcome:
-    if isinstance(returned, _StartFailed):
+    if isinstance(returned, StartFailed):
         raised = returned.raised
         raise WorkerStartError(
             f"a worker's initializer raised {raised.error_type}: {raised.message}\n"
             f"{raised.traceback}"
         )
-    if isinstance(returned, _Raised):
+    if isinstance(returned, Raised):
         return ItemFailure(
             index,
             item,
@@ -456,63 +315,29 @@ def _outcome(
 
 
 def _serial_map(
-    job: _Job, items: list[Any], names: Callable[[Any], str] | None
+    job: Job, items: list[Any], names: Callable[[Any], str] | None
 ) -> Generator[Outcome, None, None]:
     if not items:
         return
-    worker = _Worker(job, job.initializer())  # its exception is the caller's to see
-    for index, item in enumerate(items):
-        yield _outcome(index, item, _call(worker, item, crosses=False), names, remote=False)
+    with Interrupts() as interrupts:
+        worker = Worker(job, job.initializer())  # its exception is the caller's to see
+        for index, item in enumerate(items):
+            returned = call_item(worker, item, crosses=False)
+            # A Ctrl-C that the item's solver caught (CasADi's IPOPT does) ends the map here.
+            interrupts.check()
+            yield _outcome(index, item, returned, names, remote=False)
 
 
 def _process_map(
-    job: _Job, items: list[Any], workers: int, names: Callable[[Any], str] | None
+    job: Job, items: list[Any], workers: int, names: Callable[[Any], str] | None
 ) -> Generator[Outcome, None, None]:
-    pool = ProcessPoolExecutor(
-        max_workers=workers, initializer=_start_local_worker, initargs=(job, os.getpid())
-    )
-    try:
-        pending: dict[Future[Any], int] = {
-            pool.submit(_run_local_item, item): index for index, item in enumerate(items)
-        }
-        while pending:
-            done, _ = wait(pending, return_when=FIRST_COMPLETED)
-            for future in sorted(done, key=pending.__getitem__):
-                index = pending.pop(future)
-                yield _outcome(index, items[index], _returned(future), names)
-    except BaseException:
-        # Interrupted (Ctrl-C), closed early or failed: stop what runs instead of waiting.
-        for process in list((getattr(pool, "_processes", None) or {}).values()):
-            _kill_worker(process.pid)
-        pool.shutdown(wait=True, cancel_futures=True)
-        raise
-    pool.shutdown(wait=True)
-
-
-def _returned(future: Future[Any]) -> _Succeeded | _Raised | _StartFailed:
-    """What the worker returned for a finished item."""
-    try:
-        result: _Succeeded | _Raised | _StartFailed = future.result()
-    except BrokenProcessPool:
-        raise
-    except Exception as error:  # the item or its result could not be sent across
-        return _Raised.capture(error, crosses=False)
-    return result
-
-
-def _kill_worker(pid: int) -> None:
-    """Kill a worker and what it runs (its process group), or the worker alone."""
-    try:
-        if os.getpgid(pid) == pid:
-            os.killpg(pid, signal.SIGKILL)
-            return
-        os.kill(pid, signal.SIGKILL)
-    except (ProcessLookupError, PermissionError):
-        pass  # already gone
+    with contextlib.closing(local_map(job, items, workers)) as stream:
+        for index, returned in stream:
+            yield _outcome(index, items[index], returned, names)
 
 
 def _dask_map(
-    job: _Job, items: list[Any], scheduler: str, names: Callable[[Any], str] | None
+    job: Job, items: list[Any], scheduler: str, names: Callable[[Any], str] | None
 ) -> Generator[Outcome, None, None]:
     try:
         from distributed import Client, as_completed
@@ -538,7 +363,7 @@ def _dask_map(
             try:
                 returned = future.result()
             except Exception as error:  # the item or its result could not be sent across
-                returned = _Raised.capture(error, crosses=False)
+                returned = Raised.capture(error, crosses=False)
             yield _outcome(index, items[index], returned, names)
     except BaseException:
         client.cancel(list(futures))
