@@ -13,9 +13,11 @@ and on two gallery problems of other shapes (``rigid_no_arrays``: no arrays, no 
 Exit 3 (an internal error) is a failure whatever the command. Commands that fly a
 controller are given the shipped paper controller with ``--allow-mismatch`` on the
 gallery problems (designing one for each would take minutes; ``design`` itself is
-checked on its own). Commands that take minutes even at their quickest (``design``,
-``reproduce``, the worst-case search, the mission, ...) run on the gallery problems
-under ``-m slow`` only; on the paper's problem they run by default.
+checked on its own). Commands that take long even at their quickest (tens of seconds
+of CPU: ``design``, the worst-case search, the mission, the campaign, the torque-level
+optimal slews, ...) run by default on the paper's problem with ``--json --out`` only, the
+rest of their cells under ``-m slow``; ``reproduce --quick`` runs under ``-m slow``.
+The plain-text thruster-level time-optimal slew runs by default on all three problems.
 """
 
 from __future__ import annotations
@@ -45,15 +47,16 @@ class Command:
     """One command line of the matrix.
 
     ``args`` follow the problem file; ``keys`` must be among the top-level keys of its
-    ``--json`` output; ``folder`` is the default run folder's name (None: the command
-    writes none); ``flies``: it flies a controller; ``slow``: minutes even at its
-    quickest, so only the paper's problem runs by default.
+    ``--json`` output; ``folder`` is the run folder it writes without ``--out`` (None:
+    none); ``out``: it takes ``--out``; ``flies``: it flies a controller; ``slow``:
+    minutes even at its quickest, so only the paper's problem runs by default.
     """
 
     name: str
     args: tuple[str, ...]
     keys: frozenset[str]
     folder: str | None = "{command}-{problem}"
+    out: bool = True
     flies: bool = False
     slow: bool = False
     label: str = field(default="")
@@ -69,10 +72,16 @@ def _command(name: str, *args: str, keys: tuple[str, ...], **kwargs: object) -> 
 
 COMMANDS = (
     _command(
-        "model", keys=("problem", "mass_kg", "torque_max_zero_force_mNm", "thrusters"), folder=None
+        "model",
+        keys=("problem", "mass_kg", "torque_max_zero_force_mNm", "thrusters"),
+        folder=None,
+        out=False,
     ),
     _command(
-        "budget", keys=("problem", "dv_one_stage_one_face_m_s", "detumble_time_h"), folder=None
+        "budget",
+        keys=("problem", "dv_one_stage_one_face_m_s", "detumble_time_h"),
+        folder=None,
+        out=False,
     ),
     _command(
         "allocate",
@@ -82,6 +91,7 @@ COMMANDS = (
         "0.2",
         keys=("problem", "feasible", "thrust_mN", "torque_achieved_mNm"),
         folder=None,
+        out=False,
     ),
     _command(
         "alternatives", "--max-failed", "0", keys=("designs", "max_failed"), folder="alternatives"
@@ -92,6 +102,7 @@ COMMANDS = (
         "bang-bang",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-bang-bang",
+        folder=None,
     ),
     _command(
         "slew",
@@ -103,6 +114,8 @@ COMMANDS = (
         "2",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-time-optimal",
+        slow=True,
+        folder=None,
     ),
     _command(
         "slew",
@@ -113,6 +126,7 @@ COMMANDS = (
         "30",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-time-optimal-thrusters",
+        folder=None,
     ),
     _command(
         "slew",
@@ -124,6 +138,8 @@ COMMANDS = (
         "1500",
         keys=("problem", "method", "duration_s", "fuel_kg"),
         label="slew-fuel-optimal",
+        slow=True,
+        folder=None,
     ),
     _command(
         "simulate",
@@ -131,6 +147,7 @@ COMMANDS = (
         "1",
         "--no-plots",
         keys=("duration_s", "max_error_deg", "fuel_kg", "controller_path"),
+        folder=None,
         flies=True,
     ),
     _command(
@@ -231,11 +248,14 @@ COMMANDS = (
 )
 
 
-def _cases() -> list[object]:
+def _cases(mode: str) -> list[object]:
+    """Every command on every problem; a slow command runs by default only on the
+    paper's problem and only with ``--json --out`` (the rest under ``-m slow``)."""
     cases = []
     for command in COMMANDS:
         for problem in PROBLEMS:
-            marks = [pytest.mark.slow] if command.slow and problem != "paper" else []
+            slow = command.slow and (problem != "paper" or mode == "text")
+            marks = [pytest.mark.slow] if slow else []
             cases.append(pytest.param(command, problem, marks=marks, id=f"{command.id}-{problem}"))
     return cases
 
@@ -262,7 +282,7 @@ def _summary(folder: Path) -> dict[str, object]:
     return summary
 
 
-@pytest.mark.parametrize(("command", "problem"), _cases())
+@pytest.mark.parametrize(("command", "problem"), _cases("text"))
 def test_plain_text(command: Command, problem: str, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     result = _invoke(_line(command, problem))
@@ -276,12 +296,12 @@ def test_plain_text(command: Command, problem: str, tmp_path: Path, monkeypatch)
     _summary(folder)
 
 
-@pytest.mark.parametrize(("command", "problem"), _cases())
+@pytest.mark.parametrize(("command", "problem"), _cases("json"))
 def test_json_and_out(command: Command, problem: str, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(tmp_path)
     out = tmp_path / "out"
     line = [*_line(command, problem), "--json"]
-    if command.folder is not None:
+    if command.out:
         line += ["--out", str(out)]
     result = _invoke(line)
     printed = json.loads(result.stdout)
@@ -289,7 +309,7 @@ def test_json_and_out(command: Command, problem: str, tmp_path: Path, monkeypatc
     assert command.keys <= set(printed), sorted(command.keys - set(printed))
     if "problem" in printed:
         assert printed["problem"] == problem
-    if command.folder is not None:
+    if command.out:
         _summary(out)
         assert not (tmp_path / "runs").exists(), "wrote a default folder beside --out"
 

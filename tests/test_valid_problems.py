@@ -392,24 +392,28 @@ def test_thruster_level_many(data, axis, angle_deg) -> None:
 # ------------------------------------------------------------------ the command line
 
 
+# (command, output modes): the optimal slews in one mode by default, being minutes each
+# on a loaded machine; the slow run takes every mode.
 CLI_COMMANDS = (
-    ("model",),
-    ("budget",),
-    ("allocate", "--torque-mNm", "DEMAND"),
-    ("slew", "--method", "bang-bang", "--axis", "AXIS"),
-    ("slew", "--method", "time-optimal", "--starts", "2", "--axis", "AXIS"),
-    ("slew", "--method", "time-optimal", "--thrusters", "--axis", "AXIS"),
+    (("model",), ("text", "json")),
+    (("budget",), ("text", "json")),
+    (("allocate", "--torque-mNm", "DEMAND"), ("text", "json")),
+    (("slew", "--method", "bang-bang", "--axis", "AXIS"), ("text", "json")),
+    (("slew", "--method", "time-optimal", "--starts", "2", "--axis", "AXIS"), ("json",)),
+    (("slew", "--method", "time-optimal", "--thrusters", "--axis", "AXIS"), ("text",)),
 )
 
 
-def check_commands(data: dict[str, Any], axis: np.ndarray, folder: Path) -> None:
+def check_commands(
+    data: dict[str, Any], axis: np.ndarray, folder: Path, every_mode: bool = False
+) -> None:
     _, ref, scaled = _valid(data)
     path = write_toml(scaled, folder / "valid.toml")
     # Half the reach along the slew axis with zero net force: a demand met exactly.
     demand = [f"{c:.9g}" for c in 0.5e3 * lp_reach(ref, axis, zero_net_force=True) * axis]
     axis_text = ",".join(f"{c:.6f}" for c in axis)
     runner = CliRunner()
-    for number, command in enumerate(CLI_COMMANDS):
+    for number, (command, modes) in enumerate(CLI_COMMANDS):
         args: list[str] = []
         for word in command:
             if word == "DEMAND":
@@ -418,7 +422,9 @@ def check_commands(data: dict[str, Any], axis: np.ndarray, folder: Path) -> None
                 args.append(axis_text if word == "AXIS" else word)
         writes = command[0] == "slew"
         out = ["--out", str(folder / f"run{number}")] if writes else []
-        for mode in ([], ["--json"]):
+        for mode in [
+            ["--json"] if m == "json" else [] for m in (("text", "json") if every_mode else modes)
+        ]:
             result = runner.invoke(main, ["-q", command[0], str(path), *args[1:], *out, *mode])
             assert result.exit_code != 3, (command, mode, result.output)
             assert result.exit_code == 0, (command, mode, result.output)
@@ -427,14 +433,14 @@ def check_commands(data: dict[str, Any], axis: np.ndarray, folder: Path) -> None
                 out = ["--out", str(folder / f"run{number}"), "--overwrite"]
 
 
-@given(problems(), slew_axes)
+@given(data=problems(), axis=slew_axes)
 @_campaign(1)
 def test_commands_never_exit_3(data, axis, tmp_path_factory) -> None:
     check_commands(data, axis, tmp_path_factory.mktemp("valid"))
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes)
+@given(data=problems(), axis=slew_axes)
 @_campaign(SLOW_EXAMPLES)
 def test_commands_many(data, axis, tmp_path_factory) -> None:
-    check_commands(data, axis, tmp_path_factory.mktemp("valid"))
+    check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
