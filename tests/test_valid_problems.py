@@ -1,0 +1,446 @@
+"""A campaign of unusual but valid problems (hypothesis), each checked against references
+computed here (``tests/valid_problems.py``).
+
+Problems: random hubs (size, mass, rotated inertia, CoG), zero to two arrays leaving
+random faces at random hinge points and angles, five to twelve explicit CubeSats on
+random faces with one to three engines in random directions and random limits, and a
+disturbance a random fraction (5-80 %) of the zero-net-force authority about each axis.
+Problems without zero-net-force authority about some signed axis are not valid
+attitude-control problems (no disturbance is below nothing) and are skipped.
+
+Per problem:
+
+- mass, CoG and inertia equal a parallel-axis sum written here, and the torque
+  authority (with and without net force) ``model`` reports equals linear programmes
+  written here, over the engines ``model`` lists and over our own engine columns;
+- the allocator meets a reachable demand (a random direction at 10-95 % of the reach an
+  LP finds along it) exactly, every thrust within its limits, no net force;
+- every slew method's profile satisfies the body's equation J alpha + w x J w = tau at
+  every sample with the J computed here, its rate is the integral of its acceleration
+  and its attitude the integral of its rate (finite differences with error bounds), it
+  starts and ends at rest on target, and stays within the actuators' limits: the
+  per-axis torque box (LP) at torque level, every thrust within [0, f_max] and the
+  torque equal to B f at thruster level;
+- the time-optimal slew is no longer than the bang-bang at the same authority;
+- no command exits 3 on the problem written as a TOML file.
+
+Hypothesis runs derandomised (``derandomize=True``: the examples are a fixed function
+of the test, the same on every machine and run), without an example database; a
+failure prints the drawn problem. A few problems run by default; ``-m slow`` runs 200
+per property.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+from click.testing import CliRunner
+from hypothesis import HealthCheck, Phase, assume, given, settings
+from hypothesis import strategies as st
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.cli import main
+from casadi_debris.config import Problem, problem_from_dict
+from casadi_debris.report.describe import describe_model
+from casadi_debris.slew import (
+    SlewOptions,
+    SlewProfile,
+    bang_bang_slew,
+    fuel_optimal_slew,
+    time_optimal_slew,
+)
+from valid_problems import (
+    SIGNED_AXES,
+    Reference,
+    lp_authority,
+    lp_reach,
+    problems,
+    reference,
+    with_disturbance,
+    write_toml,
+)
+
+RTOL = 1e-9
+# Box and thrust limits: solvers stop within their own tolerances (IPOPT's constraint
+# violation 1e-8 relative to the scaled problem), not exactly on the bound.
+LIMIT_RTOL = 1e-6
+SLOW_EXAMPLES = 200
+
+
+def _campaign(examples: int) -> Any:
+    return settings(
+        max_examples=examples,
+        derandomize=True,
+        database=None,
+        deadline=None,
+        # Shrinking re-solves OCPs for minutes; the drawn problem is printed as it is.
+        phases=(Phase.explicit, Phase.generate),
+        suppress_health_check=list(HealthCheck),
+    )
+
+
+def _valid(data: dict[str, Any]) -> tuple[Problem, Reference, dict[str, Any]]:
+    """The problem (disturbance scaled to its authority) and our reference for it."""
+    ref = reference(data)
+    assume(min(ref.authority_Nm(zero_net_force=True).values()) > 1e-9)
+    scaled = with_disturbance(data, ref)
+    return problem_from_dict(scaled, "valid"), ref, scaled
+
+
+def _axes() -> st.SearchStrategy[np.ndarray]:
+    def unit(v: list[float]) -> np.ndarray:
+        a = np.asarray(v)
+        return a / np.linalg.norm(a)
+
+    vector = st.lists(st.floats(-1.0, 1.0), min_size=3, max_size=3)
+    return vector.filter(lambda v: float(np.linalg.norm(v)) > 0.2).map(unit)
+
+
+# ------------------------------------------------------------------ model and authority
+
+
+def check_model(data: dict[str, Any]) -> None:
+    problem, ref, _ = _valid(data)
+    described = describe_model(problem)
+    assert described.mass_kg == pytest.approx(ref.mass_kg, rel=RTOL)
+    np.testing.assert_allclose(described.cog_m, ref.cog_corner_m, rtol=0, atol=1e-6)
+    scale = np.abs(ref.inertia_kgm2).max()
+    # describe_model rounds its figures; 1e-8 relative covers that and nothing more.
+    np.testing.assert_allclose(described.inertia_total_kgm2, ref.inertia_kgm2, atol=1e-8 * scale)
+    thrusters = described.thrusters
+    assert len(thrusters) == ref.max_thrust_N.size
+    listed_r = np.array([t.position_m for t in thrusters])
+    listed_d = np.array([t.direction for t in thrusters])
+    listed_f = np.array([t.max_thrust_mN for t in thrusters]) * 1e-3
+    np.testing.assert_allclose(listed_f, ref.max_thrust_N, rtol=1e-12)
+    listed_torque = np.cross(listed_r, listed_d).T
+    for zero_net_force, reported in (
+        (False, described.torque_max_mNm),
+        (True, described.torque_max_zero_force_mNm),
+    ):
+        ours = ref.authority_Nm(zero_net_force)
+        # Over the engines `model` lists (positions and directions rounded to 1e-6 m).
+        from_list = lp_authority(listed_torque, listed_d.T, listed_f, zero_net_force)
+        rounding = 2e-6 * float(np.sum(ref.max_thrust_N))
+        for name in SIGNED_AXES:
+            assert reported[name] * 1e-3 == pytest.approx(ours[name], rel=RTOL, abs=1e-12), name
+            assert from_list[name] == pytest.approx(ours[name], abs=rounding), name
+
+
+@given(problems())
+@_campaign(6)
+def test_model_and_authority_equal_hand_sums_and_lps(data: dict[str, Any]) -> None:
+    check_model(data)
+
+
+@pytest.mark.slow
+@given(problems())
+@_campaign(SLOW_EXAMPLES)
+def test_model_and_authority_many(data: dict[str, Any]) -> None:
+    check_model(data)
+
+
+# ------------------------------------------------------------------ allocation
+
+
+def check_allocation(data: dict[str, Any], unit: np.ndarray, fraction: float) -> None:
+    problem, ref, _ = _valid(data)
+    allocator = Allocator.from_problem(problem)
+    np.testing.assert_allclose(allocator.max_thrust_N, ref.max_thrust_N, rtol=1e-12)
+    for free_force in (False, True):
+        reach = lp_reach(ref, unit, zero_net_force=not free_force)
+        assume(reach > 1e-9)
+        demand = fraction * reach * unit
+        result = allocator.allocate(demand, free_force=free_force)
+        assert result.feasible and result.mode == "exact", (free_force, result.mode)
+        f = result.thrust_N
+        assert np.all(f >= -LIMIT_RTOL * ref.max_thrust_N)
+        assert np.all(f <= ref.max_thrust_N * (1 + LIMIT_RTOL))
+        # Our own columns: torque and force of the thrusts it returned.
+        np.testing.assert_allclose(ref.torque_per_N @ f, demand, rtol=0, atol=1e-7 * reach)
+        np.testing.assert_allclose(result.torque_Nm, demand, rtol=0, atol=1e-7 * reach)
+        if not free_force:
+            assert np.abs(ref.direction @ f).max() <= 1e-7 * max(float(f.sum()), 1e-12)
+
+
+@given(problems(), _axes(), st.floats(0.1, 0.95))
+@_campaign(6)
+def test_allocation_meets_a_reachable_demand_exactly(data, unit, fraction) -> None:
+    check_allocation(data, unit, fraction)
+
+
+@pytest.mark.slow
+@given(problems(), _axes(), st.floats(0.1, 0.95))
+@_campaign(SLOW_EXAMPLES)
+def test_allocation_many(data, unit, fraction) -> None:
+    check_allocation(data, unit, fraction)
+
+
+# ------------------------------------------------------------------ slew profiles
+
+
+def _quaternion_product(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Rows of scalar-first quaternions multiplied, p (x) q."""
+    w1, v1 = p[:, :1], p[:, 1:]
+    w2, v2 = q[:, :1], q[:, 1:]
+    return np.hstack(
+        [w1 * w2 - np.sum(v1 * v2, axis=1, keepdims=True), w1 * v2 + w2 * v1 + np.cross(v1, v2)]
+    )
+
+
+def check_dynamics(profile: SlewProfile, ref: Reference) -> None:
+    """Rest to rest on target; J alpha + w x J w = tau at every sample; rate and attitude
+    the integrals of acceleration and rate, by finite differences with their error bound."""
+    t = profile.time_s
+    w, a, tau, q = (
+        profile.rate_rad_s,
+        profile.acceleration_rad_s2,
+        profile.torque_Nm,
+        profile.quaternion_BN,
+    )
+    assert t.size >= 10 and np.all(np.diff(t) > 0)
+    assert t[-1] == pytest.approx(profile.duration_s, rel=1e-6, abs=1e-6)
+    J = ref.inertia_kgm2
+    w_scale = max(float(np.abs(w).max()), 1e-12)
+    a_scale = max(float(np.abs(a).max()), 1e-12)
+    tau_scale = max(float(np.abs(tau).max()), 1e-15)
+    # Rest to rest, on target.
+    assert np.abs(w[0]).max() <= 1e-6 * w_scale and np.abs(w[-1]).max() <= 1e-6 * w_scale
+    np.testing.assert_allclose(q[0], profile.target.q_initial_BN, atol=1e-8)
+    assert abs(abs(float(q[-1] @ profile.target.q_final_BN)) - 1.0) <= 1e-8
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-8)
+    # The body's equation at every sample (the last is the rest after the end).
+    residual = a @ J.T + np.cross(w, w @ J.T) - tau
+    assert np.abs(residual[:-1]).max() <= 1e-6 * tau_scale, np.abs(residual).max() / tau_scale
+    # w(t_k+1) - w(t_k) = integral of alpha, by the trapezoid. With the torque piecewise
+    # constant or smooth (one jump at most per step), alpha = J^-1 (tau - w x J w) is a
+    # jump plus a drift whose rate is at most |J^-1| |d(w x J w)/dt| <= 2 cond(J) |w| |alpha|,
+    # so the trapezoid's error is at most dt |alpha_k+1 - alpha_k| / 2 + 3/2 dt^2 drift.
+    dt = np.diff(t)[:, None]
+    jump = np.abs(np.diff(a, axis=0))
+    drift = 2.0 * np.linalg.cond(J) * w_scale * a_scale
+    error = np.abs(np.diff(w, axis=0) - dt * (a[1:] + a[:-1]) / 2)
+    bound = dt * jump / 2 + 1.5 * dt**2 * drift + 1e-9 * dt * a_scale
+    # The last step ends at rest: alpha's sample there is after the end, not before it.
+    assert np.all(error[:-1] <= bound[:-1]), float(np.max(error[:-1] - bound[:-1]))
+    # q' = q (x) (0, w) / 2: trapezoid again; with w continuous its error is O(dt^2 jump(alpha)).
+    half = lambda k: 0.5 * _quaternion_product(q[k], np.hstack([np.zeros((len(k), 1)), w[k]]))  # noqa: E731
+    k = np.arange(t.size - 1)
+    q_error = np.abs(q[1:] - q[:-1] - dt * (half(k) + half(k + 1)) / 2).max(axis=1)
+    q_bound = (
+        dt[:, 0] ** 2 * jump.max(axis=1)
+        + dt[:, 0] ** 3 * (w_scale**3 + 3 * w_scale * a_scale)
+        + 1e-9
+    )
+    assert np.all(q_error <= q_bound), float(np.max(q_error / q_bound))
+
+
+def check_box(profile: SlewProfile, ref: Reference, torque_fraction: float = 1.0) -> None:
+    """Every sample's torque within the per-axis box, the LP authority with net force free."""
+    authority = ref.authority_Nm(zero_net_force=False)
+    upper = np.array([authority[f"+{a}"] for a in "xyz"]) * torque_fraction
+    lower = -np.array([authority[f"-{a}"] for a in "xyz"]) * torque_fraction
+    tau = profile.torque_Nm
+    over = np.maximum(tau - upper * (1 + LIMIT_RTOL), lower * (1 + LIMIT_RTOL) - tau)
+    worst = np.unravel_index(np.argmax(over / np.maximum(upper - lower, 1e-15)), over.shape)
+    assert np.all(over <= 1e-15), (
+        f"torque {tau[worst] * 1e3:.4g} mNm about {'xyz'[worst[1]]} at t = "
+        f"{profile.time_s[worst[0]]:.1f} s, box [{lower[worst[1]] * 1e3:.4g}, "
+        f"{upper[worst[1]] * 1e3:.4g}] mNm"
+    )
+
+
+def check_thrusts(profile: SlewProfile, ref: Reference, zero_net_force: bool) -> None:
+    """Every thrust within [0, f_max]; the torque B f; (no net force)."""
+    f = profile.thrust_N
+    assert f.shape == (profile.time_s.size, ref.max_thrust_N.size)
+    assert np.all(f >= -LIMIT_RTOL * ref.max_thrust_N), float(f.min())
+    assert np.all(f <= ref.max_thrust_N * (1 + LIMIT_RTOL)), float(np.max(f / ref.max_thrust_N))
+    scale = float(ref.max_thrust_N.sum() * np.abs(ref.torque_per_N).max())
+    np.testing.assert_allclose(f @ ref.torque_per_N.T, profile.torque_Nm, rtol=0, atol=1e-6 * scale)
+    if zero_net_force:
+        assert np.abs(f @ ref.direction.T).max() <= 1e-6 * float(ref.max_thrust_N.sum())
+
+
+def _bang_bang(problem: Problem, axis: np.ndarray, angle_rad: float, **extra: Any) -> SlewProfile:
+    probe = bang_bang_slew(problem, axis, angle_rad, check_vibration=False)
+    # About 300 samples whatever the body's size.
+    sample = max(1e-3, probe.duration_s / 300)
+    return bang_bang_slew(problem, axis, angle_rad, check_vibration=False, sample_s=sample, **extra)
+
+
+def check_bang_bang(data: dict[str, Any], axis: np.ndarray, angle_deg: float) -> None:
+    problem, ref, _ = _valid(data)
+    profile = _bang_bang(problem, axis, math.radians(angle_deg))
+    check_dynamics(profile, ref)
+    check_box(profile, ref)
+
+
+slew_axes = _axes()
+slew_angles = st.floats(5.0, 180.0)
+
+
+@given(problems(), slew_axes, slew_angles)
+@_campaign(4)
+def test_bang_bang_profile_obeys_the_body_and_the_box(data, axis, angle_deg) -> None:
+    check_bang_bang(data, axis, angle_deg)
+
+
+@pytest.mark.slow
+@given(problems(), slew_axes, slew_angles)
+@_campaign(SLOW_EXAMPLES)
+def test_bang_bang_many(data, axis, angle_deg) -> None:
+    check_bang_bang(data, axis, angle_deg)
+
+
+def _options(reference_s: float, **extra: Any) -> SlewOptions:
+    return SlewOptions(
+        sample_s=max(1e-3, reference_s / 300),
+        check_vibration=False,
+        starts=2,
+        seed=0,
+        workers=1,
+        **extra,
+    )
+
+
+def check_time_optimal(data: dict[str, Any], axis: np.ndarray, angle_deg: float) -> None:
+    problem, ref, _ = _valid(data)
+    angle = math.radians(angle_deg)
+    bang_bang = _bang_bang(problem, axis, angle)
+    profile = time_optimal_slew(problem, axis, angle, options=_options(bang_bang.duration_s))
+    check_dynamics(profile, ref)
+    check_box(profile, ref)
+    # Same box, and the eigenaxis bang-bang is one of its feasible profiles.
+    assert profile.duration_s <= bang_bang.duration_s * (1 + 1e-6), (
+        profile.duration_s,
+        bang_bang.duration_s,
+    )
+
+
+@given(problems(), slew_axes, slew_angles)
+@_campaign(2)
+def test_time_optimal_profile_obeys_the_body_and_beats_the_bang_bang(data, axis, angle_deg) -> None:
+    check_time_optimal(data, axis, angle_deg)
+
+
+@pytest.mark.slow
+@given(problems(), slew_axes, slew_angles)
+@_campaign(SLOW_EXAMPLES)
+def test_time_optimal_many(data, axis, angle_deg) -> None:
+    check_time_optimal(data, axis, angle_deg)
+
+
+def check_fuel_optimal(
+    data: dict[str, Any], axis: np.ndarray, angle_deg: float, stretch: float
+) -> None:
+    problem, ref, _ = _valid(data)
+    angle = math.radians(angle_deg)
+    duration = stretch * _bang_bang(problem, axis, angle).duration_s
+    profile = fuel_optimal_slew(
+        problem, axis, angle, duration_s=duration, options=_options(duration)
+    )
+    check_dynamics(profile, ref)
+    check_box(profile, ref)
+    assert profile.duration_s == pytest.approx(duration, rel=1e-6)
+
+
+@given(problems(), slew_axes, slew_angles, st.floats(1.2, 3.0))
+@_campaign(2)
+def test_fuel_optimal_profile_obeys_the_body_and_the_box(data, axis, angle_deg, stretch) -> None:
+    check_fuel_optimal(data, axis, angle_deg, stretch)
+
+
+@pytest.mark.slow
+@given(problems(), slew_axes, slew_angles, st.floats(1.2, 3.0))
+@_campaign(SLOW_EXAMPLES)
+def test_fuel_optimal_many(data, axis, angle_deg, stretch) -> None:
+    check_fuel_optimal(data, axis, angle_deg, stretch)
+
+
+def check_thruster_level(data: dict[str, Any], axis: np.ndarray, angle_deg: float) -> None:
+    problem, ref, _ = _valid(data)
+    angle = math.radians(angle_deg)
+    bang_bang = _bang_bang(problem, axis, angle)
+    profile = time_optimal_slew(
+        problem, axis, angle, options=_options(bang_bang.duration_s, thrusters=True)
+    )
+    assert profile.thrusters
+    check_dynamics(profile, ref)
+    check_thrusts(profile, ref, zero_net_force=False)
+    # No box here: the engines' torque set reaches past the per-axis box in combined
+    # directions, so a thruster-level slew may be faster than a torque-level one.
+
+
+@given(problems(), slew_axes, slew_angles)
+@_campaign(2)
+def test_thruster_level_profile_obeys_the_body_and_the_engines(data, axis, angle_deg) -> None:
+    check_thruster_level(data, axis, angle_deg)
+
+
+@pytest.mark.slow
+@given(problems(), slew_axes, slew_angles)
+@_campaign(SLOW_EXAMPLES)
+def test_thruster_level_many(data, axis, angle_deg) -> None:
+    check_thruster_level(data, axis, angle_deg)
+
+
+# ------------------------------------------------------------------ the command line
+
+
+# (command, output modes): the optimal slews in one mode by default, being minutes each
+# on a loaded machine; the slow run takes every mode.
+CLI_COMMANDS = (
+    (("model",), ("text", "json")),
+    (("budget",), ("text", "json")),
+    (("allocate", "--torque-mNm", "DEMAND"), ("text", "json")),
+    (("slew", "--method", "bang-bang", "--axis", "AXIS"), ("text", "json")),
+    (("slew", "--method", "time-optimal", "--starts", "2", "--axis", "AXIS"), ("json",)),
+    (("slew", "--method", "time-optimal", "--thrusters", "--axis", "AXIS"), ("text",)),
+)
+
+
+def check_commands(
+    data: dict[str, Any], axis: np.ndarray, folder: Path, every_mode: bool = False
+) -> None:
+    _, ref, scaled = _valid(data)
+    path = write_toml(scaled, folder / "valid.toml")
+    # Half the reach along the slew axis with zero net force: a demand met exactly.
+    demand = [f"{c:.9g}" for c in 0.5e3 * lp_reach(ref, axis, zero_net_force=True) * axis]
+    axis_text = ",".join(f"{c:.6f}" for c in axis)
+    runner = CliRunner()
+    for number, (command, modes) in enumerate(CLI_COMMANDS):
+        args: list[str] = []
+        for word in command:
+            if word == "DEMAND":
+                args += demand
+            else:
+                args.append(axis_text if word == "AXIS" else word)
+        writes = command[0] == "slew"
+        out = ["--out", str(folder / f"run{number}")] if writes else []
+        for mode in [
+            ["--json"] if m == "json" else [] for m in (("text", "json") if every_mode else modes)
+        ]:
+            result = runner.invoke(main, ["-q", command[0], str(path), *args[1:], *out, *mode])
+            assert result.exit_code != 3, (command, mode, result.output)
+            assert result.exit_code == 0, (command, mode, result.output)
+            assert result.output.strip() and "Traceback" not in result.output
+            if writes:
+                out = ["--out", str(folder / f"run{number}"), "--overwrite"]
+
+
+@given(data=problems(), axis=slew_axes)
+@_campaign(1)
+def test_commands_never_exit_3(data, axis, tmp_path_factory) -> None:
+    check_commands(data, axis, tmp_path_factory.mktemp("valid"))
+
+
+@pytest.mark.slow
+@given(data=problems(), axis=slew_axes)
+@_campaign(SLOW_EXAMPLES)
+def test_commands_many(data, axis, tmp_path_factory) -> None:
+    check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
