@@ -141,6 +141,7 @@ PARAMETERS = {
         "sample_s",
         "starts",
         "seed",
+        "workers",
         "out",
         "overwrite",
         "as_json",

@@ -119,3 +119,22 @@ def test_workers_below_one_is_refused_naming_the_option() -> None:
     result = CliRunner().invoke(main, ["slew", "--method", "time-optimal", "--workers", "0"])
     assert result.exit_code == 2
     assert "--workers" in result.output and "Traceback" not in result.output
+
+
+def test_each_slew_of_a_sequence_reports_its_limit_check() -> None:
+    result = CliRunner().invoke(main, ["slew", "paper_sequence", "--json"])
+    assert result.exit_code == 0, result.output
+    summary = json.loads(result.stdout)
+    slews = [s for s in summary["segments"] if s["kind"] == "slew"]
+    fractions = [
+        segment.slew.torque_fraction
+        for segment in load_problem("paper_sequence").simulation.segments
+        if segment.slew is not None
+    ]
+    assert len(slews) == len(fractions) == 2
+    for record, fraction in zip(slews, fractions, strict=True):
+        assert record["limits_ok"] is True
+        # sized to the share its file gives, gyroscopic torque included (sampled)
+        assert record["worst_authority_share"] <= fraction * (1 + 1e-6)
+        assert record["worst_authority_share"] == pytest.approx(fraction, rel=1e-3)
+    assert summary["slews_within_limits"] is True

@@ -80,11 +80,14 @@ def summary_text(summary: dict[str, Any]) -> str:
     torque = ", ".join(f"{v:.3g}" for v in summary["max_torque_mNm"])
     eigenaxis = summary["eigenaxis_duration_s"]
     eigenaxis = math.nan if eigenaxis is None else eigenaxis
-    ratios = summary["worst_axis_ratio"]
-    axis = max(ratios, key=ratios.get) if ratios else "-"
+    # JSON has no inf: a need where the authority is zero comes back as None.
+    ratios = {k: math.inf if v is None else v for k, v in summary["worst_axis_ratio"].items()}
+    axis = max(ratios, key=lambda name: ratios[name]) if ratios else "-"
     worst, worst_at = ratios.get(axis, math.nan), f"about {axis}"
-    if summary["worst_torque_set_ratio"] > worst:
-        worst, worst_at = summary["worst_torque_set_ratio"], "of the engines' torque set"
+    in_set = summary["worst_torque_set_ratio"]
+    if in_set is None or in_set > worst:
+        worst = math.inf if in_set is None else in_set
+        worst_at = "of the engines' torque set"
     rows = [
         ["method", summary["method"]],
         ["duration [s]", f"{summary['duration_s']:.2f}"],
