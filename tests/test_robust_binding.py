@@ -28,7 +28,9 @@ def test_pointing_names_the_slowest_axis_and_the_authority_that_meets_the_requir
     a, tau = 0.7e-3, 2.73e-3
     assert 81.4 * ((tau - a) / (needed - a)) ** 1.5 == pytest.approx(60.0, rel=1e-12)
     assert "about x" in limit.remedies[0] and "82 arcsec" in limit.remedies[1]
-    assert limit.requirement == "pointing_arcsec"
+    assert limit.requirement == "pointing_arcsec" and "worst corner points to 81.4" in limit.limit
+    bound = pointing_limit(body, worst_arcsec=81.4, required_arcsec=60.0, guaranteed=True)
+    assert bound.requirement == "guaranteed_pointing_arcsec" and "μ guarantees 81.4" in bound.limit
 
 
 def test_slew_gives_a_slower_slew_that_meets_the_requirement():

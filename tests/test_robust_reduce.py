@@ -40,3 +40,27 @@ def test_small_controller_only_made_minimal():
     # Unstable poles are never truncated, even below the requested order.
     kept = reduce_controller(control.ss(control.tf([1.0], [1.0, -1.0, -2.0])), 0)
     np.testing.assert_allclose(np.linalg.eigvals(kept.A), [2.0])
+
+
+def test_a_slicot_warning_is_logged_not_shown(monkeypatch, caplog):
+    """SLICOT's note that the minimal order is below the one asked goes to the log."""
+    import logging
+    import warnings
+
+    import control as ct
+
+    from casadi_debris.robust import reduce as reduce_module
+
+    def balred(system, order, method):
+        warnings.warn(
+            "The selected order 25 is greater\nthan the minimal", UserWarning, stacklevel=2
+        )
+        return system
+
+    monkeypatch.setattr(reduce_module.control, "balred", balred)
+    system = ct.rss(6, 1, 1, strictly_proper=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any warning escaping would fail here
+        with caplog.at_level(logging.INFO, logger="casadi_debris.robust.reduce"):
+            reduce_module.reduce_controller(system, 2)
+    assert "The selected order 25 is greater than the minimal" in caplog.text

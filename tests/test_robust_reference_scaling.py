@@ -25,7 +25,7 @@ from casadi_debris.robust.weights import PerformanceWeights, dynamic_weights
 
 INERTIA_DEG = np.array([300.0, 200.0, 150.0]) * 1e3 * np.pi / 180.0
 """Rigid inertias [kg m^2] in the design units, torque mNm to attitude deg: J [mNm s^2/deg]."""
-MULTIPLES = (1.0, 1.5, 2.0, 4.0, 8.0, 16.0, 64.0)
+MULTIPLES = (1.0, 2.0, 4.0, 16.0, 64.0)
 
 
 def _plant() -> control.StateSpace:

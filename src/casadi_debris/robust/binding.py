@@ -77,14 +77,19 @@ class BodyLimits:
         return int(np.argmin(self.hold_bandwidth_rad_s))
 
 
-def pointing_limit(body: BodyLimits, worst_arcsec: float, required_arcsec: float) -> BindingLimit:
+def pointing_limit(
+    body: BodyLimits, worst_arcsec: float, required_arcsec: float, *, guaranteed: bool = False
+) -> BindingLimit:
     """The pointing requirement missed: the axis that binds and the authority that would meet it.
 
     Parameters
     ----------
     body : BodyLimits
     worst_arcsec, required_arcsec : float
-        Worst pointing error over the corners, and the requirement [arcsec].
+        Worst pointing error over the corners (or the bound μ guarantees), and the
+        requirement [arcsec].
+    guaranteed : bool
+        ``worst_arcsec`` is the guaranteed bound, not a simulated error.
     """
     k = body.binding_axis
     tau, a = float(body.authority_Nm[k]), float(body.disturbance_Nm[k])
@@ -95,8 +100,8 @@ def pointing_limit(body: BodyLimits, worst_arcsec: float, required_arcsec: float
         f"authority about {axis}: {tau * 1e3:.3g} mNm against a {a * 1e3:.3g} mNm disturbance "
         f"on {body.inertia_kgm2[k]:.4g} kg m^2 holds a bandwidth of "
         f"{body.hold_bandwidth_rad_s[k]:.3g} rad/s, {ratio:.3g} times the disturbance's "
-        f"frequency; the worst corner points to {worst_arcsec:.3g} arcsec against "
-        f"{required_arcsec:.3g}"
+        f"frequency; {'μ guarantees' if guaranteed else 'the worst corner points to'} "
+        f"{worst_arcsec:.3g} arcsec against {required_arcsec:.3g}"
     )
     remedies = (
         f"about {needed * 1e3:.3g} mNm of authority about {axis} (now {tau * 1e3:.3g}; "
@@ -104,7 +109,7 @@ def pointing_limit(body: BodyLimits, worst_arcsec: float, required_arcsec: float
         f"a pointing requirement of {math.ceil(worst_arcsec):d} arcsec",
     )
     return BindingLimit(
-        requirement="pointing_arcsec",
+        requirement="guaranteed_pointing_arcsec" if guaranteed else "pointing_arcsec",
         limit=limit,
         remedies=remedies,
         figures={

@@ -8,10 +8,15 @@ kept, the stable part is balanced and truncated; Hsu and Hou 1991).
 
 from __future__ import annotations
 
+import logging
+import warnings
+
 import control
 
 from casadi_debris.errors import SynthesisError
 from casadi_debris.robust.hinf import well_conditioned
+
+LOGGER = logging.getLogger(__name__)
 
 
 def reduce_controller(controller: control.StateSpace, order: int) -> control.StateSpace:
@@ -38,6 +43,13 @@ def reduce_controller(controller: control.StateSpace, order: int) -> control.Sta
     if conditioned.nstates <= order:
         return conditioned
     try:
-        return control.balred(conditioned, order, method="truncate")
+        # SLICOT warns when the stable part's minimal order is below ``order`` (it then
+        # keeps that order): worth a log line, not a warning on the user's terminal.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            reduced = control.balred(conditioned, order, method="truncate")
     except (ValueError, ArithmeticError) as exc:
         raise SynthesisError(f"balanced truncation to {order} states failed: {exc}") from exc
+    for warning in caught:
+        LOGGER.info("balanced truncation: %s", " ".join(str(warning.message).split()))
+    return reduced

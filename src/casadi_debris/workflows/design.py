@@ -362,8 +362,8 @@ def binding_limits(
     elif met.get("guaranteed_pointing_arcsec") is False and search is not None:
         guaranteed = search.chosen.guaranteed_pointing_arcsec
         if guaranteed is not None:
-            limit = pointing_limit(body, max(guaranteed), required.pointing_arcsec)
-            found.append(replace(limit, requirement="guaranteed_pointing_arcsec"))
+            bound = max(guaranteed)
+            found.append(pointing_limit(body, bound, required.pointing_arcsec, guaranteed=True))
     slew = campaigns["slew"]
     worst_slew = _worst(slew, "max_error_deg")
     if met.get("slew_max_error_deg") is False and worst_slew is not None:
