@@ -48,8 +48,10 @@ class Command:
 
     ``args`` follow the problem file; ``keys`` must be among the top-level keys of its
     ``--json`` output; ``folder`` is the run folder it writes without ``--out`` (None:
-    none); ``out``: it takes ``--out``; ``flies``: it flies a controller; ``slow``:
-    minutes even at its quickest, so only the paper's problem runs by default.
+    none); ``out``: it takes ``--out``; ``flies``: it flies a controller; ``slow``: which
+    cells run only under ``-m slow``: ``""`` none, ``"long"`` all but the paper's
+    ``--json`` one (tens of seconds each), ``"gallery-json"`` the gallery's ``--json``
+    ones, ``"all"`` every one (minutes).
     """
 
     name: str
@@ -58,7 +60,7 @@ class Command:
     folder: str | None = "{command}-{problem}"
     out: bool = True
     flies: bool = False
-    slow: bool = False
+    slow: str = ""
     label: str = field(default="")
 
     @property
@@ -114,7 +116,7 @@ COMMANDS = (
         "2",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-time-optimal",
-        slow=True,
+        slow="long",
         folder=None,
     ),
     _command(
@@ -126,6 +128,7 @@ COMMANDS = (
         "30",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-time-optimal-thrusters",
+        slow="gallery-json",
         folder=None,
     ),
     _command(
@@ -138,7 +141,7 @@ COMMANDS = (
         "1500",
         keys=("problem", "method", "duration_s", "fuel_kg"),
         label="slew-fuel-optimal",
-        slow=True,
+        slow="long",
         folder=None,
     ),
     _command(
@@ -208,7 +211,7 @@ COMMANDS = (
         "1",
         keys=("cases", "nominal", "controller_path"),
         flies=True,
-        slow=True,
+        slow="long",
     ),
     _command(
         "synthesize",
@@ -221,10 +224,10 @@ COMMANDS = (
         "--d-orders",
         "0",
         keys=("controller_path", "mu_peak", "order_reduced"),
-        slow=True,
+        slow="long",
     ),
-    _command("transfer", keys=("edelbaum_dv_m_s", "available_dv_m_s"), slow=True),
-    _command("mission", "--solar", "mean", keys=("deorbit_dv_m_s", "governing_case"), slow=True),
+    _command("transfer", keys=("edelbaum_dv_m_s", "available_dv_m_s"), slow="long"),
+    _command("mission", "--solar", "mean", keys=("deorbit_dv_m_s", "governing_case"), slow="long"),
     _command(
         "worstcase",
         "--budget",
@@ -232,7 +235,7 @@ COMMANDS = (
         "--no-mu",
         keys=("problem", "search", "controller_path"),
         flies=True,
-        slow=True,
+        slow="long",
     ),
     _command(
         "design",
@@ -242,19 +245,23 @@ COMMANDS = (
         "--workers",
         "1",
         keys=("problem",),
-        slow=True,
+        slow="all",
         label="design-pd",
     ),
 )
 
 
 def _cases(mode: str) -> list[object]:
-    """Every command on every problem; a slow command runs by default only on the
-    paper's problem and only with ``--json --out`` (the rest under ``-m slow``)."""
+    """Every command on every problem, marked slow as its ``slow`` says."""
     cases = []
     for command in COMMANDS:
         for problem in PROBLEMS:
-            slow = command.slow and (problem != "paper" or mode == "text")
+            slow = {
+                "": False,
+                "long": problem != "paper" or mode == "text",
+                "gallery-json": problem != "paper" and mode == "json",
+                "all": True,
+            }[command.slow]
             marks = [pytest.mark.slow] if slow else []
             cases.append(pytest.param(command, problem, marks=marks, id=f"{command.id}-{problem}"))
     return cases

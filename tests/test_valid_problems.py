@@ -208,10 +208,16 @@ def check_dynamics(profile: SlewProfile, ref: Reference) -> None:
     w_scale = max(float(np.abs(w).max()), 1e-12)
     a_scale = max(float(np.abs(a).max()), 1e-12)
     tau_scale = max(float(np.abs(tau).max()), 1e-15)
-    # Rest to rest, on target.
-    assert np.abs(w[0]).max() <= 1e-6 * w_scale and np.abs(w[-1]).max() <= 1e-6 * w_scale
+    # Rest to rest, on target: the rate left at the end drifts over one slew's duration
+    # (peak rate x duration ~ 2 x angle) by under 1e-5 of the angle; the attitude error
+    # at the end is under 1e-5 of the angle too (solvers stop at 1e-8 on scaled states).
+    angle = profile.target.angle_rad
+    assert np.abs(w[0]).max() <= 1e-5 * w_scale and np.abs(w[-1]).max() <= 1e-5 * w_scale
     np.testing.assert_allclose(q[0], profile.target.q_initial_BN, atol=1e-8)
-    assert abs(abs(float(q[-1] @ profile.target.q_final_BN)) - 1.0) <= 1e-8
+    q_f = profile.target.q_final_BN
+    conjugate = np.r_[q_f[0], -q_f[1:]][None, :]
+    end_error = 2.0 * np.linalg.norm(_quaternion_product(conjugate, q[-1:])[0, 1:])
+    assert end_error <= 1e-5 * angle + 1e-9, (end_error, angle)
     np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-8)
     # The body's equation at every sample (the last is the rest after the end).
     residual = a @ J.T + np.cross(w, w @ J.T) - tau
@@ -377,7 +383,7 @@ def check_thruster_level(data: dict[str, Any], axis: np.ndarray, angle_deg: floa
 
 
 @given(problems(), slew_axes, slew_angles)
-@_campaign(2)
+@_campaign(1)
 def test_thruster_level_profile_obeys_the_body_and_the_engines(data, axis, angle_deg) -> None:
     check_thruster_level(data, axis, angle_deg)
 
@@ -392,15 +398,16 @@ def test_thruster_level_many(data, axis, angle_deg) -> None:
 # ------------------------------------------------------------------ the command line
 
 
-# (command, output modes): the optimal slews in one mode by default, being minutes each
-# on a loaded machine; the slow run takes every mode.
+# (command, output modes by default): the optimal slews (a minute each on a loaded
+# machine; their profiles are checked above, and the command matrix runs them on three
+# problems) only in the slow run, which takes every command in every mode.
 CLI_COMMANDS = (
     (("model",), ("text", "json")),
     (("budget",), ("text", "json")),
     (("allocate", "--torque-mNm", "DEMAND"), ("text", "json")),
     (("slew", "--method", "bang-bang", "--axis", "AXIS"), ("text", "json")),
-    (("slew", "--method", "time-optimal", "--starts", "2", "--axis", "AXIS"), ("json",)),
-    (("slew", "--method", "time-optimal", "--thrusters", "--axis", "AXIS"), ("text",)),
+    (("slew", "--method", "time-optimal", "--starts", "2", "--axis", "AXIS"), ()),
+    (("slew", "--method", "time-optimal", "--thrusters", "--axis", "AXIS"), ()),
 )
 
 
@@ -444,3 +451,74 @@ def test_commands_never_exit_3(data, axis, tmp_path_factory) -> None:
 @_campaign(SLOW_EXAMPLES)
 def test_commands_many(data, axis, tmp_path_factory) -> None:
     check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
+
+
+# ------------------------------------------------------------------ two problems by hand
+
+
+def _round_off_swarm(paper_data: dict[str, Any]) -> dict[str, Any]:
+    """The paper's debris with eight CubeSats, each a main engine and two side engines
+    whose directions carry the round-off a computed direction has (cos 90 deg = 6e-17)."""
+    data = {k: v for k, v in paper_data.items() if k != "cubesat_layout"}
+    data["name"] = "round-off"
+    spots = [
+        ("-x", [0.0, 0.3, 0.2]),
+        ("+x", [0.75, 0.3, 0.2]),
+        ("-x", [0.0, 2.7, 0.8]),
+        ("+x", [0.75, 2.7, 0.8]),
+        ("-y", [0.375, 0.0, 0.2]),
+        ("+y", [0.375, 3.0, 0.8]),
+        ("-z", [0.2, 1.0, 0.0]),
+        ("+z", [0.5, 2.0, 1.0]),
+    ]
+    cubesats = []
+    for face, position in spots:
+        axis = "xyz".index(face[1])
+        inward = [0.0, 0.0, 0.0]
+        inward[axis] = -1.0 if face[0] == "+" else 1.0
+        side = [0.0, 0.0, 0.0]
+        side[(axis + 1) % 3] = 1.0
+        side[axis] = math.cos(math.pi / 2)
+        engines = [{"direction": d} for d in (inward, side, [-c for c in side])]
+        cubesats.append(
+            {
+                "position_corner_m": position,
+                "mass_kg": 3.5,
+                "inertia_kgm2": [0.0513, 0.0513, 0.0082],
+                "face": face,
+                "engines": engines,
+            }
+        )
+    data["cubesats"] = cubesats
+    return data
+
+
+def test_fuel_optimal_slew_with_round_off_in_engine_directions(paper_data) -> None:
+    """A direction component of 6e-17 is a valid input; the slew must not turn it to NaN."""
+    data = _round_off_swarm(paper_data)
+    problem, ref = problem_from_dict(data, "round-off"), reference(data)
+    angle = math.radians(30.0)
+    profile = fuel_optimal_slew(problem, "z", angle, duration_s=3000.0, options=_options(3000.0))
+    check_dynamics(profile, ref)
+    check_box(profile, ref)
+
+
+def test_paper_bang_bang_about_a_non_principal_axis_keeps_the_box(paper_data) -> None:
+    """The paper's debris, 180 deg about (1, 1, 1): the gyroscopic torque counts too."""
+    problem = problem_from_dict(paper_data, "paper")
+    profile = bang_bang_slew(problem, [1.0, 1.0, 1.0], math.pi, check_vibration=False)
+    # The reference's own geometry: the paper's layout expanded, as `model` lists it.
+    described = describe_model(problem)
+    r = np.array([t.position_m for t in described.thrusters])
+    d = np.array([t.direction for t in described.thrusters])
+    f_max = np.array([t.max_thrust_mN for t in described.thrusters]) * 1e-3
+    ref = Reference(
+        mass_kg=described.mass_kg,
+        cog_corner_m=np.asarray(described.cog_m),
+        inertia_kgm2=np.asarray(described.inertia_total_kgm2),
+        torque_per_N=np.cross(r, d).T,
+        direction=d.T,
+        max_thrust_N=f_max,
+    )
+    check_dynamics(profile, ref)
+    check_box(profile, ref)

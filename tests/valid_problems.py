@@ -258,7 +258,9 @@ def reference(data: dict[str, Any]) -> Reference:
             r = np.array(cubesat["position_corner_m"]) + np.array(engine.get("offset_m", [0, 0, 0]))
             torques.append(np.cross(r - cog, d))
             directions.append(d)
-            limits.append(engine["thrust_per_stage_mN"] * 1e-3)
+            # An engine without its own limit takes the file's [engine] one.
+            thrust_mN = engine.get("thrust_per_stage_mN", data["engine"]["thrust_per_stage_mN"])
+            limits.append(thrust_mN * 1e-3)
     return Reference(
         mass_kg=mass,
         cog_corner_m=cog,
