@@ -165,7 +165,10 @@ def axis_fuel_rates(
     the thrust is the least-fuel one and is counted in fuel-equivalent newtons.
     """
     torque_map = geometry.torque_map
-    small = 1e-6 * float(np.min(np.abs(torque_map[np.abs(torque_map) > 0])))
+    # Round-off in an engine's direction (cos 90 deg = 6e-17) is no lever: probed at 1e-6
+    # of it the LP's thrust underflows to zero and the rates divide 0 by 0.
+    levers = np.abs(torque_map)
+    small = 1e-6 * float(np.min(levers[levers > 1e-9 * levers.max()]))
     samples = np.vstack([small * np.eye(3), -small * np.eye(3)])
     thrust_N = least_fuel_thrust(geometry, samples, weights)[0]
     cost = thrust_N if weights is None else thrust_N * weights
