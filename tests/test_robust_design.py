@@ -83,6 +83,7 @@ def test_quick_design_is_consistent(problem):
     assert data["toolkit_version"] == casadi_debris.__version__
 
 
+@pytest.mark.slow
 def test_full_synthesis_reproduces_the_shipped_design(problem, shipped):
     """The paper's mu-synthesis, redone: robust performance reached, at least as well as
     the shipped design (a resynthesis may find a lower mu; it must not lose ground)."""

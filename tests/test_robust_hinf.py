@@ -71,6 +71,7 @@ def _rescaled(plant: control.StateSpace, seed: int) -> control.StateSpace:
     )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", range(24))
 def test_gamma_reaches_hinfsyn_on_random_plants_however_scaled(seed):
     plant, n_measurements, n_controls = _random_plant(seed)
