@@ -143,6 +143,11 @@ def _largest_scales(
     (scaled units: B in units of the largest lever, u of the largest thrust)."""
     n_engines = geometry.torque_map.shape[1]
     torque_map = geometry.torque_map / float(np.max(np.abs(geometry.torque_map)))
+    # Each direction at unit size, round-off components cleared: HiGHS drops coefficients
+    # under 1e-9, and a small torque's column would be dropped whole (an unbounded s).
+    sizes = np.max(np.abs(torques), axis=1)
+    torques = torques / sizes[:, None]
+    torques = np.where(np.abs(torques) < 1e-12, 0.0, torques)
     count = torques.shape[0]
     width = n_engines + 1
     blocks = []
@@ -163,7 +168,7 @@ def _largest_scales(
     )
     if result.status != 0 or result.x is None:
         raise CasadiDebrisError(f"torque-set LP of the slew check failed: {result.message}")
-    return np.asarray(result.x).reshape(count, width)[:, -1]
+    return np.asarray(result.x).reshape(count, width)[:, -1] / sizes
 
 
 def authority_use(

@@ -161,16 +161,24 @@ def axis_fuel_rates(
 
     The cost coefficients c_i of the torque-level fuel objective
     sum_i c_i^+ tau_i^+ + c_i^- tau_i^- (tau = tau^+ - tau^-), taken at a small
-    torque so that no engine bound is active. With ``weights`` (:func:`fuel_weights`)
+    torque (no engine bound active). With ``weights`` (:func:`fuel_weights`)
     the thrust is the least-fuel one and is counted in fuel-equivalent newtons.
     """
-    torque_map = geometry.torque_map
-    # Round-off in an engine's direction (cos 90 deg = 6e-17) is no lever: probed at 1e-6
-    # of it the LP's thrust underflows to zero and the rates divide 0 by 0.
-    levers = np.abs(torque_map)
-    small = 1e-6 * float(np.min(levers[levers > 1e-9 * levers.max()]))
-    samples = np.vstack([small * np.eye(3), -small * np.eye(3)])
-    thrust_N = least_fuel_thrust(geometry, samples, weights)[0]
-    cost = thrust_N if weights is None else thrust_N * weights
-    thrust = cost.sum(axis=1) / small
+    # The rates are the limit at vanishing torque, where no thrust bound is active: the
+    # LP per signed axis without upper bounds, in units of the strongest lever so that
+    # no lever of round-off size (cos 90 deg = 6e-17) decides the scale. An axis the
+    # engines cannot torque about is charged the elastic penalty.
+    lever = float(np.max(np.abs(geometry.torque_map)))
+    torque_map = geometry.torque_map / lever
+    n_engines = torque_map.shape[1]
+    cost_f = np.ones(n_engines) if weights is None else np.asarray(weights, dtype=float)
+    penalty = 1e6 * float(np.max(cost_f))
+    a_eq = np.hstack([torque_map, np.eye(3), -np.eye(3)])
+    cost = np.concatenate([cost_f, penalty * np.ones(6)])
+    thrust = np.empty(6)
+    for k, torque in enumerate(np.vstack([np.eye(3), -np.eye(3)])):
+        result = linprog(cost, A_eq=a_eq, b_eq=torque, bounds=(0.0, None), method="highs")
+        if result.status != 0 or result.fun is None:
+            raise SlewInfeasibleError(f"fuel rate LP failed: {result.message}")
+        thrust[k] = float(result.fun) / lever
     return thrust[:3], thrust[3:]
