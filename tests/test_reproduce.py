@@ -141,8 +141,8 @@ def _model(mass_kg: float, inertia: np.ndarray, torque: dict[str, float]) -> Mod
     return ModelDescription(
         problem="paper", problem_path="", problem_sha256="", mass_kg=mass_kg, cog_m=(),
         inertia_hub_cubesats_kgm2=tuple(map(tuple, inertia.tolist())), inertia_total_kgm2=(),
-        array_angle_deg=(), torque_max_mNm=torque, torque_max_zero_force_mNm={}, modes=(),
-        thrusters=(), notes=(),
+        array_angle_deg=(), arrays=(), torque_max_mNm=torque, torque_max_zero_force_mNm={},
+        modes=(), thrusters=(), notes=(),
     )  # fmt: skip
 
 

@@ -151,7 +151,7 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
         ["simulate", str(path), "--failed", "1,2", "--json", "--out", str(path.parent / "run")],
     )
     assert answer.exit_code == 0, answer.output
-    alone = json.loads(answer.output)
+    alone = json.loads(answer.stdout)
     # simulate flies the nominal plant; the corner here is another: fly it alone too.
     direct = simulate(
         problem,

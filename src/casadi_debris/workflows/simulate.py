@@ -273,8 +273,9 @@ def _with_slew(problem: Problem, axis: Axis | None, angle_deg: float | None) -> 
 
         fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
         changed = dataclasses.replace(changed, duration_s=None, torque_fraction=fraction)
-        LOGGER.info(
-            "The slew about the new axis at %s's torque fraction %.3f.", problem.name, fraction
+        # A warning, so that the command shows it: the turn keeps the share, not the time.
+        LOGGER.warning(
+            "the slew about the new axis flies at %s's torque fraction %.3f", problem.name, fraction
         )
     simulation = dataclasses.replace(problem.simulation, slew=changed)
     # The figures are titled from the description, which told of the file's own slew.
