@@ -54,34 +54,3 @@ def test_paper_thruster_slew_multistart(problem: Problem, geometry: Geometry) ->
     error = np.array(model.attitude_error(slew.target.q_final_BN, final[model.layout.q]))
     assert np.linalg.norm(error) < 1e-5
     assert np.linalg.norm(final[model.layout.omega]) < 1e-7
-
-
-def test_zero_net_force_starts_hold_the_net_force_at_zero(problem: Problem) -> None:
-    """Every start of a zero-net-force search lies on F f = 0 within the bounds (a
-    perturbed start off that plane kept IPOPT busy for minutes), and its torque is that
-    of the thrust it perturbs, within what the engines can give at zero net force."""
-    from casadi_debris.slew import SlewOptions, slew_about_axis
-    from casadi_debris.slew.global_slew import GlobalSlew
-    from casadi_debris.slew.initial_guess import BangBangReferences, bang_bang_guess
-    from casadi_debris.slew.ocp_problem import SlewOcp
-    from casadi_debris.slew.thruster_search import thruster_starts
-
-    options = SlewOptions(thrusters=True, zero_net_force=True, check_vibration=False)
-    ocp = SlewOcp(problem, slew_about_axis("z", math.pi), options)
-    reference = BangBangReferences(ocp).at(ocp.limit_duration_s)
-    eigenaxis = bang_bang_guess(ocp, reference, False, reference.duration_s)
-    # a box optimum of four held corners (outside the engines' torque set)
-    corners = np.array([[1, 1, 1], [1, -1, 1], [-1, 1, -1], [-1, -1, -1]]) * ocp.upper
-    box = GlobalSlew(np.linspace(0.0, 900.0, 5), corners, "test", 900.0, {})
-    starts = thruster_starts(ocp, eigenaxis, box, 4, seed=3)
-    assert [start.label.split()[0] for start in starts] == [
-        "eigenaxis",
-        "torque-box",
-        "perturbed",
-        "perturbed",
-    ]
-    unit = float(ocp.f_max.max())
-    for start in starts:
-        force = start.thrust_N @ ocp.geometry.force_map.T
-        assert np.abs(force).max() <= 1e-9 * unit, start.label
-        assert np.all(start.thrust_N >= 0.0) and np.all(start.thrust_N <= ocp.f_max)

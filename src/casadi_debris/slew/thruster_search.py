@@ -108,7 +108,8 @@ def thruster_starts(
     intervals = (ocp.options.intervals or 40) * GUESS_SUBDIVISION
     knots = np.linspace(0.0, eigenaxis.total_s, intervals + 1)
     eigen_thrust = eigenaxis.controls(0.5 * (knots[:-1] + knots[1:]))
-    # At zero net force every guess holds it too (see _without_net_force).
+    # At zero net force the guesses hold it too: a guess off that plane cost IPOPT most
+    # of its time getting back to it.
     box_thrust = least_fuel_thrust(
         ocp.geometry, box.torque_Nm, zero_net_force=ocp.options.zero_net_force
     )[0]
@@ -125,26 +126,8 @@ def thruster_starts(
         noisy = base.thrust_N * (1.0 + NOISE * rng.standard_normal(base.thrust_N.shape))
         stretched = base.knots_s * rng.uniform(*LENGTH_SPREAD)
         label = f"perturbed {base.label} {index + 1}"
-        thrust = np.clip(noisy, 0.0, upper)
-        if ocp.options.zero_net_force:
-            thrust = _without_net_force(ocp, thrust, upper)
-        starts.append(ThrusterStart(label, stretched, thrust, peak))
+        starts.append(ThrusterStart(label, stretched, np.clip(noisy, 0.0, upper), peak))
     return starts[:count]
-
-
-def _without_net_force(ocp: SlewOcp, thrust_N: np.ndarray, upper_N: np.ndarray) -> np.ndarray:
-    """The least-fuel thrust at zero net force of the torque ``thrust_N`` makes (N, shape
-    (k, n_engines)), within ``upper_N``: the perturbation kept in the torque, the guess on
-    the plane F f = 0 the NLP holds it to.
-
-    Measured on the paper's 180 deg z slew, one process: the perturbed torque-box start
-    with its thrust off that plane had IPOPT running for more than 13 minutes (stopped
-    there; the whole slew took 116 s in two processes on an idle machine, the other
-    starts 4 to 7 s each); projected, it converges in 4 s to the same optimum.
-    """
-    torque = thrust_N @ ocp.geometry.torque_map.T
-    held = least_fuel_thrust(ocp.geometry, torque, zero_net_force=True)[0]
-    return np.clip(held, 0.0, upper_N)
 
 
 def thruster_time_optimal(
