@@ -68,6 +68,12 @@ def _modules(folder: Path, dotted: str) -> list[str]:
     return found
 
 
+def _defines(folder: Path) -> bool:
+    """Whether a package's ``__init__.py`` defines functions or classes of its own."""
+    tree = ast.parse((folder / "__init__.py").read_text(encoding="utf-8"))
+    return any(isinstance(node, ast.FunctionDef | ast.ClassDef) for node in tree.body)
+
+
 def _directive(identifier: str, **options: object) -> str:
     lines = [f"::: {identifier}"]
     if options:
@@ -82,7 +88,9 @@ def package_page(name: str) -> str:
     dotted = f"{PACKAGE}.{name}"
     parts = [f"# `{dotted}`\n"]
     if path.is_dir():
-        parts.append(_directive(dotted, members=False))
+        # A package that defines its API in __init__.py (parallel) shows it; one that only
+        # re-exports shows its modules below instead of each name twice.
+        parts.append(_directive(dotted) if _defines(path) else _directive(dotted, members=False))
         parts.extend(
             _directive(module, show_root_heading=True, heading_level=2)
             for module in _modules(path, dotted)
