@@ -33,7 +33,7 @@ from casadi_debris.cli.slew import axis_options
 from casadi_debris.config import Problem, limits, load_problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table, write_csv, write_json_atomic
+from casadi_debris.report.common import format_figure, format_table, write_csv, write_json_atomic
 from casadi_debris.report.folders import RunFolder, check_output_folder, default_run_folder
 from casadi_debris.units import NM_PER_MNM
 
@@ -67,13 +67,9 @@ def summary_text(summary: RunRecord) -> str:
         ["max torque x, y, z [mNm]", ", ".join(f"{v:.3g}" for v in run.max_torque_mNm)],
         ["stage switches", run.stage_switches],
         ["wall time [s]", f"{run.wall_time_s:.2f}"],
-        ["requirements met", _yes_no(summary.requirements_met)],
+        ["requirements met", format_figure(summary.requirements_met)],
     ]
     return format_table(["figure", "value"], rows)
-
-
-def _yes_no(value: bool | None) -> str:
-    return "not judged" if value is None else ("yes" if value else "no")
 
 
 def segments_text(segments: Sequence[SegmentFigures] | None) -> str:
