@@ -45,7 +45,7 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_problem_path, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import (
     CampaignSetup,
     build_loop_step,
@@ -70,7 +70,7 @@ REPEAT = 3
 BASELINE_SCRIPT = """
 import json, resource, sys, time
 from casadi_debris.config import default_problem_path, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import CampaignSetup, corner_cases, run_campaign, scenario_reference
 from casadi_debris.workflows.controller import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")

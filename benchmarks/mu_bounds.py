@@ -17,7 +17,7 @@ import time
 import numpy as np
 
 from casadi_debris import load_problem
-from casadi_debris.model import build_model, linearize
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.robust import mu_bounds
 from casadi_debris.robust.interconnect import generalized_plant
 from casadi_debris.robust.uncertainty import frequency_response

@@ -38,7 +38,7 @@ from casadi_debris.config import (
     StarTracker,
     load_problem,
 )
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import scenario_reference
 from casadi_debris.simulation.closed_loop import StepInput
 from casadi_debris.simulation.noise import draw_noise

@@ -21,7 +21,7 @@ import time
 from collections.abc import Callable
 
 from casadi_debris import load_problem
-from casadi_debris.slew import (
+from casadi_debris.slews import (
     SlewProfile,
     bang_bang_slew,
     fuel_optimal_slew,

@@ -22,7 +22,7 @@ from collections.abc import Callable
 
 from casadi_debris import load_problem
 from casadi_debris.config import Problem
-from casadi_debris.slew import SlewProfile, bang_bang_slew, fuel_optimal_slew, time_optimal_slew
+from casadi_debris.slews import SlewProfile, bang_bang_slew, fuel_optimal_slew, time_optimal_slew
 from recording import Setting, start_benchmark
 
 SLEWS = {

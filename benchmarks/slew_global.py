@@ -25,7 +25,7 @@ from collections.abc import Callable
 import numpy as np
 
 from casadi_debris import load_problem
-from casadi_debris.slew import RigidBody, SlewProfile, time_optimal_slew
+from casadi_debris.slews import RigidBody, SlewProfile, time_optimal_slew
 from recording import Setting, start_benchmark
 
 BENCHMARK_S = 3.2431

@@ -15,8 +15,8 @@ import pytest
 
 from casadi_debris import load_problem
 from casadi_debris.config import Problem, default_problem_path, problem_from_dict
+from casadi_debris.dynamics import Model, build_model
 from casadi_debris.geometry import Geometry, build_geometry
-from casadi_debris.model import Model, build_model
 
 
 def pytest_configure(config: pytest.Config) -> None:

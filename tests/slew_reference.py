@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import Problem
-from casadi_debris.model import Model, build_model
+from casadi_debris.dynamics import Model, build_model
 
 
 def final_state(problem: Problem, slew: Any, modes: str | list) -> tuple[Model, np.ndarray]:
@@ -33,7 +33,7 @@ def final_state(problem: Problem, slew: Any, modes: str | list) -> tuple[Model, 
     return model, np.array(integrator(x0=start)["xf"])[:, -1]
 
 
-# -- limits, computed here apart from casadi_debris.slew.limits ----------------------------
+# -- limits, computed here apart from casadi_debris.slews.limits ----------------------------
 
 RATIO_SLACK = 1e-6
 
@@ -145,9 +145,9 @@ def check_every_profile(monkeypatch: Any) -> None:
     :func:`assert_checked` for a problem's, the box for a rigid body's. For a
     module-scoped autouse fixture, so that module-scoped slews are checked too."""
     from casadi_debris.config import Problem as ProblemType
-    from casadi_debris.slew import bang_bang, ocp_solution, optimal
-    from casadi_debris.slew.global_slew import rigid_body_profile
-    from casadi_debris.slew.profile import finish_profile
+    from casadi_debris.slews import bang_bang, ocp_solution, optimal
+    from casadi_debris.slews.global_slew import rigid_body_profile
+    from casadi_debris.slews.profile import finish_profile
 
     def finish(**keywords: Any) -> Any:
         slew = finish_profile(**keywords)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import scipy.linalg
 
-from casadi_debris.model import (
+from casadi_debris.dynamics import (
     assembled_modes,
     build_model,
     flexible_frequencies,

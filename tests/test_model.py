@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from casadi_debris.dynamics import INPUT_NAMES, build_model
 from casadi_debris.errors import InputShapeError, ModelError
-from casadi_debris.model import INPUT_NAMES, build_model
 
 
 def _integrate(model, x0, p, times, u=None):

@@ -11,8 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.errors import InputShapeError
-from casadi_debris.model.attitude import (
+from casadi_debris.dynamics.attitude import (
     attitude_error,
     attitude_error_vector,
     axis_angle_quaternion,
@@ -27,6 +26,7 @@ from casadi_debris.model.attitude import (
     rotation_matrix,
     rotation_to_quaternion,
 )
+from casadi_debris.errors import InputShapeError
 
 N_RANDOM = 200
 ROUND_OFF = 1e-14

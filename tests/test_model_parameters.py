@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
+from casadi_debris.dynamics import ParameterLayout, Parameters
 from casadi_debris.errors import InputShapeError, ModelError, ProblemFileError
-from casadi_debris.model import ParameterLayout, Parameters
 
 PAPER = ParameterLayout()
 
@@ -75,8 +75,8 @@ def test_bad_values_name_the_entry(call, message):
 
 
 def test_model_nominal_matches_the_problem(problem):
+    from casadi_debris.dynamics import build_model
     from casadi_debris.geometry import build_geometry
-    from casadi_debris.model import build_model
 
     model = build_model(problem, modes="first")
     nominal = model.nominal
@@ -98,7 +98,7 @@ def _independent(paper_data, angles: int = 2):
 
 
 def test_independent_array_angles_are_one_parameter_per_array(paper_data):
-    from casadi_debris.model import build_model
+    from casadi_debris.dynamics import build_model
     from casadi_debris.simulation import corner_cases
 
     problem = _independent(paper_data)

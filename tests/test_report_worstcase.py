@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
     DATASET_NAME,

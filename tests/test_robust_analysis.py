@@ -11,7 +11,7 @@ import pytest
 from scipy.optimize import brentq
 
 from casadi_debris.config import default_controller_path
-from casadi_debris.model import build_model, linearize
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.analysis import margin_study
 from casadi_debris.robust.controller import ControllerRecord

@@ -9,8 +9,8 @@ import pytest
 
 import casadi_debris
 from casadi_debris.config import default_controller_path
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import build_model, linearize
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller

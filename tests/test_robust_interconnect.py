@@ -6,7 +6,7 @@ import control
 import numpy as np
 import pytest
 
-from casadi_debris.model import build_model, linearize
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.robust.interconnect import generalized_plant
 from casadi_debris.robust.uncertainty import frequency_response
 from casadi_debris.robust.weights import performance_weights

@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.model import build_model, linearize
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant
 from casadi_debris.robust.parametric_loop import parametric_closed_loop
 from casadi_debris.robust.parametric_mu import ParametricMu, ParametricMuSummary, parametric_mu

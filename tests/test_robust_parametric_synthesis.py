@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.model import build_model, linearize
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.robust.mixed_mu import mu_bounds
 from casadi_debris.robust.parametric import fit_parametric_plant
 from casadi_debris.robust.parametric_loop import N_PERFORMANCE, parametric_generalized_plant

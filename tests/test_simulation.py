@@ -39,8 +39,8 @@ from casadi_debris.config import (
     load_problem,
     problem_from_dict,
 )
+from casadi_debris.dynamics import Model, build_model
 from casadi_debris.geometry import torque_authority
-from casadi_debris.model import Model, build_model
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (

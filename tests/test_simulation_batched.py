@@ -16,7 +16,7 @@ from click.testing import CliRunner
 from casadi_debris.allocation import Allocator
 from casadi_debris.cli import main
 from casadi_debris.config import FailureEvent, default_problem_path, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import (
     CampaignSetup,
     RunInputs,

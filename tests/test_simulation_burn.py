@@ -12,9 +12,9 @@ from scipy.optimize import linprog
 
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PropulsionState
+from casadi_debris.dynamics import build_model
 from casadi_debris.environment.orbit import CircularOrbit
 from casadi_debris.geometry import build_geometry
-from casadi_debris.model import build_model
 from casadi_debris.simulation.burn import first_stage_left, simulate_burn
 from casadi_debris.simulation.burn_figures import burn_figures
 from casadi_debris.simulation.burn_plan import (
@@ -132,7 +132,7 @@ def test_the_thrust_axis_holds_its_direction_within_the_requirement(flown) -> No
 
 
 def test_the_offset_puts_the_axis_on_the_direction() -> None:
-    from casadi_debris.model.attitude import quaternion_to_rotation
+    from casadi_debris.dynamics.attitude import quaternion_to_rotation
 
     rng = np.random.default_rng(3)
     for _ in range(5):

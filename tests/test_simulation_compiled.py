@@ -18,7 +18,7 @@ import pytest
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     build_loop_step,
@@ -38,7 +38,7 @@ import json, logging, sys
 logging.basicConfig(level=logging.INFO, stream=sys.stderr)
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import build_loop_step, discretize_controller
 

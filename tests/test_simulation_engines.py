@@ -26,7 +26,7 @@ from casadi_debris.config import (
     default_problem_path,
     problem_from_dict,
 )
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, Reference, scenario_reference, simulate
 from test_allocation_isp import twin_data

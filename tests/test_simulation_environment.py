@@ -18,8 +18,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from casadi_debris.config import ENVIRONMENT_TORQUES, Problem, default_controller_path, load_problem
+from casadi_debris.dynamics import Model, build_model
 from casadi_debris.environment import CircularOrbit, EnvironmentTorques, gravity_gradient_torque
-from casadi_debris.model import Model, build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, sample_reference, simulate
 

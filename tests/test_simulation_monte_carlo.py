@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import default_problem_path, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import (
     CampaignSetup,
     Envelope,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import Actuators, Gyro, Sensors, StarTracker, load_problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation.noise import draw_noise, reading_flags
 
 PERIOD_S = 0.1

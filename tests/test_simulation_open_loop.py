@@ -15,7 +15,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import SimulationError, open_loop_rigid
 
 # DOP853 at rtol 1e-12 against CVODES at reltol 1e-12: both far below this.

@@ -25,7 +25,7 @@ from casadi_debris.config import (
     load_problem,
 )
 from casadi_debris.config.realism import realism_fields
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation import build_loop_step, scenario_reference, simulate
 from casadi_debris.simulation.closed_loop import DiscreteController, StepInput, StepOutput
 from casadi_debris.simulation.noise import draw_noise

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import default_problem_path, load_problem
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.model import build_model
 from casadi_debris.simulation import generate_slew, sample_reference, scenario_reference
 
 SLEW_PROBLEM = default_problem_path().parent / "paper_slew.toml"

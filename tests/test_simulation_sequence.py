@@ -11,9 +11,9 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from casadi_debris.config import Problem, default_controller_path, load_problem, problem_from_dict
+from casadi_debris.dynamics import build_model
+from casadi_debris.dynamics.attitude import attitude_error
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.model import build_model
-from casadi_debris.model.attitude import attitude_error
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import generate_slew, sample_reference, scenario_reference, simulate
 from casadi_debris.simulation.sequence import (

@@ -14,10 +14,10 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.config import Problem, problem_from_dict
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
-from casadi_debris.model import build_model
-from casadi_debris.slew import (
+from casadi_debris.slews import (
     SlewOptions,
     bang_bang_slew,
     fuel_optimal_slew,
@@ -27,7 +27,7 @@ from casadi_debris.slew import (
     slew_between,
     time_optimal_slew,
 )
-from casadi_debris.slew.transcription import COLLOCATION_DEGREE, radau_coefficients
+from casadi_debris.slews.transcription import COLLOCATION_DEGREE, radau_coefficients
 from slew_reference import every_profile_checked, final_state  # noqa: F401 (autouse)
 
 PAPER_SLEW_DURATION_S = 1228.0  # paper, Section IV.A

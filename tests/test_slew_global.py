@@ -18,7 +18,7 @@ from scipy.integrate import solve_ivp
 
 from casadi_debris.cli import main
 from casadi_debris.config import Problem
-from casadi_debris.slew import RigidBody, time_optimal_slew
+from casadi_debris.slews import RigidBody, time_optimal_slew
 from slew_reference import every_profile_checked  # noqa: F401 (autouse)
 
 # Bilimoria & Wie, "Time-optimal three-axis reorientation of a rigid spacecraft",
@@ -150,7 +150,7 @@ def test_benchmark_against_an_independent_ocp(wie_slew: Any) -> None:
 
 def test_disagreeing_starts_are_reported_by_a_warning(caplog: pytest.LogCaptureFixture) -> None:
     body = RigidBody(np.eye(3), (1, 1, 1))
-    with caplog.at_level(logging.WARNING, logger="casadi_debris.slew"):
+    with caplog.at_level(logging.WARNING, logger="casadi_debris.slews"):
         slew = time_optimal_slew(body, "z", math.pi, starts=4, workers=1, refine=False)
     assert slew.settings["refinement"] == "not asked"
     assert slew.settings["starts"] == 4

@@ -18,8 +18,8 @@ from click.testing import CliRunner
 from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.config import Problem
-from casadi_debris.model import build_model
-from casadi_debris.slew import RigidBody, bang_bang_slew, time_optimal_slew
+from casadi_debris.dynamics import build_model
+from casadi_debris.slews import RigidBody, bang_bang_slew, time_optimal_slew
 from slew_reference import (  # noqa: F401 (every_profile_checked: autouse)
     _polytope,
     assert_checked,

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import Problem
-from casadi_debris.model import Model, build_model, linearize
-from casadi_debris.slew.modal import ModalResponse, modal_response
-from casadi_debris.slew.profile import simulate, vibration_energy, zoh_input_function
+from casadi_debris.dynamics import Model, build_model, linearize
+from casadi_debris.slews.modal import ModalResponse, modal_response
+from casadi_debris.slews.profile import simulate, vibration_energy, zoh_input_function
 
 
 @pytest.fixture(scope="module")

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from casadi_debris.errors import InputShapeError
-from casadi_debris.slew import RigidBody, SlewOptions, fuel_optimal_slew, time_optimal_slew
-from casadi_debris.slew.rigid_body import scaled_rigid_ode
+from casadi_debris.slews import RigidBody, SlewOptions, fuel_optimal_slew, time_optimal_slew
+from casadi_debris.slews.rigid_body import scaled_rigid_ode
 
 
 def test_defaults_and_conversion() -> None:

@@ -9,9 +9,9 @@ import pytest
 from scipy.optimize import linprog
 
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import build_model
 from casadi_debris.geometry import Geometry, max_thrust_N
-from casadi_debris.model import build_model
-from casadi_debris.slew import RigidBody, time_optimal_slew
+from casadi_debris.slews import RigidBody, time_optimal_slew
 from slew_reference import every_profile_checked, final_state  # noqa: F401 (autouse)
 
 

@@ -10,8 +10,8 @@ import pytest
 from scipy.optimize import linprog
 
 from casadi_debris.config import SIGNED_AXES, Problem
+from casadi_debris.dynamics import Model
 from casadi_debris.geometry import Geometry
-from casadi_debris.model import Model
 from casadi_debris.studies.failure_authority import (
     HOLDING_SAMPLES,
     case_authority,

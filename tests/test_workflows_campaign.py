@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
-from casadi_debris.model import build_model
 from casadi_debris.report.simulation import CampaignSummary
 from casadi_debris.workflows.campaign import (
     CaseSelection,

@@ -11,8 +11,8 @@ import pytest
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import FailureEvent, with_duration
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.model import build_model
 from casadi_debris.simulation import scenario_reference, simulate
 from casadi_debris.workflows.compare import compare_variants
 from casadi_debris.workflows.controller import controller_for

@@ -33,9 +33,9 @@ import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.config import ENVIRONMENT_TORQUES, Problem, default_controller_path
+from casadi_debris.dynamics import build_model
 from casadi_debris.environment import EnvironmentTorques
 from casadi_debris.geometry import build_geometry
-from casadi_debris.model import build_model
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import scenario_reference, simulate
 from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM

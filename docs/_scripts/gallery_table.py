@@ -40,7 +40,7 @@ from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem, default_problem_path
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.geometry import build_geometry, torque_authority
-from casadi_debris.slew import time_optimal_slew
+from casadi_debris.slews import time_optimal_slew
 
 REPOSITORY = Path(__file__).resolve().parents[2]
 PAGE = REPOSITORY / "docs" / "guide" / "gallery.md"

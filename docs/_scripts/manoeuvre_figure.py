@@ -23,8 +23,8 @@ import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.config import default_controller_path
-from casadi_debris.model import build_model
-from casadi_debris.model.attitude import euler_angles_321
+from casadi_debris.dynamics import build_model
+from casadi_debris.dynamics.attitude import euler_angles_321
 from casadi_debris.plots.slew import plot_segment_series
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import scenario_reference, simulate

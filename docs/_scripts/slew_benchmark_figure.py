@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from casadi_debris.plots.slew import plot_slew_comparison
-from casadi_debris.slew import RigidBody, time_optimal_slew
+from casadi_debris.slews import RigidBody, time_optimal_slew
 
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "slew_time_optimal_benchmark.png"
 

@@ -36,7 +36,7 @@ from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
 if TYPE_CHECKING:
-    from casadi_debris.slew import SlewProfile
+    from casadi_debris.slews import SlewProfile
 
 
 def summary_for_output(profile: SlewProfile, problem_name: str) -> dict[str, Any]:
@@ -199,7 +199,7 @@ class SlewRequest:
 
     def solve(self, problem: Problem) -> SlewProfile:
         """The profile of the chosen method."""
-        from casadi_debris.slew import (
+        from casadi_debris.slews import (
             SlewOptions,
             bang_bang_slew,
             fuel_optimal_slew,
@@ -569,7 +569,7 @@ def write_reference_csv(
     time_s: np.ndarray, quaternion_BN: np.ndarray, rate_rad_s: np.ndarray, folder: Path
 ) -> None:
     """profile.csv of a manoeuvre: time, quaternion, 3-2-1 Euler angles (deg), rate (deg/s)."""
-    from casadi_debris.model.attitude import euler_angles_321
+    from casadi_debris.dynamics.attitude import euler_angles_321
 
     columns: dict[str, np.ndarray] = {"time_s": time_s}
     for i in range(4):

@@ -121,7 +121,7 @@ class SlewReference:
     """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
 
     ``duration_s`` and ``torque_fraction`` are optional (None): the slew
-    methods then pick their own (see :mod:`casadi_debris.slew`). With
+    methods then pick their own (see :mod:`casadi_debris.slews`). With
     ``feedforward`` the profile's torque is added to the controller's demand
     (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
     thruster level with zero net force, as the closed loop's allocator keeps it,

@@ -43,7 +43,7 @@ _SEGMENT = re.compile(r"([A-Za-z_][A-Za-z0-9_]{0,63})((?:\[\d{1,6}\])*)")
 _INDEX = re.compile(r"\[(\d+)\]")
 PathPart = str | int
 NORMAL_CHECKED_SIGMAS = 4.0
-# A path without a dot names a model parameter (see casadi_debris.model.parameters).
+# A path without a dot names a model parameter (see casadi_debris.dynamics.parameters).
 _PARAMETER = re.compile(
     r"inertia_scale_[xyz]|mass_kg|array\d{0,3}_angle_offset_rad|bending_frequency_scale"
 )

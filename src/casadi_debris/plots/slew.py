@@ -9,10 +9,14 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 import numpy as np
 
-from casadi_debris.model.attitude import error_quaternion, euler_angles_321, quaternion_axis_angle
+from casadi_debris.dynamics.attitude import (
+    error_quaternion,
+    euler_angles_321,
+    quaternion_axis_angle,
+)
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.simulation.sequence import SegmentRecord
-from casadi_debris.slew import SlewProfile
+from casadi_debris.slews import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
 

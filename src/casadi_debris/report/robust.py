@@ -9,7 +9,7 @@ from typing import Any, cast
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.model import build_model, linearize
+from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.plots import robust as robust_plots
 from casadi_debris.records import Record
 from casadi_debris.report.common import write_json_atomic

@@ -40,7 +40,7 @@ from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
-from casadi_debris.slew import euler_angles_321
+from casadi_debris.slews import euler_angles_321
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
 if TYPE_CHECKING:

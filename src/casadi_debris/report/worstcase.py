@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.model import Model, ParameterLayout, Parameters
+from casadi_debris.dynamics import Model, ParameterLayout, Parameters
 from casadi_debris.plots.simulation import plot_closed_loop
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.common import write_csv, write_json_atomic

@@ -15,8 +15,8 @@ import control
 import numpy as np
 
 from casadi_debris.config import Problem, limits
+from casadi_debris.dynamics import build_model, linearization_function, linearize
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import build_model, linearization_function, linearize
 from casadi_debris.parallel import ItemFailure, parallel_map
 from casadi_debris.robust.margins import (
     CHANNELS,

@@ -21,8 +21,8 @@ import control
 import numpy as np
 
 from casadi_debris.config import Problem, limits
+from casadi_debris.dynamics import Model, build_model, linearize
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import Model, build_model, linearize
 from casadi_debris.records import Record
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.interconnect import GeneralizedPlant, generalized_plant

@@ -32,8 +32,8 @@ import control
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import build_model, linearization_function
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import build_model, linearization_function
 from casadi_debris.records import OPTIONAL, Record
 from casadi_debris.robust.blocks import block_structure
 from casadi_debris.robust.mixed_mu import PeakBounds, mu_bounds

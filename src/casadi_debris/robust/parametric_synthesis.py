@@ -30,8 +30,8 @@ import control
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import SynthesisError
-from casadi_debris.model import build_model
 from casadi_debris.robust.mu import mu_upper_bound
 from casadi_debris.robust.musyn import Iteration, MusynResult, musyn
 from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant

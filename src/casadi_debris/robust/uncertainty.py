@@ -17,8 +17,7 @@ import control
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.errors import SynthesisError
-from casadi_debris.model import (
+from casadi_debris.dynamics import (
     INERTIA_SCALE_NAMES,
     Model,
     ParameterLayout,
@@ -26,6 +25,7 @@ from casadi_debris.model import (
     linearization_function,
     linearize,
 )
+from casadi_debris.errors import SynthesisError
 from casadi_debris.robust.margins import FrequencyResponse
 
 

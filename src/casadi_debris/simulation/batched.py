@@ -29,7 +29,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.allocation import AuthorityPolytope
-from casadi_debris.model import Model
+from casadi_debris.dynamics import Model
 from casadi_debris.simulation.cases import Case
 from casadi_debris.simulation.closed_loop import (
     JIT_FLAGS,

@@ -38,9 +38,9 @@ import numpy as np
 
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import Model
+from casadi_debris.dynamics.attitude import quaternion_to_rotation
 from casadi_debris.environment.orbit import CircularOrbit
-from casadi_debris.model import Model
-from casadi_debris.model.attitude import quaternion_to_rotation
 from casadi_debris.simulation.burn_plan import (
     BurnPlan,
     BurnWindow,

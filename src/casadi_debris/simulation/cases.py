@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from casadi_debris.config import FailureEvent, Problem
-from casadi_debris.model import Model
+from casadi_debris.dynamics import Model
 from casadi_debris.records import Record
 from casadi_debris.robust.uncertainty import corner_angles, parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError

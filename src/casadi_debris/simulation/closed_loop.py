@@ -48,8 +48,8 @@ import control
 import numpy as np
 
 from casadi_debris.allocation import AuthorityPolytope
+from casadi_debris.dynamics import Model
 from casadi_debris.errors import CasadiDebrisError
-from casadi_debris.model import Model
 from casadi_debris.processes import process_alive
 from casadi_debris.simulation.disturbance import environment_function
 from casadi_debris.simulation.jit_cache import CompileError, compiled_function

@@ -1,11 +1,11 @@
 """The disturbance torque the closed loop applies: the problem's sine plus its environment.
 
-The sine (:attr:`~casadi_debris.model.Model.disturbance`) acts as a function of
+The sine (:attr:`~casadi_debris.dynamics.Model.disturbance`) acts as a function of
 time inside the integrator. The environment torques the problem's
 ``[environment]`` switches on (:class:`~casadi_debris.environment.EnvironmentTorques`)
 are evaluated once per control period, at its start, from the time, the
 attitude of the state ``x`` (its rotation matrix, from the model's own
-:func:`~casadi_debris.model.attitude.rotation_matrix`), the rigid inertia of
+:func:`~casadi_debris.dynamics.attitude.rotation_matrix`), the rigid inertia of
 the parameters ``p`` (the gravity gradient) and the arrays' angles of ``p``
 (the faces the air and the light see), and held over the period like the
 controller's torque. The arrays' deflection is left out of all three. With no
@@ -19,9 +19,9 @@ import math
 import casadi as ca
 import numpy as np
 
+from casadi_debris.dynamics import Model
+from casadi_debris.dynamics.attitude import rotation_matrix
 from casadi_debris.environment import EnvironmentTorques
-from casadi_debris.model import Model
-from casadi_debris.model.attitude import rotation_matrix
 
 
 def environment_function(model: Model) -> ca.Function | None:

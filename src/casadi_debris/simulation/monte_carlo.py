@@ -31,7 +31,7 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem, problem_with_values
-from casadi_debris.model import Model, build_model
+from casadi_debris.dynamics import Model, build_model
 from casadi_debris.parallel import (
     ItemFailure,
     MapResults,

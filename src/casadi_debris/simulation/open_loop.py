@@ -16,7 +16,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.simulation.closed_loop import SimulationError
 
 OPEN_LOOP_OPTIONS = {"abstol": 1e-13, "reltol": 1e-12, "max_num_steps": 1_000_000}

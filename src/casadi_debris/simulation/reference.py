@@ -12,9 +12,9 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
 from casadi_debris.config import Problem, Simulation, SlewReference, SlewSettings
+from casadi_debris.dynamics.attitude import quaternion_rate
 from casadi_debris.errors import InputShapeError, ProblemFileError, SlewInfeasibleError
-from casadi_debris.model.attitude import quaternion_rate
-from casadi_debris.slew import (
+from casadi_debris.slews import (
     SlewOptions,
     SlewProfile,
     SlewTarget,

@@ -24,7 +24,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionState
 from casadi_debris.allocation.authority import authority_polytope
 from casadi_debris.config import FailureEvent, Problem
-from casadi_debris.model import Model, Parameters
+from casadi_debris.dynamics import Model, Parameters
 from casadi_debris.simulation.batched import roll_together
 from casadi_debris.simulation.burn_plan import BurnWindow, burn_thrust_N, burn_windows
 from casadi_debris.simulation.closed_loop import (

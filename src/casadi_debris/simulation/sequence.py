@@ -37,7 +37,7 @@ from casadi_debris.errors import InputShapeError, ProblemFileError
 from casadi_debris.records import Record
 from casadi_debris.simulation.burn_plan import BurnPlan, burn_offset, strongest_axis
 from casadi_debris.simulation.targets import body_rates, frame_attitude, track_attitudes
-from casadi_debris.slew import SlewProfile, SlewTarget, slew_about_axis, slew_between
+from casadi_debris.slews import SlewProfile, SlewTarget, slew_about_axis, slew_between
 from casadi_debris.units import MN_PER_N
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
@@ -363,7 +363,7 @@ class SegmentRecord(Record):
         A slew profile's propellant (open loop).
     limits_ok : bool or None
         A slew profile within the engines' authority over its whole grid, gyroscopic
-        torque included (:mod:`casadi_debris.slew.limits`).
+        torque included (:mod:`casadi_debris.slews.limits`).
     worst_authority_share : float or None
         The largest share of the authority the slew's torque needs (per signed axis or
         in the engines' torque set; above 1 the loop cannot follow it).

@@ -33,13 +33,13 @@ from collections.abc import Callable
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.environment.orbit import CircularOrbit
-from casadi_debris.model.attitude import (
+from casadi_debris.dynamics.attitude import (
     axis_angle_quaternion,
     quaternion_multiply,
     quaternion_to_rotation,
     rotation_to_quaternion,
 )
+from casadi_debris.environment.orbit import CircularOrbit
 
 
 def lvlh_matrices(orbit: CircularOrbit, time_s: np.ndarray) -> np.ndarray:

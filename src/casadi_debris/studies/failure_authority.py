@@ -31,8 +31,8 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import Model
 from casadi_debris.geometry import Geometry, torque_authority
-from casadi_debris.model import Model
 from casadi_debris.studies.failure_cases import FailureCase
 from casadi_debris.studies.failure_records import HoldingRecord
 from casadi_debris.studies.failure_sets import axis_ratios, weakest_axis

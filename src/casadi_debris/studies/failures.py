@@ -17,7 +17,7 @@ how far), then by the least authority relative to the disturbance.
 Example
 -------
 >>> from casadi_debris import load_problem
->>> from casadi_debris.model import build_model
+>>> from casadi_debris.dynamics import build_model
 >>> from casadi_debris.studies.failures import FailureSettings, failure_study
 >>> problem = load_problem()
 >>> study = failure_study(problem, build_model(problem), FailureSettings(max_failed=1,
@@ -38,7 +38,7 @@ import control
 import numpy as np
 
 from casadi_debris.config import SIGNED_AXES, Problem
-from casadi_debris.model import Model
+from casadi_debris.dynamics import Model
 from casadi_debris.simulation import Case, nominal_case
 from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
 from casadi_debris.studies.failure_authority import (

@@ -3,7 +3,7 @@
 Every figure comes from the toolkit's own functions on the placed problem (the
 input problem with the layout's CubeSats as an explicit list): the authority from
 :func:`casadi_debris.geometry.torque_authority` (what ``casadi-debris model``
-reports), the slew time from :mod:`casadi_debris.slew.maneuver`'s eigenaxis
+reports), the slew time from :mod:`casadi_debris.slews.maneuver`'s eigenaxis
 bang-bang, the Δv from :mod:`casadi_debris.budgets`.
 """
 
@@ -20,7 +20,7 @@ from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.config.schema import CubeSat
 from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
-from casadi_debris.slew.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration
+from casadi_debris.slews.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration
 from casadi_debris.studies.failure_sets import axis_ratios
 from casadi_debris.studies.placement_data import bare_debris
 

@@ -18,7 +18,7 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import BurnDirection, Problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.report.burn import BurnReport, write_burn
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation.burn import (

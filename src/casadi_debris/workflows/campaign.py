@@ -28,8 +28,8 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import Model, Parameters, build_model
 from casadi_debris.errors import InputShapeError, ModelError
-from casadi_debris.model import Model, Parameters, build_model
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder

@@ -22,12 +22,12 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import SLEW_METHODS, Problem, SlewMethod
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import (
     AllocationError,
     InputShapeError,
     ModelError,
 )
-from casadi_debris.model import build_model
 from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation import (

@@ -64,7 +64,7 @@ from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings
 from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
-from casadi_debris.slew.maneuver import rigid_limit_duration
+from casadi_debris.slews.maneuver import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller

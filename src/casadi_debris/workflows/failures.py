@@ -34,7 +34,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from casadi_debris.config import Problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.report.failures import write_failures
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.studies.failure_cases import FailureCase, check_max_failed

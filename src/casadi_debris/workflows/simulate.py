@@ -29,7 +29,7 @@ from casadi_debris.workflows.controller import controller_for
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from casadi_debris.model import Model
+    from casadi_debris.dynamics import Model
     from casadi_debris.simulation.cases import Case
     from casadi_debris.simulation.reference import Reference
     from casadi_debris.simulation.run import ClosedLoopResult
@@ -184,7 +184,7 @@ def _chosen_case(
     the nominal); a case of ``[[montecarlo.vary]]`` that changes keys of the problem file
     flies its own problem and model."""
     from casadi_debris.config import problem_with_values
-    from casadi_debris.model import build_model
+    from casadi_debris.dynamics import build_model
 
     model = build_model(problem)
     if parameters is not None:

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.model import build_model
+from casadi_debris.dynamics import build_model
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.report.worstcase import (
     WorstCaseIdentity,

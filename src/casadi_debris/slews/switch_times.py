@@ -36,9 +36,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from casadi_debris.slew.multistart import RigidSlew, StartOutcome
-from casadi_debris.slew.rigid_body import N_RIGID_STATE, scaled_rigid_ode
-from casadi_debris.slew.transcription import ACCEPTED_STATUS, SolverOptions
+from casadi_debris.slews.multistart import RigidSlew, StartOutcome
+from casadi_debris.slews.rigid_body import N_RIGID_STATE, scaled_rigid_ode
+from casadi_debris.slews.transcription import ACCEPTED_STATUS, SolverOptions
 
 SATURATED = 1e-3  # |v| >= 1 - SATURATED: the channel is at a bound
 MAX_TRANSITION = 3  # intermediate intervals one switch may spread over

@@ -13,7 +13,7 @@ body frame B, quaternion scalar first:
     tau_min,i <= tau_i <= tau_max,i.
 
 Both slew engines scale these: time by a reference time T_s (the eigenaxis
-limit of the slew, :mod:`casadi_debris.slew.maneuver`), rates by 1 / T_s and
+limit of the slew, :mod:`casadi_debris.slews.maneuver`), rates by 1 / T_s and
 each torque by its axis' largest bound s_i = max(tau_max,i, -tau_min,i), so
 that with w = omega T_s and u_i = tau_i / s_i
 
@@ -31,8 +31,8 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from casadi_debris.dynamics.attitude import quaternion_product
 from casadi_debris.errors import InputShapeError
-from casadi_debris.model.attitude import quaternion_product
 
 # Relative slack of the checks on a measured inertia (symmetry, triangle inequality).
 INERTIA_TOLERANCE = 1e-9

@@ -52,10 +52,14 @@ from dataclasses import dataclass
 import casadi as ca
 
 from casadi_debris.config import Mode, Problem
+from casadi_debris.dynamics.attitude import (
+    attitude_error_vector,
+    quaternion_product,
+    rotation_matrix,
+)
+from casadi_debris.dynamics.cantilever import shape_integrals
+from casadi_debris.dynamics.parameters import ParameterLayout, Parameters
 from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
-from casadi_debris.model.attitude import attitude_error_vector, quaternion_product, rotation_matrix
-from casadi_debris.model.cantilever import shape_integrals
-from casadi_debris.model.parameters import ParameterLayout, Parameters
 
 INPUT_NAMES = (
     "torque_x_Nm",

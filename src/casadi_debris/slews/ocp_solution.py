@@ -1,4 +1,4 @@
-"""An NLP solution as a :class:`~casadi_debris.slew.profile.SlewProfile`.
+"""An NLP solution as a :class:`~casadi_debris.slews.profile.SlewProfile`.
 
 The held controls are integrated (CVODES) on the flexible model when the slew
 is flexible, else on the rigid one, sampled on the output grid with every
@@ -13,16 +13,16 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from casadi_debris.model import Model
-from casadi_debris.slew.ocp_problem import SlewOcp
-from casadi_debris.slew.profile import (
+from casadi_debris.dynamics import Model
+from casadi_debris.slews.ocp_problem import SlewOcp
+from casadi_debris.slews.profile import (
     SlewProfile,
     finish_profile,
     sample_grid,
     simulate,
     zoh_input_function,
 )
-from casadi_debris.slew.transcription import COLLOCATION_DEGREE, NlpSolution
+from casadi_debris.slews.transcription import COLLOCATION_DEGREE, NlpSolution
 
 
 def slew_profile(

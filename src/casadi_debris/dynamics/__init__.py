@@ -1,11 +1,11 @@
 """One symbolic CasADi model of the combined body, compiled and linearised.
 
-See :mod:`casadi_debris.model.flexible_body` for the equations.
+See :mod:`casadi_debris.dynamics.flexible_body` for the equations.
 """
 
-from casadi_debris.model.compiled import Model, build_model, select_modes
-from casadi_debris.model.flexible_body import INPUT_NAMES, StateLayout
-from casadi_debris.model.linearize import (
+from casadi_debris.dynamics.compiled import Model, build_model, select_modes
+from casadi_debris.dynamics.flexible_body import INPUT_NAMES, StateLayout
+from casadi_debris.dynamics.linearize import (
     Units,
     assembled_modes,
     flexible_frequencies,
@@ -13,7 +13,7 @@ from casadi_debris.model.linearize import (
     linearize,
     state_names,
 )
-from casadi_debris.model.parameters import INERTIA_SCALE_NAMES, ParameterLayout, Parameters
+from casadi_debris.dynamics.parameters import INERTIA_SCALE_NAMES, ParameterLayout, Parameters
 
 __all__ = [
     "INERTIA_SCALE_NAMES",

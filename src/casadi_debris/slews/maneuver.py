@@ -34,14 +34,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import AXIS_NAMES
-from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.geometry import Geometry, torque_authority
-from casadi_debris.model.attitude import (
+from casadi_debris.dynamics.attitude import (
     axis_angle_quaternion,
     error_quaternion,
     quaternion_axis_angle,
     quaternion_multiply,
 )
+from casadi_debris.errors import InputShapeError, SlewInfeasibleError
+from casadi_debris.geometry import Geometry, torque_authority
 
 QUATERNION_TOLERANCE = 1e-9
 

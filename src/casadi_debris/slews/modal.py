@@ -2,7 +2,7 @@
 
 Linearised about rest, the flexible model is x_dot = A x + B u with
 x = [theta, omega, v, eta, eta_dot] (theta = 2 q_vec, the model's own
-``dynamics`` differentiated, as in :func:`casadi_debris.model.linearize` but
+``dynamics`` differentiated, as in :func:`casadi_debris.dynamics.linearize` but
 with the CoG velocity and all nine inputs kept, so that the engines' net force
 excites the arrays as well). A has the rigid eigenvalue 0 (a Jordan block:
 attitude integrates rate) and one lightly damped complex pair per assembled
@@ -16,7 +16,7 @@ An input held at u_j over an interval of length h_j therefore takes it to
 (the zero-order-hold discretisation of a first-order mode, Franklin, Powell &
 Workman, *Digital Control*, ch. 4).
 
-The vibration energy (:func:`casadi_debris.slew.profile.vibration_energy`) is
+The vibration energy (:func:`casadi_debris.slews.profile.vibration_energy`) is
 zero on rigid motion and non-negative, so to second order it is the quadratic
 form 1/2 x_o^T H x_o of the oscillatory part alone, x_o = 2 Re sum_k v_k xi_k
 over the pairs with Im lambda_k > 0 (H its Hessian at rest). The step holds for
@@ -37,7 +37,7 @@ from typing import TypeVar
 import casadi as ca
 import numpy as np
 
-from casadi_debris.model import Model
+from casadi_debris.dynamics import Model
 
 # One kind of CasADi matrix throughout a call: numbers (DM) when marching a profile,
 # symbols (SX, MX) when building a constraint. CasADi does not mix SX and MX.
@@ -131,7 +131,7 @@ def _small_angle_state(model: Model, z: ca.SX) -> ca.SX:
 
 
 def vibration_energy_expression(model: Model, state: Symbolic, parameters: np.ndarray) -> Symbolic:
-    """Symbolic :func:`~casadi_debris.slew.profile.vibration_energy` of a full state (J)."""
+    """Symbolic :func:`~casadi_debris.slews.profile.vibration_energy` of a full state (J)."""
     lay = model.layout
     mass = np.array(model.mass_matrix(parameters))
     nu = ca.vertcat(state[lay.v], state[lay.omega], state[lay.eta_dot])

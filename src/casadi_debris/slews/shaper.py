@@ -5,7 +5,7 @@ OCP, said so in ``settings["flexible_method"]``) keeps the optimal rigid
 profile and passes it through the cascaded zero-vibration input shaper
 (:func:`zero_vibration_shaper`); it lengthens the slew by the shaper's length
 (1.38 s for the paper's arrays); fuel-optimal slews give the rigid problem that
-much less time. The modal OCP (:mod:`casadi_debris.slew.modal_window`) starts
+much less time. The modal OCP (:mod:`casadi_debris.slews.modal_window`) starts
 from the shaped rigid optimum too.
 """
 
@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from casadi_debris.model import Model, linearize
+from casadi_debris.dynamics import Model, linearize
 
 
 def zero_vibration_shaper(
@@ -24,7 +24,7 @@ def zero_vibration_shaper(
     """Cascaded zero-vibration (ZV) input shaper for every array mode of a model.
 
     For a mode of natural frequency omega_n and damping zeta (poles of the
-    model linearised at rest, :func:`casadi_debris.model.linearize`) the ZV
+    model linearised at rest, :func:`casadi_debris.dynamics.linearize`) the ZV
     shaper (Singer & Seering, J. Dyn. Sys. Meas. Control 112, 1990) is two
     impulses
 

@@ -6,7 +6,7 @@ Functions, never the raw expressions: one model, one set of equations.
 Example
 -------
 >>> from casadi_debris import load_problem
->>> from casadi_debris.model import build_model
+>>> from casadi_debris.dynamics import build_model
 >>> model = build_model(load_problem())
 >>> x0 = model.initial_state()
 >>> xdot = model.dynamics(x0, [0.001, 0, 0] + [0] * 6, model.nominal_parameters)
@@ -23,11 +23,11 @@ import numpy as np
 import numpy.typing as npt
 
 from casadi_debris.config import Mode, Problem
+from casadi_debris.dynamics.attitude import attitude_error_vector
+from casadi_debris.dynamics.flexible_body import INPUT_NAMES, FlexibleBodyEquations, StateLayout
+from casadi_debris.dynamics.parameters import ParameterLayout, Parameters
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.geometry import Geometry, build_geometry
-from casadi_debris.model.attitude import attitude_error_vector
-from casadi_debris.model.flexible_body import INPUT_NAMES, FlexibleBodyEquations, StateLayout
-from casadi_debris.model.parameters import ParameterLayout, Parameters
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 
 

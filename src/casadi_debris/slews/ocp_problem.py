@@ -6,7 +6,7 @@ modes=[])``, full rigid inertia), called with the sensor state equal to the
 attitude (its derivative is then zero). Controls, held on each interval:
 
 - torque level: tau in the per-axis box of the engines' authority
-  (:func:`~casadi_debris.slew.maneuver.torque_limits`, times ``torque_fraction``);
+  (:func:`~casadi_debris.slews.maneuver.torque_limits`, times ``torque_fraction``);
 - thruster level: the thrust of every engine, 0 <= f_i <= f_max,i; the model
   receives tau = B f and F = B_F f (geometry torque and force maps), so the
   profile is realisable by construction.
@@ -23,8 +23,8 @@ e the model's attitude error (three equations; q(T) = q_f would be four,
 nearly rank deficient) and h the angular momentum (``model.momenta``).
 
 This module states the problem and nothing about how it is solved: the direct
-collocation is :mod:`casadi_debris.slew.transcription`, the flexible terminal
-window :mod:`casadi_debris.slew.modal_window`.
+collocation is :mod:`casadi_debris.slews.transcription`, the flexible terminal
+window :mod:`casadi_debris.slews.modal_window`.
 """
 
 from __future__ import annotations
@@ -33,17 +33,17 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import max_thrust_N
-from casadi_debris.model import build_model
-from casadi_debris.slew.maneuver import (
+from casadi_debris.slews.maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
     rigid_limit_duration,
     torque_limits,
 )
-from casadi_debris.slew.options import SlewOptions
-from casadi_debris.slew.propellant import axis_fuel_rates, fuel_weights
+from casadi_debris.slews.options import SlewOptions
+from casadi_debris.slews.propellant import axis_fuel_rates, fuel_weights
 
 # Rows of the model input [tau (3), tau_d (3), F (3)] the controls act on.
 TORQUE_ROWS = [0, 1, 2]

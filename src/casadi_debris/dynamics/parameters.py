@@ -22,7 +22,7 @@ Entries, in order:
 Example
 -------
 >>> from casadi_debris import load_problem
->>> from casadi_debris.model import build_model
+>>> from casadi_debris.dynamics import build_model
 >>> model = build_model(load_problem())
 >>> corner = model.nominal.replace(mass_kg=700.0, array_angle_offset_rad=0.5)
 >>> p = corner.to_vector()  # for model.dynamics(x, u, p)

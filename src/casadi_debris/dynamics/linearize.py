@@ -23,8 +23,8 @@ import control
 import numpy as np
 import numpy.typing as npt
 
+from casadi_debris.dynamics.compiled import Model
 from casadi_debris.errors import InputShapeError, ModelError
-from casadi_debris.model.compiled import Model
 
 Units = Literal["SI", "deg_mNm"]
 UNITS: tuple[Units, ...] = ("SI", "deg_mNm")

@@ -2,7 +2,7 @@
 
 Profile
 -------
-The eigenaxis angle theta(t) (see :mod:`casadi_debris.slew.maneuver`) follows a
+The eigenaxis angle theta(t) (see :mod:`casadi_debris.slews.maneuver`) follows a
 symmetric accelerate / coast / decelerate law with angular acceleration
 magnitude a = torque_fraction * alpha_max. With smoothed switching the
 acceleration ramps linearly over ``smoothing_s`` at every switch (a trapezoidal
@@ -55,12 +55,12 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
+from casadi_debris.dynamics import Model, build_model
+from casadi_debris.dynamics.attitude import axis_angle_quaternion, quaternion_multiply
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import torque_authority
-from casadi_debris.model import Model, build_model
-from casadi_debris.model.attitude import axis_angle_quaternion, quaternion_multiply
-from casadi_debris.slew.limits import authority_use
-from casadi_debris.slew.maneuver import (
+from casadi_debris.slews.limits import authority_use
+from casadi_debris.slews.maneuver import (
     SlewTarget,
     check_positive,
     check_torque_fraction,
@@ -69,7 +69,7 @@ from casadi_debris.slew.maneuver import (
     slew_about_axis,
     torque_limits,
 )
-from casadi_debris.slew.profile import SlewProfile, finish_profile, input_vector, sample_grid
+from casadi_debris.slews.profile import SlewProfile, finish_profile, input_vector, sample_grid
 
 DEFAULT_SAMPLE_S = 1.0
 
@@ -385,7 +385,7 @@ def bang_bang_slew(
     axis, angle_rad
         Eigenaxis and angle (ignored when ``target`` is given).
     target : SlewTarget, optional
-        Any rest-to-rest attitude pair (:func:`~casadi_debris.slew.slew_between`).
+        Any rest-to-rest attitude pair (:func:`~casadi_debris.slews.slew_between`).
     duration_s, torque_fraction, rate_limit_rad_s, smoothing_s
         See :func:`sized_timing`: ``torque_fraction`` is the largest share of the
         authority (at zero net force, as the closed loop's allocator flies it) the
