@@ -78,7 +78,7 @@ def burn(
     thrust_fraction: float | None,
     thrust_mN: float | None,
     first_stage_left_s: float | None,
-    controller_path: Path | None,
+    controller: Path | None,
     allow_mismatch: bool,
     no_jit: bool,
     out: Path | None,
@@ -104,13 +104,13 @@ def burn(
         thrust_fraction=1.0 if thrust_fraction is None else thrust_fraction,
         thrust_mN=thrust_mN,
         first_stage_left_s=first_stage_left_s,
-        controller=controller_path,
+        controller=controller,
         allow_mismatch=allow_mismatch,
         jit=not no_jit,
     )
     folder = run_folder(out, "burn", problem.name, overwrite)
     burn_plan(problem, request)  # refuses what cannot be flown before the long part
-    controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
+    controller_for(problem, controller, allow_mismatch=allow_mismatch)
     say(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")
     report = burn_into(problem, folder, request, overwrite=overwrite)
     if as_json:

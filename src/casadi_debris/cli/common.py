@@ -91,7 +91,7 @@ def run_folder(out: Path | None, command: str, problem_name: str, overwrite: boo
 
 controller_option = click.option(
     "--controller",
-    "controller_path",
+    "controller",
     type=click.Path(path_type=Path, dir_okay=False),
     default=None,
     help="Controller file written by synthesize [the shipped paper controller, for the paper's "

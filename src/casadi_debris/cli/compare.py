@@ -33,7 +33,7 @@ from casadi_debris.report.common import format_table
 def compare(
     problem_files: tuple[Path, ...],
     methods: str | None,
-    controller_path: Path | None,
+    controller: Path | None,
     allow_mismatch: bool,
     out: Path,
     overwrite: bool,
@@ -61,7 +61,7 @@ def compare(
     summary = compare_variants(
         problems,
         chosen,
-        controller_path,
+        controller,
         out,
         overwrite=overwrite,
         progress=progress,

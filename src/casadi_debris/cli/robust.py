@@ -146,7 +146,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 @output_options
 def margins(
     problem_file: Path | None,
-    controller_path: Path | None,
+    controller: Path | None,
     allow_mismatch: bool,
     samples: int,
     seed: int | None,
@@ -160,7 +160,7 @@ def margins(
     from casadi_debris.workflows.controller import controller_for
 
     problem = load_problem(problem_file)
-    record, path = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
+    record, path = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     folder = run_folder(out_dir, "margins", problem.name, overwrite)
 
     def progress(done: int, total: int) -> None:

@@ -149,7 +149,7 @@ def read_torque_table(path: Path) -> tuple[np.ndarray, np.ndarray]:
 )
 @click.option(
     "--parameters",
-    "parameters_file",
+    "parameters",
     type=click.Path(path_type=Path, dir_okay=False),
     help='Run at the parameters of a JSON file ({"parameters": {name: value}}, as '
     "worstcase writes them).",
@@ -185,14 +185,14 @@ def simulate(
     corner: int | None,
     sample: int | None,
     seed: int | None,
-    parameters_file: Path | None,
+    parameters: Path | None,
     open_loop: Path | None,
     rigid: bool,
     duration_s: float | None,
     axis: str | tuple[float, float, float] | None,
     angle_deg: float | None,
     failed: str | None,
-    controller_path: Path | None,
+    controller: Path | None,
     allow_mismatch: bool,
     out: Path | None,
     no_plots: bool,
@@ -217,12 +217,12 @@ def simulate(
 
     run = simulate_run(
         problem,
-        controller=controller_path,
+        controller=controller,
         allow_mismatch=allow_mismatch,
         corner=corner,
         sample=sample,
         seed=seed,
-        parameters=parameters_file,
+        parameters=parameters,
         duration_s=duration_s,
         axis=axis,
         angle_deg=angle_deg,
@@ -341,7 +341,7 @@ def montecarlo(
     max_cases: int | None,
     workers: int,
     scheduler: str | None,
-    controller_path: Path | None,
+    controller: Path | None,
     allow_mismatch: bool,
     no_jit: bool,
     batch_cases: int,
@@ -371,7 +371,7 @@ def montecarlo(
     try:
         summary = run_campaign_folder(
             problem,
-            controller_path,
+            controller,
             selection,
             out or default_run_folder("montecarlo", problem.name),
             workers=workers,

@@ -55,7 +55,7 @@ if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the comma
 @run_folder_options("worstcase")
 def worstcase(
     problem_file: Path | None,
-    controller_path: Path | None,
+    controller: Path | None,
     allow_mismatch: bool,
     budget: int,
     seed: int,
@@ -90,7 +90,7 @@ def worstcase(
 
     summary = run_worstcase_folder(
         problem,
-        controller_path,
+        controller,
         folder,
         overwrite=overwrite,
         campaign=campaign,

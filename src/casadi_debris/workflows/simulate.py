@@ -19,10 +19,10 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from casadi_debris.config import FailureEvent, Problem, load_problem, with_duration
+from casadi_debris.config import FailureEvent, Problem, with_duration
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import RunRecord, one_case, parameters_case, run_summary
 from casadi_debris.workflows.controller import controller_for
 
@@ -41,7 +41,7 @@ Axis = str | tuple[float, float, float]
 
 
 @dataclass(frozen=True)
-class SimulationResult:
+class SimulationResult(JobResult):
     """One closed-loop run: the problem flown, its arrays and its figures.
 
     Attributes
@@ -72,40 +72,28 @@ class SimulationResult:
         title = f"{figure_title(self.problem)} ({self.summary.case_id})"
         return run_figures(self.result, self.problem, title)
 
-    def save(self, folder: str | Path, *, overwrite: bool = False, plots: bool = True) -> Path:
-        """Write the run into ``folder`` as the command does: ``summary.json``,
-        ``series.csv``, ``closed_loop.png`` and ``thrust.png`` (with ``plots``), and
-        ``segments.json`` for a sequence.
+    command = "simulate"
 
-        The folder is written whole or not at all; an existing one is replaced only
-        with ``overwrite`` and only if this toolkit wrote it.
-
-        Returns
-        -------
-        Path
-            The folder written.
-        """
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """``summary.json``, ``series.csv``, ``closed_loop.png`` and ``thrust.png`` (with
+        ``plots``), and ``segments.json`` for a sequence."""
         from casadi_debris.report.simulation import figure_title, write_run
 
-        out = Path(folder)
-        check_output_folder(out, overwrite=overwrite)
         summary = dataclasses.replace(self.summary, out_dir=str(out.absolute()))
-        with RunFolder.claim(out, overwrite=overwrite, command="simulate") as staging:
-            write_run(
-                staging,
-                self.result,
-                summary,
-                self.problem,
-                with_plots=plots,
-                title=f"{figure_title(self.problem)} ({summary.case_id})",
-            )
-            if self.segments is not None:
-                write_json_atomic(staging / "segments.json", {"segments": list(self.segments)})
-        return out
+        write_run(
+            staging,
+            self.result,
+            summary,
+            self.problem,
+            with_plots=plots,
+            title=f"{figure_title(self.problem)} ({summary.case_id})",
+        )
+        if self.segments is not None:
+            write_json_atomic(staging / "segments.json", {"segments": list(self.segments)})
 
 
 def simulate(
-    problem: Problem | str | Path | None = None,
+    problem: ProblemLike = None,
     *,
     controller: str | Path | None = None,
     allow_mismatch: bool = False,
@@ -155,9 +143,7 @@ def simulate(
     ControllerMismatchError
         The controller was designed for another plant (and ``allow_mismatch`` is false).
     """
-    if not isinstance(problem, Problem):
-        problem = load_problem(problem)
-    problem = _as_asked(problem, duration_s, axis, angle_deg, failed)
+    problem = _as_asked(as_problem(problem), duration_s, axis, angle_deg, failed)
     from casadi_debris.simulation import scenario_reference
     from casadi_debris.simulation.monte_carlo import fly_case
 
