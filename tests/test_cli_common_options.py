@@ -60,7 +60,7 @@ PARAMETERS = {
     "compare": [
         "problem_files",
         "methods",
-        "controller_path",
+        "controller",
         "allow_mismatch",
         "out",
         "overwrite",
@@ -81,7 +81,7 @@ PARAMETERS = {
     ],
     "margins": [
         "problem_file",
-        "controller_path",
+        "controller",
         "allow_mismatch",
         "samples",
         "seed",
@@ -95,14 +95,14 @@ PARAMETERS = {
         "corner",
         "sample",
         "seed",
-        "parameters_file",
+        "parameters",
         "open_loop",
         "rigid",
         "duration_s",
         "axis",
         "angle_deg",
         "failed",
-        "controller_path",
+        "controller",
         "allow_mismatch",
         "out",
         "no_plots",
@@ -117,7 +117,7 @@ PARAMETERS = {
         "max_cases",
         "workers",
         "scheduler",
-        "controller_path",
+        "controller",
         "allow_mismatch",
         "no_jit",
         "batch_cases",
@@ -207,7 +207,7 @@ def test_overwrite_and_json_are_the_shared_flags(name: str) -> None:
 def test_controller_options_are_the_file_and_the_mismatch_flag(name: str) -> None:
     options = _options(name)
     controller, mismatch = options["--controller"], options["--allow-mismatch"]
-    assert controller.name == "controller_path" and controller.default is None
+    assert controller.name == "controller" and controller.default is None
     assert controller.help == CONTROLLER_HELP  # type: ignore[attr-defined]
     assert mismatch.help == MISMATCH_HELP  # type: ignore[attr-defined]
     assert mismatch.is_flag  # type: ignore[attr-defined]

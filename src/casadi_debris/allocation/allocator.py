@@ -74,17 +74,13 @@ from casadi_debris.allocation.results import AllocationResult, BatchAllocation, 
 from casadi_debris.allocation.scaled_qp import ScaledQp
 from casadi_debris.allocation.series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
-from casadi_debris.errors import AllocationError, InputShapeError
+from casadi_debris.errors import AllocationError, InputShapeError, NoEngineError
 from casadi_debris.geometry import Geometry, build_geometry, max_thrust_N
 
 __all__ = ["DEFAULT_SOLVER", "SATURATION_MODES", "Allocator", "NoEngineError"]
 
 SATURATION_MODES: tuple[SaturationMode, ...] = ("scale", "least_squares")
 DEFAULT_SOLVER = "daqp"
-
-
-class NoEngineError(AllocationError):
-    """Every CubeSat has failed or is spent: no torque can be made."""
 
 
 class Allocator(SolvePaths):

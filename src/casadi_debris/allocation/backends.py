@@ -30,7 +30,7 @@ from typing import Any, Literal, NamedTuple
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.errors import AllocationError
+from casadi_debris.errors import AllocationError, UnknownSolverError
 
 NATIVE_SOLVERS = ("daqp", "osqp")
 QPSOLVERS_PREFIX = "qpsolvers:"
@@ -60,10 +60,6 @@ GENERIC_SETTINGS: dict[str, dict[str, Any]] = {
 DAQP_INFEASIBLE_FLAGS = (-1,)
 
 QpStatus = Literal["optimal", "infeasible", "failed"]
-
-
-class UnknownSolverError(AllocationError):
-    """A QP back-end was asked for by a name that is not installed."""
 
 
 class QpSolution(NamedTuple):

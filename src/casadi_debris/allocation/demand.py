@@ -46,7 +46,7 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.errors import AllocationError, InputShapeError
+from casadi_debris.errors import AllocationError, DemandError
 
 # A demand component beyond this many times the largest component any thrust
 # within the limits can make is refused.
@@ -70,49 +70,6 @@ SMALL_DEMAND_LEVELS = (SMALL_DEMAND, 1e-2, 1e-4, 1e-6)
 # Size a demand is stretched to (when smaller) for the HiGHS fallback, whose
 # tolerances are absolute as well (1e-10).
 FALLBACK_SIZE = 0.5
-
-
-class DemandError(AllocationError, InputShapeError):
-    """A demand the allocator refuses: wrong shape, not finite, or absurdly large.
-
-    Both an :class:`~casadi_debris.errors.AllocationError` and an
-    :class:`~casadi_debris.errors.InputShapeError` (what shape and finiteness
-    errors were before).
-
-    Parameters
-    ----------
-    argument : str
-        Name of the argument, e.g. ``"torque_Nm"``.
-    problem : str
-        What is wrong, without the values.
-    values : list of float, optional
-        The offending demand (or row), in SI.
-    unit : str
-        Unit of ``values``.
-    row : int, optional
-        Row of a batch or series (0-based).
-    bound : float, optional
-        The largest component accepted [``unit``], for an absurd demand.
-    """
-
-    def __init__(
-        self,
-        argument: str,
-        problem: str,
-        *,
-        values: list[float] | None = None,
-        unit: str = "",
-        row: int | None = None,
-        bound: float | None = None,
-    ) -> None:
-        self.argument = argument
-        self.problem = problem
-        self.values = values
-        self.row = row
-        self.bound = bound
-        where = argument if row is None else f"{argument}[{row}]"
-        got = "" if values is None else f" (got {values}{' ' + unit if unit else ''})"
-        super().__init__(f"{where}: {problem}{got}")
 
 
 def _refuse(

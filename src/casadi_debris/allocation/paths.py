@@ -45,15 +45,9 @@ from casadi_debris.allocation.saturation import (
     rescue,
 )
 from casadi_debris.allocation.scaled_qp import THRUST_ROUND_OFF, ScaledQp
+from casadi_debris.errors import AllocationInternalError
 
 SaturationMode = Literal["scale", "least_squares"]
-
-
-class AllocationInternalError(RuntimeError):
-    """Neither the back-end nor HiGHS gave a finite allocation within the promised accuracy.
-
-    A bug, not bad input (the command line reports it as an internal error).
-    """
 
 
 class SolvePaths:

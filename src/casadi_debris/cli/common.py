@@ -16,7 +16,7 @@ import click
 
 from casadi_debris._version import __version__
 from casadi_debris.config.limits import SEED, UNCERTAINTY_SAMPLES, Range
-from casadi_debris.errors import CasadiDebrisError, InputShapeError
+from casadi_debris.errors import CasadiDebrisError, InputShapeError, InternalError
 from casadi_debris.report.common import json_ready
 
 EXIT_BAD_INPUT = 2
@@ -31,20 +31,27 @@ def friendly_errors(command: Callable[..., None]) -> Callable[..., None]:
     def wrapper(*args: Any, **kwargs: Any) -> None:
         try:
             command(*args, **kwargs)
+        except InternalError as exc:
+            _internal(exc)
         except CasadiDebrisError as exc:
             click.echo(f"error: {exc}", err=True)
             sys.exit(EXIT_BAD_INPUT)
         except Exception as exc:  # a bug, not bad input: say so without a traceback
-            if os.environ.get("CASADI_DEBRIS_DEBUG", "") not in ("", "0"):
-                raise
-            click.echo(
-                f"internal error: {type(exc).__name__}: {exc} "
-                "(please report it; set CASADI_DEBRIS_DEBUG=1 for the traceback)",
-                err=True,
-            )
-            sys.exit(EXIT_INTERNAL)
+            _internal(exc)
 
     return wrapper
+
+
+def _internal(exc: Exception) -> None:
+    """A bug, not bad input: one line and exit 3, or the traceback when debugging."""
+    if os.environ.get("CASADI_DEBRIS_DEBUG", "") not in ("", "0"):
+        raise exc
+    click.echo(
+        f"internal error: {type(exc).__name__}: {exc} "
+        "(please report it; set CASADI_DEBRIS_DEBUG=1 for the traceback)",
+        err=True,
+    )
+    sys.exit(EXIT_INTERNAL)
 
 
 problem_argument = click.argument(

@@ -22,7 +22,7 @@ from casadi_debris.config.limits import MAX_EXTENDS_DEPTH, MAX_FILE_BYTES
 from casadi_debris.config.reader import problem_from_dict
 from casadi_debris.config.schema import Problem
 from casadi_debris.config.table import show
-from casadi_debris.errors import CasadiDebrisError, ProblemFileError
+from casadi_debris.errors import ProblemFileError, UnreadableFileError
 
 
 def _merge(base: Mapping[str, Any], override: Mapping[str, Any]) -> dict[str, Any]:
@@ -53,10 +53,6 @@ def merge_problem(base: Mapping[str, Any], child: Mapping[str, Any]) -> dict[str
         if not any(key == _ALTERNATIVES.get(given) for given in child)
     }
     return _merge(trimmed, child)
-
-
-class UnreadableFileError(CasadiDebrisError):
-    """Why a file given by the user cannot be read (the caller adds which file it was)."""
 
 
 def read_regular_file(path: Path, max_bytes: int = MAX_FILE_BYTES) -> bytes:
@@ -91,6 +87,8 @@ def read_regular_file(path: Path, max_bytes: int = MAX_FILE_BYTES) -> bytes:
                 raw += more
         finally:
             os.close(descriptor)
+    except UnreadableFileError:
+        raise  # already says why (it is an OSError too, so it must pass the next clause)
     except FileNotFoundError:
         raise UnreadableFileError("does not exist") from None
     except OSError as exc:

@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Any, Generic, NoReturn, TypeVar
 
+from casadi_debris.errors import RemoteError, SchedulerUnavailableError, WorkerStartError
 from casadi_debris.parallel._interrupts import Interrupts
 from casadi_debris.parallel._items import (
     SLOT,
@@ -67,25 +68,6 @@ __all__ = [
 T = TypeVar("T")  # an item
 R = TypeVar("R")  # what the function returns for an item
 C = TypeVar("C")  # a worker's context
-
-
-class WorkerStartError(RuntimeError):
-    """A worker's ``initializer`` raised; the message holds the worker's traceback."""
-
-
-class SchedulerUnavailableError(RuntimeError):
-    """The Dask scheduler asked for cannot be used (``distributed`` missing, unreachable)."""
-
-
-class RemoteError(Exception):
-    """An exception raised in another process, as its traceback text (a ``__cause__``)."""
-
-    def __init__(self, text: str) -> None:
-        super().__init__(text)
-        self.text = text
-
-    def __str__(self) -> str:
-        return self.text
 
 
 @dataclass(frozen=True)

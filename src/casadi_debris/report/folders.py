@@ -39,7 +39,7 @@ from pathlib import Path
 from types import TracebackType
 
 from casadi_debris._version import __version__
-from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.errors import OutputError
 from casadi_debris.processes import process_alive
 
 LOGGER = logging.getLogger(__name__)
@@ -51,10 +51,6 @@ FREE_SPACE_MARGIN_BYTES = 16 * 2**20
 SLUG_LENGTH = 64
 _TEMPORARY = re.compile(rf"^\.(?P<name>.+)\.{TEMPORARY_TAG}-(?P<pid>\d+)-[0-9a-f]+\.(?P<kind>\w+)$")
 _RENAME_EXCHANGE = 2
-
-
-class OutputError(CasadiDebrisError):
-    """An output location cannot be used as asked (exists, not writable, no room)."""
 
 
 # ----------------------------------------------------------------------------- names

@@ -31,7 +31,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Literal, cast
 
-from casadi_debris.errors import CasadiDebrisError, InputShapeError
+from casadi_debris.errors import InputShapeError, PaperReferenceError
 
 PAPER_REFERENCE_FILE = "paper_reference.toml"
 """Name of the data file in the package's ``data`` folder."""
@@ -46,27 +46,6 @@ TOLERANCE_KINDS: tuple[ToleranceKind, ...] = (
     "below",
 )
 ENTRY_FIELDS = ("title", "paper", "accepted", "value", "components", "tolerance", "table")
-
-
-class PaperReferenceError(CasadiDebrisError):
-    """The paper's reference file is missing, not TOML, or has a malformed entry.
-
-    Parameters
-    ----------
-    key : str
-        The entry at fault (``"mass_kg"``), with the field where it helps
-        (``"mass_kg.tolerance"``); empty when the file as a whole is at fault.
-    message : str
-        What is wrong with it.
-    source : str
-        The file read.
-    """
-
-    def __init__(self, key: str, message: str, source: str) -> None:
-        self.key = key
-        self.source = source
-        where = f"[{key}] " if key else ""
-        super().__init__(f"{source}: {where}{message}")
 
 
 @dataclass(frozen=True)

@@ -32,17 +32,13 @@ import numpy as np
 from scipy.linalg import schur
 from slycot import mb03rd
 
-from casadi_debris.errors import SynthesisError
+from casadi_debris.errors import SynthesisError, UnstableLoopError
 
 CHANNELS = ("x", "y", "z")
 MARGIN_GRID = np.logspace(-4, 2, 1800)
 REFINE_DB = 3.0
 ROOT_XTOL = 1e-12  # absolute tolerance of the refined crossings, in log(w / (rad/s))
 BLOCK_PMAX = 1e3  # bound on the block-diagonalising transformation's pieces (MB03RD)
-
-
-class UnstableLoopError(SynthesisError):
-    """The closed loop is unstable, so its margins are meaningless."""
 
 
 @dataclass(frozen=True)

@@ -49,7 +49,7 @@ import numpy as np
 
 from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.dynamics import Model
-from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.errors import SimulationError
 from casadi_debris.processes import process_alive
 from casadi_debris.simulation.disturbance import environment_function
 from casadi_debris.simulation.jit_cache import CompileError, compiled_function
@@ -100,10 +100,6 @@ MODAL_ROUND_OFF = 1e-13
 CVODES_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 100000}
 
 LOGGER = logging.getLogger(__name__)
-
-
-class SimulationError(CasadiDebrisError):
-    """A closed-loop run cannot be set up as asked."""
 
 
 @dataclass(frozen=True, eq=False)

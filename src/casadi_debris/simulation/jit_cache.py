@@ -47,7 +47,7 @@ from pathlib import Path
 import casadi as ca
 import platformdirs
 
-from casadi_debris.errors import CasadiDebrisError
+from casadi_debris.errors import CompileError
 
 CACHE_ENV = "CASADI_DEBRIS_JIT_CACHE"
 # What CasADi's own JIT passes: internal names get a fixed prefix instead of
@@ -63,10 +63,6 @@ STALE_TEMPORARY_S = 3600.0
 COMPILE_TIMEOUT_S = 900.0
 
 LOGGER = logging.getLogger(__name__)
-
-
-class CompileError(CasadiDebrisError):
-    """A Function cannot be compiled to C or loaded (no usable compiler or cache folder)."""
 
 
 def cache_folder() -> Path:

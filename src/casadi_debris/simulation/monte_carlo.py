@@ -32,6 +32,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem, problem_with_values
 from casadi_debris.dynamics import Model, build_model
+from casadi_debris.errors import CasesFailedError, SchedulerError
 from casadi_debris.parallel import (
     ItemFailure,
     MapResults,
@@ -55,27 +56,6 @@ DEFAULT_BATCH_CASES = 16
 """Cases of one compiled call in a batched campaign: enough that Python's share per
 period is small, few enough that two workers get several batches each."""
 LOGGER = logging.getLogger(__name__)
-
-
-class SchedulerError(SimulationError):
-    """The Dask scheduler asked for cannot be used (not installed, not reachable)."""
-
-
-class CasesFailedError(SimulationError):
-    """Cases raised while they ran (every other case ran to its end).
-
-    Attributes
-    ----------
-    failures : list of CaseFailure
-    """
-
-    def __init__(self, failures: list[CaseFailure]) -> None:
-        first = failures[0]
-        super().__init__(
-            f"{len(failures)} case(s) failed, the first {first.case.case_id}: "
-            f"{first.error_type}: {first.message}"
-        )
-        self.failures = failures
 
 
 @dataclass(frozen=True, eq=False)

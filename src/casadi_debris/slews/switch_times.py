@@ -36,6 +36,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from casadi_debris.errors import NotBangBangError
 from casadi_debris.slews.multistart import RigidSlew, StartOutcome
 from casadi_debris.slews.rigid_body import N_RIGID_STATE, scaled_rigid_ode
 from casadi_debris.slews.transcription import ACCEPTED_STATUS, SolverOptions
@@ -57,10 +58,6 @@ REFINE_OPTIONS: SolverOptions = {
     "ipopt.constr_viol_tol": 1e-13,
 }
 CVODES_OPTIONS = {"abstol": 1e-14, "reltol": 1e-13, "max_num_steps": 100000}
-
-
-class NotBangBangError(ValueError):
-    """The collocation solution is not bang-bang (a singular arc, or too few intervals)."""
 
 
 @dataclass(frozen=True)

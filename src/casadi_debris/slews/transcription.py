@@ -22,7 +22,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.dynamics import Model
-from casadi_debris.errors import SlewInfeasibleError
+from casadi_debris.errors import SlewNotConvergedError
 from casadi_debris.slews.initial_guess import InitialGuess
 from casadi_debris.slews.modal_window import VibrationBound
 from casadi_debris.slews.ocp_problem import FORCE_ROWS, N_MODEL_INPUTS, TORQUE_ROWS, SlewOcp
@@ -48,10 +48,6 @@ WARM_START_OPTIONS: SolverOptions = {"ipopt.mu_init": 1e-3}
 # update IPOPT reaches the barrier floor while still far from the optimum and crawls
 # (z slew: 133 iterations, 3.3 s; four test slews: 1.4 to 3.3 s against 0.9 to 1.3 s).
 THRUSTER_OPTIONS: SolverOptions = {"ipopt.mu_strategy": "adaptive"}
-
-
-class SlewNotConvergedError(SlewInfeasibleError):
-    """IPOPT ended in a status other than success: the slew may exist, it was not found."""
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Parameters, build_model
-from casadi_debris.errors import InputShapeError, ModelError
+from casadi_debris.errors import CampaignInterrupted, InputShapeError, ModelError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
@@ -83,16 +83,6 @@ _SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]{
 
 Progress = Callable[[int, int], None]
 """``progress(done, total)``: cases finished in this run, of the cases it runs."""
-
-
-class CampaignInterrupted(KeyboardInterrupt):
-    """Ctrl-C during a campaign: the finished cases are on disk for a resume."""
-
-    def __init__(self, done: int, total: int, partial: Path) -> None:
-        super().__init__(
-            f"interrupted: {done} of {total} cases are kept in {partial}; "
-            "run the same command again to resume"
-        )
 
 
 @dataclass(frozen=True)

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from casadi_debris.config import Problem, default_controller_path, limits
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
-from casadi_debris.errors import ProblemFileError
+from casadi_debris.errors import ControllerMismatchError, ProblemFileError
 from casadi_debris.report.folders import default_run_folder
 from casadi_debris.robust.controller import ControllerRecord
 
@@ -52,10 +52,6 @@ def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, P
     if not isinstance(data, dict):
         raise ProblemFileError("", "a controller file holds a JSON object", str(resolved))
     return ControllerRecord.from_dict(data, str(resolved)), resolved
-
-
-class ControllerMismatchError(ProblemFileError):
-    """The controller was designed for another plant than the problem's."""
 
 
 def controller_for(
