@@ -46,6 +46,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
     CampaignSetup,
     build_loop_step,
@@ -53,7 +54,6 @@ from casadi_debris.simulation import (
     discretize_controller,
     nominal_case,
     run_campaign,
-    scenario_reference,
 )
 from casadi_debris.simulation.batched import FACET_CAPACITY_MIN, batched_loop
 from casadi_debris.studies.failure_cases import failure_cases

@@ -26,7 +26,7 @@ import dataclasses
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import ENVIRONMENT_TORQUES, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation import scenario_reference
+from casadi_debris.guidance import scenario_reference
 from recording import Setting, start_benchmark
 from step_timing import interleaved_step_us, loop_start, loop_step, ratio_report, variant_loops
 

@@ -39,7 +39,7 @@ from casadi_debris.config import (
     load_problem,
 )
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation import scenario_reference
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation.closed_loop import StepInput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis

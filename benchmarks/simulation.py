@@ -40,6 +40,7 @@ from scipy.integrate import solve_ivp
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
@@ -47,7 +48,6 @@ from casadi_debris.simulation import (
     discretize_controller,
     jit_cache,
     run_campaign,
-    scenario_reference,
     simulate,
 )
 from casadi_debris.simulation.closed_loop import release_compiled_steps

@@ -10,7 +10,7 @@ from click.testing import CliRunner
 
 from casadi_debris import load_problem
 from casadi_debris.cli import main
-from casadi_debris.simulation import scenario_reference
+from casadi_debris.guidance import scenario_reference
 from slew_reference import every_profile_checked  # noqa: F401 (autouse)
 
 

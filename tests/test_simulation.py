@@ -41,16 +41,10 @@ from casadi_debris.config import (
 )
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.geometry import torque_authority
+from casadi_debris.guidance import Reference, sample_reference, scenario_reference
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import (
-    ClosedLoopResult,
-    Reference,
-    SimulationError,
-    sample_reference,
-    scenario_reference,
-    simulate,
-)
+from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
 from casadi_debris.simulation import closed_loop as closed_loop_module
 
 PROBLEMS = default_problem_path().parent

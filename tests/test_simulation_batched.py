@@ -17,6 +17,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.cli import main
 from casadi_debris.config import FailureEvent, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
     CampaignSetup,
     RunInputs,
@@ -24,7 +25,6 @@ from casadi_debris.simulation import (
     discretize_controller,
     jit_cache,
     run_campaign,
-    scenario_reference,
     simulate,
     simulate_many,
 )

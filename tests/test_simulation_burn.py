@@ -15,14 +15,14 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.dynamics import build_model
 from casadi_debris.environment.orbit import CircularOrbit
 from casadi_debris.geometry import build_geometry
-from casadi_debris.simulation.burn import first_stage_left, simulate_burn
-from casadi_debris.simulation.burn_figures import burn_figures
-from casadi_debris.simulation.burn_plan import (
+from casadi_debris.guidance.burn_plan import (
     BurnPlan,
     burn_offset,
     strongest_axis,
     torque_free_thrust_N,
 )
+from casadi_debris.simulation.burn import first_stage_left, simulate_burn
+from casadi_debris.simulation.burn_figures import burn_figures
 from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.workflows.controller import controller_for
 
@@ -170,8 +170,8 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     """Flown by ``simulate`` from the problem file: zero net force while the body joins the
     frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
     from casadi_debris.allocation import Allocator
+    from casadi_debris.guidance.reference import scenario_reference
     from casadi_debris.simulation import simulate
-    from casadi_debris.simulation.reference import scenario_reference
 
     text = (
         'extends = "paper.toml"\nname = "burn_window"\n[simulation]\nduration_s = 120.0\n'

@@ -19,13 +19,13 @@ import pytest
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     build_loop_step,
     closed_loop,
     discretize_controller,
     jit_cache,
-    scenario_reference,
     simulate,
 )
 from casadi_debris.simulation.closed_loop import c_compiler

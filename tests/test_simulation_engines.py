@@ -27,8 +27,9 @@ from casadi_debris.config import (
     problem_from_dict,
 )
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import ClosedLoopResult, Reference, scenario_reference, simulate
+from casadi_debris.simulation import ClosedLoopResult, simulate
 from test_allocation_isp import twin_data
 
 RUN_S = 400.0

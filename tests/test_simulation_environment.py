@@ -20,8 +20,9 @@ from scipy.spatial.transform import Rotation
 from casadi_debris.config import ENVIRONMENT_TORQUES, Problem, default_controller_path, load_problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.environment import CircularOrbit, EnvironmentTorques, gravity_gradient_torque
+from casadi_debris.guidance import sample_reference
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import ClosedLoopResult, sample_reference, simulate
+from casadi_debris.simulation import ClosedLoopResult, simulate
 
 RUN_S = 120.0
 

@@ -12,13 +12,8 @@ import pytest
 
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation import (
-    CampaignSetup,
-    Envelope,
-    corner_cases,
-    run_campaign,
-    scenario_reference,
-)
+from casadi_debris.guidance import scenario_reference
+from casadi_debris.simulation import CampaignSetup, Envelope, corner_cases, run_campaign
 from casadi_debris.simulation.monte_carlo import (
     Bands,
     CaseFailure,

@@ -26,7 +26,8 @@ from casadi_debris.config import (
 )
 from casadi_debris.config.realism import realism_fields
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation import build_loop_step, scenario_reference, simulate
+from casadi_debris.guidance import scenario_reference
+from casadi_debris.simulation import build_loop_step, simulate
 from casadi_debris.simulation.closed_loop import DiscreteController, StepInput, StepOutput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis

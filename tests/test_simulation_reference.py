@@ -11,7 +11,7 @@ import pytest
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.simulation import generate_slew, sample_reference, scenario_reference
+from casadi_debris.guidance import generate_slew, sample_reference, scenario_reference
 
 SLEW_PROBLEM = default_problem_path().parent / "paper_slew.toml"
 

@@ -14,14 +14,15 @@ from casadi_debris.config import Problem, default_controller_path, load_problem,
 from casadi_debris.dynamics import build_model
 from casadi_debris.dynamics.attitude import attitude_error
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import generate_slew, sample_reference, scenario_reference, simulate
-from casadi_debris.simulation.sequence import (
+from casadi_debris.guidance import generate_slew, sample_reference, scenario_reference
+from casadi_debris.guidance.sequence import (
     manoeuvre_reference,
     segment_records,
     sequence_pieces,
 )
-from casadi_debris.simulation.targets import body_rates
+from casadi_debris.guidance.targets import body_rates
+from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.simulation import simulate
 
 
 def sequence(
@@ -222,7 +223,7 @@ def test_a_slew_onto_a_frame_lands_where_the_track_starts(fresh_data: dict[str, 
     n = 2 * math.pi / (98.5 * 60)  # about the orbit rate: the check needs only its scale
     # Past the start-up the track is on the frame: compare with the frame itself.
     from casadi_debris.environment.orbit import CircularOrbit
-    from casadi_debris.simulation.targets import frame_attitude
+    from casadi_debris.guidance.targets import frame_attitude
 
     offset = problem.simulation.segments[1].target.quaternion
     frame = frame_attitude(

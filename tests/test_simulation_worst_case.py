@@ -9,7 +9,8 @@ from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation import corner_cases, scenario_reference, simulate
+from casadi_debris.guidance import scenario_reference
+from casadi_debris.simulation import corner_cases, simulate
 from casadi_debris.simulation.worst_case import (
     _project,
     _rotation_vectors,

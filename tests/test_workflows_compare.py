@@ -13,7 +13,8 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import FailureEvent, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.simulation import scenario_reference, simulate
+from casadi_debris.guidance import scenario_reference
+from casadi_debris.simulation import simulate
 from casadi_debris.workflows.compare import compare_variants
 from casadi_debris.workflows.controller import controller_for
 

@@ -31,8 +31,9 @@ from casadi_debris import load_problem
 from casadi_debris.config import Actuators, Problem, default_controller_path
 from casadi_debris.config.realism import realism_fields
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import ClosedLoopResult, scenario_reference, simulate
+from casadi_debris.simulation import ClosedLoopResult, simulate
 from casadi_debris.units import ARCSEC_PER_RAD
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"

@@ -510,7 +510,7 @@ def _fly_sequence(
 ) -> None:
     """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies it;
     ``one_slew`` the values of :data:`ONE_SLEW_OPTIONS` (None where not given), refused."""
-    from casadi_debris.simulation.sequence import manoeuvre_reference
+    from casadi_debris.guidance.sequence import manoeuvre_reference
 
     for option, value in zip(ONE_SLEW_OPTIONS, one_slew, strict=True):
         if value is not None:

@@ -38,7 +38,7 @@ from casadi_debris.config.loader import (
     problem_path,
     shipped_problems,
 )
-from casadi_debris.config.reader import problem_from_dict
+from casadi_debris.config.reader import problem_from_dict, problem_with_values
 from casadi_debris.config.realism import (
     ESTIMATION_FILTERS,
     Actuators,
@@ -102,7 +102,6 @@ from casadi_debris.config.segments import (
     Target,
     TrackFrame,
 )
-from casadi_debris.config.varied import problem_with_values
 
 __all__ = [
     "AXIS_NAMES",

@@ -8,7 +8,8 @@ fastest dynamics) are made here once everything is read.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import dataclasses
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -38,7 +39,8 @@ from casadi_debris.config.schema import (
     Weights,
 )
 from casadi_debris.config.table import Table, show
-from casadi_debris.config.varied import resolve_vary
+from casadi_debris.config.varied import parse_path, resolve_vary, with_value, without_vary
+from casadi_debris.errors import ProblemFileError
 
 
 def _read_disturbance(t: Table) -> Disturbance:
@@ -144,7 +146,7 @@ def _with_vary_resolved(top: Table, problem: Problem) -> Problem:
     """Check ``[[montecarlo.vary]]`` against the problem just read (see config.varied)."""
     if not problem.montecarlo.vary:
         return problem
-    vary = resolve_vary(Table({}, "montecarlo", top.source), problem)
+    vary = resolve_vary(Table({}, "montecarlo", top.source), problem, problem_from_dict)
     return replace(problem, montecarlo=replace(problem.montecarlo, vary=vary))
 
 
@@ -228,3 +230,43 @@ def problem_from_dict(
         top.taken.add("extends")
     top.done()
     return problem
+
+
+def problem_with_values(problem: Problem, values: Sequence[tuple[str, float]]) -> Problem:
+    """``problem`` read again with the file keys of ``values`` set (the case of a campaign).
+
+    The name, description, run (``[simulation]``, unless a key of it varies), the
+    campaign settings and the hash of the file are ``problem``'s own; every other
+    part comes from the problem read again, so that what derives from a key (the
+    CubeSats a layout places, the checks across tables) follows it.
+
+    Parameters
+    ----------
+    problem : Problem
+        Read from a file or :func:`~casadi_debris.config.problem_from_dict` (with ``data``).
+    values : sequence of (str, float)
+        Dotted key (see :func:`parse_path`) and value, in the key's unit.
+
+    Raises
+    ------
+    ProblemFileError
+        A value the readers refuse, naming the key.
+    """
+    if not values:
+        return problem
+    data = without_vary(problem.data)
+    for path, value in values:
+        try:
+            data = with_value(data, parse_path(path), float(value))
+        except ValueError as exc:
+            raise ProblemFileError(path, str(exc), problem.source) from None
+    rebuilt = problem_from_dict(data, problem.source, problem.sha256)
+    keep_run = not any(path.startswith("simulation") for path, _ in values)
+    return dataclasses.replace(
+        rebuilt,
+        name=problem.name,
+        description=problem.description,
+        simulation=problem.simulation if keep_run else rebuilt.simulation,
+        montecarlo=problem.montecarlo,
+        data=problem.data,
+    )

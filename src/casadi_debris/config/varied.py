@@ -31,13 +31,16 @@ from __future__ import annotations
 import copy
 import dataclasses
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from casadi_debris.config import limits
 from casadi_debris.config.schema import DISTRIBUTIONS, Problem, VariedQuantity
 from casadi_debris.config.table import Table, recording, show
 from casadi_debris.errors import ProblemFileError
+
+ProblemReader = Callable[[Mapping[str, Any], str | None], Problem]
+"""Reads a problem from its TOML tables and the file's name (``problem_from_dict``)."""
 
 _SEGMENT = re.compile(r"([A-Za-z_][A-Za-z0-9_]{0,63})((?:\[\d{1,6}\])*)")
 _INDEX = re.compile(r"\[(\d+)\]")
@@ -157,7 +160,7 @@ def with_value(data: Mapping[str, Any], parts: Sequence[PathPart], value: float)
     return root
 
 
-def _without_vary(data: Mapping[str, Any]) -> dict[str, Any]:
+def without_vary(data: Mapping[str, Any]) -> dict[str, Any]:
     """``data`` without ``[[montecarlo.vary]]`` (a problem rebuilt for a case does not vary)."""
     trimmed = dict(data)
     montecarlo = trimmed.get("montecarlo")
@@ -166,7 +169,7 @@ def _without_vary(data: Mapping[str, Any]) -> dict[str, Any]:
     return trimmed
 
 
-def resolve_vary(t: Table, problem: Problem) -> tuple[VariedQuantity, ...]:
+def resolve_vary(t: Table, problem: Problem, read: ProblemReader) -> tuple[VariedQuantity, ...]:
     """Check every file key of ``problem.montecarlo.vary`` against the problem's readers.
 
     Each key must be a real number (or one element of an array of numbers) the
@@ -180,21 +183,30 @@ def resolve_vary(t: Table, problem: Problem) -> tuple[VariedQuantity, ...]:
         The ``[montecarlo]`` table (errors name ``montecarlo.vary[i].<field>``).
     problem : Problem
         Validated, with its ``data``.
+    read : callable
+        The problem reader (``problem_from_dict``), passed in because it is the reader
+        that calls this check.
 
     Returns
     -------
     tuple of VariedQuantity
         The entries, normal bounds filled in.
     """
-    base = _without_vary(problem.data)
+    base = without_vary(problem.data)
     return tuple(
-        entry if entry.is_parameter else _resolve(f"{t.key('vary')}[{i}]", entry, base, t.source)
+        entry
+        if entry.is_parameter
+        else _resolve(f"{t.key('vary')}[{i}]", entry, base, t.source, read)
         for i, entry in enumerate(problem.montecarlo.vary)
     )
 
 
 def _resolve(
-    where: str, entry: VariedQuantity, base: Mapping[str, Any], source: str | None
+    where: str,
+    entry: VariedQuantity,
+    base: Mapping[str, Any],
+    source: str | None,
+    read: ProblemReader,
 ) -> VariedQuantity:
     parts = parse_path(entry.path)
     if parts[0] == "montecarlo":
@@ -202,7 +214,7 @@ def _resolve(
     first = "low" if entry.distribution != "normal" else "mean"
     value = entry.low if first == "low" else entry.mean
     assert value is not None  # read_vary asks for it
-    allowed = _probe(where, first, entry, parts, value, base, source)
+    allowed = _probe(where, first, entry, parts, value, (base, source, read))
     for name in ("low", "high", "mean"):
         given = getattr(entry, name)
         problem_text = None if given is None else allowed.violation(given)
@@ -223,7 +235,7 @@ def _resolve(
         checks = {"high": float(entry.high or 0.0)}
     for name, bound in checks.items():
         if bound != value:
-            _probe(where, name, entry, parts, bound, base, source)
+            _probe(where, name, entry, parts, bound, (base, source, read))
     return entry
 
 
@@ -233,8 +245,7 @@ def _probe(
     entry: VariedQuantity,
     parts: list[PathPart],
     value: float,
-    base: Mapping[str, Any],
-    source: str | None,
+    problem: tuple[Mapping[str, Any], str | None, ProblemReader],
 ) -> limits.Range:
     """Read the problem with the key at ``value``; the key's allowed range.
 
@@ -244,8 +255,7 @@ def _probe(
         Naming ``<where>.path`` when the key is not a real number the readers take,
         ``<where>.<field>`` when the problem refuses ``value``.
     """
-    from casadi_debris.config.reader import problem_from_dict  # the reader calls this module
-
+    base, source, problem_from_dict = problem
     try:
         data = with_value(base, parts, value)
     except ValueError as exc:
@@ -303,45 +313,3 @@ def _bare(error: ProblemFileError) -> str:
     text = str(error)
     prefix = f"{error.source}: " if error.source else ""
     return text.removeprefix(prefix)
-
-
-def problem_with_values(problem: Problem, values: Sequence[tuple[str, float]]) -> Problem:
-    """``problem`` read again with the file keys of ``values`` set (the case of a campaign).
-
-    The name, description, run (``[simulation]``, unless a key of it varies), the
-    campaign settings and the hash of the file are ``problem``'s own; every other
-    part comes from the problem read again, so that what derives from a key (the
-    CubeSats a layout places, the checks across tables) follows it.
-
-    Parameters
-    ----------
-    problem : Problem
-        Read from a file or :func:`~casadi_debris.config.problem_from_dict` (with ``data``).
-    values : sequence of (str, float)
-        Dotted key (see :func:`parse_path`) and value, in the key's unit.
-
-    Raises
-    ------
-    ProblemFileError
-        A value the readers refuse, naming the key.
-    """
-    from casadi_debris.config.reader import problem_from_dict
-
-    if not values:
-        return problem
-    data = _without_vary(problem.data)
-    for path, value in values:
-        try:
-            data = with_value(data, parse_path(path), float(value))
-        except ValueError as exc:
-            raise ProblemFileError(path, str(exc), problem.source) from None
-    rebuilt = problem_from_dict(data, problem.source, problem.sha256)
-    keep_run = not any(path.startswith("simulation") for path, _ in values)
-    return dataclasses.replace(
-        rebuilt,
-        name=problem.name,
-        description=problem.description,
-        simulation=problem.simulation if keep_run else rebuilt.simulation,
-        montecarlo=problem.montecarlo,
-        data=problem.data,
-    )

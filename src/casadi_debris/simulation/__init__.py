@@ -6,7 +6,8 @@ allocator and engines together; Monte Carlo over the uncertainty set.
 - :func:`run_campaign`: Monte Carlo over :func:`corner_cases` / :func:`sample_cases`
   on processes or Dask, with an :class:`Envelope`.
 - :func:`open_loop_rigid`: the rigid body under a held torque table.
-- :func:`sample_reference`, :func:`generate_slew`: what the loop follows.
+
+What the loop follows (references, sequences, burn plans) is :mod:`casadi_debris.guidance`.
 """
 
 from casadi_debris.simulation.cases import (
@@ -33,12 +34,6 @@ from casadi_debris.simulation.monte_carlo import (
     run_case,
 )
 from casadi_debris.simulation.open_loop import OpenLoopResult, open_loop_rigid
-from casadi_debris.simulation.reference import (
-    Reference,
-    generate_slew,
-    sample_reference,
-    scenario_reference,
-)
 from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
 from casadi_debris.simulation.summary import EventRecord, RunSummary
 
@@ -52,7 +47,6 @@ __all__ = [
     "Envelope",
     "EventRecord",
     "OpenLoopResult",
-    "Reference",
     "RunEvent",
     "RunInputs",
     "RunSummary",
@@ -61,15 +55,12 @@ __all__ = [
     "corner_case",
     "corner_cases",
     "discretize_controller",
-    "generate_slew",
     "nominal_case",
     "open_loop_rigid",
     "run_campaign",
     "run_case",
     "sample_case",
     "sample_cases",
-    "sample_reference",
-    "scenario_reference",
     "simulate",
     "simulate_many",
 ]

@@ -33,6 +33,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem, problem_with_values
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.errors import CasesFailedError, SchedulerError
+from casadi_debris.guidance.reference import Reference
 from casadi_debris.parallel import (
     ItemFailure,
     MapResults,
@@ -47,7 +48,6 @@ from casadi_debris.simulation.closed_loop import (
     SimulationError,
     release_compiled_steps,
 )
-from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
 from casadi_debris.simulation.summary import RunSummary
 

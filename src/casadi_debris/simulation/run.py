@@ -25,8 +25,9 @@ from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionSta
 from casadi_debris.allocation.authority import authority_polytope
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model, Parameters
+from casadi_debris.guidance.burn_plan import BurnWindow, burn_thrust_N, burn_windows
+from casadi_debris.guidance.reference import Reference
 from casadi_debris.simulation.batched import roll_together
-from casadi_debris.simulation.burn_plan import BurnWindow, burn_thrust_N, burn_windows
 from casadi_debris.simulation.closed_loop import (
     DiscreteController,
     SimulationError,
@@ -40,7 +41,6 @@ from casadi_debris.simulation.disturbance import disturbance_series, sine_series
 from casadi_debris.simulation.events import RunEvent, apply_failure, depleted_event
 from casadi_debris.simulation.noise import NoiseStreams, draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
-from casadi_debris.simulation.reference import Reference
 from casadi_debris.simulation.result import ClosedLoopResult
 
 # The allocator's torque must equal the applied torque to this (relative to

@@ -18,13 +18,8 @@ from dataclasses import dataclass, replace
 import control
 
 from casadi_debris.config import Problem
-from casadi_debris.simulation import (
-    CampaignSetup,
-    Case,
-    CaseOutcome,
-    run_campaign,
-    scenario_reference,
-)
+from casadi_debris.guidance import scenario_reference
+from casadi_debris.simulation import CampaignSetup, Case, CaseOutcome, run_campaign
 from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES, CaseFailure
 from casadi_debris.simulation.summary import RunSummary
 from casadi_debris.studies.failure_cases import FailureCase

@@ -19,6 +19,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import BurnDirection, Problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance.burn_plan import BurnPlan, burn_thrust_N, strongest_axis
 from casadi_debris.report.burn import BurnReport, write_burn
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation.burn import (
@@ -28,7 +29,6 @@ from casadi_debris.simulation.burn import (
     simulate_burn,
 )
 from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary, burn_figures
-from casadi_debris.simulation.burn_plan import BurnPlan, burn_thrust_N, strongest_axis
 from casadi_debris.units import MN_PER_N
 from casadi_debris.workflows.controller import controller_for
 

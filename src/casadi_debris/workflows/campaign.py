@@ -30,6 +30,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Parameters, build_model
 from casadi_debris.errors import CampaignInterrupted, InputShapeError, ModelError
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
 from casadi_debris.report.folders import check_output_folder
@@ -53,7 +54,6 @@ from casadi_debris.simulation import (
     run_campaign,
     sample_case,
     sample_cases,
-    scenario_reference,
     simulate,
 )
 from casadi_debris.simulation.closed_loop import SimulationError, c_compiler

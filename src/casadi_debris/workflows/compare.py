@@ -28,15 +28,10 @@ from casadi_debris.errors import (
     InputShapeError,
     ModelError,
 )
+from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
 from casadi_debris.report.folders import RunFolder, check_output_folder
-from casadi_debris.simulation import (
-    ClosedLoopResult,
-    Reference,
-    SimulationError,
-    scenario_reference,
-    simulate,
-)
+from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
 from casadi_debris.simulation.summary import fuel_between_kg
 from casadi_debris.workflows.controller import controller_for
 

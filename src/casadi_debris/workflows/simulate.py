@@ -30,8 +30,8 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from casadi_debris.dynamics import Model
+    from casadi_debris.guidance.reference import Reference
     from casadi_debris.simulation.cases import Case
-    from casadi_debris.simulation.reference import Reference
     from casadi_debris.simulation.run import ClosedLoopResult
     from casadi_debris.simulation.segment_figures import SegmentFigures
 
@@ -144,7 +144,7 @@ def simulate(
         The controller was designed for another plant (and ``allow_mismatch`` is false).
     """
     problem = _as_asked(as_problem(problem), duration_s, axis, angle_deg, failed)
-    from casadi_debris.simulation import scenario_reference
+    from casadi_debris.guidance import scenario_reference
     from casadi_debris.simulation.monte_carlo import fly_case
 
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
@@ -255,7 +255,7 @@ def _with_slew(problem: Problem, axis: Axis | None, angle_deg: float | None) -> 
     if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
         # The file's duration sets the share of the authority its slew uses; another turn
         # flies at that share (paper_slew: 0.561), not in that time.
-        from casadi_debris.simulation import generate_slew
+        from casadi_debris.guidance import generate_slew
 
         fraction = generate_slew(problem, slew, 1.0).settings["torque_fraction"]
         changed = dataclasses.replace(changed, duration_s=None, torque_fraction=fraction)

@@ -21,6 +21,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.report.worstcase import (
     WorstCaseIdentity,
@@ -30,7 +31,7 @@ from casadi_debris.report.worstcase import (
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.parametric_mu import ParametricMu, parametric_mu
 from casadi_debris.robust.weights import recorded_performance_weights
-from casadi_debris.simulation import corner_cases, scenario_reference
+from casadi_debris.simulation import corner_cases
 from casadi_debris.simulation.worst_case import WorstCaseSearch, worst_case_search
 from casadi_debris.workflows.controller import controller_for
 

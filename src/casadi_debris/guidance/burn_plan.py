@@ -2,7 +2,7 @@
 and the LVLH offset that holds the axis along its direction.
 
 The direction is one of the orbit's LVLH frame (o1 along track, o2 against the orbit
-normal, o3 to nadir; :mod:`~casadi_debris.simulation.targets`): prograde o1,
+normal, o3 to nadir; :mod:`~casadi_debris.guidance.targets`): prograde o1,
 retrograde -o1, normal -o2, anti-normal o2.
 """
 
@@ -19,11 +19,11 @@ from scipy.spatial.transform import Rotation
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import BURN_DIRECTIONS, BurnDirection, Problem
 from casadi_debris.environment.orbit import CircularOrbit
-from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.simulation.targets import lvlh_matrices
+from casadi_debris.errors import SimulationError
+from casadi_debris.guidance.targets import lvlh_matrices
 
 if TYPE_CHECKING:
-    from casadi_debris.simulation.reference import Reference
+    from casadi_debris.guidance.reference import Reference
 
 # In LVLH components (o1 along track, o2 against the orbit normal, o3 to nadir).
 _LVLH_DIRECTION = {

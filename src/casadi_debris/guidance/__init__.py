@@ -1,0 +1,78 @@
+"""What the closed loop is asked to follow, derived from the problem's ``[simulation]``.
+
+- :func:`scenario_reference`: the reference of a problem at its control instants (a
+  hold, its one slew, or its sequence of segments), as a :class:`Reference`;
+  :func:`sample_reference`: a slew profile sampled at given instants.
+- :func:`generate_slew`, :func:`solve_slew`: the slew a ``[simulation.slew]`` asks for.
+- :func:`manoeuvre_reference`, :func:`sequence_pieces`: a sequence of slews, holds,
+  LVLH tracks and burns (:class:`Piece`, :class:`SegmentRecord`).
+- :func:`frame_attitude`, :func:`track_attitudes`, :func:`body_rates`: frame targets.
+- :class:`BurnPlan`, :func:`burn_windows`, :func:`burn_thrust_N`: orbit-raising burns.
+
+Nothing here closes a loop or integrates the model (that is
+:mod:`casadi_debris.simulation`).
+"""
+
+from casadi_debris.guidance.burn_plan import (
+    BurnPlan,
+    BurnWindow,
+    burn_offset,
+    burn_thrust_N,
+    burn_windows,
+    direction_inertial,
+    strongest_axis,
+    torque_free_thrust_N,
+)
+from casadi_debris.guidance.reference import (
+    Reference,
+    control_instants,
+    sample_reference,
+    scenario_reference,
+)
+from casadi_debris.guidance.sequence import (
+    ManoeuvreReference,
+    ManoeuvreSummary,
+    Piece,
+    SegmentRecord,
+    manoeuvre_reference,
+    sample_pieces,
+    segment_records,
+    sequence_pieces,
+)
+from casadi_debris.guidance.slew import generate_slew, slew_quaternions, solve_slew
+from casadi_debris.guidance.targets import (
+    body_rates,
+    frame_attitude,
+    lvlh_matrices,
+    track_attitudes,
+)
+
+__all__ = [
+    "BurnPlan",
+    "BurnWindow",
+    "ManoeuvreReference",
+    "ManoeuvreSummary",
+    "Piece",
+    "Reference",
+    "SegmentRecord",
+    "body_rates",
+    "burn_offset",
+    "burn_thrust_N",
+    "burn_windows",
+    "control_instants",
+    "direction_inertial",
+    "frame_attitude",
+    "generate_slew",
+    "lvlh_matrices",
+    "manoeuvre_reference",
+    "sample_pieces",
+    "sample_reference",
+    "scenario_reference",
+    "segment_records",
+    "sequence_pieces",
+    "slew_quaternions",
+    "solve_slew",
+    "strongest_axis",
+    "torque_free_thrust_N",
+    "track_attitudes",
+]
