@@ -107,3 +107,14 @@ def test_the_shipped_controller_flies_another_plant_only_when_asked(
     run = cd.simulate("side_engines_12", duration_s=5.0, allow_mismatch=True)
     assert run.summary.problem == "side_engines_12"
     assert "designed for another plant" in caplog.text
+
+
+def test_the_summary_reads_in_python_as_its_json(short_run: cd.SimulationResult) -> None:
+    """``summary.json`` flattens the run's figures into the record; Python reads them the
+    same way (``run.summary.max_error_deg``), each equal to the nested value."""
+    summary = short_run.summary
+    flat = summary.to_json()
+    for name in ("max_error_deg", "fuel_kg", "final_error_arcsec", "settle_band_arcsec"):
+        assert getattr(summary, name) == getattr(summary.run, name) == flat[name]
+    with pytest.raises(AttributeError):
+        _ = summary.no_such_figure

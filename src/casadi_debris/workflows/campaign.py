@@ -211,6 +211,13 @@ class RunRecord(Record):
     requirements_met: bool | None = field(default=None, metadata=OPTIONAL)
     requirement_shortfalls: tuple[str, ...] | None = field(default=None, metadata=OPTIONAL)
 
+    def __getattr__(self, name: str) -> Any:
+        # The JSON form flattens ``run`` into the record, so ``summary.max_error_deg`` reads
+        # in Python as it does in summary.json.
+        if name.startswith("__") or name == "run":
+            raise AttributeError(name)
+        return getattr(self.run, name)
+
 
 def run_summary(
     problem: Problem,
