@@ -137,8 +137,11 @@ def test_single_axis_time_optimal_is_the_rigid_limit_with_switch_at_half(
     z = slew.torque_Nm[:-1, 2]
     times = slew.time_s[:-1]
     half = slew.duration_s / 2.0
-    assert np.allclose(z[times < half], tau, rtol=1e-4)
-    assert np.allclose(z[times >= half], -tau, rtol=1e-4)
+    # The switch is a knot at half the duration: a sample there holds the second arc, and
+    # the knot's time may land a rounding below half (one part in 1e13).
+    before = times < half * (1.0 - 1e-9)
+    assert np.allclose(z[before], tau, rtol=1e-4)
+    assert np.allclose(z[~before], -tau, rtol=1e-4)
 
 
 def test_three_axis_time_optimal_not_longer_than_eigenaxis(problem: Problem) -> None:

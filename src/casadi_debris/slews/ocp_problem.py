@@ -6,7 +6,10 @@ modes=[])``, full rigid inertia), called with the sensor state equal to the
 attitude (its derivative is then zero). Controls, held on each interval:
 
 - torque level: tau in the per-axis box of the engines' authority
-  (:func:`~casadi_debris.slews.maneuver.torque_limits`, times ``torque_fraction``);
+  (:func:`~casadi_debris.slews.maneuver.torque_limits`, times ``torque_fraction``)
+  and in the engines' torque set at zero net force, {tau : N tau <= b} times
+  ``torque_fraction`` (:meth:`SlewOcp.torque_set`): the box's corners lie outside
+  that set (the allocator cannot give them), so the box alone is not enough;
 - thruster level: the thrust of every engine, 0 <= f_i <= f_max,i; the model
   receives tau = B f and F = B_F f (geometry torque and force maps), so the
   profile is realisable by construction.
@@ -32,6 +35,7 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
+from casadi_debris.allocation import authority_polytope
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
@@ -127,6 +131,16 @@ class SlewOcp:
         if fuel:
             return np.zeros(6), np.concatenate([self.upper, -self.lower])
         return self.lower, self.upper
+
+    def torque_set(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """The torques the closed loop's allocator can give, ``{tau : N tau <= b}``:
+        ``(N, b)``, shapes (m, 3) and (m,) N m, at zero net force and times
+        ``torque_fraction``; None at thruster level (tau = B f lies in it by construction).
+        """
+        if self.thrusters:
+            return None
+        polytope = authority_polytope(self.geometry.torque_map, self.geometry.force_map, self.f_max)
+        return np.asarray(polytope.normals), self.options.torque_fraction * polytope.offsets
 
     def input_map(self, fuel: bool) -> np.ndarray:
         """G, shape (9, n_u): the model input [tau, 0, F] = G u of this OCP's controls."""

@@ -69,6 +69,10 @@ from casadi_debris.slews.transcription import (
     transcribe_and_solve,
 )
 
+# Slack on the torque set's gauge within which a torque is in the set: IPOPT meets its
+# bounds to about 1e-8 (as the limit check's RATIO_TOLERANCE).
+TORQUE_SET_TOLERANCE = 1e-6
+
 __all__ = [
     "RigidBody",
     "SlewOptions",
@@ -145,14 +149,7 @@ class _SlewSolver:
             total_s = reference.duration_s
         guess = bang_bang_guess(ocp, reference, fuel, total_s)
         if not fuel and not ocp.thrusters and not ocp.options.single_axis:
-            found = global_time_optimal(
-                RigidBody(ocp.inertia, ocp.upper, ocp.lower),
-                ocp.target,
-                search_settings(ocp.options, self._bulk_intervals()),
-            )
-            self.report = found.report
-            solution = NlpSolution(found.knots_s, found.torque_Nm, found.status, 0.0)
-            return solution, guess
+            return self._time_optimal_torque(guess), guess
         if not fuel and not ocp.options.single_axis:
             solution, self.report = thruster_time_optimal(
                 ocp, guess, search_settings(ocp.options, self._bulk_intervals())
@@ -165,6 +162,46 @@ class _SlewSolver:
             guess=guess,
         )
         return solution, guess
+
+    def _time_optimal_torque(self, guess: InitialGuess) -> NlpSolution:
+        """The torque-level time-optimal slew: the torque box's global optimum (the rigid
+        body's, :mod:`casadi_debris.slews.global_slew`) when the engines can give its
+        torque; else a local optimum within their torque set, started from it.
+
+        The box holds torques the engines cannot give together (its corners), so its
+        optimum often leaves the torque set. Box and set together are a subset of the
+        box: a box optimum inside the set is optimal for both; one outside it is the
+        start of a collocation solve with both constraints, whose result IPOPT gives as a
+        local optimum (``report["optimum"]`` says which).
+        """
+        ocp = self.ocp
+        found = global_time_optimal(
+            RigidBody(ocp.inertia, ocp.upper, ocp.lower),
+            ocp.target,
+            search_settings(ocp.options, self._bulk_intervals()),
+        )
+        self.report = dict(found.report)
+        gauge = _torque_set_gauge(ocp, found.torque_Nm)
+        if gauge <= 1.0 + TORQUE_SET_TOLERANCE:
+            self.report["optimum"] = "global: the torque box's, inside the engines' torque set"
+            return NlpSolution(found.knots_s, found.torque_Nm, found.status, 0.0)
+        box_s = float(found.knots_s[-1])
+        start = shaped_guess(found.knots_s, found.torque_Nm, guess.peak_rate_rad_s)
+        try:
+            solution = transcribe_and_solve(
+                ocp, fuel=False, horizon=Horizon(None, self._bulk_intervals()), guess=start
+            )
+        except SlewNotConvergedError:
+            # From the eigenaxis bang-bang instead (inside the set about a principal axis).
+            solution = transcribe_and_solve(
+                ocp, fuel=False, horizon=Horizon(None, self._bulk_intervals()), guess=guess
+            )
+        self.report["optimum"] = (
+            "local: within the engines' torque set, started from the torque box's global "
+            f"optimum ({box_s:.1f} s, which needs {gauge:.2f} x the set)"
+        )
+        self.report["box_duration_s"] = box_s
+        return solution
 
     def _bulk_intervals(self) -> int:
         return self.ocp.options.intervals or RIGID_INTERVALS
@@ -479,3 +516,18 @@ def _check_not_below(duration_s: float, fastest: SlewProfile) -> None:
     """Raise unless ``duration_s`` is at least the time-optimal slew's length."""
     if duration_s < fastest.duration_s:
         raise SlewInfeasibleError(f"infeasible: minimum is {fastest.duration_s:.6g} s")
+
+
+def _torque_set_gauge(ocp: SlewOcp, torque_Nm: np.ndarray) -> float:
+    """The largest share of the OCP's torque set that torques (shape (k, 3), N m) need:
+    max over samples and facets of n_i . tau / b_i (at most 1 inside the set; infinite
+    for a torque beyond a facet through the origin)."""
+    facets = ocp.torque_set()
+    if facets is None:
+        return 0.0
+    normals, offsets = facets
+    reach = np.asarray(torque_Nm) @ normals.T
+    positive = offsets > 0.0
+    inside_flat = bool(np.all(reach[:, ~positive] <= 0.0))
+    gauge = float(np.max(reach[:, positive] / offsets[positive], initial=0.0))
+    return gauge if inside_flat else math.inf

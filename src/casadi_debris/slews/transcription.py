@@ -366,6 +366,7 @@ class _RadauNlp:
                 np.tile((self.upper_u / u_scale)[:, None], count),
             )
         )
+        self._within_torque_set()
         across = self.ocp.eigenaxis_normal()
         if across is not None:  # torque along the eigenaxis
             scaled = ca.DM(across @ np.diag(u_scale / np.max(u_scale)))
@@ -374,6 +375,20 @@ class _RadauNlp:
         final = self.X[:, -1] * ca.DM(self.x_scale)
         for residual in self.ocp.terminal_residuals(final, self.guess.peak_rate_rad_s):
             opti.subject_to(residual == 0)
+
+    def _within_torque_set(self) -> None:
+        """Torque level: every interval's torque in the engines' torque set, each facet's
+        row scaled to a right-hand side of one (a facet through the origin by its normal's
+        reach instead)."""
+        facets = self.ocp.torque_set()
+        if facets is None:
+            return
+        normals, offsets = facets
+        rows = normals @ (self.ocp.input_map(self.fuel)[TORQUE_ROWS] * self.u_scale)
+        reach = np.max(np.abs(rows), axis=1)
+        scale = np.maximum(offsets, 1e-9 * np.max(reach) + 1e-300)
+        bound = np.tile((offsets / scale)[:, None], self.horizon.count)
+        self.opti.subject_to(ca.vec(ca.DM(rows / scale[:, None]) @ self.U) <= bound.ravel("F"))
 
     def start(self) -> tuple[np.ndarray, np.ndarray]:
         """Set the initial guess: its controls, marched through the transcription.
