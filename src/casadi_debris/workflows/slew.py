@@ -225,7 +225,7 @@ class SlewResult(JobResult):
         from casadi_debris.plots.slew import manoeuvre_figure
         from casadi_debris.report.simulation import figure_title
 
-        reference = self._manoeuvre()
+        reference = self._reference()
         figure = manoeuvre_figure(
             reference.time_s,
             reference.quaternion_BN,
@@ -244,7 +244,7 @@ class SlewResult(JobResult):
         if self.profile is not None:
             write_profile_csv(self.profile, staging / "profile.csv", self.profile.thrusters)
         else:
-            reference = self._manoeuvre()
+            reference = self._reference()
             write_reference_csv(
                 reference.time_s,
                 reference.quaternion_BN,
@@ -257,7 +257,7 @@ class SlewResult(JobResult):
             for name, figure in self.plot().items():
                 save_figure(figure, staging / f"{name}.png")
 
-    def _manoeuvre(self) -> ManoeuvreReference:
+    def _reference(self) -> ManoeuvreReference:
         if self.manoeuvre is None:
             raise InputShapeError("a slew result holds a profile or a manoeuvre; this has neither")
         return self.manoeuvre
@@ -285,48 +285,38 @@ def slew(
 ) -> SlewResult:
     """Solve a slew reference of the problem, checked against its engines.
 
-    What is not given comes from the problem's ``[simulation.slew]`` (the slew
-    ``simulate`` flies): its axis, angle and method, and, when the slew is that one
-    (same axis, angle and method) and neither is given, its duration and torque
-    fraction; its thruster level for an optimal method. Without one: 180 deg about z
-    by the paper's bang-bang. A problem that flies ``[[simulation.segments]]`` gives
-    every segment's reference instead, unless ``axis``, ``angle_deg`` or ``method`` is
-    given.
+    Settings not given come from the problem's ``[simulation.slew]`` (the slew
+    ``simulate`` flies; its duration and torque fraction only for that same slew), else
+    180 deg about z by the paper's bang-bang. A problem that flies
+    ``[[simulation.segments]]`` gives every segment's reference instead, unless
+    ``axis``, ``angle_deg`` or ``method`` is given.
 
     Parameters
     ----------
     problem : Problem, str or Path, optional
-        A problem, a problem file or a shipped name (``"paper_slew"``); default the paper.
+        A problem, a problem file or a shipped name; default the paper's.
     axis : str or tuple of 3 float, optional
-        ``"x"``, ``"-y"``, ... or any non-zero body vector (normalised).
+        ``"x"``, ``"-y"``, ... or any non-zero body vector.
     angle_deg : float, optional
         Slew angle in (0, 180] deg.
     method : {"bang-bang", "time-optimal", "fuel-optimal"}, optional
     duration_s : float, optional
-        Slew time [s] (bang-bang, fuel-optimal, which needs one); a deadline for
-        time-optimal.
+        Slew time [s]; a deadline for time-optimal; needed by fuel-optimal.
     torque_fraction : float, optional
-        Share of the torque authority to use, in (0, 1] (default 1, or for a bang-bang
-        what ``duration_s`` needs).
-    rate_limit_deg_s, smoothing_s : float, optional
-        Bang-bang only: the largest slew rate [deg/s] (a coast), the torque ramp per
-        switch [s].
-    flexible : bool
-        Optimal methods: bound the array vibration left at the end.
-    flexible_method : {"ocp", "shaper"}
-        ``flexible``: modal states in the OCP, or the rigid optimum through a ZV shaper.
+        Share of the authority, (0, 1]; default 1, or what a bang-bang's duration needs.
+    rate_limit_deg_s, smoothing_s : float
+        Bang-bang: the largest rate [deg/s] (a coast); the torque ramp per switch [s].
+    flexible, flexible_method : bool, {"ocp", "shaper"}
+        Optimal: bound the array vibration left, by the OCP or through a ZV shaper.
     thrusters, zero_net_force : bool
-        Optimal methods: optimise every engine's thrust; keep their net force zero, as
-        the closed loop's allocator does.
+        Optimal: every engine's thrust optimised; their net force kept zero.
     sample_s : float
         Output spacing [s].
     starts, seed, workers : int, optional
-        Time-optimal: initial guesses of the global search (default 16), the seed of the
-        random ones, and processes for them (default two with at least four starts on
-        two cores; 1 solves them in this process).
+        Time-optimal: initial guesses (default 16), their seed, and processes (default
+        two with four starts or more on two cores; 1: in this process).
     note : callable, optional
-        Called with one line when the problem, not the settings, says what to slew (its
-        ``[simulation.slew]`` or its segments), before the work starts.
+        Told in one line, before the work, when the problem says what to slew.
 
     Returns
     -------
@@ -335,55 +325,28 @@ def slew(
     Raises
     ------
     InputShapeError
-        A setting that does not fit the method or the problem, named by its option
-        (``--duration-s: ...``), or a slew the engines cannot do in the time asked.
+        A setting that does not fit, named by its option (``--duration-s: ...``).
 
     Examples
     --------
     >>> import casadi_debris as cd
-    >>> about_x = cd.slew("paper", axis="x", angle_deg=30.0)
-    >>> about_x.summary.method, about_x.summary.limits_ok
-    ('bang-bang', True)
-    >>> cd.slew("paper", method="time-optimal", thrusters=True).summary  # doctest: +SKIP
+    >>> cd.slew("paper", axis="x", angle_deg=30.0).summary.limits_ok
+    True
     """
     started = time.perf_counter()
     problem = as_problem(problem)
-    if method is not None and method not in METHODS:
-        raise InputShapeError(f"--method: must be one of {', '.join(METHODS)}, got {method!r}")
-    if problem.simulation.reference == "sequence" and not (axis or angle_deg or method):
-        one_slew = {
-            "--duration-s": duration_s,
-            "--torque-fraction": torque_fraction,
-            "--rate-limit-deg-s": rate_limit_deg_s,
-            "--smoothing-s": smoothing_s or None,
-            "--flexible": flexible or None,
-            "--thrusters": thrusters or None,
-            "--zero-net-force": zero_net_force or None,
-            "--starts": starts,
-            "--workers": workers,
-        }
-        return _manoeuvre(problem, sample_s, one_slew, note)
-    all_given = axis and angle_deg is not None and method
-    if note is not None and problem.simulation.slew is not None and not all_given:
-        note(f"Slew from {problem.name}'s [simulation.slew] where no option says otherwise.")
-    chosen = _problem_slew(
-        problem, axis, angle_deg, method, (duration_s, torque_fraction), thrusters
-    )
-    asked = _Asked(
-        **({"thrusters": thrusters, "zero_net_force": zero_net_force} | chosen),
-        rate_limit_deg_s=rate_limit_deg_s,
-        smoothing_s=smoothing_s,
-        flexible=flexible,
-        flexible_method=flexible_method,
-        sample_s=sample_s,
-        starts=starts,
-        seed=seed,
-        workers=workers,
-    )
-    try:
-        profile = asked.solve(problem)
-    except (InputShapeError, SlewInfeasibleError) as exc:
-        raise _named_after_options(exc, asked) from None
+    what = (axis, angle_deg, method, duration_s, torque_fraction, rate_limit_deg_s)
+    how = (smoothing_s, flexible, flexible_method, thrusters, zero_net_force, sample_s)
+    asked = _Asked(*(what + how), starts, seed, workers)
+    if not asked.one_slew(problem):
+        return _manoeuvre(problem, asked, note)
+    return _one_slew(problem, asked.resolved(problem, note), started)
+
+
+def _one_slew(problem: Problem, asked: _Asked, started: float) -> SlewResult:
+    """The slew ``asked`` (resolved), its summary timed from ``started``
+    (``time.perf_counter``), a warning logged when the engines cannot fly it."""
+    profile = asked.solve(problem)
     # What the user waited for: the solve, the flexible check, the shaper, the model build.
     summary = slew_summary(profile, problem.name, time.perf_counter() - started)
     if not summary.limits_ok:
@@ -393,11 +356,11 @@ def slew(
 
 @dataclass(frozen=True)
 class _Asked:
-    """The slew asked for, the problem's own slew filled in, in the options' units."""
+    """The slew asked for, in the options' units; None: the problem's own (``resolved``)."""
 
-    axis: Axis
-    angle_deg: float
-    method: str
+    axis: Axis | None
+    angle_deg: float | None
+    method: str | None
     duration_s: float | None
     torque_fraction: float | None
     rate_limit_deg_s: float | None
@@ -407,12 +370,39 @@ class _Asked:
     thrusters: bool
     zero_net_force: bool
     sample_s: float
-    starts: int | None = None
-    seed: int = 0
-    workers: int | None = None
+    starts: int | None
+    seed: int
+    workers: int | None
+
+    def __post_init__(self) -> None:
+        if self.method is not None and self.method not in METHODS:
+            methods = ", ".join(METHODS)
+            raise InputShapeError(f"--method: must be one of {methods}, got {self.method!r}")
+
+    def one_slew(self, problem: Problem) -> bool:
+        """Whether to solve one slew (else the problem's segments, none of them chosen)."""
+        chosen = self.axis or self.angle_deg or self.method
+        return problem.simulation.reference != "sequence" or bool(chosen)
+
+    def resolved(self, problem: Problem, note: Callable[[str], None] | None) -> _Asked:
+        """The settings left open taken from the problem's slew (:func:`_problem_slew`)."""
+        all_given = self.axis and self.angle_deg is not None and self.method
+        if note is not None and problem.simulation.slew is not None and not all_given:
+            note(f"Slew from {problem.name}'s [simulation.slew] where no option says otherwise.")
+        timing = (self.duration_s, self.torque_fraction)
+        chosen = _problem_slew(
+            problem, self.axis, self.angle_deg, self.method, timing, self.thrusters
+        )
+        return dataclasses.replace(self, **chosen)
 
     def solve(self, problem: Problem) -> SlewProfile:
-        """The profile of the chosen method."""
+        """The profile of the chosen method, errors named after the options."""
+        try:
+            return self._solve(problem)
+        except (InputShapeError, SlewInfeasibleError) as exc:
+            raise _named_after_options(exc, self) from None
+
+    def _solve(self, problem: Problem) -> SlewProfile:
         from casadi_debris.slews import (
             SlewOptions,
             bang_bang_slew,
@@ -421,6 +411,8 @@ class _Asked:
             time_optimal_slew,
         )
 
+        if self.axis is None or self.angle_deg is None or self.method is None:
+            raise ValueError("solve the slew resolved against its problem (_Asked.resolved)")
         target = slew_about_axis(self.axis, math.radians(self.angle_deg))
         if self.method == "bang-bang":
             if self.flexible or self.thrusters or self.zero_net_force:
@@ -528,16 +520,22 @@ def _limits_warning(summary: SlewSummary) -> str:
     )
 
 
-def _manoeuvre(
-    problem: Problem,
-    sample_s: float,
-    one_slew: dict[str, Any],
-    note: Callable[[str], None] | None,
-) -> SlewResult:
+def _manoeuvre(problem: Problem, asked: _Asked, note: Callable[[str], None] | None) -> SlewResult:
     """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies
-    it; ``one_slew`` the settings of one slew by option (None where not given), refused."""
+    it; the settings of one slew are refused (the segments set each slew)."""
     from casadi_debris.simulation.sequence import manoeuvre_reference
 
+    one_slew = {
+        "--duration-s": asked.duration_s,
+        "--torque-fraction": asked.torque_fraction,
+        "--rate-limit-deg-s": asked.rate_limit_deg_s,
+        "--smoothing-s": asked.smoothing_s or None,
+        "--flexible": asked.flexible or None,
+        "--thrusters": asked.thrusters or None,
+        "--zero-net-force": asked.zero_net_force or None,
+        "--starts": asked.starts,
+        "--workers": asked.workers,
+    }
     for option, value in one_slew.items():
         if value is not None:
             raise InputShapeError(
@@ -546,7 +544,7 @@ def _manoeuvre(
             )
     if note is not None:
         note(f"Every segment of {problem.name}'s [[simulation.segments]].")
-    reference = manoeuvre_reference(problem, sample_s)
+    reference = manoeuvre_reference(problem, asked.sample_s)
     if not reference.summary.slews_within_limits:
         LOGGER.warning(
             "warning: a slew is not within the engines' limits (authority share above 1): "
