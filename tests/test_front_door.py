@@ -45,7 +45,6 @@ NOT_YET = {
     "montecarlo",
     "placement",
     "reproduce",
-    "slew",
     "synthesize",
     "transfer",
     "worstcase",

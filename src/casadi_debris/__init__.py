@@ -23,11 +23,15 @@ from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
     from casadi_debris.workflows.simulate import SimulationResult, simulate
+    from casadi_debris.workflows.slew import SlewResult, SlewSummary, slew
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
     "simulate": "casadi_debris.workflows.simulate",
     "SimulationResult": "casadi_debris.workflows.simulate",
+    "slew": "casadi_debris.workflows.slew",
+    "SlewResult": "casadi_debris.workflows.slew",
+    "SlewSummary": "casadi_debris.workflows.slew",
 }
 
 __all__ = [
@@ -35,9 +39,12 @@ __all__ = [
     "Problem",
     "ProblemFileError",
     "SimulationResult",
+    "SlewResult",
+    "SlewSummary",
     "__version__",
     "load_problem",
     "simulate",
+    "slew",
 ]
 
 
