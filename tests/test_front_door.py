@@ -42,7 +42,6 @@ NOT_YET = {
     "margins",
     "mission",
     "model",
-    "montecarlo",
     "placement",
     "reproduce",
     "slew",

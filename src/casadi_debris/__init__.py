@@ -22,21 +22,26 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.montecarlo import MonteCarloResult, montecarlo
     from casadi_debris.workflows.simulate import SimulationResult, simulate
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
     "simulate": "casadi_debris.workflows.simulate",
     "SimulationResult": "casadi_debris.workflows.simulate",
+    "montecarlo": "casadi_debris.workflows.montecarlo",
+    "MonteCarloResult": "casadi_debris.workflows.montecarlo",
 }
 
 __all__ = [
     "CasadiDebrisError",
+    "MonteCarloResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "__version__",
     "load_problem",
+    "montecarlo",
     "simulate",
 ]
 

@@ -1,7 +1,7 @@
 """The jobs users run, as documented Python functions; the command line only adapts them.
 
 - :func:`~casadi_debris.workflows.controller.load_controller`: a controller file.
-- :func:`~casadi_debris.workflows.campaign.run_campaign_folder`: a Monte-Carlo
+- :func:`~casadi_debris.workflows.montecarlo.montecarlo`: a Monte-Carlo
   campaign written (and resumed) case by case into a folder.
 - :func:`~casadi_debris.workflows.reproduce.reproduce_paper`: the paper end to end.
 - :func:`~casadi_debris.workflows.compare.compare_variants`: fuel budgets side by side.
