@@ -47,7 +47,6 @@ NOT_YET = {
     "slew",
     "synthesize",
     "transfer",
-    "worstcase",
 }
 
 JOBS = sorted(set(main.commands) - NOT_JOBS)

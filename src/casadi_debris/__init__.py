@@ -24,6 +24,7 @@ from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 if TYPE_CHECKING:
     from casadi_debris.workflows.montecarlo import MonteCarloResult, montecarlo
     from casadi_debris.workflows.simulate import SimulationResult, simulate
+    from casadi_debris.workflows.worstcase import WorstCaseResult, worstcase
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
@@ -31,6 +32,8 @@ _LAZY = {
     "SimulationResult": "casadi_debris.workflows.simulate",
     "montecarlo": "casadi_debris.workflows.montecarlo",
     "MonteCarloResult": "casadi_debris.workflows.montecarlo",
+    "worstcase": "casadi_debris.workflows.worstcase",
+    "WorstCaseResult": "casadi_debris.workflows.worstcase",
 }
 
 __all__ = [
@@ -39,10 +42,12 @@ __all__ = [
     "Problem",
     "ProblemFileError",
     "SimulationResult",
+    "WorstCaseResult",
     "__version__",
     "load_problem",
     "montecarlo",
     "simulate",
+    "worstcase",
 ]
 
 
