@@ -38,7 +38,6 @@ NOT_YET = {
     "deorbit",
     "design",
     "detumble",
-    "failures",
     "margins",
     "mission",
     "model",

@@ -22,6 +22,7 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.failures import FailuresResult, failures
     from casadi_debris.workflows.montecarlo import MonteCarloResult, montecarlo
     from casadi_debris.workflows.simulate import SimulationResult, simulate
     from casadi_debris.workflows.worstcase import WorstCaseResult, worstcase
@@ -34,16 +35,20 @@ _LAZY = {
     "MonteCarloResult": "casadi_debris.workflows.montecarlo",
     "worstcase": "casadi_debris.workflows.worstcase",
     "WorstCaseResult": "casadi_debris.workflows.worstcase",
+    "failures": "casadi_debris.workflows.failures",
+    "FailuresResult": "casadi_debris.workflows.failures",
 }
 
 __all__ = [
     "CasadiDebrisError",
+    "FailuresResult",
     "MonteCarloResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "WorstCaseResult",
     "__version__",
+    "failures",
     "load_problem",
     "montecarlo",
     "simulate",

@@ -18,12 +18,13 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from casadi_debris.config import SIGNED_AXES
-from casadi_debris.plots.failures import plot_authority_loss
+from casadi_debris.plots import save_figure
+from casadi_debris.plots.failures import authority_loss_figure
 from casadi_debris.records import to_jsonable
 from casadi_debris.report.common import format_figure, write_json_atomic
 from casadi_debris.studies.failure_records import (
@@ -32,6 +33,9 @@ from casadi_debris.studies.failure_records import (
     RunVerdict,
 )
 from casadi_debris.units import SECONDS_PER_DAY
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 REPORT_ROWS = 25
 """Cases ``report.md`` lists (all are in ``cases.csv``)."""
@@ -251,21 +255,26 @@ def _at_most_one(ratio: float | None) -> bool:
     return ratio is not None and ratio <= 1.0
 
 
-def write_failures(folder: Path, summary: FailureStudyRecord) -> None:
-    """Every file of a failure campaign into ``folder`` (see the module)."""
+def write_failures(folder: Path, summary: FailureStudyRecord, *, with_plots: bool = True) -> None:
+    """Every file of a failure campaign into ``folder`` (see the module), the heat map
+    with ``with_plots``."""
     rows = [case_row(rank, case) for rank, case in enumerate(summary.cases, start=1)]
     _write_table(folder / "cases.csv", rows)
     moved = reallocation_rows(summary)
     if moved:
         _write_table(folder / "reallocation.csv", moved)
-    ids, loss, weak = single_failure_loss(summary)
-    if ids:
-        plot_authority_loss(
-            folder / HEATMAP,
-            loss,
-            ids,
-            f"{summary.problem}: authority lost by one failed CubeSat",
-            weak,
-        )
+    if with_plots:
+        for name, figure in failure_figures(summary).items():
+            save_figure(figure, folder / f"{name}.png")
     (folder / "report.md").write_text(failures_markdown(summary, rows))
     write_json_atomic(folder / "summary.json", summary)
+
+
+def failure_figures(summary: FailureStudyRecord) -> dict[str, Figure]:
+    """The campaign's figures by file stem: ``authority_loss`` (the share of the authority
+    each single failure takes, per signed axis), when single failures were studied."""
+    ids, loss, weak = single_failure_loss(summary)
+    if not ids:
+        return {}
+    title = f"{summary.problem}: authority lost by one failed CubeSat"
+    return {HEATMAP.removesuffix(".png"): authority_loss_figure(loss, ids, title, weak)}
