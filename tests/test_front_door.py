@@ -34,7 +34,6 @@ NOT_YET = {
     "alternatives",
     "budget",
     "burn",
-    "compare",
     "deorbit",
     "design",
     "detumble",

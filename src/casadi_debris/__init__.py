@@ -22,6 +22,7 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.compare import CompareResult, compare
     from casadi_debris.workflows.failures import FailuresResult, failures
     from casadi_debris.workflows.montecarlo import MonteCarloResult, montecarlo
     from casadi_debris.workflows.simulate import SimulationResult, simulate
@@ -37,10 +38,13 @@ _LAZY = {
     "WorstCaseResult": "casadi_debris.workflows.worstcase",
     "failures": "casadi_debris.workflows.failures",
     "FailuresResult": "casadi_debris.workflows.failures",
+    "compare": "casadi_debris.workflows.compare",
+    "CompareResult": "casadi_debris.workflows.compare",
 }
 
 __all__ = [
     "CasadiDebrisError",
+    "CompareResult",
     "FailuresResult",
     "MonteCarloResult",
     "Problem",
@@ -48,6 +52,7 @@ __all__ = [
     "SimulationResult",
     "WorstCaseResult",
     "__version__",
+    "compare",
     "failures",
     "load_problem",
     "montecarlo",

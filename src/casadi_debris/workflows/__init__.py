@@ -4,7 +4,7 @@
 - :func:`~casadi_debris.workflows.montecarlo.montecarlo`: a Monte-Carlo
   campaign written (and resumed) case by case into a folder.
 - :func:`~casadi_debris.workflows.reproduce.reproduce_paper`: the paper end to end.
-- :func:`~casadi_debris.workflows.compare.compare_variants`: fuel budgets side by side.
+- :func:`~casadi_debris.workflows.compare.compare`: fuel budgets side by side.
 
 Nothing here prints: progress goes to the callbacks a caller passes, messages
 to :mod:`logging`.
