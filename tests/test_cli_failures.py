@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_controller_path, default_problem_path
 from casadi_debris.report.failures import write_failures
-from casadi_debris.studies.failure_records import FailureStudyRecord
+from casadi_debris.studies.failures import FailureStudyRecord
 from test_studies_failure_records import RUN_KEYS
 
 PROBLEMS = default_problem_path().parent

@@ -18,10 +18,15 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.geometry import torque_authority
 from casadi_debris.report.failures import pointing_window
 from casadi_debris.simulation import corner_case
-from casadi_debris.studies.failure_cases import FailureCase
-from casadi_debris.studies.failure_records import FailureStudyRecord, RunVerdict
-from casadi_debris.studies.failure_runs import manoeuvres
-from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
+from casadi_debris.studies.failures import (
+    FailureCase,
+    FailureSettings,
+    FailureStudy,
+    FailureStudyRecord,
+    RunVerdict,
+    failure_study,
+    manoeuvres,
+)
 from casadi_debris.units import MN_PER_N
 from casadi_debris.workflows.controller import controller_for
 from casadi_debris.workflows.failures import failures

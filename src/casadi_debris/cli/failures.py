@@ -26,7 +26,7 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 
 if TYPE_CHECKING:
-    from casadi_debris.studies.failure_records import FailureStudyRecord
+    from casadi_debris.studies.failures import FailureStudyRecord
 
 _MET = {True: "yes", False: "no", None: "—"}
 SHOWN = 10

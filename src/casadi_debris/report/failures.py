@@ -1,7 +1,7 @@
 """A failure campaign as files: summary, ranked table (CSV and Markdown), re-allocation, heat map.
 
 Everything is drawn from the summary (the JSON of a
-:class:`~casadi_debris.studies.failure_records.FailureStudyRecord`), so that
+:class:`~casadi_debris.studies.failures.FailureStudyRecord`), so that
 a script can redraw it from ``summary.json``:
 
 - ``summary.json``: every case with ``failed`` (CubeSat ids from 1),
@@ -27,7 +27,7 @@ from casadi_debris.plots import save_figure
 from casadi_debris.plots.failures import authority_loss_figure
 from casadi_debris.records import to_jsonable
 from casadi_debris.report.common import format_figure, write_json_atomic
-from casadi_debris.studies.failure_records import (
+from casadi_debris.studies.failures import (
     FailureCaseRecord,
     FailureStudyRecord,
     RunVerdict,

@@ -36,10 +36,16 @@ from typing import TYPE_CHECKING
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
-from casadi_debris.studies.failure_cases import FailureCase, check_max_failed
-from casadi_debris.studies.failure_records import FailureStudyRecord
-from casadi_debris.studies.failure_runs import StageProgress, manoeuvres
-from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
+from casadi_debris.studies.failures import (
+    FailureCase,
+    FailureSettings,
+    FailureStudy,
+    FailureStudyRecord,
+    StageProgress,
+    check_max_failed,
+    failure_study,
+    manoeuvres,
+)
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import CaseSelection
 from casadi_debris.workflows.controller import controller_for

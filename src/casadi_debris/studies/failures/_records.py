@@ -83,7 +83,7 @@ class ClosedLoopVerdict(Record):
 class HoldingRecord(Record):
     """The allocation of the torque that cancels the disturbance over one period.
 
-    See :mod:`casadi_debris.studies.failure_authority` for how each figure is computed.
+    See :func:`~casadi_debris.studies.failures.case_authority` for how each figure is computed.
     """
 
     period_s: float

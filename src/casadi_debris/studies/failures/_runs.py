@@ -27,8 +27,8 @@ from casadi_debris.simulation import (
 )
 from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES, CaseFailure
 from casadi_debris.simulation.summary import RunSummary
-from casadi_debris.studies.failure_cases import FailureCase
-from casadi_debris.studies.failure_records import RunVerdict
+from casadi_debris.studies.failures._cases import FailureCase
+from casadi_debris.studies.failures._records import RunVerdict
 
 Progress = Callable[[int, int], None]
 """``progress(done, total)``: runs finished of the runs of one stage."""
