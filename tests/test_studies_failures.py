@@ -21,8 +21,8 @@ from casadi_debris.simulation import corner_case
 from casadi_debris.studies.failures import (
     FailureCase,
     FailureSettings,
+    FailuresSummary,
     FailureStudy,
-    FailureStudyRecord,
     RunVerdict,
     failure_study,
     manoeuvres,
@@ -154,7 +154,7 @@ def test_the_summary_names_failed_ids_and_six_signed_axes(study: FailureStudy) -
 
 def test_the_summary_reads_back_as_the_same_record(study: FailureStudy) -> None:
     record = study.record()
-    again = FailureStudyRecord.from_json(json.loads(json.dumps(record.to_json())))
+    again = FailuresSummary.from_json(json.loads(json.dumps(record.to_json())))
     assert again.to_json() == record.to_json()
     assert (
         again.cases[0].closed_loop.nominal["slew"].met

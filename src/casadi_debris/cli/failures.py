@@ -26,7 +26,7 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 
 if TYPE_CHECKING:
-    from casadi_debris.studies.failures import FailureStudyRecord
+    from casadi_debris.studies.failures import FailuresSummary
 
 _MET = {True: "yes", False: "no", None: "—"}
 SHOWN = 10
@@ -48,7 +48,7 @@ def _progress(as_json: bool) -> Any:
     return progress
 
 
-def _text(summary: FailureStudyRecord) -> str:
+def _text(summary: FailuresSummary) -> str:
     rows = []
     for case in summary.cases[:SHOWN]:
         torque = case.torque_max_zero_force_mNm

@@ -39,8 +39,8 @@ from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
 from casadi_debris.studies.failures import (
     FailureCase,
     FailureSettings,
+    FailuresSummary,
     FailureStudy,
-    FailureStudyRecord,
     StageProgress,
     check_max_failed,
     failure_study,
@@ -78,14 +78,14 @@ class FailuresResult(JobResult):
     study : FailureStudy
         Every case's authority, holding thrusts, depletion and closed-loop runs (SI), the
         whole swarm's baseline and the manoeuvres flown.
-    summary : FailureStudyRecord
+    summary : FailuresSummary
         What ``summary.json`` holds (and ``--json`` prints): the cases ranked, the worst
         first, in display units; ``out_dir`` None until saved.
     """
 
     problem: Problem
     study: FailureStudy
-    summary: FailureStudyRecord
+    summary: FailuresSummary
 
     command = "failures"
 

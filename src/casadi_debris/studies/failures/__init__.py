@@ -45,7 +45,7 @@ from casadi_debris.studies.failures._cases import (
 from casadi_debris.studies.failures._records import (
     ClosedLoopVerdict,
     FailureCaseRecord,
-    FailureStudyRecord,
+    FailuresSummary,
     HoldingRecord,
     ManoeuvreRecord,
     RunVerdict,
@@ -89,7 +89,7 @@ __all__ = [
     "FailureSettings",
     "FailureStudy",
     "FailureStudyError",
-    "FailureStudyRecord",
+    "FailuresSummary",
     "HoldingLoad",
     "HoldingRecord",
     "Manoeuvre",

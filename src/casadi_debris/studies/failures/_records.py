@@ -158,7 +158,7 @@ class ManoeuvreRecord(Record):
 
 
 @dataclass(frozen=True, kw_only=True)
-class FailureStudyRecord(Record):
+class FailuresSummary(Record):
     """A failure campaign: what was run, the whole swarm, and every case, the worst first.
 
     ``controller_path``, ``quick``, ``max_corners`` and ``out_dir`` are the job's (see

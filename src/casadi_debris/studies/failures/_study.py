@@ -30,7 +30,7 @@ from casadi_debris.studies.failures._cases import (
 from casadi_debris.studies.failures._records import (
     ClosedLoopVerdict,
     FailureCaseRecord,
-    FailureStudyRecord,
+    FailuresSummary,
     ManoeuvreRecord,
     RunVerdict,
     ThrustChange,
@@ -203,11 +203,11 @@ class FailureStudy:
     corner_plants: int
     wall_time_s: float
 
-    def record(self) -> FailureStudyRecord:
+    def record(self) -> FailuresSummary:
         """The study for ``summary.json``: settings, baseline, counts, cases worst first."""
         judged = [r.met for r in self.cases]
         settings = self.settings
-        return FailureStudyRecord(
+        return FailuresSummary(
             problem=self.problem.name,
             problem_sha256=self.problem.sha256,
             max_failed=settings.max_failed,
