@@ -34,20 +34,16 @@ NOT_YET = {
     "alternatives",
     "budget",
     "burn",
-    "compare",
     "deorbit",
     "design",
     "detumble",
-    "failures",
     "margins",
     "mission",
     "model",
-    "montecarlo",
     "placement",
     "reproduce",
     "synthesize",
     "transfer",
-    "worstcase",
 }
 
 JOBS = sorted(set(main.commands) - NOT_JOBS)

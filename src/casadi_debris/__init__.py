@@ -22,8 +22,12 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.compare import CompareResult, compare
+    from casadi_debris.workflows.failures import FailuresResult, failures
+    from casadi_debris.workflows.montecarlo import MonteCarloResult, montecarlo
     from casadi_debris.workflows.simulate import SimulationResult, simulate
     from casadi_debris.workflows.slew import SlewResult, SlewSummary, slew
+    from casadi_debris.workflows.worstcase import WorstCaseResult, worstcase
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
@@ -32,19 +36,35 @@ _LAZY = {
     "slew": "casadi_debris.workflows.slew",
     "SlewResult": "casadi_debris.workflows.slew",
     "SlewSummary": "casadi_debris.workflows.slew",
+    "montecarlo": "casadi_debris.workflows.montecarlo",
+    "MonteCarloResult": "casadi_debris.workflows.montecarlo",
+    "worstcase": "casadi_debris.workflows.worstcase",
+    "WorstCaseResult": "casadi_debris.workflows.worstcase",
+    "failures": "casadi_debris.workflows.failures",
+    "FailuresResult": "casadi_debris.workflows.failures",
+    "compare": "casadi_debris.workflows.compare",
+    "CompareResult": "casadi_debris.workflows.compare",
 }
 
 __all__ = [
     "CasadiDebrisError",
+    "CompareResult",
+    "FailuresResult",
+    "MonteCarloResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "SlewResult",
     "SlewSummary",
+    "WorstCaseResult",
     "__version__",
+    "compare",
+    "failures",
     "load_problem",
+    "montecarlo",
     "simulate",
     "slew",
+    "worstcase",
 ]
 
 

@@ -127,7 +127,7 @@ def requirement_rows(
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
     """The design's table (margins as from :func:`~casadi_debris.report.robust.margin_report`,
-    campaigns as from :func:`~casadi_debris.workflows.campaign.run_campaign_folder`): the
+    campaigns as from :func:`~casadi_debris.workflows.montecarlo.montecarlo`): the
     judged rows, then :func:`information_rows`."""
     chosen = search.chosen
     pointing_req = problem.requirements.pointing_arcsec

@@ -35,8 +35,9 @@ from casadi_debris.report.robust import MarginReport, margin_report
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import SynthesisSettings, design_controller
-from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
+from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows.montecarlo import montecarlo
 
 LOGGER = logging.getLogger(__name__)
 
@@ -111,16 +112,16 @@ def _campaign(
 ) -> CampaignSummary:
     """One corner campaign (``cases`` spread evenly, None: all), in a report folder being
     built (``moved_to``: its staging folder and where it will be)."""
-    selection = CaseSelection(corners=True, max_cases=cases)
-    return run_campaign_folder(
+    return montecarlo(
         problem,
-        controller_path,
-        selection,
-        folder,
+        controller=controller_path,
+        corners=True,
+        max_cases=cases,
+        out=folder,
         workers=workers,
         progress=progress,
         moved_to=moved_to,
-    )
+    ).summary
 
 
 def corner_campaigns(
