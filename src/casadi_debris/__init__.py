@@ -22,20 +22,25 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.allocate import AllocationResult, allocate
     from casadi_debris.workflows.simulate import SimulationResult, simulate
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "allocate": "casadi_debris.workflows.allocate",
+    "AllocationResult": "casadi_debris.workflows.allocate",
     "simulate": "casadi_debris.workflows.simulate",
     "SimulationResult": "casadi_debris.workflows.simulate",
 }
 
 __all__ = [
+    "AllocationResult",
     "CasadiDebrisError",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "__version__",
+    "allocate",
     "load_problem",
     "simulate",
 ]
