@@ -31,7 +31,6 @@ NOT_JOBS = {"problems", "schema"}
 # Commands whose function has not landed yet, one per line.
 NOT_YET = {
     "alternatives",
-    "budget",
     "burn",
     "compare",
     "deorbit",
@@ -40,7 +39,6 @@ NOT_YET = {
     "failures",
     "margins",
     "mission",
-    "model",
     "montecarlo",
     "placement",
     "reproduce",

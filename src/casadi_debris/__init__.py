@@ -23,25 +23,35 @@ from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
     from casadi_debris.workflows.allocate import AllocationResult, allocate
+    from casadi_debris.workflows.budget import BudgetResult, budget
+    from casadi_debris.workflows.model import ModelResult, model
     from casadi_debris.workflows.simulate import SimulationResult, simulate
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
     "allocate": "casadi_debris.workflows.allocate",
     "AllocationResult": "casadi_debris.workflows.allocate",
+    "budget": "casadi_debris.workflows.budget",
+    "BudgetResult": "casadi_debris.workflows.budget",
+    "model": "casadi_debris.workflows.model",
+    "ModelResult": "casadi_debris.workflows.model",
     "simulate": "casadi_debris.workflows.simulate",
     "SimulationResult": "casadi_debris.workflows.simulate",
 }
 
 __all__ = [
     "AllocationResult",
+    "BudgetResult",
     "CasadiDebrisError",
+    "ModelResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "__version__",
     "allocate",
+    "budget",
     "load_problem",
+    "model",
     "simulate",
 ]
 
