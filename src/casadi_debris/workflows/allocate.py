@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from casadi_debris.config import Problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import AllocationError, InputShapeError
 from casadi_debris.records import Record
@@ -159,8 +160,7 @@ def allocate(
         A demand that is not finite or absurdly large, an unknown solver, ids out of
         range, an unreadable state file, no engine left (each named).
     """
-    from casadi_debris.allocation import Allocator, DemandError, NoEngineError
-    from casadi_debris.allocation.backends import UnknownSolverError
+    from casadi_debris.allocation import DemandError, NoEngineError
     from casadi_debris.geometry import build_geometry
 
     if force_mN is not None and free_force:
@@ -173,14 +173,7 @@ def allocate(
         "--failed-engines": bool(failed_engines),
         "--stage-state": stage_state is not None,
     }
-    try:
-        allocator = Allocator.from_problem(
-            problem, geometry, state=state, solver=solver, saturation=saturation
-        )
-    except UnknownSolverError as error:
-        raise AllocationError(f"--solver: {error}") from None
-    except NoEngineError as error:
-        raise _no_engine(error, took_out) from None
+    allocator = _allocator(problem, geometry, state, (solver, saturation), took_out)
     torque = _demand(torque_mNm, "torque_Nm", MNM_PER_NM)
     force = None if force_mN is None else _demand(force_mN, "force_N", MN_PER_N)
     try:
@@ -194,6 +187,29 @@ def allocate(
     return AllocationResult(allocation=allocation, state=state, geometry=geometry, summary=summary)
 
 
+def _allocator(
+    problem: Problem,
+    geometry: Geometry,
+    state: PropulsionState,
+    how: tuple[str, SaturationMode],
+    took_out: dict[str, bool],
+) -> Allocator:
+    """The allocator of ``problem`` for ``state`` (``how``: the solver and the saturation
+    mode); an unknown solver or no engine left refused by name."""
+    from casadi_debris.allocation import Allocator, NoEngineError
+    from casadi_debris.allocation.backends import UnknownSolverError
+
+    solver, saturation = how
+    try:
+        return Allocator.from_problem(
+            problem, geometry, state=state, solver=solver, saturation=saturation
+        )
+    except UnknownSolverError as error:
+        raise AllocationError(f"--solver: {error}") from None
+    except NoEngineError as error:
+        raise _no_engine(error, took_out) from None
+
+
 def _demand(values: Any, argument: str, per_si: float) -> Any:
     """A demand in display units as SI (what cannot be read as numbers goes to the
     allocator as it is, which names the argument)."""
@@ -205,7 +221,7 @@ def _demand(values: Any, argument: str, per_si: float) -> Any:
 
 
 def _state(
-    problem: Any,
+    problem: Problem,
     stage_state: str | Path | PropulsionState | None,
     failed: Sequence[int],
     failed_engines: Sequence[tuple[int, int]],
