@@ -108,10 +108,31 @@ def test_a_stage_state_is_taken_as_given_and_left_unchanged(tmp_path: Path) -> N
 
 def test_save_writes_the_summary_and_never_overwrites(tmp_path: Path) -> None:
     result = cd.allocate(torque_mNm=(1.0, 0.5, -0.8))
-    out = result.save(tmp_path / "allocation")
+    out = result.save(tmp_path / "allocation", plots=False)
     assert json.loads((out / "summary.json").read_text()) == result.summary.to_json()
+    assert sorted(p.name for p in out.iterdir() if not p.name.startswith(".")) == ["summary.json"]
     with pytest.raises(OutputError):
         result.save(out)
     result.save(out, overwrite=True)
-    # The command draws nothing, and neither does the job.
-    assert result.plot() == {}
+    assert (out / "thrust.png").is_file() and (out / "thrust.pdf").is_file()
+
+
+def test_plot_draws_every_engine_and_writes_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    import matplotlib.pyplot as plt
+
+    monkeypatch.chdir(tmp_path)
+    result = cd.allocate(torque_mNm=(20.0, 0.0, 0.0), failed=[3])
+    figures = result.plot()
+    assert set(figures) == {"thrust"} and list(tmp_path.iterdir()) == []
+    bars, torque = figures["thrust"].axes
+    # Limits first (outlines), then the thrusts, one bar per engine.
+    heights = [patch.get_height() for patch in bars.patches]
+    engines = len(result.summary.thrust_mN)
+    np.testing.assert_array_equal(heights[:engines], result.summary.thrust_limit_mN)
+    np.testing.assert_array_equal(heights[engines:], result.summary.thrust_mN)
+    assert heights[2] == 0.0  # CubeSat 3 is out
+    achieved = [patch.get_height() for patch in torque.patches][3:]
+    np.testing.assert_allclose(achieved, result.summary.torque_achieved_mNm)
+    plt.close(figures["thrust"])

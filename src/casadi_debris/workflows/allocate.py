@@ -32,6 +32,8 @@ from casadi_debris.units import MN_PER_N, MNM_PER_NM, US_PER_S
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from casadi_debris.allocation import AllocationResult as Allocation
     from casadi_debris.allocation import Allocator, DemandError, PropulsionState
     from casadi_debris.allocation.paths import SaturationMode
@@ -103,9 +105,32 @@ class AllocationResult(JobResult):
 
     command = "allocate"
 
+    def plot(self) -> dict[str, Figure]:
+        """``thrust``: every engine's thrust against its limit, and the torque asked for
+        against the torque made. Nothing is written."""
+        from casadi_debris.plots.allocation import allocation_figure
+
+        summary = self.summary
+        status = "met" if summary.feasible else f"saturated, scale {summary.scale:.4g}"
+        return {
+            "thrust": allocation_figure(
+                summary.thrust_mN,
+                summary.thrust_limit_mN,
+                summary.engine_cubesat,
+                (summary.torque_demand_mNm, summary.torque_achieved_mNm),
+                f"{summary.problem}: demand {status} ({summary.mode})",
+            )
+        }
+
     def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
-        """``summary.json`` (the command itself prints it and writes nothing)."""
+        """``summary.json`` and (with ``plots``) ``thrust.png`` (the command prints the
+        summary and writes nothing)."""
         write_json_atomic(staging / "summary.json", self.summary)
+        if plots:
+            from casadi_debris.plots import save_figure
+
+            for name, figure in self.plot().items():
+                save_figure(figure, staging / f"{name}.png")
 
 
 def allocate(
