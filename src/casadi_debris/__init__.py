@@ -24,8 +24,12 @@ from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 if TYPE_CHECKING:
     from casadi_debris.workflows.allocate import AllocationResult, allocate
     from casadi_debris.workflows.budget import BudgetResult, budget
+    from casadi_debris.workflows.design import DesignResult, design
+    from casadi_debris.workflows.margins import MarginsResult, margins
     from casadi_debris.workflows.model import ModelResult, model
+    from casadi_debris.workflows.reproduce import ReproductionResult, reproduce
     from casadi_debris.workflows.simulate import SimulationResult, simulate
+    from casadi_debris.workflows.synthesize import SynthesisResult, synthesize
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
@@ -33,26 +37,42 @@ _LAZY = {
     "AllocationResult": "casadi_debris.workflows.allocate",
     "budget": "casadi_debris.workflows.budget",
     "BudgetResult": "casadi_debris.workflows.budget",
+    "design": "casadi_debris.workflows.design",
+    "DesignResult": "casadi_debris.workflows.design",
+    "margins": "casadi_debris.workflows.margins",
+    "MarginsResult": "casadi_debris.workflows.margins",
     "model": "casadi_debris.workflows.model",
     "ModelResult": "casadi_debris.workflows.model",
+    "reproduce": "casadi_debris.workflows.reproduce",
+    "ReproductionResult": "casadi_debris.workflows.reproduce",
     "simulate": "casadi_debris.workflows.simulate",
     "SimulationResult": "casadi_debris.workflows.simulate",
+    "synthesize": "casadi_debris.workflows.synthesize",
+    "SynthesisResult": "casadi_debris.workflows.synthesize",
 }
 
 __all__ = [
     "AllocationResult",
     "BudgetResult",
     "CasadiDebrisError",
+    "DesignResult",
+    "MarginsResult",
     "ModelResult",
     "Problem",
     "ProblemFileError",
+    "ReproductionResult",
     "SimulationResult",
+    "SynthesisResult",
     "__version__",
     "allocate",
     "budget",
+    "design",
     "load_problem",
+    "margins",
     "model",
+    "reproduce",
     "simulate",
+    "synthesize",
 ]
 
 
