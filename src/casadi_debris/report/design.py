@@ -126,7 +126,7 @@ def requirement_rows(
     campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
-    """The design's table (margins as from :func:`casadi_debris.margins`,
+    """The design's table (margins as from :func:`~casadi_debris.workflows.margins.margins`,
     campaigns as from :func:`~casadi_debris.workflows.campaign.run_campaign_folder`): the
     judged rows, then :func:`information_rows`."""
     chosen = search.chosen

@@ -99,8 +99,9 @@ def _paper_problems(plan: Plan) -> tuple[Problem, Problem, Problem]:
 
 
 def _controller(problem: Problem, design_into: Path | None) -> tuple[ControllerRecord, Path]:
-    """The shipped controller, or one designed anew (:func:`casadi_debris.synthesize`) and
-    written into ``design_into``."""
+    """The shipped controller, or one designed anew
+    (:func:`~casadi_debris.workflows.synthesize.synthesize`) and written into
+    ``design_into``."""
     if design_into is None:
         return load_controller(None)
     from casadi_debris.workflows.synthesize import synthesize
@@ -183,9 +184,9 @@ def report_margins(
     folders: tuple[Path, Path],
     stage: Callable[[str], Progress | None],
 ) -> MarginsResult:
-    """The margin study of a report (:func:`casadi_debris.margins`) into ``margins/``
-    (``folders``: the report's staging folder and where it will end up); its summary
-    records that folder."""
+    """The margin study of a report (:func:`~casadi_debris.workflows.margins.margins`)
+    into ``margins/`` (``folders``: the report's staging folder and where it will end
+    up); its summary records that folder."""
     from casadi_debris.workflows.margins import margins
 
     staging, out = folders
