@@ -30,19 +30,12 @@ NOT_JOBS = {"problems", "schema"}
 
 # Commands whose function has not landed yet, one per line.
 NOT_YET = {
-    "allocate",
     "alternatives",
-    "budget",
     "burn",
     "deorbit",
-    "design",
     "detumble",
-    "margins",
     "mission",
-    "model",
     "placement",
-    "reproduce",
-    "synthesize",
     "transfer",
 }
 
