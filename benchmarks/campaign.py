@@ -56,9 +56,13 @@ from casadi_debris.simulation import (
     run_campaign,
 )
 from casadi_debris.simulation.batched import FACET_CAPACITY_MIN, batched_loop
-from casadi_debris.studies.failure_cases import failure_cases
-from casadi_debris.studies.failure_runs import fly_cases, manoeuvres
-from casadi_debris.studies.failures import FailureSettings, failure_study
+from casadi_debris.studies.failures import (
+    FailureSettings,
+    failure_cases,
+    failure_study,
+    fly_cases,
+    manoeuvres,
+)
 from casadi_debris.workflows.campaign import CaseSelection
 from casadi_debris.workflows.controller import load_controller
 from casadi_debris.workflows.design import verification_problems

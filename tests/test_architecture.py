@@ -56,7 +56,6 @@ WIDE_SIGNATURES = {
     "allocation/paths.py:_result",
     "allocation/paths.py:_saturated",
     "allocation/propulsion.py:__init__",
-    "report/robust.py:margin_report",
     "robust/parametric_mu.py:_analyse_angle",
     "simulation/closed_loop.py:_loop_step",
     "simulation/run.py:simulate",

@@ -70,7 +70,7 @@ PARAMETERS = {
     "reproduce": ["out", "quick", "resynthesize", "workers", "overwrite", "as_json"],
     "synthesize": [
         "problem_file",
-        "out_dir",
+        "out",
         "mu_points",
         "max_iterations",
         "d_orders",
@@ -85,7 +85,7 @@ PARAMETERS = {
         "allow_mismatch",
         "samples",
         "seed",
-        "out_dir",
+        "out",
         "no_plots",
         "overwrite",
         "as_json",

@@ -12,7 +12,7 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_controller_path, default_problem_path
 from casadi_debris.report.failures import write_failures
-from casadi_debris.studies.failure_records import FailureStudyRecord
+from casadi_debris.studies.failures import FailuresSummary
 from test_studies_failure_records import RUN_KEYS
 
 PROBLEMS = default_problem_path().parent
@@ -161,7 +161,7 @@ def test_the_json_keeps_its_keys_and_reads_back_into_its_record(
         assert case["closed_loop"] == {"met": None, "nominal": {}, "corners": {}}
         for change in case["reallocation"]:
             assert set(change) == {"cubesat", "thrust_before_mN", "thrust_after_mN"}
-    record = FailureStudyRecord.from_json(summary)
+    record = FailuresSummary.from_json(summary)
     assert record.to_json() == summary
     assert [c.case_id for c in record.cases] == [c["case_id"] for c in summary["cases"]]
     assert record.baseline.holding is not None
@@ -175,7 +175,7 @@ def test_the_files_redraw_from_the_written_summary(
 ) -> None:
     """A script rebuilds the record from ``summary.json`` and writes the same tables."""
     out, summary = static_run
-    write_failures(tmp_path, FailureStudyRecord.from_json(summary))
+    write_failures(tmp_path, FailuresSummary.from_json(summary))
     for name in ("cases.csv", "reallocation.csv", "report.md"):
         assert (tmp_path / name).read_text() == (out / name).read_text()
     assert json.loads((tmp_path / "summary.json").read_text()) == summary
@@ -221,7 +221,7 @@ def test_closed_loop_on_two_workers_shows_progress_and_judges_every_case(tmp_pat
     assert len([c for c in summary["cases"] if c["closed_loop"]["corners"]]) == 1
     runs = [r for c in summary["cases"] for r in c["closed_loop"]["nominal"].values()]
     assert {frozenset(r) for r in runs} == {frozenset(RUN_KEYS)}
-    assert FailureStudyRecord.from_json(summary).to_json() == summary
+    assert FailuresSummary.from_json(summary).to_json() == summary
     assert "cases meet the requirements" in stdout
 
 

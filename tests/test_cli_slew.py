@@ -138,3 +138,26 @@ def test_each_slew_of_a_sequence_reports_its_limit_check() -> None:
         assert record["worst_authority_share"] <= fraction * (1 + 1e-6)
         assert record["worst_authority_share"] == pytest.approx(fraction, rel=1e-3)
     assert summary["slews_within_limits"] is True
+
+
+def test_a_thruster_level_slew_of_the_file_writes_every_engines_thrust(tmp_path: Path) -> None:
+    """The file's ``thrusters = true`` makes the slew thruster level without --thrusters:
+    profile.csv holds the thrust of every engine, as for the option."""
+    from casadi_debris.config import default_problem_path
+
+    gallery = default_problem_path().parent / "gallery" / "rigid_no_arrays.toml"
+    path = tmp_path / "own_thrusters.toml"
+    path.write_text(
+        f'extends = "{gallery}"\nname = "own_thrusters"\n[simulation]\nduration_s = 1500.0\n'
+        'reference = "slew"\n[simulation.slew]\naxis = "z"\nangle_deg = 30.0\n'
+        'method = "time-optimal"\nthrusters = true\n'
+    )
+    out = tmp_path / "run"
+    arguments = [str(path), "--starts", "1", "--workers", "1", "--sample-s", "20"]
+    summary = _slew(*arguments, "--out", str(out))
+    assert summary["thrusters"] is True and summary["limits_zero_net_force"] is True
+    header = (out / "profile.csv").read_text().splitlines()[0].split(",")
+    engines = len(load_problem(path).engines)
+    assert [c for c in header if c.startswith("thrust_")] == [
+        f"thrust_{i:02d}_mN" for i in range(1, engines + 1)
+    ]

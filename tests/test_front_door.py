@@ -30,25 +30,13 @@ NOT_JOBS = {"problems", "schema"}
 
 # Commands whose function has not landed yet, one per line.
 NOT_YET = {
-    "allocate",
     "alternatives",
-    "budget",
     "burn",
-    "compare",
     "deorbit",
-    "design",
     "detumble",
-    "failures",
-    "margins",
     "mission",
-    "model",
-    "montecarlo",
     "placement",
-    "reproduce",
-    "slew",
-    "synthesize",
     "transfer",
-    "worstcase",
 }
 
 JOBS = sorted(set(main.commands) - NOT_JOBS)

@@ -15,9 +15,9 @@ from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
 from casadi_debris.geometry import build_geometry, max_thrust_N
 from casadi_debris.report.describe import (
-    BudgetReport,
+    BudgetSummary,
     ModelDescription,
-    budget_report,
+    budget_summary,
     describe_model,
     model_text,
 )
@@ -118,8 +118,8 @@ def test_budget_json_is_the_figures_by_key_with_how_and_reads_back() -> None:
     assert [data[k] for k in keys] == [item.value for item in items]
     assert data["how"] == {item.key: item.how for item in items}
     assert data["problem_sha256"] == problem.sha256
-    report = BudgetReport.from_json(data)
-    assert report == budget_report(problem, items) and report.to_json() == data
+    report = BudgetSummary.from_json(data)
+    assert report == budget_summary(problem, items) and report.to_json() == data
 
 
 ARRAYS_TOML = """

@@ -24,7 +24,7 @@ from casadi_debris.report.reproduce import (
     report_markdown,
     reproduction_rows,
 )
-from casadi_debris.report.robust import DiskMargin, MarginReport, Margins
+from casadi_debris.report.robust import DiskMargin, Margins, MarginsSummary
 from casadi_debris.report.simulation import CampaignRun, CampaignSummary, WorstFigure
 
 # Rows that need all 256 corners: a quick run (8 slew, 4 pointing corners) cannot pass them.
@@ -161,9 +161,9 @@ def _campaign(nominal: dict[str, float], worst_key: str, worst: float) -> Campai
     )  # fmt: skip
 
 
-def _margin_report(margins: dict[str, Any]) -> MarginReport:
+def _margin_report(margins: dict[str, Any]) -> MarginsSummary:
     """The figures the rows read, the rest of the report left empty."""
-    return MarginReport(
+    return MarginsSummary(
         problem="paper", problem_sha256="", controller_path="", controller_order=25,
         plant_sha256="", controller_plant_sha256="", analysis_plant_modes="all",
         nominal=Margins(**margins["nominal"]), sampled_min=Margins(**margins["sampled_min"]),

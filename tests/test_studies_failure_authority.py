@@ -12,12 +12,12 @@ from scipy.optimize import linprog
 from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.geometry import Geometry
-from casadi_debris.studies.failure_authority import (
+from casadi_debris.studies.failures import (
     HOLDING_SAMPLES,
+    FailureCase,
     case_authority,
     holding_torque_Nm,
 )
-from casadi_debris.studies.failure_cases import FailureCase
 from casadi_debris.units import SECONDS_PER_MINUTE
 
 MN = 1e3  # the LPs below run in mN and mNm (HiGHS' tolerances are absolute)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import Problem
-from casadi_debris.studies.failure_cases import (
+from casadi_debris.studies.failures import (
     FAILED_STAGE,
     FailureCase,
     FailureStudyError,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import json
 
-from casadi_debris.studies.failure_records import (
+from casadi_debris.studies.failures import (
     ClosedLoopVerdict,
     FailureCaseRecord,
     HoldingRecord,

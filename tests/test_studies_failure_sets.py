@@ -10,7 +10,7 @@ import pytest
 
 from casadi_debris.config import SIGNED_AXES, load_problem, signed_axis_vector
 from casadi_debris.geometry import build_geometry, max_thrust_N
-from casadi_debris.studies.failure_sets import (
+from casadi_debris.studies.failures import (
     authority_ratio,
     authority_without,
     axis_ratios,

@@ -18,13 +18,18 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.geometry import torque_authority
 from casadi_debris.report.failures import pointing_window
 from casadi_debris.simulation import corner_case
-from casadi_debris.studies.failure_cases import FailureCase
-from casadi_debris.studies.failure_records import FailureStudyRecord, RunVerdict
-from casadi_debris.studies.failure_runs import manoeuvres
-from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
+from casadi_debris.studies.failures import (
+    FailureCase,
+    FailureSettings,
+    FailuresSummary,
+    FailureStudy,
+    RunVerdict,
+    failure_study,
+    manoeuvres,
+)
 from casadi_debris.units import MN_PER_N
 from casadi_debris.workflows.controller import controller_for
-from casadi_debris.workflows.failures import run_failure_study
+from casadi_debris.workflows.failures import failures
 
 PROBLEMS = default_problem_path().parent
 SLEW_S = 120.0  # the first two minutes of the paper's slew
@@ -149,7 +154,7 @@ def test_the_summary_names_failed_ids_and_six_signed_axes(study: FailureStudy) -
 
 def test_the_summary_reads_back_as_the_same_record(study: FailureStudy) -> None:
     record = study.record()
-    again = FailureStudyRecord.from_json(json.loads(json.dumps(record.to_json())))
+    again = FailuresSummary.from_json(json.loads(json.dumps(record.to_json())))
     assert again.to_json() == record.to_json()
     assert (
         again.cases[0].closed_loop.nominal["slew"].met
@@ -177,9 +182,7 @@ def test_a_quick_campaign_sees_a_failure_of_one_signed_axis_over_the_whole_perio
     disturbance = problem.disturbance
     period_s = disturbance.period_min * 60.0
     assert disturbance.amplitude_mNm[1] > 0.0
-    study, _ = run_failure_study(
-        problem, FailureSettings(corner_sets=0), quick=True, cases=[failed]
-    )
+    study = failures(problem, corner_sets=0, quick=True, workers=1, cases=[failed]).study
     pointing = next(m for m in study.manoeuvres if m.name == "pointing")
     assert pointing.problem.simulation.duration_s >= period_s
     whole = study.baseline.runs["pointing"]

@@ -11,12 +11,8 @@ from casadi_debris.config import default_controller_path, default_problem_path, 
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.simulation import CampaignSummary
-from casadi_debris.workflows.campaign import (
-    CaseSelection,
-    check_scheduler_address,
-    one_case,
-    run_campaign_folder,
-)
+from casadi_debris.workflows.campaign import CaseSelection, check_scheduler_address, one_case
+from casadi_debris.workflows.montecarlo import montecarlo
 
 
 @pytest.fixture(scope="module")
@@ -60,14 +56,14 @@ def test_scheduler_addresses_of_dask_transports_pass(address: str) -> None:
 def test_a_campaign_runs_from_python_and_reports_progress(short_slew, tmp_path: Path) -> None:
     problem, _ = short_slew
     calls: list[tuple[int, int]] = []
-    summary = run_campaign_folder(
+    summary = montecarlo(
         problem,
-        None,
-        CaseSelection(samples=2, seed=3),
-        tmp_path / "mc",
+        samples=2,
+        seed=3,
+        out=tmp_path / "mc",
         workers=1,
         progress=lambda done, total: calls.append((done, total)),
-    )
+    ).summary
     assert calls == [(0, 2), (1, 2), (2, 2)]
     assert summary.cases == 2 and summary.run.seed == 3
     written = json.loads((tmp_path / "mc" / "summary.json").read_text())
@@ -82,13 +78,15 @@ def test_a_campaign_in_a_staging_folder_records_its_final_paths(short_slew, tmp_
     controller = staging / "controller.json"
     staging.mkdir()
     controller.write_bytes(default_controller_path().read_bytes())
-    summary = run_campaign_folder(
+    summary = montecarlo(
         problem,
-        controller,
-        CaseSelection(samples=1, seed=3),
-        staging / "slew",
+        controller=controller,
+        samples=1,
+        seed=3,
+        out=staging / "slew",
+        workers=1,
         moved_to=(staging, final),
-    )
+    ).summary
     assert summary.run.out_dir == str((final / "slew").absolute())
     assert summary.run.controller_path == str((final / "controller.json").absolute())
     nominal = json.loads((staging / "slew" / "nominal" / "summary.json").read_text())

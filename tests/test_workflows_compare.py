@@ -6,19 +6,24 @@ import dataclasses
 import json
 from pathlib import Path
 
+import matplotlib.pyplot as plt
 import pytest
+from click.testing import CliRunner
 
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import FailureEvent, with_duration
+from casadi_debris.cli import main
+from casadi_debris.config import FailureEvent, default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.guidance import scenario_reference
+from casadi_debris.report.folders import MARKER_NAME
 from casadi_debris.simulation import simulate
-from casadi_debris.workflows.compare import compare_variants
+from casadi_debris.workflows.compare import compare
 from casadi_debris.workflows.controller import controller_for
 
 SHORT_S, LONG_S = 60.0, 90.0
+PROBLEMS = default_problem_path().parent
 
 
 def _every_cubesat_lost(problem):
@@ -37,7 +42,9 @@ def comparison(tmp_path_factory: pytest.TempPathFactory):
         _every_cubesat_lost(with_duration(slew, SHORT_S)),
     ]
     out = tmp_path_factory.mktemp("compare") / "out"
-    return compare_variants(variants, None, None, out), variants, out
+    result = compare(variants)
+    result.save(out)
+    return result.summary, variants, out
 
 
 def test_fuel_over_the_common_window_is_what_a_run_of_that_length_burns(comparison) -> None:
@@ -89,5 +96,50 @@ def test_a_slew_the_body_cannot_do_is_refused_before_any_variant_flies(tmp_path:
     too_fast = dataclasses.replace(slew.simulation.slew, duration_s=100.0, torque_fraction=None)
     bad = dataclasses.replace(slew, simulation=dataclasses.replace(slew.simulation, slew=too_fast))
     with pytest.raises(ProblemFileError, match=r"simulation\.slew\.duration_s"):
-        compare_variants([slew, bad], None, None, tmp_path / "out")
+        compare([slew, bad])
     assert not (tmp_path / "out").exists()
+
+
+def _short(folder: Path, base: str, duration_s: float) -> Path:
+    path = folder / f"short_{Path(base).name}.toml"
+    path.write_text(
+        f'extends = "{PROBLEMS / base}.toml"\nname = "short_{Path(base).name}"\n'
+        f"[simulation]\nduration_s = {duration_s}\n"
+    )
+    return path
+
+
+def _files(folder: Path) -> list[str]:
+    return sorted(p.name for p in folder.iterdir() if p.name != MARKER_NAME)
+
+
+def test_python_and_the_command_line_compare_alike(tmp_path: Path) -> None:
+    """The paper's slew beside a debris of another shape (one array) holding its attitude,
+    flown by the paper's controller anyway."""
+    files = [_short(tmp_path, "paper_slew", 40.0), _short(tmp_path, "gallery/one_array", 30.0)]
+    labels: list[str] = []
+    result = compare(files, allow_mismatch=True, progress=labels.append)
+    assert labels == ["short_paper_slew", "short_one_array"]
+    assert result.summary.out_dir is None
+    assert result.summary.window_s == 30.0
+
+    folder = tmp_path / "cli"
+    args = [*map(str, files), "--allow-mismatch", "--out", str(folder), "--json"]
+    command = CliRunner().invoke(main, ["compare", *args], catch_exceptions=False)
+    assert command.exit_code == 0, command.output
+    printed = json.loads(command.stdout)
+    ours = json.loads(json.dumps(result.summary.to_json()))
+    assert {**ours, "out_dir": None} == {**printed, "out_dir": None}
+
+    saved = result.save(tmp_path / "saved")
+    assert _files(saved) == _files(folder)
+    written = json.loads((saved / "summary.json").read_text())
+    assert written == {**printed, "out_dir": str(saved.absolute())}
+    assert (saved / "comparison.csv").read_text() == (folder / "comparison.csv").read_text()
+
+    figures = result.plot()
+    try:
+        assert set(figures) == {"comparison"} and len(figures["comparison"].axes) == 5
+    finally:
+        for figure in figures.values():
+            plt.close(figure)

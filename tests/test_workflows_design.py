@@ -170,3 +170,53 @@ def test_each_missed_requirement_gets_its_binding_limit_from_the_runs(problem):
     assert f"torque fraction {fraction * 0.6 / 0.9:.3g}" in limits[1].remedies[0]
     met = [dataclasses.replace(row, met=True) for row in rows]
     assert binding_limits(problem, met, campaigns, None, slew_problem) == ()  # type: ignore[arg-type]
+
+
+def test_cd_design_refuses_a_folder_it_did_not_write_before_any_work(tmp_path: Path):
+    import casadi_debris as cd
+    from casadi_debris.report.folders import OutputError
+
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    with pytest.raises(OutputError):
+        cd.design(out=out, quick=True, progress=lambda stage: pytest.fail(f"ran {stage}"))
+    assert (out / "notes.txt").read_text() == "keep me"
+
+
+@pytest.mark.slow
+def test_cd_design_is_the_design_command(tmp_path: Path):
+    """The same classical design from Python as from the command line: summary, folder,
+    controller; ``save`` copies the folder and ``plot`` gives the margin figures."""
+    import matplotlib.pyplot as plt
+
+    import casadi_debris as cd
+    from casadi_debris.report.folders import MARKER_NAME
+
+    def files(folder: Path) -> list[str]:
+        found = folder.rglob("*")
+        return sorted(
+            str(p.relative_to(folder)) for p in found if p.is_file() and p.name != MARKER_NAME
+        )
+
+    designed = cd.design(method="pd", quick=True, workers=1, out=tmp_path / "python")
+    out = tmp_path / "cli"
+    arguments = ["--method", "pd", "--quick", "--workers", "1", "--out", str(out), "--json"]
+    result = CliRunner().invoke(main, ["-q", "design", *arguments], catch_exceptions=False)
+    assert result.exit_code == 0, result.output
+    volatile = ("time_s", "out_dir", "controller_path")
+    from_cli = {k: v for k, v in json.loads(result.stdout).items() if k not in volatile}
+    from_python = {k: v for k, v in designed.summary.to_json().items() if k not in volatile}
+    assert from_python == from_cli
+    assert files(designed.folder) == files(out)
+    loaded, _ = load_controller(designed.folder / "controller.json")
+    np.testing.assert_array_equal(loaded.reduced.A, designed.record.reduced.A)
+    assert designed.margins.summary == dataclasses.replace(
+        designed.margins.summary, out_dir=str((designed.folder / "margins").absolute())
+    )
+    assert files(designed.save(tmp_path / "copy")) == files(out)
+    figures = designed.plot()
+    assert "margins/margins" in figures
+    assert {f"{name}.png" for name in figures} <= set(files(out))
+    for figure in figures.values():
+        plt.close(figure)

@@ -17,11 +17,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-from casadi_debris import load_problem
-from casadi_debris.config import default_problem_path
+import casadi_debris as cd
 from casadi_debris.report.failures import HEATMAP
-from casadi_debris.studies.failures import FailureSettings
-from casadi_debris.workflows.failures import failures_folder
 
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "failures_authority_loss.png"
 
@@ -30,10 +27,9 @@ def main() -> None:
     if len(sys.argv) > 1:
         shutil.copyfile(Path(sys.argv[1]) / HEATMAP, FIGURE)
     else:
-        problem = load_problem(default_problem_path().parent / "paper_slew.toml")
         with tempfile.TemporaryDirectory() as folder:
             out = Path(folder) / "failures"
-            failures_folder(problem, out, FailureSettings(max_failed=1, closed_loop=False))
+            cd.failures("paper_slew", max_failed=1, closed_loop=False).save(out)
             shutil.copyfile(out / HEATMAP, FIGURE)
     print(FIGURE)
 

@@ -26,9 +26,8 @@ from typing import Any
 
 from gallery_table import git_commit, label, machine, one_line, problem_files, rewrite_page
 
-from casadi_debris import load_problem
+import casadi_debris as cd
 from casadi_debris.errors import CasadiDebrisError
-from casadi_debris.workflows.design import design_for_problem
 
 BEGIN = "<!-- gallery-design:begin (written by docs/_scripts/gallery_design.py; do not edit) -->"
 END = "<!-- gallery-design:end -->"
@@ -48,9 +47,8 @@ def row(path: Path, workers: int) -> str:
     """The design row of one problem file."""
     with tempfile.TemporaryDirectory() as folder:
         try:
-            summary = design_for_problem(
-                load_problem(path), Path(folder) / "design", quick=True, workers=workers
-            )
+            designed = cd.design(path, out=Path(folder) / "design", quick=True, workers=workers)
+            summary = designed.summary.to_json()
         except CasadiDebrisError as error:
             return f"| {label(path)} | refused: {one_line(error)} |  |  |  |  |  |  |"
     rows = {r["key"]: r for r in summary["rows"]}

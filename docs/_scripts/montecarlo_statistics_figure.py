@@ -21,12 +21,12 @@ from pathlib import Path
 
 import numpy as np
 
+import casadi_debris as cd
 from casadi_debris import load_problem
 from casadi_debris.plots.statistics import plot_statistics
 from casadi_debris.report.simulation import figure_title
 from casadi_debris.simulation import CaseSummary
 from casadi_debris.simulation.statistics import FIGURES, campaign_statistics, requirement_of
-from casadi_debris.workflows.campaign import CaseSelection, run_campaign_folder
 
 NAME = "paper_slew_dispersions"
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "montecarlo_slew_statistics.png"
@@ -56,9 +56,11 @@ def main() -> None:
         problem = load_problem(NAME)
         with tempfile.TemporaryDirectory() as temporary:
             out = Path(temporary) / "mc"
-            summary = run_campaign_folder(problem, None, CaseSelection(), out, workers=2)
+            campaign = cd.montecarlo(problem, workers=2)
+            campaign.save(out)
             shutil.copyfile(out / "statistics.png", FIGURE)
-        statistics = summary["statistics"]
+        assert campaign.summary.statistics is not None
+        statistics = campaign.summary.statistics.to_json()
     print(FIGURE)
     print(
         f"pass rate {statistics['pass_rate']:.3f} ({statistics['passed']} of {statistics['cases']})"

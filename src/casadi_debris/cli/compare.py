@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import click
@@ -13,6 +14,7 @@ from casadi_debris.cli.common import (
     folder_option,
     main,
     output_options,
+    run_folder,
     say,
 )
 from casadi_debris.config import SLEW_METHODS, load_problem
@@ -49,24 +51,25 @@ def compare(
     run fails says why in its row.
     """
     from casadi_debris.report.compare import COLUMNS, cell
-    from casadi_debris.workflows.compare import compare_variants
+    from casadi_debris.workflows.compare import compare as compare_variants
 
     chosen = None if methods is None else comma_list(methods, "--methods", "bang-bang,time-optimal")
     problems = [load_problem(path) for path in problem_files]
+    folder = run_folder(out, "compare", "", overwrite)
 
     def progress(label: str) -> None:
         if not as_json:
             say(f"  {label} ...")
 
-    summary = compare_variants(
+    result = compare_variants(
         problems,
-        chosen,
-        controller,
-        out,
-        overwrite=overwrite,
-        progress=progress,
+        methods=chosen,
+        controller=controller,
         allow_mismatch=allow_mismatch,
+        progress=progress,
     )
+    result.save(folder, overwrite=overwrite)
+    summary = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(summary)
         return

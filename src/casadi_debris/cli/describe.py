@@ -23,14 +23,15 @@ from casadi_debris.config import load_problem
 @friendly_errors
 def model(problem_file: Path | None, as_json: bool) -> None:
     """Describe the combined system: mass, inertia, CoG, torque authority, modes, engines."""
-    from casadi_debris.report.describe import describe_model, model_text
+    from casadi_debris.report.describe import model_text
+    from casadi_debris.workflows.model import model as model_job
 
-    problem = load_problem(problem_file)
-    summary = describe_model(problem)
+    described = model_job(problem_file)
     if as_json:
-        echo_json(summary)
+        echo_json(described.summary)
     else:
-        click.echo(model_text(summary, show_paper=problem.name == PAPER_PROBLEM_NAME))
+        show_paper = described.problem.name == PAPER_PROBLEM_NAME
+        click.echo(model_text(described.summary, show_paper=show_paper))
 
 
 @main.command()
@@ -39,16 +40,16 @@ def model(problem_file: Path | None, as_json: bool) -> None:
 @friendly_errors
 def budget(problem_file: Path | None, as_json: bool) -> None:
     """Δv, propellant, lifetime, transfer and detumble budgets."""
-    from casadi_debris.budgets import compute_budgets
-    from casadi_debris.report.describe import budget_report, budget_text
+    from casadi_debris.report.describe import budget_text
+    from casadi_debris.workflows.budget import budget as budget_job
 
-    problem = load_problem(problem_file)
-    items = compute_budgets(problem)
+    budgets = budget_job(problem_file)
     if as_json:
-        echo_json(budget_report(problem, items))
+        echo_json(budgets.summary)
     else:
+        problem = budgets.problem
         label = f"{problem.name} ({problem.source})"
-        click.echo(budget_text(items, label, problem.name == PAPER_PROBLEM_NAME))
+        click.echo(budget_text(budgets.items, label, problem.name == PAPER_PROBLEM_NAME))
 
 
 @main.command()

@@ -69,24 +69,23 @@ def design(
     margins over sampled plants, slew and pointing corner campaigns; writes controller.json
     and report.md. --method pd, pid or lqr designs a classical controller instead and verifies
     it the same way, to compare with the mu design."""
-    from casadi_debris.robust.design import SynthesisSettings
-    from casadi_debris.workflows.design import design_for_problem
+    from casadi_debris.workflows.design import design as design_job
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "design", problem.name, overwrite)
-    settings = SynthesisSettings(samples=samples, seed=seed)
-
-    summary = design_for_problem(
+    designed = design_job(
         problem,
-        folder,
+        out=folder,
         quick=quick,
         method=cast("DesignMethod", method),  # a click.Choice of those
-        settings=settings,
+        weights=cast("WeightsChoice", weights),  # a click.Choice of those
+        samples=samples,
+        seed=seed,
         workers=workers,
         overwrite=overwrite,
         progress=stage_progress(as_json),
-        weights=cast("WeightsChoice", weights),  # a click.Choice of those
     )
+    summary = designed.summary
     echo_verdicts(
         summary,
         summary.rows,

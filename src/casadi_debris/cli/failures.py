@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -25,7 +26,7 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 
 if TYPE_CHECKING:
-    from casadi_debris.studies.failure_records import FailureStudyRecord
+    from casadi_debris.studies.failures import FailuresSummary
 
 _MET = {True: "yes", False: "no", None: "—"}
 SHOWN = 10
@@ -47,7 +48,7 @@ def _progress(as_json: bool) -> Any:
     return progress
 
 
-def _text(summary: FailureStudyRecord) -> str:
+def _text(summary: FailuresSummary) -> str:
     rows = []
     for case in summary.cases[:SHOWN]:
         torque = case.torque_max_zero_force_mNm
@@ -158,29 +159,25 @@ def failures(
             f"--max-failed: between 1 and {count} (the problem's CubeSats); got {max_failed}"
         )
     folder = run_folder(out, "failures", problem.name, overwrite)
-    from casadi_debris.studies.failures import FailureSettings
-    from casadi_debris.workflows.failures import failures_folder
+    from casadi_debris.workflows.failures import failures as study_failures
 
-    settings = FailureSettings(
+    result = study_failures(
+        problem,
         max_failed=max_failed,
         stages=stages,
         closed_loop=closed_loop,
         corner_sets=corner_sets,
-        workers=workers,
-        jit=not no_jit,
-        batch_cases=batch_cases,
-    )
-    summary = failures_folder(
-        problem,
-        folder,
-        settings,
-        controller_path=controller,
-        allow_mismatch=allow_mismatch,
         max_corners=max_corners,
         quick=quick,
-        overwrite=overwrite,
+        controller=controller,
+        allow_mismatch=allow_mismatch,
+        workers=workers,
+        no_jit=no_jit,
+        batch_cases=batch_cases,
         progress=_progress(as_json),
     )
+    result.save(folder, overwrite=overwrite)
+    summary = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(summary)
     else:

@@ -27,9 +27,11 @@ def reproduce(
     """Reproduce the paper: model, budgets, controller, margins, slew and pointing
     with their Monte-Carlo envelopes; writes report.md with every figure of the
     paper next to ours."""
-    from casadi_debris.workflows.reproduce import reproduce_paper
+    from casadi_debris.report.folders import check_output_folder
+    from casadi_debris.workflows.reproduce import reproduce as reproduce_job
 
-    summary = reproduce_paper(
+    check_output_folder(out, overwrite=overwrite)
+    paper = reproduce_job(
         out,
         quick=quick,
         resynthesize=resynthesize,
@@ -37,6 +39,7 @@ def reproduce(
         overwrite=overwrite,
         progress=stage_progress(as_json),
     )
+    summary = paper.summary
     echo_verdicts(
         summary,
         summary.table,

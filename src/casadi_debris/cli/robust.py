@@ -31,22 +31,16 @@ from casadi_debris.config.limits import (
     MU_POINTS,
 )
 from casadi_debris.errors import InputShapeError, SynthesisError
-from casadi_debris.report.common import format_table, write_json_atomic
+from casadi_debris.report.common import format_table
 
 if TYPE_CHECKING:
     from casadi_debris.robust.musyn import Iteration
-from casadi_debris.report.folders import (
-    RunFolder,
-    check_output_folder,
-    default_run_folder,
-)
 
 
 @main.command()
 @problem_argument
 @folder_option(
     "Run folder for controller.json and summary.json [runs/synthesize-<problem>].",
-    name="out_dir",
 )
 @bounded_option("--mu-points", MU_POINTS, 150, "Frequencies of the mu grid.")
 @bounded_option("--max-iterations", DK_ITERATIONS, 8, "D-K iterations at most.")
@@ -60,7 +54,7 @@ from casadi_debris.report.folders import (
 @output_options
 def synthesize(
     problem_file: Path | None,
-    out_dir: Path | None,
+    out: Path | None,
     mu_points: int,
     max_iterations: int,
     d_orders: str,
@@ -73,24 +67,16 @@ def synthesize(
 
     Writes controller.json (fly it with --controller) and summary.json into --out.
     """
+    from casadi_debris.workflows.synthesize import synthesize as synthesize_job
+
     problem = load_problem(problem_file)
     orders = _d_orders(d_orders)
-    folder = out_dir or default_run_folder("synthesize", problem.name)
-    if folder.suffix == ".json":
+    if out is not None and out.suffix == ".json":
         raise InputShapeError(
-            f"--out: a run folder (the controller goes to {folder.with_suffix('')}/"
-            f"controller.json), not a .json file name: {folder}"
+            f"--out: a run folder (the controller goes to {out.with_suffix('')}/"
+            f"controller.json), not a .json file name: {out}"
         )
-    check_output_folder(folder, overwrite=overwrite)
-    from casadi_debris.robust.design import SynthesisSettings, design_controller
-
-    settings = SynthesisSettings(
-        samples=samples,
-        seed=seed,
-        mu_points=mu_points,
-        d_orders=orders,
-        max_iterations=max_iterations,
-    )
+    folder = run_folder(out, "synthesize", problem.name, overwrite)
 
     def progress(stage: str, iteration: Iteration | None) -> None:
         if iteration is None:
@@ -107,12 +93,18 @@ def synthesize(
         )
 
     say(f"Synthesising for {problem.name} ...")
-    design = design_controller(problem, settings, progress)
+    design = synthesize_job(
+        problem,
+        mu_points=mu_points,
+        max_iterations=max_iterations,
+        d_orders=orders,
+        samples=samples,
+        seed=seed,
+        progress=progress,
+    )
+    design.save(folder, overwrite=overwrite)
     controller_path = (folder / "controller.json").absolute()
-    summary = dataclasses.replace(design.summary(), controller_path=str(controller_path))
-    with RunFolder.claim(folder, overwrite=overwrite, command="synthesize") as staging:
-        write_json_atomic(staging / "controller.json", design.record.to_dict())
-        write_json_atomic(staging / "summary.json", summary)
+    summary = dataclasses.replace(design.summary, controller_path=str(controller_path))
     if as_json:
         echo_json(summary)
         return
@@ -141,7 +133,7 @@ def _d_orders(text: str) -> tuple[int, ...]:
 @click.option(
     "--seed", type=in_range(limits.SEED), default=None, help="Seed of the samples [problem's]."
 )
-@folder_option("Folder for summary.json and the plots [runs/margins-<problem>].", name="out_dir")
+@folder_option("Folder for summary.json and the plots [runs/margins-<problem>].")
 @click.option("--no-plots", is_flag=True, help="Skip the figures.")
 @output_options
 def margins(
@@ -150,26 +142,30 @@ def margins(
     allow_mismatch: bool,
     samples: int,
     seed: int | None,
-    out_dir: Path | None,
+    out: Path | None,
     no_plots: bool,
     overwrite: bool,
     as_json: bool,
 ) -> None:
     """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
-    from casadi_debris.report.robust import margin_report
-    from casadi_debris.workflows.controller import controller_for
+    from casadi_debris.workflows.margins import margins as margins_job
 
     problem = load_problem(problem_file)
-    record, path = controller_for(problem, controller, allow_mismatch=allow_mismatch)
-    folder = run_folder(out_dir, "margins", problem.name, overwrite)
+    folder = run_folder(out, "margins", problem.name, overwrite)
 
     def progress(done: int, total: int) -> None:
         say(f"  {done}/{total} sampled plants")
 
-    with RunFolder.claim(folder, overwrite=overwrite, command="margins") as staging:
-        summary = margin_report(
-            problem, record, path, samples, seed, staging, not no_plots, progress, out_dir=folder
-        )
+    study = margins_job(
+        problem,
+        controller=controller,
+        allow_mismatch=allow_mismatch,
+        samples=samples,
+        seed=seed,
+        progress=progress,
+    )
+    study.save(folder, overwrite=overwrite, plots=not no_plots)
+    summary = dataclasses.replace(study.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(summary)
         return
@@ -181,7 +177,10 @@ def margins(
         ("sampled_min", summary.sampled_min),
     ):
         rows.append([label, m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s])
-    click.echo(f"Controller {path} ({record.reduced.nstates} states) on {problem.name}")
+    click.echo(
+        f"Controller {summary.controller_path} ({summary.controller_order} states) "
+        f"on {problem.name}"
+    )
     click.echo(
         format_table(["", "gain margin [dB]", "phase margin [deg]", "delay margin [s]"], rows)
     )

@@ -25,6 +25,7 @@ from casadi_debris.cli.common import (
     no_jit_option,
     output_options,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
     workers_option,
@@ -34,7 +35,7 @@ from casadi_debris.config import Problem, limits, load_problem
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_figure, format_table, write_csv, write_json_atomic
-from casadi_debris.report.folders import RunFolder, check_output_folder, default_run_folder
+from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.units import NM_PER_MNM
 
 if TYPE_CHECKING:
@@ -360,31 +361,32 @@ def montecarlo(
     rank correlations of every figure), cases.csv, envelope.csv/png, statistics.png,
     campaign.nc (every case, for xarray) and the nominal run.
     """
-    from casadi_debris.workflows.campaign import (
-        CampaignInterrupted,
-        CaseSelection,
-        run_campaign_folder,
-    )
+    from casadi_debris.errors import CampaignInterrupted
+    from casadi_debris.workflows.montecarlo import montecarlo as run_montecarlo
 
     problem = load_problem(problem_file)
-    selection = CaseSelection(corners, samples, seed, max_cases)
+    folder = run_folder(out, "montecarlo", problem.name, overwrite)
     try:
-        summary = run_campaign_folder(
+        result = run_montecarlo(
             problem,
-            controller,
-            selection,
-            out or default_run_folder("montecarlo", problem.name),
+            corners=corners,
+            samples=samples,
+            seed=seed,
+            max_cases=max_cases,
             workers=workers,
             scheduler=scheduler,
-            jit=not no_jit,
-            batch_cases=batch_cases,
-            overwrite=overwrite,
+            controller=controller,
             allow_mismatch=allow_mismatch,
+            no_jit=no_jit,
+            batch_cases=batch_cases,
+            out=folder,
+            overwrite=overwrite,
             progress=None if as_json or is_quiet() else cases_progress(problem.name),
         )
     except CampaignInterrupted as interrupted:
         click.echo(f"\n{interrupted}", err=True)
         sys.exit(EXIT_INTERRUPTED)
+    summary = result.summary
     if as_json:
         echo_json(summary)
         return

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -15,12 +16,12 @@ from casadi_debris.cli.common import (
     is_quiet,
     main,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
 )
 from casadi_debris.config import limits, load_problem
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
 
 if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the command
     from casadi_debris.report.worstcase import WorstCaseSummary
@@ -76,10 +77,10 @@ def worstcase(
     worst_parameters.json and mu_*_parameters.json (for simulate --parameters),
     evaluations.csv and worstcase.png.
     """
-    from casadi_debris.workflows.worstcase import run_worstcase_folder
+    from casadi_debris.workflows.worstcase import worstcase as find_worst_cases
 
     problem = load_problem(problem_file)
-    folder = out or default_run_folder("worstcase", problem.name)
+    folder = run_folder(out, "worstcase", problem.name, overwrite)
 
     def progress(stage: str):  # type: ignore[no-untyped-def]
         if as_json or is_quiet():
@@ -88,19 +89,22 @@ def worstcase(
         counter = counter_progress("  search", "runs")
         return lambda done, error: counter(done, budget)
 
-    summary = run_worstcase_folder(
+    result = find_worst_cases(
         problem,
-        controller,
-        folder,
-        overwrite=overwrite,
-        campaign=campaign,
+        controller=controller,
+        allow_mismatch=allow_mismatch,
         budget=budget,
         seed=seed,
         angles=angles,
-        with_mu=not no_mu,
-        with_search=not no_search,
-        allow_mismatch=allow_mismatch,
+        no_mu=no_mu,
+        no_search=no_search,
+        campaign=campaign,
         progress=progress,
+    )
+    result.save(folder, overwrite=overwrite)
+    summary = result.summary
+    summary = dataclasses.replace(
+        summary, identity=dataclasses.replace(summary.identity, out_dir=str(folder.absolute()))
     )
     if as_json:
         echo_json(summary)

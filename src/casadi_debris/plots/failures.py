@@ -6,6 +6,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.config import SIGNED_AXES
 from casadi_debris.plots import save_figure
@@ -22,12 +23,20 @@ def plot_authority_loss(
     title: str,
     disturbance_line: np.ndarray | None = None,
 ) -> Path:
+    """:func:`authority_loss_figure` written to ``path`` (PNG, and PDF beside it)."""
+    return save_figure(authority_loss_figure(loss, cubesat_ids, title, disturbance_line), path)
+
+
+def authority_loss_figure(
+    loss: np.ndarray,
+    cubesat_ids: list[int],
+    title: str,
+    disturbance_line: np.ndarray | None = None,
+) -> Figure:
     """Heat map of the authority lost per failed CubeSat (rows) and signed axis (columns).
 
     Parameters
     ----------
-    path : Path
-        PNG to write.
     loss : ndarray, shape (n_cubesats, 6)
         Share of the whole swarm's authority lost about each signed axis
         (``+x, -x, +y, -y, +z, -z``), 0 .. 1.
@@ -62,4 +71,4 @@ def plot_authority_loss(
                 )
             )
     figure.colorbar(image, ax=ax, label="authority lost [%]")
-    return save_figure(figure, path)
+    return figure

@@ -1,20 +1,19 @@
-"""Figures of the robust design: mu, the uncertainty weight, loop shapes, margins."""
+"""Figures of the robust design: mu, the uncertainty weight, loop shapes, margins.
+
+Each function returns its figure (nothing written; ``save_figure`` writes one)."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
-from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.plots import AXIS_COLOURS
 
 AXES = ("x", "y", "z")
 
 
-def plot_mu(
-    path: Path, omega: np.ndarray, curves: dict[str, np.ndarray], target: float = 1.0
-) -> Path:
+def mu_figure(omega: np.ndarray, curves: dict[str, np.ndarray], target: float = 1.0) -> Figure:
     """Robust-performance mu against frequency, one curve per controller."""
     figure, ax = plt.subplots(figsize=(7, 4))
     for label, mu in curves.items():
@@ -23,12 +22,12 @@ def plot_mu(
     ax.set(xlabel="frequency [rad/s]", ylabel="mu upper bound", title="Robust performance")
     ax.grid(True, which="both", linestyle=":")
     ax.legend()
-    return save_figure(figure, path)
+    return figure
 
 
-def plot_uncertainty_weight(
-    path: Path, omega: np.ndarray, bound: np.ndarray, weight: np.ndarray, samples: int
-) -> Path:
+def uncertainty_weight_figure(
+    omega: np.ndarray, bound: np.ndarray, weight: np.ndarray, samples: int
+) -> Figure:
     """|W_i| over the per-channel bound of the sampled relative errors."""
     figure, axes = plt.subplots(1, 3, figsize=(12, 3.8), sharey=True)
     for i, ax in enumerate(axes):
@@ -39,17 +38,16 @@ def plot_uncertainty_weight(
         ax.grid(True, which="both", linestyle=":")
     axes[0].set_ylabel("relative error magnitude")
     axes[0].legend()
-    return save_figure(figure, path)
+    return figure
 
 
-def plot_loop_shapes(
-    path: Path,
+def loop_shapes_figure(
     omega: np.ndarray,
     sensitivity: np.ndarray,
     complementary: np.ndarray,
     sensitivity_bound: np.ndarray,
     complementary_bound: np.ndarray,
-) -> Path:
+) -> Figure:
     """Singular values of S and T with the bounds the weights impose (1/|We|, 1/|W|)."""
     figure, axes = plt.subplots(1, 2, figsize=(11, 4))
     for ax, values, bound, name in (
@@ -61,12 +59,10 @@ def plot_loop_shapes(
         ax.set(xlabel="frequency [rad/s]", ylabel="singular values", title=name)
         ax.grid(True, which="both", linestyle=":")
         ax.legend()
-    return save_figure(figure, path)
+    return figure
 
 
-def plot_margin_scatter(
-    path: Path, sampled: np.ndarray, nominal: np.ndarray, limits: tuple[float, float]
-) -> Path:
+def margins_figure(sampled: np.ndarray, nominal: np.ndarray, limits: tuple[float, float]) -> Figure:
     """Gain vs phase margin of every sampled plant and channel, with the requirements."""
     figure, axes = plt.subplots(1, 2, figsize=(11, 4))
     for i, axis in enumerate(AXES):
@@ -85,4 +81,4 @@ def plot_margin_scatter(
     for ax in axes:
         ax.grid(True, linestyle=":")
         ax.legend()
-    return save_figure(figure, path)
+    return figure

@@ -280,6 +280,15 @@ def plot_comparison(
     bounds: dict[str, list[float | None]],
     path: Path,
 ) -> Path:
+    """:func:`comparison_figure` written to ``path`` (PNG, and PDF beside it)."""
+    return save_figure(comparison_figure(labels, panels, bounds), path)
+
+
+def comparison_figure(
+    labels: list[str],
+    panels: dict[str, list[float | None]],
+    bounds: dict[str, list[float | None]],
+) -> Figure:
     """One bar chart per figure, the variants side by side.
 
     Parameters
@@ -291,7 +300,6 @@ def plot_comparison(
         e.g. no slew, or the run failed; drawn as a gap marked "—").
     bounds : dict
         Panel title -> a requirement per variant, drawn as a red tick (None: none).
-    path : Path
     """
     figure, axes = plt.subplots(
         len(panels), 1, figsize=(max(5.0, 1.1 * len(labels)), 1.9 * len(panels)), sharex=True
@@ -312,4 +320,4 @@ def plot_comparison(
         if handles:
             ax.legend(handles[:1], names[:1], fontsize=7, loc="upper left")
     np.atleast_1d(axes)[-1].set_xticks(x, labels, rotation=20, ha="right")
-    return save_figure(figure, path)
+    return figure

@@ -8,6 +8,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.dynamics.attitude import (
     error_quaternion,
@@ -21,8 +22,13 @@ from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
 
 def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
-    """Write a PNG of Euler angles (deg), body rates (deg/s), torque (mNm) and, with
-    ``thrust``, the thrust of every engine (mN), all against time (s).
+    """Write :func:`slew_figure` as a PNG (``path``) and a PDF beside it."""
+    return save_figure(slew_figure(profile, thrust), path)
+
+
+def slew_figure(profile: SlewProfile, thrust: bool = False) -> Figure:
+    """Euler angles (deg), body rates (deg/s), torque (mNm) and, with ``thrust``, the
+    thrust of every engine (mN), all against time (s); not written.
 
     A flexible slew solved with its terminal window (``settings["window_s"]``) gets
     one more panel: the torque over the last two window lengths, the window shaded.
@@ -73,7 +79,7 @@ def plot_slew(profile: SlewProfile, path: Path, thrust: bool = False) -> Path:
     )
     for axis in axes:
         axis.grid(True, linestyle=":")
-    return save_figure(figure, path)
+    return figure
 
 
 def _authority_lines(axis: plt.Axes, profile: SlewProfile) -> None:
@@ -151,19 +157,28 @@ def shade_segments(axis: plt.Axes, records: Sequence[SegmentRecord], label: bool
             )
 
 
-def plot_manoeuvre(
+def manoeuvre_figure(
     time_s: np.ndarray,
     quaternion_BN: np.ndarray,
     rate_rad_s: np.ndarray,
     records: Sequence[SegmentRecord],
-    path: Path,
     title: str = "",
-) -> Path:
-    """Write a PNG of a manoeuvre's reference: 3-2-1 Euler angles Φ, Θ, Ψ (deg) and body
-    rates (deg/s) against time (s), each segment shaded and numbered."""
+) -> Figure:
+    """A manoeuvre's reference: 3-2-1 Euler angles Φ, Θ, Ψ (deg) and body rates (deg/s)
+    against time (s), each segment shaded and numbered; not written.
+
+    Parameters
+    ----------
+    time_s : ndarray, shape (n,)
+    quaternion_BN : ndarray, shape (n, 4)
+        Scalar first.
+    rate_rad_s : ndarray, shape (n, 3)
+    records : sequence of SegmentRecord
+    title : str
+    """
     angles = np.degrees(np.unwrap(euler_angles_321(quaternion_BN), axis=0))
     panels = [("reference angle [deg]", angles), ("reference rate [deg/s]", np.degrees(rate_rad_s))]
-    return plot_segment_series(time_s, panels, records, path, title)
+    return segment_series_figure(time_s, panels, records, title)
 
 
 def plot_segment_series(
@@ -173,7 +188,17 @@ def plot_segment_series(
     path: Path,
     title: str = "",
 ) -> Path:
-    """Write a PNG of x, y, z series against time (s), one panel each, segments shaded.
+    """Write :func:`segment_series_figure` as a PNG (``path``) and a PDF beside it."""
+    return save_figure(segment_series_figure(time_s, panels, records, title), path)
+
+
+def segment_series_figure(
+    time_s: np.ndarray,
+    panels: Sequence[tuple[str, np.ndarray]],
+    records: Sequence[SegmentRecord],
+    title: str = "",
+) -> Figure:
+    """x, y, z series against time (s), one panel each, segments shaded; not written.
 
     Parameters
     ----------
@@ -182,7 +207,6 @@ def plot_segment_series(
         Each panel's y label and values: shape (n, 3) drawn as lines, (n - 1, 3) held
         over each step (torques); the first panel's legend names Φ / x, Θ / y, Ψ / z.
     records : sequence of SegmentRecord
-    path : Path
     title : str
     """
     figure, axes = plt.subplots(len(panels), 1, figsize=(9, 2.6 * len(panels) + 0.8), sharex=True)
@@ -203,4 +227,4 @@ def plot_segment_series(
     axes[-1].set_xlabel("time [s]")
     if title:
         figure.suptitle(title)
-    return save_figure(figure, path)
+    return figure

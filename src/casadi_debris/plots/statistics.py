@@ -7,6 +7,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.plots import save_figure
 from casadi_debris.simulation.statistics import CampaignStatistics, Driver, FigureStatistics
@@ -21,6 +22,19 @@ def plot_statistics(
     path: Path,
     title: str = "",
 ) -> Path:
+    """:func:`statistics_figure` written to ``path`` (PNG, and PDF beside it).
+
+    Returns
+    -------
+    Path
+        ``path``.
+    """
+    return save_figure(statistics_figure(statistics, figures, title), path)
+
+
+def statistics_figure(
+    statistics: CampaignStatistics, figures: Mapping[str, np.ndarray], title: str = ""
+) -> Figure:
     """Histogram and tornado of rank correlations for the requirement's figure and the fuel.
 
     Parameters
@@ -29,14 +43,12 @@ def plot_statistics(
     figures : mapping of str to ndarray
         Figure name -> value per case (NaN: none), as
         :func:`~casadi_debris.simulation.statistics.case_figures` gives.
-    path : Path
-        PNG to write.
     title : str
 
     Returns
     -------
-    Path
-        ``path``.
+    matplotlib.figure.Figure
+        Open; close it with ``matplotlib.pyplot.close``.
     """
     shown = [statistics.requirement_figure]
     shown += [f for f in ("fuel_slew_kg", "fuel_kg") if f in figures][:1]
@@ -51,7 +63,7 @@ def plot_statistics(
         f"{statistics.requirement_figure} ≤ {statistics.requirement:g}"
     )
     figure.tight_layout()
-    return save_figure(figure, path)
+    return figure
 
 
 def _histogram(ax: plt.Axes, stats: FigureStatistics, values: np.ndarray) -> None:

@@ -150,6 +150,34 @@ def write_atomically(target: Path, write: Callable[[Path], None]) -> Path:
     return target
 
 
+def write_case(folder: Path, outcome: CaseOutcome) -> None:
+    """One finished case into ``folder``: ``cases/<id>.npz`` (bands) then
+    ``cases/<id>.json`` (the summary, written last: the marker of a whole case); a
+    ``cases/<id>.failed.json`` of an earlier try goes."""
+    cases = folder / "cases"
+    cases.mkdir(exist_ok=True)
+    # Any: numpy's stubs take ** entries for its own keywords (allow_pickle).
+    arrays: dict[str, Any] = outcome.bands.to_arrays()
+
+    def save(path: Path) -> None:
+        # A stream, not a name: savez would add ".npz" to the temporary's name.
+        with path.open("xb") as stream:
+            np.savez_compressed(stream, **arrays)
+
+    write_atomically(cases / f"{outcome.case.case_id}.npz", save)
+    write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
+    (cases / f"{outcome.case.case_id}.failed.json").unlink(missing_ok=True)
+
+
+def write_failure(folder: Path, failure: CaseFailure) -> Path:
+    """A case that raised, as ``cases/<id>.failed.json`` in ``folder``."""
+    cases = folder / "cases"
+    cases.mkdir(exist_ok=True)
+    path = cases / f"{failure.case.case_id}.failed.json"
+    write_json_atomic(path, failure.summary())
+    return path
+
+
 class CampaignFolder:
     """A campaign's ``<out>.partial`` folder: locked, checked against its record, resumable.
 
@@ -226,27 +254,11 @@ class CampaignFolder:
 
     def write_case(self, outcome: CaseOutcome) -> None:
         """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
-        cases = self.partial / "cases"
-        cases.mkdir(exist_ok=True)
-        # Any: numpy's stubs take ** entries for its own keywords (allow_pickle).
-        arrays: dict[str, Any] = outcome.bands.to_arrays()
-
-        def save(path: Path) -> None:
-            # A stream, not a name: savez would add ".npz" to the temporary's name.
-            with path.open("xb") as stream:
-                np.savez_compressed(stream, **arrays)
-
-        write_atomically(cases / f"{outcome.case.case_id}.npz", save)
-        write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
-        (cases / f"{outcome.case.case_id}.failed.json").unlink(missing_ok=True)
+        write_case(self.partial, outcome)
 
     def write_failure(self, failure: CaseFailure) -> Path:
         """A case that raised, as ``cases/<id>.failed.json`` (a resume runs it again)."""
-        cases = self.partial / "cases"
-        cases.mkdir(exist_ok=True)
-        path = cases / f"{failure.case.case_id}.failed.json"
-        write_json_atomic(path, failure.summary())
-        return path
+        return write_failure(self.partial, failure)
 
     def finished_cases(self, cases: list[Case]) -> dict[str, CaseOutcome]:
         """Cases of ``cases`` already written (both files present and readable)."""

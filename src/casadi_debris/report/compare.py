@@ -4,13 +4,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from casadi_debris.plots.simulation import plot_comparison
+from casadi_debris.plots import save_figure
+from casadi_debris.plots.simulation import comparison_figure
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, write_csv, write_json_atomic
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -84,7 +88,8 @@ class Comparison(Record):
     window_s : float
         The time every variant flew, from the start: the shortest run.
     variants : tuple of VariantRow
-    out_dir : str
+    out_dir : str or None
+        Where it was written (None until it is).
     """
 
     controller_path: str
@@ -92,7 +97,7 @@ class Comparison(Record):
     plant_sha256: dict[str, str]
     window_s: float
     variants: tuple[VariantRow, ...]
-    out_dir: str
+    out_dir: str | None
 
 
 COLUMNS = (
@@ -135,19 +140,29 @@ def cell(row: VariantRow, key: str) -> Any:
     return verdict(row) if key == "verdict" else getattr(row, key)
 
 
-def write_comparison(folder: Path, summary: Comparison) -> None:
-    """``comparison.csv``, ``comparison.md``, ``comparison.png`` and ``summary.json``."""
+def write_comparison(folder: Path, summary: Comparison, *, with_plots: bool = True) -> None:
+    """``comparison.csv``, ``comparison.md``, ``comparison.png`` (``with_plots``) and
+    ``summary.json``."""
     rows = summary.variants
     columns = {key: np.array([cell(row, key) for row in rows], dtype=object) for key, _ in COLUMNS}
     write_csv(folder / "comparison.csv", columns)
     (folder / "comparison.md").write_text(comparison_markdown(summary))
+    if with_plots:
+        for name, figure in comparison_figures(summary).items():
+            save_figure(figure, folder / f"{name}.png")
+    write_json_atomic(folder / "summary.json", summary)
+
+
+def comparison_figures(summary: Comparison) -> dict[str, Figure]:
+    """``comparison``: one bar chart per figure (fuel, error, saturation), the variants
+    side by side, each slew's error bound drawn."""
+    rows = summary.variants
     panels = {
         title: [None if (v := getattr(row, key)) is None else v * factor for row in rows]
         for key, title, factor in CHARTS
     }
     required = {"max error [deg]": _slew_bounds(rows)}
-    plot_comparison([row.variant for row in rows], panels, required, folder / "comparison.png")
-    write_json_atomic(folder / "summary.json", summary)
+    return {"comparison": comparison_figure([row.variant for row in rows], panels, required)}
 
 
 def _slew_bounds(rows: tuple[VariantRow, ...]) -> list[float | None]:

@@ -128,10 +128,11 @@ class ModelDescription(Record):
     notes: tuple[str, ...]
 
 
-def describe_model(problem: Problem) -> ModelDescription:
-    """The combined system in display units (the ``casadi-debris model`` output)."""
-    model = build_model(problem)
-    geometry = model.geometry
+def describe_model(model: Problem | Model) -> ModelDescription:
+    """The combined system in display units (the ``casadi-debris model`` output), of a
+    problem or of its model already built."""
+    model = model if isinstance(model, Model) else build_model(model)
+    problem, geometry = model.problem, model.geometry
     zero_force_mNm = {
         k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
     }
@@ -426,7 +427,7 @@ def _offdiag(matrix: np.ndarray) -> list[float]:
 
 
 @dataclass(frozen=True)
-class BudgetReport(Record):
+class BudgetSummary(Record):
     """``casadi-debris budget --json``: the problem, every budget figure under its own key
     (a mapping, flattened: the keys carry the units, ``dv_transfer_m_s``, and
     :func:`~casadi_debris.budgets.compute_budgets` decides them), and ``how`` each was
@@ -438,9 +439,9 @@ class BudgetReport(Record):
     how: dict[str, str]
 
 
-def budget_report(problem: Problem, items: Sequence[BudgetItem]) -> BudgetReport:
+def budget_summary(problem: Problem, items: Sequence[BudgetItem]) -> BudgetSummary:
     """The budget ``items`` of ``problem`` as a record."""
-    return BudgetReport(
+    return BudgetSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         figures={item.key: item.value for item in items},

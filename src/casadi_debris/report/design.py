@@ -17,7 +17,7 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, verdict_text
-from casadi_debris.report.robust import MarginReport
+from casadi_debris.report.robust import MarginsSummary
 
 # WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
 from casadi_debris.report.simulation import WorstFigure
@@ -122,12 +122,12 @@ def _nominal_and_worst(campaign: CampaignSummary, key: str) -> list[float | None
 def requirement_rows(
     problem: Problem,
     search: DesignSearch,
-    margins: MarginReport,
+    margins: MarginsSummary,
     campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
-    """The design's table (margins as from :func:`~casadi_debris.report.robust.margin_report`,
-    campaigns as from :func:`~casadi_debris.workflows.campaign.run_campaign_folder`): the
+    """The design's table (margins as from :func:`~casadi_debris.workflows.margins.margins`,
+    campaigns as from :func:`~casadi_debris.workflows.montecarlo.montecarlo`): the
     judged rows, then :func:`information_rows`."""
     chosen = search.chosen
     pointing_req = problem.requirements.pointing_arcsec
@@ -146,7 +146,7 @@ def requirement_rows(
 
 def verification_rows(
     problem: Problem,
-    margins: MarginReport,
+    margins: MarginsSummary,
     campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
     orders: list[int],

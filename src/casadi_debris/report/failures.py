@@ -1,7 +1,7 @@
 """A failure campaign as files: summary, ranked table (CSV and Markdown), re-allocation, heat map.
 
 Everything is drawn from the summary (the JSON of a
-:class:`~casadi_debris.studies.failure_records.FailureStudyRecord`), so that
+:class:`~casadi_debris.studies.failures.FailuresSummary`), so that
 a script can redraw it from ``summary.json``:
 
 - ``summary.json``: every case with ``failed`` (CubeSat ids from 1),
@@ -18,20 +18,24 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from casadi_debris.config import SIGNED_AXES
-from casadi_debris.plots.failures import plot_authority_loss
+from casadi_debris.plots import save_figure
+from casadi_debris.plots.failures import authority_loss_figure
 from casadi_debris.records import to_jsonable
 from casadi_debris.report.common import format_figure, write_json_atomic
-from casadi_debris.studies.failure_records import (
+from casadi_debris.studies.failures import (
     FailureCaseRecord,
-    FailureStudyRecord,
+    FailuresSummary,
     RunVerdict,
 )
 from casadi_debris.units import SECONDS_PER_DAY
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 REPORT_ROWS = 25
 """Cases ``report.md`` lists (all are in ``cases.csv``)."""
@@ -122,7 +126,7 @@ def _markdown_cells(row: dict[str, Any]) -> list[str]:
     ]
 
 
-def pointing_window(summary: FailureStudyRecord) -> str:
+def pointing_window(summary: FailuresSummary) -> str:
     """What window the pointing run covered, and whether it bounds the pointing error."""
     period = summary.disturbance_period_s
     pointing = [m for m in summary.manoeuvres if m.name == "pointing"]
@@ -146,7 +150,7 @@ def pointing_window(summary: FailureStudyRecord) -> str:
     )
 
 
-def failures_markdown(summary: FailureStudyRecord, rows: list[dict[str, Any]]) -> str:
+def failures_markdown(summary: FailuresSummary, rows: list[dict[str, Any]]) -> str:
     """``report.md``: what was run, the baseline, the worst cases, the heat map."""
     torque = summary.baseline.torque_max_zero_force_mNm
     requirements = ", ".join(f"{k} ≤ {v:g}" for k, v in summary.requirements.items())
@@ -208,7 +212,7 @@ def _write_table(path: Path, rows: list[dict[str, Any]]) -> None:
         writer.writerows({k: "" if v is None else v for k, v in row.items()} for row in rows)
 
 
-def reallocation_rows(summary: FailureStudyRecord) -> list[dict[str, Any]]:
+def reallocation_rows(summary: FailuresSummary) -> list[dict[str, Any]]:
     """Each case's mean holding thrust per CubeSat beside the whole swarm's [mN]."""
     if summary.baseline.holding is None:
         return []
@@ -231,7 +235,7 @@ def reallocation_rows(summary: FailureStudyRecord) -> list[dict[str, Any]]:
     return rows
 
 
-def single_failure_loss(summary: FailureStudyRecord) -> tuple[list[int], np.ndarray, np.ndarray]:
+def single_failure_loss(summary: FailuresSummary) -> tuple[list[int], np.ndarray, np.ndarray]:
     """(CubeSat ids, authority lost (n, 6), left at or below the disturbance (n, 6)) of the
     single-CubeSat cases, by CubeSat."""
     singles = sorted(
@@ -251,21 +255,26 @@ def _at_most_one(ratio: float | None) -> bool:
     return ratio is not None and ratio <= 1.0
 
 
-def write_failures(folder: Path, summary: FailureStudyRecord) -> None:
-    """Every file of a failure campaign into ``folder`` (see the module)."""
+def write_failures(folder: Path, summary: FailuresSummary, *, with_plots: bool = True) -> None:
+    """Every file of a failure campaign into ``folder`` (see the module), the heat map
+    with ``with_plots``."""
     rows = [case_row(rank, case) for rank, case in enumerate(summary.cases, start=1)]
     _write_table(folder / "cases.csv", rows)
     moved = reallocation_rows(summary)
     if moved:
         _write_table(folder / "reallocation.csv", moved)
-    ids, loss, weak = single_failure_loss(summary)
-    if ids:
-        plot_authority_loss(
-            folder / HEATMAP,
-            loss,
-            ids,
-            f"{summary.problem}: authority lost by one failed CubeSat",
-            weak,
-        )
+    if with_plots:
+        for name, figure in failure_figures(summary).items():
+            save_figure(figure, folder / f"{name}.png")
     (folder / "report.md").write_text(failures_markdown(summary, rows))
     write_json_atomic(folder / "summary.json", summary)
+
+
+def failure_figures(summary: FailuresSummary) -> dict[str, Figure]:
+    """The campaign's figures by file stem: ``authority_loss`` (the share of the authority
+    each single failure takes, per signed axis), when single failures were studied."""
+    ids, loss, weak = single_failure_loss(summary)
+    if not ids:
+        return {}
+    title = f"{summary.problem}: authority lost by one failed CubeSat"
+    return {HEATMAP.removesuffix(".png"): authority_loss_figure(loss, ids, title, weak)}

@@ -18,7 +18,7 @@ from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, verdict_text
 from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure
-from casadi_debris.report.robust import MarginReport
+from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.robust.controller import ControllerRecord
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
@@ -200,7 +200,7 @@ def controller_rows(controller: ControllerFigures) -> list[ReproductionRow]:
     ]
 
 
-def margin_rows(margins: MarginReport) -> list[ReproductionRow]:
+def margin_rows(margins: MarginsSummary) -> list[ReproductionRow]:
     """Nominal and sampled loop-at-a-time margins (dB, deg, s)."""
     nominal, sampled = margins.nominal, margins.sampled_min
     return [
@@ -261,7 +261,7 @@ def reproduction_rows(
     model: ModelDescription,
     budgets: dict[str, float],
     controller: ControllerFigures,
-    margins: MarginReport,
+    margins: MarginsSummary,
     slew: CampaignSummary,
     slew_duration_s: float | None,
     pointing: CampaignSummary,

@@ -1,20 +1,22 @@
-"""Margins of a controller as a run folder (``casadi-debris margins``)."""
+"""Margins of a controller: the summary, the figures and the run folder
+(``casadi-debris margins``)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.plots import robust as robust_plots
+from casadi_debris.plots import save_figure
 from casadi_debris.records import Record
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.paper import paper_figure
-from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margin_study, margins_table
+from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margins_table
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.design import weight_fit_grid
 from casadi_debris.robust.interconnect import generalized_plant
@@ -27,6 +29,9 @@ from casadi_debris.robust.uncertainty import (
     sample_uncertainty,
 )
 from casadi_debris.robust.weights import recorded_performance_weights, weight_system
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 MARGINS = ("gain_margin_db", "phase_margin_deg", "delay_margin_s")
 
@@ -73,7 +78,7 @@ class DiskMargin(Record):
 
 
 @dataclass(frozen=True, kw_only=True)
-class MarginReport(Record):
+class MarginsSummary(Record):
     """Margins of a controller on a problem, nominal and over sampled plants.
 
     Attributes
@@ -100,7 +105,8 @@ class MarginReport(Record):
         Wall time of the study.
     required, paper : dict of str to float
         The margins accepted over the sampled plants, and the paper's.
-    out_dir : str
+    out_dir : str or None
+        The folder it was written to (None until it is).
     """
 
     problem: str
@@ -123,32 +129,17 @@ class MarginReport(Record):
     time_s: float
     required: dict[str, float]
     paper: dict[str, float]
-    out_dir: str
+    out_dir: str | None = None
 
 
-def margin_report(
-    problem: Problem,
-    record: ControllerRecord,
-    controller_path: Path,
-    samples: int,
-    seed: int | None,
-    folder: Path,
-    with_plots: bool = True,
-    progress: Any = None,
-    out_dir: Path | None = None,
-) -> MarginReport:
-    """Margins of a controller record, written into ``folder`` (summary.json, CSV, PNGs).
-
-    ``folder`` is a staging folder the caller owns (see
-    :class:`~casadi_debris.report.folders.RunFolder`); ``out_dir`` is where it
-    will end up, recorded in the summary (default ``folder``).
-
-    Returns what ``summary.json`` holds.
-    """
-    study = margin_study(problem, record.reduced, samples, seed, progress=progress)
+def margins_summary(
+    problem: Problem, record: ControllerRecord, controller_path: Path, study: MarginStudy
+) -> MarginsSummary:
+    """What ``summary.json`` holds of a margin study of ``record`` (flown from
+    ``controller_path``) on ``problem``; ``out_dir`` is None until it is written."""
     per_channel = margins_table(study.nominal)
     alpha, disk_gain_db, disk_phase_deg = study.nominal_disk
-    summary = MarginReport(
+    return MarginsSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         controller_path=str(controller_path),
@@ -169,8 +160,17 @@ def margin_report(
         time_s=study.time_s,
         required=required_margins(),
         paper=paper_margins(),
-        out_dir=str(Path(out_dir or folder).absolute()),
     )
+
+
+def write_margins(
+    folder: Path,
+    summary: MarginsSummary,
+    study: MarginStudy,
+    figures: dict[str, Figure] | None,
+) -> None:
+    """A margin study into ``folder`` (a staging folder the caller owns): ``summary.json``,
+    ``sampled_margins.csv`` and the ``figures`` (of :func:`margin_figures`; None: none)."""
     staging = Path(folder)
     staging.mkdir(parents=True, exist_ok=True)
     write_json_atomic(staging / "summary.json", summary)
@@ -181,9 +181,8 @@ def margin_report(
         [np.arange(len(study.sampled)), study.sampled.reshape(len(study.sampled), 9)]
     )
     np.savetxt(staging / "sampled_margins.csv", rows, delimiter=",", header=header, comments="")
-    if with_plots:
-        _margin_figures(problem, record, study, staging)
-    return summary
+    for name, figure in (figures or {}).items():
+        save_figure(figure, staging / f"{name}.png")
 
 
 def _sampled_data_margins(problem: Problem, record: ControllerRecord, modes: str) -> Margins:
@@ -194,9 +193,13 @@ def _sampled_data_margins(problem: Problem, record: ControllerRecord, modes: str
     return Margins.worst(per_channel)
 
 
-def _margin_figures(
-    problem: Problem, record: ControllerRecord, study: MarginStudy, folder: Path
-) -> None:
+def margin_figures(
+    problem: Problem, record: ControllerRecord, study: MarginStudy
+) -> dict[str, Figure]:
+    """The figures of a margin study by file stem: ``mu``, ``uncertainty_weight`` and
+    ``loop_shapes`` (when the controller records its uncertainty weight, as a μ design
+    does) and ``margins`` (gain against phase margin of every sampled plant)."""
+    figures: dict[str, Figure] = {}
     weight_info = record.details.get("uncertainty_weight", {})
     coefficients = np.array(weight_info.get("coefficients_k_wz_zetaz_wp_zetap", []))
     design_model = build_model(problem, modes=record.details.get("design_plant_modes", "first"))
@@ -214,31 +217,29 @@ def _margin_figures(
         curves[f"reduced ({record.reduced.nstates})"] = closed_loop_mu(
             plant, record.reduced, omega
         )[1].mu
-        robust_plots.plot_mu(folder / "mu.png", omega, curves)
+        figures["mu"] = robust_plots.mu_figure(omega, curves)
         count = int(weight_info.get("samples", problem.uncertainty.samples))
         samples = sample_uncertainty(problem, design_model, count, record.seed)
         grid = weight_fit_grid(problem)
         bound = diagonal_cover(relative_errors(design_model, samples.parameters, grid))
         response = np.abs(np.diagonal(frequency_response(weight, grid), axis1=1, axis2=2))
-        robust_plots.plot_uncertainty_weight(
-            folder / "uncertainty_weight.png", grid, bound, response, count
+        figures["uncertainty_weight"] = robust_plots.uncertainty_weight_figure(
+            grid, bound, response, count
         )
         we = np.abs(frequency_response(weights.error, omega)[:, 0, 0])
         w_max = np.max(
             np.abs(np.diagonal(frequency_response(weight, omega), axis1=1, axis2=2)), axis=1
         )
         s_values, t_values = loop_shapes(design_plant, record.reduced, omega)
-        robust_plots.plot_loop_shapes(
-            folder / "loop_shapes.png", omega, s_values, t_values, 1 / we, 1 / w_max
+        figures["loop_shapes"] = robust_plots.loop_shapes_figure(
+            omega, s_values, t_values, 1 / we, 1 / w_max
         )
     nominal = np.array(
         [[m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s] for m in study.nominal]
     )
     required = required_margins()
     stable = study.sampled[~study.unstable]
-    robust_plots.plot_margin_scatter(
-        folder / "margins.png",
-        stable,
-        nominal,
-        (required["gain_margin_db"], required["phase_margin_deg"]),
+    figures["margins"] = robust_plots.margins_figure(
+        stable, nominal, (required["gain_margin_db"], required["phase_margin_deg"])
     )
+    return figures

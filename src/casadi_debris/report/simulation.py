@@ -27,8 +27,8 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.plots import save_figure
-from casadi_debris.plots.simulation import closed_loop_figure, plot_closed_loop, thrust_figure
-from casadi_debris.plots.statistics import plot_statistics
+from casadi_debris.plots.simulation import closed_loop_figure, thrust_figure
+from casadi_debris.plots.statistics import statistics_figure
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
@@ -190,6 +190,7 @@ class FailedCase(Record):
 class CampaignRun(Record):
     """What a campaign ran and how: its files (paths as they end up), cases and workers.
 
+    ``out_dir`` is None for a campaign run from Python without a folder (until saved);
     ``seed`` is None for corner cases; ``resumed_cases`` counts the cases read back
     from an interrupted run; ``compiled_step`` whether the closed-loop step ran as
     compiled C.
@@ -199,7 +200,7 @@ class CampaignRun(Record):
     controller_sha256: str
     plant_sha256: str
     controller_plant_sha256: str
-    out_dir: str
+    out_dir: str | None
     case_kind: str
     seed: int | None
     workers: int
@@ -303,19 +304,18 @@ def write_campaign(
     nominal_summary: Record,
     summary: CampaignSummary,
     record: CampaignRecord,
+    *,
+    with_plots: bool = True,
 ) -> Envelope:
-    """Write the campaign's tables, dataset, envelope and figures into ``folder`` (with
-    ``summary.statistics``, also ``statistics.png``: histograms against the requirement
-    and the rank correlations, drawn by ``casadi_debris.plots.statistics``).
+    """Write the campaign's tables, dataset, envelope and (``with_plots``) figures into
+    ``folder`` (see :func:`campaign_figures`).
 
     Returns
     -------
     Envelope
         Over every case of ``outcomes``.
     """
-    envelope = Envelope(setup.bin_start_s)
-    for outcome in outcomes:
-        envelope.add(outcome.bands)
+    envelope = campaign_envelope(setup, outcomes)
     write_json_atomic(folder / "summary.json", summary)
     varied = [name for name, _ in outcomes[0].case.varied] if outcomes else []
     with (folder / "cases.csv").open("w", newline="") as handle:
@@ -334,19 +334,39 @@ def write_campaign(
     )
     nominal_folder = folder / "nominal"
     nominal_folder.mkdir(exist_ok=True)
-    write_run(nominal_folder, nominal, nominal_summary, problem)
-    plot_closed_loop(
-        nominal,
-        folder / "envelope.png",
-        envelope=envelope,
-        title=figure_title(problem),
-        **run_figures_options(problem),
-    )
-    if summary.statistics is not None:
-        plot_statistics(
-            summary.statistics,
-            case_figures(outcomes),
-            folder / "statistics.png",
-            title=figure_title(problem),
-        )
+    write_run(nominal_folder, nominal, nominal_summary, problem, with_plots=with_plots)
+    if with_plots:
+        figures = campaign_figures(problem, outcomes, nominal, summary, envelope)
+        for name, figure in figures.items():
+            save_figure(figure, folder / f"{name}.png")
     return envelope
+
+
+def campaign_envelope(setup: CampaignSetup, outcomes: list[CaseOutcome]) -> Envelope:
+    """The min/max over every case of ``outcomes``, in the campaign's time bins."""
+    envelope = Envelope(setup.bin_start_s)
+    for outcome in outcomes:
+        envelope.add(outcome.bands)
+    return envelope
+
+
+def campaign_figures(
+    problem: Problem,
+    outcomes: list[CaseOutcome],
+    nominal: ClosedLoopResult,
+    summary: CampaignSummary,
+    envelope: Envelope,
+) -> dict[str, Figure]:
+    """A campaign's figures by file stem: ``envelope`` (the nominal run over the cases'
+    min/max) and, with ``summary.statistics``, ``statistics`` (histograms against the
+    requirement and the rank correlations, drawn by ``casadi_debris.plots.statistics``)."""
+    figures = {
+        "envelope": closed_loop_figure(
+            nominal, envelope=envelope, title=figure_title(problem), **run_figures_options(problem)
+        )
+    }
+    if summary.statistics is not None:
+        figures["statistics"] = statistics_figure(
+            summary.statistics, case_figures(outcomes), title=figure_title(problem)
+        )
+    return figures

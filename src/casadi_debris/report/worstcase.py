@@ -12,12 +12,14 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, ParameterLayout, Parameters
-from casadi_debris.plots.simulation import plot_closed_loop
+from casadi_debris.plots import save_figure
+from casadi_debris.plots.simulation import closed_loop_figure
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.report.simulation import run_figures_options
@@ -31,6 +33,9 @@ from casadi_debris.robust.uncertainty import parameters_from_normalized
 from casadi_debris.simulation import Envelope
 from casadi_debris.simulation.monte_carlo import Bands, Extremes
 from casadi_debris.simulation.worst_case import WorstCaseSearch
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 # Campaign cases this close to the worst count as tied with it.
 TIE = 1e-9
@@ -96,14 +101,15 @@ class SearchSummary(Record):
 
 @dataclass(frozen=True)
 class WorstCaseIdentity(Record):
-    """What names a worst-case run: the problem, the controller and their plants, the folder."""
+    """What names a worst-case run: the problem, the controller and their plants, the folder
+    (None until it is written)."""
 
     problem: str
     problem_sha256: str
     plant_sha256: str
     controller_path: str
     controller_plant_sha256: str
-    out_dir: str
+    out_dir: str | None
 
 
 @dataclass(frozen=True)
@@ -178,8 +184,42 @@ def write_worst_cases(
     mu: ParametricMu | None,
     search: WorstCaseSearch | None,
     campaign: Path | None,
+    *,
+    with_plots: bool = True,
 ) -> WorstCaseSummary:
-    """Write everything into the staging ``folder``; returns the summary."""
+    """Write everything into the staging ``folder``; returns the summary (``campaign``: a
+    finished corner campaign folder the search is compared with and drawn over)."""
+    envelope, compared = (None, None) if campaign is None else campaign_envelope(campaign)
+    summary = worst_case_summary(identity, model.parameter_layout, mu, search, compared)
+    write_worst_case_files(folder, problem, model, summary, mu, search, envelope, with_plots)
+    return summary
+
+
+def worst_case_summary(
+    identity: WorstCaseIdentity,
+    layout: ParameterLayout,
+    mu: ParametricMu | None,
+    search: WorstCaseSearch | None,
+    compared: CampaignWorst | None,
+) -> WorstCaseSummary:
+    """What ``summary.json`` holds: the identity, the mu bounds, the campaign compared
+    with and the search, those that ran."""
+    found = None if search is None else _search_summary(search, layout, compared)
+    return WorstCaseSummary(identity, None if mu is None else mu.summary(), compared, found)
+
+
+def write_worst_case_files(
+    folder: Path,
+    problem: Problem,
+    model: Model,
+    summary: WorstCaseSummary,
+    mu: ParametricMu | None,
+    search: WorstCaseSearch | None,
+    envelope: Envelope | None,
+    with_plots: bool = True,
+) -> None:
+    """The parameter files, ``evaluations.csv``, ``worstcase.png`` (``with_plots``) and
+    ``summary.json`` into the staging ``folder``."""
     layout = model.parameter_layout
     if mu is not None:
         for kind in KINDS:
@@ -190,16 +230,21 @@ def write_worst_cases(
                     layout, worst.normalized, values, f"mu-{kind}", perturbation=worst
                 )
                 write_json_atomic(folder / f"mu_{kind}_parameters.json", data)
-    envelope, compared = None, None
-    if campaign is not None:
-        envelope, compared = campaign_envelope(campaign)
-    found = None
     if search is not None:
-        found = _search_summary(search, layout, compared)
-        _write_search(folder, problem, search, layout, envelope)
-    summary = WorstCaseSummary(identity, None if mu is None else mu.summary(), compared, found)
+        _write_search(folder, problem, search, layout, envelope, with_plots)
     write_json_atomic(folder / "summary.json", summary)
-    return summary
+
+
+def worst_case_figure(
+    problem: Problem, search: WorstCaseSearch, envelope: Envelope | None
+) -> Figure:
+    """The worst run found, over the corner campaign's ``envelope`` when given."""
+    return closed_loop_figure(
+        search.best_run,
+        envelope=envelope,
+        title=f"{problem.name}: worst case found, {search.best.max_error_deg:.4f} deg",
+        **run_figures_options(problem),
+    )
 
 
 def _search_summary(
@@ -229,6 +274,7 @@ def _write_search(
     search: WorstCaseSearch,
     layout: ParameterLayout,
     envelope: Envelope | None,
+    with_plots: bool,
 ) -> None:
     best = search.best
     data = parameter_file(
@@ -245,10 +291,5 @@ def _write_search(
     for i, name in enumerate(layout.names):
         columns[f"normalized_{name}"] = rows[:, i]
     write_csv(folder / "evaluations.csv", columns)
-    plot_closed_loop(
-        search.best_run,
-        folder / "worstcase.png",
-        envelope=envelope,
-        title=f"{problem.name}: worst case found, {best.max_error_deg:.4f} deg",
-        **run_figures_options(problem),
-    )
+    if with_plots:
+        save_figure(worst_case_figure(problem, search, envelope), folder / "worstcase.png")

@@ -14,7 +14,7 @@ engines, 2U CubeSats firing differentially, fewer CubeSats with more thrust) in 
   torque up to the authority, so one solve per axis gives it);
 - **failure tolerance**: the weakest-axis ratio left after the worst single and the worst
   double CubeSat failure (every set, an LP each:
-  :mod:`~casadi_debris.studies.failure_sets`), and how many of the single and double
+  :mod:`~casadi_debris.studies.failures`), and how many of the single and double
   failures keep every signed axis above the disturbance;
 - **mass**: the swarm's added mass and the combined body's.
 """
@@ -29,7 +29,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import SIGNED_AXES, Problem, signed_axis_vector
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
 from casadi_debris.records import Record
-from casadi_debris.studies.failure_sets import (
+from casadi_debris.studies.failures import (
     authority_without,
     axis_ratios,
     first_least,

@@ -2,7 +2,7 @@
 
 One linear programme per set of failed CubeSats
 (:func:`~casadi_debris.geometry.axis_authority_Nm`, the six signed axes as
-blocks of one LP) over the sets :func:`~casadi_debris.studies.failure_sets.failure_sets`
+blocks of one LP) over the sets :func:`~casadi_debris.studies.failures.failure_sets`
 enumerates.
 """
 
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.geometry import axis_authority_Nm
-from casadi_debris.studies.failure_sets import authority_ratio, set_authority
+from casadi_debris.studies.failures import authority_ratio, set_authority
 from casadi_debris.studies.placement_data import PlacementData
 
 

@@ -1,22 +1,13 @@
-"""A Monte-Carlo campaign into a folder: cases chosen, run in parallel, written as they
-finish, resumed after an interruption, summarised with the nominal run.
+"""What a campaign and a single run share: the cases a campaign runs
+(:class:`CaseSelection`), the one case a run flies (:func:`one_case`,
+:func:`parameters_case`) and the record of a run (:class:`RunRecord`).
 
-Example
--------
->>> from casadi_debris import load_problem
->>> from casadi_debris.workflows.campaign import CaseSelection, run_campaign_folder
->>> problem = load_problem("problems/paper_slew.toml")  # doctest: +SKIP
->>> summary = run_campaign_folder(  # doctest: +SKIP
-...     problem, None, CaseSelection(max_cases=8), "runs/slew-mc", workers=2
-... )
->>> summary["worst"]["max_error_deg"]  # doctest: +SKIP
->>> from casadi_debris.report.campaign_dataset import open_campaign
->>> ds = open_campaign("runs/slew-mc")  # doctest: +SKIP
+The campaign itself is :func:`casadi_debris.montecarlo`
+(:mod:`casadi_debris.workflows.montecarlo`).
 """
 
 from __future__ import annotations
 
-import hashlib
 import logging
 import re
 from collections.abc import Callable
@@ -26,59 +17,28 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model, Parameters, build_model
-from casadi_debris.errors import CampaignInterrupted, InputShapeError, ModelError
-from casadi_debris.guidance import scenario_reference
+from casadi_debris.dynamics import Model, Parameters
+from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.report.campaign_folder import CampaignFolder, CampaignRecord
-from casadi_debris.report.folders import check_output_folder
-from casadi_debris.report.simulation import (
-    CampaignRun,
-    CampaignSummary,
-    FailedCase,
-    campaign_summary,
-    write_campaign,
-)
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.uncertainty import normalized_from_parameters
 from casadi_debris.simulation import (
-    CampaignSetup,
     Case,
-    CaseOutcome,
     ClosedLoopResult,
     corner_case,
     corner_cases,
     nominal_case,
-    run_campaign,
     sample_case,
     sample_cases,
-    simulate,
 )
-from casadi_debris.simulation.closed_loop import SimulationError, c_compiler
-from casadi_debris.simulation.monte_carlo import (
-    DEFAULT_BATCH_CASES,
-    CaseFailure,
-    CasesFailedError,
-    SchedulerError,
-)
+from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.simulation.sampling import varied_case, varied_cases
-from casadi_debris.simulation.statistics import requirement_shortfalls, statistics_of
+from casadi_debris.simulation.statistics import requirement_shortfalls
 from casadi_debris.simulation.summary import RunSummary
-from casadi_debris.workflows.controller import controller_for
 
 LOGGER = logging.getLogger(__name__)
 
-NOMINAL_KEYS = (
-    "fuel_slew_kg",
-    "max_error_deg",
-    "max_error_arcsec",
-    "fuel_kg",
-    "settle_time_s",
-    "torque_saturated_s",
-    "max_torque_mNm",
-)
 _SCHEDULER_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9.-]{1,253}):(\d{1,5})")
 
 Progress = Callable[[int, int], None]
@@ -255,255 +215,3 @@ def check_scheduler_address(address: str) -> None:
         raise InputShapeError(
             f"--scheduler: expected tcp://host:port or tls://host:port, got {address!r}"
         )
-
-
-def run_campaign_folder(
-    problem: Problem,
-    controller_path: str | Path | None,
-    selection: CaseSelection,
-    out: str | Path,
-    *,
-    workers: int = 1,
-    scheduler: str | None = None,
-    jit: bool = True,
-    batch_cases: int = DEFAULT_BATCH_CASES,
-    overwrite: bool = False,
-    progress: Progress | None = None,
-    allow_mismatch: bool = False,
-    moved_to: tuple[Path, Path] | None = None,
-) -> CampaignSummary:
-    """Run a campaign into ``out``, resuming from the cases already in ``out.partial``.
-
-    Parameters
-    ----------
-    problem : Problem
-    controller_path : str or Path, optional
-        Controller file (default the shipped one; see
-        :func:`~casadi_debris.workflows.controller.controller_for`).
-    selection : CaseSelection
-    out : str or Path
-        Campaign folder (see :mod:`casadi_debris.report.campaign_folder`).
-    workers : int
-        Local processes.
-    scheduler : str, optional
-        A Dask scheduler address instead of local processes.
-    jit, batch_cases : bool, int
-        Compile the step to C where a compiler is found; cases per compiled call.
-    overwrite : bool
-        Replace an existing campaign folder this toolkit wrote.
-    progress : callable, optional
-        Called as cases finish (see :data:`Progress`).
-    allow_mismatch : bool
-        Fly a controller designed for another plant.
-    moved_to : (Path, Path), optional
-        ``(staging, final)``: ``out`` and the controller lie in a report's staging
-        folder, moved to ``final`` later; the summaries record the final paths.
-
-    Returns
-    -------
-    CampaignSummary
-        What ``summary.json`` holds.
-
-    Raises
-    ------
-    OutputError
-        ``out`` cannot be written, or ``out.partial`` holds another campaign or is in use.
-    CampaignInterrupted
-        On Ctrl-C; the finished cases stay for a resume.
-    CasesFailedError
-        Every case raised (otherwise a raising case is recorded in
-        ``cases/<id>.failed.json`` and ``failed_cases``, and the rest go on).
-    """
-    out = Path(out)
-    if scheduler is not None:
-        check_scheduler_address(scheduler)
-    check_output_folder(out, overwrite=overwrite)
-    record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
-    model = build_model(problem)
-    cases, setup = selection.cases(problem, model), _setup(problem, record, jit, batch_cases)
-    identity = _identity(setup, cases, resolved)
-    with CampaignFolder.open(out, identity, overwrite=overwrite) as folder:
-        done = folder.finished_cases(cases)
-        outcomes, failures = _run_missing(setup, cases, done, folder, workers, scheduler, progress)
-        if not outcomes:
-            raise CasesFailedError(failures)  # nothing to summarise; the folder stays
-        run = _described(
-            problem, record, identity, (resolved, out.absolute()), moved_to, workers=workers,
-            scheduler=scheduler, resumed_cases=len(done),
-            compiled_step=bool(jit and c_compiler()), failures=failures,
-        )  # fmt: skip
-        summary = _summarise_and_write(folder, setup, model, identity, outcomes, run)
-        folder.finish()
-    return summary
-
-
-def _setup(problem: Problem, record: ControllerRecord, jit: bool, batch: int) -> CampaignSetup:
-    """What every case of the campaign shares (``batch`` cases per compiled call)."""
-    reference = scenario_reference(problem)
-    return CampaignSetup.create(problem, record.reduced, reference, jit=jit, batch_cases=batch)
-
-
-def _described(
-    problem: Problem,
-    record: ControllerRecord,
-    identity: CampaignRecord,
-    paths: tuple[Path, Path],
-    moved_to: tuple[Path, Path] | None,
-    *,
-    workers: int,
-    scheduler: str | None,
-    resumed_cases: int,
-    compiled_step: bool,
-    failures: list[CaseFailure],
-) -> CampaignRun:
-    """What was run and how, as the summary gives it beside the worst cases: the files
-    and plants it names (``paths``: the controller and the folder, as they will end up)."""
-    controller_path, out = (_final(path, moved_to) for path in paths)
-    return CampaignRun(
-        controller_path=str(controller_path),
-        controller_sha256=identity.controller_sha256,
-        plant_sha256=problem.plant_sha256,
-        controller_plant_sha256=record.problem_sha256,
-        out_dir=str(out),
-        case_kind=identity.case_kind,
-        seed=identity.seed,
-        workers=workers,
-        scheduler=scheduler,
-        resumed_cases=resumed_cases,
-        compiled_step=compiled_step,
-        failed_cases=[_failure_record(f) for f in failures],
-    )
-
-
-def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
-    """Where ``path`` will be once a staging folder is moved (``(staging, final)``)."""
-    if moved_to is None:
-        return path
-    staging, final = (Path(p).absolute() for p in moved_to)
-    try:
-        return final / Path(path).absolute().relative_to(staging)
-    except ValueError:
-        return path
-
-
-def _failure_record(failure: CaseFailure) -> FailedCase:
-    """A failed case as the summary lists it."""
-    return FailedCase(failure.case.case_id, failure.error_type, failure.message)
-
-
-def _summarise_and_write(
-    folder: CampaignFolder,
-    setup: CampaignSetup,
-    model: Model,
-    identity: CampaignRecord,
-    outcomes: list[CaseOutcome],
-    run: CampaignRun,
-) -> CampaignSummary:
-    """Run the nominal case, then write the campaign's tables, figures and summary."""
-    problem = setup.problem
-    controller_path = Path(run.controller_path)
-    allocator = Allocator.from_problem(problem, model.geometry)
-    nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
-    nominal_summary = run_summary(problem, nominal_case(model), nominal, controller_path)
-    statistics = statistics_of(
-        problem, outcomes, model.parameter_layout.names, len(run.failed_cases)
-    )
-    LOGGER.info(
-        "%s: %d of %d cases within %s <= %g",
-        problem.name,
-        statistics.passed,
-        statistics.cases + statistics.failed_cases,
-        statistics.requirement_figure,
-        statistics.requirement,
-    )
-    nominal_figures = {key: getattr(nominal_summary.run, key) for key in NOMINAL_KEYS}
-    summary = campaign_summary(problem, setup, outcomes, nominal_figures, run, statistics)
-    write_campaign(
-        folder.partial,
-        problem,
-        setup,
-        outcomes,
-        nominal,
-        nominal_summary,
-        summary,
-        identity,
-    )
-    return summary
-
-
-def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) -> CampaignRecord:
-    """What the campaign is, as its folder records it for a resume."""
-    return CampaignRecord(
-        problem_name=setup.problem.name,
-        problem_sha256=setup.problem.sha256,
-        controller_sha256=hashlib.sha256(controller_path.read_bytes()).hexdigest(),
-        case_kind=cases[0].kind,
-        seed=cases[0].seed,
-        case_ids=tuple(c.case_id for c in cases),
-        envelope_bin_s=setup.bin_s,
-    )
-
-
-def _run_missing(
-    setup: CampaignSetup,
-    cases: list[Case],
-    done: dict[str, CaseOutcome],
-    folder: CampaignFolder,
-    workers: int,
-    scheduler: str | None,
-    progress: Progress | None,
-) -> tuple[list[CaseOutcome], list[CaseFailure]]:
-    """Run the cases not in ``done``, writing each as it finishes.
-
-    Returns every finished case (resumed or run), in campaign order, and the
-    cases of this run that raised (each recorded in the folder as it fails).
-    """
-    resumed = dict(done)
-    todo = [c for c in cases if c.case_id not in resumed]
-    LOGGER.info(
-        "%s: %d cases (%d on disk, %d to run)",
-        setup.problem.name,
-        len(cases),
-        len(resumed),
-        len(todo),
-    )
-    finished: dict[str, CaseOutcome] = {}
-    failures: list[CaseFailure] = []
-
-    def keep(outcome: CaseOutcome) -> None:
-        folder.write_case(outcome)
-        finished[outcome.case.case_id] = outcome
-        if progress is not None:
-            progress(len(finished) + len(failures), len(todo))
-
-    def record(failure: CaseFailure) -> None:
-        path = folder.write_failure(failure)
-        failures.append(failure)
-        LOGGER.warning(
-            "%s failed (%s: %s); the campaign goes on without it (traceback in cases/%s)",
-            failure.case.case_id,
-            failure.error_type,
-            failure.message,
-            path.name,
-        )
-        if progress is not None:
-            progress(len(finished) + len(failures), len(todo))
-
-    try:
-        if progress is not None:
-            progress(0, len(todo))
-        run_campaign(
-            setup,
-            todo,
-            workers=workers,
-            scheduler=scheduler,
-            on_result=keep,
-            on_failure=record,
-        )
-    except KeyboardInterrupt:
-        kept = len(resumed) + len(finished)
-        raise CampaignInterrupted(kept, len(cases), folder.partial) from None
-    except SchedulerError as exc:
-        raise InputShapeError(f"--scheduler: {exc}") from None
-    every = {**resumed, **finished}
-    return [every[c.case_id] for c in cases if c.case_id in every], failures

@@ -2,11 +2,10 @@
 
 Example
 -------
->>> from casadi_debris import load_problem
->>> from casadi_debris.workflows.compare import compare_variants
->>> problem = load_problem("problems/paper_slew.toml")  # doctest: +SKIP
->>> summary = compare_variants([problem], ["bang-bang", "time-optimal"], None, "runs/compare")
-... # doctest: +SKIP
+>>> import casadi_debris as cd
+>>> both = cd.compare(["paper_slew"], methods=["bang-bang", "time-optimal"])  # doctest: +SKIP
+>>> [row.fuel_slew_kg for row in both.summary.variants]  # doctest: +SKIP
+>>> both.save("runs/compare")  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -14,9 +13,9 @@ from __future__ import annotations
 import logging
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 
@@ -30,10 +29,13 @@ from casadi_debris.errors import (
 )
 from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
-from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
 from casadi_debris.simulation.summary import fuel_between_kg
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.controller import controller_for
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 LOGGER = logging.getLogger(__name__)
 
@@ -124,61 +126,83 @@ def _dv_left_m_s(result: ClosedLoopResult, burnt_kg: float) -> float:
     return exhaust * math.log(mass_now / (mass_now - left_kg))
 
 
-def compare_variants(
-    problems: Sequence[Problem],
-    methods: Sequence[str] | None,
-    controller_path: str | Path | None,
-    out: str | Path,
+@dataclass(frozen=True)
+class CompareResult(JobResult):
+    """Variants side by side: one row of budget figures per variant's nominal run.
+
+    Attributes
+    ----------
+    summary : Comparison
+        What ``summary.json`` holds (and ``--json`` prints): the rows, the controller,
+        the plants, the common window; ``out_dir`` None until saved.
+    """
+
+    summary: Comparison
+
+    command = "compare"
+
+    def plot(self) -> dict[str, Figure]:
+        """``comparison``: a bar chart per figure, the variants side by side. Nothing is
+        written."""
+        from casadi_debris.report.compare import comparison_figures
+
+        return comparison_figures(self.summary)
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """``comparison.csv``, ``comparison.md``, ``comparison.png`` (with ``plots``) and
+        ``summary.json``."""
+        summary = replace(self.summary, out_dir=str(out.absolute()))
+        write_comparison(staging, summary, with_plots=plots)
+
+
+def compare(
+    problem_files: Sequence[ProblemLike],
     *,
-    overwrite: bool = False,
-    progress: Callable[[str], None] | None = None,
+    methods: Sequence[str] | None = None,
+    controller: str | Path | None = None,
     allow_mismatch: bool = False,
-) -> Comparison:
-    """Run the nominal closed loop of every variant and write the comparison into ``out``.
+    progress: Callable[[str], None] | None = None,
+) -> CompareResult:
+    """Run the nominal closed loop of every variant and tabulate their fuel budgets.
 
     Parameters
     ----------
-    problems : sequence of Problem
+    problem_files : sequence of Problem, str or Path
+        The variants: problems, problem files or shipped names (at least one).
     methods : sequence of str, optional
         Slew methods to fly on each slew problem (default: each problem's own).
-    controller_path : str or Path, optional
+    controller : str or Path, optional
         Controller file (default the shipped paper controller). It must have been
         designed for every variant's plant (see
         :func:`~casadi_debris.workflows.controller.controller_for`) unless
         ``allow_mismatch``.
-    out : str or Path
-        Results folder (see :class:`~casadi_debris.report.folders.RunFolder`).
-    overwrite : bool
-        Replace a results folder this toolkit wrote.
-    progress : callable, optional
-        ``progress(label)`` as each variant starts.
     allow_mismatch : bool
         Fly the controller on variants whose plant it was not designed for.
+    progress : callable, optional
+        ``progress(label)`` as each variant starts.
 
     Returns
     -------
-    Comparison
-        One row per variant (fuel over the run, over the window every variant
-        flew and during the slew, and of the worst CubeSat [kg], Δv left [m/s],
-        stage switches, slew time [s], max error against the problem's
-        requirement, saturated time [s]; or why its run failed), the controller
-        and the folder.
+    CompareResult
+        One row per variant (fuel over the run, over the window every variant flew and
+        during the slew, and of the worst CubeSat [kg], Δv left [m/s], stage switches,
+        slew time [s], max error against the problem's requirement, saturated time [s];
+        or why its run failed), the controller.
     """
     unknown = sorted(set(methods or ()) - set(SLEW_METHODS))
     if unknown:
         raise InputShapeError(
             f"--methods: unknown {', '.join(unknown)}; choose from {', '.join(SLEW_METHODS)}"
         )
-    out = Path(out)
+    problems = [as_problem(p) for p in problem_files]
     # Every variant checked before any is flown.
-    checked = [controller_for(p, controller_path, allow_mismatch=allow_mismatch) for p in problems]
+    checked = [controller_for(p, controller, allow_mismatch=allow_mismatch) for p in problems]
     if not checked:
         raise InputShapeError("compare needs at least one problem")
     record, resolved = checked[0]
-    check_output_folder(out, overwrite=overwrite)
     rows = []
     chosen = [cast(SlewMethod, m) for m in methods] if methods else None  # checked above
-    flown = variants(list(problems), chosen)
+    flown = variants(problems, chosen)
     window_s = min(problem.simulation.duration_s for _, problem in flown)
     # Every reference first: a slew a variant's file asks and the body cannot do is
     # that file's mistake, refused before any variant flies.
@@ -194,8 +218,6 @@ def compare_variants(
         plant_sha256={problem.name: problem.plant_sha256 for problem in problems},
         window_s=window_s,
         variants=tuple(rows),
-        out_dir=str(out.absolute()),
+        out_dir=None,
     )
-    with RunFolder.claim(out, overwrite=overwrite, command="compare") as staging:
-        write_comparison(staging, summary)
-    return summary
+    return CompareResult(summary)

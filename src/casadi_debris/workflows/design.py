@@ -9,22 +9,21 @@ figure beside the requirement it is judged against.
 
 Example
 -------
->>> from casadi_debris import load_problem
->>> from casadi_debris.workflows.design import design_for_problem
->>> summary = design_for_problem(load_problem("problems/gallery/one_array.toml"),
-...                              "runs/design-one_array", quick=True)  # doctest: +SKIP
->>> summary.requirements_met, summary.binding  # doctest: +SKIP
+>>> import casadi_debris as cd
+>>> designed = cd.design("one_array", out="runs/design-one_array", quick=True)  # doctest: +SKIP
+>>> designed.summary.requirements_met, designed.summary.binding  # doctest: +SKIP
 """
 
 from __future__ import annotations
 
 import logging
 import math
+import os
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
@@ -42,8 +41,8 @@ from casadi_debris.report.design import (
     requirement_rows,
     verification_rows,
 )
-from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.robust import MarginReport
+from casadi_debris.report.folders import RunFolder, default_run_folder
+from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.binding import (
     BindingLimit,
@@ -66,15 +65,23 @@ from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, s
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
 from casadi_debris.slews.maneuver import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller
 from casadi_debris.workflows.reproduce import (
     FULL,
     QUICK,
     Plan,
+    copy_run,
     corner_campaigns,
     report_margins,
+    stage_announcer,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from casadi_debris.workflows.margins import MarginsResult
 
 LOGGER = logging.getLogger(__name__)
 DesignMethod = Literal["mu", "pd", "pid", "lqr"]
@@ -145,26 +152,74 @@ def _default_slew(problem: Problem, simulation: Simulation) -> Problem:
     )
 
 
-def design_for_problem(
-    problem: Problem,
-    out: str | Path,
+@dataclass(frozen=True)
+class DesignResult(JobResult):
+    """A controller designed for a problem and verified, in the folder it was written to.
+
+    A design writes as it goes (its campaigns keep every case on disk), so the folder is
+    written when :func:`design` returns; ``save`` copies it elsewhere.
+
+    Attributes
+    ----------
+    problem : Problem
+    folder : Path
+        The report folder written: ``controller.json``, ``report.md``, ``summary.json``,
+        ``margins/``, ``slew/`` and ``pointing/``.
+    record : ControllerRecord
+        The controller (fly it with ``cd.simulate(..., controller=folder /
+        "controller.json")``).
+    margins : MarginsResult
+        The margin study over sampled plants.
+    summary : DesignSummary
+        What ``casadi-debris design --json`` prints and ``summary.json`` holds.
+    """
+
+    problem: Problem
+    folder: Path
+    record: ControllerRecord
+    margins: MarginsResult
+    summary: DesignSummary
+
+    command = "design"
+
+    def plot(self) -> dict[str, Figure]:
+        """The margin study's figures, by the path ``save`` writes them under
+        (``margins/mu``, ``margins/margins``, ...); the campaigns' envelopes are the
+        ``slew/`` and ``pointing/`` folders' PNGs. Nothing is written."""
+        return {f"margins/{name}": figure for name, figure in self.margins.plot().items()}
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """The report folder's files, copied (they are written as the design runs)."""
+        copy_run(self.folder, staging)
+
+
+def design(
+    problem: ProblemLike = None,
     *,
+    out: str | Path | None = None,
     quick: bool = False,
     method: DesignMethod = "mu",
-    settings: SynthesisSettings | None = None,
-    workers: int = 1,
+    weights: WeightsChoice = "auto",
+    samples: int | None = None,
+    seed: int | None = None,
+    workers: int | None = None,
     overwrite: bool = False,
     progress: StageProgress | None = None,
-    weights: WeightsChoice = "auto",
-) -> DesignSummary:
-    """Design a controller for ``problem`` and verify it into the folder ``out``.
+) -> DesignResult:
+    """Design a controller for a problem and verify it against its ``[requirements]``.
+
+    Weights from the body's authority, disturbance and pointing requirement, D-K
+    μ-synthesis (searching the best guaranteed pointing when the requirement cannot be
+    met), reduction, margins over sampled plants, and the slew and pointing corner
+    campaigns; ``report.md`` puts each figure beside its requirement. The folder is
+    written as the design runs (whole or not at all).
 
     Parameters
     ----------
-    problem : Problem
-    out : str or Path
-        Report folder: ``controller.json``, ``report.md``, ``summary.json``,
-        ``margins/``, ``slew/``, ``pointing/``.
+    problem : Problem, str or Path, optional
+        A problem, a problem file or a shipped name; default the paper.
+    out : str or Path, optional
+        Report folder; default ``runs/design-<problem>``.
     quick : bool
         Fewer sampled plants and corners, a shorter pointing run and a coarser search
         of the performance level.
@@ -172,34 +227,34 @@ def design_for_problem(
         D-K μ-synthesis with the paper's weights (the default), or a per-axis PD, PID or
         LQG controller on the rigid body (:mod:`casadi_debris.robust.classical`) to
         compare with it; every method gets the same margins, corners and table.
-    settings : SynthesisSettings, optional
-    workers : int
-        Local processes for the campaigns.
-    overwrite : bool
-        Replace a report folder this toolkit wrote.
-    progress : callable, optional
-        As :func:`~casadi_debris.workflows.reproduce.reproduce_paper`'s.
     weights : {"auto", "derived", "problem"}
         Where the bandwidth and roll-off come from: ``"auto"`` derives them from the body
         unless the problem is the paper's body or sets its own
-        (:mod:`~casadi_debris.robust.body_weights`).
+        (:mod:`~casadi_debris.robust.body_weights`); ``"problem"`` takes ``[weights]`` as
+        they are.
+    samples, seed : int, optional
+        Models for the uncertainty-weight fit and their seed; default the problem's.
+    workers : int, optional
+        Local processes for the campaigns; default one per core.
+    overwrite : bool
+        Replace a report folder this toolkit wrote.
+    progress : callable, optional
+        ``progress(stage)`` as each stage starts; may return a case counter for a
+        campaign (:data:`~casadi_debris.workflows.campaign.Progress`).
 
     Returns
     -------
-    DesignSummary
-        What ``summary.json`` holds: ``rows`` (each requirement with ``met``),
-        ``requirements_met`` (all of them), ``requirements_passed`` of ``requirements``,
-        ``binding`` (the limit behind each one missed), ``body``, ``attempts``, ``scalings``,
-        ``controller_path``, ...
+    DesignResult
+        ``summary.rows`` (each requirement with ``met``), ``summary.requirements_met``,
+        ``summary.binding`` (the limit behind each one missed), the controller, the margins.
     """
     started = time.perf_counter()
+    problem = as_problem(problem)
     plan = QUICK if quick else FULL
-    out = Path(out)
-
-    def stage(name: str) -> Any:
-        LOGGER.info(name)
-        return None if progress is None else progress(name)
-
+    out = Path(out) if out is not None else default_run_folder("design", problem.name)
+    workers = workers or os.cpu_count() or 1
+    settings = SynthesisSettings(samples=samples, seed=seed)
+    stage = stage_announcer(progress)
     derived_scalings(problem)  # refuses a problem no controller can be designed for, first
     slew_problem, pointing_problem = verification_problems(problem, plan)
     with RunFolder.claim(out, overwrite=overwrite, command="design") as staging:
@@ -207,15 +262,17 @@ def design_for_problem(
         controller_path = write_json_atomic(staging / "controller.json", designed.to_dict())
         record, controller_path = load_controller(controller_path)
         folders = (staging, out)
-        margins = report_margins(problem, record, controller_path, plan, folders, stage)
+        margins = report_margins(problem, controller_path, plan, folders, stage)
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, folders, workers, stage)
-        verified = _Verified(record, search, margins, campaigns, slew_problem)
+        verified = _Verified(record, search, margins.summary, campaigns, slew_problem)
         how = _How(quick, workers, str(out / "controller.json"))
         summary, text = _verdict(problem, method, verified, staging, (out, started, how, weights))
         (staging / "report.md").write_text(text)
         write_json_atomic(staging / "summary.json", summary)
-    return summary
+    return DesignResult(
+        problem=problem, folder=out, record=record, margins=margins, summary=summary
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -224,7 +281,7 @@ class _Verified:
 
     record: ControllerRecord
     search: DesignSearch | None
-    margins: MarginReport
+    margins: MarginsSummary
     campaigns: dict[str, CampaignSummary]
     slew_problem: Problem
 

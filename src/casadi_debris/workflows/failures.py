@@ -19,32 +19,41 @@ to (the shipped paper design for the paper's plant, or ``--controller``), as
 
 Example
 -------
->>> from casadi_debris import load_problem
->>> from casadi_debris.studies.failures import FailureSettings
->>> from casadi_debris.workflows.failures import failures_folder
->>> summary = failures_folder(load_problem("problems/paper_slew.toml"), "runs/failures",
-...                           FailureSettings(max_failed=2, workers=2))  # doctest: +SKIP
->>> summary.cases[0].failed, summary.cases[0].closed_loop.met  # doctest: +SKIP
+>>> import casadi_debris as cd
+>>> found = cd.failures("paper_slew", max_failed=2, workers=2)  # doctest: +SKIP
+>>> found.summary.cases[0].failed, found.summary.cases[0].closed_loop.met  # doctest: +SKIP
+>>> found.save("runs/failures-slew")  # doctest: +SKIP
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.report.failures import write_failures
-from casadi_debris.report.folders import RunFolder
-from casadi_debris.studies.failure_cases import FailureCase, check_max_failed
-from casadi_debris.studies.failure_records import FailureStudyRecord
-from casadi_debris.studies.failure_runs import StageProgress, manoeuvres
-from casadi_debris.studies.failures import FailureSettings, FailureStudy, failure_study
+from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
+from casadi_debris.studies.failures import (
+    FailureCase,
+    FailureSettings,
+    FailuresSummary,
+    FailureStudy,
+    StageProgress,
+    check_max_failed,
+    failure_study,
+    manoeuvres,
+)
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import CaseSelection
 from casadi_debris.workflows.controller import controller_for
 from casadi_debris.workflows.design import verification_problems
 from casadi_debris.workflows.reproduce import FULL, QUICK
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 DEFAULT_CORNERS = 16
 """Corner plants each of the worst sets flies, spread evenly over the set."""
@@ -59,49 +68,139 @@ def corners_for(max_corners: int | None, quick: bool) -> int:
     return QUICK_CORNERS if quick else DEFAULT_CORNERS
 
 
-def run_failure_study(
-    problem: Problem,
-    settings: FailureSettings,
+@dataclass(frozen=True, eq=False)
+class FailuresResult(JobResult):
+    """A failure campaign: every case studied, ranked, with its summary.
+
+    Attributes
+    ----------
+    problem : Problem
+    study : FailureStudy
+        Every case's authority, holding thrusts, depletion and closed-loop runs (SI), the
+        whole swarm's baseline and the manoeuvres flown.
+    summary : FailuresSummary
+        What ``summary.json`` holds (and ``--json`` prints): the cases ranked, the worst
+        first, in display units; ``out_dir`` None until saved.
+    """
+
+    problem: Problem
+    study: FailureStudy
+    summary: FailuresSummary
+
+    command = "failures"
+
+    def plot(self) -> dict[str, Figure]:
+        """``authority_loss``: the share of the authority each single failure takes, per
+        signed axis (none without single failures). Nothing is written."""
+        from casadi_debris.report.failures import failure_figures
+
+        return failure_figures(self.summary)
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """``summary.json``, ``cases.csv``, ``report.md``, ``reallocation.csv`` and
+        ``authority_loss.png`` (with ``plots``)."""
+        from casadi_debris.report.failures import write_failures
+
+        summary = replace(self.summary, out_dir=str(out.absolute()))
+        write_failures(staging, summary, with_plots=plots)
+
+
+def failures(
+    problem: ProblemLike = None,
     *,
-    controller_path: str | Path | None = None,
-    allow_mismatch: bool = False,
+    max_failed: int = 2,
+    stages: bool = True,
+    closed_loop: bool = True,
+    corner_sets: int = 3,
     max_corners: int | None = None,
     quick: bool = False,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    workers: int | None = None,
+    no_jit: bool = False,
+    batch_cases: int = DEFAULT_BATCH_CASES,
     progress: StageProgress | None = None,
     cases: Sequence[FailureCase] | None = None,
-) -> tuple[FailureStudy, Path | None]:
-    """The failure campaign of ``problem`` (see :mod:`casadi_debris.studies.failures`).
+) -> FailuresResult:
+    """Which failures the swarm survives (see :mod:`casadi_debris.studies.failures`).
 
     Parameters
     ----------
-    problem : Problem
-    settings : FailureSettings
-    controller_path : str or Path, optional
-        Controller file (default the shipped one, for the paper's plant only).
-    allow_mismatch : bool
-        Fly a controller designed for another plant.
+    problem : Problem, str or Path, optional
+        A problem, a problem file or a shipped name; default the paper.
+    max_failed : int
+        Largest number of CubeSats failed at once (every set of 1 .. N).
+    stages : bool
+        Also a case per CubeSat that loses its first stage (the next takes over).
+    closed_loop : bool
+        Fly the problem's slew and pointing run for every case (nominal plant).
+    corner_sets : int
+        The N worst cases also fly corners of the uncertainty set (0: none).
     max_corners : int, optional
-        Corner plants of each of the ``settings.corner_sets`` worst cases, spread evenly
-        (default :data:`DEFAULT_CORNERS`, or :data:`QUICK_CORNERS` with ``quick``).
+        Corner plants each of those flies, spread evenly (default
+        :data:`DEFAULT_CORNERS`, or :data:`QUICK_CORNERS` with ``quick``).
     quick : bool
         Fewer corners by default; the pointing run is one whole disturbance period
         either way (see the module).
+    controller, allow_mismatch : optional
+        A controller file (default the shipped one, for the paper's plant only); fly one
+        designed for another plant anyway.
+    workers : int, optional
+        Local processes for the closed-loop runs; default one per core.
+    no_jit, batch_cases : optional
+        Run the step on CasADi's virtual machine; cases per compiled call.
     progress : callable, optional
         ``progress(stage)`` as each stage starts; may return a run counter.
     cases : sequence of FailureCase, optional
-        Study these cases only (default every case of ``settings``).
+        Study these cases only (default every case of the settings).
 
     Returns
     -------
-    FailureStudy
-    Path or None
-        The controller file flown (None without closed loop).
+    FailuresResult
+
+    Raises
+    ------
+    FailureStudyError
+        ``max_failed`` outside 1 .. the swarm's CubeSats.
     """
+    problem = as_problem(problem)
+    settings = FailureSettings(
+        max_failed=max_failed,
+        stages=stages,
+        closed_loop=closed_loop,
+        corner_sets=corner_sets,
+        workers=(os.cpu_count() or 1) if workers is None else workers,
+        jit=not no_jit,
+        batch_cases=batch_cases,
+    )
+    study, flown = _study(
+        problem, settings, controller, allow_mismatch, max_corners, quick, progress, cases
+    )
+    summary = replace(
+        study.record(),
+        controller_path=None if flown is None else str(flown),
+        quick=quick,
+        max_corners=corners_for(max_corners, quick),
+    )
+    return FailuresResult(problem, study, summary)
+
+
+def _study(
+    problem: Problem,
+    settings: FailureSettings,
+    controller: str | Path | None,
+    allow_mismatch: bool,
+    max_corners: int | None,
+    quick: bool,
+    progress: StageProgress | None,
+    cases: Sequence[FailureCase] | None,
+) -> tuple[FailureStudy, Path | None]:
+    """The study, and the controller file flown (None without closed loop)."""
     check_max_failed(settings.max_failed, len(problem.cubesats))
     model = build_model(problem)
     if not settings.closed_loop:
         return failure_study(problem, model, settings, cases=cases, progress=progress), None
-    record, resolved = controller_for(problem, controller_path, allow_mismatch=allow_mismatch)
+    record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     # FULL, quick or not: its pointing run is one whole disturbance period (see the module).
     slew, pointing = verification_problems(problem, FULL)
     count = corners_for(max_corners, quick)
@@ -121,52 +220,3 @@ def run_failure_study(
         progress=progress,
     )
     return study, resolved
-
-
-def failures_folder(
-    problem: Problem,
-    out: str | Path,
-    settings: FailureSettings,
-    *,
-    controller_path: str | Path | None = None,
-    allow_mismatch: bool = False,
-    max_corners: int | None = None,
-    quick: bool = False,
-    overwrite: bool = False,
-    progress: StageProgress | None = None,
-) -> FailureStudyRecord:
-    """Run the failure campaign of ``problem`` into the folder ``out``.
-
-    Parameters are those of :func:`run_failure_study`, and
-
-    out : str or Path
-        Result folder (``summary.json``, ``cases.csv``, ``report.md``,
-        ``reallocation.csv``, ``authority_loss.png``), written atomically.
-    overwrite : bool
-        Replace a folder this toolkit wrote.
-
-    Returns
-    -------
-    FailureStudyRecord
-        What ``summary.json`` holds (its ``to_json``).
-    """
-    out = Path(out)
-    with RunFolder.claim(out, overwrite=overwrite, command="failures") as staging:
-        study, controller = run_failure_study(
-            problem,
-            settings,
-            controller_path=controller_path,
-            allow_mismatch=allow_mismatch,
-            max_corners=max_corners,
-            quick=quick,
-            progress=progress,
-        )
-        record = replace(
-            study.record(),
-            controller_path=None if controller is None else str(controller),
-            quick=quick,
-            max_corners=corners_for(max_corners, quick),
-            out_dir=str(out.absolute()),
-        )
-        write_failures(staging, record)
-    return record

@@ -3,19 +3,22 @@ Monte-Carlo envelopes, and ``report.md`` with every figure of the paper next to 
 
 Example
 -------
->>> from casadi_debris.workflows.reproduce import reproduce_paper
->>> summary = reproduce_paper("runs/reproduce", quick=True)  # doctest: +SKIP
->>> summary.reproduced, summary.rows  # doctest: +SKIP
+>>> import casadi_debris as cd
+>>> paper = cd.reproduce("runs/reproduce", quick=True)  # doctest: +SKIP
+>>> paper.summary.reproduced, paper.summary.rows  # doctest: +SKIP
 (19, 19)
 """
 
 from __future__ import annotations
 
 import logging
+import os
+import shutil
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
@@ -31,12 +34,18 @@ from casadi_debris.report.reproduce import (
     report_markdown,
     reproduction_rows,
 )
-from casadi_debris.report.robust import MarginReport, margin_report
+from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import SynthesisSettings, design_controller
-from casadi_debris.workflows.campaign import CaseSelection, Progress, run_campaign_folder
+from casadi_debris.workflows._result import JobResult
+from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows.montecarlo import montecarlo
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from casadi_debris.workflows.margins import MarginsResult
 
 LOGGER = logging.getLogger(__name__)
 
@@ -91,13 +100,15 @@ def _paper_problems(plan: Plan) -> tuple[Problem, Problem, Problem]:
 
 
 def _controller(problem: Problem, design_into: Path | None) -> tuple[ControllerRecord, Path]:
-    """The shipped controller, or one designed anew and written into ``design_into``."""
+    """The shipped controller, or one designed anew
+    (:func:`~casadi_debris.workflows.synthesize.synthesize`) and written into
+    ``design_into``."""
     if design_into is None:
         return load_controller(None)
-    design = design_controller(problem, SynthesisSettings())
-    return load_controller(
-        write_json_atomic(design_into / "controller.json", design.record.to_dict())
-    )
+    from casadi_debris.workflows.synthesize import synthesize
+
+    record = synthesize(problem).record
+    return load_controller(write_json_atomic(design_into / "controller.json", record.to_dict()))
 
 
 def _campaign(
@@ -111,16 +122,16 @@ def _campaign(
 ) -> CampaignSummary:
     """One corner campaign (``cases`` spread evenly, None: all), in a report folder being
     built (``moved_to``: its staging folder and where it will be)."""
-    selection = CaseSelection(corners=True, max_cases=cases)
-    return run_campaign_folder(
+    return montecarlo(
         problem,
-        controller_path,
-        selection,
-        folder,
+        controller=controller_path,
+        corners=True,
+        max_cases=cases,
+        out=folder,
         workers=workers,
         progress=progress,
         moved_to=moved_to,
-    )
+    ).summary
 
 
 def corner_campaigns(
@@ -169,24 +180,44 @@ def corner_campaigns(
 
 def report_margins(
     problem: Problem,
-    record: ControllerRecord,
     controller_path: Path,
     plan: Plan,
     folders: tuple[Path, Path],
     stage: Callable[[str], Progress | None],
-) -> MarginReport:
-    """The margin study of a report into ``margins/`` (``folders``: staging and final)."""
+) -> MarginsResult:
+    """The margin study of a report (:func:`~casadi_debris.workflows.margins.margins`)
+    into ``margins/`` (``folders``: the report's staging folder and where it will end
+    up); its summary records that folder."""
+    from casadi_debris.workflows.margins import margins
+
     staging, out = folders
     stage(f"margins over {plan.margin_samples} sampled plants")
-    return margin_report(
-        problem,
-        record,
-        controller_path,
-        plan.margin_samples,
-        None,
-        staging / "margins",
-        out_dir=out / "margins",
-    )
+    study = margins(problem, controller=controller_path, samples=plan.margin_samples)
+    # Written into the report's staging folder, which the report claimed as a whole.
+    study._write(staging / "margins", out / "margins", plots=True)
+    folder = str((out / "margins").absolute())
+    return replace(study, summary=replace(study.summary, out_dir=folder))
+
+
+def stage_announcer(
+    progress: Callable[[str], Progress | None] | None,
+) -> Callable[[str], Progress | None]:
+    """``stage(name)``: a stage logged and handed to ``progress`` (which may return a case
+    counter for the stage's campaign)."""
+
+    def stage(name: str) -> Progress | None:
+        LOGGER.info(name)
+        return None if progress is None else progress(name)
+
+    return stage
+
+
+def copy_run(folder: Path, staging: Path) -> None:
+    """Every file of the run folder ``folder`` but its marker, into ``staging`` (a folder
+    being claimed), for a result written as it ran and saved again elsewhere."""
+    from casadi_debris.report.folders import MARKER_NAME
+
+    shutil.copytree(folder, staging, dirs_exist_ok=True, ignore=shutil.ignore_patterns(MARKER_NAME))
 
 
 def _slew_duration_s(slew_problem: Problem) -> float | None:
@@ -197,27 +228,65 @@ def _slew_duration_s(slew_problem: Problem) -> float | None:
     return slew.duration_s
 
 
-def reproduce_paper(
-    out: str | Path,
+@dataclass(frozen=True)
+class ReproductionResult(JobResult):
+    """The paper reproduced, in the folder it was written to.
+
+    The run writes as it goes (its campaigns keep every case on disk), so the folder is
+    written when :func:`reproduce` returns; ``save`` copies it elsewhere.
+
+    Attributes
+    ----------
+    folder : Path
+        The report folder: ``report.md``, ``summary.json``, ``margins/``, ``slew/``,
+        ``pointing/`` (and ``controller.json`` when resynthesised).
+    margins : MarginsResult
+        The margin study of the controller over sampled plants.
+    summary : ReproductionSummary
+        What ``casadi-debris reproduce --json`` prints: every row of the paper's table
+        with its verdict, ``reproduced`` of ``rows``.
+    """
+
+    folder: Path
+    margins: MarginsResult
+    summary: ReproductionSummary
+
+    command = "reproduce"
+
+    def plot(self) -> dict[str, Figure]:
+        """The margin study's figures, by the path ``save`` writes them under
+        (``margins/mu``, ``margins/margins``, ...); the campaigns' envelopes are the
+        ``slew/`` and ``pointing/`` folders' PNGs. Nothing is written."""
+        return {f"margins/{name}": figure for name, figure in self.margins.plot().items()}
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """The report folder's files, copied (they are written as the run goes)."""
+        copy_run(self.folder, staging)
+
+
+def reproduce(
+    out: str | Path = Path("runs") / "reproduce",
     *,
     quick: bool = False,
     resynthesize: bool = False,
-    workers: int = 1,
+    workers: int | None = None,
     overwrite: bool = False,
     progress: Callable[[str], Progress | None] | None = None,
-) -> ReproductionSummary:
-    """Reproduce the paper into the folder ``out``.
+) -> ReproductionResult:
+    """Reproduce the paper into the folder ``out``: model, budgets, controller, margins,
+    slew and pointing with their corner campaigns, and ``report.md`` with every figure of
+    the paper next to ours.
 
     Parameters
     ----------
     out : str or Path
-        Report folder (see :class:`~casadi_debris.report.folders.RunFolder`).
+        Report folder, written whole or not at all.
     quick : bool
-        Fewer samples and corners and a shorter pointing run (CI).
+        Fewer samples and corners and a shorter pointing run (CI: minutes).
     resynthesize : bool
         Design the controller anew (about a minute) instead of the shipped one.
-    workers : int
-        Local processes for the campaigns.
+    workers : int, optional
+        Local processes for the campaigns; default one per core.
     overwrite : bool
         Replace a report folder this toolkit wrote.
     progress : callable, optional
@@ -227,19 +296,24 @@ def reproduce_paper(
 
     Returns
     -------
-    ReproductionSummary
-        What ``summary.json`` holds: the rows (``ReproductionRow.entry``), with
-        ``reproduced`` of ``rows``.
+    ReproductionResult
+        ``summary.table`` (each row of the paper's table with its verdict) and
+        ``summary.reproduced`` of ``summary.rows``.
+
+    Example
+    -------
+    >>> import casadi_debris as cd
+    >>> paper = cd.reproduce("runs/reproduce", quick=True)  # doctest: +SKIP
+    >>> paper.summary.reproduced, paper.summary.rows  # doctest: +SKIP
+    (19, 19)
     """
     started = time.perf_counter()
     plan = QUICK if quick else FULL
     problem, slew_problem, pointing_problem = _paper_problems(plan)
     out = Path(out)
+    workers = workers or os.cpu_count() or 1
 
-    def stage(name: str) -> Progress | None:
-        LOGGER.info(name)
-        return None if progress is None else progress(name)
-
+    stage = stage_announcer(progress)
     with RunFolder.claim(out, overwrite=overwrite, command="reproduce") as staging:
         stage("model and budgets")
         model_summary = describe_model(problem)
@@ -247,11 +321,11 @@ def reproduce_paper(
         if resynthesize:
             stage("synthesising the controller (D-K iteration)")
         record, controller_path = _controller(problem, staging if resynthesize else None)
-        margins = report_margins(problem, record, controller_path, plan, (staging, out), stage)
+        margins = report_margins(problem, controller_path, plan, (staging, out), stage)
         runs = (slew_problem, pointing_problem)
         campaigns = corner_campaigns(plan, runs, controller_path, (staging, out), workers, stage)
         rows = _rows(
-            problem, model_summary, budgets, record, margins, campaigns,
+            problem, model_summary, budgets, record, margins.summary, campaigns,
             _slew_duration_s(slew_problem),
         )  # fmt: skip
         summary = ReproductionSummary(
@@ -267,7 +341,7 @@ def reproduce_paper(
             out_dir=str(out.absolute()),
         )
         _write_report(staging, rows, summary)
-    return summary
+    return ReproductionResult(folder=out, margins=margins, summary=summary)
 
 
 def _rows(
@@ -275,7 +349,7 @@ def _rows(
     model_summary: ModelDescription,
     budgets: dict[str, float],
     record: ControllerRecord,
-    margins: MarginReport,
+    margins: MarginsSummary,
     campaigns: dict[str, CampaignSummary],
     slew_duration_s: float | None,
 ) -> list[ReproductionRow]:

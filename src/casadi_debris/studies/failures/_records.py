@@ -83,7 +83,7 @@ class ClosedLoopVerdict(Record):
 class HoldingRecord(Record):
     """The allocation of the torque that cancels the disturbance over one period.
 
-    See :mod:`casadi_debris.studies.failure_authority` for how each figure is computed.
+    See :func:`~casadi_debris.studies.failures.case_authority` for how each figure is computed.
     """
 
     period_s: float
@@ -158,11 +158,11 @@ class ManoeuvreRecord(Record):
 
 
 @dataclass(frozen=True, kw_only=True)
-class FailureStudyRecord(Record):
+class FailuresSummary(Record):
     """A failure campaign: what was run, the whole swarm, and every case, the worst first.
 
     ``controller_path``, ``quick``, ``max_corners`` and ``out_dir`` are the job's (see
-    :func:`~casadi_debris.workflows.failures.failures_folder`). ``disturbance_period_s``
+    :func:`~casadi_debris.workflows.failures.failures`). ``disturbance_period_s``
     is what the pointing run's window is judged against (None in summaries written
     before it was kept).
     """

@@ -33,9 +33,9 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.geometry import Geometry, torque_authority
-from casadi_debris.studies.failure_cases import FailureCase
-from casadi_debris.studies.failure_records import HoldingRecord
-from casadi_debris.studies.failure_sets import axis_ratios, weakest_axis
+from casadi_debris.studies.failures._cases import FailureCase
+from casadi_debris.studies.failures._records import HoldingRecord
+from casadi_debris.studies.failures._sets import axis_ratios, weakest_axis
 from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
 HOLDING_SAMPLES = 360

@@ -1,6 +1,6 @@
 """Every set of k failed CubeSats, and the torque authority each leaves.
 
-The failure campaign (:mod:`casadi_debris.studies.failure_cases`), the placement
+The failure campaign (:func:`~casadi_debris.studies.failures.failure_cases`), the placement
 study's failure-robust objective (:mod:`casadi_debris.studies.placement_authority`)
 and the swarm comparison (:mod:`casadi_debris.studies.alternatives`) all ask the
 same question of a swarm: fail every set of ``k`` of its CubeSats, solve the

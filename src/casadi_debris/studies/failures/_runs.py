@@ -22,8 +22,8 @@ from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import CampaignSetup, Case, CaseOutcome, run_campaign
 from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES, CaseFailure
 from casadi_debris.simulation.summary import RunSummary
-from casadi_debris.studies.failure_cases import FailureCase
-from casadi_debris.studies.failure_records import RunVerdict
+from casadi_debris.studies.failures._cases import FailureCase
+from casadi_debris.studies.failures._records import RunVerdict
 
 Progress = Callable[[int, int], None]
 """``progress(done, total)``: runs finished of the runs of one stage."""

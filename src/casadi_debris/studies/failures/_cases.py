@@ -23,7 +23,7 @@ from math import comb
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.errors import FailureStudyError
-from casadi_debris.studies.failure_sets import failure_sets
+from casadi_debris.studies.failures._sets import failure_sets
 
 FAILED_STAGE = 0
 """The stage a stage-failure case loses (0-based): the first, so the next takes over at once."""

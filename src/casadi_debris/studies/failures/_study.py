@@ -1,30 +1,5 @@
-"""Which failures a swarm survives: every set of up to k failed CubeSats, and a lost stage.
-
-For each case (:mod:`~casadi_debris.studies.failure_cases`) the study gives
-
-- the torque authority left per signed axis at zero net force and its ratio to
-  the disturbance, and the holding load's fuel, spread and time to first
-  depletion (:mod:`~casadi_debris.studies.failure_authority`);
-- whether the problem's manoeuvres still meet its ``[requirements]`` in closed
-  loop on the nominal plant, and for the worst sets on corners of the
-  uncertainty set (:mod:`~casadi_debris.studies.failure_runs`);
-- the re-allocation the failure needs: the CubeSats whose mean holding thrust
-  rises, before and after.
-
-The cases come back ranked, the worst first: those that miss a requirement (by
-how far), then by the least authority relative to the disturbance.
-
-Example
--------
->>> from casadi_debris import load_problem
->>> from casadi_debris.dynamics import build_model
->>> from casadi_debris.studies.failures import FailureSettings, failure_study
->>> problem = load_problem()
->>> study = failure_study(problem, build_model(problem), FailureSettings(max_failed=1,
-...                       closed_loop=False))  # doctest: +SKIP
->>> len(study.cases)  # doctest: +SKIP
-48
-"""
+"""The failure study: every case's authority, holding load and closed-loop runs, ranked
+(:func:`failure_study`); the package's docstring tells what each case gives."""
 
 from __future__ import annotations
 
@@ -41,26 +16,26 @@ from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.simulation import Case, nominal_case
 from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
-from casadi_debris.studies.failure_authority import (
+from casadi_debris.studies.failures._authority import (
     CaseAuthority,
     case_authority,
     holding_torque_Nm,
 )
-from casadi_debris.studies.failure_cases import (
+from casadi_debris.studies.failures._cases import (
     FAILED_STAGE,
     FailureCase,
     FailureStudyError,
     failure_cases,
 )
-from casadi_debris.studies.failure_records import (
+from casadi_debris.studies.failures._records import (
     ClosedLoopVerdict,
     FailureCaseRecord,
-    FailureStudyRecord,
+    FailuresSummary,
     ManoeuvreRecord,
     RunVerdict,
     ThrustChange,
 )
-from casadi_debris.studies.failure_runs import Manoeuvre, StageProgress, fly_cases
+from casadi_debris.studies.failures._runs import Manoeuvre, StageProgress, fly_cases
 from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
 LOGGER = logging.getLogger(__name__)
@@ -90,7 +65,7 @@ class FailureSettings:
         Local processes for the closed-loop runs.
     jit : bool
         Run the closed-loop cases on the compiled step, in batches (see
-        :func:`~casadi_debris.studies.failure_runs.fly_cases`).
+        :func:`~casadi_debris.studies.failures.fly_cases`).
     batch_cases : int
         Cases of one compiled call (1: one by one; same numbers).
     """
@@ -228,11 +203,11 @@ class FailureStudy:
     corner_plants: int
     wall_time_s: float
 
-    def record(self) -> FailureStudyRecord:
+    def record(self) -> FailuresSummary:
         """The study for ``summary.json``: settings, baseline, counts, cases worst first."""
         judged = [r.met for r in self.cases]
         settings = self.settings
-        return FailureStudyRecord(
+        return FailuresSummary(
             problem=self.problem.name,
             problem_sha256=self.problem.sha256,
             max_failed=settings.max_failed,
@@ -282,12 +257,12 @@ def failure_study(
         Needed with ``settings.closed_loop``: attitude error [deg] -> torque [mNm].
     manoeuvres : sequence of Manoeuvre
         What each case flies (see
-        :func:`~casadi_debris.studies.failure_runs.manoeuvres`).
+        :func:`~casadi_debris.studies.failures.manoeuvres`).
     corner_plants : sequence of Case
         The plants the worst ``settings.corner_sets`` cases also fly.
     cases : sequence of FailureCase, optional
         Study these cases only (default every case of ``settings``: see
-        :func:`~casadi_debris.studies.failure_cases.failure_cases`).
+        :func:`~casadi_debris.studies.failures.failure_cases`).
     progress : callable, optional
         ``progress(stage)`` as each stage starts; may return a run counter.
 
