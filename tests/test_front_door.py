@@ -35,7 +35,6 @@ NOT_YET = {
     "budget",
     "burn",
     "compare",
-    "deorbit",
     "design",
     "detumble",
     "failures",

@@ -22,20 +22,25 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.deorbit import DeorbitResult, deorbit
     from casadi_debris.workflows.simulate import SimulationResult, simulate
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "deorbit": "casadi_debris.workflows.deorbit",
+    "DeorbitResult": "casadi_debris.workflows.deorbit",
     "simulate": "casadi_debris.workflows.simulate",
     "SimulationResult": "casadi_debris.workflows.simulate",
 }
 
 __all__ = [
     "CasadiDebrisError",
+    "DeorbitResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "__version__",
+    "deorbit",
     "load_problem",
     "simulate",
 ]
