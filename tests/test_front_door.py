@@ -39,7 +39,6 @@ NOT_YET = {
     "detumble",
     "failures",
     "margins",
-    "mission",
     "model",
     "montecarlo",
     "placement",

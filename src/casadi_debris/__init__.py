@@ -23,10 +23,13 @@ from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
     from casadi_debris.workflows.deorbit import DeorbitResult, deorbit
+    from casadi_debris.workflows.mission import MissionResult, mission
     from casadi_debris.workflows.simulate import SimulationResult, simulate
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "mission": "casadi_debris.workflows.mission",
+    "MissionResult": "casadi_debris.workflows.mission",
     "deorbit": "casadi_debris.workflows.deorbit",
     "DeorbitResult": "casadi_debris.workflows.deorbit",
     "simulate": "casadi_debris.workflows.simulate",
@@ -36,12 +39,14 @@ _LAZY = {
 __all__ = [
     "CasadiDebrisError",
     "DeorbitResult",
+    "MissionResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "__version__",
     "deorbit",
     "load_problem",
+    "mission",
     "simulate",
 ]
 
