@@ -36,7 +36,6 @@ NOT_YET = {
     "burn",
     "compare",
     "design",
-    "detumble",
     "failures",
     "margins",
     "model",

@@ -23,11 +23,14 @@ from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
     from casadi_debris.workflows.deorbit import DeorbitResult, deorbit
+    from casadi_debris.workflows.detumble import DetumbleResult, detumble
     from casadi_debris.workflows.mission import MissionResult, mission
     from casadi_debris.workflows.simulate import SimulationResult, simulate
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "detumble": "casadi_debris.workflows.detumble",
+    "DetumbleResult": "casadi_debris.workflows.detumble",
     "mission": "casadi_debris.workflows.mission",
     "MissionResult": "casadi_debris.workflows.mission",
     "deorbit": "casadi_debris.workflows.deorbit",
@@ -39,12 +42,14 @@ _LAZY = {
 __all__ = [
     "CasadiDebrisError",
     "DeorbitResult",
+    "DetumbleResult",
     "MissionResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
     "__version__",
     "deorbit",
+    "detumble",
     "load_problem",
     "mission",
     "simulate",
