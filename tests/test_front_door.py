@@ -33,7 +33,6 @@ NOT_YET = {
     "allocate",
     "alternatives",
     "budget",
-    "burn",
     "compare",
     "design",
     "failures",

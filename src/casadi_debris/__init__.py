@@ -22,6 +22,7 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.burn import BurnResult, burn
     from casadi_debris.workflows.deorbit import DeorbitResult, deorbit
     from casadi_debris.workflows.detumble import DetumbleResult, detumble
     from casadi_debris.workflows.mission import MissionResult, mission
@@ -29,6 +30,8 @@ if TYPE_CHECKING:
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "burn": "casadi_debris.workflows.burn",
+    "BurnResult": "casadi_debris.workflows.burn",
     "detumble": "casadi_debris.workflows.detumble",
     "DetumbleResult": "casadi_debris.workflows.detumble",
     "mission": "casadi_debris.workflows.mission",
@@ -40,6 +43,7 @@ _LAZY = {
 }
 
 __all__ = [
+    "BurnResult",
     "CasadiDebrisError",
     "DeorbitResult",
     "DetumbleResult",
@@ -48,6 +52,7 @@ __all__ = [
     "ProblemFileError",
     "SimulationResult",
     "__version__",
+    "burn",
     "deorbit",
     "detumble",
     "load_problem",
