@@ -43,7 +43,6 @@ NOT_YET = {
     "reproduce",
     "slew",
     "synthesize",
-    "transfer",
     "worstcase",
 }
 

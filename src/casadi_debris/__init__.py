@@ -27,9 +27,12 @@ if TYPE_CHECKING:
     from casadi_debris.workflows.detumble import DetumbleResult, detumble
     from casadi_debris.workflows.mission import MissionResult, mission
     from casadi_debris.workflows.simulate import SimulationResult, simulate
+    from casadi_debris.workflows.transfer import TransferResult, transfer
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "transfer": "casadi_debris.workflows.transfer",
+    "TransferResult": "casadi_debris.workflows.transfer",
     "burn": "casadi_debris.workflows.burn",
     "BurnResult": "casadi_debris.workflows.burn",
     "detumble": "casadi_debris.workflows.detumble",
@@ -51,6 +54,7 @@ __all__ = [
     "Problem",
     "ProblemFileError",
     "SimulationResult",
+    "TransferResult",
     "__version__",
     "burn",
     "deorbit",
@@ -58,6 +62,7 @@ __all__ = [
     "load_problem",
     "mission",
     "simulate",
+    "transfer",
 ]
 
 

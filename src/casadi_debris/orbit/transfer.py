@@ -44,7 +44,7 @@ from casadi_debris.orbit.transfer_ocp import (
     TransferTarget,
     solve_transfer_ocp,
 )
-from casadi_debris.orbit.transfer_result import TransferResult, summarise
+from casadi_debris.orbit.transfer_result import TransferSummary, summarise
 from casadi_debris.orbit.transfer_thrust import Burn, burn_schedule, dv_of_burns
 from casadi_debris.units import M_PER_KM
 
@@ -67,7 +67,7 @@ class TransferPlan:
 
     Attributes
     ----------
-    result : TransferResult
+    result : TransferSummary
     guided : GuidedTransfer
         Edelbaum steering, closed loop, through the whole burn schedule.
     optimal : OptimalTransfer
@@ -80,7 +80,7 @@ class TransferPlan:
         (time [s], CubeSat, stage) when a stage ran dry, 1-based.
     """
 
-    result: TransferResult
+    result: TransferSummary
     guided: GuidedTransfer
     optimal: OptimalTransfer
     groups: tuple[ThrustSegment, ...]
