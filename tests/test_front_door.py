@@ -39,7 +39,6 @@ NOT_YET = {
     "margins",
     "model",
     "montecarlo",
-    "placement",
     "reproduce",
     "slew",
     "synthesize",

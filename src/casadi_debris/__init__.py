@@ -26,11 +26,14 @@ if TYPE_CHECKING:
     from casadi_debris.workflows.deorbit import DeorbitResult, deorbit
     from casadi_debris.workflows.detumble import DetumbleResult, detumble
     from casadi_debris.workflows.mission import MissionResult, mission
+    from casadi_debris.workflows.placement import PlacementResult, placement
     from casadi_debris.workflows.simulate import SimulationResult, simulate
     from casadi_debris.workflows.transfer import TransferResult, transfer
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "placement": "casadi_debris.workflows.placement",
+    "PlacementResult": "casadi_debris.workflows.placement",
     "transfer": "casadi_debris.workflows.transfer",
     "TransferResult": "casadi_debris.workflows.transfer",
     "burn": "casadi_debris.workflows.burn",
@@ -51,6 +54,7 @@ __all__ = [
     "DeorbitResult",
     "DetumbleResult",
     "MissionResult",
+    "PlacementResult",
     "Problem",
     "ProblemFileError",
     "SimulationResult",
@@ -61,6 +65,7 @@ __all__ = [
     "detumble",
     "load_problem",
     "mission",
+    "placement",
     "simulate",
     "transfer",
 ]
