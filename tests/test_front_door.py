@@ -31,7 +31,6 @@ NOT_JOBS = {"problems", "schema"}
 # Commands whose function has not landed yet, one per line.
 NOT_YET = {
     "allocate",
-    "alternatives",
     "budget",
     "compare",
     "design",

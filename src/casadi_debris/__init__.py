@@ -22,6 +22,7 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, ProblemFileError
 
 if TYPE_CHECKING:
+    from casadi_debris.workflows.alternatives import AlternativesResult, alternatives
     from casadi_debris.workflows.burn import BurnResult, burn
     from casadi_debris.workflows.deorbit import DeorbitResult, deorbit
     from casadi_debris.workflows.detumble import DetumbleResult, detumble
@@ -32,6 +33,8 @@ if TYPE_CHECKING:
 
 # Name -> the module that defines it, imported on first use.
 _LAZY = {
+    "alternatives": "casadi_debris.workflows.alternatives",
+    "AlternativesResult": "casadi_debris.workflows.alternatives",
     "placement": "casadi_debris.workflows.placement",
     "PlacementResult": "casadi_debris.workflows.placement",
     "transfer": "casadi_debris.workflows.transfer",
@@ -49,6 +52,7 @@ _LAZY = {
 }
 
 __all__ = [
+    "AlternativesResult",
     "BurnResult",
     "CasadiDebrisError",
     "DeorbitResult",
@@ -60,6 +64,7 @@ __all__ = [
     "SimulationResult",
     "TransferResult",
     "__version__",
+    "alternatives",
     "burn",
     "deorbit",
     "detumble",
