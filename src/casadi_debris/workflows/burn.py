@@ -207,11 +207,23 @@ def burn(
         allow_mismatch=allow_mismatch,
         jit=not no_jit,
     )
-    # The quick checks (two LPs, the controller file) refuse before the long part.
+    return _fly(problem, request, progress)
+
+
+def _fly(
+    problem: Problem, request: BurnRequest, progress: Callable[[str], None] | None
+) -> BurnResult:
+    """Check the request (two LPs) and the controller, then fly it (the long part)."""
     plan, engines = burn_plan(problem, request)
-    record, controller_path = controller_for(problem, controller, allow_mismatch=allow_mismatch)
+    record, controller_path = controller_for(
+        problem, request.controller, allow_mismatch=request.allow_mismatch
+    )
     if progress is not None:
-        progress(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")
+        hours = request.duration_s / SECONDS_PER_HOUR
+        progress(
+            f"Flying a {request.direction} burn of {hours:g} h on {problem.name} "
+            "(flexible model) ..."
+        )
     run = simulate_burn(
         problem,
         build_model(problem),
@@ -225,7 +237,7 @@ def burn(
     report = BurnReport(
         burn=summary,
         controller_path=str(controller_path),
-        first_stage_left_s=first_stage_left_s,
+        first_stage_left_s=request.first_stage_left_s,
     )
     return BurnResult(summary=report, run=run, series=series)
 

@@ -20,12 +20,12 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from casadi_debris.config import SIGNED_AXES, load_problem
+from casadi_debris.config import SIGNED_AXES, Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.geometry import build_geometry, torque_authority
 from casadi_debris.report.placement import PLACEMENT_FILE, placement_figures, write_placement
 from casadi_debris.studies.placement import PlacementStudy, optimise_placement
-from casadi_debris.studies.placement_candidates import DEFAULT_GRID, face_candidates
+from casadi_debris.studies.placement_candidates import DEFAULT_GRID, CandidateSet, face_candidates
 from casadi_debris.studies.placement_data import placement_data
 from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings
 from casadi_debris.studies.placement_pareto import ParetoPoint, pareto_front
@@ -166,32 +166,53 @@ def placement(
     problem = as_problem(problem)
     if not Path(problem.source).is_file():
         raise InputShapeError(f"placement needs a problem loaded from a file; got {problem.source}")
-    if objective not in OBJECTIVES:
-        raise InputShapeError(f"objective: one of {', '.join(OBJECTIVES)}; got {objective!r}")
     limits = _count_limits(count, count_range)
-    settings = PlacementSettings(
-        count=limits,
-        failures=OBJECTIVES[objective],
-        max_added_inertia_kgm2=_inertia(max_added_inertia),
-        max_slew_s=max_slew_s,
-        min_per_face=min_per_face,
-        time_limit_s=time_limit,
-    )
-    sides = None if side_engines is None else _side_engines(side_engines)
+    settings = _settings(limits, objective, max_added_inertia, max_slew_s, min_per_face, time_limit)
     counts = _pareto_counts(pareto_counts, limits[1])
-    grid = (candidates, candidates) if isinstance(candidates, int) else tuple(candidates)
-    data = placement_data(problem, face_candidates(problem, (grid[0], grid[1]), sides))
+    data = placement_data(problem, _candidates(problem, candidates, side_engines))
     study = optimise_placement(problem, settings, data=data)
     points: list[ParetoPoint] = []
     if counts:
-        if progress is not None:
-            progress(f"Pareto sweep over {len(counts)} counts")
+        (progress or LOGGER.info)(f"Pareto sweep over {len(counts)} counts")
         points = pareto_front(problem, data, counts, settings)
     summary = placement_summary(study, objective, points)
     return PlacementResult(summary=summary, study=study, pareto=tuple(points))
 
 
 MAX_COUNT = 256
+
+
+def _candidates(
+    problem: Problem, grid: int | tuple[int, int], side_engines: Sequence[int] | None
+) -> CandidateSet:
+    """The candidate mounts: ``grid`` per face (an int is square), each offered with the
+    engine templates ``side_engines`` asks for (default the problem layout's)."""
+    rows, columns = (grid, grid) if isinstance(grid, int) else grid
+    sides = None if side_engines is None else _side_engines(side_engines)
+    return face_candidates(problem, (rows, columns), sides)
+
+
+def _settings(
+    count: tuple[int, int],
+    objective: str,
+    max_added_inertia: float | Sequence[float] | None,
+    max_slew_s: float | None,
+    min_per_face: int,
+    time_limit: float,
+) -> PlacementSettings:
+    """The MILP's settings from the job's keywords, the objective checked by name."""
+    if objective not in OBJECTIVES:
+        raise InputShapeError(f"objective: one of {', '.join(OBJECTIVES)}; got {objective!r}")
+    return PlacementSettings(
+        count=count,
+        failures=OBJECTIVES[objective],
+        max_added_inertia_kgm2=_inertia(max_added_inertia),
+        max_slew_s=max_slew_s,
+        min_per_face=min_per_face,
+        time_limit_s=time_limit,
+    )
+
+
 MAX_INERTIA_KGM2 = 1e6
 
 
