@@ -27,7 +27,7 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
 
 if TYPE_CHECKING:
-    from casadi_debris.studies.placement_records import PlacementSummary
+    from casadi_debris.studies.placement import PlacementSummary
 
 OBJECTIVE_NAMES = ("worst-axis", "worst-single-failure", "worst-double-failure")
 
@@ -134,7 +134,7 @@ def placement(
     over all single or double CubeSat failures), exactly as a mixed-integer programme
     (HiGHS). Writes placement.toml (a problem file extending PROBLEM.toml with the chosen
     [[cubesats]]), summary.json, report.md and layout.png (pareto.png with --pareto)."""
-    from casadi_debris.studies.placement_candidates import parse_grid
+    from casadi_debris.studies.placement import parse_grid
     from casadi_debris.workflows.placement import placement as placement_job
 
     sides = None

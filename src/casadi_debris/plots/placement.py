@@ -12,8 +12,7 @@ from matplotlib.patches import Rectangle
 
 from casadi_debris.config import Problem
 from casadi_debris.geometry import array_axes
-from casadi_debris.studies.placement import PlacementStudy
-from casadi_debris.studies.placement_pareto import ParetoPoint
+from casadi_debris.studies.placement import ParetoPoint, PlacementStudy
 
 VIEWS = ((0, 1), (0, 2), (1, 2))
 """Projections drawn: x-y, x-z, y-z (hub-corner frame)."""

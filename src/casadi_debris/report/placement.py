@@ -17,9 +17,7 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.config.schema import CubeSat
 from casadi_debris.report.common import format_figure, write_json_atomic
-from casadi_debris.studies.placement import PlacementStudy
-from casadi_debris.studies.placement_pareto import ParetoPoint
-from casadi_debris.studies.placement_records import PlacementSummary
+from casadi_debris.studies.placement import ParetoPoint, PlacementStudy, PlacementSummary
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -24,12 +24,20 @@ from casadi_debris.config import SIGNED_AXES, Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.geometry import build_geometry, torque_authority
 from casadi_debris.report.placement import PLACEMENT_FILE, placement_figures, write_placement
-from casadi_debris.studies.placement import PlacementStudy, optimise_placement
-from casadi_debris.studies.placement_candidates import DEFAULT_GRID, CandidateSet, face_candidates
-from casadi_debris.studies.placement_data import placement_data
-from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings
-from casadi_debris.studies.placement_pareto import ParetoPoint, pareto_front
-from casadi_debris.studies.placement_records import PlacementSummary, placement_summary
+from casadi_debris.studies.placement import (
+    DEFAULT_GRID,
+    OBJECTIVES,
+    CandidateSet,
+    ParetoPoint,
+    PlacementSettings,
+    PlacementStudy,
+    PlacementSummary,
+    face_candidates,
+    optimise_placement,
+    pareto_front,
+    placement_data,
+    placement_summary,
+)
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
