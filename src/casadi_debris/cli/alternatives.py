@@ -20,7 +20,7 @@ from casadi_debris.report.common import format_table
 
 @main.command()
 @click.argument(
-    "problems",
+    "problem_files",
     nargs=-1,
     type=click.Path(path_type=Path, dir_okay=False),
     metavar="[PROBLEM]...",
@@ -35,7 +35,7 @@ from casadi_debris.report.common import format_table
 @folder_option(default=Path("runs") / "alternatives")
 @output_options
 def alternatives(
-    problems: tuple[Path, ...], max_failed: int, out: Path, overwrite: bool, as_json: bool
+    problem_files: tuple[Path, ...], max_failed: int, out: Path, overwrite: bool, as_json: bool
 ) -> None:
     """Compare swarm designs: authority, fuel per torque·time, failure tolerance, mass.
 
@@ -51,7 +51,7 @@ def alternatives(
 
     folder = run_folder(out, "alternatives", "", overwrite)
     result = alternatives_job(
-        problems, max_failed=max_failed, progress=lambda name: say(f"{name} ...")
+        problem_files, max_failed=max_failed, progress=lambda name: say(f"{name} ...")
     )
     result.save(folder, overwrite=overwrite)
     report = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))

@@ -64,7 +64,7 @@ class AlternativesResult(JobResult):
 
 
 def alternatives(
-    problems: Sequence[ProblemLike] = (),
+    problem_files: Sequence[ProblemLike] = (),
     *,
     max_failed: int = 2,
     progress: Callable[[str], None] | None = None,
@@ -77,7 +77,7 @@ def alternatives(
 
     Parameters
     ----------
-    problems : sequence of Problem, str or Path
+    problem_files : sequence of Problem, str or Path
         The designs, in the order of the table (problems, files or shipped names);
         default the paper's swarm and the alternatives it names (:data:`DEFAULT_DESIGNS`).
     max_failed : int
@@ -101,7 +101,7 @@ def alternatives(
 
     if max_failed not in (0, 1, 2):
         raise InputShapeError(f"--max-failed: 0, 1 or 2; got {max_failed!r}")
-    loaded = [as_problem(p) for p in (problems or DEFAULT_DESIGNS)]
+    loaded = [as_problem(p) for p in (problem_files or DEFAULT_DESIGNS)]
     started = time.perf_counter()
     designs = []
     for problem in loaded:
