@@ -75,7 +75,8 @@ BASELINE_SCRIPT = """
 import json, resource, sys, time
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation import CampaignSetup, corner_cases, run_campaign, scenario_reference
+from casadi_debris.guidance import scenario_reference
+from casadi_debris.simulation import CampaignSetup, corner_cases, run_campaign
 from casadi_debris.workflows.controller import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)

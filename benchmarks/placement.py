@@ -14,9 +14,13 @@ from __future__ import annotations
 import time
 
 from casadi_debris import load_problem
-from casadi_debris.studies.placement_candidates import face_candidates
-from casadi_debris.studies.placement_data import placement_data
-from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings, solve_placement
+from casadi_debris.studies.placement import (
+    OBJECTIVES,
+    PlacementSettings,
+    face_candidates,
+    placement_data,
+    solve_placement,
+)
 from recording import Setting, start_benchmark
 
 FULL_CASES = [

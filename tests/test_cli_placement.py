@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, load_problem
 from casadi_debris.geometry import build_geometry, torque_authority
-from casadi_debris.studies.placement_records import ParetoFigures, PlacementSummary
+from casadi_debris.studies.placement import ParetoFigures, PlacementSummary
 from casadi_debris.units import MNM_PER_NM
 
 
@@ -255,14 +255,14 @@ def test_solver_chatter_on_stdout_goes_to_stderr():
 
 def test_objective_names_are_the_studies_own():
     from casadi_debris.cli.placement import OBJECTIVE_NAMES
-    from casadi_debris.studies.placement_milp import OBJECTIVES
+    from casadi_debris.studies.placement import OBJECTIVES
 
     assert tuple(OBJECTIVES) == OBJECTIVE_NAMES
 
 
 _CHATTY_PLACEMENT = """
 import os, sys
-import casadi_debris.studies.placement_milp as placement_milp
+import casadi_debris.studies.placement._milp as placement_milp
 from casadi_debris.cli import main
 
 real = placement_milp.milp

@@ -10,7 +10,7 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.orbit import TransferResult
+from casadi_debris.orbit import TransferSummary
 
 
 def _problem(tmp_path: Path, transfer: str) -> Path:
@@ -51,7 +51,7 @@ def test_the_paper_transfer_writes_its_folder_and_json(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     assert summary == json.loads((out / "summary.json").read_text())
-    assert TransferResult.from_json(summary).to_json() == summary
+    assert TransferSummary.from_json(summary).to_json() == summary
     for key in ("transfer_dv_m_s", "transfer_time_days", "propellant_kg", "edelbaum_dv_m_s"):
         assert isinstance(summary[key], float)
     assert abs(summary["transfer_dv_m_s"] / summary["edelbaum_dv_m_s"] - 1) < 0.05

@@ -29,15 +29,7 @@ OTHER_JOB = {("simulate", "open_loop"), ("simulate", "rigid")}
 NOT_JOBS = {"problems", "schema"}
 
 # Commands whose function has not landed yet, one per line.
-NOT_YET = {
-    "alternatives",
-    "burn",
-    "deorbit",
-    "detumble",
-    "mission",
-    "placement",
-    "transfer",
-}
+NOT_YET: set[str] = set()
 
 JOBS = sorted(set(main.commands) - NOT_JOBS)
 

@@ -9,7 +9,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular, mee_dynamics
-from casadi_debris.orbit.transfer_averaged import (
+from casadi_debris.orbit.transfer import (
     averaged_dynamics,
     averaged_step,
     edelbaum_yaw,

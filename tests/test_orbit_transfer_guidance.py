@@ -8,9 +8,12 @@ import numpy as np
 import pytest
 
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular
-from casadi_debris.orbit.transfer_averaged import averaged_dynamics, radius_inclination
-from casadi_debris.orbit.transfer_guidance import edelbaum_guidance
-from casadi_debris.orbit.transfer_thrust import Burn
+from casadi_debris.orbit.transfer import (
+    Burn,
+    averaged_dynamics,
+    edelbaum_guidance,
+    radius_inclination,
+)
 
 MU = 3.986004418e14
 RE = 6378137.0

@@ -8,13 +8,14 @@ import numpy as np
 import pytest
 
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular
-from casadi_debris.orbit.transfer_averaged import (
+from casadi_debris.orbit.transfer import (
+    Burn,
+    TransferTarget,
     averaged_dynamics,
     averaged_step,
     radius_inclination,
+    solve_transfer_ocp,
 )
-from casadi_debris.orbit.transfer_ocp import TransferTarget, solve_transfer_ocp
-from casadi_debris.orbit.transfer_thrust import Burn
 
 MU = 3.986004418e14
 RE = 6378137.0
@@ -128,7 +129,7 @@ def test_grouped_arcs_keep_the_staging_and_edelbaum(fastest, data: TransferTarge
 
 
 def test_arc_grid_groups_consecutive_arcs_and_bounds_the_step() -> None:
-    from casadi_debris.orbit.transfer_ocp import MAX_STEP_S, _ArcGrid
+    from casadi_debris.orbit.transfer._ocp import MAX_STEP_S, _ArcGrid
 
     burns = [Burn(i % 3, 20 * DAY * i, 20 * DAY, 1e-3, 1e-7, True) for i in range(10)]
     grid = _ArcGrid.of(len(burns), 1, 4)

@@ -12,7 +12,7 @@ from casadi_debris import load_problem
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.geometry import build_geometry, max_thrust_N
 from casadi_debris.orbit.propulsion import swarm_thrust
-from casadi_debris.orbit.transfer_thrust import (
+from casadi_debris.orbit.transfer import (
     burn_schedule,
     dv_of_burns,
     stage_switch_times_s,

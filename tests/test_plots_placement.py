@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from matplotlib.patches import Polygon
 
-import casadi_debris.plots.placement as placement_plots
 from casadi_debris import load_problem
-from casadi_debris.plots.placement import VIEWS, array_outlines_corner_m, plot_layout
+from casadi_debris.plots import save_figure
+from casadi_debris.plots.placement import VIEWS, array_outlines_corner_m, layout_figure
 from casadi_debris.studies.placement import PlacementSettings, optimise_placement
 
 
@@ -41,18 +41,12 @@ def test_a_turned_array_is_a_turned_panel(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("name", ["paper", "rigid_no_arrays"])
-def test_the_layout_figure_draws_each_array_in_every_view(monkeypatch, tmp_path, name) -> None:
+def test_the_layout_figure_draws_each_array_in_every_view(tmp_path, name) -> None:
     problem = load_problem(name)
     study = optimise_placement(problem, PlacementSettings(count=(8, 8)), grid=(2, 2))
-    drawn: list = []
-    real_save = placement_plots.save_figure
-
-    def keep(figure, path):
-        drawn.append([[p for p in axis.patches if isinstance(p, Polygon)] for axis in figure.axes])
-        return real_save(figure, path)
-
-    monkeypatch.setattr(placement_plots, "save_figure", keep)
-    plot_layout(study, tmp_path / "layout.png")
+    figure = layout_figure(study)
+    drawn = [[[p for p in axis.patches if isinstance(p, Polygon)] for axis in figure.axes]]
+    save_figure(figure, tmp_path / "layout.png")
     assert (tmp_path / "layout.png").stat().st_size > 0
     [per_view] = drawn
     outlines = array_outlines_corner_m(problem)

@@ -101,24 +101,19 @@ def test_the_remedy_is_said_only_when_there_is_a_gap(paper, extra, words) -> Non
 
 def _timeline_boxes(summary: MissionSummary, monkeypatch, tmp_path) -> tuple:
     """The timeline's label boxes, bar boxes and axes box in display units, as written."""
-    import casadi_debris.plots.mission as mission_plots
+    import matplotlib.pyplot as plt
 
-    kept: list = []
-    real = mission_plots.save_figure
+    from casadi_debris.plots.mission import mission_figure
 
-    def keep(figure, path):
-        figure.tight_layout()  # as save_figure lays it out
-        figure.canvas.draw()
-        timeline = figure.axes[0]
-        renderer = figure.canvas.get_renderer()
-        labels = [t.get_window_extent(renderer) for t in timeline.texts]
-        bars = [p.get_window_extent(renderer) for p in timeline.patches]
-        kept.append((labels, bars, timeline.get_window_extent(renderer)))
-        return real(figure, path)
-
-    monkeypatch.setattr(mission_plots, "save_figure", keep)
-    mission_plots.plot_mission(summary, tmp_path / "mission.png")
-    return kept[0]
+    figure = mission_figure(summary)
+    figure.tight_layout()  # as save_figure lays it out
+    figure.canvas.draw()
+    timeline = figure.axes[0]
+    renderer = figure.canvas.get_renderer()
+    labels = [t.get_window_extent(renderer) for t in timeline.texts]
+    bars = [p.get_window_extent(renderer) for p in timeline.patches]
+    plt.close(figure)
+    return labels, bars, timeline.get_window_extent(renderer)
 
 
 def _beyond_horizon(paper: MissionSummary) -> MissionSummary:

@@ -21,16 +21,22 @@ from casadi_debris.config import SIGNED_AXES, Problem, signed_axis_vector
 from casadi_debris.config.layouts import expand_layout
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import build_geometry, max_thrust_N, torque_authority
-from casadi_debris.studies.placement import optimise_placement
-from casadi_debris.studies.placement_candidates import (
+from casadi_debris.studies.placement import (
     CandidateSet,
+    ParetoPoint,
+    PlacementSettings,
+    bare_debris,
+    dominates,
     face_candidates,
+    mark_front,
+    meets_limits,
+    optimise_placement,
+    pareto_front,
     parse_grid,
+    placed_problem,
+    placement_data,
+    solve_placement,
 )
-from casadi_debris.studies.placement_data import bare_debris, placement_data
-from casadi_debris.studies.placement_metrics import placed_problem
-from casadi_debris.studies.placement_milp import PlacementSettings, meets_limits, solve_placement
-from casadi_debris.studies.placement_pareto import ParetoPoint, dominates, mark_front, pareto_front
 from lp_reference import ZERO_FORCE, largest_alpha
 
 TOLERANCE = 1e-7

@@ -16,19 +16,18 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from casadi_debris import load_problem
-from casadi_debris.workflows.burn import BurnRequest, burn_into
+import casadi_debris as cd
 
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "burn_paper.png"
 
 
 def main() -> None:
-    request = BurnRequest(direction="retrograde", duration_s=3600.0, first_stage_left_s=1200.0)
+    result = cd.burn("paper", direction="retrograde", hours=1.0, first_stage_left_s=1200.0)
     with tempfile.TemporaryDirectory() as folder:
-        out = Path(folder) / "burn"
-        report = burn_into(load_problem(), out, request)
+        out = result.save(Path(folder) / "burn")
         shutil.copyfile(out / "burn.png", FIGURE)
-    figures = {k: v for k, v in report.to_json().items() if k not in ("parameters", "events")}
+    summary = result.summary.to_json()
+    figures = {k: v for k, v in summary.items() if k not in ("parameters", "events")}
     print(json.dumps(figures, indent=1))
     print(FIGURE)
 

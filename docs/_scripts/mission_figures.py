@@ -16,9 +16,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from casadi_debris import load_problem
+import casadi_debris as cd
 from casadi_debris.config import default_problem_path
-from casadi_debris.workflows.mission import mission_into
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
 PROBLEMS = ("paper.toml", "gallery/side_engines_12.toml")
@@ -28,10 +27,12 @@ NAMES = {"mission.png": "mission_{}.png", "altitude.png": "mission_altitude_{}.p
 
 def main() -> None:
     for path in PROBLEMS:
-        problem = load_problem(default_problem_path().parent / path)
+        problem = cd.load_problem(default_problem_path().parent / path)
         with tempfile.TemporaryDirectory() as folder:
             out = Path(folder) / "mission"
-            summary = mission_into(problem, out)
+            result = cd.mission(problem)
+            result.save(out)
+            summary = result.summary
             for name, target in NAMES.items():
                 shutil.copyfile(out / name, FIGURES / target.format(problem.name))
         print(problem.name, summary.reentry_years, summary.meets_five_year_rule)

@@ -21,10 +21,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from casadi_debris import load_problem
+import casadi_debris as cd
 from casadi_debris.report.common import json_ready
-from casadi_debris.studies.placement_milp import PlacementSettings
-from casadi_debris.workflows.placement import default_pareto_counts, run_placement
 
 FACES = ("+x", "-x", "+y", "-y", "+z", "-z")
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
@@ -53,31 +51,31 @@ def main() -> None:
     parser.add_argument("--double-time-limit", type=float, default=300.0)
     parser.add_argument("--pareto-time-limit", type=float, default=60.0)
     args = parser.parse_args()
-    problem = load_problem()
+    problem = cd.load_problem()
     numbers: dict = {}
     with tempfile.TemporaryDirectory() as scratch:
         root = Path(scratch)
         for count in (12, 16, 20):
-            summary = run_placement(
-                problem, root / f"n{count}", PlacementSettings((count, count))
-            ).to_json()
+            summary = cd.placement(problem, count=count).summary.to_json()
             numbers[f"best_{count}"] = brief(summary)
-        summary = run_placement(
-            problem,
-            root / "n24",
-            PlacementSettings((24, 24), time_limit_s=args.pareto_time_limit),
-            pareto_counts=default_pareto_counts(24),
-        ).to_json()
+        result = cd.placement(
+            problem, count=24, time_limit=args.pareto_time_limit, pareto_counts="auto"
+        )
+        result.save(root / "n24")
+        summary = result.summary.to_json()
         numbers["best_24"] = brief(summary)
         numbers["paper"] = {key: summary["input_layout"][key] for key in KEEP}
         numbers["pareto"] = summary["pareto"]
         shutil.copy(root / "n24" / "layout.png", FIGURES / "placement_layout_24.png")
         shutil.copy(root / "n24" / "pareto.png", FIGURES / "placement_pareto.png")
         for grid in (3, 4):
-            settings = PlacementSettings((24, 24), failures=2, time_limit_s=args.double_time_limit)
-            summary = run_placement(
-                problem, root / f"double{grid}", settings, grid=(grid, grid)
-            ).to_json()
+            summary = cd.placement(
+                problem,
+                count=24,
+                objective="worst-double-failure",
+                candidates=grid,
+                time_limit=args.double_time_limit,
+            ).summary.to_json()
             numbers[f"double_{grid}x{grid}"] = brief(summary)
         numbers["paper_worst_double"] = summary["input_layout"]["worst_failure"]
     print(json.dumps(json_ready(numbers), indent=1))

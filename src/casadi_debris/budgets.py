@@ -20,10 +20,10 @@ import numpy as np
 
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
+from casadi_debris.orbit.transfer import edelbaum_dv as edelbaum_dv
 
 # Edelbaum's formula lives with the transfer; re-exported here, beside the other budget lines.
 from casadi_debris.orbit.transfer import transfer_dv_m_s
-from casadi_debris.orbit.transfer_averaged import edelbaum_dv as edelbaum_dv
 from casadi_debris.units import SECONDS_PER_HOUR
 
 

@@ -2,12 +2,19 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import click
 
-from casadi_debris.cli.common import echo_json, folder_option, main, output_options, say
-from casadi_debris.config import load_problem
+from casadi_debris.cli.common import (
+    echo_json,
+    folder_option,
+    main,
+    output_options,
+    run_folder,
+    say,
+)
 from casadi_debris.report.common import format_table
 
 
@@ -40,17 +47,14 @@ def alternatives(
     worst single and double CubeSat failure. Writes summary.json, alternatives.csv,
     alternatives.md and alternatives.png in --out.
     """
-    from casadi_debris.workflows.alternatives import DEFAULT_DESIGNS, compare_alternatives
+    from casadi_debris.workflows.alternatives import alternatives as alternatives_job
 
-    names = [str(p) for p in problem_files] or list(DEFAULT_DESIGNS)
-    problems = [load_problem(name) for name in names]
-    report = compare_alternatives(
-        problems,
-        out,
-        max_failed=max_failed,
-        overwrite=overwrite,
-        progress=lambda name: say(f"{name} ..."),
+    folder = run_folder(out, "alternatives", "", overwrite)
+    result = alternatives_job(
+        problem_files, max_failed=max_failed, progress=lambda name: say(f"{name} ...")
     )
+    result.save(folder, overwrite=overwrite)
+    report = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(report)
         return

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -21,7 +22,6 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.units import SECONDS_PER_HOUR
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
 
@@ -91,28 +91,26 @@ def burn(
     Reports the thrust axis' pointing error, Δv (simulated, analytic, rocket equation),
     the propellant split between Δv and attitude, and stage switches.
     """
-    from casadi_debris.workflows.burn import BurnRequest, burn_into, burn_plan
-    from casadi_debris.workflows.controller import controller_for
+    from casadi_debris.workflows.burn import burn as burn_job
 
-    if thrust_fraction is not None and thrust_mN is not None:
-        raise InputShapeError("--thrust-mN: give either --thrust-fraction or --thrust-mN")
     problem = load_problem(problem_file)
-    request = BurnRequest(
+    axis = None if body_axis is None else _axis(body_axis)
+    folder = run_folder(out, "burn", problem.name, overwrite)
+    result = burn_job(
+        problem,
         direction=direction,  # type: ignore[arg-type]  # click.Choice checked it
-        duration_s=hours * SECONDS_PER_HOUR,
-        body_axis=None if body_axis is None else _axis(body_axis),
-        thrust_fraction=1.0 if thrust_fraction is None else thrust_fraction,
+        hours=hours,
+        body_axis=axis,
+        thrust_fraction=thrust_fraction,
         thrust_mN=thrust_mN,
         first_stage_left_s=first_stage_left_s,
         controller=controller,
         allow_mismatch=allow_mismatch,
-        jit=not no_jit,
+        no_jit=no_jit,
+        progress=say,
     )
-    folder = run_folder(out, "burn", problem.name, overwrite)
-    burn_plan(problem, request)  # refuses what cannot be flown before the long part
-    controller_for(problem, controller, allow_mismatch=allow_mismatch)
-    say(f"Flying a {direction} burn of {hours:g} h on {problem.name} (flexible model) ...")
-    report = burn_into(problem, folder, request, overwrite=overwrite)
+    result.save(folder, overwrite=overwrite)
+    report = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(report)
         return
@@ -137,14 +135,12 @@ def burn(
     click.echo(f"written to {report.out_dir}")
 
 
-def _axis(text: str) -> tuple[float, float, float]:
-    """``x``, ``-y``, ... or ``a,b,c`` (not all zero) as a vector."""
-    from casadi_debris.config.segments import AXIS_TEXTS, axis_unit_vector
+def _axis(text: str) -> str | tuple[float, float, float]:
+    """``x``, ``-y``, ... (passed on as the name) or ``a,b,c`` (not all zero) as a vector."""
+    from casadi_debris.config.segments import AXIS_TEXTS
 
-    name = text.strip().lower()
-    if name in AXIS_TEXTS:
-        x, y, z = (float(v) for v in axis_unit_vector(name))
-        return (x, y, z)
+    if text.strip().lower() in AXIS_TEXTS:
+        return text
     try:
         values = [float(part) for part in text.split(",")]
     except ValueError:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 from typing import Any
@@ -103,24 +104,25 @@ def deorbit(
     decay. Says whether the swarm suffices, how many stages it takes, and the
     smallest swarm that would.
     """
-    from casadi_debris.orbit.deorbit import DeorbitSettings
-    from casadi_debris.workflows.deorbit import deorbit_into
+    from casadi_debris.workflows.deorbit import deorbit as deorbit_job
 
     cases = solar_cases(solar)
     problem = load_problem(problem_file)
-    settings = DeorbitSettings(
+    folder = run_folder(out, "deorbit", problem.name, overwrite)
+    say(f"Planning the deorbit of {problem.name} ({', '.join(cases)} solar activity) ...")
+    result = deorbit_job(
+        problem,
         solar=cases,
         limit_years=limit_years,
         drag_coefficient=drag_coefficient,
-        tumbling=not held,
+        held=held,
         minimum_swarm=minimum_swarm,
         samples=samples,
         seed=seed,
         workers=workers,
     )
-    folder = run_folder(out, "deorbit", problem.name, overwrite)
-    say(f"Planning the deorbit of {problem.name} ({', '.join(settings.solar)} solar activity) ...")
-    report = deorbit_into(problem, folder, settings, overwrite=overwrite)
+    result.save(folder, overwrite=overwrite)
+    report = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(report)
         return

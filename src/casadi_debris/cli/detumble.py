@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -51,9 +52,10 @@ MAX_RATE_RAD_S = 100.0
     help="Control period: the torque is held over it.",
 )
 @click.option(
-    "--no-ocp",
-    is_flag=True,
-    help="Skip the time-optimal detumble (averaged OCP, about 20 s).",
+    "--ocp/--no-ocp",
+    default=True,
+    show_default=True,
+    help="Also solve the time-optimal detumble (averaged OCP, about 20 s).",
 )
 @run_folder_options("detumble")
 def detumble(
@@ -62,7 +64,7 @@ def detumble(
     threshold_rad_s: float,
     gain_per_s: float,
     period_s: float,
-    no_ocp: bool,
+    ocp: bool,
     out: Path | None,
     overwrite: bool,
     as_json: bool,
@@ -76,22 +78,22 @@ def detumble(
     beside the budget's per-axis estimate, a momentum bound and the time-optimal
     detumble (an OCP over the rates averaged over their precession).
     """
-    from casadi_debris.workflows.detumble import detumble_into
+    from casadi_debris.workflows.detumble import detumble as detumble_job
 
     problem = load_problem(problem_file)
     rate = None if rate_rad_s is None else _rates(rate_rad_s)
     folder = run_folder(out, "detumble", problem.name, overwrite)
-    say(f"Detumbling {problem.name} (rigid body, {period_s:g} s control period) ...")
-    report = detumble_into(
+    result = detumble_job(
         problem,
-        folder,
-        initial_rate_rad_s=rate,
+        rate_rad_s=rate,
         threshold_rad_s=threshold_rad_s,
         gain_per_s=gain_per_s,
         period_s=period_s,
-        ocp=not no_ocp,
-        overwrite=overwrite,
+        ocp=ocp,
+        progress=say,
     )
+    result.save(folder, overwrite=overwrite)
+    report = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(report)
         return
@@ -128,7 +130,7 @@ def _ocp_rows(report: Any) -> list[list[Any]]:
     ]
 
 
-def _rates(text: str) -> list[float]:
+def _rates(text: str) -> tuple[float, float, float]:
     """``--rate-rad-s a,b,c`` as three finite rates within +-MAX_RATE_RAD_S."""
     try:
         values = [float(part) for part in text.split(",")]
@@ -139,4 +141,4 @@ def _rates(text: str) -> list[float]:
             f"--rate-rad-s: three rates a,b,c in rad/s, each within ±{MAX_RATE_RAD_S:g}, "
             f"got {text!r}"
         )
-    return values
+    return values[0], values[1], values[2]

@@ -39,21 +39,16 @@ def mission(
     then the debris decays. Writes summary.json, phases.csv, propellant.csv (per CubeSat
     and stage), mission.png, altitude.png and decay.png (and each figure as PDF).
     """
-    from casadi_debris.orbit.deorbit import DeorbitSettings
     from casadi_debris.report.mission import mission_text
-    from casadi_debris.workflows.mission import mission_into
+    from casadi_debris.workflows.mission import mission as mission_job
 
     cases = solar_cases(solar)
-    from casadi_debris.config.checks import check_transfer_end
-
     problem = load_problem(problem_file)
-    check_transfer_end(problem)
     folder = run_folder(out, "mission", problem.name, overwrite)
-    settings = DeorbitSettings(solar=cases, limit_years=limit_years, minimum_swarm=False, samples=0)
-    say(f"Mission of {problem.name}: transfer, detumble, deorbit, decay ...")
-    summary = mission_into(problem, folder, settings=settings, overwrite=overwrite)
+    result = mission_job(problem, solar=cases, limit_years=limit_years, progress=say)
+    result.save(folder, overwrite=overwrite)
     if as_json:
-        echo_json(summary)
+        echo_json(result.summary)
         return
-    click.echo(mission_text(summary, settings.horizon_years))
+    click.echo(mission_text(result.summary, result.horizon_years))
     click.echo(f"written to {folder.absolute()}")

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import os
 import sys
 from collections.abc import Iterator
@@ -17,55 +18,43 @@ from casadi_debris.cli.common import (
     echo_json,
     main,
     problem_argument,
+    run_folder,
     run_folder_options,
     say,
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import default_run_folder
 
 if TYPE_CHECKING:
-    from casadi_debris.studies.placement_records import PlacementSummary
+    from casadi_debris.studies.placement import PlacementSummary
 
 OBJECTIVE_NAMES = ("worst-axis", "worst-single-failure", "worst-double-failure")
-MAX_INERTIA_KGM2 = 1e6
 
 
-def parse_count(count: int | None, count_range: str | None) -> tuple[int, int]:
-    """``--count N`` or ``--count-range A:B`` (default 24) as (least, most)."""
-    if count is not None and count_range is not None:
-        raise InputShapeError("--count and --count-range: give one of them")
-    if count_range is None:
-        return (count, count) if count is not None else (24, 24)
-    parts = count_range.split(":")
+def parse_count_range(text: str | None) -> tuple[int, int] | None:
+    """``--count-range A:B`` as (A, B); the job checks 1 <= A <= B."""
+    if text is None:
+        return None
     try:
-        low, high = (int(p) for p in parts)
+        low, high = (int(p) for p in text.split(":"))
     except ValueError:
-        raise InputShapeError(
-            f"--count-range: A:B with whole numbers; got {count_range!r}"
-        ) from None
-    if not 1 <= low <= high:
-        raise InputShapeError(f"--count-range: 1 <= A <= B; got {count_range!r}")
+        raise InputShapeError(f"--count-range: A:B with whole numbers; got {text!r}") from None
     return low, high
 
 
-def parse_inertia(text: str | None) -> tuple[float, float, float] | None:
-    """``--max-added-inertia V`` or ``Vx,Vy,Vz`` [kg m^2]."""
+def parse_inertia(text: str | None) -> tuple[float, ...] | None:
+    """``--max-added-inertia V`` or ``Vx,Vy,Vz`` [kg m^2] as numbers (the job checks them)."""
     if text is None:
         return None
     parts = comma_list(text, "--max-added-inertia", "40 or 200,40,200")
     try:
-        values = [float(p) for p in parts]
+        values = tuple(float(p) for p in parts)
     except ValueError:
         raise InputShapeError(f"--max-added-inertia: numbers in kg m^2; got {text!r}") from None
-    if len(values) not in (1, 3) or not all(0.0 < v <= MAX_INERTIA_KGM2 for v in values):
-        raise InputShapeError(
-            f"--max-added-inertia: one or three numbers in (0, {MAX_INERTIA_KGM2:g}] kg m^2; "
-            f"got {text!r}"
-        )
-    x, y, z = values * 3 if len(values) == 1 else values
-    return x, y, z
+    if len(values) not in (1, 3):
+        raise InputShapeError(f"--max-added-inertia: one or three numbers; got {text!r}")
+    return values
 
 
 @main.command()
@@ -145,46 +134,41 @@ def placement(
     over all single or double CubeSat failures), exactly as a mixed-integer programme
     (HiGHS). Writes placement.toml (a problem file extending PROBLEM.toml with the chosen
     [[cubesats]]), summary.json, report.md and layout.png (pareto.png with --pareto)."""
-    from casadi_debris.studies.placement_candidates import parse_grid
-    from casadi_debris.studies.placement_milp import OBJECTIVES, PlacementSettings
-    from casadi_debris.workflows.placement import default_pareto_counts, run_placement
+    from casadi_debris.studies.placement import parse_grid
+    from casadi_debris.workflows.placement import placement as placement_job
 
-    limits = parse_count(count, count_range)
-    grid = parse_grid(candidates)
     sides = None
     if side_engines is not None:
         parts = comma_list(side_engines, "--side-engines", "0,2")
         if not all(p in ("0", "2", "4") for p in parts):
             raise InputShapeError(f"--side-engines: counts among 0, 2, 4; got {side_engines!r}")
         sides = tuple(int(p) for p in parts)
-    counts = None
+    counts: list[int] | str | None = None
     if pareto_counts is not None:
         counts = (
-            default_pareto_counts(limits[1])
+            "auto"
             if pareto_counts == "auto"
             else [_count(p) for p in comma_list(pareto_counts, "--pareto", "8,16,24")]
         )
-    settings = PlacementSettings(
-        count=limits,
-        failures=OBJECTIVES[objective],
-        max_added_inertia_kgm2=parse_inertia(max_added_inertia),
-        max_slew_s=max_slew_s,
-        min_per_face=min_per_face,
-        time_limit_s=time_limit,
-    )
     problem = load_problem(problem_file)
-    folder = out or default_run_folder("placement", problem.name)
+    folder = run_folder(out, "placement", problem.name, overwrite)
     with solver_chatter_to_stderr():
-        summary = run_placement(
+        result = placement_job(
             problem,
-            folder,
-            settings,
-            grid=grid,
-            side_engine_options=sides,
-            pareto_counts=counts,
-            overwrite=overwrite,
+            count=count,
+            count_range=parse_count_range(count_range),
+            candidates=parse_grid(candidates),
+            side_engines=sides,
+            objective=objective,  # type: ignore[arg-type]  # click.Choice checked it
+            max_added_inertia=parse_inertia(max_added_inertia),
+            max_slew_s=max_slew_s,
+            min_per_face=min_per_face,
+            pareto_counts=counts,  # type: ignore[arg-type]  # "auto" or counts
+            time_limit=time_limit,
             progress=None if as_json else say,
         )
+        result.save(folder, overwrite=overwrite)
+    summary = dataclasses.replace(result.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(summary)
         return

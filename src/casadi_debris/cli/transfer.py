@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -40,14 +41,13 @@ def transfer(
     propellant, stages per CubeSat, and whether the swarm's own stages suffice
     (if not: how far they get and what more it takes).
     """
-    from casadi_debris.orbit.transfer import check_transfer
-    from casadi_debris.workflows.transfer import transfer_into
+    from casadi_debris.workflows.transfer import transfer as transfer_job
 
     problem = load_problem(problem_file)
-    check_transfer(problem)
     folder = run_folder(out, "transfer", problem.name, overwrite)
-    say(f"Planning the transfer of {problem.name} (minimum {objective}) ...")
-    result = transfer_into(problem, folder, objective=objective, overwrite=overwrite)  # type: ignore[arg-type]
+    planned = transfer_job(problem, objective=objective, progress=say)  # type: ignore[arg-type]
+    planned.save(folder, overwrite=overwrite)
+    result = dataclasses.replace(planned.summary, out_dir=str(folder.absolute()))
     if as_json:
         echo_json(result)
         return

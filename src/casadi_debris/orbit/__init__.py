@@ -9,5 +9,5 @@ from casadi_debris.orbit.deorbit import DeorbitSettings as DeorbitSettings
 from casadi_debris.orbit.plan import DeorbitPlan as DeorbitPlan
 from casadi_debris.orbit.plan import plan_deorbit as plan_deorbit
 from casadi_debris.orbit.transfer import TransferPlan as TransferPlan
+from casadi_debris.orbit.transfer import TransferSummary as TransferSummary
 from casadi_debris.orbit.transfer import plan_transfer as plan_transfer
-from casadi_debris.orbit.transfer_result import TransferResult as TransferResult

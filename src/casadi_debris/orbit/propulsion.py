@@ -1,7 +1,7 @@
 """What the swarm can push the debris with: torque-free impulse along body directions.
 
 The one thrust model of the orbit code: the deorbit burns and the orbit
-transfer (:mod:`~casadi_debris.orbit.transfer_thrust` makes its burns from these
+transfer (:mod:`~casadi_debris.orbit.transfer` makes its burns from these
 segments) both use it. To thrust along a body direction d the body is turned so
 that d points where the manoeuvre needs it (against the velocity to lower the
 orbit, along the steering law's direction in a transfer), and the engines fire

@@ -3,19 +3,18 @@ torque·time and added mass, one group of bars per swarm design."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.config import AXIS_NAMES
-from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.plots import AXIS_COLOURS
 from casadi_debris.studies.alternatives import FailureTolerance, SwarmFigures
 
 CASE_SHADES = ("0.2", "0.5", "0.8")
 
 
-def plot_alternatives(designs: list[SwarmFigures], path: Path) -> Path:
+def alternatives_figure(designs: list[SwarmFigures]) -> Figure:
     """Three panels, one bar group per design.
 
     Top: the weakest signed axis' authority over the disturbance amplitude, intact and
@@ -56,7 +55,7 @@ def plot_alternatives(designs: list[SwarmFigures], path: Path) -> Path:
         ax.set_xticks(positions, names, fontsize=8)
         ax.grid(True, axis="y", ls=":", color="0.6")
     margin.set_title("Swarm designs side by side (zero net force, one stage per engine)")
-    return save_figure(figure, path)
+    return figure
 
 
 def _ratio(tolerance: FailureTolerance | None) -> float:

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
-from casadi_debris.plots import limit_line, save_figure
+from casadi_debris.plots import limit_line
 from casadi_debris.simulation.burn import BurnRun
 from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
@@ -15,9 +14,7 @@ from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
 GRAMS_PER_KG = 1e3
 
 
-def plot_burn(
-    burn: BurnRun, series: BurnSeries, summary: BurnSummary, path: Path, *, title: str
-) -> Path:
+def burn_figure(burn: BurnRun, series: BurnSeries, summary: BurnSummary, *, title: str) -> Figure:
     """Pointing error of the thrust axis against the requirement, the thrust along the
     axis and of every engine together, and the running propellant split, with the stage
     switches marked.
@@ -27,8 +24,6 @@ def plot_burn(
     burn : BurnRun
     series : BurnSeries
     summary : BurnSummary
-    path : Path
-        PNG to write (a PDF beside it).
     title : str
     """
     result = burn.result
@@ -66,4 +61,4 @@ def plot_burn(
         f"{title}: {summary.direction} burn, Δv {summary.dv_along_m_s * 1e3:.3g} mm/s, "
         f"max error {np.round(summary.pointing_max_arcsec, 1)} arcsec"
     )
-    return save_figure(figure, path)
+    return figure

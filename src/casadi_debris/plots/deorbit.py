@@ -3,28 +3,26 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.orbit.curves import CaseTrajectory
-from casadi_debris.plots import save_figure
 from casadi_debris.units import M_PER_KM, SECONDS_PER_YEAR
 
 SOLAR_COLOURS = {"low": "#1f5fbf", "mean": "#2e7d32", "high": "#c2185b"}
 SAMPLES = 400
 
 
-def plot_decay(
-    trajectories: Sequence[CaseTrajectory], path: Path, *, title: str, limit_years: float
-) -> Path:
+def decay_figure(
+    trajectories: Sequence[CaseTrajectory], *, title: str, limit_years: float
+) -> Figure:
     """Apogee and perigee altitude (band) over the years, each solar case; burn ends marked.
 
     Parameters
     ----------
     trajectories : sequence of CaseTrajectory
-    path : Path
     title : str
     limit_years : float
         Drawn as a vertical line.
@@ -48,23 +46,21 @@ def plot_decay(
     axes.set_title(f"{title}: deorbit plan per solar activity")
     axes.grid(True, ls=":", color="0.6")
     axes.legend(fontsize=8)
-    return save_figure(figure, path)
+    return figure
 
 
-def plot_lifetime_curve(
+def lifetime_curve_figure(
     trajectories: Sequence[CaseTrajectory],
-    path: Path,
     *,
     title: str,
     limit_years: float,
     capacity_dv_m_s: float,
-) -> Path:
+) -> Figure:
     """Re-entry time against the burn's Δv per solar case, the limit and the swarm's Δv.
 
     Parameters
     ----------
     trajectories : sequence of CaseTrajectory
-    path : Path
     title : str
     limit_years, capacity_dv_m_s : float
     """
@@ -86,4 +82,4 @@ def plot_lifetime_curve(
     axes.set_title(f"{title}: lifetime against Δv (each case's strategy)")
     axes.grid(True, which="both", ls=":", color="0.6")
     axes.legend(fontsize=8)
-    return save_figure(figure, path)
+    return figure

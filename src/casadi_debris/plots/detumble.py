@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
-from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.plots import AXIS_COLOURS
 from casadi_debris.simulation.detumble import DetumbleResult
 from casadi_debris.units import MNM_PER_NM
 
@@ -16,15 +15,12 @@ LINE_STYLES = (":", "-.", (0, (10, 3)), "--")
 BINS = 600
 
 
-def plot_detumble(
-    result: DetumbleResult, path: Path, *, title: str, marks_h: dict[str, float]
-) -> Path:
+def detumble_figure(result: DetumbleResult, *, title: str, marks_h: dict[str, float]) -> Figure:
     """Body rates (log scale) against the threshold, torque, and propellant per CubeSat.
 
     Parameters
     ----------
     result : DetumbleResult
-    path : Path
     title : str
     marks_h : dict
         Label -> a time drawn as a vertical line on the rates [h] (estimates, bounds).
@@ -65,4 +61,4 @@ def plot_detumble(
         ax.grid(True, ls=":", color="0.6")
     done = summary.time_to_threshold_h
     rates.set_title(f"{title}: detumbled in {done:.1f} h" if done else f"{title}: not detumbled")
-    return save_figure(figure, path)
+    return figure

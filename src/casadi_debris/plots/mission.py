@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.orbit.curves import CaseTrajectory
-from casadi_debris.plots import save_figure
 from casadi_debris.plots.deorbit import SOLAR_COLOURS
 from casadi_debris.studies.mission import MissionSummary
 from casadi_debris.units import DAYS_PER_YEAR, M_PER_KM, SECONDS_PER_DAY
@@ -22,7 +21,7 @@ BEYOND_HORIZON_DAYS = 200 * DAYS_PER_YEAR
 SAMPLES = 600
 
 
-def plot_mission(summary: MissionSummary, path: Path) -> Path:
+def mission_figure(summary: MissionSummary) -> Figure:
     """Top: each phase as a bar over time (days, log scale: hours to years), the
     five-year limit from the burn's start. Bottom: propellant of each CubeSat's stages
     (stage 1, 2, ... left to right), stacked by phase, inside what each stage carries."""
@@ -31,7 +30,7 @@ def plot_mission(summary: MissionSummary, path: Path) -> Path:
     )
     _timeline(timeline, summary)
     _stages(fuel, summary)
-    return save_figure(figure, path)
+    return figure
 
 
 BAR_HEIGHT = 0.45
@@ -123,9 +122,7 @@ def _stages(axes: plt.Axes, summary: MissionSummary) -> None:
     axes.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
 
 
-def plot_altitude(
-    summary: MissionSummary, trajectories: Sequence[CaseTrajectory], path: Path
-) -> Path:
+def altitude_figure(summary: MissionSummary, trajectories: Sequence[CaseTrajectory]) -> Figure:
     """Mean altitude (top) and perigee (bottom) of each solar case over the years from the
     start of the transfer: the debris' orbit until the burn starts, then the burn (dotted
     line: its end) and the decay; the limit counted from the burn's start."""
@@ -158,4 +155,4 @@ def plot_altitude(
     perigee.set_xlabel("years from the start of the transfer (dotted: each case's burn ends)")
     mean.legend(fontsize=8)
     mean.set_title(f"{summary.problem}: {verdict(summary)}", fontsize=10)
-    return save_figure(figure, path)
+    return figure

@@ -4,17 +4,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 from matplotlib.patches import Rectangle
 
 from casadi_debris.config import Problem
 from casadi_debris.geometry import array_axes
-from casadi_debris.plots import save_figure
-from casadi_debris.studies.placement import PlacementStudy
-from casadi_debris.studies.placement_pareto import ParetoPoint
+from casadi_debris.studies.placement import ParetoPoint, PlacementStudy
 
 VIEWS = ((0, 1), (0, 2), (1, 2))
 """Projections drawn: x-y, x-z, y-z (hub-corner frame)."""
@@ -124,8 +122,8 @@ def _per_face(study: PlacementStudy) -> dict[str, int]:
     return {face: faces.count(face) for face in ("+x", "-x", "+y", "-y", "+z", "-z")}
 
 
-def plot_layout(study: PlacementStudy, path: Path) -> Path:
-    """Write a PNG of the hub in three projections with the chosen CubeSats and their thrust.
+def layout_figure(study: PlacementStudy) -> Figure:
+    """The hub in three projections with the chosen CubeSats and their thrust.
 
     Each view shows the faces seen edge-on (x-y: the +-x and +-y faces, ...), so
     every face appears in two views and its thrust lies in the plane. Chosen
@@ -145,11 +143,11 @@ def plot_layout(study: PlacementStudy, path: Path) -> Path:
         "other along the viewing axis coincide): "
         + ", ".join(f"{face} {n}" for face, n in _per_face(study).items() if n)
     )
-    return save_figure(figure, path)
+    return figure
 
 
-def plot_pareto(points: Sequence[ParetoPoint], path: Path) -> Path:
-    """Write a PNG of the sweep: worst authority over disturbance against count, slew time
+def pareto_figure(points: Sequence[ParetoPoint]) -> Figure:
+    """The sweep: worst authority over disturbance against count, slew time
     and weakest-direction Δv; front members filled, the input layout a star."""
     figure, axes = plt.subplots(1, 3, figsize=(13, 4.3), sharey=True)
     columns = (
@@ -184,4 +182,4 @@ def plot_pareto(points: Sequence[ParetoPoint], path: Path) -> Path:
     colourbar = figure.colorbar(plt.cm.ScalarMappable(norm=scale, cmap="viridis"), ax=axes[-1])
     colourbar.set_label("CubeSats")
     figure.suptitle("Placement sweep: filled = Pareto front (count, authority, slew, Δv)")
-    return save_figure(figure, path)
+    return figure

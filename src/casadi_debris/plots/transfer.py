@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.figure import Figure
 
 from casadi_debris.orbit import TransferPlan
 from casadi_debris.orbit.elements import keplerian_from_mee
-from casadi_debris.plots import save_figure
 from casadi_debris.units import DEG_PER_RAD, M_PER_KM, SECONDS_PER_DAY
 
 
@@ -20,14 +18,13 @@ def altitude_inclination(elements: np.ndarray, radius_km: float) -> tuple[np.nda
     return altitude, np.array([k["inclination_rad"] * DEG_PER_RAD for k in kepler])
 
 
-def plot_transfer(
+def transfer_figure(
     plan: TransferPlan,
-    path: Path,
     *,
     radius_km: float,
     target: tuple[float, float],
     title: str,
-) -> Path:
+) -> Figure:
     """Four panels sharing time [days]: altitude, inclination, mass, and the firing direction.
 
     ``target`` is the target orbit's altitude [km] and inclination [deg]. The
@@ -93,4 +90,4 @@ def plot_transfer(
         f"(Edelbaum {result.edelbaum_dv_m_s:.1f} m/s)\n{verdict}",
         fontsize=10,
     )
-    return save_figure(figure, path)
+    return figure

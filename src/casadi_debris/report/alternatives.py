@@ -10,12 +10,15 @@ from __future__ import annotations
 import csv
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from casadi_debris.config import AXIS_NAMES
-from casadi_debris.plots.alternatives import plot_alternatives
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, write_json_atomic
 from casadi_debris.studies.alternatives import FailureTolerance, SwarmFigures
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 COLUMNS = (
     "problem",
@@ -43,7 +46,7 @@ class AlternativesReport(Record):
     designs: list[SwarmFigures]
     max_failed: int
     wall_time_s: float
-    out_dir: str
+    out_dir: str | None = None
 
 
 def design_row(design: SwarmFigures) -> list[object]:
@@ -105,12 +108,25 @@ def alternatives_markdown(designs: list[SwarmFigures]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_alternatives(folder: Path, report: AlternativesReport) -> None:
-    """``summary.json``, ``alternatives.csv``, ``alternatives.md`` and ``alternatives.png``."""
+def write_alternatives(folder: Path, report: AlternativesReport, *, plots: bool = True) -> None:
+    """``summary.json``, ``alternatives.csv``, ``alternatives.md`` and, with ``plots``,
+    ``alternatives.png`` (and its PDF)."""
     write_json_atomic(folder / "summary.json", report)
     with (folder / "alternatives.csv").open("w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(COLUMNS)
         writer.writerows(design_row(d) for d in report.designs)
     (folder / "alternatives.md").write_text(alternatives_markdown(report.designs))
-    plot_alternatives(report.designs, folder / "alternatives.png")
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in alternatives_figures(report).items():
+            save_figure(figure, folder / f"{stem}.png")
+
+
+def alternatives_figures(report: AlternativesReport) -> dict[str, Figure]:
+    """``alternatives``: authority margin with and without failures, fuel per torque·time
+    and added mass, one bar group per design."""
+    from casadi_debris.plots.alternatives import alternatives_figure
+
+    return {"alternatives": alternatives_figure(list(report.designs))}

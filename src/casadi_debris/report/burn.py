@@ -4,15 +4,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from casadi_debris.plots.burn import plot_burn
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation.burn import BurnRun
 from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -36,8 +39,11 @@ class BurnReport(Record):
     out_dir: str | None = None
 
 
-def write_burn(folder: Path, burn: BurnRun, series: BurnSeries, report: BurnReport) -> None:
-    """``summary.json``, ``series.csv`` (one row per control instant) and ``burn.png``."""
+def write_burn(
+    folder: Path, burn: BurnRun, series: BurnSeries, report: BurnReport, *, plots: bool = True
+) -> None:
+    """``summary.json``, ``series.csv`` (one row per control instant) and, with ``plots``,
+    ``burn.png`` (and its PDF)."""
     write_json_atomic(folder / "summary.json", report)
     result = burn.result
 
@@ -54,4 +60,15 @@ def write_burn(folder: Path, burn: BurnRun, series: BurnSeries, report: BurnRepo
         "fuel_attitude_kg": series.fuel_attitude_kg,
     }
     write_csv(folder / "series.csv", columns)
-    plot_burn(burn, series, report.burn, folder / "burn.png", title=report.burn.problem)
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in burn_figures(burn, series, report).items():
+            save_figure(figure, folder / f"{stem}.png")
+
+
+def burn_figures(burn: BurnRun, series: BurnSeries, report: BurnReport) -> dict[str, Figure]:
+    """``burn``: the thrust axis' pointing error, the thrust and the propellant split."""
+    from casadi_debris.plots.burn import burn_figure
+
+    return {"burn": burn_figure(burn, series, report.burn, title=report.burn.problem)}

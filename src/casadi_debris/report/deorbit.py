@@ -5,15 +5,18 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from casadi_debris.orbit.curves import CaseTrajectory
 from casadi_debris.orbit.plan import DeorbitPlan
-from casadi_debris.plots.deorbit import plot_decay, plot_lifetime_curve
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -36,11 +39,33 @@ class DeorbitReport(Record):
     out_dir: str | None = None
 
 
+def deorbit_figures(
+    report: DeorbitReport, trajectories: Sequence[CaseTrajectory]
+) -> dict[str, Figure]:
+    """``decay`` and ``lifetime_vs_dv``, by the file stem they are written under."""
+    from casadi_debris.plots.deorbit import decay_figure, lifetime_curve_figure
+
+    plan = report.plan
+    return {
+        "decay": decay_figure(trajectories, title=plan.problem, limit_years=plan.limit_years),
+        "lifetime_vs_dv": lifetime_curve_figure(
+            trajectories,
+            title=plan.problem,
+            limit_years=plan.limit_years,
+            capacity_dv_m_s=plan.capacity_dv_m_s,
+        ),
+    }
+
+
 def write_deorbit(
-    folder: Path, report: DeorbitReport, trajectories: Sequence[CaseTrajectory]
+    folder: Path,
+    report: DeorbitReport,
+    trajectories: Sequence[CaseTrajectory],
+    *,
+    plots: bool = True,
 ) -> None:
-    """``summary.json``, ``decay_<case>.csv``, ``lifetime_vs_dv.csv``, ``decay.png`` and
-    ``lifetime_vs_dv.png``."""
+    """``summary.json``, ``decay_<case>.csv``, ``lifetime_vs_dv.csv`` and, with ``plots``,
+    ``decay.png`` and ``lifetime_vs_dv.png`` (each with its PDF)."""
     write_json_atomic(folder / "summary.json", report)
     for item in trajectories:
         history = item.history
@@ -61,12 +86,8 @@ def write_deorbit(
             np.isfinite(item.reentry_years), item.reentry_years, np.nan
         )
     write_csv(folder / "lifetime_vs_dv.csv", columns)
-    plan = report.plan
-    plot_decay(trajectories, folder / "decay.png", title=plan.problem, limit_years=plan.limit_years)
-    plot_lifetime_curve(
-        trajectories,
-        folder / "lifetime_vs_dv.png",
-        title=plan.problem,
-        limit_years=plan.limit_years,
-        capacity_dv_m_s=plan.capacity_dv_m_s,
-    )
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in deorbit_figures(report, trajectories).items():
+            save_figure(figure, folder / f"{stem}.png")

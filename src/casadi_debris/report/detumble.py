@@ -4,15 +4,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from casadi_debris.config import AXIS_NAMES
-from casadi_debris.plots.detumble import plot_detumble
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation.detumble import DetumbleResult, DetumbleSummary
 from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -65,8 +68,11 @@ class DetumbleReport(Record):
     ocp_solver_status: str | None = None
 
 
-def write_detumble(folder: Path, result: DetumbleResult, report: DetumbleReport) -> None:
-    """``summary.json``, ``series.csv`` (rates in deg/s, torque in mNm) and ``detumble.png``."""
+def write_detumble(
+    folder: Path, result: DetumbleResult, report: DetumbleReport, *, plots: bool = True
+) -> None:
+    """``summary.json``, ``series.csv`` (rates in deg/s, torque in mNm) and, with
+    ``plots``, ``detumble.png`` (and its PDF)."""
     write_json_atomic(folder / "summary.json", report)
     columns = {"time_s": result.time_s}
     for i, axis in enumerate(AXIS_NAMES):
@@ -75,10 +81,22 @@ def write_detumble(folder: Path, result: DetumbleResult, report: DetumbleReport)
         torque = np.append(result.torque_Nm[:, i], result.torque_Nm[-1, i])
         columns[f"torque_{axis}_mNm"] = torque * MNM_PER_NM
     write_csv(folder / "series.csv", columns)
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in detumble_figures(result, report).items():
+            save_figure(figure, folder / f"{stem}.png")
+
+
+def detumble_figures(result: DetumbleResult, report: DetumbleReport) -> dict[str, Figure]:
+    """``detumble``: the rates against the threshold with the estimates and bounds marked,
+    the torque and the propellant per CubeSat."""
+    from casadi_debris.plots.detumble import detumble_figure
+
     marks = {
         "per-axis braking estimate": report.budget_time_full_rigid_h,
         "momentum bound": report.momentum_bound_h,
     }
     if report.ocp_time_h is not None:
         marks["time-optimal (averaged OCP)"] = report.ocp_time_h
-    plot_detumble(result, folder / "detumble.png", title=report.problem, marks_h=marks)
+    return {"detumble": detumble_figure(result, title=report.problem, marks_h=marks)}

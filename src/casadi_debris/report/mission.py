@@ -12,18 +12,19 @@ from __future__ import annotations
 
 import csv
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from casadi_debris.orbit.deorbit import DV_SEARCH_MAX_M_S
-from casadi_debris.plots.deorbit import plot_decay
-from casadi_debris.plots.mission import plot_altitude, plot_mission
 from casadi_debris.report.common import format_table, write_json_atomic
 from casadi_debris.studies.mission import MAX_EXTRA_STAGES, Mission, MissionSummary
 from casadi_debris.units import G_PER_KG
 
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
-def write_mission(folder: Path, mission: Mission) -> None:
-    """Every file of the run folder (see the module's text)."""
+
+def write_mission(folder: Path, mission: Mission, *, plots: bool = True) -> None:
+    """Every file of the run folder (see the module's text); the figures with ``plots``."""
     summary = mission.summary
     write_json_atomic(folder / "summary.json", summary)
     with (folder / "phases.csv").open("w", newline="") as handle:
@@ -42,12 +43,27 @@ def write_mission(folder: Path, mission: Mission) -> None:
                 burnt = [book.per_stage_kg[k][s] for book in summary.books]
                 left = full - sum(burnt)
                 writer.writerow([k + 1, s + 1, *(G_PER_KG * v for v in (full, *burnt, left))])
-    plot_mission(summary, folder / "mission.png")
-    plot_altitude(summary, mission.trajectories, folder / "altitude.png")
-    plot_decay(
-        mission.trajectories, folder / "decay.png", title=summary.problem,
-        limit_years=summary.limit_years,
-    )  # fmt: skip
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in mission_figures(mission).items():
+            save_figure(figure, folder / f"{stem}.png")
+
+
+def mission_figures(mission: Mission) -> dict[str, Figure]:
+    """``mission`` (timeline and propellant per stage), ``altitude`` (mean altitude and
+    perigee per solar case) and ``decay`` (from the burn's start), by file stem."""
+    from casadi_debris.plots.deorbit import decay_figure
+    from casadi_debris.plots.mission import altitude_figure, mission_figure
+
+    summary = mission.summary
+    return {
+        "mission": mission_figure(summary),
+        "altitude": altitude_figure(summary, mission.trajectories),
+        "decay": decay_figure(
+            mission.trajectories, title=summary.problem, limit_years=summary.limit_years
+        ),
+    }
 
 
 def mission_text(summary: MissionSummary, horizon_years: float) -> str:

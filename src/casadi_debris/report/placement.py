@@ -10,17 +10,17 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.config.schema import CubeSat
-from casadi_debris.plots.placement import plot_layout, plot_pareto
 from casadi_debris.report.common import format_figure, write_json_atomic
-from casadi_debris.studies.placement import PlacementStudy
-from casadi_debris.studies.placement_pareto import ParetoPoint
-from casadi_debris.studies.placement_records import PlacementSummary
+from casadi_debris.studies.placement import ParetoPoint, PlacementStudy, PlacementSummary
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 PLACEMENT_FILE = "placement.toml"
 NAME_LENGTH = 64
@@ -140,9 +140,15 @@ def _cell(value: Any) -> str:
 
 
 def write_placement(
-    folder: Path, study: PlacementStudy, summary: PlacementSummary, pareto: list[ParetoPoint]
+    folder: Path,
+    study: PlacementStudy,
+    summary: PlacementSummary,
+    pareto: list[ParetoPoint],
+    *,
+    plots: bool = True,
 ) -> None:
-    """``placement.toml``, ``summary.json``, ``report.md``, ``layout.png`` (and ``pareto.png``)."""
+    """``placement.toml``, ``summary.json``, ``report.md`` and, with ``plots``,
+    ``layout.png`` (and ``pareto.png`` after a sweep)."""
     cubesats = study.candidates.cubesats(study.solution.chosen)
     (folder / PLACEMENT_FILE).write_text(
         placement_toml(
@@ -152,8 +158,21 @@ def write_placement(
             f"{study.metrics.worst_ratio:.4g} ({study.metrics.worst_axis})",
         )
     )
-    plot_layout(study, folder / "layout.png")
-    if pareto:
-        plot_pareto(pareto, folder / "pareto.png")
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in placement_figures(study, pareto).items():
+            save_figure(figure, folder / f"{stem}.png")
     (folder / "report.md").write_text(placement_markdown(summary))
     write_json_atomic(folder / "summary.json", summary)
+
+
+def placement_figures(study: PlacementStudy, pareto: list[ParetoPoint]) -> dict[str, Figure]:
+    """``layout`` (the hub in three projections with the chosen CubeSats) and, after a
+    sweep, ``pareto`` (worst authority against count, slew time and Δv)."""
+    from casadi_debris.plots.placement import layout_figure, pareto_figure
+
+    figures = {"layout": layout_figure(study)}
+    if pareto:
+        figures["pareto"] = pareto_figure(pareto)
+    return figures

@@ -3,23 +3,30 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from casadi_debris.orbit import TransferPlan, TransferResult
-from casadi_debris.plots.transfer import altitude_inclination, plot_transfer
+from casadi_debris.orbit import TransferPlan, TransferSummary
+from casadi_debris.plots.transfer import altitude_inclination
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.units import DEG_PER_RAD, SECONDS_PER_DAY
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 def write_transfer(
     folder: Path,
     plan: TransferPlan,
-    result: TransferResult,
+    result: TransferSummary,
     radius_km: float,
     target: tuple[float, float],
+    *,
+    plots: bool = True,
 ) -> None:
-    """Write the summary, both trajectories (days, km, deg, kg; burns 1-based) and the figure.
+    """Write the summary, both trajectories (days, km, deg, kg; burns 1-based) and, with
+    ``plots``, the figure.
 
     ``guidance.csv`` has one row per guidance period, ``ocp.csv`` one per OCP
     node; ``direction`` is the firing thrust direction (1-based, in the order of
@@ -48,9 +55,21 @@ def write_transfer(
             ),
         },
     )
-    plot_transfer(
-        plan, folder / "transfer.png", radius_km=radius_km, target=target, title=result.problem
-    )
+    if plots:
+        from casadi_debris.plots import save_figure
+
+        for stem, figure in transfer_figures(plan, radius_km, target).items():
+            save_figure(figure, folder / f"{stem}.png")
+
+
+def transfer_figures(
+    plan: TransferPlan, radius_km: float, target: tuple[float, float]
+) -> dict[str, Figure]:
+    """``transfer``: altitude, inclination, mass and firing direction over the days."""
+    from casadi_debris.plots.transfer import transfer_figure
+
+    title = plan.result.problem
+    return {"transfer": transfer_figure(plan, radius_km=radius_km, target=target, title=title)}
 
 
 def _orbit_columns(

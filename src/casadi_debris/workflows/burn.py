@@ -2,35 +2,43 @@
 
 Example
 -------
->>> from casadi_debris import load_problem
->>> from casadi_debris.workflows.burn import burn_into
->>> report = burn_into(load_problem(), "runs/burn-paper")  # doctest: +SKIP
->>> report.burn.pointing_max_arcsec  # doctest: +SKIP
+>>> import casadi_debris as cd
+>>> result = cd.burn("paper", direction="normal", hours=0.1)  # doctest: +SKIP
+>>> result.summary.burn.pointing_max_arcsec  # doctest: +SKIP
 28.3
+>>> result.save("runs/burn-paper")  # doctest: +SKIP
 """
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import BurnDirection, Problem
 from casadi_debris.dynamics import build_model
+from casadi_debris.errors import InputShapeError
 from casadi_debris.guidance.burn_plan import BurnPlan, burn_thrust_N, strongest_axis
-from casadi_debris.report.burn import BurnReport, write_burn
-from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.report.burn import BurnReport, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     DEFAULT_PERIOD_S,
     BurnRun,
     first_stage_left,
     simulate_burn,
 )
-from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary, burn_figures
-from casadi_debris.units import MN_PER_N
+from casadi_debris.simulation.burn_figures import BurnSeries
+from casadi_debris.simulation.burn_figures import burn_figures as burn_figures_of
+from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.controller import controller_for
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 @dataclass(frozen=True)
@@ -74,16 +82,6 @@ class BurnRequest:
     jit: bool = True
 
 
-@dataclass(frozen=True, eq=False)
-class BurnOutcome:
-    """A burn's run, series and figures (:func:`fly_burn`)."""
-
-    run: BurnRun
-    series: BurnSeries
-    summary: BurnSummary
-    controller_path: Path
-
-
 def burn_plan(problem: Problem, request: BurnRequest) -> tuple[BurnPlan, PropulsionState]:
     """The plan a request asks for and the engines it starts with, checked (quick: two LPs).
 
@@ -103,62 +101,158 @@ def burn_plan(problem: Problem, request: BurnRequest) -> tuple[BurnPlan, Propuls
     return plan, engines
 
 
-def fly_burn(problem: Problem, request: BurnRequest | None = None) -> BurnOutcome:
-    """Fly a burn on the problem's flexible model (every array mode) with its controller.
+@dataclass(frozen=True)
+class BurnResult(JobResult):
+    """A burn flown in closed loop: its figures and its series.
 
-    Parameters
+    Attributes
     ----------
-    problem : Problem
-    request : BurnRequest, optional
-        Default a 600 s retrograde burn at full torque-free thrust.
-
-    Returns
-    -------
-    BurnOutcome
+    summary : BurnReport
+        What ``summary.json`` holds: pointing error, Δv three ways, the propellant split,
+        stage switches, and the controller flown.
+    run : BurnRun
+        The closed-loop run and the thrust axis' pointing error (SI).
+    series : BurnSeries
+        Thrust along the axis [N], Δv along the direction [m/s] and the propellant split
+        [kg] over time.
     """
-    r = request or BurnRequest()
-    record, controller_path = controller_for(problem, r.controller, allow_mismatch=r.allow_mismatch)
-    plan, engines = burn_plan(problem, r)
-    model = build_model(problem)
-    run = simulate_burn(
-        problem, model, record.reduced, plan, period_s=r.period_s, propulsion=engines, jit=r.jit
-    )
-    summary, series = burn_figures(problem, run, Allocator.from_problem(problem))
-    return BurnOutcome(run, series, summary, controller_path)
+
+    summary: BurnReport
+    run: BurnRun
+    series: BurnSeries
+
+    command = "burn"
+
+    def plot(self) -> dict[str, Figure]:
+        """``burn``: the pointing error against the requirement, the thrust and the
+        propellant split, stage switches marked; nothing is written."""
+        return burn_figures(self.run, self.series, self.summary)
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """``summary.json``, ``series.csv`` and, with ``plots``, ``burn.png``."""
+        summary = dataclasses.replace(self.summary, out_dir=str(out.absolute()))
+        write_burn(staging, self.run, self.series, summary, plots=plots)
 
 
-def burn_into(
-    problem: Problem,
-    out: str | Path,
-    request: BurnRequest | None = None,
+def burn(
+    problem: ProblemLike = None,
     *,
-    overwrite: bool = False,
-) -> BurnReport:
-    """Fly a burn (:func:`fly_burn`) and write it into the run folder ``out``.
+    direction: BurnDirection = "retrograde",
+    hours: float = 0.25,
+    body_axis: str | Sequence[float] | None = None,
+    thrust_fraction: float | None = None,
+    thrust_mN: float | None = None,
+    first_stage_left_s: float | None = None,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    no_jit: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> BurnResult:
+    """Fly a burn: the thrust axis held along an LVLH direction by the attitude loop on the
+    flexible model (every array mode), while the engines deliver the thrust and the
+    loop's torque together.
 
     Parameters
     ----------
-    problem : Problem
-    out : str or Path
-        Run folder: ``summary.json``, ``series.csv``, ``burn.png`` (and its PDF).
-    request : BurnRequest, optional
-    overwrite : bool
-        Replace a run folder this toolkit wrote.
+    problem : Problem, str or Path, optional
+        A problem, a problem file or a shipped name; default the paper.
+    direction : {"retrograde", "prograde", "normal", "antinormal"}
+        Where the thrust points, in the orbit's LVLH frame.
+    hours : float
+        Engines on [h].
+    body_axis : str or sequence of 3 float, optional
+        Thrust axis in body axes (``"x"``, ``"-y"``, ... or a vector, not zero); default
+        the swarm's strongest torque-free direction.
+    thrust_fraction : float, optional
+        Of the largest torque-free thrust along the axis, in (0, 1]; default 1.
+    thrust_mN : float, optional
+        The thrust itself [mN], instead of ``thrust_fraction``.
+    first_stage_left_s : float, optional
+        Start with every engine's first stage holding this much full-thrust time [s] (to
+        see the stages switch in a short burn); default full.
+    controller : str or Path, optional
+        Controller file; default the shipped paper controller (for the paper's plant).
+    allow_mismatch : bool
+        Fly a controller designed for another plant.
+    no_jit : bool
+        Run the control step on CasADi's virtual machine instead of compiled C.
+    progress : callable, optional
+        ``progress(line)`` once the burn and the controller are checked, as the long part
+        starts.
 
     Returns
     -------
-    BurnReport
+    BurnResult
+
+    Raises
+    ------
+    InputShapeError
+        Both ``thrust_fraction`` and ``thrust_mN``, or a zero ``body_axis``.
+    SimulationError
+        A burn that cannot be flown (named), e.g. a thrust beyond the engines.
+    ControllerMismatchError
+        The controller was designed for another plant (and ``allow_mismatch`` is false).
     """
-    out = Path(out)
-    check_output_folder(out, overwrite=overwrite)
-    r = request or BurnRequest()
-    outcome = fly_burn(problem, r)
-    report = BurnReport(
-        burn=outcome.summary,
-        controller_path=str(outcome.controller_path),
-        first_stage_left_s=r.first_stage_left_s,
-        out_dir=str(out.absolute()),
+    if thrust_fraction is not None and thrust_mN is not None:
+        raise InputShapeError("--thrust-mN: give either --thrust-fraction or --thrust-mN")
+    problem = as_problem(problem)
+    request = BurnRequest(
+        direction=direction,
+        duration_s=hours * SECONDS_PER_HOUR,
+        body_axis=None if body_axis is None else _body_axis(body_axis),
+        thrust_fraction=1.0 if thrust_fraction is None else thrust_fraction,
+        thrust_mN=thrust_mN,
+        first_stage_left_s=first_stage_left_s,
+        controller=controller,
+        allow_mismatch=allow_mismatch,
+        jit=not no_jit,
     )
-    with RunFolder.claim(out, overwrite=overwrite, command="burn") as staging:
-        write_burn(staging, outcome.run, outcome.series, report)
-    return report
+    return _fly(problem, request, progress)
+
+
+def _fly(
+    problem: Problem, request: BurnRequest, progress: Callable[[str], None] | None
+) -> BurnResult:
+    """Check the request (two LPs) and the controller, then fly it (the long part)."""
+    plan, engines = burn_plan(problem, request)
+    record, controller_path = controller_for(
+        problem, request.controller, allow_mismatch=request.allow_mismatch
+    )
+    if progress is not None:
+        hours = request.duration_s / SECONDS_PER_HOUR
+        progress(
+            f"Flying a {request.direction} burn of {hours:g} h on {problem.name} "
+            "(flexible model) ..."
+        )
+    run = simulate_burn(
+        problem,
+        build_model(problem),
+        record.reduced,
+        plan,
+        period_s=request.period_s,
+        propulsion=engines,
+        jit=request.jit,
+    )
+    summary, series = burn_figures_of(problem, run, Allocator.from_problem(problem))
+    report = BurnReport(
+        burn=summary,
+        controller_path=str(controller_path),
+        first_stage_left_s=request.first_stage_left_s,
+    )
+    return BurnResult(summary=report, run=run, series=series)
+
+
+def _body_axis(axis: str | Sequence[float]) -> tuple[float, float, float]:
+    """An axis name (``"x"``, ``"-y"``) or a vector, as a vector not all zero."""
+    from casadi_debris.config.segments import AXIS_TEXTS, axis_unit_vector
+
+    if isinstance(axis, str):
+        name = axis.strip().lower()
+        if name not in AXIS_TEXTS:
+            raise InputShapeError(f"--body-axis: x, -y, ... or three numbers, got {axis!r}")
+        x, y, z = (float(v) for v in axis_unit_vector(name))
+        return (x, y, z)
+    values = np.asarray(axis, dtype=float)
+    if values.shape != (3,) or not np.all(np.isfinite(values)) or not np.any(values):
+        raise InputShapeError(f"--body-axis: three finite numbers not all zero, got {axis!r}")
+    return (float(values[0]), float(values[1]), float(values[2]))

@@ -1,7 +1,7 @@
 """Every set of k failed CubeSats, and the torque authority each leaves.
 
 The failure campaign (:func:`~casadi_debris.studies.failures.failure_cases`), the placement
-study's failure-robust objective (:mod:`casadi_debris.studies.placement_authority`)
+study's failure-robust objective (:mod:`casadi_debris.studies.placement`)
 and the swarm comparison (:mod:`casadi_debris.studies.alternatives`) all ask the
 same question of a swarm: fail every set of ``k`` of its CubeSats, solve the
 zero-net-force authority LP (:func:`~casadi_debris.geometry.axis_authority_Nm`)

@@ -1,31 +1,22 @@
-"""Where the CubeSats should dock: the placement study.
-
-Example
--------
->>> from casadi_debris import load_problem
->>> from casadi_debris.studies.placement import optimise_placement
->>> from casadi_debris.studies.placement_milp import PlacementSettings
->>> study = optimise_placement(load_problem(), PlacementSettings(count=(24, 24)))
->>> round(study.metrics.worst_ratio, 2) >= round(study.input_layout.metrics.worst_ratio, 2)
-True
-"""
+"""The placement study: the MILP's layout judged beside the input layout (see the
+package's text)."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
 from casadi_debris.config import Problem
-from casadi_debris.studies.placement_authority import WorstFailures, worst_failures
-from casadi_debris.studies.placement_candidates import (
+from casadi_debris.studies.placement._authority import WorstFailures, worst_failures
+from casadi_debris.studies.placement._candidates import (
     DEFAULT_GRID,
     Candidate,
     CandidateSet,
     cubesat_template,
     face_candidates,
 )
-from casadi_debris.studies.placement_data import PlacementData, placement_data
-from casadi_debris.studies.placement_metrics import LayoutMetrics, layout_metrics
-from casadi_debris.studies.placement_milp import (
+from casadi_debris.studies.placement._data import PlacementData, placement_data
+from casadi_debris.studies.placement._metrics import LayoutMetrics, layout_metrics
+from casadi_debris.studies.placement._milp import (
     PlacementSettings,
     PlacementSolution,
     solve_placement,
@@ -111,7 +102,7 @@ def optimise_placement(
     side_engine_options: tuple[int, ...] | None = None,
     data: PlacementData | None = None,
 ) -> PlacementStudy:
-    """Choose where the CubeSats dock (see :mod:`.placement_milp`) and judge the result.
+    """Choose where the CubeSats dock (see :func:`solve_placement`) and judge the result.
 
     Parameters
     ----------
@@ -119,7 +110,7 @@ def optimise_placement(
         The debris, its CubeSat, its engine and its disturbance.
     settings : PlacementSettings
     grid : tuple of int
-        Candidate mounts per face (see :mod:`.placement_candidates`).
+        Candidate mounts per face (see :func:`~casadi_debris.studies.placement.face_candidates`).
     side_engine_options : tuple of int, optional
         Engine templates per mount (side-panel engine counts).
     data : PlacementData, optional

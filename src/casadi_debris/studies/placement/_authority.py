@@ -14,7 +14,7 @@ import numpy as np
 
 from casadi_debris.geometry import axis_authority_Nm
 from casadi_debris.studies.failures import authority_ratio, set_authority
-from casadi_debris.studies.placement_data import PlacementData
+from casadi_debris.studies.placement._data import PlacementData
 
 
 def layout_authority_Nm(

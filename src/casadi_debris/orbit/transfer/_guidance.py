@@ -2,7 +2,7 @@
 
 Every guidance period the law measures the mean semi-major axis a and
 inclination i, solves Edelbaum's transfer from there to the target (circular
-orbits, :func:`~casadi_debris.orbit.transfer_averaged.edelbaum_yaw`) and flies
+orbits, :func:`~casadi_debris.orbit.transfer.edelbaum_yaw`) and flies
 its initial yaw beta0 for the period. By the principle of optimality the
 re-planned yaw is the open-loop optimum's when nothing disturbs the spiral; J2,
 eccentricity and the staged, changing thrust are what the feedback absorbs.
@@ -20,12 +20,12 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from casadi_debris.orbit.transfer_averaged import (
+from casadi_debris.orbit.transfer._averaged import (
     averaged_step,
     edelbaum_yaw,
     radius_inclination,
 )
-from casadi_debris.orbit.transfer_thrust import Burn
+from casadi_debris.orbit.transfer._thrust import Burn
 from casadi_debris.units import SECONDS_PER_DAY
 
 DEFAULT_PERIOD_S = 0.5 * SECONDS_PER_DAY
@@ -89,7 +89,7 @@ def edelbaum_guidance(
     Parameters
     ----------
     dynamics : casadi.Function
-        :func:`~casadi_debris.orbit.transfer_averaged.averaged_dynamics`.
+        :func:`~casadi_debris.orbit.transfer.averaged_dynamics`.
     x0 : ndarray, shape (5,)
         Initial slow MEE.
     mass_kg : float

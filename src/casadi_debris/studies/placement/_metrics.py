@@ -22,7 +22,7 @@ from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
 from casadi_debris.slews.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration
 from casadi_debris.studies.failures import axis_ratios
-from casadi_debris.studies.placement_data import bare_debris
+from casadi_debris.studies.placement._data import bare_debris
 
 DIRECTION_TOLERANCE = 1e-9
 

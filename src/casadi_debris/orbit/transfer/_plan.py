@@ -1,22 +1,5 @@
-"""Plan the problem's orbit transfer with the swarm's staged engines: :func:`plan_transfer`.
-
-The steps: the swarm's thrust directions and their torque-free thrust
-(:func:`~casadi_debris.orbit.propulsion.swarm_thrust`), the burn schedule (each
-direction's stages in turn, then hypothetical extra stage lives if the swarm's
-own do not suffice), Edelbaum steering flown in closed loop on the averaged
-dynamics with J2 (:mod:`~casadi_debris.orbit.transfer_guidance`), and the
-optimal control problem started from it (:mod:`~casadi_debris.orbit.transfer_ocp`).
-The answer says whether the swarm's own stages reach the target orbit, how far
-they get if not, and what more it would take.
-
-Example
--------
->>> from casadi_debris import load_problem
->>> from casadi_debris.orbit import plan_transfer
->>> plan = plan_transfer(load_problem())  # doctest: +SKIP
->>> round(plan.result.transfer_dv_m_s, 1), plan.result.swarm_suffices  # doctest: +SKIP
-(143.9, False)
-"""
+"""Plan the problem's orbit transfer with the swarm's staged engines: :func:`plan_transfer`
+(see the package's text)."""
 
 from __future__ import annotations
 
@@ -32,20 +15,20 @@ from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular
 from casadi_debris.orbit.propulsion import ThrustSegment, swarm_thrust
-from casadi_debris.orbit.transfer_averaged import averaged_dynamics, edelbaum_dv
-from casadi_debris.orbit.transfer_guidance import (
+from casadi_debris.orbit.transfer._averaged import averaged_dynamics, edelbaum_dv
+from casadi_debris.orbit.transfer._guidance import (
     DEFAULT_PERIOD_S,
     GuidedTransfer,
     edelbaum_guidance,
 )
-from casadi_debris.orbit.transfer_ocp import (
+from casadi_debris.orbit.transfer._ocp import (
     Objective,
     OptimalTransfer,
     TransferTarget,
     solve_transfer_ocp,
 )
-from casadi_debris.orbit.transfer_result import TransferResult, summarise
-from casadi_debris.orbit.transfer_thrust import Burn, burn_schedule, dv_of_burns
+from casadi_debris.orbit.transfer._summary import TransferSummary, summarise
+from casadi_debris.orbit.transfer._thrust import Burn, burn_schedule, dv_of_burns
 from casadi_debris.units import M_PER_KM
 
 # The propellant objective may take this much longer than the guidance law.
@@ -67,7 +50,7 @@ class TransferPlan:
 
     Attributes
     ----------
-    result : TransferResult
+    result : TransferSummary
     guided : GuidedTransfer
         Edelbaum steering, closed loop, through the whole burn schedule.
     optimal : OptimalTransfer
@@ -80,7 +63,7 @@ class TransferPlan:
         (time [s], CubeSat, stage) when a stage ran dry, 1-based.
     """
 
-    result: TransferResult
+    result: TransferSummary
     guided: GuidedTransfer
     optimal: OptimalTransfer
     groups: tuple[ThrustSegment, ...]

@@ -17,11 +17,11 @@ import numpy as np
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.studies.placement import PlacementStudy
-from casadi_debris.studies.placement_authority import WorstFailures
-from casadi_debris.studies.placement_metrics import LayoutMetrics
-from casadi_debris.studies.placement_milp import MilpSolve
-from casadi_debris.studies.placement_pareto import ParetoPoint
+from casadi_debris.studies.placement._authority import WorstFailures
+from casadi_debris.studies.placement._metrics import LayoutMetrics
+from casadi_debris.studies.placement._milp import MilpSolve
+from casadi_debris.studies.placement._pareto import ParetoPoint
+from casadi_debris.studies.placement._study import PlacementStudy
 from casadi_debris.units import MNM_PER_NM
 
 SOLVER_BACKEND = "HiGHS (scipy.optimize.milp)"
@@ -40,7 +40,7 @@ def _per_axis(values: np.ndarray) -> dict[str, float]:
 
 @dataclass(frozen=True)
 class LayoutFigures(Record):
-    """A layout's figures (see :class:`~casadi_debris.studies.placement_metrics.LayoutMetrics`)."""
+    """A layout's figures (see :class:`~casadi_debris.studies.placement.LayoutMetrics`)."""
 
     count: int
     torque_max_zero_force_mNm: dict[str, float]
@@ -147,7 +147,7 @@ class PlacementLimits(Record):
 
 @dataclass(frozen=True)
 class SolveFigures(Record):
-    """One HiGHS call (see :class:`~casadi_debris.studies.placement_milp.MilpSolve`)."""
+    """One HiGHS call (see :class:`~casadi_debris.studies.placement.MilpSolve`)."""
 
     status: int
     message: str
@@ -248,7 +248,7 @@ class PlacementSummary(Record):
     """A placement study: what was asked, the solver, the chosen layout's figures
     (written at the top level), its worst failures, the input layout, the Pareto sweep.
 
-    ``out_dir`` is the job's (see :func:`~casadi_debris.workflows.placement.run_placement`).
+    ``out_dir`` is the job's (see :func:`~casadi_debris.workflows.placement.placement`).
     """
 
     problem: str

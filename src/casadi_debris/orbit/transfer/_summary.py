@@ -11,9 +11,9 @@ from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, max_thrust_N
 from casadi_debris.orbit.elements import keplerian_from_mee
 from casadi_debris.orbit.propulsion import ThrustSegment
-from casadi_debris.orbit.transfer_guidance import GuidedTransfer, remaining_dv_m_s
-from casadi_debris.orbit.transfer_ocp import OptimalTransfer
-from casadi_debris.orbit.transfer_thrust import (
+from casadi_debris.orbit.transfer._guidance import GuidedTransfer, remaining_dv_m_s
+from casadi_debris.orbit.transfer._ocp import OptimalTransfer
+from casadi_debris.orbit.transfer._thrust import (
     Burn,
     StageUse,
     dv_of_burns,
@@ -34,7 +34,7 @@ MAX_EXTRA_CUBESATS = 1000
 
 
 @dataclass(frozen=True, kw_only=True)
-class TransferResult(Record):
+class TransferSummary(Record):
     """A planned orbit transfer (``casadi-debris transfer``), units in the names.
 
     Attributes
@@ -133,8 +133,8 @@ def summarise(
     guided: GuidedTransfer,
     optimal: OptimalTransfer,
     edelbaum_dv_m_s: float,
-) -> tuple[TransferResult, list[tuple[float, int, int]]]:
-    """The :class:`TransferResult` of a planned transfer, and its stage switches.
+) -> tuple[TransferSummary, list[tuple[float, int, int]]]:
+    """The :class:`TransferSummary` of a planned transfer, and its stage switches.
 
     Stage switches: (time [s], CubeSat, stage), 1-based, up to the transfer's end.
     """
@@ -161,7 +161,7 @@ def summarise(
         s for s in stage_switch_times_s(problem, geometry, groups, burns, profile) if s[0] <= end_s
     ]
     stage_lives = sum(_stage_life_s(problem, geometry, g) for g in groups)
-    result = TransferResult(
+    result = TransferSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         objective=optimal.objective,

@@ -15,7 +15,7 @@ authority over its disturbance, taken over every block, i.e. over every
 failure set. Besides: ``A <= sum y <= B`` CubeSats, at most one candidate per
 mount, optionally ``sum_j y_j I_j,aa <= limit_a`` on the added inertia and a
 rigid slew time limit (see :func:`slew_rows`). Torques are taken about the bare
-debris' CoG (see :mod:`.placement_data` for why that is exact).
+debris' CoG (see :func:`~casadi_debris.studies.placement.placement_data` for why that is exact).
 
 Failure sets: none (``failures = 0``), every mount alone (1), every pair of
 mounts (2). All of them at once (*extensive* form) has
@@ -49,12 +49,12 @@ from scipy.optimize import Bounds, LinearConstraint, milp
 from casadi_debris.config import SIGNED_AXES
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import signed_axis
-from casadi_debris.studies.placement_authority import (
+from casadi_debris.studies.placement._authority import (
     WorstFailures,
     layout_authority_Nm,
     worst_failures,
 )
-from casadi_debris.studies.placement_data import PlacementData
+from casadi_debris.studies.placement._data import PlacementData
 
 LOGGER = logging.getLogger(__name__)
 
@@ -265,8 +265,9 @@ def slew_rows(
 
     Squared and rearranged it is linear: ``t_a >= (4 theta / T^2) I_aa``, with
     ``I_aa`` the bare debris' plus the chosen CubeSats' (an upper bound on the
-    inertia about the combined CoG, see :mod:`.placement_data`). Products of
-    inertia are left out (the exact eigenaxis time is reported afterwards).
+    inertia about the combined CoG, see
+    :func:`~casadi_debris.studies.placement.placement_data`). Products of inertia are left
+    out (the exact eigenaxis time is reported afterwards).
     """
     assert settings.max_slew_s is not None
     gain = 4.0 * math.radians(settings.slew_angle_deg) / settings.max_slew_s**2 / unit

@@ -3,7 +3,7 @@
 Why averaged: the transfer lasts over a year, thousands of revolutions; the
 state is the five slow MEE and the mass, the control Edelbaum's yaw beta (and a
 throttle eta for the propellant objective), held constant over a segment of
-many revolutions (:mod:`casadi_debris.orbit.transfer_averaged`). So the optimum
+many revolutions (:func:`~casadi_debris.orbit.transfer.averaged_dynamics`). So the optimum
 is over yaw *laws per segment*, not over the thrust direction at every instant:
 an optimum within that family.
 
@@ -41,8 +41,8 @@ from typing import Any, Literal
 import casadi as ca
 import numpy as np
 
-from casadi_debris.orbit.transfer_averaged import N_SLOW, averaged_step
-from casadi_debris.orbit.transfer_thrust import Burn
+from casadi_debris.orbit.transfer._averaged import N_SLOW, averaged_step
+from casadi_debris.orbit.transfer._thrust import Burn
 from casadi_debris.units import SECONDS_PER_DAY
 
 Objective = Literal["time", "propellant"]
@@ -129,7 +129,7 @@ def solve_transfer_ocp(
     Parameters
     ----------
     dynamics : casadi.Function
-        :func:`~casadi_debris.orbit.transfer_averaged.averaged_dynamics`.
+        :func:`~casadi_debris.orbit.transfer.averaged_dynamics`.
     data : TransferTarget
     objective : {"time", "propellant"}
     time_limit_s : float, optional

@@ -2,11 +2,11 @@
 
 For each count the best worst-axis layout is found (no failures), then again
 with the rigid slew time held below shrinking fractions of that layout's (the
-epsilon-constraint method, :func:`.placement_milp.slew_rows`) until no layout
+epsilon-constraint method, :func:`~casadi_debris.studies.placement.slew_rows`) until no layout
 meets the limit, and again with at least 1, 2, ... CubeSats on every face (the
 one-stage Δv along every direction grows with the weakest face's count).
 Every layout found, and the input problem's own, is judged by
-:func:`.placement_metrics.layout_metrics`; a layout is on the front when no
+:func:`~casadi_debris.studies.placement.layout_metrics`; a layout is on the front when no
 other is at least as good in all four figures (fewer or as many CubeSats, as
 much worst authority over disturbance, as short a slowest-axis slew, as much
 one-stage Δv along the weakest direction) and better in one.
@@ -23,9 +23,9 @@ import numpy as np
 
 from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.errors import InputShapeError
-from casadi_debris.studies.placement_data import PlacementData
-from casadi_debris.studies.placement_metrics import LayoutMetrics, layout_metrics
-from casadi_debris.studies.placement_milp import PlacementSettings, solve_placement
+from casadi_debris.studies.placement._data import PlacementData
+from casadi_debris.studies.placement._metrics import LayoutMetrics, layout_metrics
+from casadi_debris.studies.placement._milp import PlacementSettings, solve_placement
 
 LOGGER = logging.getLogger(__name__)
 

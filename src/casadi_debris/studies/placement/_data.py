@@ -25,7 +25,7 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import array_rigid_inertia, point_mass_inertia
-from casadi_debris.studies.placement_candidates import CandidateSet
+from casadi_debris.studies.placement._candidates import CandidateSet
 from casadi_debris.units import N_PER_MN, NM_PER_MNM
 
 
