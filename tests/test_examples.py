@@ -15,8 +15,9 @@ import casadi_debris
 
 EXAMPLES = Path(__file__).parents[1] / "examples"
 SCRIPTS = sorted(p for p in EXAMPLES.glob("*.py") if not p.name.startswith("_"))
-# Examples that take more than a few seconds even when quick run under -m slow.
-SLOW: set[str] = set()
+# Examples that take tens of seconds even when quick run under -m slow; `.ci/run` runs
+# them in a step of their own.
+SLOW = {"design_and_fly", "mission_to_reentry", "montecarlo_in_xarray", "optimal_slew"}
 
 
 def _casadi_debris_uses(path: Path) -> list[str]:
