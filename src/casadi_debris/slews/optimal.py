@@ -374,7 +374,7 @@ def time_optimal_slew(
     >>> from casadi_debris import load_problem
     >>> slew = time_optimal_slew(load_problem(), "z", math.pi, check_vibration=False)
     >>> round(slew.duration_s)
-    903
+    918
 
     The benchmark of Bilimoria & Wie (1993), J = I and |u_i| <= 1:
 
