@@ -39,7 +39,7 @@ from types import TracebackType
 from typing import Any, Generic, NoReturn, TypeVar
 
 from casadi_debris.errors import RemoteError, SchedulerUnavailableError, WorkerStartError
-from casadi_debris.parallel._interrupts import Interrupts
+from casadi_debris.parallel._interrupts import Interrupts, keep_ctrl_c
 from casadi_debris.parallel._items import (
     SLOT,
     Job,
@@ -61,6 +61,7 @@ __all__ = [
     "SchedulerUnavailableError",
     "WorkerStartError",
     "describe_error",
+    "keep_ctrl_c",
     "no_context",
     "parallel_map",
 ]

@@ -17,6 +17,7 @@ import contextlib
 import signal
 import socket
 import threading
+from collections.abc import Iterator
 from types import FrameType, TracebackType
 from typing import Any
 
@@ -75,3 +76,24 @@ class Interrupts:
             if end is not None:
                 end.close()
         self.wakeup = self._sender = None
+
+
+@contextlib.contextmanager
+def keep_ctrl_c() -> Iterator[None]:
+    """Ctrl-C during the block ends it with ``KeyboardInterrupt``, even where compiled code
+    inside turned it into an error or a failed result (CasADi's IPOPT: a
+    ``RuntimeError``, or a solve that "did not converge").
+
+    Wrap each solve that is not inside a map (whose own wait does the same):
+
+    >>> with keep_ctrl_c():  # doctest: +SKIP
+    ...     solution = opti.solve()
+    """
+    with Interrupts() as interrupts:
+        try:
+            yield
+        except Exception as error:
+            if interrupts.seen:
+                raise KeyboardInterrupt from error
+            raise
+        interrupts.check()

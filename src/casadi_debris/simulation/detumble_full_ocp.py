@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.simulation.detumble import held_torque_rates
 
@@ -104,7 +105,8 @@ def full_time_optimal_detumble(
         "ipopt", {"print_time": False}, {"print_level": 0, "max_iter": MAX_ITERATIONS, "sb": "yes"}
     )
     try:
-        solution = opti.solve()
+        with keep_ctrl_c():
+            solution = opti.solve()
     except RuntimeError as exc:
         raise SimulationError(
             f"full detumble OCP: IPOPT failed ({opti.stats()['return_status']})"

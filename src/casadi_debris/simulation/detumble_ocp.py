@@ -48,6 +48,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
+from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.records import Record
 from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.simulation.polhode import PolhodeAverages, PrincipalBody, polhode_averages
@@ -322,7 +323,8 @@ class _AveragedProblem:
             {"print_level": 0, "max_iter": 300, "tol": 1e-8, "sb": "yes"},
         )
         try:
-            solution = opti.solve()
+            with keep_ctrl_c():
+                solution = opti.solve()
             status = str(solution.stats()["return_status"])
             return np.asarray(solution.value(angle), dtype=float).ravel(), status
         except RuntimeError:

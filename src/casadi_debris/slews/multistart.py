@@ -38,7 +38,7 @@ import numpy as np
 
 from casadi_debris.dynamics.attitude import quaternion_product
 from casadi_debris.errors import SlewInfeasibleError
-from casadi_debris.parallel import ItemFailure, parallel_map
+from casadi_debris.parallel import ItemFailure, keep_ctrl_c, parallel_map
 from casadi_debris.slews.rigid_body import N_RIGID_STATE, RigidBody, scaled_rigid_ode
 from casadi_debris.slews.transcription import (
     ACCEPTED_STATUS,
@@ -336,7 +336,8 @@ class CollocationNlp:
             [[start.duration], nodes.T.ravel(), inner.T.ravel(), start.controls.ravel()]
         )
         zeros = np.zeros(self.n_constraints)
-        result = self.solver(x0=guess, lbx=self.lbx, ubx=self.ubx, lbg=zeros, ubg=zeros)
+        with keep_ctrl_c():
+            result = self.solver(x0=guess, lbx=self.lbx, ubx=self.ubx, lbg=zeros, ubg=zeros)
         status = str(self.solver.stats()["return_status"])
         solution = np.array(result["x"]).ravel()
         controls = solution[-3 * n :].reshape(n, 3)

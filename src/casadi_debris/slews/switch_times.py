@@ -37,6 +37,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.errors import NotBangBangError
+from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.slews.multistart import RigidSlew, StartOutcome
 from casadi_debris.slews.rigid_body import N_RIGID_STATE, scaled_rigid_ode
 from casadi_debris.slews.transcription import ACCEPTED_STATUS, SolverOptions
@@ -265,7 +266,8 @@ def _solve_lengths(
     )
     n_d = len(durations)
     lower = np.concatenate([np.zeros(n_d), np.full(x.shape[0] - n_d, -np.inf)])
-    result = solver(x0=np.concatenate(guesses), lbx=lower, lbg=0.0, ubg=0.0)
+    with keep_ctrl_c():
+        result = solver(x0=np.concatenate(guesses), lbx=lower, lbg=0.0, ubg=0.0)
     status = str(solver.stats()["return_status"])
     return status, np.maximum(np.array(result["x"]).ravel()[:n_d], 0.0)
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import SlewNotConvergedError
+from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.slews.initial_guess import InitialGuess
 from casadi_debris.slews.modal_window import VibrationBound
 from casadi_debris.slews.ocp_problem import FORCE_ROWS, N_MODEL_INPUTS, TORQUE_ROWS, SlewOcp
@@ -447,7 +448,8 @@ def solve_with_ipopt(opti: ca.Opti, options: SolverOptions) -> tuple[Any, str]:
     """
     opti.solver("ipopt", {**IPOPT_OPTIONS, **options})
     try:
-        solution = opti.solve()
+        with keep_ctrl_c():
+            solution = opti.solve()
         status = solution.stats()["return_status"]
         value = solution.value
     except RuntimeError:

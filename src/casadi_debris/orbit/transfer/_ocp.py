@@ -43,6 +43,7 @@ import numpy as np
 
 from casadi_debris.orbit.transfer._averaged import N_SLOW, averaged_step
 from casadi_debris.orbit.transfer._thrust import Burn
+from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.units import SECONDS_PER_DAY
 
 Objective = Literal["time", "propellant"]
@@ -317,7 +318,8 @@ def _solve(
     )
     start = time.perf_counter()
     try:
-        solution = opti.solve()
+        with keep_ctrl_c():
+            solution = opti.solve()
         value, success = solution.value, True
     except RuntimeError:
         value, success = opti.debug.value, False
