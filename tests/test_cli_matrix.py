@@ -17,7 +17,9 @@ checked on its own). Commands that take long even at their quickest (tens of sec
 of CPU: ``design``, the worst-case search, the mission, the campaign, the torque-level
 optimal slews, ...) run by default on the paper's problem with ``--json --out`` only, the
 rest of their cells under ``-m slow``; ``reproduce --quick`` runs under ``-m slow``.
-The plain-text thruster-level time-optimal slew runs by default on all three problems.
+Commands another file runs by default the same way (the thruster-level time-optimal
+slew, the Monte Carlo campaign) run here only under ``-m slow``; their ``Command`` says
+where.
 """
 
 from __future__ import annotations
@@ -128,7 +130,9 @@ COMMANDS = (
         "30",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-time-optimal-thrusters",
-        slow="gallery-json",
+        # The same command, plain and --json --out on these three problems, is
+        # tests/test_cli_slew.py::test_thruster_level_time_optimal_slew_runs_every_way.
+        slow="all",
         folder=None,
     ),
     _command(
@@ -211,7 +215,9 @@ COMMANDS = (
         "1",
         keys=("cases", "nominal", "controller_path"),
         flies=True,
-        slow="long",
+        # A campaign with --json --out, and its folder, by default in
+        # tests/test_cli_simulation.py (the resumed campaign).
+        slow="all",
     ),
     _command(
         "synthesize",
