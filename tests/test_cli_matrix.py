@@ -53,7 +53,8 @@ class Command:
     none); ``out``: it takes ``--out``; ``flies``: it flies a controller; ``slow``: which
     cells run only under ``-m slow``: ``""`` none, ``"long"`` all but the paper's
     ``--json`` one (tens of seconds each), ``"gallery-json"`` the gallery's ``--json``
-    ones, ``"all"`` every one (minutes).
+    ones, ``"gallery"`` the gallery's (the problem's shape changes only numbers),
+    ``"all"`` every one (minutes).
     """
 
     name: str
@@ -166,7 +167,15 @@ COMMANDS = (
         flies=True,
     ),
     _command("burn", "--hours", "0.01", keys=("burn_s", "body_axis", "fuel_kg"), flies=True),
-    _command("compare", keys=("variants", "controller_path"), folder="compare", flies=True),
+    _command(
+        "compare",
+        keys=("variants", "controller_path"),
+        folder="compare",
+        flies=True,
+        # On the gallery it flies the paper's controller with --allow-mismatch, as
+        # simulate, margins and burn do here by default.
+        slow="gallery",
+    ),
     _command(
         "deorbit",
         "--solar",
@@ -175,6 +184,8 @@ COMMANDS = (
         "--workers",
         "1",
         keys=("cases", "deorbit_dv_m_s", "governing_case"),
+        # The orbit sees a problem's mass and area only: the paper's cells run by default.
+        slow="gallery",
     ),
     _command(
         "detumble",
@@ -266,6 +277,7 @@ def _cases(mode: str) -> list[object]:
                 "": False,
                 "long": problem != "paper" or mode == "text",
                 "gallery-json": problem != "paper" and mode == "json",
+                "gallery": problem != "paper",
                 "all": True,
             }[command.slow]
             marks = [pytest.mark.slow] if slow else []
