@@ -17,7 +17,9 @@ checked on its own). Commands that take long even at their quickest (tens of sec
 of CPU: ``design``, the worst-case search, the mission, the campaign, the torque-level
 optimal slews, ...) run by default on the paper's problem with ``--json --out`` only, the
 rest of their cells under ``-m slow``; ``reproduce --quick`` runs under ``-m slow``.
-The plain-text thruster-level time-optimal slew runs by default on all three problems.
+Commands another file runs by default the same way (the thruster-level time-optimal
+slew, the Monte Carlo campaign) run here only under ``-m slow``; their ``Command`` says
+where.
 """
 
 from __future__ import annotations
@@ -51,7 +53,8 @@ class Command:
     none); ``out``: it takes ``--out``; ``flies``: it flies a controller; ``slow``: which
     cells run only under ``-m slow``: ``""`` none, ``"long"`` all but the paper's
     ``--json`` one (tens of seconds each), ``"gallery-json"`` the gallery's ``--json``
-    ones, ``"all"`` every one (minutes).
+    ones, ``"gallery"`` the gallery's (the problem's shape changes only numbers),
+    ``"all"`` every one (minutes).
     """
 
     name: str
@@ -128,7 +131,9 @@ COMMANDS = (
         "30",
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-time-optimal-thrusters",
-        slow="gallery-json",
+        # The same command, plain and --json --out on these three problems, is
+        # tests/test_cli_slew.py::test_thruster_level_time_optimal_slew_runs_every_way.
+        slow="all",
         folder=None,
     ),
     _command(
@@ -162,7 +167,15 @@ COMMANDS = (
         flies=True,
     ),
     _command("burn", "--hours", "0.01", keys=("burn_s", "body_axis", "fuel_kg"), flies=True),
-    _command("compare", keys=("variants", "controller_path"), folder="compare", flies=True),
+    _command(
+        "compare",
+        keys=("variants", "controller_path"),
+        folder="compare",
+        flies=True,
+        # On the gallery it flies the paper's controller with --allow-mismatch, as
+        # simulate, margins and burn do here by default.
+        slow="gallery",
+    ),
     _command(
         "deorbit",
         "--solar",
@@ -171,6 +184,8 @@ COMMANDS = (
         "--workers",
         "1",
         keys=("cases", "deorbit_dv_m_s", "governing_case"),
+        # The orbit sees a problem's mass and area only: the paper's cells run by default.
+        slow="gallery",
     ),
     _command(
         "detumble",
@@ -211,7 +226,9 @@ COMMANDS = (
         "1",
         keys=("cases", "nominal", "controller_path"),
         flies=True,
-        slow="long",
+        # A campaign with --json --out, and its folder, by default in
+        # tests/test_cli_simulation.py (the resumed campaign).
+        slow="all",
     ),
     _command(
         "synthesize",
@@ -260,6 +277,7 @@ def _cases(mode: str) -> list[object]:
                 "": False,
                 "long": problem != "paper" or mode == "text",
                 "gallery-json": problem != "paper" and mode == "json",
+                "gallery": problem != "paper",
                 "all": True,
             }[command.slow]
             marks = [pytest.mark.slow] if slow else []

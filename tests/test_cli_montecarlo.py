@@ -108,10 +108,19 @@ def campaigns() -> Iterator[list[Campaign]]:
         campaign.close()
 
 
-def _wait_gone(workers: set[int]) -> list[int]:
-    deadline = time.monotonic() + 10
-    while time.monotonic() < deadline and any(_running(w) for w in workers):
-        time.sleep(0.1)
+def _wait_gone(workers: set[int], limit_s: float = 120.0) -> list[int]:
+    """The workers still running once each has ended: each end is an event, its pidfd
+    turning readable (a zombie has ended), not a state polled against a deadline;
+    ``limit_s`` only bounds a hang."""
+    for pid in workers:
+        try:
+            handle = os.pidfd_open(pid)
+        except ProcessLookupError:
+            continue  # already ended and reaped
+        try:
+            select.select([handle], [], [], limit_s)
+        finally:
+            os.close(handle)
     return [w for w in workers if _running(w)]
 
 

@@ -65,20 +65,25 @@ GALLERY_SLOW = (
 THRUSTER_SLEW = ("--method", "time-optimal", "--thrusters", "--starts", "1", "--sample-s", "20")
 
 
-def _thruster_slew_every_way(problem: str, tmp_path: Path) -> None:
-    """The thruster-level time-optimal slew as a user types it: plain text, --json, --out."""
+def _thruster_slew_every_way(problem: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The thruster-level time-optimal slew as a user types it: plain text, and ``--json
+    --out`` (one call: the printed record, the folder it writes, and the two agree).
+
+    The command matrix leaves its own cell of this command to the slow run: this is it.
+    """
     runner = CliRunner()
+    monkeypatch.chdir(tmp_path)
     plain = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW])
     assert plain.exit_code == 0, plain.output
     assert "time-optimal" in plain.stdout and "duration [s]" in plain.stdout
-    as_json = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--json"])
+    assert "Traceback" not in plain.output
+    assert not (tmp_path / "runs").exists(), "plain text without --out wrote a folder"
+    out = tmp_path / "written"  # not the problem's name: the working folder is tmp_path
+    as_json = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--json", "--out", str(out)])
     assert as_json.exit_code == 0, as_json.output
     summary = json.loads(as_json.stdout)
     assert summary["method"] == "time-optimal" and summary["thrusters"] is True
-    assert summary["duration_s"] > 0.0
-    out = tmp_path / problem
-    written = runner.invoke(main, ["slew", problem, *THRUSTER_SLEW, "--out", str(out)])
-    assert written.exit_code == 0, written.output
+    assert summary["problem"] == problem and summary["duration_s"] > 0.0
     saved = json.loads((out / "summary.json").read_text())
     assert saved["duration_s"] == pytest.approx(summary["duration_s"], rel=1e-6)
     assert (out / "profile.csv").is_file() and (out / "slew.png").is_file()
@@ -89,16 +94,18 @@ def _thruster_slew_every_way(problem: str, tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("problem", ("paper", *GALLERY_QUICK))
-def test_thruster_level_time_optimal_slew_runs_every_way(problem: str, tmp_path: Path) -> None:
-    _thruster_slew_every_way(problem, tmp_path)
+def test_thruster_level_time_optimal_slew_runs_every_way(
+    problem: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    _thruster_slew_every_way(problem, tmp_path, monkeypatch)
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("problem", GALLERY_SLOW)
 def test_thruster_level_time_optimal_slew_runs_on_every_gallery_problem(
-    problem: str, tmp_path: Path
+    problem: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    _thruster_slew_every_way(problem, tmp_path)
+    _thruster_slew_every_way(problem, tmp_path, monkeypatch)
 
 
 def test_workers_1_solves_every_start_in_this_process(monkeypatch: pytest.MonkeyPatch) -> None:

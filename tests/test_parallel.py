@@ -143,11 +143,19 @@ def _running(pid: int) -> bool:
     return state != "Z"
 
 
-def _wait_gone(pids: set[int], timeout_s: float = 10.0) -> list[int]:
-    """The processes still running once ``pids`` ended (killed ones may take a moment)."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline and any(_running(p) for p in pids):
-        time.sleep(0.05)
+def _wait_gone(pids: set[int], limit_s: float = 120.0) -> list[int]:
+    """The processes of ``pids`` still running once each has ended (killed ones may take a
+    moment): each end is an event, its pidfd turning readable, not a state polled against a
+    deadline; ``limit_s`` only bounds a hang."""
+    for pid in pids:
+        try:
+            handle = os.pidfd_open(pid)
+        except ProcessLookupError:
+            continue  # already ended and reaped
+        try:
+            select.select([handle], [], [], limit_s)
+        finally:
+            os.close(handle)
     return sorted(p for p in pids if _running(p))
 
 

@@ -36,9 +36,10 @@ POINTING = paper_figure("pointing")
 @pytest.fixture(scope="module")
 def quick_report(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("reproduce") / "report"
-    result = CliRunner().invoke(
-        main, ["reproduce", "--quick", "--out", str(out), "--json"], catch_exceptions=False
-    )
+    # One process: the test workers already fill the cores (campaigns on worker processes
+    # are checked in tests/test_cli_simulation.py).
+    arguments = ["reproduce", "--quick", "--workers", "1", "--out", str(out), "--json"]
+    result = CliRunner().invoke(main, arguments, catch_exceptions=False)
     assert result.exit_code == 0, result.stderr
     return out
 

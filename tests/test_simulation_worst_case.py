@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import control
 import numpy as np
 import pytest
 
@@ -10,10 +11,12 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import corner_cases, simulate
+from casadi_debris.simulation import corner_cases, simulate, worst_case
 from casadi_debris.simulation.worst_case import (
+    _largest_outputs,
     _project,
     _rotation_vectors,
+    linear_screen,
     worst_case_search,
 )
 from casadi_debris.workflows.controller import load_controller
@@ -34,6 +37,33 @@ def test_projection_clips_the_box_and_wraps_a_full_turn_angle() -> None:
     z = np.array([1.5, -2.0, 0.5, 0.0, 1.25, -1.1])
     projected = _project(problem, model, z)
     assert projected.tolist() == [1.0, -1.0, 0.5, 0.0, -0.75, -1.0]
+
+
+def _one_by_one(loops, t, inputs) -> np.ndarray:
+    """python-control's forced response, one loop at a time."""
+    return np.array([np.max(np.abs(control.forced_response(x, t, inputs).outputs)) for x in loops])
+
+
+def test_loops_stepped_together_respond_as_forced_response_says() -> None:
+    rng = np.random.default_rng(7)
+    loops = [control.rss(5, 2, 3, strictly_proper=k == 1) for k in range(3)]
+    t = np.linspace(2.0, 12.0, 41)
+    u = rng.normal(size=(3, t.size))
+    np.testing.assert_allclose(_largest_outputs(loops, t, u), _one_by_one(loops, t, u), rtol=1e-10)
+
+
+def test_the_screen_of_the_papers_corners_is_their_forced_responses(monkeypatch) -> None:
+    # The pointing problem: its reference is ready at once (the slew's takes seconds).
+    problem = with_duration(load_problem(SLEW.with_name("paper_pointing.toml")), 100.0)
+    model = build_model(problem)
+    record, _ = load_controller()
+    reference = scenario_reference(problem)
+    corners = np.array([c.normalized for c in corner_cases(problem, model)[::51]])
+    screened = linear_screen(problem, model, record.reduced, reference, corners)
+    monkeypatch.setattr(worst_case, "_largest_outputs", _one_by_one)
+    expected = linear_screen(problem, model, record.reduced, reference, corners)
+    assert np.all(expected > 0)
+    np.testing.assert_allclose(screened, expected, rtol=1e-10)
 
 
 def _max_error(problem, model, controller, reference, p) -> float:

@@ -144,7 +144,17 @@ def test_unknown_flexible_method(problem: Problem) -> None:
         time_optimal_slew(problem, "z", math.pi, flexible=True, flexible_method="modal")
 
 
-@pytest.mark.parametrize("duration", [-1.0, 0.0, 500.0, 900.0])
+# Each deadline solves the same minimum-time problem before it compares: one by default,
+# the rest under -m slow.
+TOO_SHORT = [
+    pytest.param(-1.0, marks=pytest.mark.slow),
+    pytest.param(0.0, marks=pytest.mark.slow),
+    pytest.param(500.0, marks=pytest.mark.slow),
+    900.0,
+]
+
+
+@pytest.mark.parametrize("duration", TOO_SHORT)
 def test_time_optimal_too_short_deadline_says_minimum(
     problem: Problem, rigid_optimum: Any, duration: float
 ) -> None:

@@ -295,7 +295,7 @@ slew_angles = st.floats(5.0, 180.0)
 
 
 @given(problems(), slew_axes, slew_angles)
-@_campaign(4)
+@_campaign(2)
 def test_bang_bang_profile_obeys_the_body_and_the_box(data, axis, angle_deg) -> None:
     check_bang_bang(data, axis, angle_deg)
 
