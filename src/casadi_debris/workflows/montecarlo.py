@@ -475,7 +475,9 @@ def _run_missing(
             on_failure=record,
         )
     except KeyboardInterrupt:
-        kept = len(done) + len(finished)
+        # What a resume will find: a Ctrl-C between a case's write and its count leaves
+        # one more case on disk than counted here.
+        kept = len(done) + len(finished) if folder is None else len(folder.finished_cases(cases))
         if folder is None:
             raise KeyboardInterrupt(
                 f"interrupted after {kept} of {len(cases)} cases; give a folder (out=...) "
