@@ -20,7 +20,12 @@ SLOW_TUMBLE = "\n\n[detumble]\ninitial_rate_rad_s = [0.01, -0.01, 0.01]\n"
 
 
 @pytest.mark.parametrize(
-    ("base", "solar"), [("paper", ("high",)), ("fewer_stronger", ("mean", "high"))]
+    ("base", "solar"),
+    [
+        ("paper", ("high",)),
+        # Another swarm, two solar cases: under -m slow (10 s).
+        pytest.param("fewer_stronger", ("mean", "high"), marks=pytest.mark.slow),
+    ],
 )
 def test_python_and_command_line_give_the_same_mission(
     base: str, solar: tuple[str, ...], tmp_path: Path

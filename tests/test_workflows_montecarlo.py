@@ -53,7 +53,15 @@ def _cli_json(args: list[str]) -> dict:
 # cases change the problem file's own values (the star tracker, the disturbance).
 CAMPAIGNS = [
     ("paper_slew", 40.0, ["--max-cases", "2"], {"max_cases": 2}),
-    ("paper_slew_dispersions", 30.0, ["--samples", "2", "--seed", "5"], {"samples": 2, "seed": 5}),
+    # A campaign of [[montecarlo.vary]] keys: under -m slow (20 s; the default run keeps
+    # the plain one, and test_cli_simulation flies the varied campaign from the command).
+    pytest.param(
+        "paper_slew_dispersions",
+        30.0,
+        ["--samples", "2", "--seed", "5"],
+        {"samples": 2, "seed": 5},
+        marks=pytest.mark.slow,
+    ),
 ]
 
 

@@ -36,7 +36,11 @@ def _steady(summary: dict) -> dict:
 
 @pytest.mark.parametrize(
     ("base", "altitude_km", "inclination_deg", "objective"),
-    [("paper", 675.0, 98.1, "time"), ("fewer_stronger", 680.0, 98.05, "propellant")],
+    [
+        ("paper", 675.0, 98.1, "time"),
+        # Another swarm and objective: under -m slow (14 s).
+        pytest.param("fewer_stronger", 680.0, 98.05, "propellant", marks=pytest.mark.slow),
+    ],
 )
 def test_python_and_command_line_give_the_same_transfer(
     base: str, altitude_km: float, inclination_deg: float, objective: str, tmp_path: Path
