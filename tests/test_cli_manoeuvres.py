@@ -14,6 +14,7 @@ from scipy.spatial.transform import Rotation
 
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
+from workflow_files import SEQUENCE
 
 PROBLEMS = default_problem_path().parent
 
@@ -58,28 +59,6 @@ def test_simulate_axis_needs_a_slew() -> None:
     code, stdout, stderr = invoke("simulate", "paper_pointing", "--axis", "1,1,1")
     assert code == 2 and "Traceback" not in stdout + stderr
     assert stderr.startswith("error: --axis: paper_pointing flies no slew")
-
-
-SEQUENCE = """
-[simulation]
-duration_s = 2000.0
-reference = "sequence"
-
-[[simulation.segments]]
-kind = "slew"
-axis = "z"
-angle_deg = 30.0
-duration_s = 600.0
-
-[[simulation.segments]]
-kind = "hold"
-duration_s = 100.0
-
-[[simulation.segments]]
-kind = "track"
-frame = "lvlh"
-blend_s = 500.0
-"""
 
 
 def test_slew_of_a_sequence_writes_every_segment(tmp_path: Path) -> None:

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
 from casadi_debris.cli import main
-from casadi_debris.config import FailureEvent, default_problem_path, with_duration
+from casadi_debris.config import FailureEvent, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.guidance import scenario_reference
@@ -21,9 +21,9 @@ from casadi_debris.report.folders import MARKER_NAME
 from casadi_debris.simulation import simulate
 from casadi_debris.workflows.compare import compare
 from casadi_debris.workflows.controller import controller_for
+from workflow_files import short_problem as _short
 
 SHORT_S, LONG_S = 60.0, 90.0
-PROBLEMS = default_problem_path().parent
 
 
 def _every_cubesat_lost(problem):
@@ -98,15 +98,6 @@ def test_a_slew_the_body_cannot_do_is_refused_before_any_variant_flies(tmp_path:
     with pytest.raises(ProblemFileError, match=r"simulation\.slew\.duration_s"):
         compare([slew, bad])
     assert not (tmp_path / "out").exists()
-
-
-def _short(folder: Path, base: str, duration_s: float) -> Path:
-    path = folder / f"short_{Path(base).name}.toml"
-    path.write_text(
-        f'extends = "{PROBLEMS / base}.toml"\nname = "short_{Path(base).name}"\n'
-        f"[simulation]\nduration_s = {duration_s}\n"
-    )
-    return path
 
 
 def _files(folder: Path) -> list[str]:

@@ -14,17 +14,9 @@ from click.testing import CliRunner
 import casadi_debris as cd
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.report.folders import MARKER_NAME
+from workflow_files import files_written as _files
 
 PROBLEMS = default_problem_path().parent
-
-
-def _files(folder: Path) -> list[str]:
-    return sorted(
-        p.relative_to(folder).as_posix()
-        for p in folder.rglob("*")
-        if p.is_file() and p.name != MARKER_NAME
-    )
 
 
 def _comparable(record: dict) -> dict:

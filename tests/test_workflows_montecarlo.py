@@ -14,29 +14,9 @@ from click.testing import CliRunner
 
 import casadi_debris as cd
 from casadi_debris.cli import main
-from casadi_debris.config import default_problem_path
 from casadi_debris.report.campaign_dataset import open_campaign
-from casadi_debris.report.folders import MARKER_NAME
-
-PROBLEMS = default_problem_path().parent
-
-
-def _short(folder: Path, base: str, duration_s: float) -> Path:
-    path = folder / f"short_{base}.toml"
-    path.write_text(
-        f'extends = "{PROBLEMS / base}.toml"\nname = "short_{base}"\n'
-        f"[simulation]\nduration_s = {duration_s}\n"
-    )
-    return path
-
-
-def _files(folder: Path) -> list[str]:
-    """Every file below ``folder`` but the marker (which lists them), as relative paths."""
-    return sorted(
-        p.relative_to(folder).as_posix()
-        for p in folder.rglob("*")
-        if p.is_file() and p.name != MARKER_NAME
-    )
+from workflow_files import files_written as _files
+from workflow_files import short_problem as _short
 
 
 def _without_out_dir(record: dict) -> dict:

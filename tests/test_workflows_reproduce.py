@@ -11,17 +11,10 @@ from click.testing import CliRunner
 
 import casadi_debris as cd
 from casadi_debris.cli import main
-from casadi_debris.report.folders import MARKER_NAME, OutputError
+from casadi_debris.report.folders import OutputError
+from workflow_files import files_written as _files
 
 VOLATILE = ("time_s", "out_dir")
-
-
-def _files(folder: Path) -> list[str]:
-    return sorted(
-        str(p.relative_to(folder))
-        for p in folder.rglob("*")
-        if p.is_file() and p.name != MARKER_NAME
-    )
 
 
 def test_a_folder_it_did_not_write_is_refused_before_any_work(tmp_path: Path) -> None:

@@ -21,6 +21,7 @@ from casadi_debris.config import default_problem_path
 from casadi_debris.errors import InputShapeError
 from casadi_debris.guidance.sequence import ManoeuvreSummary
 from slew_reference import every_profile_checked  # noqa: F401 (autouse)
+from workflow_files import SEQUENCE
 
 # Timings differ from one run to the next; every other key must agree.
 TIMINGS = {"solve_time_s", "wall_time_s", "multistart_time_s"}
@@ -46,27 +47,6 @@ CASES = {
         ],
     ),
 }  # fmt: skip
-
-SEQUENCE = """
-[simulation]
-duration_s = 2000.0
-reference = "sequence"
-
-[[simulation.segments]]
-kind = "slew"
-axis = "z"
-angle_deg = 30.0
-duration_s = 600.0
-
-[[simulation.segments]]
-kind = "hold"
-duration_s = 100.0
-
-[[simulation.segments]]
-kind = "track"
-frame = "lvlh"
-blend_s = 500.0
-"""
 
 
 def _command_line(*arguments: str) -> dict[str, Any]:

@@ -12,27 +12,8 @@ from click.testing import CliRunner
 
 import casadi_debris as cd
 from casadi_debris.cli import main
-from casadi_debris.config import default_problem_path
-from casadi_debris.report.folders import MARKER_NAME
-
-PROBLEMS = default_problem_path().parent
-
-
-def _short(folder: Path, base: str, duration_s: float) -> Path:
-    path = folder / f"short_{Path(base).name}.toml"
-    path.write_text(
-        f'extends = "{PROBLEMS / base}.toml"\nname = "short_{Path(base).name}"\n'
-        f"[simulation]\nduration_s = {duration_s}\n"
-    )
-    return path
-
-
-def _files(folder: Path) -> list[str]:
-    return sorted(
-        p.relative_to(folder).as_posix()
-        for p in folder.rglob("*")
-        if p.is_file() and p.name != MARKER_NAME
-    )
+from workflow_files import files_written as _files
+from workflow_files import short_problem as _short
 
 
 def _comparable(record: dict) -> dict:
