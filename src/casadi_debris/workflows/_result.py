@@ -9,15 +9,18 @@ it into place whole.
 
 from __future__ import annotations
 
+import shutil
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
 from casadi_debris.config import Problem, load_problem
-from casadi_debris.report.folders import RunFolder, check_output_folder
+from casadi_debris.report.folders import MARKER_NAME, RunFolder, check_output_folder
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from casadi_debris.workflows.margins import MarginsResult
 
 ProblemLike = Problem | str | Path | None
 """A :class:`~casadi_debris.config.Problem`, a problem file, a shipped name
@@ -74,3 +77,33 @@ class JobResult:
         """Write the files into ``staging``; ``out`` is where they will end up (for the
         ``out_dir`` a summary records)."""
         raise NotImplementedError(f"{type(self).__name__} does not define how it is saved")
+
+
+@dataclass(frozen=True)
+class ReportFolderResult(JobResult):
+    """A job that writes its report folder as it runs (its campaigns keep every case on
+    disk for a resume), so the folder is written when the job returns: ``save`` copies
+    it elsewhere and ``plot`` gives the margin study's figures.
+
+    Attributes
+    ----------
+    folder : Path
+        The report folder the job wrote.
+    margins : MarginsResult
+        The margin study of the controller over sampled plants.
+    """
+
+    folder: Path
+    margins: MarginsResult
+
+    def plot(self) -> dict[str, Figure]:
+        """The margin study's figures, by the path ``save`` writes them under
+        (``margins/mu``, ``margins/margins``, ...); the campaigns' envelopes are the
+        ``slew/`` and ``pointing/`` folders' PNGs. Nothing is written."""
+        return {f"margins/{name}": figure for name, figure in self.margins.plot().items()}
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """The report folder's files but its marker, copied (written as the job ran)."""
+        shutil.copytree(
+            self.folder, staging, dirs_exist_ok=True, ignore=shutil.ignore_patterns(MARKER_NAME)
+        )

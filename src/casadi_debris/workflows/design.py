@@ -65,23 +65,20 @@ from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, s
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
 from casadi_debris.slews.maneuver import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
-from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
+from casadi_debris.workflows._result import ProblemLike, ReportFolderResult, as_problem
 from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller
 from casadi_debris.workflows.reproduce import (
     FULL,
     QUICK,
     Plan,
-    copy_run,
     corner_campaigns,
     report_margins,
     stage_announcer,
 )
 
 if TYPE_CHECKING:
-    from matplotlib.figure import Figure
-
-    from casadi_debris.workflows.margins import MarginsResult
+    pass
 
 LOGGER = logging.getLogger(__name__)
 DesignMethod = Literal["mu", "pd", "pid", "lqr"]
@@ -153,7 +150,7 @@ def _default_slew(problem: Problem, simulation: Simulation) -> Problem:
 
 
 @dataclass(frozen=True)
-class DesignResult(JobResult):
+class DesignResult(ReportFolderResult):
     """A controller designed for a problem and verified, in the folder it was written to.
 
     A design writes as it goes (its campaigns keep every case on disk), so the folder is
@@ -175,22 +172,10 @@ class DesignResult(JobResult):
     """
 
     problem: Problem
-    folder: Path
     record: ControllerRecord
-    margins: MarginsResult
     summary: DesignSummary
 
     command = "design"
-
-    def plot(self) -> dict[str, Figure]:
-        """The margin study's figures, by the path ``save`` writes them under
-        (``margins/mu``, ``margins/margins``, ...); the campaigns' envelopes are the
-        ``slew/`` and ``pointing/`` folders' PNGs. Nothing is written."""
-        return {f"margins/{name}": figure for name, figure in self.margins.plot().items()}
-
-    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
-        """The report folder's files, copied (they are written as the design runs)."""
-        copy_run(self.folder, staging)
 
 
 def design(

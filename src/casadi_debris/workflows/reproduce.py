@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import logging
 import os
-import shutil
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -37,14 +36,12 @@ from casadi_debris.report.reproduce import (
 from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.workflows._result import JobResult
+from casadi_debris.workflows._result import ReportFolderResult
 from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller
 from casadi_debris.workflows.montecarlo import montecarlo
 
 if TYPE_CHECKING:
-    from matplotlib.figure import Figure
-
     from casadi_debris.workflows.margins import MarginsResult
 
 LOGGER = logging.getLogger(__name__)
@@ -212,14 +209,6 @@ def stage_announcer(
     return stage
 
 
-def copy_run(folder: Path, staging: Path) -> None:
-    """Every file of the run folder ``folder`` but its marker, into ``staging`` (a folder
-    being claimed), for a result written as it ran and saved again elsewhere."""
-    from casadi_debris.report.folders import MARKER_NAME
-
-    shutil.copytree(folder, staging, dirs_exist_ok=True, ignore=shutil.ignore_patterns(MARKER_NAME))
-
-
 def _slew_duration_s(slew_problem: Problem) -> float | None:
     """The reference duration of the paper's slew problem [s]."""
     slew = slew_problem.simulation.slew
@@ -229,7 +218,7 @@ def _slew_duration_s(slew_problem: Problem) -> float | None:
 
 
 @dataclass(frozen=True)
-class ReproductionResult(JobResult):
+class ReproductionResult(ReportFolderResult):
     """The paper reproduced, in the folder it was written to.
 
     The run writes as it goes (its campaigns keep every case on disk), so the folder is
@@ -247,21 +236,9 @@ class ReproductionResult(JobResult):
         with its verdict, ``reproduced`` of ``rows``.
     """
 
-    folder: Path
-    margins: MarginsResult
     summary: ReproductionSummary
 
     command = "reproduce"
-
-    def plot(self) -> dict[str, Figure]:
-        """The margin study's figures, by the path ``save`` writes them under
-        (``margins/mu``, ``margins/margins``, ...); the campaigns' envelopes are the
-        ``slew/`` and ``pointing/`` folders' PNGs. Nothing is written."""
-        return {f"margins/{name}": figure for name, figure in self.margins.plot().items()}
-
-    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
-        """The report folder's files, copied (they are written as the run goes)."""
-        copy_run(self.folder, staging)
 
 
 def reproduce(
