@@ -44,18 +44,12 @@ from functools import partial
 import numpy as np
 
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import CampaignSetup, corner_cases, nominal_case, run_campaign
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import (
-    CampaignSetup,
-    build_loop_step,
-    corner_cases,
-    discretize_controller,
-    nominal_case,
-    run_campaign,
-)
-from casadi_debris.simulation.batched import FACET_CAPACITY_MIN, batched_loop
+from casadi_debris.simulation import build_loop_step, discretize_controller
+from casadi_debris.simulation._batched import FACET_CAPACITY_MIN, batched_loop
 from casadi_debris.studies.failures import (
     FailureSettings,
     failure_cases,
@@ -76,7 +70,10 @@ import json, resource, sys, time
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import CampaignSetup, corner_cases, run_campaign
+try:  # the campaigns' own package since the simulation split
+    from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
+except ImportError:
+    from casadi_debris.simulation import CampaignSetup, corner_cases, run_campaign
 from casadi_debris.workflows.controller import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)

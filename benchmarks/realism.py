@@ -40,9 +40,7 @@ from casadi_debris.config import (
 )
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation.closed_loop import StepInput
-from casadi_debris.simulation.noise import draw_noise
-from casadi_debris.simulation.realism import Realism, engine_basis
+from casadi_debris.simulation import Realism, StepInput, draw_noise, engine_basis
 from recording import Setting, start_benchmark
 from step_timing import interleaved_step_us, loop_start, loop_step, ratio_report, variant_loops
 

@@ -38,19 +38,13 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import (
-    CampaignSetup,
-    corner_cases,
-    discretize_controller,
-    jit_cache,
-    run_campaign,
-    simulate,
-)
-from casadi_debris.simulation.closed_loop import release_compiled_steps
+from casadi_debris.simulation import _jit_cache as jit_cache
+from casadi_debris.simulation import discretize_controller, release_compiled_steps, simulate
 from casadi_debris.units import DEG_PER_RAD
 from recording import Setting, start_benchmark
 from step_timing import loop_start, loop_step

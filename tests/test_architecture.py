@@ -56,10 +56,10 @@ WIDE_SIGNATURES = {
     "allocation/paths.py:_result",
     "allocation/paths.py:_saturated",
     "allocation/propulsion.py:__init__",
+    "campaigns/_worst_case.py:worst_case_search",
     "robust/parametric_mu.py:_analyse_angle",
-    "simulation/closed_loop.py:_loop_step",
-    "simulation/run.py:simulate",
-    "simulation/worst_case.py:worst_case_search",
+    "simulation/_closed_loop.py:_loop_step",
+    "simulation/_run.py:simulate",
     "slews/profile.py:finish_profile",
 }
 PACKAGE = ROOT / "src" / "casadi_debris"

@@ -98,8 +98,8 @@ def _independent(paper_data, angles: int = 2):
 
 
 def test_independent_array_angles_are_one_parameter_per_array(paper_data):
+    from casadi_debris.campaigns import corner_cases
     from casadi_debris.dynamics import build_model
-    from casadi_debris.simulation import corner_cases
 
     problem = _independent(paper_data)
     model = build_model(problem, modes="first")

@@ -12,7 +12,7 @@ from matplotlib.lines import Line2D
 
 import casadi_debris.plots.simulation as simulation_plots
 import casadi_debris.plots.statistics as statistics_plots
-from casadi_debris.simulation.statistics import campaign_statistics
+from casadi_debris.campaigns import campaign_statistics
 
 
 def _kept(monkeypatch, module) -> list:

@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from casadi_debris.campaigns import campaign_statistics
 from casadi_debris.plots.statistics import plot_statistics
-from casadi_debris.simulation.statistics import campaign_statistics
 
 
 @pytest.mark.parametrize("count", [2, 50])

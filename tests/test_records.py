@@ -9,8 +9,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import pytest
 
+from casadi_debris.campaigns import CaseIdentity, CaseSummary
 from casadi_debris.records import FLATTENED, OPTIONAL, Record, to_jsonable
-from casadi_debris.simulation import CaseIdentity, CaseSummary, EventRecord
+from casadi_debris.simulation import EventRecord
 from run_summaries import zero_run_summary
 
 

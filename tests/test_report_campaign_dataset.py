@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
     DATASET_NAME,
@@ -18,8 +19,6 @@ from casadi_debris.report.campaign_dataset import (
     write_campaign_dataset,
 )
 from casadi_debris.report.campaign_folder import CampaignRecord
-from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
-from casadi_debris.simulation.monte_carlo import Bands, Extremes
 from run_summaries import zero_run_summary
 
 PARAMETERS = ("p1", "p2", "p3", "p4", "p5", "p6")

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
 from casadi_debris.report.campaign_folder import (
     LOCK_NAME,
     RECORD_NAME,
@@ -19,8 +20,6 @@ from casadi_debris.report.campaign_folder import (
     write_atomically,
 )
 from casadi_debris.report.folders import MARKER_NAME, OutputError
-from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
-from casadi_debris.simulation.monte_carlo import Bands, Extremes
 from run_summaries import zero_run_summary
 
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
+from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
 from casadi_debris.dynamics import build_model
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
@@ -28,8 +29,6 @@ from casadi_debris.report.worstcase import (
 )
 from casadi_debris.robust.parametric_mu import WorstPerturbation
 from casadi_debris.robust.uncertainty import parameters_from_normalized
-from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
-from casadi_debris.simulation.monte_carlo import Bands, Extremes
 from run_summaries import zero_run_summary
 
 N_BINS = 4

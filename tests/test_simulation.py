@@ -45,7 +45,7 @@ from casadi_debris.guidance import Reference, sample_reference, scenario_referen
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
-from casadi_debris.simulation import closed_loop as closed_loop_module
+from casadi_debris.simulation import _closed_loop as closed_loop_module
 
 PROBLEMS = default_problem_path().parent
 ARCSEC_PER_RAD = 180.0 / math.pi * 3600.0

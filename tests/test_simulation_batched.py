@@ -14,24 +14,22 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import CampaignSetup, CaseFailure, batches, corner_cases, run_campaign
 from casadi_debris.cli import main
 from casadi_debris.config import FailureEvent, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
-    CampaignSetup,
     RunInputs,
-    corner_cases,
+    c_compiler,
     discretize_controller,
-    jit_cache,
-    run_campaign,
     simulate,
     simulate_many,
 )
-from casadi_debris.simulation.batched import batches, facet_capacity, facet_rows
-from casadi_debris.simulation.closed_loop import _loop_step, c_compiler
-from casadi_debris.simulation.monte_carlo import CaseFailure
-from casadi_debris.simulation.native import NativeFunction
+from casadi_debris.simulation import _jit_cache as jit_cache
+from casadi_debris.simulation._batched import facet_capacity, facet_rows
+from casadi_debris.simulation._closed_loop import _loop_step
+from casadi_debris.simulation._native import NativeFunction
 from casadi_debris.workflows.controller import load_controller
 
 pytestmark = pytest.mark.skipif(c_compiler() is None, reason="no C compiler for CasADi's JIT")

@@ -21,9 +21,8 @@ from casadi_debris.guidance.burn_plan import (
     strongest_axis,
     torque_free_thrust_N,
 )
-from casadi_debris.simulation.burn import first_stage_left, simulate_burn
-from casadi_debris.simulation.burn_figures import burn_figures
-from casadi_debris.simulation.closed_loop import SimulationError
+from casadi_debris.simulation import SimulationError
+from casadi_debris.simulation.burn import burn_figures, first_stage_left, simulate_burn
 from casadi_debris.workflows.controller import controller_for
 
 BURN_S = 40.0

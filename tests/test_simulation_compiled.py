@@ -21,14 +21,14 @@ from casadi_debris.config import default_controller_path, default_problem_path, 
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.simulation import _closed_loop as closed_loop
+from casadi_debris.simulation import _jit_cache as jit_cache
 from casadi_debris.simulation import (
     build_loop_step,
-    closed_loop,
+    c_compiler,
     discretize_controller,
-    jit_cache,
     simulate,
 )
-from casadi_debris.simulation.closed_loop import c_compiler
 
 pytestmark = pytest.mark.skipif(c_compiler() is None, reason="no C compiler for CasADi's JIT")
 
@@ -62,7 +62,7 @@ print(json.dumps({"compiled": loop.compiled}))
 RACER_SCRIPT = """
 import pathlib, sys, time
 import casadi as ca
-from casadi_debris.simulation.jit_cache import compiled_function
+from casadi_debris.simulation._jit_cache import compiled_function
 gate, me, racers = pathlib.Path(sys.argv[1]), sys.argv[2], int(sys.argv[3])
 (gate / me).touch()
 while len(list(gate.iterdir())) < racers:
@@ -126,7 +126,7 @@ def test_jit_folders_of_killed_processes_are_removed(tmp_path, monkeypatch) -> N
     import sys
     import tempfile
 
-    from casadi_debris.simulation import closed_loop
+    from casadi_debris.simulation import _closed_loop as closed_loop
 
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     finished = subprocess.run(

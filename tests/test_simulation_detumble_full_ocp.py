@@ -10,8 +10,10 @@ import pytest
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
 from casadi_debris.geometry import build_geometry
-from casadi_debris.simulation.detumble_full_ocp import full_time_optimal_detumble
-from casadi_debris.simulation.detumble_ocp import problem_time_optimal_detumble
+from casadi_debris.simulation.detumble import (
+    full_time_optimal_detumble,
+    problem_time_optimal_detumble,
+)
 from casadi_debris.workflows.detumble import momentum_bound_s
 
 

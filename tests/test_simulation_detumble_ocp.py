@@ -10,14 +10,15 @@ from scipy.spatial import ConvexHull
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
 from casadi_debris.geometry import build_geometry
-from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.simulation.detumble import detumble
-from casadi_debris.simulation.detumble_ocp import (
-    MAX_ANGLE_RAD,
+from casadi_debris.simulation import SimulationError
+from casadi_debris.simulation.detumble import (
+    PrincipalBody,
+    detumble,
+    polhode_averages,
     problem_time_optimal_detumble,
     time_optimal_detumble,
 )
-from casadi_debris.simulation.polhode import PrincipalBody, polhode_averages
+from casadi_debris.simulation.detumble._ocp import MAX_ANGLE_RAD
 from casadi_debris.workflows.detumble import momentum_bound_s
 
 RATE = np.array([0.05, 0.05, 0.05])

@@ -121,7 +121,8 @@ def test_every_torque_on_matches_the_numeric_model(controller) -> None:
 def test_compiled_steps_of_problems_changed_in_memory_are_told_apart(controller) -> None:
     # One file, one name: the environment and the sine decide the compiled step too.
     from casadi_debris.allocation import Allocator
-    from casadi_debris.simulation import closed_loop, discretize_controller
+    from casadi_debris.simulation import _closed_loop as closed_loop
+    from casadi_debris.simulation import discretize_controller
 
     paper = load_problem()
     silent = dataclasses.replace(paper.disturbance, amplitude_mNm=np.zeros(3))

@@ -13,7 +13,7 @@ import pytest
 from scipy.spatial.transform import Rotation
 from scipy.stats import chi2
 
-from casadi_debris.simulation.estimation import (
+from casadi_debris.simulation._estimation import (
     MekfState,
     initial_filter_state,
     mekf_step,

@@ -10,18 +10,21 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from casadi_debris.config import default_problem_path, load_problem
-from casadi_debris.dynamics import build_model
-from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import CampaignSetup, Envelope, corner_cases, run_campaign
-from casadi_debris.simulation.monte_carlo import (
+from casadi_debris.campaigns import (
     Bands,
+    CampaignSetup,
     CaseFailure,
-    CasesFailedError,
+    Envelope,
     Extremes,
     bin_bands,
+    corner_cases,
+    run_campaign,
     run_case,
 )
+from casadi_debris.config import default_problem_path, load_problem
+from casadi_debris.dynamics import build_model
+from casadi_debris.errors import CasesFailedError
+from casadi_debris.guidance import scenario_reference
 from casadi_debris.workflows.controller import load_controller
 
 

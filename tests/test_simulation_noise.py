@@ -10,7 +10,8 @@ import pytest
 
 from casadi_debris.config import Actuators, Gyro, Sensors, StarTracker, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation.noise import draw_noise, reading_flags
+from casadi_debris.simulation import draw_noise
+from casadi_debris.simulation._noise import reading_flags
 
 PERIOD_S = 0.1
 
@@ -93,7 +94,7 @@ def test_every_campaign_case_has_its_own_noise_and_keeps_it() -> None:
     """Cases draw their noise seed from the problem's, their kind and index: distinct
     across a campaign, the same when a case is built again (a re-run alone), the problem's
     own for the nominal case."""
-    from casadi_debris.simulation.cases import corner_cases, nominal_case, sample_cases
+    from casadi_debris.campaigns import corner_cases, nominal_case, sample_cases
 
     problem = load_problem("paper_realistic")
     model = build_model(problem)

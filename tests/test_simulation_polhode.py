@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from casadi_debris.simulation.polhode import PrincipalBody, polhode_averages, polhode_points
+from casadi_debris.simulation.detumble import PrincipalBody, polhode_averages, polhode_points
 
 INERTIA = np.array([[677.3, 1.2, 2.0], [1.2, 450.8, -1.0], [2.0, -1.0, 291.0]])
 

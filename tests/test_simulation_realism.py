@@ -27,10 +27,16 @@ from casadi_debris.config import (
 from casadi_debris.config.realism import realism_fields
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import build_loop_step, simulate
-from casadi_debris.simulation.closed_loop import DiscreteController, StepInput, StepOutput
-from casadi_debris.simulation.noise import draw_noise
-from casadi_debris.simulation.realism import Realism, engine_basis
+from casadi_debris.simulation import (
+    DiscreteController,
+    Realism,
+    StepInput,
+    StepOutput,
+    build_loop_step,
+    draw_noise,
+    engine_basis,
+    simulate,
+)
 from casadi_debris.workflows.controller import load_controller
 
 PERIOD_S = 0.1

@@ -11,17 +11,10 @@ import numpy as np
 import pytest
 from scipy import stats
 
+from casadi_debris.campaigns import varied_case, varied_cases, varied_count
+from casadi_debris.campaigns._sampling import corner_row, corner_values, draw, draws
 from casadi_debris.config import VariedQuantity, problem_from_dict
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.simulation.sampling import (
-    corner_row,
-    corner_values,
-    draw,
-    draws,
-    varied_case,
-    varied_cases,
-    varied_count,
-)
 
 
 def _problem(paper: dict[str, Any], *entries: dict[str, Any]):

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from casadi_debris.simulation.statistics import PERCENTILES, campaign_statistics, first_order_index
+from casadi_debris.campaigns import campaign_statistics, first_order_index
+from casadi_debris.campaigns._statistics import PERCENTILES
 
 
 def _table(n: int = 200, seed: int = 5):

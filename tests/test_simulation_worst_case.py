@@ -8,17 +8,13 @@ import pytest
 
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import _worst_case as worst_case
+from casadi_debris.campaigns import corner_cases, linear_screen, worst_case_search
+from casadi_debris.campaigns._worst_case import _largest_outputs, _project, _rotation_vectors
 from casadi_debris.config import default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import corner_cases, simulate, worst_case
-from casadi_debris.simulation.worst_case import (
-    _largest_outputs,
-    _project,
-    _rotation_vectors,
-    linear_screen,
-    worst_case_search,
-)
+from casadi_debris.simulation import simulate
 from casadi_debris.workflows.controller import load_controller
 
 SLEW = default_problem_path().parent / "paper_slew.toml"

@@ -29,8 +29,7 @@ from casadi_debris.guidance import scenario_reference
 from casadi_debris.guidance.sequence import segment_records
 from casadi_debris.plots.slew import plot_segment_series
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import simulate
-from casadi_debris.simulation.segment_figures import segment_figures
+from casadi_debris.simulation import segment_figures, simulate
 from casadi_debris.units import MNM_PER_NM
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"

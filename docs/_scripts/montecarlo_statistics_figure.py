@@ -23,10 +23,9 @@ import numpy as np
 
 import casadi_debris as cd
 from casadi_debris import load_problem
+from casadi_debris.campaigns import FIGURES, CaseSummary, campaign_statistics, requirement_of
 from casadi_debris.plots.statistics import plot_statistics
 from casadi_debris.report.simulation import figure_title
-from casadi_debris.simulation import CaseSummary
-from casadi_debris.simulation.statistics import FIGURES, campaign_statistics, requirement_of
 
 NAME = "paper_slew_dispersions"
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "montecarlo_slew_statistics.png"

@@ -41,8 +41,8 @@ from casadi_debris.units import NM_PER_MNM
 if TYPE_CHECKING:
     import numpy as np
 
-    from casadi_debris.simulation.segment_figures import SegmentFigures
-    from casadi_debris.simulation.statistics import CampaignStatistics
+    from casadi_debris.campaigns import CampaignStatistics
+    from casadi_debris.simulation import SegmentFigures
     from casadi_debris.workflows.campaign import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C

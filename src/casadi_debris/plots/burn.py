@@ -7,8 +7,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from casadi_debris.plots import limit_line
-from casadi_debris.simulation.burn import BurnRun
-from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
+from casadi_debris.simulation.burn import BurnRun, BurnSeries, BurnSummary
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
 
 GRAMS_PER_KG = 1e3

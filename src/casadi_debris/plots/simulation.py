@@ -11,9 +11,9 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from casadi_debris.campaigns import Envelope, Extremes
 from casadi_debris.plots import AXIS_COLOURS, OFF_SCALE, limit_line, save_figure
-from casadi_debris.simulation import ClosedLoopResult, Envelope
-from casadi_debris.simulation.monte_carlo import Extremes
+from casadi_debris.simulation import ClosedLoopResult
 from casadi_debris.slews import euler_angles_321
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 

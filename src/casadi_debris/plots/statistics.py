@@ -9,8 +9,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from casadi_debris.campaigns import CampaignStatistics, Driver, FigureStatistics
 from casadi_debris.plots import save_figure
-from casadi_debris.simulation.statistics import CampaignStatistics, Driver, FigureStatistics
 
 MAX_BARS = 12
 """Quantities shown per tornado (the strongest by |rho|)."""
@@ -42,7 +42,7 @@ def statistics_figure(
     statistics : CampaignStatistics
     figures : mapping of str to ndarray
         Figure name -> value per case (NaN: none), as
-        :func:`~casadi_debris.simulation.statistics.case_figures` gives.
+        :func:`~casadi_debris.campaigns.case_figures` gives.
     title : str
 
     Returns

@@ -45,10 +45,9 @@ from typing import TYPE_CHECKING, Any, Final
 
 import numpy as np
 
+from casadi_debris.campaigns import CaseOutcome, case_quantities
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.report.campaign_folder import CampaignRecord, write_atomically
-from casadi_debris.simulation import CaseOutcome
-from casadi_debris.simulation.statistics import case_quantities
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -7,7 +7,7 @@ While it runs, a campaign lives in ``<out>.partial/``:
   anything different is refused with a line that says what differs.
 - ``.lock``: the id of the process writing the folder; a second campaign on
   the same folder is refused while that process lives.
-- ``cases/<id>.npz`` (the case's :class:`~casadi_debris.simulation.monte_carlo.Bands`
+- ``cases/<id>.npz`` (the case's :class:`~casadi_debris.campaigns.Bands`
   as named float64 arrays ``error_rad_min``, ..., so that a resumed campaign
   is bit-exact) then ``cases/<id>.json`` (the summary, written last: the
   marker of a whole case).
@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from casadi_debris._version import __version__
+from casadi_debris.campaigns import Bands, Case, CaseFailure, CaseOutcome, CaseSummary
 from casadi_debris.processes import process_alive
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.folders import (
@@ -45,8 +46,6 @@ from casadi_debris.report.folders import (
     temporary_path,
     write_marker,
 )
-from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
-from casadi_debris.simulation.monte_carlo import Bands, CaseFailure
 
 PARTIAL_SUFFIX = ".partial"
 RECORD_NAME = "campaign.json"

@@ -4,7 +4,7 @@ A single run: ``summary.json``, ``series.csv`` (time series, units in the
 column names), ``closed_loop.png`` and ``thrust.png``.
 
 A campaign: ``summary.json`` (worst case of every figure, counts, seed, and
-the statistics of :mod:`casadi_debris.simulation.statistics`), ``cases.csv``
+the statistics of :mod:`casadi_debris.campaigns`), ``cases.csv``
 (one row per case, with the value of every varied quantity), ``envelope.csv``,
 ``statistics.png``, ``campaign.nc`` (every
 case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
@@ -24,6 +24,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import (
+    CampaignSetup,
+    CampaignStatistics,
+    CaseOutcome,
+    Envelope,
+    case_figures,
+)
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.plots import save_figure
@@ -38,8 +45,7 @@ from casadi_debris.report.campaign_dataset import (
 )
 from casadi_debris.report.campaign_folder import CampaignRecord
 from casadi_debris.report.common import write_csv, write_json_atomic
-from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
-from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
+from casadi_debris.simulation import ClosedLoopResult
 from casadi_debris.slews import euler_angles_321
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
@@ -215,10 +221,10 @@ class CampaignSummary(Record):
     """A campaign's ``summary.json``: the worst case of every figure and what was run.
 
     ``nominal`` holds the nominal run's figures (units in the keys, as in
-    :class:`~casadi_debris.simulation.summary.RunSummary`); ``run`` (written as keys of
+    :class:`~casadi_debris.simulation.RunSummary`); ``run`` (written as keys of
     the summary itself) the campaign's files, seed and workers; ``statistics`` the pass
     rate, moments, percentiles and rank correlations of every figure (see
-    :mod:`casadi_debris.simulation.statistics`); ``details`` any further keys a caller adds.
+    :mod:`casadi_debris.campaigns`); ``details`` any further keys a caller adds.
     """
 
     problem: str

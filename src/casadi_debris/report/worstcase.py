@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from casadi_debris.campaigns import Bands, Envelope, Extremes, WorstCaseSearch
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, ParameterLayout, Parameters
 from casadi_debris.plots import save_figure
@@ -30,9 +31,6 @@ from casadi_debris.robust.parametric_mu import (
     WorstPerturbation,
 )
 from casadi_debris.robust.uncertainty import parameters_from_normalized
-from casadi_debris.simulation import Envelope
-from casadi_debris.simulation.monte_carlo import Bands, Extremes
-from casadi_debris.simulation.worst_case import WorstCaseSearch
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -75,7 +73,7 @@ class CampaignWorst(Record):
 
 @dataclass(frozen=True)
 class SearchSummary(Record):
-    """The worst slew found (:class:`~casadi_debris.simulation.worst_case.WorstCaseSearch`).
+    """The worst slew found (:class:`~casadi_debris.campaigns.WorstCaseSearch`).
 
     ``evaluation`` is the worst run's index among the ``simulations``; ``normalized``
     and ``parameters`` its box positions and values (SI) by name;

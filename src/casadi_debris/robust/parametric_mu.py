@@ -17,7 +17,7 @@ performance-worst) parameter set, scaled by 1 / mu, hence outside the box
 when mu < 1; it is also given clipped to the box.
 
 The bounds hold for the fitted model, whose residual is recorded; the
-search for the worst slew (:mod:`casadi_debris.simulation.worst_case`) works
+search for the worst slew (:mod:`casadi_debris.campaigns`) works
 on the nonlinear loop itself.
 """
 

@@ -1,66 +1,68 @@
-"""Closed-loop simulation: the nonlinear model, star tracker, robust controller,
-allocator and engines together; Monte Carlo over the uncertainty set.
+"""The closed loop: the nonlinear model, sensors and estimator, the robust controller,
+the allocator and the engines, run together over time.
 
-- :func:`simulate`: one scenario (:class:`ClosedLoopResult`); :func:`simulate_many`:
-  several, with ``jit`` as one compiled function mapped over them.
-- :func:`run_campaign`: Monte Carlo over :func:`corner_cases` / :func:`sample_cases`
-  on processes or Dask, with an :class:`Envelope`.
+- :func:`simulate`: one scenario (:class:`ClosedLoopResult`, and its figures as a
+  :class:`RunSummary`); :func:`simulate_many`: several, with ``jit`` as one compiled
+  function mapped over them.
+- :func:`build_loop_step`: one control period as a compiled CasADi Function.
+- :func:`segment_figures`: a manoeuvre's run, figured segment by segment.
 - :func:`open_loop_rigid`: the rigid body under a held torque table.
 
-What the loop follows (references, sequences, burn plans) is :mod:`casadi_debris.guidance`.
+Beside the loop, as subpackages: the detumble runs
+(:mod:`casadi_debris.simulation.detumble`) and the burn runs
+(:mod:`casadi_debris.simulation.burn`). Campaigns of many runs are
+:mod:`casadi_debris.campaigns`, one layer above; what the loop follows
+(references, sequences, burn plans) is :mod:`casadi_debris.guidance`.
 """
 
-from casadi_debris.simulation.cases import (
-    Case,
-    CaseIdentity,
-    corner_case,
-    corner_cases,
-    nominal_case,
-    sample_case,
-    sample_cases,
-)
-from casadi_debris.simulation.closed_loop import (
-    SimulationError,
+from casadi_debris.errors import SimulationError
+from casadi_debris.simulation._batched import release_batched_loops
+from casadi_debris.simulation._closed_loop import (
+    DiscreteController,
+    StepInput,
+    StepOutput,
     build_loop_step,
+    c_compiler,
     discretize_controller,
+    release_compiled_steps,
 )
-from casadi_debris.simulation.events import RunEvent
-from casadi_debris.simulation.monte_carlo import (
-    CampaignSetup,
-    CaseOutcome,
-    CaseSummary,
-    Envelope,
-    run_campaign,
-    run_case,
+from casadi_debris.simulation._events import RunEvent
+from casadi_debris.simulation._noise import draw_noise
+from casadi_debris.simulation._open_loop import OpenLoopResult, open_loop_rigid
+from casadi_debris.simulation._realism import Realism, engine_basis
+from casadi_debris.simulation._run import ClosedLoopResult, RunInputs, simulate, simulate_many
+from casadi_debris.simulation._segment_figures import SegmentFigures, segment_figures
+from casadi_debris.simulation._summary import (
+    SETTLE_BAND_ARCSEC,
+    EventRecord,
+    RunSummary,
+    fuel_between_kg,
 )
-from casadi_debris.simulation.open_loop import OpenLoopResult, open_loop_rigid
-from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
-from casadi_debris.simulation.summary import EventRecord, RunSummary
 
 __all__ = [
-    "CampaignSetup",
-    "Case",
-    "CaseIdentity",
-    "CaseOutcome",
-    "CaseSummary",
+    "SETTLE_BAND_ARCSEC",
     "ClosedLoopResult",
-    "Envelope",
+    "DiscreteController",
     "EventRecord",
     "OpenLoopResult",
+    "Realism",
     "RunEvent",
     "RunInputs",
     "RunSummary",
+    "SegmentFigures",
     "SimulationError",
+    "StepInput",
+    "StepOutput",
     "build_loop_step",
-    "corner_case",
-    "corner_cases",
+    "c_compiler",
     "discretize_controller",
-    "nominal_case",
+    "draw_noise",
+    "engine_basis",
+    "fuel_between_kg",
     "open_loop_rigid",
-    "run_campaign",
-    "run_case",
-    "sample_case",
-    "sample_cases",
+    "release_batched_loops",
+    "release_compiled_steps",
+    "segment_figures",
     "simulate",
     "simulate_many",
 ]

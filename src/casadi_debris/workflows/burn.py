@@ -28,11 +28,11 @@ from casadi_debris.report.burn import BurnReport, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     DEFAULT_PERIOD_S,
     BurnRun,
+    BurnSeries,
     first_stage_left,
     simulate_burn,
 )
-from casadi_debris.simulation.burn_figures import BurnSeries
-from casadi_debris.simulation.burn_figures import burn_figures as burn_figures_of
+from casadi_debris.simulation.burn import burn_figures as burn_figures_of
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.controller import controller_for

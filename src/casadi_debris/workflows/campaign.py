@@ -17,25 +17,24 @@ from typing import Any
 
 import numpy as np
 
+from casadi_debris.campaigns import (
+    Case,
+    corner_case,
+    corner_cases,
+    nominal_case,
+    requirement_shortfalls,
+    sample_case,
+    sample_cases,
+    varied_case,
+    varied_cases,
+)
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Parameters
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.uncertainty import normalized_from_parameters
-from casadi_debris.simulation import (
-    Case,
-    ClosedLoopResult,
-    corner_case,
-    corner_cases,
-    nominal_case,
-    sample_case,
-    sample_cases,
-)
-from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.simulation.sampling import varied_case, varied_cases
-from casadi_debris.simulation.statistics import requirement_shortfalls
-from casadi_debris.simulation.summary import RunSummary
+from casadi_debris.simulation import ClosedLoopResult, RunSummary, SimulationError
 
 LOGGER = logging.getLogger(__name__)
 
@@ -56,7 +55,7 @@ class CaseSelection:
         and the problem has no ``[[montecarlo.vary]]``).
     samples : int, optional
         That many seeded random samples instead (of the uncertainty set, or the
-        draws of ``[[montecarlo.vary]]``: see :mod:`casadi_debris.simulation.sampling`).
+        draws of ``[[montecarlo.vary]]``: see :mod:`casadi_debris.campaigns._sampling`).
     seed : int, optional
         Seed of the samples (default the problem's ``montecarlo.seed``).
     max_cases : int, optional

@@ -29,8 +29,7 @@ from casadi_debris.errors import (
 )
 from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
-from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
-from casadi_debris.simulation.summary import fuel_between_kg
+from casadi_debris.simulation import ClosedLoopResult, SimulationError, fuel_between_kg, simulate
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.controller import controller_for
 

@@ -24,15 +24,15 @@ from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report.detumble import DetumbleReport, detumble_figures, write_detumble
-from casadi_debris.simulation.closed_loop import SimulationError
+from casadi_debris.simulation import SimulationError
 from casadi_debris.simulation.detumble import (
     DEFAULT_GAIN_PER_S,
     DEFAULT_PERIOD_S,
     DEFAULT_THRESHOLD_RAD_S,
+    problem_time_optimal_detumble,
 )
 from casadi_debris.simulation.detumble import DetumbleResult as DetumbleRun
 from casadi_debris.simulation.detumble import detumble as fly_detumble
-from casadi_debris.simulation.detumble_ocp import problem_time_optimal_detumble
 from casadi_debris.units import SECONDS_PER_HOUR
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 

@@ -33,9 +33,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from casadi_debris.campaigns import DEFAULT_BATCH_CASES
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
 from casadi_debris.studies.failures import (
     FailureCase,
     FailureSettings,

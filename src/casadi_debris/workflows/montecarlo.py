@@ -26,9 +26,24 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import (
+    DEFAULT_BATCH_CASES,
+    CampaignSetup,
+    Case,
+    CaseFailure,
+    CaseOutcome,
+    nominal_case,
+    run_campaign,
+    statistics_of,
+)
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model
-from casadi_debris.errors import CampaignInterrupted, InputShapeError
+from casadi_debris.errors import (
+    CampaignInterrupted,
+    CasesFailedError,
+    InputShapeError,
+    SchedulerError,
+)
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.report.campaign_folder import (
     RECORD_NAME,
@@ -48,23 +63,7 @@ from casadi_debris.report.simulation import (
     write_campaign,
 )
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import (
-    CampaignSetup,
-    Case,
-    CaseOutcome,
-    ClosedLoopResult,
-    nominal_case,
-    run_campaign,
-    simulate,
-)
-from casadi_debris.simulation.closed_loop import c_compiler
-from casadi_debris.simulation.monte_carlo import (
-    DEFAULT_BATCH_CASES,
-    CaseFailure,
-    CasesFailedError,
-    SchedulerError,
-)
-from casadi_debris.simulation.statistics import statistics_of
+from casadi_debris.simulation import ClosedLoopResult, c_compiler, simulate
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import (
     CaseSelection,

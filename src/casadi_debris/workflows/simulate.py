@@ -29,11 +29,10 @@ from casadi_debris.workflows.controller import controller_for
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from casadi_debris.campaigns import Case
     from casadi_debris.dynamics import Model
     from casadi_debris.guidance.reference import Reference
-    from casadi_debris.simulation.cases import Case
-    from casadi_debris.simulation.run import ClosedLoopResult
-    from casadi_debris.simulation.segment_figures import SegmentFigures
+    from casadi_debris.simulation import ClosedLoopResult, SegmentFigures
 
 LOGGER = logging.getLogger(__name__)
 
@@ -144,8 +143,8 @@ def simulate(
         The controller was designed for another plant (and ``allow_mismatch`` is false).
     """
     problem = _as_asked(as_problem(problem), duration_s, axis, angle_deg, failed)
+    from casadi_debris.campaigns import fly_case
     from casadi_debris.guidance import scenario_reference
-    from casadi_debris.simulation.monte_carlo import fly_case
 
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     problem, model, case = _chosen_case(problem, parameters, corner, sample, seed)
@@ -227,7 +226,7 @@ def _segment_figures(
     """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
     if problem.simulation.reference != "sequence":
         return None
-    from casadi_debris.simulation.segment_figures import segment_figures
+    from casadi_debris.simulation import segment_figures
 
     return tuple(segment_figures(result, reference.pieces))
 

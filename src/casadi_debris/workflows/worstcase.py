@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from casadi_debris.campaigns import Envelope, WorstCaseSearch, corner_cases, worst_case_search
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.guidance import scenario_reference
@@ -34,8 +35,6 @@ from casadi_debris.report.worstcase import (
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.parametric_mu import ParametricMu, parametric_mu
 from casadi_debris.robust.weights import recorded_performance_weights
-from casadi_debris.simulation import Envelope, corner_cases
-from casadi_debris.simulation.worst_case import WorstCaseSearch, worst_case_search
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.controller import controller_for
 

@@ -17,11 +17,17 @@ from dataclasses import dataclass, replace
 
 import control
 
+from casadi_debris.campaigns import (
+    DEFAULT_BATCH_CASES,
+    CampaignSetup,
+    Case,
+    CaseFailure,
+    CaseOutcome,
+    run_campaign,
+)
 from casadi_debris.config import Problem
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import CampaignSetup, Case, CaseOutcome, run_campaign
-from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES, CaseFailure
-from casadi_debris.simulation.summary import RunSummary
+from casadi_debris.simulation import RunSummary
 from casadi_debris.studies.failures._cases import FailureCase
 from casadi_debris.studies.failures._records import RunVerdict
 

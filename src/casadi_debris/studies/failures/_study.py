@@ -12,10 +12,9 @@ from typing import Any
 import control
 import numpy as np
 
+from casadi_debris.campaigns import DEFAULT_BATCH_CASES, Case, nominal_case
 from casadi_debris.config import SIGNED_AXES, Problem
 from casadi_debris.dynamics import Model
-from casadi_debris.simulation import Case, nominal_case
-from casadi_debris.simulation.monte_carlo import DEFAULT_BATCH_CASES
 from casadi_debris.studies.failures._authority import (
     CaseAuthority,
     case_authority,

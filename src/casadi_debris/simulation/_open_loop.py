@@ -17,7 +17,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.simulation.closed_loop import SimulationError
+from casadi_debris.simulation._closed_loop import SimulationError
 
 OPEN_LOOP_OPTIONS = {"abstol": 1e-13, "reltol": 1e-12, "max_num_steps": 1_000_000}
 OUTPUT_SPACING_S = 1.0

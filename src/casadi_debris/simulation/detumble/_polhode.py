@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.special import ellipj, ellipk
 
-from casadi_debris.simulation.closed_loop import SimulationError
+from casadi_debris.errors import SimulationError
 
 # Closest approach of the modulus to 1 (the separatrix, an infinite period).
 MAX_MODULUS = 1.0 - 1e-12

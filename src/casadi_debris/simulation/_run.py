@@ -1,7 +1,7 @@
 """One closed-loop scenario: plant, star tracker, controller, allocator, engines, reference.
 
 :func:`simulate` rolls the compiled control period
-(:mod:`casadi_debris.simulation.closed_loop`) out in stretches. After each
+(:mod:`casadi_debris.simulation._closed_loop`) out in stretches. After each
 stretch the allocator turns the applied torques into engine thrust
 (least fuel, zero net force) and the propulsion state burns it. A stretch
 ends early where the engines change: at a scheduled failure (the problem's
@@ -27,8 +27,8 @@ from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model, Parameters
 from casadi_debris.guidance.burn_plan import BurnWindow, burn_thrust_N, burn_windows
 from casadi_debris.guidance.reference import Reference
-from casadi_debris.simulation.batched import roll_together
-from casadi_debris.simulation.closed_loop import (
+from casadi_debris.simulation._batched import roll_together
+from casadi_debris.simulation._closed_loop import (
     DiscreteController,
     SimulationError,
     StepInput,
@@ -37,11 +37,11 @@ from casadi_debris.simulation.closed_loop import (
     build_loop_step,
     discretize_controller,
 )
-from casadi_debris.simulation.disturbance import disturbance_series, sine_series
-from casadi_debris.simulation.events import RunEvent, apply_failure, depleted_event
-from casadi_debris.simulation.noise import NoiseStreams, draw_noise
-from casadi_debris.simulation.realism import Realism, engine_basis
-from casadi_debris.simulation.result import ClosedLoopResult
+from casadi_debris.simulation._disturbance import disturbance_series, sine_series
+from casadi_debris.simulation._events import RunEvent, apply_failure, depleted_event
+from casadi_debris.simulation._noise import NoiseStreams, draw_noise
+from casadi_debris.simulation._realism import Realism, engine_basis
+from casadi_debris.simulation._result import ClosedLoopResult
 
 # The allocator's torque must equal the applied torque to this (relative to
 # the largest torque authority): the loop's premise, checked on every run.
@@ -114,7 +114,7 @@ def simulate(
         limits are set from the engines.
     jit : bool
         Run the step as compiled C (RK4 only): the batched loop of
-        :mod:`~casadi_debris.simulation.batched` with one slot, compiled
+        :mod:`~casadi_debris.simulation._batched` with one slot, compiled
         once per machine (seconds) and loaded from the cache afterwards.
     noise_seed : int, optional
         Seed of the noise (default ``[sensors] seed``); unused by the ideal loop.
@@ -156,7 +156,7 @@ def simulate_many(
 
     With ``jit`` (RK4, the paper's ideal loop) every stretch of every run is one call of one
     compiled function mapped over the runs
-    (:func:`~casadi_debris.simulation.batched.roll_together`); between
+    (:func:`~casadi_debris.simulation._batched.roll_together`); between
     stretches each run allocates, burns and fails as :func:`simulate` does
     alone, and gets the same numbers. Otherwise (or without a C compiler)
     the runs go one after the other on CasADi's virtual machine.

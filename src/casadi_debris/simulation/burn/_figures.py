@@ -32,8 +32,8 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics.attitude import quaternion_to_rotation
 from casadi_debris.guidance.burn_plan import direction_inertial
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.simulation.burn import BurnRun
-from casadi_debris.simulation.summary import RunSummary
+from casadi_debris.simulation._summary import RunSummary
+from casadi_debris.simulation.burn._burn import BurnRun
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
 
 # Tip deflection of a cantilever's first mode per unit base acceleration, times omega_1^2

@@ -1,14 +1,14 @@
 """The realistic control period: sensors, estimator, delay and engines around the controller.
 
 With a problem's ``[sensors.*]``, ``[estimation]``, ``[actuators]`` or
-``[controller]`` set, the step of :mod:`~casadi_debris.simulation.closed_loop`
+``[controller]`` set, the step of :mod:`~casadi_debris.simulation._closed_loop`
 replaces its ideal control law by :func:`realistic_law`, one period:
 
 1. star tracker: the reading ``q_m = q_ST (x) exp(e_k)`` of the low-passed
    attitude ``q_ST`` (the plant's first-order tracker state) with the drawn
    error ``e_k`` (bias + noise) when a reading arrives (``valid``);
 2. estimate: with ``filter = "none"`` the last reading held; with ``"mekf"`` the
-   filter of :mod:`~casadi_debris.simulation.estimation`, propagated with the
+   filter of :mod:`~casadi_debris.simulation._estimation`, propagated with the
    gyro reading ``w_k + gyro error``;
 3. controller and saturation, as in the ideal loop, on the estimate;
 4. delay: the controller's computation delay plus the engines' latency,
@@ -44,8 +44,8 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.dynamics.attitude import quaternion_product
-from casadi_debris.simulation.estimation import STATE_SIZE, initial_filter_state, mekf_step
-from casadi_debris.simulation.noise import NoiseStreams, arw_rad_rt_s, rrw_rad_s_rt_s
+from casadi_debris.simulation._estimation import STATE_SIZE, initial_filter_state, mekf_step
+from casadi_debris.simulation._noise import NoiseStreams, arw_rad_rt_s, rrw_rad_s_rt_s
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, SECONDS_PER_HOUR
 
 BASE_INPUTS = 8
@@ -152,7 +152,7 @@ class Realism:
 @dataclass(frozen=True)
 class RealismInputs:
     """Rows of the realistic step's input after the ideal ones
-    (:class:`~casadi_debris.simulation.closed_loop.StepInput`)."""
+    (:class:`~casadi_debris.simulation.StepInput`)."""
 
     n_engines: int
 

@@ -13,13 +13,13 @@ One control period ``h = 1 / control_rate`` of the loop, from the state
 4. plant: the model's ``dynamics`` with torque ``alpha u_k`` held and the
    disturbance ``d(t)``, integrated over the period by ``integrator_steps``
    classical Runge-Kutta steps (or CVODES, for reference). The environment
-   torques the problem switches on (:mod:`~casadi_debris.simulation.disturbance`)
+   torques the problem switches on (:mod:`~casadi_debris.simulation._disturbance`)
    are evaluated once per period from ``t_k`` and the attitude of ``x_k`` and
    held with ``alpha u_k``: they change over minutes, the period is 0.1 s.
 
 With realistic sensors, estimator, delay or engines (the problem's
 ``[sensors.*]``, ``[estimation]``, ``[controller]``, ``[actuators]``) steps 1 and
-3 are those of :mod:`~casadi_debris.simulation.realism`, with their extra state
+3 are those of :mod:`~casadi_debris.simulation._realism`, with their extra state
 after the controller's and their noise as extra rows of ``s``.
 
 The whole period is one ``casadi.Function`` (expanded to scalar operations,
@@ -49,11 +49,11 @@ import numpy as np
 
 from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.dynamics import Model
-from casadi_debris.errors import SimulationError
+from casadi_debris.errors import CompileError, SimulationError
 from casadi_debris.processes import process_alive
-from casadi_debris.simulation.disturbance import environment_function
-from casadi_debris.simulation.jit_cache import CompileError, compiled_function
-from casadi_debris.simulation.realism import EngineBasis, Realism, realistic_law
+from casadi_debris.simulation._disturbance import environment_function
+from casadi_debris.simulation._jit_cache import compiled_function
+from casadi_debris.simulation._realism import EngineBasis, Realism, realistic_law
 from casadi_debris.units import DEG_PER_RAD, NM_PER_MNM
 
 # Relative pull-in of a saturated torque so that it lies strictly inside the
@@ -78,7 +78,7 @@ class StepOutput:
     The ideal loop's ``y`` has the first ``SIZE``; the realistic one adds the
     torque and force applied over the period and, with engine-level effects,
     the (delayed) torque command and each engine's thrust change
-    (:mod:`~casadi_debris.simulation.realism`).
+    (:mod:`~casadi_debris.simulation._realism`).
     """
 
     DEMAND_NM = slice(0, 3)
@@ -356,7 +356,7 @@ def build_loop_step(
         Run the step as C compiled by the system's C compiler (RK4 only):
         about ten times faster per step. The library is compiled once per
         machine (a few seconds) and kept in the cache folder of
-        :mod:`~casadi_debris.simulation.jit_cache`; other processes load it
+        :mod:`~casadi_debris.simulation._jit_cache`; other processes load it
         from there, and each process keeps it for a given model, controller
         and authority. Falls back to the virtual machine, with a logged
         warning, when no compiler is found or compiling fails.
@@ -495,7 +495,7 @@ def _loop_step(
 
     ``polytope`` is either the authority, folded in as constants, or a facet
     capacity: the step then takes a fourth input ``facets`` (capacity x 4, see
-    :func:`~casadi_debris.simulation.batched.facet_rows`), so that one compiled
+    :func:`~casadi_debris.simulation._batched.facet_rows`), so that one compiled
     step serves every authority.
     """
     if integrator not in INTEGRATORS:

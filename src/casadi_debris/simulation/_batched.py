@@ -1,17 +1,17 @@
 """Many closed-loop runs at once: one compiled roll-out, mapped over the cases.
 
-The control period of :mod:`~casadi_debris.simulation.closed_loop` with the
+The control period of :mod:`~casadi_debris.simulation._closed_loop` with the
 model parameters and the authority polytope as inputs (its facets padded to a
 capacity, :func:`facet_rows`) is rolled
 out over ``chunk_steps`` periods (``mapaccum``) and the roll-out mapped over
 ``cases`` slots (``map``): one CasADi Function, generated as C, compiled once
-per machine into the cache of :mod:`~casadi_debris.simulation.jit_cache` and
-called directly on numpy arrays (:class:`~casadi_debris.simulation.native.NativeFunction`).
+per machine into the cache of :mod:`~casadi_debris.simulation._jit_cache` and
+called directly on numpy arrays (:class:`~casadi_debris.simulation._native.NativeFunction`).
 Every case of a campaign, whatever its plant, failures or depleted stages,
 runs on it: nothing is compiled per case or per failure set.
 
 Between stretches each case goes on as a run of its own
-(:func:`~casadi_debris.simulation.run.simulate`): its allocator turns the
+(:func:`~casadi_debris.simulation.simulate`): its allocator turns the
 stretch's torques into thrust, its engines burn, its failures and depleted
 stages end a stretch early and change its authority. Each slot computes
 exactly what the one-case roll-out computes from the same inputs, so a case
@@ -30,8 +30,8 @@ import numpy as np
 
 from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.dynamics import Model
-from casadi_debris.simulation.cases import Case
-from casadi_debris.simulation.closed_loop import (
+from casadi_debris.errors import CompileError
+from casadi_debris.simulation._closed_loop import (
     JIT_FLAGS,
     DiscreteController,
     SimulationError,
@@ -41,8 +41,8 @@ from casadi_debris.simulation.closed_loop import (
     _loop_step,
     c_compiler,
 )
-from casadi_debris.simulation.jit_cache import CompileError, compiled_library
-from casadi_debris.simulation.native import NativeFunction
+from casadi_debris.simulation._jit_cache import compiled_library
+from casadi_debris.simulation._native import NativeFunction
 
 FACET_CAPACITY_MIN = 16
 """Facets the compiled step holds at least; more take the next power of two."""
@@ -308,25 +308,3 @@ def _roll_slots(
     parameters = np.stack([runs[i].parameters for i in chosen])
     polytopes = [_authority(runs[i]) for i in chosen]
     return loop.roll(z, inputs, parameters, polytopes)
-
-
-@dataclass(frozen=True, eq=False)
-class CaseBatch:
-    """Cases a worker runs together, in a compiled function of ``slots`` cases."""
-
-    cases: tuple[Case, ...]
-    slots: int
-
-
-def batches(cases: list[Case], size: int, workers: int) -> list[CaseBatch]:
-    """``cases`` in batches of at most ``size``, at least one per worker where there are enough.
-
-    The slots (the compiled function's cases) are a power of two, so that few
-    libraries serve every campaign; the last batch leaves some unused.
-    """
-    per_worker = -(-len(cases) // max(1, workers))
-    slots = 1
-    while slots < min(size, per_worker):
-        slots *= 2
-    slots = min(slots, max(1, size))
-    return [CaseBatch(tuple(cases[i : i + slots]), slots) for i in range(0, len(cases), slots)]

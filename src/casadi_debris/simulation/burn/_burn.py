@@ -49,9 +49,9 @@ from casadi_debris.guidance.burn_plan import (
 )
 from casadi_debris.guidance.reference import Reference
 from casadi_debris.guidance.targets import body_rates, frame_attitude
-from casadi_debris.simulation.closed_loop import SimulationError, discretize_controller
-from casadi_debris.simulation.result import ClosedLoopResult
-from casadi_debris.simulation.run import RunInputs, _Rollout, _Series
+from casadi_debris.simulation._closed_loop import SimulationError, discretize_controller
+from casadi_debris.simulation._result import ClosedLoopResult
+from casadi_debris.simulation._run import RunInputs, _Rollout, _Series
 
 DEFAULT_PERIOD_S = 0.1
 

@@ -1,6 +1,6 @@
 """Call a compiled CasADi Function's C directly, on numpy arrays, without copies.
 
-CasADi's generated C (:mod:`~casadi_debris.simulation.jit_cache`) exports one
+CasADi's generated C (:mod:`~casadi_debris.simulation._jit_cache`) exports one
 entry point per Function, ``int name(const double** arg, double** res,
 casadi_int* iw, double* w, int mem)``, with ``name_work`` giving the sizes of
 the four work vectors and ``name_checkout`` / ``name_release`` a memory slot
@@ -25,7 +25,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
-from casadi_debris.simulation.jit_cache import CompileError
+from casadi_debris.errors import CompileError
 
 _INT = ctypes.c_longlong  # casadi_int of CasADi's generated code
 _REAL_POINTER = ctypes.POINTER(ctypes.c_double)
@@ -39,7 +39,7 @@ class NativeFunction:
     function : casadi.Function
         The Function the library was generated from (for its name and shapes).
     library : Path
-        The shared library (see :func:`~casadi_debris.simulation.jit_cache.compiled_library`).
+        The shared library (see :func:`~casadi_debris.simulation._jit_cache.compiled_library`).
 
     Raises
     ------
@@ -49,8 +49,8 @@ class NativeFunction:
     Examples
     --------
     >>> import casadi as ca, numpy as np
-    >>> from casadi_debris.simulation.jit_cache import compiled_library
-    >>> from casadi_debris.simulation.closed_loop import c_compiler
+    >>> from casadi_debris.simulation._jit_cache import compiled_library
+    >>> from casadi_debris.simulation._closed_loop import c_compiler
     >>> x = ca.SX.sym("x", 2, 3)
     >>> f = ca.Function("twice", [x], [2 * x])
     >>> native = NativeFunction(f, compiled_library(f, c_compiler()))  # doctest: +SKIP

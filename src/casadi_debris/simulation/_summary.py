@@ -12,7 +12,7 @@ from casadi_debris.records import Record
 from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
 
 if TYPE_CHECKING:
-    from casadi_debris.simulation.run import ClosedLoopResult
+    from casadi_debris.simulation._run import ClosedLoopResult
 
 # Settling: the error's largest component stays below this from then on.
 SETTLE_BAND_ARCSEC = 60.0

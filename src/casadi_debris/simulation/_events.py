@@ -2,7 +2,7 @@
 
 :func:`apply_failure` applies a scheduled failure to the engines' state and
 :func:`depleted_event` turns the propulsion's depleted stage into a
-:class:`RunEvent`; the closed loop (:mod:`~casadi_debris.simulation.run`)
+:class:`RunEvent`; the closed loop (:mod:`~casadi_debris.simulation._run`)
 rebuilds its torque authority after each.
 """
 
@@ -14,7 +14,7 @@ import numpy as np
 
 from casadi_debris.allocation import PropulsionState, StageEvent
 from casadi_debris.config import FailureEvent
-from casadi_debris.simulation.summary import EventRecord
+from casadi_debris.simulation._summary import EventRecord
 
 EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed", "engine_failed")
 

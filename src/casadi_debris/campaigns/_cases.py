@@ -25,9 +25,9 @@ import numpy as np
 
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model
+from casadi_debris.errors import SimulationError
 from casadi_debris.records import Record
 from casadi_debris.robust.uncertainty import corner_angles, parameters_from_normalized
-from casadi_debris.simulation.closed_loop import SimulationError
 
 __all__ = [
     "Case",
@@ -165,3 +165,25 @@ def nominal_case(model: Model) -> Case:
     """The nominal plant."""
     zero = np.zeros(model.parameter_layout.size)
     return Case("nominal", "nominal", 0, None, zero, model.nominal_parameters)
+
+
+@dataclass(frozen=True, eq=False)
+class CaseBatch:
+    """Cases a worker runs together, in a compiled function of ``slots`` cases."""
+
+    cases: tuple[Case, ...]
+    slots: int
+
+
+def batches(cases: list[Case], size: int, workers: int) -> list[CaseBatch]:
+    """``cases`` in batches of at most ``size``, at least one per worker where there are enough.
+
+    The slots (the compiled function's cases) are a power of two, so that few
+    libraries serve every campaign; the last batch leaves some unused.
+    """
+    per_worker = -(-len(cases) // max(1, workers))
+    slots = 1
+    while slots < min(size, per_worker):
+        slots *= 2
+    slots = min(slots, max(1, size))
+    return [CaseBatch(tuple(cases[i : i + slots]), slots) for i in range(0, len(cases), slots)]

@@ -9,8 +9,8 @@ import numpy as np
 
 from casadi_debris.guidance.sequence import Piece, segment_records
 from casadi_debris.records import Record
-from casadi_debris.simulation.run import ClosedLoopResult
-from casadi_debris.simulation.summary import fuel_between_kg
+from casadi_debris.simulation._run import ClosedLoopResult
+from casadi_debris.simulation._summary import fuel_between_kg
 from casadi_debris.units import ARCSEC_PER_RAD
 
 

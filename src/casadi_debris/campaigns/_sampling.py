@@ -16,7 +16,7 @@ makes one value whatever the truncation.
 Model parameters (``mass_kg``, ...) go into the case's parameter vector and
 cost nothing; file keys are kept in :attr:`Case.varied`, and the case's
 problem and model are rebuilt from them when it runs (see
-:func:`~casadi_debris.simulation.monte_carlo.run_case`).
+:func:`~casadi_debris.campaigns.run_case`).
 """
 
 from __future__ import annotations
@@ -28,12 +28,11 @@ from collections.abc import Sequence
 import numpy as np
 from scipy import special
 
+from casadi_debris.campaigns._cases import Case
 from casadi_debris.config import Problem, VariedQuantity
 from casadi_debris.dynamics import Model
-from casadi_debris.errors import ModelError, ProblemFileError
+from casadi_debris.errors import ModelError, ProblemFileError, SimulationError
 from casadi_debris.robust.uncertainty import normalized_from_parameters
-from casadi_debris.simulation.cases import Case
-from casadi_debris.simulation.closed_loop import SimulationError
 
 CASE_KIND = "varied"
 

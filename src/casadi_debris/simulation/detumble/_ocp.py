@@ -10,7 +10,7 @@ the polhode label ``s = m . J^-1 m`` (``m = H / |H|``), so
 while ``m`` runs round its polhode about once a second at 1 rad/s. Over the hours
 of braking ``|H|`` and ``s`` change slowly (``|tau| / (|H| |omega|)`` is about
 1e-6), and by averaging their drift is the mean over the polhode
-(:mod:`~casadi_debris.simulation.polhode`).
+(:mod:`~casadi_debris.simulation.detumble._polhode`).
 
 Pontryagin's principle on the averaged system says which torque to give at each
 point of the polhode: the one that minimises ``lambda_H m . tau + lambda_s (2 /
@@ -47,11 +47,15 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
+from casadi_debris.errors import SimulationError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.records import Record
-from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.simulation.polhode import PolhodeAverages, PrincipalBody, polhode_averages
+from casadi_debris.simulation.detumble._polhode import (
+    PolhodeAverages,
+    PrincipalBody,
+    polhode_averages,
+)
 
 LOGGER = logging.getLogger(__name__)
 

@@ -113,7 +113,7 @@ def compiled_library(function: ca.Function, compiler: str, flags: Sequence[str] 
     The library exports CasADi's C interface of generated code under the
     Function's name (``name``, ``name_work``, ``name_checkout`` ...): load it
     with ``casadi.external`` (:func:`compiled_function`) or call it directly
-    (:class:`~casadi_debris.simulation.native.NativeFunction`).
+    (:class:`~casadi_debris.simulation._native.NativeFunction`).
 
     Parameters and errors (:class:`CompileError`) are those of :func:`compiled_function`.
     """

@@ -1,7 +1,7 @@
 """Monte Carlo campaigns: many closed-loop cases in parallel, summaries and envelope.
 
 A campaign runs :func:`~casadi_debris.simulation.simulate` for each
-:class:`~casadi_debris.simulation.cases.Case` on local processes (default),
+:class:`~casadi_debris.campaigns.Case` on local processes (default),
 or on a Dask cluster when a scheduler address is given, through
 ``casadi_debris.parallel.parallel_map``. Each case returns
 its summary and its :class:`Bands`: the minimum and maximum of the attitude
@@ -30,6 +30,7 @@ import control
 import numpy as np
 
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns._cases import Case, CaseBatch, CaseIdentity, batches
 from casadi_debris.config import Problem, problem_with_values
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.errors import CasesFailedError, SchedulerError
@@ -42,14 +43,16 @@ from casadi_debris.parallel import (
     parallel_map,
 )
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.simulation.batched import CaseBatch, batches, release_batched_loops
-from casadi_debris.simulation.cases import Case, CaseIdentity
-from casadi_debris.simulation.closed_loop import (
+from casadi_debris.simulation import (
+    ClosedLoopResult,
+    RunInputs,
+    RunSummary,
     SimulationError,
+    release_batched_loops,
     release_compiled_steps,
+    simulate,
+    simulate_many,
 )
-from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
-from casadi_debris.simulation.summary import RunSummary
 
 MAX_BINS = 2000
 DEFAULT_BATCH_CASES = 16

@@ -33,10 +33,11 @@ import numpy.typing as npt
 
 from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionState
 from casadi_debris.config import Problem
+from casadi_debris.errors import CompileError, SimulationError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.records import Record
-from casadi_debris.simulation.closed_loop import SimulationError, c_compiler, saturation_scale
-from casadi_debris.simulation.jit_cache import CompileError, compiled_function
+from casadi_debris.simulation._closed_loop import c_compiler, saturation_scale
+from casadi_debris.simulation._jit_cache import compiled_function
 
 LOGGER = logging.getLogger(__name__)
 

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from casadi_debris.allocation import PropulsionState
-from casadi_debris.simulation.events import RunEvent
-from casadi_debris.simulation.summary import (
+from casadi_debris.simulation._events import RunEvent
+from casadi_debris.simulation._summary import (
     SETTLE_BAND_ARCSEC,
     RunSummary,
     settle_time_s,

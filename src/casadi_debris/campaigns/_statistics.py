@@ -31,10 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
+from casadi_debris.campaigns._monte_carlo import CaseOutcome
 from casadi_debris.config import Problem
 from casadi_debris.records import Record
-from casadi_debris.simulation.monte_carlo import CaseOutcome
-from casadi_debris.simulation.summary import RunSummary
+from casadi_debris.simulation import RunSummary
 
 # Figures of merit of a case (fields of RunSummary, unit in the name).
 FIGURES = (

@@ -6,7 +6,7 @@ direct multiple shooting (Runge-Kutta 4) and IPOPT: minimise ``T`` until
 ``|J omega(T)| <= h_end``. Tractable only for small tumbles, where the rates precess a
 few times during the braking (at 1 rad/s they precess about once a second for two
 days: a million steps); there it checks the averaged OCP
-(:mod:`~casadi_debris.simulation.detumble_ocp`). IPOPT may return a local optimum;
+(:mod:`~casadi_debris.simulation.detumble._ocp`). IPOPT may return a local optimum;
 it starts from the greedy law (the vertex that brakes ``|H|`` fastest each interval).
 """
 
@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from casadi_debris.errors import SimulationError
 from casadi_debris.parallel import keep_ctrl_c
-from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.simulation.detumble import held_torque_rates
+from casadi_debris.simulation.detumble._detumble import held_torque_rates
 
 SUBSTEPS = 2
 GREEDY_STEPS_PER_INTERVAL = 4

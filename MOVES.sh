@@ -1,0 +1,31 @@
+#!/bin/sh
+# Module moves of the simulation split and store/ (apply to a tree: sh MOVES.sh FILES...).
+# Each line maps an old module path to its new private module, which always holds the
+# same names; callers in this branch then import the public names from the package
+# (casadi_debris.simulation, casadi_debris.campaigns, casadi_debris.simulation.detumble,
+# casadi_debris.simulation.burn, casadi_debris.store). Names that
+# `from casadi_debris.simulation import ...` gave and that moved to campaigns
+# (Case, CaseIdentity, CaseOutcome, CaseSummary, CampaignSetup, Envelope, corner_case(s),
+# nominal_case, sample_case(s), run_campaign, run_case) are not caught by a sed line:
+# import them from casadi_debris.campaigns.
+set -e
+files="$*"
+[ -n "$files" ] || files=$(git ls-files '*.py' '*.md' '*.yml' '*.toml')
+# campaigns: a layer of its own above the loop
+sed -i -E 's/casadi_debris\.simulation\.monte_carlo\b/casadi_debris.campaigns._monte_carlo/g' $files
+sed -i -E 's/casadi_debris\.simulation\.cases\b/casadi_debris.campaigns._cases/g' $files
+sed -i -E 's/casadi_debris\.simulation\.sampling\b/casadi_debris.campaigns._sampling/g' $files
+sed -i -E 's/casadi_debris\.simulation\.statistics\b/casadi_debris.campaigns._statistics/g' $files
+sed -i -E 's/casadi_debris\.simulation\.worst_case\b/casadi_debris.campaigns._worst_case/g' $files
+# detumble runs: simulation/detumble/
+sed -i -E 's/casadi_debris\.simulation\.detumble_full_ocp\b/casadi_debris.simulation.detumble._full_ocp/g' $files
+sed -i -E 's/casadi_debris\.simulation\.detumble_ocp\b/casadi_debris.simulation.detumble._ocp/g' $files
+sed -i -E 's/casadi_debris\.simulation\.polhode\b/casadi_debris.simulation.detumble._polhode/g' $files
+sed -i -E 's/casadi_debris\.simulation\.detumble\b([^.]|$)/casadi_debris.simulation.detumble._detumble\1/g' $files
+# burn runs: simulation/burn/
+sed -i -E 's/casadi_debris\.simulation\.burn_figures\b/casadi_debris.simulation.burn._figures/g' $files
+sed -i -E 's/casadi_debris\.simulation\.burn\b([^.]|$)/casadi_debris.simulation.burn._burn\1/g' $files
+# the closed loop: private modules of simulation/
+for m in batched closed_loop disturbance estimation events jit_cache native noise open_loop realism result run segment_figures summary; do
+    sed -i -E "s/casadi_debris\.simulation\.${m}\b/casadi_debris.simulation._${m}/g" $files
+done
