@@ -29,3 +29,13 @@ sed -i -E 's/casadi_debris\.simulation\.burn\b([^.]|$)/casadi_debris.simulation.
 for m in batched closed_loop disturbance estimation events jit_cache native noise open_loop realism result run segment_figures summary; do
     sed -i -E "s/casadi_debris\.simulation\.${m}\b/casadi_debris.simulation._${m}/g" $files
 done
+# store: file writing at the bottom. report.common's write_csv, write_json_atomic and
+# json_ready moved to casadi_debris.store (store._files), and campaign_folder's
+# write_atomically too; the campaign dataset's builder campaign_dataset() moved to
+# casadi_debris.campaigns (campaigns._dataset); the case files of store.CampaignFolder
+# take a case id, arrays and a summary (see campaigns.CaseOutcome.from_saved).
+sed -i -E 's/casadi_debris\.report\.folders\b/casadi_debris.store._folders/g' $files
+sed -i -E 's/casadi_debris\.report\.campaign_folder\b/casadi_debris.store._campaign_folder/g' $files
+sed -i -E 's/casadi_debris\.report\.campaign_dataset\b/casadi_debris.store._campaign_dataset/g' $files
+sed -i -E 's/from casadi_debris\.report import folders\b/from casadi_debris.store import _folders as folders/g' $files
+sed -i -E 's/from casadi_debris\.report import campaign_dataset\b/from casadi_debris.store import _campaign_dataset as campaign_dataset/g' $files

@@ -14,7 +14,7 @@ from scipy import stats
 
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.report.campaign_dataset import open_campaign
+from casadi_debris.store import open_campaign
 
 PAPER = default_problem_path()
 

@@ -9,7 +9,7 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
-from casadi_debris.report.folders import MARKER_NAME
+from casadi_debris.store import MARKER_NAME
 
 FAST_WRITERS = [
     ["slew", "--method", "bang-bang"],

@@ -18,8 +18,8 @@ from scipy.integrate import solve_ivp
 from casadi_debris.cli import main
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.report.folders import MARKER_NAME
 from casadi_debris.report.simulation import normalized_column
+from casadi_debris.store import MARKER_NAME
 
 PROBLEMS = default_problem_path().parent
 SIMULATE_KEYS = {
@@ -257,7 +257,7 @@ def test_campaign_nc_holds_what_the_case_files_hold(campaign: Path) -> None:
 
 # What the user guide shows for a campaign in a notebook (see docs/guide/results.md).
 DOCS_SNIPPET = """
-from casadi_debris.report.campaign_dataset import open_campaign
+from casadi_debris.store import open_campaign
 ds = open_campaign("runs/slew-mc")
 worst = ds.max_error_deg.idxmax().item()
 ds.error_rad.sel(case=worst, bound="max").plot.line(x="time")
@@ -265,15 +265,15 @@ ds.error_rad.sel(case=worst, bound="max").plot.line(x="time")
 
 
 def _snippets_opening_a_campaign() -> list[str]:
-    """The snippet above, the module's Examples, and any python block of the docs that
+    """The snippet above, the package's Examples, and any python block of the docs that
     opens a campaign (all run in a folder where ``runs/slew-mc`` is a campaign)."""
     import doctest
 
-    from casadi_debris.report import campaign_dataset
+    from casadi_debris import store
 
     found = [DOCS_SNIPPET]
     parser = doctest.DocTestParser()
-    for text in (campaign_dataset.__doc__, campaign_dataset.open_campaign.__doc__):
+    for text in (store.__doc__, store.open_campaign.__doc__):
         found.append("".join(example.source for example in parser.get_examples(text or "")))
     root = Path(__file__).parents[1]
     for page in [root / "README.md", *sorted((root / "docs").rglob("*.md"))]:

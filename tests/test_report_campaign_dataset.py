@@ -9,16 +9,22 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
-from casadi_debris.report.campaign_dataset import (
+from casadi_debris.campaigns import (
+    Bands,
+    Case,
+    CaseOutcome,
+    CaseSummary,
+    Extremes,
+    campaign_dataset,
+)
+from casadi_debris.store import (
     CASE_FIGURES,
     DATASET_NAME,
     NO_SEED,
-    campaign_dataset,
+    CampaignRecord,
     open_campaign,
     write_campaign_dataset,
 )
-from casadi_debris.report.campaign_folder import CampaignRecord
 from run_summaries import zero_run_summary
 
 PARAMETERS = ("p1", "p2", "p3", "p4", "p5", "p6")

@@ -11,15 +11,16 @@ import numpy as np
 import pytest
 
 from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
-from casadi_debris.report.campaign_folder import (
+from casadi_debris.errors import OutputError
+from casadi_debris.store import (
     LOCK_NAME,
+    MARKER_NAME,
     RECORD_NAME,
     CampaignFolder,
     CampaignRecord,
     partial_folder,
     write_atomically,
 )
-from casadi_debris.report.folders import MARKER_NAME, OutputError
 from run_summaries import zero_run_summary
 
 
@@ -51,6 +52,18 @@ def _outcome(index: int, rng: np.random.Generator) -> CaseOutcome:
     return CaseOutcome(case, CaseSummary(case.identity(), run), bands)
 
 
+def _write(folder: CampaignFolder, outcome: CaseOutcome) -> None:
+    folder.write_case(outcome.case.case_id, outcome.bands.to_arrays(), outcome.summary)
+
+
+def _finished(folder: CampaignFolder, cases: list[Case]) -> dict[str, CaseOutcome]:
+    by_id = {case.case_id: case for case in cases}
+    return folder.finished_cases(
+        by_id,
+        lambda case_id, summary, arrays: CaseOutcome.from_saved(by_id[case_id], summary, arrays),
+    )
+
+
 def _same_bands(first: Bands, second: Bands) -> bool:
     one, two = first.to_arrays(), second.to_arrays()
     return one.keys() == two.keys() and all(np.array_equal(one[k], two[k]) for k in one)
@@ -74,7 +87,7 @@ def test_cases_come_back_bit_exact_and_temporaries_of_the_dead_are_cleaned(
     written = [_outcome(i, rng) for i in range(2)]
     with CampaignFolder.open(out, _record()) as folder:
         for outcome in written:
-            folder.write_case(outcome)
+            _write(folder, outcome)
     dead = _dead_pid()
     stale = partial_folder(out) / "cases" / f".sample-0001.npz.casadi-debris-{dead}-0a.tmp"
     stale.write_bytes(b"half")
@@ -82,7 +95,7 @@ def test_cases_come_back_bit_exact_and_temporaries_of_the_dead_are_cleaned(
     stale_table.write_bytes(b"half")
     with CampaignFolder.open(out, _record()) as folder:
         assert not stale.exists() and not stale_table.exists()
-        found = folder.finished_cases([o.case for o in written])
+        found = _finished(folder, [o.case for o in written])
         for outcome in written:
             again = found[outcome.case.case_id]
             assert _same_bands(again.bands, outcome.bands)
@@ -96,7 +109,7 @@ def test_cases_come_back_bit_exact_and_temporaries_of_the_dead_are_cleaned(
 def test_another_campaign_is_refused_and_left_untouched(tmp_path: Path) -> None:
     out = tmp_path / "campaign"
     with CampaignFolder.open(out, _record()) as folder:
-        folder.write_case(_outcome(0, np.random.default_rng(1)))
+        _write(folder, _outcome(0, np.random.default_rng(1)))
     before = sorted(p.name for p in partial_folder(out).rglob("*"))
     with pytest.raises(OutputError, match=r"holds another campaign .*seed \(1 there, 7 here\)"):
         CampaignFolder.open(out, _record(seed=7))
@@ -130,11 +143,11 @@ def test_a_case_of_an_older_layout_is_run_again(tmp_path: Path) -> None:
     out = tmp_path / "campaign"
     outcome = _outcome(0, np.random.default_rng(2))
     with CampaignFolder.open(out, _record()) as folder:
-        folder.write_case(outcome)
+        _write(folder, outcome)
         cases = partial_folder(out) / "cases"
-        assert folder.finished_cases([outcome.case]).keys() == {"sample-0000"}
+        assert _finished(folder, [outcome.case]).keys() == {"sample-0000"}
         np.savez_compressed(cases / "sample-0000.npz", bands=np.zeros((5, 12)))  # one array
-        assert folder.finished_cases([outcome.case]) == {}
+        assert _finished(folder, [outcome.case]) == {}
 
 
 def test_write_atomically_leaves_the_old_file_or_the_new_one(tmp_path: Path) -> None:

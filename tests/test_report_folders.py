@@ -14,10 +14,9 @@ from pathlib import Path
 
 import pytest
 
-from casadi_debris.report import folders
-from casadi_debris.report.folders import (
+from casadi_debris.errors import OutputError
+from casadi_debris.store import (
     MARKER_NAME,
-    OutputError,
     RunFolder,
     check_output_file,
     check_output_folder,
@@ -25,6 +24,7 @@ from casadi_debris.report.folders import (
     default_run_folder,
     slug,
 )
+from casadi_debris.store import _folders as folders
 
 
 def _result(folder: Path, label: str, files: int = 3) -> None:
@@ -216,7 +216,7 @@ _WRITER = textwrap.dedent(
     """
     import os, sys
     from pathlib import Path
-    from casadi_debris.report import folders
+    from casadi_debris.store import _folders as folders
     target, label, files, mode, die_at = sys.argv[1:]
     files, die_at = int(files), int(die_at)
     calls = {"n": 0}
@@ -279,7 +279,7 @@ def test_a_kill_at_random_moments_leaves_one_whole_result(tmp_path: Path) -> Non
     script = textwrap.dedent(
         """
         import sys
-        from casadi_debris.report.folders import RunFolder
+        from casadi_debris.store._folders import RunFolder
         with RunFolder.claim(sys.argv[1], overwrite=True) as staging:
             for i in range(400):
                 (staging / f"part{i}.txt").write_text(f"{sys.argv[2]} 400")

@@ -10,15 +10,15 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
-from casadi_debris.dynamics import build_model
-from casadi_debris.report.campaign_dataset import (
-    CASE_FIGURES,
-    DATASET_NAME,
+from casadi_debris.campaigns import (
+    Bands,
+    Case,
+    CaseOutcome,
+    CaseSummary,
+    Extremes,
     campaign_dataset,
-    write_campaign_dataset,
 )
-from casadi_debris.report.campaign_folder import CampaignRecord
+from casadi_debris.dynamics import build_model
 from casadi_debris.report.worstcase import (
     ParameterFile,
     WorstCaseIdentity,
@@ -29,6 +29,7 @@ from casadi_debris.report.worstcase import (
 )
 from casadi_debris.robust.parametric_mu import WorstPerturbation
 from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.store import CASE_FIGURES, DATASET_NAME, CampaignRecord, write_campaign_dataset
 from run_summaries import zero_run_summary
 
 N_BINS = 4

@@ -13,8 +13,7 @@ from click.testing import CliRunner
 import casadi_debris as cd
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.cli import main
-from casadi_debris.errors import AllocationError, InputShapeError
-from casadi_debris.report.folders import OutputError
+from casadi_debris.errors import AllocationError, InputShapeError, OutputError
 from lp_reference import least_mass_flow_kg_s
 
 # Figures that time the solver, not what it solved.

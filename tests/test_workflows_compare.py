@@ -17,8 +17,8 @@ from casadi_debris.config import FailureEvent, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.report.folders import MARKER_NAME
 from casadi_debris.simulation import simulate
+from casadi_debris.store import MARKER_NAME
 from casadi_debris.workflows.compare import compare
 from casadi_debris.workflows.controller import controller_for
 from workflow_files import short_problem as _short

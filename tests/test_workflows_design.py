@@ -174,7 +174,7 @@ def test_each_missed_requirement_gets_its_binding_limit_from_the_runs(problem):
 
 def test_cd_design_refuses_a_folder_it_did_not_write_before_any_work(tmp_path: Path):
     import casadi_debris as cd
-    from casadi_debris.report.folders import OutputError
+    from casadi_debris.errors import OutputError
 
     out = tmp_path / "mine"
     out.mkdir()
@@ -191,7 +191,7 @@ def test_cd_design_is_the_design_command(tmp_path: Path):
     import matplotlib.pyplot as plt
 
     import casadi_debris as cd
-    from casadi_debris.report.folders import MARKER_NAME
+    from casadi_debris.store import MARKER_NAME
 
     def files(folder: Path) -> list[str]:
         found = folder.rglob("*")

@@ -13,7 +13,7 @@ from click.testing import CliRunner
 import casadi_debris as cd
 from casadi_debris.cli import main
 from casadi_debris.dynamics import Model
-from casadi_debris.report.folders import OutputError
+from casadi_debris.errors import OutputError
 
 
 def _cli_json(*arguments: str) -> dict:

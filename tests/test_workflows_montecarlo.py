@@ -14,7 +14,7 @@ from click.testing import CliRunner
 
 import casadi_debris as cd
 from casadi_debris.cli import main
-from casadi_debris.report.campaign_dataset import open_campaign
+from casadi_debris.store import open_campaign
 from workflow_files import files_written as _files
 from workflow_files import short_problem as _short
 

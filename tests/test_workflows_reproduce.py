@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 import casadi_debris as cd
 from casadi_debris.cli import main
-from casadi_debris.report.folders import OutputError
+from casadi_debris.errors import OutputError
 from workflow_files import files_written as _files
 
 VOLATILE = ("time_s", "out_dir")

@@ -11,8 +11,7 @@ from click.testing import CliRunner
 
 import casadi_debris as cd
 from casadi_debris.cli import main
-from casadi_debris.errors import InputShapeError
-from casadi_debris.report.folders import OutputError
+from casadi_debris.errors import InputShapeError, OutputError
 
 
 @pytest.fixture(scope="module")

@@ -14,7 +14,7 @@ from click.testing import CliRunner
 import casadi_debris as cd
 from casadi_debris.cli import main
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.report.folders import OutputError
+from casadi_debris.errors import OutputError
 from casadi_debris.workflows.controller import load_controller
 
 QUICK = {"mu_points": 10, "max_iterations": 0, "samples": 20}

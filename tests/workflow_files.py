@@ -6,7 +6,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from casadi_debris.config import default_problem_path
-from casadi_debris.report.folders import MARKER_NAME
+from casadi_debris.store import MARKER_NAME
 
 PROBLEMS = default_problem_path().parent
 

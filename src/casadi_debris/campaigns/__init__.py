@@ -11,12 +11,14 @@ worst case.
   campaign goes on.
 - :func:`campaign_statistics`: pass rate, moments, percentiles and what drives the worst
   cases (:class:`CampaignStatistics`).
+- :func:`campaign_dataset`: every case as labelled arrays (an xarray Dataset, the
+  ``campaign.nc`` that :mod:`casadi_debris.store` writes and opens).
 - :func:`worst_case_search`: a search of the uncertainty box for the loop's largest
   pointing error (:class:`WorstCaseSearch`).
 
 This layer sits on the closed loop (:mod:`casadi_debris.simulation`) and uses only its
 public names; nothing below imports it. Nothing here writes files: the campaign folder
-and its dataset are :mod:`casadi_debris.store`'s.
+and its dataset on disk are :mod:`casadi_debris.store`'s.
 """
 
 from casadi_debris.campaigns._cases import (
@@ -30,6 +32,7 @@ from casadi_debris.campaigns._cases import (
     sample_case,
     sample_cases,
 )
+from casadi_debris.campaigns._dataset import campaign_dataset
 from casadi_debris.campaigns._monte_carlo import (
     DEFAULT_BATCH_CASES,
     Bands,
@@ -95,6 +98,7 @@ __all__ = [
     "WorstCaseSearch",
     "batches",
     "bin_bands",
+    "campaign_dataset",
     "campaign_statistics",
     "case_figures",
     "case_quantities",

@@ -233,6 +233,15 @@ class CaseOutcome:
     summary: CaseSummary
     bands: Bands
 
+    @classmethod
+    def from_saved(
+        cls, case: Case, summary: dict[str, Any], arrays: Mapping[str, np.ndarray]
+    ) -> CaseOutcome:
+        """The case as its files keep it: its summary's JSON and its bands' named arrays
+        (:meth:`Bands.to_arrays`); a layout of another version raises ValueError,
+        KeyError or TypeError."""
+        return cls(case, CaseSummary.from_json(summary), Bands.from_arrays(arrays))
+
 
 @dataclass(frozen=True)
 class CaseSummary(Record):

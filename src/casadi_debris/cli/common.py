@@ -17,7 +17,7 @@ import click
 from casadi_debris._version import __version__
 from casadi_debris.config.limits import SEED, UNCERTAINTY_SAMPLES, Range
 from casadi_debris.errors import CasadiDebrisError, InputShapeError, InternalError
-from casadi_debris.report.common import json_ready
+from casadi_debris.store import json_ready
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 3
@@ -89,7 +89,7 @@ def out_folder_option(command: str) -> Decorator:
 def run_folder(out: Path | None, command: str, problem_name: str, overwrite: bool) -> Path:
     """The run folder ``--out`` names (default ``runs/<command>-<problem>``), checked
     before any work or progress line, so that a refusal is the only line printed."""
-    from casadi_debris.report.folders import check_output_folder, default_run_folder
+    from casadi_debris.store import check_output_folder, default_run_folder
 
     folder = out or default_run_folder(command, problem_name)
     check_output_folder(folder, overwrite=overwrite)

@@ -27,7 +27,7 @@ def reproduce(
     """Reproduce the paper: model, budgets, controller, margins, slew and pointing
     with their Monte-Carlo envelopes; writes report.md with every figure of the
     paper next to ours."""
-    from casadi_debris.report.folders import check_output_folder
+    from casadi_debris.store import check_output_folder
     from casadi_debris.workflows.reproduce import reproduce as reproduce_job
 
     check_output_folder(out, overwrite=overwrite)

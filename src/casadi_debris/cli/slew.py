@@ -25,7 +25,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import limits, load_problem
 from casadi_debris.report.common import format_table
-from casadi_debris.report.folders import check_output_folder
+from casadi_debris.store import check_output_folder
 
 if TYPE_CHECKING:
     from casadi_debris.guidance.sequence import ManoeuvreSummary

@@ -1,21 +1,16 @@
-"""Shared pieces of the reports: tables, JSON, atomic writes.
+"""Shared pieces of the reports: tables, figures and verdicts as text.
+
+Writing files (JSON, CSV, atomically) is :mod:`casadi_debris.store`'s.
 
 The paper's figures and tolerances are in :mod:`casadi_debris.report.paper`.
 """
 
 from __future__ import annotations
 
-import csv
-import json
-import os
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
-
-from casadi_debris.records import Record, to_jsonable
-from casadi_debris.report.folders import temporary_path
 
 # ----------------------------------------------------------------------------- text
 
@@ -62,33 +57,3 @@ def verdict_text(outcome: bool | None, word: str) -> str:
     if outcome is None:
         return "—"
     return f"✅ {word}" if outcome else f"❌ not {word}"
-
-
-def json_ready(value: Any) -> Any:
-    """``value`` for ``json.dumps``: records by field, numpy as lists, non-finite as None."""
-    return to_jsonable(value)
-
-
-def write_csv(path: Path, columns: dict[str, np.ndarray]) -> Path:
-    """Columns of equal length as CSV, names in the header."""
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(columns)
-        writer.writerows(np.column_stack(list(columns.values())).tolist())
-    return path
-
-
-def write_json_atomic(path: str | Path, payload: dict[str, Any] | Record) -> Path:
-    """Write JSON so that ``path`` holds either the old file or the whole new one."""
-    target = Path(path).resolve()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    temporary = temporary_path(target, "tmp")
-    try:
-        with temporary.open("x") as stream:
-            json.dump(json_ready(payload), stream, indent=1)
-            stream.write("\n")
-        os.replace(temporary, target)
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-    return target

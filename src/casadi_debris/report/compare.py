@@ -11,7 +11,8 @@ import numpy as np
 from casadi_debris.plots import save_figure
 from casadi_debris.plots.simulation import comparison_figure
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure, write_csv, write_json_atomic
+from casadi_debris.report.common import format_figure
+from casadi_debris.store import write_csv, write_json_atomic
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -26,7 +26,8 @@ from casadi_debris.config import SIGNED_AXES
 from casadi_debris.plots import save_figure
 from casadi_debris.plots.failures import authority_loss_figure
 from casadi_debris.records import to_jsonable
-from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.report.common import format_figure
+from casadi_debris.store import write_json_atomic
 from casadi_debris.studies.failures import (
     FailureCaseRecord,
     FailuresSummary,

@@ -16,7 +16,8 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.config.schema import CubeSat
-from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.report.common import format_figure
+from casadi_debris.store import write_json_atomic
 from casadi_debris.studies.placement import ParetoPoint, PlacementStudy, PlacementSummary
 
 if TYPE_CHECKING:

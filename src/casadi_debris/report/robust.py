@@ -14,7 +14,6 @@ from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.plots import robust as robust_plots
 from casadi_debris.plots import save_figure
 from casadi_debris.records import Record
-from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margins_table
 from casadi_debris.robust.controller import ControllerRecord
@@ -29,6 +28,7 @@ from casadi_debris.robust.uncertainty import (
     sample_uncertainty,
 )
 from casadi_debris.robust.weights import recorded_performance_weights, weight_system
+from casadi_debris.store import write_json_atomic
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

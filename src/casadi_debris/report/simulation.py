@@ -7,10 +7,10 @@ A campaign: ``summary.json`` (worst case of every figure, counts, seed, and
 the statistics of :mod:`casadi_debris.campaigns`), ``cases.csv``
 (one row per case, with the value of every varied quantity), ``envelope.csv``,
 ``statistics.png``, ``campaign.nc`` (every
-case as labelled arrays, see :mod:`casadi_debris.report.campaign_dataset`),
+case as labelled arrays, see :func:`casadi_debris.store.open_campaign`),
 ``nominal/`` (the nominal run), ``envelope.png``, and ``cases/<id>.json`` +
 ``cases/<id>.npz`` per case (written as they finish, see
-:mod:`casadi_debris.report.campaign_folder`).
+:class:`casadi_debris.store.CampaignFolder`).
 """
 
 from __future__ import annotations
@@ -29,6 +29,7 @@ from casadi_debris.campaigns import (
     CampaignStatistics,
     CaseOutcome,
     Envelope,
+    campaign_dataset,
     case_figures,
 )
 from casadi_debris.config import AXIS_NAMES, Problem
@@ -37,16 +38,16 @@ from casadi_debris.plots import save_figure
 from casadi_debris.plots.simulation import closed_loop_figure, thrust_figure
 from casadi_debris.plots.statistics import statistics_figure
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.report.campaign_dataset import (
-    CASE_FIGURES,
-    DATASET_NAME,
-    campaign_dataset,
-    write_campaign_dataset,
-)
-from casadi_debris.report.campaign_folder import CampaignRecord
-from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import ClosedLoopResult
 from casadi_debris.slews import euler_angles_321
+from casadi_debris.store import (
+    CASE_FIGURES,
+    DATASET_NAME,
+    CampaignRecord,
+    write_campaign_dataset,
+    write_csv,
+    write_json_atomic,
+)
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, MN_PER_N, MNM_PER_NM
 
 if TYPE_CHECKING:

@@ -22,7 +22,6 @@ from casadi_debris.dynamics import Model, ParameterLayout, Parameters
 from casadi_debris.plots import save_figure
 from casadi_debris.plots.simulation import closed_loop_figure
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.report.simulation import run_figures_options
 from casadi_debris.robust.parametric_mu import (
     KINDS,
@@ -31,6 +30,7 @@ from casadi_debris.robust.parametric_mu import (
     WorstPerturbation,
 )
 from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.store import write_csv, write_json_atomic
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -152,7 +152,7 @@ def _named(layout: ParameterLayout, normalized: np.ndarray) -> dict[str, float]:
 
 def campaign_envelope(folder: Path) -> tuple[Envelope, CampaignWorst]:
     """A finished corner campaign's envelope and its worst case(s)."""
-    from casadi_debris.report.campaign_dataset import open_campaign
+    from casadi_debris.store import open_campaign
 
     with open_campaign(folder) as dataset:
         error = dataset.error_rad.values

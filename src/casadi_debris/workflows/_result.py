@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, ClassVar
 
 from casadi_debris.config import Problem, load_problem
-from casadi_debris.report.folders import MARKER_NAME, RunFolder, check_output_folder
+from casadi_debris.store import MARKER_NAME, RunFolder, check_output_folder
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -30,7 +30,6 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem, Simulation, SlewReference, with_duration
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.design import (
     CampaignFigures,
     DesignFigures,
@@ -41,7 +40,6 @@ from casadi_debris.report.design import (
     requirement_rows,
     verification_rows,
 )
-from casadi_debris.report.folders import RunFolder, default_run_folder
 from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.binding import (
@@ -64,6 +62,7 @@ from casadi_debris.robust.design import SynthesisSettings
 from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
 from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
 from casadi_debris.slews.maneuver import rigid_limit_duration
+from casadi_debris.store import RunFolder, default_run_folder, write_json_atomic
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 from casadi_debris.workflows._result import ProblemLike, ReportFolderResult, as_problem
 from casadi_debris.workflows.campaign import Progress

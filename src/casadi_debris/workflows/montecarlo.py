@@ -45,15 +45,6 @@ from casadi_debris.errors import (
     SchedulerError,
 )
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.report.campaign_folder import (
-    RECORD_NAME,
-    CampaignFolder,
-    CampaignRecord,
-    write_case,
-    write_failure,
-)
-from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.folders import check_output_folder
 from casadi_debris.report.simulation import (
     CampaignRun,
     CampaignSummary,
@@ -64,6 +55,15 @@ from casadi_debris.report.simulation import (
 )
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, c_compiler, simulate
+from casadi_debris.store import (
+    RECORD_NAME,
+    CampaignFolder,
+    CampaignRecord,
+    check_output_folder,
+    write_case,
+    write_failure,
+    write_json_atomic,
+)
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import (
     CaseSelection,
@@ -132,9 +132,9 @@ class MonteCarloResult(JobResult):
     @property
     def dataset(self) -> xr.Dataset:
         """Every case as labelled arrays (what ``campaign.nc`` holds; see
-        :mod:`casadi_debris.report.campaign_dataset`): the figures per ``case``, the
+        :func:`casadi_debris.store.open_campaign`): the figures per ``case``, the
         bands per ``case``, ``time``, ``bound`` and ``axis``, the parameters."""
-        from casadi_debris.report.campaign_dataset import campaign_dataset
+        from casadi_debris.campaigns import campaign_dataset
 
         names = list(self.nominal.parameters)
         return campaign_dataset(self.record, self.setup.bin_start_s, list(self.outcomes), names)
@@ -159,9 +159,9 @@ class MonteCarloResult(JobResult):
         figures (with ``plots``): the folder the command leaves."""
         write_json_atomic(staging / RECORD_NAME, self.record.to_dict())
         for outcome in self.outcomes:
-            write_case(staging, outcome)
+            write_case(staging, outcome.case.case_id, outcome.bands.to_arrays(), outcome.summary)
         for failure in self.failures:
-            write_failure(staging, failure)
+            write_failure(staging, failure.case.case_id, failure.summary())
         self._write_tables(staging, out, plots=plots)
 
     def _write_tables(self, staging: Path, out: Path, *, plots: bool) -> None:
@@ -305,7 +305,7 @@ def _into_folder(
     """The campaign written case by case into ``<out>.partial`` (resumed from the cases
     already there), then its tables, and the folder moved to ``out``."""
     with CampaignFolder.open(out, plan.identity, overwrite=overwrite) as folder:
-        done = folder.finished_cases(plan.cases)
+        done = _finished_cases(folder, plan.cases)
         outcomes, failures = _run_missing(plan.setup, plan.cases, done, folder, how, progress)
         controller, final = (_final(p, moved_to) for p in (plan.controller_path, out.absolute()))
         run = _described(plan, controller, final, len(done), failures, how)
@@ -442,7 +442,7 @@ def _run_missing(
 
     def keep(outcome: CaseOutcome) -> None:
         if folder is not None:
-            folder.write_case(outcome)
+            folder.write_case(outcome.case.case_id, outcome.bands.to_arrays(), outcome.summary)
         finished[outcome.case.case_id] = outcome
         if progress is not None:
             progress(len(finished) + len(failures), len(todo))
@@ -450,7 +450,9 @@ def _run_missing(
     def record(failure: CaseFailure) -> None:
         failures.append(failure)
         where = (
-            "" if folder is None else f" (traceback in cases/{folder.write_failure(failure).name})"
+            ""
+            if folder is None
+            else f" (traceback in cases/{_write_failure(folder, failure).name})"
         )
         LOGGER.warning(
             "%s failed (%s: %s); the campaign goes on without it%s",
@@ -476,7 +478,7 @@ def _run_missing(
     except KeyboardInterrupt:
         # What a resume will find: a Ctrl-C between a case's write and its count leaves
         # one more case on disk than counted here.
-        kept = len(done) + len(finished) if folder is None else len(folder.finished_cases(cases))
+        kept = len(done) + len(finished) if folder is None else len(_finished_cases(folder, cases))
         if folder is None:
             raise KeyboardInterrupt(
                 f"interrupted after {kept} of {len(cases)} cases; give a folder (out=...) "
@@ -487,3 +489,17 @@ def _run_missing(
         raise InputShapeError(f"--scheduler: {exc}") from None
     every = {**done, **finished}
     return [every[c.case_id] for c in cases if c.case_id in every], failures
+
+
+def _finished_cases(folder: CampaignFolder, cases: list[Case]) -> dict[str, CaseOutcome]:
+    """The cases of ``cases`` already written in ``folder``, as outcomes."""
+    by_id = {case.case_id: case for case in cases}
+    return folder.finished_cases(
+        by_id,
+        lambda case_id, summary, arrays: CaseOutcome.from_saved(by_id[case_id], summary, arrays),
+    )
+
+
+def _write_failure(folder: CampaignFolder, failure: CaseFailure) -> Path:
+    """A case that raised, as ``cases/<id>.failed.json`` (a resume runs it again)."""
+    return folder.write_failure(failure.case.case_id, failure.summary())

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from casadi_debris.config import FailureEvent, Problem, with_duration
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.store import write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import RunRecord, one_case, parameters_case, run_summary
 from casadi_debris.workflows.controller import controller_for

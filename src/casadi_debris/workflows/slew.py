@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.store import write_json_atomic
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 

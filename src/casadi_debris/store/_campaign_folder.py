@@ -7,7 +7,7 @@ While it runs, a campaign lives in ``<out>.partial/``:
   anything different is refused with a line that says what differs.
 - ``.lock``: the id of the process writing the folder; a second campaign on
   the same folder is refused while that process lives.
-- ``cases/<id>.npz`` (the case's :class:`~casadi_debris.campaigns.Bands`
+- ``cases/<id>.npz`` (the case's arrays, :class:`~casadi_debris.campaigns.Bands`
   as named float64 arrays ``error_rad_min``, ..., so that a resumed campaign
   is bit-exact) then ``cases/<id>.json`` (the summary, written last: the
   marker of a whole case).
@@ -17,39 +17,43 @@ While it runs, a campaign lives in ``<out>.partial/``:
 - ``.jit/``: the compiled control step of every worker, removed at the end.
 
 When every case is in, the tables and ``campaign.nc`` (every case as labelled
-arrays, see :mod:`casadi_debris.report.campaign_dataset`) are written and the
-folder is moved to ``<out>`` (see
-:func:`~casadi_debris.report.folders.move_into_place`).
+arrays, see :func:`~casadi_debris.store.open_campaign`) are written and the
+folder is moved to ``<out>`` (see :func:`~casadi_debris.store.move_into_place`).
+
+This module knows files, not campaigns: a case is its id, its named arrays and its
+summary (a record or a dict), and what reads a case back is given by the caller
+(:mod:`casadi_debris.campaigns` builds its outcomes from them).
 """
 
 from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import asdict, dataclass
 from pathlib import Path
 from types import TracebackType
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 
 from casadi_debris._version import __version__
-from casadi_debris.campaigns import Bands, Case, CaseFailure, CaseOutcome, CaseSummary
+from casadi_debris.errors import OutputError
 from casadi_debris.processes import process_alive
-from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.folders import (
-    OutputError,
+from casadi_debris.records import Record
+from casadi_debris.store._files import write_atomically, write_json_atomic
+from casadi_debris.store._folders import (
     check_output_folder,
     clean_stale_folder,
     move_into_place,
-    temporary_path,
     write_marker,
 )
 
 PARTIAL_SUFFIX = ".partial"
 RECORD_NAME = "campaign.json"
 LOCK_NAME = ".lock"
+
+T = TypeVar("T")
 
 
 def partial_folder(out: Path) -> Path:
@@ -132,48 +136,36 @@ def _lock(folder: Path, option: str) -> None:
     raise OutputError(f"{option}: cannot take the lock {lock}")
 
 
-def write_atomically(target: Path, write: Callable[[Path], None]) -> Path:
-    """Write ``target`` through ``write(path)`` so that it is either whole or absent.
-
-    ``write`` creates the file it is given: a temporary sibling of ``target``
-    that names this process (removed by a later run if this one is killed),
-    renamed over ``target`` once written.
-    """
-    temporary = temporary_path(target, "tmp")
-    try:
-        write(temporary)
-        os.replace(temporary, target)
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-    return target
-
-
-def write_case(folder: Path, outcome: CaseOutcome) -> None:
-    """One finished case into ``folder``: ``cases/<id>.npz`` (bands) then
-    ``cases/<id>.json`` (the summary, written last: the marker of a whole case); a
+def write_case(
+    folder: Path,
+    case_id: str,
+    arrays: Mapping[str, np.ndarray],
+    summary: Record | dict[str, Any],
+) -> None:
+    """One finished case into ``folder``: ``cases/<id>.npz`` (its named arrays) then
+    ``cases/<id>.json`` (its summary, written last: the marker of a whole case); a
     ``cases/<id>.failed.json`` of an earlier try goes."""
     cases = folder / "cases"
     cases.mkdir(exist_ok=True)
     # Any: numpy's stubs take ** entries for its own keywords (allow_pickle).
-    arrays: dict[str, Any] = outcome.bands.to_arrays()
+    named: dict[str, Any] = dict(arrays)
 
     def save(path: Path) -> None:
         # A stream, not a name: savez would add ".npz" to the temporary's name.
         with path.open("xb") as stream:
-            np.savez_compressed(stream, **arrays)
+            np.savez_compressed(stream, **named)
 
-    write_atomically(cases / f"{outcome.case.case_id}.npz", save)
-    write_json_atomic(cases / f"{outcome.case.case_id}.json", outcome.summary)
-    (cases / f"{outcome.case.case_id}.failed.json").unlink(missing_ok=True)
+    write_atomically(cases / f"{case_id}.npz", save)
+    write_json_atomic(cases / f"{case_id}.json", summary)
+    (cases / f"{case_id}.failed.json").unlink(missing_ok=True)
 
 
-def write_failure(folder: Path, failure: CaseFailure) -> Path:
+def write_failure(folder: Path, case_id: str, summary: Record | dict[str, Any]) -> Path:
     """A case that raised, as ``cases/<id>.failed.json`` in ``folder``."""
     cases = folder / "cases"
     cases.mkdir(exist_ok=True)
-    path = cases / f"{failure.case.case_id}.failed.json"
-    write_json_atomic(path, failure.summary())
+    path = cases / f"{case_id}.failed.json"
+    write_json_atomic(path, summary)
     return path
 
 
@@ -206,7 +198,7 @@ class CampaignFolder:
         ------
         OutputError
             ``out`` cannot be written (see
-            :func:`~casadi_debris.report.folders.check_output_folder`), the
+            :func:`~casadi_debris.store.check_output_folder`), the
             partial folder is in use, or it holds another campaign.
         """
         target = check_output_folder(
@@ -251,29 +243,39 @@ class CampaignFolder:
         clean_stale_folder(self.partial)
         clean_stale_folder(self.partial / "cases")
 
-    def write_case(self, outcome: CaseOutcome) -> None:
-        """One finished case: ``cases/<id>.npz`` (bands) then ``cases/<id>.json`` (the marker)."""
-        write_case(self.partial, outcome)
+    def write_case(
+        self, case_id: str, arrays: Mapping[str, np.ndarray], summary: Record | dict[str, Any]
+    ) -> None:
+        """One finished case: ``cases/<id>.npz`` (arrays) then ``cases/<id>.json`` (the marker)."""
+        write_case(self.partial, case_id, arrays, summary)
 
-    def write_failure(self, failure: CaseFailure) -> Path:
+    def write_failure(self, case_id: str, summary: Record | dict[str, Any]) -> Path:
         """A case that raised, as ``cases/<id>.failed.json`` (a resume runs it again)."""
-        return write_failure(self.partial, failure)
+        return write_failure(self.partial, case_id, summary)
 
-    def finished_cases(self, cases: list[Case]) -> dict[str, CaseOutcome]:
-        """Cases of ``cases`` already written (both files present and readable)."""
-        found: dict[str, CaseOutcome] = {}
-        for case in cases:
-            summary_path = self.partial / "cases" / f"{case.case_id}.json"
-            bands_path = self.partial / "cases" / f"{case.case_id}.npz"
-            if not (summary_path.exists() and bands_path.exists()):
+    def finished_cases(
+        self,
+        case_ids: Iterable[str],
+        read: Callable[[str, dict[str, Any], Mapping[str, np.ndarray]], T],
+    ) -> dict[str, T]:
+        """Cases of ``case_ids`` already written (both files present and readable).
+
+        ``read(case_id, summary, arrays)`` turns a case's JSON summary and its arrays
+        into what the caller keeps; a case whose files or ``read`` fail (ValueError,
+        KeyError, TypeError: damaged, or of an older layout) is left out, to run again.
+        """
+        found: dict[str, T] = {}
+        for case_id in case_ids:
+            summary_path = self.partial / "cases" / f"{case_id}.json"
+            arrays_path = self.partial / "cases" / f"{case_id}.npz"
+            if not (summary_path.exists() and arrays_path.exists()):
                 continue
             try:
-                summary = CaseSummary.from_json(json.loads(summary_path.read_text()))
-                with np.load(bands_path) as data:
-                    bands = Bands.from_arrays(data)
+                summary = json.loads(summary_path.read_text())
+                with np.load(arrays_path) as data:
+                    found[case_id] = read(case_id, summary, data)
             except (OSError, ValueError, KeyError, TypeError):
                 continue  # a damaged case (or one of an older layout) is simply run again
-            found[case.case_id] = CaseOutcome(case, summary, bands)
         return found
 
     def finish(self, command: str = "montecarlo") -> Path:
