@@ -39,3 +39,13 @@ sed -i -E 's/casadi_debris\.report\.campaign_folder\b/casadi_debris.store._campa
 sed -i -E 's/casadi_debris\.report\.campaign_dataset\b/casadi_debris.store._campaign_dataset/g' $files
 sed -i -E 's/from casadi_debris\.report import folders\b/from casadi_debris.store import _folders as folders/g' $files
 sed -i -E 's/from casadi_debris\.report import campaign_dataset\b/from casadi_debris.store import _campaign_dataset as campaign_dataset/g' $files
+# file paths named in prose (docs, comments)
+for m in monte_carlo cases sampling statistics worst_case; do
+    sed -i -E "s#simulation/${m}\.py#campaigns/_${m}.py#g" $files
+done
+sed -i -E 's#simulation/detumble_full_ocp\.py#simulation/detumble/_full_ocp.py#g; s#simulation/detumble_ocp\.py#simulation/detumble/_ocp.py#g; s#simulation/polhode\.py#simulation/detumble/_polhode.py#g; s#simulation/detumble\.py#simulation/detumble/_detumble.py#g' $files
+sed -i -E 's#simulation/burn_figures\.py#simulation/burn/_figures.py#g; s#simulation/burn\.py#simulation/burn/_burn.py#g' $files
+for m in batched closed_loop disturbance estimation events jit_cache native noise open_loop realism result run segment_figures summary; do
+    sed -i -E "s#simulation/${m}\.py#simulation/_${m}.py#g" $files
+done
+sed -i -E 's#report/folders\.py#store/_folders.py#g; s#report/campaign_folder\.py#store/_campaign_folder.py#g; s#report/campaign_dataset\.py#store/_campaign_dataset.py#g' $files
