@@ -17,14 +17,13 @@ sed -i -E 's/casadi_debris\.simulation\.cases\b/casadi_debris.campaigns._cases/g
 sed -i -E 's/casadi_debris\.simulation\.sampling\b/casadi_debris.campaigns._sampling/g' $files
 sed -i -E 's/casadi_debris\.simulation\.statistics\b/casadi_debris.campaigns._statistics/g' $files
 sed -i -E 's/casadi_debris\.simulation\.worst_case\b/casadi_debris.campaigns._worst_case/g' $files
-# detumble runs: simulation/detumble/
+# detumble runs: simulation/detumble/ (the package keeps the old module's public names:
+# casadi_debris.simulation.detumble needs no line, nor casadi_debris.simulation.burn)
 sed -i -E 's/casadi_debris\.simulation\.detumble_full_ocp\b/casadi_debris.simulation.detumble._full_ocp/g' $files
 sed -i -E 's/casadi_debris\.simulation\.detumble_ocp\b/casadi_debris.simulation.detumble._ocp/g' $files
 sed -i -E 's/casadi_debris\.simulation\.polhode\b/casadi_debris.simulation.detumble._polhode/g' $files
-sed -i -E 's/casadi_debris\.simulation\.detumble\b([^.]|$)/casadi_debris.simulation.detumble._detumble\1/g' $files
 # burn runs: simulation/burn/
 sed -i -E 's/casadi_debris\.simulation\.burn_figures\b/casadi_debris.simulation.burn._figures/g' $files
-sed -i -E 's/casadi_debris\.simulation\.burn\b([^.]|$)/casadi_debris.simulation.burn._burn\1/g' $files
 # the closed loop: private modules of simulation/
 for m in batched closed_loop disturbance estimation events jit_cache native noise open_loop realism result run segment_figures summary; do
     sed -i -E "s/casadi_debris\.simulation\.${m}\b/casadi_debris.simulation._${m}/g" $files
@@ -49,3 +48,12 @@ for m in batched closed_loop disturbance estimation events jit_cache native nois
     sed -i -E "s#simulation/${m}\.py#simulation/_${m}.py#g" $files
 done
 sed -i -E 's#report/folders\.py#store/_folders.py#g; s#report/campaign_folder\.py#store/_campaign_folder.py#g; s#report/campaign_dataset\.py#store/_campaign_dataset.py#g' $files
+# one-line imports of names that changed package. By hand: a wrapped or mixed import of
+# them; `from casadi_debris.simulation import closed_loop` (or jit_cache, worst_case: the
+# private module now, `_closed_loop as closed_loop`); campaign_dataset from
+# store._campaign_dataset (it is casadi_debris.campaigns.campaign_dataset); the case files
+# of CampaignFolder (write_case(id, arrays, summary), finished_cases(ids, read)).
+W='write_json_atomic|write_csv|json_ready'
+sed -i -E "s/from casadi_debris\.report\.common import (($W)(, ($W))*)\$/from casadi_debris.store import \1/" $files
+C='Case|CaseIdentity|CaseOutcome|CaseSummary|CampaignSetup|Envelope|corner_case|corner_cases|nominal_case|sample_case|sample_cases|run_campaign|run_case'
+sed -i -E "s/from casadi_debris\.simulation import (($C)(, ($C))*)\$/from casadi_debris.campaigns import \1/" $files

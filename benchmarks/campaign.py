@@ -73,7 +73,9 @@ from casadi_debris.guidance import scenario_reference
 try:  # the campaigns' own package since the simulation split
     from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
 except ImportError:
-    from casadi_debris.simulation import CampaignSetup, corner_cases, run_campaign
+    from casadi_debris.simulation import (
+        CampaignSetup, corner_cases, run_campaign
+    )
 from casadi_debris.workflows.controller import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)
