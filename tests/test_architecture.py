@@ -146,3 +146,24 @@ def _import_cycles() -> list[list[str]]:
 
 def test_no_module_imports_itself_back():
     assert not _import_cycles()
+
+
+def test_private_modules_are_imported_only_inside_their_package():
+    """A private module (``simulation/_run.py``) is the package's own: other packages use
+    the names its ``__init__`` exports."""
+    import grimp
+
+    graph = grimp.build_graph("casadi_debris")
+    outside = []
+    for module in sorted(graph.modules):
+        parts = module.split(".")
+        private = [i for i, part in enumerate(parts) if part.startswith("_") and part[:2] != "__"]
+        if not private:
+            continue
+        owner = ".".join(parts[: private[0]])
+        outside += [
+            f"{importer} -> {module}"
+            for importer in sorted(graph.find_modules_that_directly_import(module))
+            if importer != owner and not importer.startswith(owner + ".")
+        ]
+    assert not outside, outside
