@@ -252,7 +252,7 @@ class _SlewSolver:
             fuel=fuel,
             solve_time_s=solve_time,
             check_vibration=check_vibration,
-            extra_settings=settings,
+            figures=settings,
         )
 
     def _solve_modal(
@@ -307,7 +307,7 @@ class _SlewSolver:
             fuel=fuel,
             solve_time_s=time.perf_counter() - started,
             check_vibration=check_vibration,
-            extra_settings=settings,
+            figures=settings,
         )
 
     def _rigid_length(self, wanted_s: float) -> float:
