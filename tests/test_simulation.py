@@ -44,7 +44,7 @@ from casadi_debris.geometry import torque_authority
 from casadi_debris.guidance import Reference, sample_reference, scenario_reference
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
+from casadi_debris.simulation import ClosedLoopResult, LoopSettings, SimulationError, simulate
 from casadi_debris.simulation import closed_loop as closed_loop_module
 
 PROBLEMS = default_problem_path().parent
@@ -443,13 +443,14 @@ def test_rk4_against_cvodes(
     assert np.abs(rk4.error_rad).max() > 1e-3  # the slew is under way
 
     options = closed_loop_module.CVODES_OPTIONS
-    shipped = simulate(slew_problem, slew_model, controller, reference, integrator="cvodes")
+    cvodes = LoopSettings(integrator="cvodes")
+    shipped = simulate(slew_problem, slew_model, controller, reference, settings=cvodes)
     bound = periods * (options["reltol"] + options["abstol"])
     assert np.abs(rk4.error_rad - shipped.error_rad).max() <= bound
 
     tight = {**options, "reltol": 1e-13, "abstol": 1e-14}
     monkeypatch.setattr(closed_loop_module, "CVODES_OPTIONS", tight)
-    accurate = simulate(slew_problem, slew_model, controller, reference, integrator="cvodes")
+    accurate = simulate(slew_problem, slew_model, controller, reference, settings=cvodes)
     bound = periods * (tight["reltol"] + tight["abstol"])
     assert np.abs(rk4.error_rad - accurate.error_rad).max() <= bound
 
@@ -730,4 +731,10 @@ def test_wrong_controller_rejected(slew_problem, slew_model) -> None:
 def test_unknown_integrator_rejected(slew_problem, slew_model, controller) -> None:
     reference = sample_reference(np.arange(0.0, 1.0, 0.1))
     with pytest.raises(SimulationError, match="integrator"):
-        simulate(slew_problem, slew_model, controller, reference, integrator="euler")
+        simulate(
+            slew_problem,
+            slew_model,
+            controller,
+            reference,
+            settings=LoopSettings(integrator="euler"),
+        )

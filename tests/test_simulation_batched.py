@@ -20,6 +20,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
     CampaignSetup,
+    LoopSettings,
     RunInputs,
     corner_cases,
     discretize_controller,
@@ -80,7 +81,7 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
             RunInputs(c.parameters, failed, _fresh(problem, model))
             for c, failed in zip(corners, failures, strict=True)
         ],
-        jit=True,
+        settings=LoopSettings(jit=True),
         slots=4,  # one slot left unused
     )
     for corner, failed, batched in zip(corners, failures, together, strict=True):
@@ -94,7 +95,7 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
             parameters=corner.parameters,
             failures=failed,
             allocator=_fresh(problem, model),
-            jit=True,
+            settings=LoopSettings(jit=True),
         )
         # The same C on the same inputs, slot or alone: the same bits.
         assert np.array_equal(batched.state, alone.state)

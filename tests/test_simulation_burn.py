@@ -171,7 +171,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
     from casadi_debris.allocation import Allocator
     from casadi_debris.guidance.reference import scenario_reference
-    from casadi_debris.simulation import simulate
+    from casadi_debris.simulation import LoopSettings, simulate
 
     text = (
         'extends = "paper.toml"\nname = "burn_window"\n[simulation]\nduration_s = 120.0\n'
@@ -186,7 +186,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     reference = scenario_reference(problem)
     assert [p.kind for p in reference.pieces] == ["burn"]
     assert reference.pieces[0].firing_s == (40.0, 120.0)
-    result = simulate(problem, model, controller, reference, jit=True)
+    result = simulate(problem, model, controller, reference, settings=LoopSettings(jit=True))
     allocator = Allocator.from_problem(problem)
     force = result.thrust_N @ allocator.force_map.T
     firing = result.time_s[:-1] >= 40.0 - 1e-9

@@ -22,6 +22,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
+    LoopSettings,
     build_loop_step,
     closed_loop,
     discretize_controller,
@@ -111,7 +112,7 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
             # A fresh allocator each: a warm one reuses regions anchored elsewhere,
             # which moves the thrust within the QP's tolerance.
             allocator=Allocator.from_problem(problem, model.geometry),
-            jit=jit,
+            settings=LoopSettings(jit=jit),
         )
         for jit in (False, True)
     ]

@@ -27,7 +27,7 @@ from casadi_debris.config import (
 from casadi_debris.config.realism import realism_fields
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import build_loop_step, simulate
+from casadi_debris.simulation import LoopSettings, build_loop_step, simulate
 from casadi_debris.simulation.closed_loop import DiscreteController, StepInput, StepOutput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
@@ -235,7 +235,7 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
     )
     reference = scenario_reference(short)
     machine = simulate(short, model, record.reduced, reference)
-    compiled = simulate(short, model, record.reduced, reference, jit=True)
+    compiled = simulate(short, model, record.reduced, reference, settings=LoopSettings(jit=True))
     if not compiled.compiled_step:
         pytest.skip("no C compiler")
     np.testing.assert_allclose(compiled.state, machine.state, rtol=1e-9, atol=1e-12)

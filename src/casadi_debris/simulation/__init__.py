@@ -34,7 +34,13 @@ from casadi_debris.simulation.monte_carlo import (
     run_case,
 )
 from casadi_debris.simulation.open_loop import OpenLoopResult, open_loop_rigid
-from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
+from casadi_debris.simulation.run import (
+    ClosedLoopResult,
+    LoopSettings,
+    RunInputs,
+    simulate,
+    simulate_many,
+)
 from casadi_debris.simulation.summary import EventRecord, RunSummary
 
 __all__ = [
@@ -46,6 +52,7 @@ __all__ = [
     "ClosedLoopResult",
     "Envelope",
     "EventRecord",
+    "LoopSettings",
     "OpenLoopResult",
     "RunEvent",
     "RunInputs",

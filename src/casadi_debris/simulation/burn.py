@@ -51,7 +51,7 @@ from casadi_debris.guidance.reference import Reference
 from casadi_debris.guidance.targets import body_rates, frame_attitude
 from casadi_debris.simulation.closed_loop import SimulationError, discretize_controller
 from casadi_debris.simulation.result import ClosedLoopResult
-from casadi_debris.simulation.run import RunInputs, _Rollout, _Series
+from casadi_debris.simulation.run import LoopSettings, RunInputs, _Rollout, _Series
 
 DEFAULT_PERIOD_S = 0.1
 
@@ -149,8 +149,7 @@ def simulate_burn(
     n_plant = model.layout.size
     rollout.z[:n_plant] = model.initial_state(reference.quaternion_BN[0], rate)
     rollout.states[0] = rollout.z[:n_plant]
-    options = {"integrator_steps": problem.simulation.integrator_steps, "integrator": "rk4"}
-    error = rollout.roll_alone(1000, {**options, "jit": jit, "realism": None})
+    error = rollout.roll_alone(LoopSettings(jit=jit))
     if error is not None:
         raise error
     result = rollout.result(_Series.of(model, reference), time.perf_counter() - started)

@@ -48,7 +48,13 @@ from casadi_debris.simulation.closed_loop import (
     SimulationError,
     release_compiled_steps,
 )
-from casadi_debris.simulation.run import ClosedLoopResult, RunInputs, simulate, simulate_many
+from casadi_debris.simulation.run import (
+    ClosedLoopResult,
+    LoopSettings,
+    RunInputs,
+    simulate,
+    simulate_many,
+)
 from casadi_debris.simulation.summary import RunSummary
 
 MAX_BINS = 2000
@@ -347,8 +353,8 @@ def fly_case(
         parameters=case.parameters,
         failures=case.failures,
         allocator=Allocator.from_problem(problem, model.geometry),
-        jit=jit,
         noise_seed=case.noise_seed(problem),
+        settings=LoopSettings(jit=jit),
     )
 
 
@@ -405,7 +411,7 @@ class CaseRunner:
             setup.controller,
             setup.reference,
             runs,
-            jit=setup.jit,
+            settings=LoopSettings(jit=setup.jit),
             slots=batch.slots,
         )
         pairs = zip(batch.cases, results, strict=True)

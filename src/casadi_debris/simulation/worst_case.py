@@ -38,7 +38,7 @@ from casadi_debris.dynamics import Model, linearization_function, linearize
 from casadi_debris.guidance.reference import Reference
 from casadi_debris.robust.uncertainty import FULL_CIRCLE_DEG, parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.simulation.run import ClosedLoopResult, simulate
+from casadi_debris.simulation.run import ClosedLoopResult, LoopSettings, simulate
 
 _log = logging.getLogger(__name__)
 SCREEN_STEP_S = 1.0
@@ -242,7 +242,7 @@ class _Objective:
             self.reference,
             parameters=p,
             allocator=allocator,
-            jit=self.jit,
+            settings=LoopSettings(jit=self.jit),
         )
         error = float(result.summary().max_error_deg)
         evaluation = Evaluation(len(self.evaluations), source, z.copy(), p, error)
