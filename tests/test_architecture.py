@@ -57,7 +57,6 @@ WIDE_SIGNATURES = {
     "allocation/paths.py:_saturated",
     "allocation/propulsion.py:__init__",
     "robust/parametric_mu.py:_analyse_angle",
-    "simulation/worst_case.py:worst_case_search",
 }
 PACKAGE = ROOT / "src" / "casadi_debris"
 

@@ -13,6 +13,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import corner_cases, simulate, worst_case
 from casadi_debris.simulation.worst_case import (
+    WorstCaseSettings,
     _largest_outputs,
     _project,
     _rotation_vectors,
@@ -81,7 +82,11 @@ def test_search_is_at_least_as_bad_as_every_corner_of_a_reduced_set() -> None:
     cases = corner_cases(problem, model)[128:160]  # the corners at 0 deg, 142 among them
     corners = np.array([c.normalized for c in cases[::4]] + [cases[14].normalized])
     found = worst_case_search(
-        problem, model, record.reduced, reference, corners, budget=8, screen_starts=2, seed=1
+        model,
+        record.reduced,
+        reference,
+        corners,
+        settings=WorstCaseSettings(budget=8, screen_starts=2, seed=1),
     )
     brute = max(
         _max_error(problem, model, record.reduced, reference, c.parameters)
@@ -103,13 +108,11 @@ def test_fifty_simulations_reach_the_worst_of_the_256_corners() -> None:
     cases = corner_cases(problem, model)
     corner_142 = _max_error(problem, model, record.reduced, reference, cases[142].parameters)
     found = worst_case_search(
-        problem,
         model,
         record.reduced,
         reference,
         np.array([c.normalized for c in cases]),
-        budget=50,
-        seed=0,
+        settings=WorstCaseSettings(budget=50, seed=0),
     )
     assert found.simulations <= 50
     assert found.best.max_error_deg >= corner_142 * (1 - 1e-9)

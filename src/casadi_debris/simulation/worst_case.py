@@ -255,33 +255,12 @@ class _Objective:
         return error
 
 
-def worst_case_search(
-    problem: Problem,
-    model: Model,
-    controller: control.StateSpace,
-    reference: Reference,
-    corners: np.ndarray,
-    *,
-    starts: Sequence[np.ndarray] = (),
-    budget: int = 50,
-    screen_starts: int = 3,
-    step: float = 0.5,
-    min_step: float = 1.0 / 16.0,
-    seed: int = 0,
-    jit: bool = False,
-    progress: Callable[[int, float], None] | None = None,
-) -> WorstCaseSearch:
-    """Search the uncertainty box for the run of largest attitude error (see the module).
+@dataclass(frozen=True)
+class WorstCaseSettings:
+    """How :func:`worst_case_search` searches.
 
-    Parameters
+    Attributes
     ----------
-    problem, model, controller, reference
-        As :func:`simulate` takes them (controller: error [deg] -> torque [mNm]).
-    corners : ndarray, shape (n_corners, n_parameters)
-        Normalised corners the linear screen ranks (the campaign's corner set).
-    starts : sequence of ndarray
-        More normalised starting points, simulated after the screened corners
-        (clipped to the box).
     budget : int
         Simulations at most, starts included.
     screen_starts : int
@@ -292,6 +271,40 @@ def worst_case_search(
         Seed of the order in which the parameters are stepped.
     jit : bool
         Compile the closed-loop step to C (worth it for many runs).
+    """
+
+    budget: int = 50
+    screen_starts: int = 3
+    step: float = 0.5
+    min_step: float = 1.0 / 16.0
+    seed: int = 0
+    jit: bool = False
+
+
+def worst_case_search(
+    model: Model,
+    controller: control.StateSpace,
+    reference: Reference,
+    corners: np.ndarray,
+    *,
+    starts: Sequence[np.ndarray] = (),
+    settings: WorstCaseSettings = WorstCaseSettings(),
+    progress: Callable[[int, float], None] | None = None,
+) -> WorstCaseSearch:
+    """Search the uncertainty box for the run of largest attitude error (see the module).
+
+    Parameters
+    ----------
+    model, controller, reference
+        As :func:`simulate` takes them (the problem is ``model.problem``;
+        controller: error [deg] -> torque [mNm]).
+    corners : ndarray, shape (n_corners, n_parameters)
+        Normalised corners the linear screen ranks (the campaign's corner set).
+    starts : sequence of ndarray
+        More normalised starting points, simulated after the screened corners
+        (clipped to the box).
+    settings : WorstCaseSettings
+        Budget, screened corners, compass steps, seed, compiled C.
     progress : callable, optional
         ``progress(simulations_done, max_error_deg)`` after each run.
 
@@ -299,19 +312,21 @@ def worst_case_search(
     -------
     WorstCaseSearch
     """
-    if budget < 1 or screen_starts < 1 or not 0 < min_step <= step:
+    budget, step, min_step = settings.budget, settings.step, settings.min_step
+    if budget < 1 or settings.screen_starts < 1 or not 0 < min_step <= step:
         raise SimulationError("budget and screen_starts >= 1, 0 < min_step <= step")
     began = time.perf_counter()
+    problem = model.problem
     screen = linear_screen(problem, model, controller, reference, corners)
     order = np.argsort(screen)[::-1]
-    objective = _Objective(problem, model, controller, reference, jit, progress)
-    for k in _distinct(screen, order)[: min(screen_starts, budget)]:
+    objective = _Objective(problem, model, controller, reference, settings.jit, progress)
+    for k in _distinct(screen, order)[: min(settings.screen_starts, budget)]:
         objective(np.asarray(corners[k], dtype=float), f"screen corner {int(k)}")
     for z in starts:
         if len(objective.evaluations) < budget:
             objective(_project(problem, model, np.asarray(z, dtype=float)), "start")
     assert objective.best is not None
-    final = _compass(problem, model, objective, budget, step, min_step, seed)
+    final = _compass(problem, model, objective, budget, step, min_step, settings.seed)
     best = objective.best
     return WorstCaseSearch(
         best=best,
@@ -319,7 +334,7 @@ def worst_case_search(
         screen_error_deg=screen,
         screen_order=order,
         best_run=objective.runs[best.index],
-        seed=seed,
+        seed=settings.seed,
         final_step=final,
         time_s=time.perf_counter() - began,
     )

@@ -35,7 +35,11 @@ from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.robust.parametric_mu import ParametricMu, parametric_mu
 from casadi_debris.robust.weights import recorded_performance_weights
 from casadi_debris.simulation import Envelope, corner_cases
-from casadi_debris.simulation.worst_case import WorstCaseSearch, worst_case_search
+from casadi_debris.simulation.worst_case import (
+    WorstCaseSearch,
+    WorstCaseSettings,
+    worst_case_search,
+)
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.controller import controller_for
 
@@ -185,14 +189,11 @@ def _search(
     corners = np.array([case.normalized for case in corner_cases(problem, model)])
     worst = None if mu is None else mu.performance.worst
     return worst_case_search(
-        problem,
         model,
         record.reduced,
         scenario_reference(problem),
         corners,
         starts=[] if worst is None else [worst.normalized],
-        budget=budget,
-        seed=seed,
-        jit=jit,
+        settings=WorstCaseSettings(budget=budget, seed=seed, jit=jit),
         progress=progress,
     )
