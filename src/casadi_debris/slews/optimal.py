@@ -484,7 +484,7 @@ def _rigid_body_slew(
         found,
         sample_s=options.sample_s,
         solve_time_s=time.perf_counter() - started,
-        settings={
+        figures={
             "torque_fraction": options.torque_fraction,
             "control_intervals": intervals,
             "single_axis": False,
