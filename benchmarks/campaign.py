@@ -10,9 +10,9 @@ Measured in one run, so that the ratios hold on a loaded machine:
 
 - ``step_us``: one control period of one case inside a 1000-period roll-out:
   ``batched`` (the compiled function mapped over ``--batch`` cases, per case),
-  ``compiled_alone`` (the same function with one slot, as ``simulate(jit=True)``
-  runs), ``compiled_constants`` (the step compiled with the authority folded in,
-  called through CasADi) and ``virtual_machine``;
+  ``compiled_alone`` (the same function with one slot, as ``simulate`` runs it with
+  ``LoopSettings(jit=True)``), ``compiled_constants`` (the step compiled with the
+  authority folded in, called through CasADi) and ``virtual_machine``;
 - ``corners``: ``--corners`` corner cases of the paper's slew (256: the paper's
   set) on ``--workers`` processes, batched and one by one (same compiled step);
   on the virtual machine, ``--alone-cases`` of them, scaled to all;

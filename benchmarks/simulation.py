@@ -44,6 +44,7 @@ from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
+    LoopSettings,
     corner_cases,
     discretize_controller,
     jit_cache,
@@ -138,13 +139,13 @@ def main() -> None:
 
     whole = []
     for _ in range(args.repeat):
-        result = simulate(problem, model, record.reduced, reference, allocator=allocator)
+        result = simulate(model, record.reduced, reference, allocator=allocator)
         whole.append(result.wall_time_s)
     steps = len(result.scale)
     whole_c = []
     for _ in range(args.repeat):
         result_c = simulate(
-            problem, model, record.reduced, reference, allocator=allocator, jit=True
+            model, record.reduced, reference, allocator=allocator, settings=LoopSettings(jit=True)
         )
         whole_c.append(result_c.wall_time_s)
     scipy_s = scipy_loop(problem, model, record.reduced, reference, args.scipy_s)

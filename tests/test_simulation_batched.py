@@ -73,7 +73,6 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
     # The last corner with CubeSats 1 and 2 failed at 20 s: its torque saturates.
     failures = [(), (), tuple(FailureEvent(time_s=20.0, cubesat=i, stage=None) for i in (0, 1))]
     together = simulate_many(
-        problem,
         model,
         controller,
         reference,
@@ -88,7 +87,6 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
         assert not isinstance(batched, Exception)
         assert batched.compiled_step
         alone = simulate(
-            problem,
             model,
             controller,
             reference,
@@ -102,7 +100,6 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
         assert np.array_equal(batched.thrust_N, alone.thrust_N)
         # CasADi's virtual machine with the authority folded in as constants: round-off.
         folded = simulate(
-            problem,
             model,
             controller,
             reference,
@@ -155,7 +152,6 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
     alone = json.loads(answer.stdout)
     # simulate flies the nominal plant; the corner here is another: fly it alone too.
     direct = simulate(
-        problem,
         model,
         controller,
         scenario_reference(problem),

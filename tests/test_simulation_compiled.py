@@ -104,7 +104,6 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
     corner = model.parameters(inertia_scale_z=1.17, array_angle_offset_rad=0.8)
     runs = [
         simulate(
-            problem,
             model,
             record.reduced,
             reference,

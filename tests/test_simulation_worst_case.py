@@ -69,7 +69,7 @@ def test_the_screen_of_the_papers_corners_is_their_forced_responses(monkeypatch)
 
 def _max_error(problem, model, controller, reference, p) -> float:
     allocator = Allocator.from_problem(problem, model.geometry)
-    run = simulate(problem, model, controller, reference, parameters=p, allocator=allocator)
+    run = simulate(model, controller, reference, parameters=p, allocator=allocator)
     return float(run.summary().max_error_deg)
 
 

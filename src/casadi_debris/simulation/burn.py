@@ -98,7 +98,6 @@ class BurnRun:
 
 
 def simulate_burn(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     plan: BurnPlan,
@@ -112,9 +111,9 @@ def simulate_burn(
 
     Parameters
     ----------
-    problem : Problem
     model : Model
-        Built from ``problem`` (flexible: every array mode by default).
+        The model of the problem flown, ``model.problem`` (flexible: every array mode
+        by default).
     controller : control.StateSpace
         Continuous controller, attitude error [deg] -> torque [mNm].
     plan : BurnPlan
@@ -138,11 +137,10 @@ def simulate_burn(
     import time
 
     started = time.perf_counter()
+    problem = model.problem
     reference = burn_reference(problem, plan, period_s)
     discrete = discretize_controller(controller, period_s)
-    rollout = _Rollout.of(
-        problem, model, reference, discrete, RunInputs(propulsion=propulsion, failures=())
-    )
+    rollout = _Rollout.of(model, reference, discrete, RunInputs(propulsion=propulsion, failures=()))
     rollout.burns = [BurnWindow(0, rollout.n, plan)]
     # On the frame from the start, turning with it (no start-up transient).
     rate = body_rates(reference.time_s[:2], reference.quaternion_BN[:2])[0]

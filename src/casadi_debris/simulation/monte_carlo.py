@@ -325,13 +325,12 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         jit = False
     elif model is None:
         model = build_model(problem)
-    result = fly_case(problem, model, setup.controller, setup.reference, case, jit=jit)
+    result = fly_case(model, setup.controller, setup.reference, case, jit=jit)
     summary = CaseSummary(case.identity(), result.summary())
     return CaseOutcome(case, summary, bin_bands(setup, result))
 
 
 def fly_case(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -339,14 +338,15 @@ def fly_case(
     *,
     jit: bool = False,
 ) -> ClosedLoopResult:
-    """The closed loop of one case: its parameters, failures and noise seed.
+    """The closed loop of one case of ``model.problem``: its parameters, failures and
+    noise seed.
 
     A fresh allocator (about 1 ms) for every case: its QP workspaces keep the
     last solution as a warm start, which would make a case's last bits depend
     on the case run before it, and a resumed campaign differ.
     """
+    problem = model.problem
     return simulate(
-        problem,
         model,
         controller,
         reference,
@@ -406,7 +406,6 @@ class CaseRunner:
             for case in batch.cases
         ]
         results = simulate_many(
-            setup.problem,
             model,
             setup.controller,
             setup.reference,

@@ -98,7 +98,6 @@ class RunInputs:
 
 
 def simulate(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -114,9 +113,9 @@ def simulate(
 
     Parameters
     ----------
-    problem : Problem
     model : Model
-        Built from ``problem`` (all array modes for the paper's runs).
+        The model of the problem flown, ``model.problem`` (all array modes for the
+        paper's runs).
     controller : control.StateSpace
         Continuous controller, attitude error [deg] -> torque [mNm].
     reference : Reference
@@ -143,7 +142,6 @@ def simulate(
     ClosedLoopResult
     """
     outcome = simulate_many(
-        problem,
         model,
         controller,
         reference,
@@ -156,7 +154,6 @@ def simulate(
 
 
 def simulate_many(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -176,7 +173,7 @@ def simulate_many(
 
     Parameters
     ----------
-    problem, model, controller, reference
+    model, controller, reference
         As :func:`simulate`, shared by the runs.
     runs : sequence of RunInputs
         What each run varies.
@@ -193,10 +190,11 @@ def simulate_many(
         result's ``wall_time_s`` is its share of the whole call.
     """
     started = time.perf_counter()
+    problem = model.problem
     period = _control_period(reference)
     discrete = discretize_controller(controller, period)
     realism = Realism.of(problem, period)
-    rollouts = [_Rollout.of(problem, model, reference, discrete, run, realism) for run in runs]
+    rollouts = [_Rollout.of(model, reference, discrete, run, realism) for run in runs]
     errors = None
     burns = any(r.burns for r in rollouts)  # the batched step has no force input
     if settings.jit and settings.integrator == "rk4" and realism is None and rollouts and not burns:
@@ -275,14 +273,15 @@ class _Rollout:
     @classmethod
     def of(
         cls,
-        problem: Problem,
         model: Model,
         reference: Reference,
         controller: DiscreteController,
         run: RunInputs,
         realism: Realism | None = None,
     ) -> _Rollout:
-        """A run at its start (engines full unless ``run.propulsion`` says otherwise)."""
+        """A run of ``model.problem`` at its start (engines full unless ``run.propulsion``
+        says otherwise)."""
+        problem = model.problem
         p = run.parameters
         if run.propulsion is None:
             engines = PropulsionState.from_problem(problem)

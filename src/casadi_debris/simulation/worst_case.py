@@ -236,7 +236,6 @@ class _Objective:
         # A fresh allocator per run, as in a campaign: no warm start carried between cases.
         allocator = Allocator.from_problem(self.problem, self.model.geometry)
         result = simulate(
-            self.problem,
             self.model,
             self.controller,
             self.reference,

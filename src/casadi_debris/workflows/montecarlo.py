@@ -378,7 +378,7 @@ def _finished(
         raise CasesFailedError(failures)  # nothing to summarise; a folder stays for a resume
     problem = setup.problem
     allocator = Allocator.from_problem(problem, model.geometry)
-    nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
+    nominal = simulate(model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, Path(run.controller_path))
     statistics = statistics_of(
         problem, outcomes, model.parameter_layout.names, len(run.failed_cases)

@@ -150,7 +150,7 @@ def simulate(
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     problem, model, case = _chosen_case(problem, parameters, corner, sample, seed)
     reference = scenario_reference(problem)
-    result = fly_case(problem, model, record.reduced, reference, case)
+    result = fly_case(model, record.reduced, reference, case)
     return SimulationResult(
         problem=problem,
         result=result,
