@@ -37,7 +37,7 @@ def setting():
 
 def test_the_lft_closed_over_z_is_the_affine_model(setting) -> None:
     problem, model, _, _ = setting
-    plant = fit_parametric_plant(problem, model, 0.25)
+    plant = fit_parametric_plant(model, 0.25)
     nominal = linearize(
         model,
         parameters_from_normalized(problem, model, plant.fixed_normalized),

@@ -371,7 +371,7 @@ def _analyse_angle(
 ) -> ParametricPlant:
     """Fit the plant at one angle, close the loop, fill both structures' grids at row a."""
     r = request
-    plant = fit_parametric_plant(r.model.problem, r.model, angle, function=r.function)
+    plant = fit_parametric_plant(r.model, angle, function=r.function)
     closed = parametric_closed_loop(plant, r.controller, r.weights)
     if np.any(np.linalg.eigvals(closed.A).real >= 0):
         raise SynthesisError(f"the nominal closed loop is unstable at array angle {angle:+.3f}")
