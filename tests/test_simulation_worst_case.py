@@ -36,7 +36,7 @@ def test_projection_clips_the_box_and_wraps_a_full_turn_angle() -> None:
     problem = load_problem(SLEW)
     model = build_model(problem)
     z = np.array([1.5, -2.0, 0.5, 0.0, 1.25, -1.1])
-    projected = _project(problem, model, z)
+    projected = _project(model, z)
     assert projected.tolist() == [1.0, -1.0, 0.5, 0.0, -0.75, -1.0]
 
 
@@ -60,9 +60,9 @@ def test_the_screen_of_the_papers_corners_is_their_forced_responses(monkeypatch)
     record, _ = load_controller()
     reference = scenario_reference(problem)
     corners = np.array([c.normalized for c in corner_cases(problem, model)[::51]])
-    screened = linear_screen(problem, model, record.reduced, reference, corners)
+    screened = linear_screen(model, record.reduced, reference, corners)
     monkeypatch.setattr(worst_case, "_largest_outputs", _one_by_one)
-    expected = linear_screen(problem, model, record.reduced, reference, corners)
+    expected = linear_screen(model, record.reduced, reference, corners)
     assert np.all(expected > 0)
     np.testing.assert_allclose(screened, expected, rtol=1e-10)
 

@@ -33,7 +33,6 @@ import numpy as np
 import scipy.linalg
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, linearization_function, linearize
 from casadi_debris.guidance.reference import Reference
 from casadi_debris.robust.uncertainty import FULL_CIRCLE_DEG, parameters_from_normalized
@@ -105,7 +104,6 @@ class WorstCaseSearch:
 
 
 def linear_screen(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -118,7 +116,8 @@ def linear_screen(
     as its rotation vector, the slew's feedforward and the disturbance as
     torques at the plant input (the problem's sine; environment torques, which
     depend on the attitude, are left out). Gyroscopic terms, saturation and the
-    engines are left out too: a ranking, not a prediction.
+    engines are left out too: a ranking, not a prediction. The uncertainty box is
+    ``model.problem``'s.
     """
     times = reference.time_s
     keep = np.unique(np.round(np.arange(times[0], times[-1], SCREEN_STEP_S) / _period(times)))
@@ -135,7 +134,7 @@ def linear_screen(
         _error_loop(
             linearize(model, p, sensor=True, units="deg_mNm", function=function), controller
         )
-        for p in parameters_from_normalized(problem, model, normalized)
+        for p in parameters_from_normalized(model.problem, model, normalized)
     ]
     return _largest_outputs(loops, t, inputs)
 
@@ -215,14 +214,13 @@ class _Objective:
 
     def __init__(
         self,
-        problem: Problem,
         model: Model,
         controller: control.StateSpace,
         reference: Reference,
         jit: bool,
         progress: Callable[[int, float], None] | None,
     ) -> None:
-        self.problem, self.model, self.controller = problem, model, controller
+        self.problem, self.model, self.controller = model.problem, model, controller
         self.reference, self.jit, self.progress = reference, jit, progress
         self.evaluations: list[Evaluation] = []
         self.runs: dict[int, ClosedLoopResult] = {}
@@ -315,17 +313,16 @@ def worst_case_search(
     if budget < 1 or settings.screen_starts < 1 or not 0 < min_step <= step:
         raise SimulationError("budget and screen_starts >= 1, 0 < min_step <= step")
     began = time.perf_counter()
-    problem = model.problem
-    screen = linear_screen(problem, model, controller, reference, corners)
+    screen = linear_screen(model, controller, reference, corners)
     order = np.argsort(screen)[::-1]
-    objective = _Objective(problem, model, controller, reference, settings.jit, progress)
+    objective = _Objective(model, controller, reference, settings.jit, progress)
     for k in _distinct(screen, order)[: min(settings.screen_starts, budget)]:
         objective(np.asarray(corners[k], dtype=float), f"screen corner {int(k)}")
     for z in starts:
         if len(objective.evaluations) < budget:
-            objective(_project(problem, model, np.asarray(z, dtype=float)), "start")
+            objective(_project(model, np.asarray(z, dtype=float)), "start")
     assert objective.best is not None
-    final = _compass(problem, model, objective, budget, step, min_step, settings.seed)
+    final = _compass(model, objective, budget, step, min_step, settings.seed)
     best = objective.best
     return WorstCaseSearch(
         best=best,
@@ -350,7 +347,6 @@ def _distinct(screen: np.ndarray, order: np.ndarray) -> list[int]:
 
 
 def _compass(
-    problem: Problem,
     model: Model,
     objective: _Objective,
     budget: int,
@@ -368,7 +364,7 @@ def _compass(
                 x = objective.best.normalized
                 y = x.copy()
                 y[i] += sign * step
-                y = _project(problem, model, y)
+                y = _project(model, y)
                 if np.array_equal(x, y) or len(objective.evaluations) >= budget:
                     continue
                 before = objective.best.max_error_deg
@@ -382,11 +378,11 @@ def _compass(
     return step
 
 
-def _project(problem: Problem, model: Model, z: np.ndarray) -> np.ndarray:
+def _project(model: Model, z: np.ndarray) -> np.ndarray:
     """Into the box; a full-turn array angle wraps around instead."""
     layout = model.parameter_layout
     wrapped = np.clip(z, -1.0, 1.0)
-    if problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
+    if model.problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
         for name in set(layout.angle_names):
             i = layout.index(name)
             wrapped[i] = (z[i] + 1.0) % 2.0 - 1.0
