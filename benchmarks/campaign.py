@@ -81,7 +81,7 @@ from casadi_debris.workflows.controller import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)
 setup = CampaignSetup.create(problem, load_controller(None)[0].reduced, scenario_reference(problem))
-cases = corner_cases(problem, model)[: int(sys.argv[1])]
+cases = corner_cases(model)[: int(sys.argv[1])]
 def cpu():
     own, kids = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
@@ -178,7 +178,7 @@ def warm(problem, model, controller, sizes: tuple[int, ...]) -> float:
 def corner_campaign(problem, model, controller, args) -> dict[str, float | int]:
     """Wall and CPU times of the corner campaign: batched, one by one, on the VM (scaled)."""
     reference = scenario_reference(problem)
-    every = corner_cases(problem, model)
+    every = corner_cases(model)
     picks = np.unique(np.linspace(0, len(every) - 1, args.corners).round().astype(int))
     cases = [every[i] for i in picks]
     setup = CampaignSetup.create(problem, controller, reference, batch_cases=args.batch)
@@ -203,7 +203,7 @@ def failure_campaign(problem, model, controller, args) -> dict[str, float | int]
     )
     slew, pointing = verification_problems(problem)
     flown = manoeuvres(slew, pointing)
-    corners = CaseSelection(max_cases=DEFAULT_CORNERS).cases(problem, model)
+    corners = CaseSelection(max_cases=DEFAULT_CORNERS).cases(model)
     cases = failure_cases(len(problem.cubesats), args.max_failed, stages=False)
     cases = cases[: args.failure_cases]
     with Clock() as study_clock:

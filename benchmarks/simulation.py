@@ -150,7 +150,7 @@ def main() -> None:
         whole_c.append(result_c.wall_time_s)
     scipy_s = scipy_loop(problem, model, record.reduced, reference, args.scipy_s)
 
-    cases = corner_cases(problem, model)
+    cases = corner_cases(model)
     picks = np.unique(np.linspace(0, len(cases) - 1, args.corners).round().astype(int))
     chosen = [cases[i] for i in picks]
     campaign = {}

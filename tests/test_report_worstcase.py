@@ -105,7 +105,7 @@ def test_a_parameters_file_holds_what_its_kind_says(kind: str) -> None:
     model = build_model(problem)
     layout = model.parameter_layout
     normalized = np.linspace(-1.0, 1.0, layout.size)
-    values = parameters_from_normalized(problem, model, normalized)
+    values = parameters_from_normalized(model, normalized)
     if kind == "search":
         record = parameter_file(layout, normalized, values, "worstcase", max_error_deg=0.5)
         extra = {"max_error_deg"}

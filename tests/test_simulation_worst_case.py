@@ -59,7 +59,7 @@ def test_the_screen_of_the_papers_corners_is_their_forced_responses(monkeypatch)
     model = build_model(problem)
     record, _ = load_controller()
     reference = scenario_reference(problem)
-    corners = np.array([c.normalized for c in corner_cases(problem, model)[::51]])
+    corners = np.array([c.normalized for c in corner_cases(model)[::51]])
     screened = linear_screen(model, record.reduced, reference, corners)
     monkeypatch.setattr(worst_case, "_largest_outputs", _one_by_one)
     expected = linear_screen(model, record.reduced, reference, corners)
@@ -79,7 +79,7 @@ def test_search_is_at_least_as_bad_as_every_corner_of_a_reduced_set() -> None:
     model = build_model(problem)
     record, _ = load_controller()
     reference = scenario_reference(problem)
-    cases = corner_cases(problem, model)[128:160]  # the corners at 0 deg, 142 among them
+    cases = corner_cases(model)[128:160]  # the corners at 0 deg, 142 among them
     corners = np.array([c.normalized for c in cases[::4]] + [cases[14].normalized])
     found = worst_case_search(
         model,
@@ -105,7 +105,7 @@ def test_fifty_simulations_reach_the_worst_of_the_256_corners() -> None:
     model = build_model(problem)
     record, _ = load_controller()
     reference = scenario_reference(problem)
-    cases = corner_cases(problem, model)
+    cases = corner_cases(model)
     corner_142 = _max_error(problem, model, record.reduced, reference, cases[142].parameters)
     found = worst_case_search(
         model,

@@ -51,7 +51,7 @@ def _study(cases: tuple[FailureCase, ...], slew_s: float, hold_s: float | None) 
         FailureSettings(corner_sets=1),
         controller=record.reduced,
         manoeuvres=manoeuvres(slew, pointing)[: 2 if hold_s else 1],
-        corner_plants=[corner_case(problem, model, 255)],
+        corner_plants=[corner_case(model, 255)],
         cases=cases,
     )
 

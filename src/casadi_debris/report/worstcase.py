@@ -225,7 +225,7 @@ def write_worst_case_files(
         for kind in KINDS:
             worst = getattr(mu, kind).worst
             if worst is not None:
-                values = parameters_from_normalized(problem, model, worst.normalized)
+                values = parameters_from_normalized(model, worst.normalized)
                 data = parameter_file(
                     layout, worst.normalized, values, f"mu-{kind}", perturbation=worst
                 )

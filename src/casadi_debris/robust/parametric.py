@@ -162,7 +162,6 @@ def fit_parametric_plant(
     -------
     ParametricPlant
     """
-    problem = model.problem
     layout = model.parameter_layout
     indices = real_parameter_indices(model)
     fixed = np.zeros(layout.size)
@@ -175,7 +174,7 @@ def fit_parametric_plant(
     stacked = np.array(
         [
             _plant_matrices(model, p, units, function)
-            for p in parameters_from_normalized(problem, model, normalized)
+            for p in parameters_from_normalized(model, normalized)
         ]
     )
     center = int(np.flatnonzero(~grid.any(axis=1))[0])
@@ -190,7 +189,7 @@ def fit_parametric_plant(
     factors = [_factor(s.reshape(nominal.shape), rows, cols) for s in slopes]
     plant = linearize(
         model,
-        parameters_from_normalized(problem, model, fixed),
+        parameters_from_normalized(model, fixed),
         sensor=True,
         units=units,
         function=function,

@@ -134,7 +134,7 @@ def linear_screen(
         _error_loop(
             linearize(model, p, sensor=True, units="deg_mNm", function=function), controller
         )
-        for p in parameters_from_normalized(model.problem, model, normalized)
+        for p in parameters_from_normalized(model, normalized)
     ]
     return _largest_outputs(loops, t, inputs)
 
@@ -230,7 +230,7 @@ class _Objective:
         for done in self.evaluations:  # a point already run is not run again
             if np.array_equal(done.normalized, z):
                 return done.max_error_deg
-        p = parameters_from_normalized(self.problem, self.model, z)
+        p = parameters_from_normalized(self.model, z)
         # A fresh allocator per run, as in a campaign: no warm start carried between cases.
         allocator = Allocator.from_problem(self.problem, self.model.geometry)
         result = simulate(

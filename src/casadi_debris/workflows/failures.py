@@ -205,7 +205,7 @@ def _study(
     slew, pointing = verification_problems(problem, FULL)
     count = corners_for(max_corners, quick)
     corners = (
-        CaseSelection(max_cases=count).cases(problem, model)
+        CaseSelection(max_cases=count).cases(model)
         if settings.corner_sets > 0 and count > 0
         else []
     )

@@ -287,7 +287,7 @@ class _Plan:
     ) -> _Plan:
         record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
         model = build_model(problem)
-        cases = selection.cases(problem, model)
+        cases = selection.cases(model)
         reference = scenario_reference(problem)
         setup = CampaignSetup.create(
             problem, record.reduced, reference, jit=jit, batch_cases=batch_cases

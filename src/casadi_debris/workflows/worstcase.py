@@ -186,7 +186,7 @@ def _search(
 ) -> WorstCaseSearch:
     """The worst-slew search from the corners, and from the mu worst performance
     parameters when the analysis ran."""
-    corners = np.array([case.normalized for case in corner_cases(problem, model)])
+    corners = np.array([case.normalized for case in corner_cases(model)])
     worst = None if mu is None else mu.performance.worst
     return worst_case_search(
         model,
