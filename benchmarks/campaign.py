@@ -208,7 +208,6 @@ def failure_campaign(problem, model, controller, args) -> dict[str, float | int]
     cases = cases[: args.failure_cases]
     with Clock() as study_clock:
         study = failure_study(
-            problem,
             model,
             settings,
             controller=controller,

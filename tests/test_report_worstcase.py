@@ -71,9 +71,7 @@ def test_the_campaign_worst_and_envelope_come_from_its_cases(tmp_path: Path) -> 
     out = tmp_path / "wc"
     out.mkdir()
     problem = load_problem()
-    summary = write_worst_cases(
-        out, problem, build_model(problem), _identity(out), None, None, campaign
-    )
+    summary = write_worst_cases(out, build_model(problem), _identity(out), None, None, campaign)
     written = json.loads((out / "summary.json").read_text())
     # No mu, no search: their keys are absent, not null.
     assert set(written) == IDENTITY_KEYS | {"campaign"}

@@ -96,7 +96,7 @@ class WorstCaseResult(JobResult):
         identity = dataclasses.replace(self.summary.identity, out_dir=str(out.absolute()))
         summary = dataclasses.replace(self.summary, identity=identity)
         write_worst_case_files(
-            staging, self.problem, self.model, summary, self.mu, self.search, self.envelope, plots
+            staging, self.model, summary, self.mu, self.search, self.envelope, plots
         )
 
 
@@ -161,7 +161,7 @@ def worstcase(
     search = None
     if not no_search:
         callback = progress("worst-case search") if progress is not None else None
-        search = _search(problem, model, record, mu, budget, seed, jit, callback)
+        search = _search(model, record, mu, budget, seed, jit, callback)
     identity = WorstCaseIdentity(
         problem=problem.name,
         problem_sha256=problem.sha256,
@@ -175,7 +175,6 @@ def worstcase(
 
 
 def _search(
-    problem: Problem,
     model: Model,
     record: ControllerRecord,
     mu: ParametricMu | None,
@@ -186,6 +185,7 @@ def _search(
 ) -> WorstCaseSearch:
     """The worst-slew search from the corners, and from the mu worst performance
     parameters when the analysis ran."""
+    problem = model.problem
     corners = np.array([case.normalized for case in corner_cases(model)])
     worst = None if mu is None else mu.performance.worst
     return worst_case_search(
