@@ -10,9 +10,9 @@ Measured in one run, so that the ratios hold on a loaded machine:
 
 - ``step_us``: one control period of one case inside a 1000-period roll-out:
   ``batched`` (the compiled function mapped over ``--batch`` cases, per case),
-  ``compiled_alone`` (the same function with one slot, as ``simulate(jit=True)``
-  runs), ``compiled_constants`` (the step compiled with the authority folded in,
-  called through CasADi) and ``virtual_machine``;
+  ``compiled_alone`` (the same function with one slot, as ``simulate`` runs it with
+  ``LoopSettings(jit=True)``), ``compiled_constants`` (the step compiled with the
+  authority folded in, called through CasADi) and ``virtual_machine``;
 - ``corners``: ``--corners`` corner cases of the paper's slew (256: the paper's
   set) on ``--workers`` processes, batched and one by one (same compiled step);
   on the virtual machine, ``--alone-cases`` of them, scaled to all;
@@ -80,7 +80,7 @@ from casadi_debris.workflows.controller import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)
 setup = CampaignSetup.create(problem, load_controller(None)[0].reduced, scenario_reference(problem))
-cases = corner_cases(problem, model)[: int(sys.argv[1])]
+cases = corner_cases(model)[: int(sys.argv[1])]
 def cpu():
     own, kids = (resource.getrusage(w) for w in (resource.RUSAGE_SELF, resource.RUSAGE_CHILDREN))
     return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
@@ -177,7 +177,7 @@ def warm(problem, model, controller, sizes: tuple[int, ...]) -> float:
 def corner_campaign(problem, model, controller, args) -> dict[str, float | int]:
     """Wall and CPU times of the corner campaign: batched, one by one, on the VM (scaled)."""
     reference = scenario_reference(problem)
-    every = corner_cases(problem, model)
+    every = corner_cases(model)
     picks = np.unique(np.linspace(0, len(every) - 1, args.corners).round().astype(int))
     cases = [every[i] for i in picks]
     setup = CampaignSetup.create(problem, controller, reference, batch_cases=args.batch)
@@ -202,12 +202,11 @@ def failure_campaign(problem, model, controller, args) -> dict[str, float | int]
     )
     slew, pointing = verification_problems(problem)
     flown = manoeuvres(slew, pointing)
-    corners = CaseSelection(max_cases=DEFAULT_CORNERS).cases(problem, model)
+    corners = CaseSelection(max_cases=DEFAULT_CORNERS).cases(model)
     cases = failure_cases(len(problem.cubesats), args.max_failed, stages=False)
     cases = cases[: args.failure_cases]
     with Clock() as study_clock:
         study = failure_study(
-            problem,
             model,
             settings,
             controller=controller,

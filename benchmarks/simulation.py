@@ -43,8 +43,13 @@ from casadi_debris.config import default_controller_path, default_problem_path, 
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.simulation import (
+    LoopSettings,
+    discretize_controller,
+    release_compiled_steps,
+    simulate,
+)
 from casadi_debris.simulation import _jit_cache as jit_cache
-from casadi_debris.simulation import discretize_controller, release_compiled_steps, simulate
 from casadi_debris.units import DEG_PER_RAD
 from recording import Setting, start_benchmark
 from step_timing import loop_start, loop_step
@@ -132,18 +137,18 @@ def main() -> None:
 
     whole = []
     for _ in range(args.repeat):
-        result = simulate(problem, model, record.reduced, reference, allocator=allocator)
+        result = simulate(model, record.reduced, reference, allocator=allocator)
         whole.append(result.wall_time_s)
     steps = len(result.scale)
     whole_c = []
     for _ in range(args.repeat):
         result_c = simulate(
-            problem, model, record.reduced, reference, allocator=allocator, jit=True
+            model, record.reduced, reference, allocator=allocator, settings=LoopSettings(jit=True)
         )
         whole_c.append(result_c.wall_time_s)
     scipy_s = scipy_loop(problem, model, record.reduced, reference, args.scipy_s)
 
-    cases = corner_cases(problem, model)
+    cases = corner_cases(model)
     picks = np.unique(np.linspace(0, len(cases) - 1, args.corners).round().astype(int))
     chosen = [cases[i] for i in picks]
     campaign = {}

@@ -115,7 +115,7 @@ def test_independent_array_angles_are_one_parameter_per_array(paper_data):
     apart = model.parameters(array1_angle_offset_rad=0.6, array2_angle_offset_rad=-0.6)
     assert not np.allclose(np.array(model.mass_matrix(apart)), np.array(model.mass_matrix(both)))
     # Corners: 2 angles per array, 2^2 x 2^5, every angle pair with every extreme.
-    corners = corner_cases(problem, model)
+    corners = corner_cases(model)
     assert len(corners) == 4 * 32
     pairs = {tuple(case.normalized[4:6]) for case in corners}
     assert pairs == {(a, b) for a in (-1.0, 0.0) for b in (-1.0, 0.0)}

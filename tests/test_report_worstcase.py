@@ -71,9 +71,7 @@ def test_the_campaign_worst_and_envelope_come_from_its_cases(tmp_path: Path) -> 
     out = tmp_path / "wc"
     out.mkdir()
     problem = load_problem()
-    summary = write_worst_cases(
-        out, problem, build_model(problem), _identity(out), None, None, campaign
-    )
+    summary = write_worst_cases(out, build_model(problem), _identity(out), None, None, campaign)
     written = json.loads((out / "summary.json").read_text())
     # No mu, no search: their keys are absent, not null.
     assert set(written) == IDENTITY_KEYS | {"campaign"}
@@ -105,7 +103,7 @@ def test_a_parameters_file_holds_what_its_kind_says(kind: str) -> None:
     model = build_model(problem)
     layout = model.parameter_layout
     normalized = np.linspace(-1.0, 1.0, layout.size)
-    values = parameters_from_normalized(problem, model, normalized)
+    values = parameters_from_normalized(model, normalized)
     if kind == "search":
         record = parameter_file(layout, normalized, values, "worstcase", max_error_deg=0.5)
         extra = {"max_error_deg"}

@@ -117,7 +117,7 @@ def test_fast_margins_against_a_direct_computation_on_sampled_plants(problem, co
     phase: 36, delay: 2344) and others. Agreement to 1e-6 (dB, deg, s) is far inside the 1e-3
     that the reported figures need; observed ~1e-11."""
     model = build_model(problem)
-    parameters = sample_uncertainty(problem, model, 3000).parameters
+    parameters = sample_uncertainty(model, 3000).parameters
     loops = LoopAtATime(controller)
     for index in (0, 33, 36, 63, 64, 500, 2344):
         plant = linearize(model, parameters[index], sensor=True, units="deg_mNm")

@@ -63,7 +63,7 @@ def test_shipped_controller_robust_performance(shipped_plant, shipped):
 @pytest.mark.parametrize("modes", ["first", "all"])
 def test_shipped_controller_stabilises_every_corner(problem, shipped, modes):
     model = build_model(problem, modes=modes)
-    for p in parameters_from_normalized(problem, model, box_corners(6)):
+    for p in parameters_from_normalized(model, box_corners(6)):
         plant = linearize(model, p, sensor=True, units="deg_mNm")
         assert np.max(closed_loop_poles(plant, shipped.reduced).real) < 0
 

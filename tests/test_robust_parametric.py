@@ -36,11 +36,11 @@ def setting():
 
 
 def test_the_lft_closed_over_z_is_the_affine_model(setting) -> None:
-    problem, model, _, _ = setting
-    plant = fit_parametric_plant(problem, model, 0.25)
+    _, model, _, _ = setting
+    plant = fit_parametric_plant(model, 0.25)
     nominal = linearize(
         model,
-        parameters_from_normalized(problem, model, plant.fixed_normalized),
+        parameters_from_normalized(model, plant.fixed_normalized),
         sensor=True,
         units="deg_mNm",
     )
@@ -59,7 +59,7 @@ def test_the_lft_closed_over_z_is_the_affine_model(setting) -> None:
 
 
 def _casadi_loop(problem, model, controller, weights, normalized) -> control.StateSpace:
-    p = parameters_from_normalized(problem, model, normalized)
+    p = parameters_from_normalized(model, normalized)
     plant = linearize(model, p, sensor=True, units="deg_mNm")
     exact = ParametricPlant((), (), normalized, plant.A, plant.B, plant.C, (), (), 0.0)
     return parametric_closed_loop(exact, controller, weights)

@@ -57,7 +57,7 @@ def stabilises_casadi_plant(problem, controller) -> bool:
 @pytest.mark.slow
 def test_mixed_bound_of_the_shipped_controller_recomputed(setting) -> None:
     problem, controller, weights = setting
-    plant = fit_parametric_plant(problem, build_model(problem, modes="first"), 0.0)
+    plant = fit_parametric_plant(build_model(problem, modes="first"), 0.0)
     mu_complex, mu_mixed, indices = mixed_bound(plant, controller, weights, OMEGA, points=2)
     complex_bound, mixed = recomputed(plant, controller, weights, indices)
     assert np.allclose(mu_complex, complex_bound, rtol=1e-6)

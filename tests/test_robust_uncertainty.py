@@ -20,9 +20,9 @@ def first_mode_model(problem):
 
 
 def test_corners_first_and_seeded(problem, first_mode_model):
-    a = sample_uncertainty(problem, first_mode_model, count=80, seed=3)
-    b = sample_uncertainty(problem, first_mode_model, count=80, seed=3)
-    c = sample_uncertainty(problem, first_mode_model, count=80, seed=4)
+    a = sample_uncertainty(first_mode_model, count=80, seed=3)
+    b = sample_uncertainty(first_mode_model, count=80, seed=3)
+    c = sample_uncertainty(first_mode_model, count=80, seed=4)
     assert a.n_corners == 64 and len(a.parameters) == 80
     np.testing.assert_array_equal(a.normalized[:64], box_corners(6))
     np.testing.assert_array_equal(a.parameters, b.parameters)
@@ -31,7 +31,7 @@ def test_corners_first_and_seeded(problem, first_mode_model):
 
 
 def test_parameter_ranges(problem, first_mode_model):
-    samples = sample_uncertainty(problem, first_mode_model)
+    samples = sample_uncertainty(first_mode_model)
     p, nominal = samples.parameters, first_mode_model.nominal_parameters
     assert len(p) == problem.uncertainty.samples == 200
     assert np.allclose(p[:, 0:3].min(), 0.83) and np.allclose(p[:, 0:3].max(), 1.17)
@@ -56,7 +56,7 @@ def test_rigid_relative_error_is_inertia_ratio(problem):
 
 def test_flexible_relative_error_matches_python_control(problem, first_mode_model):
     # An independent evaluation: python-control's frequency response of the same plants.
-    samples = sample_uncertainty(problem, first_mode_model, count=68, seed=1)
+    samples = sample_uncertainty(first_mode_model, count=68, seed=1)
     omega = np.logspace(-3, 2, 40)
     errors = relative_errors(first_mode_model, samples.parameters[-4:], omega)
 

@@ -20,6 +20,7 @@ from casadi_debris.config import FailureEvent, default_problem_path, load_proble
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
+    LoopSettings,
     RunInputs,
     c_compiler,
     discretize_controller,
@@ -66,11 +67,10 @@ def _fresh(problem, model) -> Allocator:
 def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
     _, problem, model, controller = short_slew
     reference = scenario_reference(problem)
-    corners = [corner_cases(problem, model)[i] for i in CORNERS]
+    corners = [corner_cases(model)[i] for i in CORNERS]
     # The last corner with CubeSats 1 and 2 failed at 20 s: its torque saturates.
     failures = [(), (), tuple(FailureEvent(time_s=20.0, cubesat=i, stage=None) for i in (0, 1))]
     together = simulate_many(
-        problem,
         model,
         controller,
         reference,
@@ -78,28 +78,26 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
             RunInputs(c.parameters, failed, _fresh(problem, model))
             for c, failed in zip(corners, failures, strict=True)
         ],
-        jit=True,
+        settings=LoopSettings(jit=True),
         slots=4,  # one slot left unused
     )
     for corner, failed, batched in zip(corners, failures, together, strict=True):
         assert not isinstance(batched, Exception)
         assert batched.compiled_step
         alone = simulate(
-            problem,
             model,
             controller,
             reference,
             parameters=corner.parameters,
             failures=failed,
             allocator=_fresh(problem, model),
-            jit=True,
+            settings=LoopSettings(jit=True),
         )
         # The same C on the same inputs, slot or alone: the same bits.
         assert np.array_equal(batched.state, alone.state)
         assert np.array_equal(batched.thrust_N, alone.thrust_N)
         # CasADi's virtual machine with the authority folded in as constants: round-off.
         folded = simulate(
-            problem,
             model,
             controller,
             reference,
@@ -118,7 +116,7 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
 
 def test_a_batched_campaign_gives_each_case_as_run_alone(short_slew) -> None:
     _, problem, model, controller = short_slew
-    corners = [corner_cases(problem, model)[i] for i in CORNERS]
+    corners = [corner_cases(model)[i] for i in CORNERS]
     reference = scenario_reference(problem)
     one_by_one = CampaignSetup.create(problem, controller, reference, jit=False)
     batched = dataclasses.replace(one_by_one, jit=True, batch_cases=4)
@@ -139,7 +137,7 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
     path, problem, model, controller = short_slew
     failed = (0, 1)  # CubeSats 1 and 2: the slew saturates from the start
     events = tuple(FailureEvent(time_s=0.0, cubesat=i, stage=None) for i in failed)
-    corner = corner_cases(problem, model)[0]
+    corner = corner_cases(model)[0]
     plants = [dataclasses.replace(corner, case_id=f"failed-{i}", failures=events) for i in (1, 2)]
     plants[1] = dataclasses.replace(plants[1], failures=())  # the whole swarm beside it
     setup = CampaignSetup.create(problem, controller, scenario_reference(problem), batch_cases=2)
@@ -152,7 +150,6 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
     alone = json.loads(answer.stdout)
     # simulate flies the nominal plant; the corner here is another: fly it alone too.
     direct = simulate(
-        problem,
         model,
         controller,
         scenario_reference(problem),
@@ -177,7 +174,7 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
 
 def test_a_case_that_raises_in_a_batch_is_recorded_and_the_others_go_on(short_slew) -> None:
     _, problem, model, controller = short_slew
-    corners = corner_cases(problem, model)[:3]
+    corners = corner_cases(model)[:3]
     every = tuple(
         FailureEvent(time_s=10.0, cubesat=i, stage=None) for i in range(len(problem.cubesats))
     )
@@ -224,8 +221,8 @@ def test_native_function_matches_casadi() -> None:
 
 
 def test_batches_fill_power_of_two_slots(short_slew) -> None:
-    _, problem, model, _ = short_slew
-    cases = corner_cases(problem, model)
+    _, _, model, _ = short_slew
+    cases = corner_cases(model)
     made = batches(cases[:37], 16, workers=2)
     assert {b.slots for b in made} == {16} and [len(b.cases) for b in made] == [16, 16, 5]
     assert [c for b in made for c in b.cases] == cases[:37]

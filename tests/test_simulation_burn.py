@@ -36,7 +36,7 @@ def flown():
     controller = controller_for(problem)[0].reduced
     plan = BurnPlan("retrograde", strongest_axis(problem), BURN_S)
     engines = first_stage_left(PropulsionState.from_problem(problem), STAGE_LEFT_S)
-    run = simulate_burn(problem, model, controller, plan, propulsion=engines, jit=True)
+    run = simulate_burn(model, controller, plan, propulsion=engines, jit=True)
     allocator = Allocator.from_problem(problem)
     summary, series = burn_figures(problem, run, allocator)
     return problem, run, summary, series, allocator
@@ -162,7 +162,7 @@ def test_a_thrust_beyond_the_engines_is_refused() -> None:
     controller = controller_for(problem)[0].reduced
     plan = BurnPlan("prograde", strongest_axis(problem), 1.0, thrust_N=0.01)
     with pytest.raises(SimulationError, match="thrust_mN"):
-        simulate_burn(problem, model, controller, plan)
+        simulate_burn(model, controller, plan)
 
 
 def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
@@ -170,7 +170,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
     from casadi_debris.allocation import Allocator
     from casadi_debris.guidance.reference import scenario_reference
-    from casadi_debris.simulation import simulate
+    from casadi_debris.simulation import LoopSettings, simulate
 
     text = (
         'extends = "paper.toml"\nname = "burn_window"\n[simulation]\nduration_s = 120.0\n'
@@ -185,7 +185,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     reference = scenario_reference(problem)
     assert [p.kind for p in reference.pieces] == ["burn"]
     assert reference.pieces[0].firing_s == (40.0, 120.0)
-    result = simulate(problem, model, controller, reference, jit=True)
+    result = simulate(model, controller, reference, settings=LoopSettings(jit=True))
     allocator = Allocator.from_problem(problem)
     force = result.thrust_N @ allocator.force_map.T
     firing = result.time_s[:-1] >= 40.0 - 1e-9
@@ -203,7 +203,7 @@ def test_the_force_through_the_centre_of_gravity_leaves_the_pointing_alone(flown
     controller = controller_for(problem)[0].reduced
     faint = BurnPlan("retrograde", run.plan.body_axis, BURN_S, thrust_N=1e-12)
     engines = first_stage_left(PropulsionState.from_problem(problem), STAGE_LEFT_S)
-    other = simulate_burn(problem, model, controller, faint, propulsion=engines, jit=True)
+    other = simulate_burn(model, controller, faint, propulsion=engines, jit=True)
     difference = np.abs(run.pointing_error_rad - other.pointing_error_rad).max()
     assert difference * 206264.8 < 1e-3
     assert np.abs(other.result.force_N).max() <= 1.001e-12  # the faint thrust itself

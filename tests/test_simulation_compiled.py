@@ -21,14 +21,15 @@ from casadi_debris.config import default_controller_path, default_problem_path, 
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import _closed_loop as closed_loop
-from casadi_debris.simulation import _jit_cache as jit_cache
 from casadi_debris.simulation import (
+    LoopSettings,
     build_loop_step,
     c_compiler,
     discretize_controller,
     simulate,
 )
+from casadi_debris.simulation import _closed_loop as closed_loop
+from casadi_debris.simulation import _jit_cache as jit_cache
 
 pytestmark = pytest.mark.skipif(c_compiler() is None, reason="no C compiler for CasADi's JIT")
 
@@ -103,7 +104,6 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
     corner = model.parameters(inertia_scale_z=1.17, array_angle_offset_rad=0.8)
     runs = [
         simulate(
-            problem,
             model,
             record.reduced,
             reference,
@@ -111,7 +111,7 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
             # A fresh allocator each: a warm one reuses regions anchored elsewhere,
             # which moves the thrust within the QP's tolerance.
             allocator=Allocator.from_problem(problem, model.geometry),
-            jit=jit,
+            settings=LoopSettings(jit=jit),
         )
         for jit in (False, True)
     ]

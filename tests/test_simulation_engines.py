@@ -61,7 +61,7 @@ def run(problem: Problem) -> ClosedLoopResult:
     reference = Reference(
         reference.time_s[keep], reference.quaternion_BN[keep], reference.slew, reference.start_s
     )
-    return simulate(problem, build_model(problem), record.reduced, reference)
+    return simulate(build_model(problem), record.reduced, reference)
 
 
 def exhaust(problem: Problem) -> np.ndarray:

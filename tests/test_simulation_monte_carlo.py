@@ -90,7 +90,7 @@ def test_a_case_is_the_same_whatever_the_worker_ran_before(tmp_path: Path) -> No
     model = build_model(problem)
     record, _ = load_controller(None)
     setup = CampaignSetup.create(problem, record.reduced, scenario_reference(problem), jit=False)
-    corners = corner_cases(problem, model)
+    corners = corner_cases(model)
     # One model for the three, as a worker keeps it for all its cases.
     alone = run_case(setup, corners[255], model=model)
     run_case(setup, corners[0], model=model)
@@ -110,7 +110,7 @@ def test_a_failed_case_is_recorded_and_the_campaign_goes_on(tmp_path: Path) -> N
     model = build_model(problem)
     record, _ = load_controller(None)
     setup = CampaignSetup.create(problem, record.reduced, scenario_reference(problem), jit=False)
-    corners = corner_cases(problem, model)
+    corners = corner_cases(model)
     # A plant that goes non-finite: its torque demand is refused by the allocator.
     broken = dataclasses.replace(corners[1], parameters=np.full_like(corners[1].parameters, np.nan))
     cases = [corners[0], broken, corners[2]]

@@ -98,11 +98,11 @@ def test_every_campaign_case_has_its_own_noise_and_keeps_it() -> None:
 
     problem = load_problem("paper_realistic")
     model = build_model(problem)
-    corners = corner_cases(problem, model)
+    corners = corner_cases(model)
     seeds = [case.noise_seed(problem) for case in corners]
     assert len(set(seeds)) == len(seeds) == 256
-    assert seeds == [case.noise_seed(problem) for case in corner_cases(problem, model)]
-    samples = [c.noise_seed(problem) for c in sample_cases(problem, model, 8, seed=3)]
+    assert seeds == [case.noise_seed(problem) for case in corner_cases(model)]
+    samples = [c.noise_seed(problem) for c in sample_cases(model, 8, seed=3)]
     assert len(set(samples + seeds)) == len(samples) + len(seeds)
     assert nominal_case(model).noise_seed(problem) is None
     other = dataclasses.replace(problem.sensors, seed=problem.sensors.seed + 1)

@@ -29,6 +29,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
     DiscreteController,
+    LoopSettings,
     Realism,
     StepInput,
     StepOutput,
@@ -168,7 +169,7 @@ def test_defaults_leave_the_paper_loop(paper) -> None:
 
 @pytest.fixture(scope="module")
 def short_runs(paper):
-    problem, model, _ = paper
+    problem, _, _ = paper
     record, _ = load_controller()
     short = dataclasses.replace(
         problem, simulation=dataclasses.replace(problem.simulation, duration_s=20.0)
@@ -179,11 +180,12 @@ def short_runs(paper):
     reference = scenario_reference(short)
     realistic = load_problem("paper_realistic")
     everything = dataclasses.replace(short, **realism_fields(realistic))
+    held_model = build_model(held)
     return {
-        "held": simulate(held, model, record.reduced, reference),
-        "held_again": simulate(held, model, record.reduced, reference),
-        "other_seed": simulate(held, model, record.reduced, reference, noise_seed=9),
-        "everything": simulate(everything, model, record.reduced, reference),
+        "held": simulate(held_model, record.reduced, reference),
+        "held_again": simulate(held_model, record.reduced, reference),
+        "other_seed": simulate(held_model, record.reduced, reference, noise_seed=9),
+        "everything": simulate(build_model(everything), record.reduced, reference),
     }
 
 
@@ -216,15 +218,15 @@ def test_engines_books_balance(short_runs) -> None:
 def test_engines_without_effects_fly_the_ideal_loop(paper) -> None:
     # Engine-level books with no effect (a minimum impulse no engine is below):
     # the same torques, states and fuel as the paper's loop.
-    problem, model, _ = paper
+    problem, _, _ = paper
     record, _ = load_controller()
     short = dataclasses.replace(
         problem, simulation=dataclasses.replace(problem.simulation, duration_s=20.0)
     )
     reference = scenario_reference(short)
-    ideal = simulate(short, model, record.reduced, reference)
+    ideal = simulate(build_model(short), record.reduced, reference)
     books = dataclasses.replace(short, actuators=Actuators(minimum_impulse_bit_uNs=1e-9))
-    engines = simulate(books, model, record.reduced, reference)
+    engines = simulate(build_model(books), record.reduced, reference)
     np.testing.assert_allclose(engines.state, ideal.state, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(engines.thrust_N, ideal.thrust_N, rtol=1e-9, atol=1e-12)
 
@@ -232,7 +234,7 @@ def test_engines_without_effects_fly_the_ideal_loop(paper) -> None:
 @pytest.mark.slow
 def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
     # Every effect at once, as C and on CasADi's virtual machine (a compile of tens of seconds).
-    problem, model, _ = paper
+    problem, _, _ = paper
     real = load_problem("paper_realistic")
     problem = dataclasses.replace(problem, **realism_fields(real))
     record, _ = load_controller()
@@ -240,8 +242,9 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
         problem, simulation=dataclasses.replace(problem.simulation, duration_s=30.0)
     )
     reference = scenario_reference(short)
-    machine = simulate(short, model, record.reduced, reference)
-    compiled = simulate(short, model, record.reduced, reference, jit=True)
+    short_model = build_model(short)
+    machine = simulate(short_model, record.reduced, reference)
+    compiled = simulate(short_model, record.reduced, reference, settings=LoopSettings(jit=True))
     if not compiled.compiled_step:
         pytest.skip("no C compiler")
     np.testing.assert_allclose(compiled.state, machine.state, rtol=1e-9, atol=1e-12)

@@ -14,6 +14,7 @@ from scipy import stats
 from casadi_debris.campaigns import varied_case, varied_cases, varied_count
 from casadi_debris.campaigns._sampling import corner_row, corner_values, draw, draws
 from casadi_debris.config import VariedQuantity, problem_from_dict
+from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
 
 
@@ -71,15 +72,16 @@ def test_corners_are_every_combination_once() -> None:
     assert rows.shape == (16, 4) and {tuple(r) for r in rows.tolist()} == expected
 
 
-def test_a_corner_campaign_runs_every_combination_of_the_file(paper_data, model) -> None:
+def test_a_corner_campaign_runs_every_combination_of_the_file(paper_data) -> None:
     entries = [
         {"path": "mass_kg", "distribution": "corners", "low": 600.0, "high": 700.0},
         {"path": "disturbance.amplitude_mNm[0]", "distribution": "corners"}
         | {"low": 0.2, "high": 2.0},
         {"path": "inertia_scale_z", "distribution": "corners", "low": 0.9, "high": 1.1},
     ]
-    problem = _problem(paper_data, *entries)
-    cases = varied_cases(problem, model, samples=5, seed=1)  # no random quantity: one draw
+    model = build_model(_problem(paper_data, *entries))
+    problem = model.problem
+    cases = varied_cases(model, samples=5, seed=1)  # no random quantity: one draw
     assert varied_count(problem, 5) == len(cases) == 8
     got = {tuple(v for _, v in c.varied) for c in cases}
     assert got == set(itertools.product((600.0, 700.0), (0.2, 2.0), (0.9, 1.1)))
@@ -99,7 +101,7 @@ def test_a_corner_campaign_runs_every_combination_of_the_file(paper_data, model)
             )
 
 
-def test_samples_are_seeded_bounded_and_independent_of_the_count(paper_data, model) -> None:
+def test_samples_are_seeded_bounded_and_independent_of_the_count(paper_data) -> None:
     entries = [
         {"path": "environment.density_kg_m3", "distribution": "uniform"}
         | {"low": 1e-13, "high": 5e-12},
@@ -107,16 +109,16 @@ def test_samples_are_seeded_bounded_and_independent_of_the_count(paper_data, mod
         | {"low": 640.0},
         {"path": "inertia_scale_x", "distribution": "corners", "low": 0.9, "high": 1.1},
     ]
-    problem = _problem(paper_data, *entries)
-    cases = varied_cases(problem, model, samples=6, seed=21)
+    model = build_model(_problem(paper_data, *entries))
+    cases = varied_cases(model, samples=6, seed=21)
     assert len(cases) == 12 and all(c.seed == 21 and c.kind == "varied" for c in cases)
-    again = varied_cases(problem, model, samples=6, seed=21)
+    again = varied_cases(model, samples=6, seed=21)
     assert [c.varied for c in cases] == [c.varied for c in again]
-    assert [c.varied for c in cases] != [c.varied for c in varied_cases(problem, model, 6, 22)]
+    assert [c.varied for c in cases] != [c.varied for c in varied_cases(model, 6, 22)]
     # Case i alone is case i of any longer campaign: it re-runs from its index and seed.
-    longer = varied_cases(problem, model, samples=9, seed=21)
+    longer = varied_cases(model, samples=9, seed=21)
     assert [c.varied for c in longer[:12]] == [c.varied for c in cases]
-    assert varied_case(problem, model, 7, 21).varied == cases[7].varied
+    assert varied_case(model, 7, 21).varied == cases[7].varied
     values = np.array([[v for _, v in c.varied] for c in longer])
     assert np.all((values[:, 0] >= 1e-13) & (values[:, 0] <= 5e-12))
     assert np.all(values[:, 1] >= 640.0)
@@ -140,10 +142,8 @@ def test_samples_are_seeded_bounded_and_independent_of_the_count(paper_data, mod
         ),
     ],
 )
-def test_model_parameters_the_model_refuses_are_named(
-    paper_data, model, entry, field, words
-) -> None:
-    problem = _problem(paper_data, entry)
+def test_model_parameters_the_model_refuses_are_named(paper_data, entry, field, words) -> None:
+    model = build_model(_problem(paper_data, entry))
     with pytest.raises(ProblemFileError, match=words) as caught:
-        varied_cases(problem, model, samples=2, seed=1)
+        varied_cases(model, samples=2, seed=1)
     assert caught.value.field == field

@@ -27,7 +27,7 @@ def test_segments_tile_the_run(fresh_data: dict[str, Any]) -> None:
     problem = problem_from_dict(fresh_data, "<test>")
     controller = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
-    result = simulate(problem, build_model(problem), controller.reduced, reference)
+    result = simulate(build_model(problem), controller.reduced, reference)
     figures = segment_figures(result, reference.pieces)
     assert [(f.segment, f.kind, f.start_s, f.end_s) for f in figures] == [
         (1, "hold", 0.0, 50.0),

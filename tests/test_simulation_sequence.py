@@ -124,7 +124,7 @@ def test_a_quaternion_target_flies_as_the_same_axis_angle(
         problem = sequence(data, [{"kind": "slew", **target, **timing}], duration_s=620.0)
         reference = scenario_reference(problem)
         model = build_model(problem)
-        runs.append((reference, simulate(problem, model, controller, reference)))
+        runs.append((reference, simulate(model, controller, reference)))
     (ref_a, run_a), (ref_b, run_b) = runs
     assert np.abs(ref_a.quaternion_BN - ref_b.quaternion_BN).max() < 1e-12
     assert np.abs(run_a.error_rad - run_b.error_rad).max() < 1e-10

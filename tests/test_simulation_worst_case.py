@@ -8,8 +8,13 @@ import pytest
 
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
+from casadi_debris.campaigns import (
+    WorstCaseSettings,
+    corner_cases,
+    linear_screen,
+    worst_case_search,
+)
 from casadi_debris.campaigns import _worst_case as worst_case
-from casadi_debris.campaigns import corner_cases, linear_screen, worst_case_search
 from casadi_debris.campaigns._worst_case import _largest_outputs, _project, _rotation_vectors
 from casadi_debris.config import default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
@@ -31,7 +36,7 @@ def test_projection_clips_the_box_and_wraps_a_full_turn_angle() -> None:
     problem = load_problem(SLEW)
     model = build_model(problem)
     z = np.array([1.5, -2.0, 0.5, 0.0, 1.25, -1.1])
-    projected = _project(problem, model, z)
+    projected = _project(model, z)
     assert projected.tolist() == [1.0, -1.0, 0.5, 0.0, -0.75, -1.0]
 
 
@@ -54,17 +59,17 @@ def test_the_screen_of_the_papers_corners_is_their_forced_responses(monkeypatch)
     model = build_model(problem)
     record, _ = load_controller()
     reference = scenario_reference(problem)
-    corners = np.array([c.normalized for c in corner_cases(problem, model)[::51]])
-    screened = linear_screen(problem, model, record.reduced, reference, corners)
+    corners = np.array([c.normalized for c in corner_cases(model)[::51]])
+    screened = linear_screen(model, record.reduced, reference, corners)
     monkeypatch.setattr(worst_case, "_largest_outputs", _one_by_one)
-    expected = linear_screen(problem, model, record.reduced, reference, corners)
+    expected = linear_screen(model, record.reduced, reference, corners)
     assert np.all(expected > 0)
     np.testing.assert_allclose(screened, expected, rtol=1e-10)
 
 
 def _max_error(problem, model, controller, reference, p) -> float:
     allocator = Allocator.from_problem(problem, model.geometry)
-    run = simulate(problem, model, controller, reference, parameters=p, allocator=allocator)
+    run = simulate(model, controller, reference, parameters=p, allocator=allocator)
     return float(run.summary().max_error_deg)
 
 
@@ -74,10 +79,14 @@ def test_search_is_at_least_as_bad_as_every_corner_of_a_reduced_set() -> None:
     model = build_model(problem)
     record, _ = load_controller()
     reference = scenario_reference(problem)
-    cases = corner_cases(problem, model)[128:160]  # the corners at 0 deg, 142 among them
+    cases = corner_cases(model)[128:160]  # the corners at 0 deg, 142 among them
     corners = np.array([c.normalized for c in cases[::4]] + [cases[14].normalized])
     found = worst_case_search(
-        problem, model, record.reduced, reference, corners, budget=8, screen_starts=2, seed=1
+        model,
+        record.reduced,
+        reference,
+        corners,
+        settings=WorstCaseSettings(budget=8, screen_starts=2, seed=1),
     )
     brute = max(
         _max_error(problem, model, record.reduced, reference, c.parameters)
@@ -96,16 +105,14 @@ def test_fifty_simulations_reach_the_worst_of_the_256_corners() -> None:
     model = build_model(problem)
     record, _ = load_controller()
     reference = scenario_reference(problem)
-    cases = corner_cases(problem, model)
+    cases = corner_cases(model)
     corner_142 = _max_error(problem, model, record.reduced, reference, cases[142].parameters)
     found = worst_case_search(
-        problem,
         model,
         record.reduced,
         reference,
         np.array([c.normalized for c in cases]),
-        budget=50,
-        seed=0,
+        settings=WorstCaseSettings(budget=50, seed=0),
     )
     assert found.simulations <= 50
     assert found.best.max_error_deg >= corner_142 * (1 - 1e-9)

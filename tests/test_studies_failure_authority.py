@@ -90,7 +90,7 @@ def test_authority_after_random_failures_matches_an_independent_lp(
 ) -> None:
     rng = np.random.default_rng(seed)
     failed = tuple(sorted(rng.choice(24, size=int(rng.integers(1, 6)), replace=False).tolist()))
-    holding = holding_torque_Nm(problem, model)
+    holding = holding_torque_Nm(model)
     found = case_authority(problem, model.geometry, FailureCase(cubesats=failed), holding)
     alive = np.ones(24, dtype=bool)
     alive[list(failed)] = False
@@ -117,7 +117,7 @@ def test_authority_of_a_small_swarm_matches_vertex_enumeration(
 
 def test_the_issue_pair_leaves_2_59_mnm_about_minus_z(problem: Problem, model: Model) -> None:
     found = case_authority(
-        problem, model.geometry, FailureCase(cubesats=(2, 16)), holding_torque_Nm(problem, model)
+        problem, model.geometry, FailureCase(cubesats=(2, 16)), holding_torque_Nm(model)
     )
     # Against the independent LP, and the figure the issue quotes to its 3 digits.
     alive = np.ones(24, dtype=bool)
@@ -130,7 +130,7 @@ def test_the_issue_pair_leaves_2_59_mnm_about_minus_z(problem: Problem, model: M
 def test_holding_load_cancels_the_disturbance_and_its_depletion_follows(
     problem: Problem, model: Model
 ) -> None:
-    holding = holding_torque_Nm(problem, model)
+    holding = holding_torque_Nm(model)
     period = problem.disturbance.period_min * SECONDS_PER_MINUTE
     times = period * np.arange(HOLDING_SAMPLES) / HOLDING_SAMPLES
     amplitude = problem.disturbance.amplitude_mNm / MN
@@ -158,7 +158,7 @@ def test_holding_load_cancels_the_disturbance_and_its_depletion_follows(
 def test_a_lost_stage_keeps_the_authority_and_shortens_the_life(
     problem: Problem, model: Model
 ) -> None:
-    holding = holding_torque_Nm(problem, model)
+    holding = holding_torque_Nm(model)
     whole = case_authority(problem, model.geometry, FailureCase(), holding)
     assert whole.holding is not None
     busiest = int(np.argmax(whole.holding.thrust_per_cubesat_N))

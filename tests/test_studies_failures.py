@@ -46,12 +46,11 @@ def _study(cases: tuple[FailureCase, ...], slew_s: float, hold_s: float | None) 
     slew = with_duration(problem, slew_s)
     pointing = with_duration(load_problem(PROBLEMS / "paper_pointing.toml"), hold_s or 1.0)
     return failure_study(
-        problem,
         model,
         FailureSettings(corner_sets=1),
         controller=record.reduced,
         manoeuvres=manoeuvres(slew, pointing)[: 2 if hold_s else 1],
-        corner_plants=[corner_case(problem, model, 255)],
+        corner_plants=[corner_case(model, 255)],
         cases=cases,
     )
 

@@ -27,23 +27,23 @@ def short_slew(tmp_path_factory: pytest.TempPathFactory):
 
 
 def test_selection_spreads_max_cases_over_the_corners(short_slew) -> None:
-    problem, model = short_slew
-    every = CaseSelection(corners=True).cases(problem, model)
+    _, model = short_slew
+    every = CaseSelection(corners=True).cases(model)
     assert len(every) == 256
-    few = CaseSelection(max_cases=5).cases(problem, model)
+    few = CaseSelection(max_cases=5).cases(model)
     assert [c.case_id for c in few] == [every[i].case_id for i in (0, 64, 128, 191, 255)]
     with pytest.raises(InputShapeError, match="either --corners or --samples"):
-        CaseSelection(corners=True, samples=3).cases(problem, model)
-    samples = CaseSelection(samples=3, seed=7).cases(problem, model)
+        CaseSelection(corners=True, samples=3).cases(model)
+    samples = CaseSelection(samples=3, seed=7).cases(model)
     assert [(c.kind, c.seed) for c in samples] == [("sample", 7)] * 3
 
 
 def test_one_case_names_the_option_it_came_from(short_slew) -> None:
-    problem, model = short_slew
-    assert one_case(problem, model, None, None, None).case_id == "nominal"
-    assert one_case(problem, model, 3, None, None).case_id == "corner-0003"
+    _, model = short_slew
+    assert one_case(model, None, None, None).case_id == "nominal"
+    assert one_case(model, 3, None, None).case_id == "corner-0003"
     with pytest.raises(InputShapeError, match=r"^--corner: "):
-        one_case(problem, model, 999, None, None)
+        one_case(model, 999, None, None)
 
 
 @pytest.mark.parametrize(

@@ -57,7 +57,6 @@ def test_fuel_over_the_common_window_is_what_a_run_of_that_length_burns(comparis
     record, _ = controller_for(problem, None)
     model = build_model(problem)
     alone = simulate(
-        problem,
         model,
         record.reduced,
         scenario_reference(problem),

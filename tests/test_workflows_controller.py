@@ -103,7 +103,7 @@ def test_a_plain_state_space_file_is_flown_as_given(
     # The same matrices as the shipped file: the same closed-loop run, to the bit.
     short = with_duration(problem, 30.0)
     runs = [
-        simulate(short, build_model(short), r.reduced, scenario_reference(short))
+        simulate(build_model(short), r.reduced, scenario_reference(short))
         for r in (record, controller_for(short)[0])
     ]
     assert np.array_equal(runs[0].error_rad, runs[1].error_rad)

@@ -350,7 +350,7 @@ def campaign(data: Data) -> str:
     targets = data.get("targets", {})
     step_labels = {
         "batched": "batched (per case; the compiled function mapped over a batch)",
-        "compiled_alone": "compiled, one case (`simulate(jit=True)`)",
+        "compiled_alone": "compiled, one case (`simulate(settings=LoopSettings(jit=True))`)",
         "compiled_constants": "compiled with the authority as constants, through CasADi",
         "virtual_machine": "CasADi's virtual machine",
     }

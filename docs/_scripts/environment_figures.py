@@ -38,7 +38,7 @@ from casadi_debris.environment import EnvironmentTorques
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.simulation import simulate
+from casadi_debris.simulation import LoopSettings, simulate
 from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
@@ -110,7 +110,8 @@ def pointing_runs() -> dict[str, float]:
     numbers = {}
     for ax, (name, problem) in zip(axes, _variants().items(), strict=True):
         model = build_model(problem)
-        result = simulate(problem, model, record.reduced, scenario_reference(problem), jit=True)
+        jit = LoopSettings(jit=True)
+        result = simulate(model, record.reduced, scenario_reference(problem), settings=jit)
         error = result.error_rad * ARCSEC_PER_RAD
         for axis, label in enumerate(("Φ", "Θ", "Ψ")):
             ax.plot(result.time_s / 60.0, error[:, axis], lw=0.8, label=label)

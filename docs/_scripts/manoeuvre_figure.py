@@ -39,7 +39,7 @@ def main() -> None:
     problem = load_problem("paper_sequence")
     record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
-    result = simulate(problem, build_model(problem), record.reduced, reference)
+    result = simulate(build_model(problem), record.reduced, reference)
     records = segment_records(reference.pieces)
     time = result.time_s
     plot_segment_series(

@@ -49,7 +49,7 @@ def realistic(problem: Problem, realism: Problem) -> Problem:
 
 
 def run(problem: Problem, record: ControllerRecord) -> ClosedLoopResult:
-    return simulate(problem, build_model(problem), record.reduced, scenario_reference(problem))
+    return simulate(build_model(problem), record.reduced, scenario_reference(problem))
 
 
 def figures(result: ClosedLoopResult) -> dict:

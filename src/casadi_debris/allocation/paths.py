@@ -168,7 +168,6 @@ class SolvePaths:
                     fit.u,
                     torque,
                     force,
-                    False,
                     fit.alpha,
                     "least_squares",
                     iterations,
@@ -198,7 +197,7 @@ class SolvePaths:
             iterations + edge.iterations,
             solve_time_s + edge.solve_time_s,
             edge.rescued,
-            edge.verified,
+            verified=edge.verified,
         )
 
     def _saturated(
@@ -211,6 +210,7 @@ class SolvePaths:
         iterations: int,
         solve_time_s: float,
         rescued: bool,
+        *,
         verified: bool = False,
     ) -> AllocationResult | None:
         """Result of the saturation path: thrust ``u`` makes ``alpha`` times the target,
@@ -247,7 +247,6 @@ class SolvePaths:
             u,
             torque,
             force,
-            False,
             alpha,
             "scaled",
             iterations,
@@ -306,13 +305,12 @@ class SolvePaths:
         exponent: int = 0,
         verified: bool = False,
     ) -> AllocationResult | None:
-        """:meth:`_result` of a demand met in full (feasible, scale 1, mode ``"exact"``);
-        ``u`` is taken as within its bounds unless ``clip``."""
+        """:meth:`_result` of a demand met in full (scale 1, mode ``"exact"``); ``u`` is
+        taken as within its bounds unless ``clip``."""
         return self._result(
             u,
             torque,
             force,
-            True,
             1.0,
             "exact",
             iterations,
@@ -328,7 +326,6 @@ class SolvePaths:
         u: np.ndarray,
         torque: np.ndarray,
         force: np.ndarray | None,
-        feasible: bool,
         scale: float,
         mode: str,
         iterations: int,
@@ -342,6 +339,7 @@ class SolvePaths:
         """Result of scaled thrust ``u`` times ``2**-exponent``, or None when it fails the
         final check: a NaN or inf, or a torque (force) off what the mode claims by more
         than the promised tolerance (:func:`~casadi_debris.allocation.demand.within_tolerance`).
+        The demand is met in full (feasible) exactly when ``mode`` is ``"exact"``.
 
         ``clip=False`` when u is already within its bounds. ``verified`` when
         :meth:`ScaledQp.polish_checked` has just measured ``u``'s own residual
@@ -372,7 +370,7 @@ class SolvePaths:
             force_N,
             torque,
             force,
-            feasible,
+            mode == "exact",
             scale + 0.0,  # no -0.0 from a clipped alpha
             mode,
             total_N / self._uniform_exhaust

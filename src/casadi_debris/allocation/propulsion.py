@@ -126,6 +126,7 @@ class PropulsionState:
         exhaust_velocity_m_s: npt.ArrayLike,
         stage_capacity_kg: npt.ArrayLike,
         propellant_kg: npt.ArrayLike,
+        *,
         firing_time_s: npt.ArrayLike | None = None,
         failed_cubesats: npt.ArrayLike | None = None,
         failed_stages: npt.ArrayLike | None = None,
@@ -239,11 +240,11 @@ class PropulsionState:
             self.exhaust_velocity_m_s.copy(),
             self.stage_capacity_kg.copy(),
             self.propellant_kg.copy(),
-            self.firing_time_s.copy(),
-            self.failed_cubesats.copy(),
-            self.failed_stages.copy(),
-            self.engine_cubesat.copy(),
-            self.failed_engines.copy(),
+            firing_time_s=self.firing_time_s.copy(),
+            failed_cubesats=self.failed_cubesats.copy(),
+            failed_stages=self.failed_stages.copy(),
+            engine_cubesat=self.engine_cubesat.copy(),
+            failed_engines=self.failed_engines.copy(),
         )
 
     # ------------------------------------------------------------------ queries

@@ -71,6 +71,7 @@ from casadi_debris.campaigns._statistics import (
 from casadi_debris.campaigns._worst_case import (
     Evaluation,
     WorstCaseSearch,
+    WorstCaseSettings,
     linear_screen,
     worst_case_search,
 )
@@ -96,6 +97,7 @@ __all__ = [
     "FigureStatistics",
     "Sensitivity",
     "WorstCaseSearch",
+    "WorstCaseSettings",
     "batches",
     "bin_bands",
     "campaign_dataset",

@@ -118,8 +118,9 @@ class CaseIdentity(Record):
     varied: dict[str, float] = field(default_factory=dict)
 
 
-def corner_cases(problem: Problem, model: Model) -> list[Case]:
+def corner_cases(model: Model) -> list[Case]:
     """Every combination of the uncertainty extremes (the paper's 256)."""
+    problem = model.problem
     layout = model.parameter_layout
     first = layout.index(layout.angle_names[0]) if layout.has_array_angle else layout.size
     n_angles = layout.array_angles
@@ -133,32 +134,32 @@ def corner_cases(problem: Problem, model: Model) -> list[Case]:
             for combo in others
         ]
     )
-    p_all = parameters_from_normalized(problem, model, z_all)
+    p_all = parameters_from_normalized(model, z_all)
     return [
         Case(f"corner-{i:04d}", "corner", i, None, z_all[i], p_all[i]) for i in range(len(z_all))
     ]
 
 
-def corner_case(problem: Problem, model: Model, index: int) -> Case:
+def corner_case(model: Model, index: int) -> Case:
     """Corner ``index`` (0-based) of :func:`corner_cases`."""
-    cases = corner_cases(problem, model)
+    cases = corner_cases(model)
     if not 0 <= index < len(cases):
         raise SimulationError(f"corner index runs from 0 to {len(cases) - 1}; got {index}")
     return cases[index]
 
 
-def sample_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
+def sample_case(model: Model, index: int, seed: int) -> Case:
     """Random sample ``index`` of seed ``seed``, uniform in the uncertainty box."""
     if index < 0 or seed < 0:
         raise SimulationError(f"sample index and seed must not be negative; got {index}, {seed}")
     z = np.random.default_rng([seed, index]).uniform(-1.0, 1.0, model.parameter_layout.size)
-    p = parameters_from_normalized(problem, model, z)
+    p = parameters_from_normalized(model, z)
     return Case(f"sample-{index:04d}", "sample", index, seed, z, p)
 
 
-def sample_cases(problem: Problem, model: Model, count: int, seed: int) -> list[Case]:
+def sample_cases(model: Model, count: int, seed: int) -> list[Case]:
     """The first ``count`` random samples of ``seed``."""
-    return [sample_case(problem, model, i, seed) for i in range(count)]
+    return [sample_case(model, i, seed) for i in range(count)]
 
 
 def nominal_case(model: Model) -> Case:

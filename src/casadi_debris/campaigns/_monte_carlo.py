@@ -45,6 +45,7 @@ from casadi_debris.parallel import (
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.simulation import (
     ClosedLoopResult,
+    LoopSettings,
     RunInputs,
     RunSummary,
     SimulationError,
@@ -331,13 +332,12 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         jit = False
     elif model is None:
         model = build_model(problem)
-    result = fly_case(problem, model, setup.controller, setup.reference, case, jit=jit)
+    result = fly_case(model, setup.controller, setup.reference, case, jit=jit)
     summary = CaseSummary(case.identity(), result.summary())
     return CaseOutcome(case, summary, bin_bands(setup, result))
 
 
 def fly_case(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -345,22 +345,23 @@ def fly_case(
     *,
     jit: bool = False,
 ) -> ClosedLoopResult:
-    """The closed loop of one case: its parameters, failures and noise seed.
+    """The closed loop of one case of ``model.problem``: its parameters, failures and
+    noise seed.
 
     A fresh allocator (about 1 ms) for every case: its QP workspaces keep the
     last solution as a warm start, which would make a case's last bits depend
     on the case run before it, and a resumed campaign differ.
     """
+    problem = model.problem
     return simulate(
-        problem,
         model,
         controller,
         reference,
         parameters=case.parameters,
         failures=case.failures,
         allocator=Allocator.from_problem(problem, model.geometry),
-        jit=jit,
         noise_seed=case.noise_seed(problem),
+        settings=LoopSettings(jit=jit),
     )
 
 
@@ -412,12 +413,11 @@ class CaseRunner:
             for case in batch.cases
         ]
         results = simulate_many(
-            setup.problem,
             model,
             setup.controller,
             setup.reference,
             runs,
-            jit=setup.jit,
+            settings=LoopSettings(jit=setup.jit),
             slots=batch.slots,
         )
         pairs = zip(batch.cases, results, strict=True)

@@ -104,7 +104,7 @@ def varied_count(problem: Problem, samples: int) -> int:
     return n_corners * (samples if random else 1)
 
 
-def varied_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
+def varied_case(model: Model, index: int, seed: int) -> Case:
     """Case ``index`` (0-based) of the campaign ``[[montecarlo.vary]]`` describes.
 
     Raises
@@ -115,12 +115,13 @@ def varied_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
     SimulationError
         A negative index or seed.
     """
+    problem = model.problem
     quantities = problem.montecarlo.vary
     if not quantities:
         raise SimulationError("the problem varies nothing ([[montecarlo.vary]] is empty)")
     if index < 0 or seed < 0:
         raise SimulationError(f"case index and seed must not be negative; got {index}, {seed}")
-    check_parameter_quantities(problem, model)
+    check_parameter_quantities(model)
     n_corners = 2 ** sum(q.distribution == "corners" for q in quantities)
     corner, draw_index = index % n_corners, index // n_corners
     drawn = iter(draws(quantities, seed, draw_index))
@@ -128,24 +129,25 @@ def varied_case(problem: Problem, model: Model, index: int, seed: int) -> Case:
     values = [
         float(next(picked) if q.distribution == "corners" else next(drawn)) for q in quantities
     ]
-    parameters = _parameters(problem, model, quantities, values)
+    parameters = _parameters(model, quantities, values)
     return Case(
         f"varied-{index:04d}",
         CASE_KIND,
         index,
         seed,
-        normalized_from_parameters(problem, model, parameters),
+        normalized_from_parameters(model, parameters),
         parameters,
         varied=tuple((q.path, v) for q, v in zip(quantities, values, strict=True)),
     )
 
 
-def varied_cases(problem: Problem, model: Model, samples: int, seed: int) -> list[Case]:
+def varied_cases(model: Model, samples: int, seed: int) -> list[Case]:
     """Every case of the campaign (see the module's description), in index order."""
-    return [varied_case(problem, model, i, seed) for i in range(varied_count(problem, samples))]
+    problem = model.problem
+    return [varied_case(model, i, seed) for i in range(varied_count(problem, samples))]
 
 
-def check_parameter_quantities(problem: Problem, model: Model) -> None:
+def check_parameter_quantities(model: Model) -> None:
     """Refuse model parameters the model lacks and bounds it cannot take, naming the entry.
 
     Raises
@@ -153,6 +155,7 @@ def check_parameter_quantities(problem: Problem, model: Model) -> None:
     ProblemFileError
         ``montecarlo.vary[i].path`` (unknown parameter) or ``.low`` / ``.high``.
     """
+    problem = model.problem
     for i, quantity in enumerate(problem.montecarlo.vary):
         if not quantity.is_parameter:
             continue
@@ -175,9 +178,10 @@ def check_parameter_quantities(problem: Problem, model: Model) -> None:
 
 
 def _parameters(
-    problem: Problem, model: Model, quantities: Sequence[VariedQuantity], values: list[float]
+    model: Model, quantities: Sequence[VariedQuantity], values: list[float]
 ) -> np.ndarray:
     """The model's nominal parameter vector with the varied model parameters set."""
+    problem = model.problem
     named = {q.path: v for q, v in zip(quantities, values, strict=True) if q.is_parameter}
     if not named:
         return model.nominal_parameters.copy()

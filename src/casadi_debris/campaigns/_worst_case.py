@@ -33,12 +33,11 @@ import numpy as np
 import scipy.linalg
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, linearization_function, linearize
 from casadi_debris.errors import SimulationError
 from casadi_debris.guidance.reference import Reference
 from casadi_debris.robust.uncertainty import FULL_CIRCLE_DEG, parameters_from_normalized
-from casadi_debris.simulation import ClosedLoopResult, simulate
+from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate
 
 _log = logging.getLogger(__name__)
 SCREEN_STEP_S = 1.0
@@ -105,7 +104,6 @@ class WorstCaseSearch:
 
 
 def linear_screen(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -118,7 +116,8 @@ def linear_screen(
     as its rotation vector, the slew's feedforward and the disturbance as
     torques at the plant input (the problem's sine; environment torques, which
     depend on the attitude, are left out). Gyroscopic terms, saturation and the
-    engines are left out too: a ranking, not a prediction.
+    engines are left out too: a ranking, not a prediction. The uncertainty box is
+    ``model.problem``'s.
     """
     times = reference.time_s
     keep = np.unique(np.round(np.arange(times[0], times[-1], SCREEN_STEP_S) / _period(times)))
@@ -135,7 +134,7 @@ def linear_screen(
         _error_loop(
             linearize(model, p, sensor=True, units="deg_mNm", function=function), controller
         )
-        for p in parameters_from_normalized(problem, model, normalized)
+        for p in parameters_from_normalized(model, normalized)
     ]
     return _largest_outputs(loops, t, inputs)
 
@@ -215,14 +214,13 @@ class _Objective:
 
     def __init__(
         self,
-        problem: Problem,
         model: Model,
         controller: control.StateSpace,
         reference: Reference,
         jit: bool,
         progress: Callable[[int, float], None] | None,
     ) -> None:
-        self.problem, self.model, self.controller = problem, model, controller
+        self.problem, self.model, self.controller = model.problem, model, controller
         self.reference, self.jit, self.progress = reference, jit, progress
         self.evaluations: list[Evaluation] = []
         self.runs: dict[int, ClosedLoopResult] = {}
@@ -232,17 +230,16 @@ class _Objective:
         for done in self.evaluations:  # a point already run is not run again
             if np.array_equal(done.normalized, z):
                 return done.max_error_deg
-        p = parameters_from_normalized(self.problem, self.model, z)
+        p = parameters_from_normalized(self.model, z)
         # A fresh allocator per run, as in a campaign: no warm start carried between cases.
         allocator = Allocator.from_problem(self.problem, self.model.geometry)
         result = simulate(
-            self.problem,
             self.model,
             self.controller,
             self.reference,
             parameters=p,
             allocator=allocator,
-            jit=self.jit,
+            settings=LoopSettings(jit=self.jit),
         )
         error = float(result.summary().max_error_deg)
         evaluation = Evaluation(len(self.evaluations), source, z.copy(), p, error)
@@ -255,33 +252,12 @@ class _Objective:
         return error
 
 
-def worst_case_search(
-    problem: Problem,
-    model: Model,
-    controller: control.StateSpace,
-    reference: Reference,
-    corners: np.ndarray,
-    *,
-    starts: Sequence[np.ndarray] = (),
-    budget: int = 50,
-    screen_starts: int = 3,
-    step: float = 0.5,
-    min_step: float = 1.0 / 16.0,
-    seed: int = 0,
-    jit: bool = False,
-    progress: Callable[[int, float], None] | None = None,
-) -> WorstCaseSearch:
-    """Search the uncertainty box for the run of largest attitude error (see the module).
+@dataclass(frozen=True)
+class WorstCaseSettings:
+    """How :func:`worst_case_search` searches.
 
-    Parameters
+    Attributes
     ----------
-    problem, model, controller, reference
-        As :func:`simulate` takes them (controller: error [deg] -> torque [mNm]).
-    corners : ndarray, shape (n_corners, n_parameters)
-        Normalised corners the linear screen ranks (the campaign's corner set).
-    starts : sequence of ndarray
-        More normalised starting points, simulated after the screened corners
-        (clipped to the box).
     budget : int
         Simulations at most, starts included.
     screen_starts : int
@@ -292,6 +268,40 @@ def worst_case_search(
         Seed of the order in which the parameters are stepped.
     jit : bool
         Compile the closed-loop step to C (worth it for many runs).
+    """
+
+    budget: int = 50
+    screen_starts: int = 3
+    step: float = 0.5
+    min_step: float = 1.0 / 16.0
+    seed: int = 0
+    jit: bool = False
+
+
+def worst_case_search(
+    model: Model,
+    controller: control.StateSpace,
+    reference: Reference,
+    corners: np.ndarray,
+    *,
+    starts: Sequence[np.ndarray] = (),
+    settings: WorstCaseSettings = WorstCaseSettings(),
+    progress: Callable[[int, float], None] | None = None,
+) -> WorstCaseSearch:
+    """Search the uncertainty box for the run of largest attitude error (see the module).
+
+    Parameters
+    ----------
+    model, controller, reference
+        As :func:`simulate` takes them (the problem is ``model.problem``;
+        controller: error [deg] -> torque [mNm]).
+    corners : ndarray, shape (n_corners, n_parameters)
+        Normalised corners the linear screen ranks (the campaign's corner set).
+    starts : sequence of ndarray
+        More normalised starting points, simulated after the screened corners
+        (clipped to the box).
+    settings : WorstCaseSettings
+        Budget, screened corners, compass steps, seed, compiled C.
     progress : callable, optional
         ``progress(simulations_done, max_error_deg)`` after each run.
 
@@ -299,19 +309,20 @@ def worst_case_search(
     -------
     WorstCaseSearch
     """
-    if budget < 1 or screen_starts < 1 or not 0 < min_step <= step:
+    budget, step, min_step = settings.budget, settings.step, settings.min_step
+    if budget < 1 or settings.screen_starts < 1 or not 0 < min_step <= step:
         raise SimulationError("budget and screen_starts >= 1, 0 < min_step <= step")
     began = time.perf_counter()
-    screen = linear_screen(problem, model, controller, reference, corners)
+    screen = linear_screen(model, controller, reference, corners)
     order = np.argsort(screen)[::-1]
-    objective = _Objective(problem, model, controller, reference, jit, progress)
-    for k in _distinct(screen, order)[: min(screen_starts, budget)]:
+    objective = _Objective(model, controller, reference, settings.jit, progress)
+    for k in _distinct(screen, order)[: min(settings.screen_starts, budget)]:
         objective(np.asarray(corners[k], dtype=float), f"screen corner {int(k)}")
     for z in starts:
         if len(objective.evaluations) < budget:
-            objective(_project(problem, model, np.asarray(z, dtype=float)), "start")
+            objective(_project(model, np.asarray(z, dtype=float)), "start")
     assert objective.best is not None
-    final = _compass(problem, model, objective, budget, step, min_step, seed)
+    final = _compass(model, objective, budget, step, min_step, settings.seed)
     best = objective.best
     return WorstCaseSearch(
         best=best,
@@ -319,7 +330,7 @@ def worst_case_search(
         screen_error_deg=screen,
         screen_order=order,
         best_run=objective.runs[best.index],
-        seed=seed,
+        seed=settings.seed,
         final_step=final,
         time_s=time.perf_counter() - began,
     )
@@ -336,7 +347,6 @@ def _distinct(screen: np.ndarray, order: np.ndarray) -> list[int]:
 
 
 def _compass(
-    problem: Problem,
     model: Model,
     objective: _Objective,
     budget: int,
@@ -354,7 +364,7 @@ def _compass(
                 x = objective.best.normalized
                 y = x.copy()
                 y[i] += sign * step
-                y = _project(problem, model, y)
+                y = _project(model, y)
                 if np.array_equal(x, y) or len(objective.evaluations) >= budget:
                     continue
                 before = objective.best.max_error_deg
@@ -368,11 +378,11 @@ def _compass(
     return step
 
 
-def _project(problem: Problem, model: Model, z: np.ndarray) -> np.ndarray:
+def _project(model: Model, z: np.ndarray) -> np.ndarray:
     """Into the box; a full-turn array angle wraps around instead."""
     layout = model.parameter_layout
     wrapped = np.clip(z, -1.0, 1.0)
-    if problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
+    if model.problem.uncertainty.array_angle_deg >= FULL_CIRCLE_DEG:
         for name in set(layout.angle_names):
             i = layout.index(name)
             wrapped[i] = (z[i] + 1.0) % 2.0 - 1.0

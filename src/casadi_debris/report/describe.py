@@ -148,7 +148,7 @@ def describe_model(model: Problem | Model) -> ModelDescription:
         arrays=_array_orientations(problem, geometry),
         torque_max_mNm={k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
         torque_max_zero_force_mNm=zero_force_mNm,
-        modes=_modes(problem, model),
+        modes=_modes(model),
         thrusters=_thrusters(problem, geometry),
         notes=tuple(
             _notes(problem, model.parameter_names) + _authority_notes(problem, zero_force_mNm)
@@ -174,7 +174,8 @@ def _authority_notes(problem: Problem, zero_force_mNm: dict[str, float]) -> list
     return notes
 
 
-def _modes(problem: Problem, model: Model) -> tuple[FlexibleMode, ...]:
+def _modes(model: Model) -> tuple[FlexibleMode, ...]:
+    problem = model.problem
     modes = []
     with_modes = sorted({a for a, _ in model.layout.mode_labels})  # array numbers, from 1
     for assembled in assembled_modes(model):

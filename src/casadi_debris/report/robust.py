@@ -219,7 +219,7 @@ def margin_figures(
         )[1].mu
         figures["mu"] = robust_plots.mu_figure(omega, curves)
         count = int(weight_info.get("samples", problem.uncertainty.samples))
-        samples = sample_uncertainty(problem, design_model, count, record.seed)
+        samples = sample_uncertainty(design_model, count, record.seed)
         grid = weight_fit_grid(problem)
         bound = diagonal_cover(relative_errors(design_model, samples.parameters, grid))
         response = np.abs(np.diagonal(frequency_response(weight, grid), axis1=1, axis2=2))

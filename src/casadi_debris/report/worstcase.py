@@ -176,7 +176,6 @@ def campaign_envelope(folder: Path) -> tuple[Envelope, CampaignWorst]:
 
 def write_worst_cases(
     folder: Path,
-    problem: Problem,
     model: Model,
     identity: WorstCaseIdentity,
     mu: ParametricMu | None,
@@ -189,7 +188,7 @@ def write_worst_cases(
     finished corner campaign folder the search is compared with and drawn over)."""
     envelope, compared = (None, None) if campaign is None else campaign_envelope(campaign)
     summary = worst_case_summary(identity, model.parameter_layout, mu, search, compared)
-    write_worst_case_files(folder, problem, model, summary, mu, search, envelope, with_plots)
+    write_worst_case_files(folder, model, summary, mu, search, envelope, with_plots)
     return summary
 
 
@@ -208,7 +207,6 @@ def worst_case_summary(
 
 def write_worst_case_files(
     folder: Path,
-    problem: Problem,
     model: Model,
     summary: WorstCaseSummary,
     mu: ParametricMu | None,
@@ -218,12 +216,13 @@ def write_worst_case_files(
 ) -> None:
     """The parameter files, ``evaluations.csv``, ``worstcase.png`` (``with_plots``) and
     ``summary.json`` into the staging ``folder``."""
+    problem = model.problem
     layout = model.parameter_layout
     if mu is not None:
         for kind in KINDS:
             worst = getattr(mu, kind).worst
             if worst is not None:
-                values = parameters_from_normalized(problem, model, worst.normalized)
+                values = parameters_from_normalized(model, worst.normalized)
                 data = parameter_file(
                     layout, worst.normalized, values, f"mu-{kind}", perturbation=worst
                 )

@@ -174,7 +174,7 @@ def margin_study(
     nominal_plant = linearize(model, sensor=True, units="deg_mNm")
     nominal = loop_at_a_time(nominal_plant, controller)
     nominal_disk = disk_margins(nominal_plant, controller, DISK_GRID)
-    drawn = sample_uncertainty(problem, model, samples, seed)
+    drawn = sample_uncertainty(model, samples, seed)
     batches = np.array_split(drawn.parameters, max(1, min(len(drawn.parameters) // 50, 60)))
     matrices = tuple(np.asarray(m) for m in control.ssdata(controller))
     results: list[tuple[np.ndarray, np.ndarray] | None] = [None] * len(batches)

@@ -42,7 +42,6 @@ import casadi as ca
 import control
 import numpy as np
 
-from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Units, linearization_function, linearize
 from casadi_debris.robust.uncertainty import parameters_from_normalized
 
@@ -139,7 +138,6 @@ def real_parameter_indices(model: Model) -> tuple[int, ...]:
 
 
 def fit_parametric_plant(
-    problem: Problem,
     model: Model,
     angle_normalized: float | np.ndarray = 0.0,
     *,
@@ -150,8 +148,9 @@ def fit_parametric_plant(
 
     Parameters
     ----------
-    problem, model
-        The model sets the plant (its modes); linearised with the star tracker.
+    model : Model
+        Sets the plant (its modes; the uncertainty is ``model.problem``'s);
+        linearised with the star tracker.
     angle_normalized : float or ndarray
         Position of the array angle(s) in their range, -1 .. 1 (ignored
         without arrays).
@@ -175,7 +174,7 @@ def fit_parametric_plant(
     stacked = np.array(
         [
             _plant_matrices(model, p, units, function)
-            for p in parameters_from_normalized(problem, model, normalized)
+            for p in parameters_from_normalized(model, normalized)
         ]
     )
     center = int(np.flatnonzero(~grid.any(axis=1))[0])
@@ -190,7 +189,7 @@ def fit_parametric_plant(
     factors = [_factor(s.reshape(nominal.shape), rows, cols) for s in slopes]
     plant = linearize(
         model,
-        parameters_from_normalized(problem, model, fixed),
+        parameters_from_normalized(model, fixed),
         sensor=True,
         units=units,
         function=function,

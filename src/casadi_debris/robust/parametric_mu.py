@@ -28,11 +28,12 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
+import casadi as ca
 import control
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import build_model, linearization_function
+from casadi_debris.dynamics import Model, build_model, linearization_function
 from casadi_debris.errors import SynthesisError
 from casadi_debris.records import OPTIONAL, Record
 from casadi_debris.robust.blocks import block_structure
@@ -305,12 +306,8 @@ def parametric_mu(
     positions = corner_angles(problem, angles) if model.parameter_layout.has_array_angle else [0.0]
     shape = (len(positions), len(omega))
     grids = {kind: _Grid(np.zeros(shape), np.zeros(shape), [], []) for kind in KINDS}
-    loop = (controller, weights)
-    search = (lower_points, seed)
-    plants = [
-        _analyse_angle(problem, model, function, a, z, loop, omega, grids, search)
-        for a, z in enumerate(positions)
-    ]
+    request = _AngleRequest(model, function, controller, weights, omega, lower_points, seed)
+    plants = [_analyse_angle(request, a, z, grids) for a, z in enumerate(positions)]
     results = {
         kind: RealMuBounds(
             grid.upper, grid.lower, _worst(grid, plants, omega), _tighten(grid, lmi_points)
@@ -355,26 +352,33 @@ def _balanced(m: np.ndarray, scalar_entries: int) -> np.ndarray:
     return d
 
 
+@dataclass(frozen=True, eq=False)
+class _AngleRequest:
+    """What every array angle of :func:`parametric_mu` shares: the model and its
+    linearisation, the loop, the frequencies, and the lower bound's search."""
+
+    model: Model
+    function: ca.Function  # linearization_function(model, sensor=True)
+    controller: control.StateSpace
+    weights: PerformanceWeights
+    omega: np.ndarray  # rad/s
+    lower_points: int
+    seed: int
+
+
 def _analyse_angle(
-    problem: Problem,
-    model: Any,
-    function: Any,
-    a: int,
-    angle: float,
-    loop: tuple[control.StateSpace, PerformanceWeights],
-    omega: np.ndarray,
-    grids: dict[str, _Grid],
-    search: tuple[int, int],
+    request: _AngleRequest, a: int, angle: float, grids: dict[str, _Grid]
 ) -> ParametricPlant:
     """Fit the plant at one angle, close the loop, fill both structures' grids at row a."""
-    plant = fit_parametric_plant(problem, model, angle, function=function)
-    closed = parametric_closed_loop(plant, *loop)
+    r = request
+    plant = fit_parametric_plant(r.model, angle, function=r.function)
+    closed = parametric_closed_loop(plant, r.controller, r.weights)
     if np.any(np.linalg.eigvals(closed.A).real >= 0):
         raise SynthesisError(f"the nominal closed loop is unstable at array angle {angle:+.3f}")
-    response = frequency_response(closed, omega)
+    response = frequency_response(closed, r.omega)
     for kind, structure in _structures(plant).items():
         m = response[:, : plant.n_real, : plant.n_real] if kind == "stability" else response
-        _fill(grids[kind], a, m, structure, *search)
+        _fill(grids[kind], a, m, structure, r.lower_points, r.seed)
     return plant
 
 

@@ -193,7 +193,7 @@ def parametric_musyn(
     """
     started = time.perf_counter()
     grid = np.logspace(-4, 2, 50) if omega is None else np.asarray(omega, dtype=float)
-    plant = fit_parametric_plant(problem, build_model(problem, modes=modes), angle_normalized)
+    plant = fit_parametric_plant(build_model(problem, modes=modes), angle_normalized)
     result = musyn(
         parametric_generalized_plant(plant, weights),
         [("complex", 1)] * plant.n_real + [("complex", N_PERFORMANCE)],

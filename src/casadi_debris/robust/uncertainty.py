@@ -66,13 +66,13 @@ def half_ranges(problem: Problem, layout: ParameterLayout) -> dict[str, tuple[st
     return {name: ranges[name] for name in layout.names}
 
 
-def parameters_from_normalized(
-    problem: Problem, model: Model, normalized: np.ndarray
-) -> np.ndarray:
+def parameters_from_normalized(model: Model, normalized: np.ndarray) -> np.ndarray:
     """Map positions in the uncertainty box (-1 .. 1) to model parameter vectors.
 
     Parameters
     ----------
+    model : Model
+        Its layout and nominal values; the box is ``model.problem``'s uncertainty.
     normalized : ndarray, shape (n, n_parameters) or (n_parameters,)
         Ordered as ``model.parameter_names``.
 
@@ -81,6 +81,7 @@ def parameters_from_normalized(
     ndarray, same shape: inertia scales 1 ± f_I, mass m (1 ± f_m), angle
     theta_0 ± range, first bending frequency factor 1 ± f_w.
     """
+    problem = model.problem
     layout = model.parameter_layout
     z = np.atleast_2d(np.asarray(normalized, dtype=float))
     if z.shape[-1] != layout.size:
@@ -98,9 +99,7 @@ def parameters_from_normalized(
     return p.reshape(np.shape(normalized))
 
 
-def normalized_from_parameters(
-    problem: Problem, model: Model, parameters: np.ndarray
-) -> np.ndarray:
+def normalized_from_parameters(model: Model, parameters: np.ndarray) -> np.ndarray:
     """Positions in the uncertainty box of model parameter vectors (inverse of
     :func:`parameters_from_normalized`; outside -1 .. 1 for parameters outside the box).
 
@@ -112,6 +111,7 @@ def normalized_from_parameters(
     -------
     ndarray, same shape
     """
+    problem = model.problem
     layout = model.parameter_layout
     p = np.atleast_2d(np.asarray(parameters, dtype=float))
     nominal = model.nominal_parameters
@@ -147,19 +147,21 @@ def box_corners(n_parameters: int) -> np.ndarray:
 
 
 def sample_uncertainty(
-    problem: Problem, model: Model, count: int | None = None, seed: int | None = None
+    model: Model, count: int | None = None, seed: int | None = None
 ) -> UncertaintySamples:
     """Corners of the uncertainty box first, then seeded uniform samples.
 
     Parameters
     ----------
-    problem, model
+    model : Model
+        Its layout sets the parameters; the box is ``model.problem``'s uncertainty.
     count : int, optional
         Total number of models (default ``problem.uncertainty.samples``);
         at least the box's corners are always included.
     seed : int, optional
         Default ``problem.uncertainty.seed``.
     """
+    problem = model.problem
     count = problem.uncertainty.samples if count is None else count
     seed = problem.uncertainty.seed if seed is None else seed
     n_parameters = model.parameter_layout.size
@@ -169,7 +171,7 @@ def sample_uncertainty(
     normalized = np.vstack([corners, extra])
     return UncertaintySamples(
         normalized=normalized,
-        parameters=parameters_from_normalized(problem, model, normalized),
+        parameters=parameters_from_normalized(model, normalized),
         n_corners=len(corners),
         seed=seed,
     )

@@ -30,7 +30,13 @@ from casadi_debris.simulation._events import RunEvent
 from casadi_debris.simulation._noise import draw_noise
 from casadi_debris.simulation._open_loop import OpenLoopResult, open_loop_rigid
 from casadi_debris.simulation._realism import Realism, engine_basis
-from casadi_debris.simulation._run import ClosedLoopResult, RunInputs, simulate, simulate_many
+from casadi_debris.simulation._run import (
+    ClosedLoopResult,
+    LoopSettings,
+    RunInputs,
+    simulate,
+    simulate_many,
+)
 from casadi_debris.simulation._segment_figures import SegmentFigures, segment_figures
 from casadi_debris.simulation._summary import (
     SETTLE_BAND_ARCSEC,
@@ -44,6 +50,7 @@ __all__ = [
     "ClosedLoopResult",
     "DiscreteController",
     "EventRecord",
+    "LoopSettings",
     "OpenLoopResult",
     "Realism",
     "RunEvent",

@@ -371,7 +371,6 @@ def build_loop_step(
     -------
     LoopStep
     """
-    extra = (realism, basis, force_N)
     if jit and integrator == "rk4":
         compiler = c_compiler()
         if compiler is not None:
@@ -379,7 +378,17 @@ def build_loop_step(
             key += _realism_key(realism, basis) + ("" if force_N is None else repr(list(force_N)))
             if key not in _JIT_STEPS:
                 _JIT_STEPS[key] = _compiled(
-                    _loop_step(model, None, controller, polytope, integrator_steps, "rk4", *extra),
+                    _loop_step(
+                        model,
+                        None,
+                        controller,
+                        polytope,
+                        integrator_steps,
+                        "rk4",
+                        realism=realism,
+                        basis=basis,
+                        force_N=force_N,
+                    ),
                     compiler,
                     model,
                     controller,
@@ -389,7 +398,17 @@ def build_loop_step(
             cached = _JIT_STEPS[key]
             if cached is not None:
                 return cached
-    step = _loop_step(model, parameters, controller, polytope, integrator_steps, integrator, *extra)
+    step = _loop_step(
+        model,
+        parameters,
+        controller,
+        polytope,
+        integrator_steps,
+        integrator,
+        realism=realism,
+        basis=basis,
+        force_N=force_N,
+    )
     return LoopStep.of(step, model, controller, chunk_steps, realism=realism)
 
 
@@ -487,6 +506,7 @@ def _loop_step(
     polytope: AuthorityPolytope | int,
     integrator_steps: int,
     integrator: str,
+    *,
     realism: Realism | None = None,
     basis: EngineBasis | None = None,
     force_N: np.ndarray | None = None,

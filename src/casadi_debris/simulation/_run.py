@@ -15,7 +15,6 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
 
 import casadi as ca
 import control
@@ -49,6 +48,35 @@ ALLOCATION_TOLERANCE = 1e-8
 DEFAULT_CHUNK_STEPS = 1000
 
 
+@dataclass(frozen=True)
+class LoopSettings:
+    """How the closed loop is rolled out; the same for every run of a call.
+
+    Attributes
+    ----------
+    integrator : {"rk4", "cvodes"}
+    integrator_steps : int, optional
+        RK4 steps per period (default the problem's ``simulation.integrator_steps``).
+    chunk_steps : int
+        Periods per compiled roll-out call.
+    jit : bool
+        Run the step as compiled C (RK4 only): the batched loop of
+        :mod:`~casadi_debris.simulation._batched`, compiled once per machine
+        (seconds) and loaded from the cache afterwards.
+    """
+
+    integrator: str = "rk4"
+    integrator_steps: int | None = None
+    chunk_steps: int = DEFAULT_CHUNK_STEPS
+    jit: bool = False
+
+    def steps(self, problem: Problem) -> int:
+        """RK4 steps per period: this setting's, else ``problem``'s."""
+        if self.integrator_steps is None:
+            return problem.simulation.integrator_steps
+        return self.integrator_steps
+
+
 @dataclass(frozen=True, eq=False)
 class RunInputs:
     """What one run of :func:`simulate_many` varies (each field as in :func:`simulate`).
@@ -70,7 +98,6 @@ class RunInputs:
 
 
 def simulate(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -78,20 +105,17 @@ def simulate(
     parameters: np.ndarray | None = None,
     propulsion: PropulsionState | None = None,
     failures: tuple[FailureEvent, ...] | None = None,
-    integrator: str = "rk4",
-    integrator_steps: int | None = None,
-    chunk_steps: int = DEFAULT_CHUNK_STEPS,
     allocator: Allocator | None = None,
-    jit: bool = False,
     noise_seed: int | None = None,
+    settings: LoopSettings = LoopSettings(),
 ) -> ClosedLoopResult:
     """Run one closed-loop scenario.
 
     Parameters
     ----------
-    problem : Problem
     model : Model
-        Built from ``problem`` (all array modes for the paper's runs).
+        The model of the problem flown, ``model.problem`` (all array modes for the
+        paper's runs).
     controller : control.StateSpace
         Continuous controller, attitude error [deg] -> torque [mNm].
     reference : Reference
@@ -103,36 +127,26 @@ def simulate(
         Engines at the start (default all full); not modified.
     failures : tuple of FailureEvent, optional
         Default the problem's ``simulation.failures``.
-    integrator : {"rk4", "cvodes"}
-    integrator_steps : int, optional
-        RK4 steps per period (default the problem's).
-    chunk_steps : int
-        Periods per compiled roll-out call.
     allocator : Allocator, optional
         Reused between runs of one problem (its authority polytope and
         active-set regions are kept while the limits do not change); its
         limits are set from the engines.
-    jit : bool
-        Run the step as compiled C (RK4 only): the batched loop of
-        :mod:`~casadi_debris.simulation._batched` with one slot, compiled
-        once per machine (seconds) and loaded from the cache afterwards.
     noise_seed : int, optional
         Seed of the noise (default ``[sensors] seed``); unused by the ideal loop.
+    settings : LoopSettings
+        Integrator, its steps, roll-out length, compiled C (default RK4 at the
+        problem's steps on CasADi's virtual machine).
 
     Returns
     -------
     ClosedLoopResult
     """
     outcome = simulate_many(
-        problem,
         model,
         controller,
         reference,
         [RunInputs(parameters, failures, allocator, propulsion, noise_seed)],
-        integrator=integrator,
-        integrator_steps=integrator_steps,
-        chunk_steps=chunk_steps,
-        jit=jit,
+        settings=settings,
     )[0]
     if isinstance(outcome, Exception):
         raise outcome
@@ -140,16 +154,12 @@ def simulate(
 
 
 def simulate_many(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
     runs: Sequence[RunInputs],
     *,
-    integrator: str = "rk4",
-    integrator_steps: int | None = None,
-    chunk_steps: int = DEFAULT_CHUNK_STEPS,
-    jit: bool = False,
+    settings: LoopSettings = LoopSettings(),
     slots: int | None = None,
 ) -> list[ClosedLoopResult | Exception]:
     """Run several closed-loop scenarios of one problem; with ``jit``, all at once.
@@ -163,11 +173,11 @@ def simulate_many(
 
     Parameters
     ----------
-    problem, model, controller, reference
+    model, controller, reference
         As :func:`simulate`, shared by the runs.
     runs : sequence of RunInputs
         What each run varies.
-    integrator, integrator_steps, chunk_steps, jit
+    settings : LoopSettings
         As :func:`simulate`.
     slots : int, optional
         Cases of the compiled function (default ``len(runs)``): a campaign
@@ -180,26 +190,24 @@ def simulate_many(
         result's ``wall_time_s`` is its share of the whole call.
     """
     started = time.perf_counter()
+    problem = model.problem
     period = _control_period(reference)
     discrete = discretize_controller(controller, period)
-    steps = problem.simulation.integrator_steps if integrator_steps is None else integrator_steps
     realism = Realism.of(problem, period)
-    rollouts = [_Rollout.of(problem, model, reference, discrete, run, realism) for run in runs]
+    rollouts = [_Rollout.of(model, reference, discrete, run, realism) for run in runs]
     errors = None
     burns = any(r.burns for r in rollouts)  # the batched step has no force input
-    if jit and integrator == "rk4" and realism is None and rollouts and not burns:
+    if settings.jit and settings.integrator == "rk4" and realism is None and rollouts and not burns:
         errors = roll_together(
             rollouts,
             model,
             discrete,
             slots=slots or len(rollouts),
-            integrator_steps=steps,
-            chunk_steps=chunk_steps,
+            integrator_steps=settings.steps(problem),
+            chunk_steps=settings.chunk_steps,
         )
     if errors is None:
-        options = {"integrator_steps": steps, "integrator": integrator, "jit": jit}
-        options["realism"] = realism
-        errors = [r.roll_alone(chunk_steps, options) for r in rollouts]
+        errors = [r.roll_alone(settings) for r in rollouts]
     else:
         for rollout in rollouts:
             rollout.compiled = True
@@ -265,14 +273,15 @@ class _Rollout:
     @classmethod
     def of(
         cls,
-        problem: Problem,
         model: Model,
         reference: Reference,
         controller: DiscreteController,
         run: RunInputs,
         realism: Realism | None = None,
     ) -> _Rollout:
-        """A run at its start (engines full unless ``run.propulsion`` says otherwise)."""
+        """A run of ``model.problem`` at its start (engines full unless ``run.propulsion``
+        says otherwise)."""
+        problem = model.problem
         p = run.parameters
         if run.propulsion is None:
             engines = PropulsionState.from_problem(problem)
@@ -379,8 +388,9 @@ class _Rollout:
             raise SimulationError("the allocator could not deliver a burn's force and torque")
         return batch.thrust_N, len(torques_Nm)
 
-    def roll_alone(self, chunk_steps: int, loop_options: dict[str, Any]) -> Exception | None:
+    def roll_alone(self, settings: LoopSettings) -> Exception | None:
         """Every stretch on this run's own step (rebuilt with each authority); what it raised."""
+        chunk_steps = settings.chunk_steps
         try:
             loop, built_for = None, None
             while not self.finished:
@@ -393,10 +403,13 @@ class _Rollout:
                         self.parameters,
                         self.controller,
                         self.polytope,
+                        integrator_steps=settings.steps(self.problem),
+                        integrator=settings.integrator,
                         chunk_steps=chunk_steps,
+                        jit=settings.jit,
+                        realism=self.realism,
                         basis=engine_basis(self.allocator) if self._engine_level else None,
                         force_N=self.force_N,
-                        **loop_options,
                     )
                     built_for = self.polytope
                     self.compiled = self.compiled or loop.compiled

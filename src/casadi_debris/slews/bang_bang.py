@@ -69,7 +69,14 @@ from casadi_debris.slews.maneuver import (
     slew_about_axis,
     torque_limits,
 )
-from casadi_debris.slews.profile import SlewProfile, finish_profile, input_vector, sample_grid
+from casadi_debris.slews.profile import (
+    ProfileRequest,
+    ProfileSettings,
+    SlewProfile,
+    finish_profile,
+    input_vector,
+    sample_grid,
+)
 
 DEFAULT_SAMPLE_S = 1.0
 
@@ -512,17 +519,14 @@ def _profile(
     knots[-1] = total
     grid = sample_grid(total, sample_s, knots)
     values = np.array(motion_function.map(len(grid))(grid)).T
-    settings = {
-        "torque_fraction": need,
+    figures = {
         "acceleration_rad_s2": timing.acceleration_rad_s2,
         "peak_rate_rad_s": timing.peak_rate_rad_s,
         "coast_s": timing.coast_s,
         "smoothing_s": timing.ramp_s,
         "inertia_about_axis_kgm2": float(goal.axis_B @ inertia @ goal.axis_B),
     }
-    return finish_profile(
-        problem=problem,
-        geometry=rigid.geometry,
+    request = ProfileRequest(
         method="bang-bang",
         target=goal,
         flexible=False,
@@ -533,12 +537,16 @@ def _profile(
         acceleration_rad_s2=values[:, 2:3] * goal.axis_B,
         input_function=input_function,
         knots_s=knots,
-        interval_thrust_N=None,
         duration_s=total,
         limit_duration_s=rigid_limit_duration(goal.angle_rad, alpha_max),
         solve_time_s=time.perf_counter() - started,
         solver_status="analytic",
-        settings=settings,
-        check_vibration=check_vibration,
+        figures=figures,
+    )
+    return finish_profile(
+        problem=problem,
+        geometry=rigid.geometry,
+        request=request,
+        settings=ProfileSettings(torque_fraction=need, check_vibration=check_vibration),
         inertia_kgm2=inertia,
     )

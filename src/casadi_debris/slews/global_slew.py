@@ -30,6 +30,7 @@ import math
 import multiprocessing
 import os
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -346,7 +347,7 @@ def rigid_body_profile(
     *,
     sample_s: float,
     solve_time_s: float,
-    settings: dict[str, Any],
+    figures: Mapping[str, object],
 ) -> SlewProfile:
     """The slew of a :class:`RigidBody` as a profile, integrated by CVODES on its own
     equations (a rigid body has no engines: no thrust, no fuel, no vibration).
@@ -360,8 +361,9 @@ def rigid_body_profile(
         Output spacing, s (the knots are added).
     solve_time_s : float
         Wall time of the solve, s.
-    settings : dict
-        Added to the profile's settings.
+    figures : mapping
+        The search's figures (units in the keys), added to the profile's
+        ``settings`` record.
     """
     knots, torque = result.knots_s, result.torque_Nm
     input_function = zoh_input_function(knots, torque)
@@ -409,7 +411,7 @@ def rigid_body_profile(
         settings={
             "final_attitude_error_rad": float(np.linalg.norm(final_error)),
             "final_rate_rad_s": float(np.linalg.norm(states[-1, 4:7])),
-            **settings,
+            **figures,
             **result.report,
         },
     )

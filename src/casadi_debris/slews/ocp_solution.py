@@ -8,7 +8,7 @@ the vibration left on the full flexible model.
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Mapping
 
 import casadi as ca
 import numpy as np
@@ -16,6 +16,8 @@ import numpy as np
 from casadi_debris.dynamics import Model
 from casadi_debris.slews.ocp_problem import SlewOcp
 from casadi_debris.slews.profile import (
+    ProfileRequest,
+    ProfileSettings,
     SlewProfile,
     finish_profile,
     sample_grid,
@@ -32,7 +34,7 @@ def slew_profile(
     fuel: bool,
     solve_time_s: float,
     check_vibration: bool,
-    extra_settings: dict[str, Any],
+    figures: Mapping[str, object],
 ) -> SlewProfile:
     """The solution as a profile, integrated on the flexible model if there is one.
 
@@ -48,8 +50,9 @@ def slew_profile(
         Wall time of the solve, s.
     check_vibration : bool
         Integrate the result on the full flexible model for the residual vibration.
-    extra_settings : dict
-        Settings of the method (units in the keys), added to the common ones.
+    figures : mapping
+        The method's own figures (units in the keys), added to the common ones in
+        the profile's ``settings`` record.
     """
     knots, controls = solution.knots_s, solution.controls
     model = ocp.rigid_model if ocp.flexible_model is None else ocp.flexible_model
@@ -60,21 +63,18 @@ def slew_profile(
     grid = sample_grid(total, ocp.options.sample_s, knots)
     states, accelerations = _motion(ocp, model, input_function, grid)
     final_error = np.array(model.attitude_error(ocp.target.q_final_BN, states[-1, lay.q])).ravel()
-    settings: dict[str, Any] = {
-        "torque_fraction": ocp.options.torque_fraction,
+    record: dict[str, object] = {
         "control_intervals": len(knots) - 1,
         "collocation_degree": COLLOCATION_DEGREE,
         "final_attitude_error_rad": float(np.linalg.norm(final_error)),
         "final_rate_rad_s": float(np.linalg.norm(states[-1, lay.omega])),
         "single_axis": ocp.options.single_axis,
-        **extra_settings,
+        **figures,
     }
     if ocp.thrusters:
-        settings["delta_v_m_s"] = float(np.linalg.norm(states[-1, lay.v]))
-        settings["zero_net_force"] = ocp.options.zero_net_force
-    return finish_profile(
-        problem=ocp.problem,
-        geometry=ocp.geometry,
+        record["delta_v_m_s"] = float(np.linalg.norm(states[-1, lay.v]))
+        record["zero_net_force"] = ocp.options.zero_net_force
+    request = ProfileRequest(
         method="fuel-optimal" if fuel else "time-optimal",
         target=ocp.target,
         flexible=ocp.options.flexible,
@@ -90,13 +90,22 @@ def slew_profile(
         limit_duration_s=ocp.limit_duration_s,
         solve_time_s=solve_time_s,
         solver_status=solution.status,
-        settings=settings,
+        figures=record,
+    )
+    settings = ProfileSettings(
+        torque_fraction=ocp.options.torque_fraction,
         check_vibration=check_vibration,
-        flexible_model=ocp.flexible_model,
-        inertia_kgm2=ocp.inertia,
         # The closed loop's allocator keeps the net force zero; a thruster-level
         # profile carries its own thrust and the rule it was solved with.
         zero_net_force=ocp.options.zero_net_force if ocp.thrusters else True,
+    )
+    return finish_profile(
+        problem=ocp.problem,
+        geometry=ocp.geometry,
+        request=request,
+        settings=settings,
+        inertia_kgm2=ocp.inertia,
+        flexible_model=ocp.flexible_model,
     )
 
 

@@ -231,14 +231,14 @@ class _SlewSolver:
             duration_s = duration_s - float(shaper[0][-1])  # the shaper stretches the profile
         solution, _ = self._solve_rigid(fuel, duration_s)
         solve_time = time.perf_counter() - started
-        settings: dict[str, Any] = {**self.report, "control_intervals": self._bulk_intervals()}
+        figures: dict[str, Any] = {**self.report, "control_intervals": self._bulk_intervals()}
         if shaper is not None:
             shaper_times, shaper_amplitudes, shaped_frequencies = shaper
             knots, controls = shape(
                 solution.knots_s, solution.controls, shaper_times, shaper_amplitudes
             )
-            settings = {
-                **settings,
+            figures = {
+                **figures,
                 "flexible_method": method,
                 "rigid_duration_s": float(solution.knots_s[-1]),
                 "shaped_frequencies_rad_s": shaped_frequencies,
@@ -252,7 +252,7 @@ class _SlewSolver:
             fuel=fuel,
             solve_time_s=solve_time,
             check_vibration=check_vibration,
-            extra_settings=settings,
+            figures=figures,
         )
 
     def _solve_modal(
@@ -289,7 +289,7 @@ class _SlewSolver:
             guess=shaped_guess(knots, controls, guess.peak_rate_rad_s),
             vibration=VibrationBound.of(ocp, ENERGY_MARGIN * limit),
         )
-        settings = {
+        figures = {
             **{f"rigid_{key}": value for key, value in self.report.items()},
             "flexible_method": "ocp",
             "window_s": window_s,
@@ -307,7 +307,7 @@ class _SlewSolver:
             fuel=fuel,
             solve_time_s=time.perf_counter() - started,
             check_vibration=check_vibration,
-            extra_settings=settings,
+            figures=figures,
         )
 
     def _rigid_length(self, wanted_s: float) -> float:
@@ -484,7 +484,7 @@ def _rigid_body_slew(
         found,
         sample_s=options.sample_s,
         solve_time_s=time.perf_counter() - started,
-        settings={
+        figures={
             "torque_fraction": options.torque_fraction,
             "control_intervals": intervals,
             "single_axis": False,

@@ -25,6 +25,7 @@ eta_dot], M_rr its rigid 6 x 6 block).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -311,83 +312,135 @@ def zoh_input_function(
     return ca.Function("slew_input", [t], [u], ["t"], ["u"])
 
 
+@dataclass(frozen=True, eq=False, kw_only=True)
+class ProfileRequest:
+    """What a slew method hands :func:`finish_profile`: the sampled hub motion and the
+    input that produces it, SI units, time along the first axis.
+
+    Attributes
+    ----------
+    method, target, flexible, thrusters
+        As :class:`SlewProfile`.
+    time_s : ndarray, shape (n,)
+    quaternion_BN : ndarray, shape (n, 4)
+    rate_rad_s, acceleration_rad_s2 : ndarray, shape (n, 3)
+    input_function : casadi.Function
+        ``u(t)``, the model input (see :class:`SlewProfile`).
+    knots_s : ndarray, shape (m + 1,)
+        Knots of the input, s.
+    interval_thrust_N : ndarray, shape (m, n_engines), optional
+        Thrust held on each knot interval (a thruster-level slew), N; None: the
+        least-fuel thrust of the torque.
+    duration_s, limit_duration_s, solve_time_s, solver_status
+        As :class:`SlewProfile`.
+    figures : mapping
+        The method's own figures, units in the keys: they become the profile's
+        ``settings`` record after ``torque_fraction`` (the JSON written).
+    """
+
+    method: str
+    target: SlewTarget
+    flexible: bool
+    thrusters: bool
+    time_s: np.ndarray
+    quaternion_BN: np.ndarray
+    rate_rad_s: np.ndarray
+    acceleration_rad_s2: np.ndarray
+    input_function: ca.Function
+    knots_s: np.ndarray
+    interval_thrust_N: np.ndarray | None = None
+    duration_s: float
+    limit_duration_s: float
+    solve_time_s: float
+    solver_status: str
+    figures: Mapping[str, object] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ProfileSettings:
+    """How :func:`finish_profile` checks a profile.
+
+    Attributes
+    ----------
+    torque_fraction : float
+        Share of the engines' authority the profile was sized to (in (0, 1]); the
+        eigenaxis time is taken at it.
+    check_vibration : bool
+        Integrate the input on the full flexible model for the residual vibration.
+    zero_net_force : bool
+        The net-force rule of the limit check (the closed loop's allocator keeps the
+        net force zero; a thruster-level profile is checked with its own rule).
+    """
+
+    torque_fraction: float = 1.0
+    check_vibration: bool = True
+    zero_net_force: bool = True
+
+
 def finish_profile(
     *,
     problem: Problem,
     geometry: Geometry,
-    method: str,
-    target: SlewTarget,
-    flexible: bool,
-    thrusters: bool,
-    time_s: np.ndarray,
-    quaternion_BN: np.ndarray,
-    rate_rad_s: np.ndarray,
-    acceleration_rad_s2: np.ndarray,
-    input_function: ca.Function,
-    knots_s: np.ndarray,
-    interval_thrust_N: np.ndarray | None,
-    duration_s: float,
-    limit_duration_s: float,
-    solve_time_s: float,
-    solver_status: str,
-    settings: dict[str, Any],
-    check_vibration: bool = True,
-    flexible_model: Model | None = None,
+    request: ProfileRequest,
+    settings: ProfileSettings,
     inertia_kgm2: np.ndarray,
-    zero_net_force: bool = True,
+    flexible_model: Model | None = None,
 ) -> SlewProfile:
     """Assemble a :class:`SlewProfile` from the sampled hub motion and its input.
 
     Every profile is checked against the engines over its whole grid
     (:func:`~casadi_debris.slews.limits.check_limits`) with the net-force rule
-    ``zero_net_force`` (the closed loop's allocator keeps it zero; a thruster-level
-    profile is checked with its own rule), its thrust too when ``thrusters``; and
+    ``settings.zero_net_force``, its thrust too when ``request.thrusters``; and
     given the eigenaxis bang-bang time at its torque fraction (``inertia_kgm2`` the
-    rigid inertia, kg m^2, shape (3, 3)).
+    rigid inertia, kg m^2, shape (3, 3)). ``flexible_model`` (default: built from
+    ``problem`` with all modes) is the model the residual vibration is measured on.
 
-    Propellant comes from ``interval_thrust_N`` (thrust held on each knot
+    Propellant comes from ``request.interval_thrust_N`` (thrust held on each knot
     interval) when given, else from the least-fuel thrust of the torque at the
     midpoint of every interval of the merged sample/knot grid (exact for
     piecewise-constant torque, second order otherwise).
     """
-    torque = np.array(input_function.map(len(time_s))(time_s)).T[:, :N_TORQUE]
+    r = request
+    torque = np.array(r.input_function.map(len(r.time_s))(r.time_s)).T[:, :N_TORQUE]
     thrust, fuel, extra = _thrust_and_fuel(
-        problem, geometry, input_function, time_s, knots_s, interval_thrust_N, torque
+        problem, geometry, r.input_function, r.time_s, r.knots_s, r.interval_thrust_N, torque
     )
-    settings = {**settings, **extra}
+    record = {"torque_fraction": settings.torque_fraction, **r.figures, **extra}
     limits = check_limits(
         geometry,
-        time_s,
+        r.time_s,
         torque,
-        zero_net_force=zero_net_force,
-        thrust_N=thrust if thrusters else None,
+        zero_net_force=settings.zero_net_force,
+        thrust_N=thrust if r.thrusters else None,
     )
-    eigenaxis = _eigenaxis_duration(geometry, target, inertia_kgm2, zero_net_force, settings)
+    eigenaxis = _eigenaxis_duration(
+        geometry, r.target, inertia_kgm2, settings.zero_net_force, settings.torque_fraction
+    )
     vibration, energy = (math.nan, math.nan)
-    if check_vibration:
+    if settings.check_vibration:
         vibration, energy = residual_vibration(
-            problem, target, input_function, knots_s, duration_s, flexible_model
+            problem, r.target, r.input_function, r.knots_s, r.duration_s, flexible_model
         )
     return SlewProfile(
-        method=method,
-        target=target,
-        flexible=flexible,
-        thrusters=thrusters,
-        time_s=time_s,
-        quaternion_BN=quaternion_BN,
-        rate_rad_s=rate_rad_s,
-        acceleration_rad_s2=acceleration_rad_s2,
+        method=r.method,
+        target=r.target,
+        flexible=r.flexible,
+        thrusters=r.thrusters,
+        time_s=r.time_s,
+        quaternion_BN=r.quaternion_BN,
+        rate_rad_s=r.rate_rad_s,
+        acceleration_rad_s2=r.acceleration_rad_s2,
         torque_Nm=torque,
         thrust_N=thrust,
-        input_function=input_function,
-        duration_s=duration_s,
+        input_function=r.input_function,
+        duration_s=r.duration_s,
         fuel_kg=fuel,
-        limit_duration_s=limit_duration_s,
-        solve_time_s=solve_time_s,
-        solver_status=solver_status,
+        limit_duration_s=r.limit_duration_s,
+        solve_time_s=r.solve_time_s,
+        solver_status=r.solver_status,
         residual_vibration_rad=vibration,
         residual_energy_J=energy,
-        settings=settings,
+        settings=record,
         limits=limits,
         eigenaxis_duration_s=eigenaxis,
     )
@@ -429,10 +482,9 @@ def _eigenaxis_duration(
     target: SlewTarget,
     inertia_kgm2: np.ndarray,
     zero_net_force: bool,
-    settings: dict[str, Any],
+    fraction: float,
 ) -> float:
-    """The eigenaxis bang-bang time at the profile's torque fraction (1 if none), s."""
-    fraction = float(settings.get("torque_fraction", 1.0))
+    """The eigenaxis bang-bang time at the profile's torque ``fraction``, s."""
 
     def use(torque_Nm: np.ndarray) -> np.ndarray:
         return authority_use(geometry, torque_Nm, zero_net_force) / fraction

@@ -225,7 +225,6 @@ def _fly(
             "(flexible model) ..."
         )
     run = simulate_burn(
-        problem,
         build_model(problem),
         record.reduced,
         plan,

@@ -67,51 +67,51 @@ class CaseSelection:
     seed: int | None = None
     max_cases: int | None = None
 
-    def cases(self, problem: Problem, model: Model) -> list[Case]:
+    def cases(self, model: Model) -> list[Case]:
         """The chosen cases, in campaign order."""
+        problem = model.problem
         if self.samples is not None and self.corners:
             raise InputShapeError("give either --corners or --samples, not both")
         if problem.montecarlo.vary and not self.corners:
             seed = problem.montecarlo.seed if self.seed is None else self.seed
             count = problem.montecarlo.samples if self.samples is None else self.samples
-            chosen = varied_cases(problem, model, count, seed)
+            chosen = varied_cases(model, count, seed)
         elif self.samples is not None:
             seed = problem.montecarlo.seed if self.seed is None else self.seed
-            chosen = sample_cases(problem, model, self.samples, seed)
+            chosen = sample_cases(model, self.samples, seed)
         else:
-            chosen = corner_cases(problem, model)
+            chosen = corner_cases(model)
         if self.max_cases is not None and self.max_cases < len(chosen):
             picks = np.unique(np.linspace(0, len(chosen) - 1, self.max_cases).round().astype(int))
             chosen = [chosen[i] for i in picks]
         return chosen
 
 
-def one_case(
-    problem: Problem, model: Model, corner: int | None, sample: int | None, seed: int | None
-) -> Case:
+def one_case(model: Model, corner: int | None, sample: int | None, seed: int | None) -> Case:
     """Corner ``corner``, sample ``sample`` (with ``seed``), or the nominal case.
 
     With ``[[montecarlo.vary]]``, ``sample`` is that campaign's case of that index.
     """
+    problem = model.problem
     if corner is not None and sample is not None:
         raise InputShapeError("give either --corner or --sample, not both")
     if corner is not None:
         try:
-            return corner_case(problem, model, corner)
+            return corner_case(model, corner)
         except SimulationError as exc:
             raise InputShapeError(f"--corner: {exc}") from None
     if sample is not None:
         seed = problem.montecarlo.seed if seed is None else seed
         if problem.montecarlo.vary:
             try:
-                return varied_case(problem, model, sample, seed)
+                return varied_case(model, sample, seed)
             except SimulationError as exc:
                 raise InputShapeError(f"--sample: {exc}") from None
-        return sample_case(problem, model, sample, seed)
+        return sample_case(model, sample, seed)
     return nominal_case(model)
 
 
-def parameters_case(problem: Problem, model: Model, values: Any, case_id: str) -> Case:
+def parameters_case(model: Model, values: Any, case_id: str) -> Case:
     """A case at given parameter values: ``values`` maps every model parameter name
     (``inertia_scale_x`` ... ``bending_frequency_scale``, SI) to its value, as the
     ``parameters`` of a file that ``worstcase`` writes.
@@ -132,7 +132,7 @@ def parameters_case(problem: Problem, model: Model, values: Any, case_id: str) -
     except ModelError as exc:
         raise InputShapeError(f"{where}: {exc}") from None
     p = named.to_vector()
-    z = normalized_from_parameters(problem, model, p)
+    z = normalized_from_parameters(model, p)
     return Case(case_id, "parameters", 0, None, z, p)
 
 

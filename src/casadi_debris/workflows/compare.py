@@ -74,7 +74,7 @@ def compare_row(
     try:
         model = build_model(problem)
         allocator = Allocator.from_problem(problem, model.geometry)
-        result = simulate(problem, model, controller, reference, allocator=allocator)
+        result = simulate(model, controller, reference, allocator=allocator)
     except (AllocationError, ModelError, SimulationError) as exc:
         LOGGER.warning("variant %s failed: %s", label, exc)
         return VariantRow(

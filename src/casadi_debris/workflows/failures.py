@@ -199,18 +199,17 @@ def _study(
     check_max_failed(settings.max_failed, len(problem.cubesats))
     model = build_model(problem)
     if not settings.closed_loop:
-        return failure_study(problem, model, settings, cases=cases, progress=progress), None
+        return failure_study(model, settings, cases=cases, progress=progress), None
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     # FULL, quick or not: its pointing run is one whole disturbance period (see the module).
     slew, pointing = verification_problems(problem, FULL)
     count = corners_for(max_corners, quick)
     corners = (
-        CaseSelection(max_cases=count).cases(problem, model)
+        CaseSelection(max_cases=count).cases(model)
         if settings.corner_sets > 0 and count > 0
         else []
     )
     study = failure_study(
-        problem,
         model,
         settings,
         controller=record.reduced,

@@ -286,7 +286,7 @@ class _Plan:
     ) -> _Plan:
         record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
         model = build_model(problem)
-        cases = selection.cases(problem, model)
+        cases = selection.cases(model)
         reference = scenario_reference(problem)
         setup = CampaignSetup.create(
             problem, record.reduced, reference, jit=jit, batch_cases=batch_cases
@@ -377,7 +377,7 @@ def _finished(
         raise CasesFailedError(failures)  # nothing to summarise; a folder stays for a resume
     problem = setup.problem
     allocator = Allocator.from_problem(problem, model.geometry)
-    nominal = simulate(problem, model, setup.controller, setup.reference, allocator=allocator)
+    nominal = simulate(model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, Path(run.controller_path))
     statistics = statistics_of(
         problem, outcomes, model.parameter_layout.names, len(run.failed_cases)

@@ -149,7 +149,7 @@ def simulate(
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     problem, model, case = _chosen_case(problem, parameters, corner, sample, seed)
     reference = scenario_reference(problem)
-    result = fly_case(problem, model, record.reduced, reference, case)
+    result = fly_case(model, record.reduced, reference, case)
     return SimulationResult(
         problem=problem,
         result=result,
@@ -175,9 +175,9 @@ def _chosen_case(
     if parameters is not None:
         if corner is not None or sample is not None:
             raise InputShapeError("give one of --corner, --sample and --parameters")
-        case = parameters_case(problem, model, *read_parameters_file(Path(parameters)))
+        case = parameters_case(model, *read_parameters_file(Path(parameters)))
     else:
-        case = one_case(problem, model, corner, sample, seed)
+        case = one_case(model, corner, sample, seed)
     if case.file_values:
         problem = problem_with_values(problem, case.file_values)
         model = build_model(problem)

@@ -20,7 +20,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from casadi_debris.campaigns import Envelope, WorstCaseSearch, corner_cases, worst_case_search
+from casadi_debris.campaigns import (
+    Envelope,
+    WorstCaseSearch,
+    WorstCaseSettings,
+    corner_cases,
+    worst_case_search,
+)
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.guidance import scenario_reference
@@ -91,7 +97,7 @@ class WorstCaseResult(JobResult):
         identity = dataclasses.replace(self.summary.identity, out_dir=str(out.absolute()))
         summary = dataclasses.replace(self.summary, identity=identity)
         write_worst_case_files(
-            staging, self.problem, self.model, summary, self.mu, self.search, self.envelope, plots
+            staging, self.model, summary, self.mu, self.search, self.envelope, plots
         )
 
 
@@ -156,7 +162,7 @@ def worstcase(
     search = None
     if not no_search:
         callback = progress("worst-case search") if progress is not None else None
-        search = _search(problem, model, record, mu, budget, seed, jit, callback)
+        search = _search(model, record, mu, budget, seed, jit, callback)
     identity = WorstCaseIdentity(
         problem=problem.name,
         problem_sha256=problem.sha256,
@@ -170,7 +176,6 @@ def worstcase(
 
 
 def _search(
-    problem: Problem,
     model: Model,
     record: ControllerRecord,
     mu: ParametricMu | None,
@@ -181,17 +186,15 @@ def _search(
 ) -> WorstCaseSearch:
     """The worst-slew search from the corners, and from the mu worst performance
     parameters when the analysis ran."""
-    corners = np.array([case.normalized for case in corner_cases(problem, model)])
+    problem = model.problem
+    corners = np.array([case.normalized for case in corner_cases(model)])
     worst = None if mu is None else mu.performance.worst
     return worst_case_search(
-        problem,
         model,
         record.reduced,
         scenario_reference(problem),
         corners,
         starts=[] if worst is None else [worst.normalized],
-        budget=budget,
-        seed=seed,
-        jit=jit,
+        settings=WorstCaseSettings(budget=budget, seed=seed, jit=jit),
         progress=progress,
     )

@@ -51,7 +51,7 @@ from casadi_debris.guidance.reference import Reference
 from casadi_debris.guidance.targets import body_rates, frame_attitude
 from casadi_debris.simulation._closed_loop import SimulationError, discretize_controller
 from casadi_debris.simulation._result import ClosedLoopResult
-from casadi_debris.simulation._run import RunInputs, _Rollout, _Series
+from casadi_debris.simulation._run import LoopSettings, RunInputs, _Rollout, _Series
 
 DEFAULT_PERIOD_S = 0.1
 
@@ -98,7 +98,6 @@ class BurnRun:
 
 
 def simulate_burn(
-    problem: Problem,
     model: Model,
     controller: control.StateSpace,
     plan: BurnPlan,
@@ -112,9 +111,9 @@ def simulate_burn(
 
     Parameters
     ----------
-    problem : Problem
     model : Model
-        Built from ``problem`` (flexible: every array mode by default).
+        The model of the problem flown, ``model.problem`` (flexible: every array mode
+        by default).
     controller : control.StateSpace
         Continuous controller, attitude error [deg] -> torque [mNm].
     plan : BurnPlan
@@ -138,19 +137,17 @@ def simulate_burn(
     import time
 
     started = time.perf_counter()
+    problem = model.problem
     reference = burn_reference(problem, plan, period_s)
     discrete = discretize_controller(controller, period_s)
-    rollout = _Rollout.of(
-        problem, model, reference, discrete, RunInputs(propulsion=propulsion, failures=())
-    )
+    rollout = _Rollout.of(model, reference, discrete, RunInputs(propulsion=propulsion, failures=()))
     rollout.burns = [BurnWindow(0, rollout.n, plan)]
     # On the frame from the start, turning with it (no start-up transient).
     rate = body_rates(reference.time_s[:2], reference.quaternion_BN[:2])[0]
     n_plant = model.layout.size
     rollout.z[:n_plant] = model.initial_state(reference.quaternion_BN[0], rate)
     rollout.states[0] = rollout.z[:n_plant]
-    options = {"integrator_steps": problem.simulation.integrator_steps, "integrator": "rk4"}
-    error = rollout.roll_alone(1000, {**options, "jit": jit, "realism": None})
+    error = rollout.roll_alone(LoopSettings(jit=jit))
     if error is not None:
         raise error
     result = rollout.result(_Series.of(model, reference), time.perf_counter() - started)

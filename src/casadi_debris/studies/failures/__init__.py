@@ -21,7 +21,7 @@ Example
 >>> from casadi_debris.dynamics import build_model
 >>> from casadi_debris.studies.failures import FailureSettings, failure_study
 >>> problem = load_problem()
->>> study = failure_study(problem, build_model(problem), FailureSettings(max_failed=1,
+>>> study = failure_study(build_model(problem), FailureSettings(max_failed=1,
 ...                       closed_loop=False))  # doctest: +SKIP
 >>> len(study.cases)  # doctest: +SKIP
 48

@@ -129,8 +129,9 @@ class CaseAuthority:
         return self.ratio[self.worst_axis]
 
 
-def holding_torque_Nm(problem: Problem, model: Model) -> np.ndarray:
+def holding_torque_Nm(model: Model) -> np.ndarray:
     """``-d(t)`` at :data:`HOLDING_SAMPLES` instants of one disturbance period, shape (k, 3)."""
+    problem = model.problem
     period_s = problem.disturbance.period_min * SECONDS_PER_MINUTE
     times = period_s * np.arange(HOLDING_SAMPLES) / HOLDING_SAMPLES
     return -np.asarray(model.disturbance.map(HOLDING_SAMPLES)(times)).T

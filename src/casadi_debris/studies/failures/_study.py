@@ -234,7 +234,6 @@ class FailureStudy:
 
 
 def failure_study(
-    problem: Problem,
     model: Model,
     settings: FailureSettings,
     *,
@@ -244,13 +243,12 @@ def failure_study(
     cases: Sequence[FailureCase] | None = None,
     progress: StageProgress | None = None,
 ) -> FailureStudy:
-    """Run a failure campaign on ``problem``.
+    """Run a failure campaign on ``model.problem``.
 
     Parameters
     ----------
-    problem : Problem
     model : Model
-        Built from ``problem``.
+        The model of the problem studied (its problem is ``model.problem``).
     settings : FailureSettings
     controller : control.StateSpace, optional
         Needed with ``settings.closed_loop``: attitude error [deg] -> torque [mNm].
@@ -274,6 +272,7 @@ def failure_study(
     FailureStudyError
         ``settings.max_failed`` outside 1 .. the number of CubeSats.
     """
+    problem = model.problem
     started = time.perf_counter()
     if cases is None:
         cases = failure_cases(len(problem.cubesats), settings.max_failed, stages=settings.stages)
@@ -283,7 +282,7 @@ def failure_study(
         return None if progress is None else progress(name)
 
     stage(f"authority and holding load of {len(cases)} failure cases")
-    holding = holding_torque_Nm(problem, model)
+    holding = holding_torque_Nm(model)
     baseline = case_authority(problem, model.geometry, FailureCase(), holding)
     authorities = [case_authority(problem, model.geometry, c, holding) for c in cases]
     flown = tuple(manoeuvres) if settings.closed_loop else ()
