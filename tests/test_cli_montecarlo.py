@@ -12,7 +12,6 @@ import signal
 import subprocess
 import sys
 import termios
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -178,10 +177,8 @@ def test_ctrl_c_keeps_the_cases_and_says_how_to_resume(
     campaigns.append(campaign)
     campaign.wait_for_cases(1)
     workers = _children(campaign.pid)
-    typed = time.monotonic()
     campaign.ctrl_c()
     status = campaign.finish()
-    stopped_s = time.monotonic() - typed
     assert status == 130, campaign.output
     last = campaign.output.replace("\r", "\n").strip().splitlines()[-1]
     kept = re.fullmatch(r"interrupted: (\d+) of 3000 cases are kept in (.+); (.+)", last)
@@ -191,8 +188,9 @@ def test_ctrl_c_keeps_the_cases_and_says_how_to_resume(
     partial = tmp_path / "mc.partial"
     assert Path(kept[2]).resolve() == partial.resolve()
     assert {p.name for p in partial.iterdir()} <= {"campaign.json", "cases"}
+    # Stopped, not run to its end (how soon is tests/test_parallel.py's: no item finishes).
     assert len(list((partial / "cases").glob("*.json"))) == int(kept[1]) >= 1
-    assert stopped_s < 5.0, f"Ctrl-C took {stopped_s:.1f} s"
+    assert int(kept[1]) < 3000
 
 
 def test_a_second_campaign_on_a_folder_in_use_is_refused(
