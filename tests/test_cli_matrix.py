@@ -13,13 +13,14 @@ and on two gallery problems of other shapes (``rigid_no_arrays``: no arrays, no 
 Exit 3 (an internal error) is a failure whatever the command. Commands that fly a
 controller are given the shipped paper controller with ``--allow-mismatch`` on the
 gallery problems (designing one for each would take minutes; ``design`` itself is
-checked on its own). Commands that take long even at their quickest (tens of seconds
-of CPU: ``design``, the worst-case search, the mission, the campaign, the torque-level
-optimal slews, ...) run by default on the paper's problem with ``--json --out`` only, the
-rest of their cells under ``-m slow``; ``reproduce --quick`` runs under ``-m slow``.
-Commands another file runs by default the same way (the thruster-level time-optimal
-slew, the Monte Carlo campaign) run here only under ``-m slow``; their ``Command`` says
-where.
+checked on its own).
+
+By default each command runs in plain text on the paper's problem and, unless it takes
+tens of seconds even at its quickest, on ``side_engines_12`` (the shape farthest from the
+paper's); its ``--json --out`` cell runs on the paper's problem unless the job's own test
+(``tests/test_workflows_<command>.py``) already runs that line by default, comparing it
+with the Python function (``elsewhere``). The rest of the cells, and ``reproduce --quick``,
+run under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -54,7 +55,9 @@ class Command:
     cells run only under ``-m slow``: ``""`` none, ``"long"`` all but the paper's
     ``--json`` one (tens of seconds each), ``"gallery-json"`` the gallery's ``--json``
     ones, ``"gallery"`` the gallery's (the problem's shape changes only numbers),
-    ``"all"`` every one (minutes).
+    ``"all"`` every one (minutes). ``elsewhere``: the test file that runs the
+    command with ``--json --out`` on the paper's problem by default (its JSON cells run
+    here under ``-m slow``).
     """
 
     name: str
@@ -65,6 +68,7 @@ class Command:
     flies: bool = False
     slow: str = ""
     label: str = field(default="")
+    elsewhere: str = ""
 
     @property
     def id(self) -> str:
@@ -99,7 +103,12 @@ COMMANDS = (
         out=False,
     ),
     _command(
-        "alternatives", "--max-failed", "0", keys=("designs", "max_failed"), folder="alternatives"
+        "alternatives",
+        "--max-failed",
+        "0",
+        keys=("designs", "max_failed"),
+        folder="alternatives",
+        elsewhere="tests/test_workflows_alternatives.py",
     ),
     _command(
         "slew",
@@ -108,6 +117,7 @@ COMMANDS = (
         keys=("problem", "method", "duration_s", "max_torque_mNm"),
         label="slew-bang-bang",
         folder=None,
+        elsewhere="tests/test_workflows_slew.py",
     ),
     _command(
         "slew",
@@ -165,8 +175,16 @@ COMMANDS = (
         "--no-plots",
         keys=("nominal", "controller_path", "controller_order"),
         flies=True,
+        elsewhere="tests/test_workflows_margins.py",
     ),
-    _command("burn", "--hours", "0.01", keys=("burn_s", "body_axis", "fuel_kg"), flies=True),
+    _command(
+        "burn",
+        "--hours",
+        "0.01",
+        keys=("burn_s", "body_axis", "fuel_kg"),
+        flies=True,
+        elsewhere="tests/test_workflows_burn.py",
+    ),
     _command(
         "compare",
         keys=("variants", "controller_path"),
@@ -175,6 +193,7 @@ COMMANDS = (
         # On the gallery it flies the paper's controller with --allow-mismatch, as
         # simulate, margins and burn do here by default.
         slow="gallery",
+        elsewhere="tests/test_workflows_compare.py",
     ),
     _command(
         "deorbit",
@@ -186,6 +205,7 @@ COMMANDS = (
         keys=("cases", "deorbit_dv_m_s", "governing_case"),
         # The orbit sees a problem's mass and area only: the paper's cells run by default.
         slow="gallery",
+        elsewhere="tests/test_workflows_deorbit.py",
     ),
     _command(
         "detumble",
@@ -193,6 +213,7 @@ COMMANDS = (
         "--rate-rad-s",
         "0.01,0.01,0.01",
         keys=("duration_s", "final_rate_rad_s", "fuel_kg"),
+        elsewhere="tests/test_workflows_detumble.py",
     ),
     _command(
         "failures",
@@ -207,6 +228,7 @@ COMMANDS = (
         "1",
         keys=("baseline", "case_count", "cases"),
         flies=True,
+        elsewhere="tests/test_workflows_failures.py",
     ),
     _command(
         "placement",
@@ -217,6 +239,7 @@ COMMANDS = (
         "--time-limit",
         "60",
         keys=("problem", "chosen", "count", "objective"),
+        elsewhere="tests/test_workflows_placement.py",
     ),
     _command(
         "montecarlo",
@@ -242,9 +265,22 @@ COMMANDS = (
         "0",
         keys=("controller_path", "mu_peak", "order_reduced"),
         slow="long",
+        elsewhere="tests/test_workflows_synthesize.py",
     ),
-    _command("transfer", keys=("edelbaum_dv_m_s", "available_dv_m_s"), slow="long"),
-    _command("mission", "--solar", "mean", keys=("deorbit_dv_m_s", "governing_case"), slow="long"),
+    _command(
+        "transfer",
+        keys=("edelbaum_dv_m_s", "available_dv_m_s"),
+        slow="long",
+        elsewhere="tests/test_workflows_transfer.py",
+    ),
+    _command(
+        "mission",
+        "--solar",
+        "mean",
+        keys=("deorbit_dv_m_s", "governing_case"),
+        slow="long",
+        elsewhere="tests/test_workflows_mission.py",
+    ),
     _command(
         "worstcase",
         "--budget",
@@ -253,6 +289,7 @@ COMMANDS = (
         keys=("problem", "search", "controller_path"),
         flies=True,
         slow="long",
+        elsewhere="tests/test_workflows_worstcase.py",
     ),
     _command(
         "design",
@@ -268,18 +305,27 @@ COMMANDS = (
 )
 
 
+# The gallery problem whose cells run by default (the others' under -m slow).
+DEFAULT_GALLERY = "side_engines_12"
+
+
+def _slow(command: Command, problem: str, mode: str) -> bool:
+    """Whether a cell runs only under ``-m slow`` (module notes)."""
+    if command.slow == "all" or problem not in ("paper", DEFAULT_GALLERY):
+        return True
+    if mode == "json":
+        return problem != "paper" or bool(command.elsewhere)
+    return {"": False, "long": True, "gallery-json": False, "gallery": problem != "paper"}[
+        command.slow
+    ] and not (command.slow == "long" and problem == "paper" and command.elsewhere)
+
+
 def _cases(mode: str) -> list[object]:
-    """Every command on every problem, marked slow as its ``slow`` says."""
+    """Every command on every problem, marked slow as ``_slow`` says."""
     cases = []
     for command in COMMANDS:
         for problem in PROBLEMS:
-            slow = {
-                "": False,
-                "long": problem != "paper" or mode == "text",
-                "gallery-json": problem != "paper" and mode == "json",
-                "gallery": problem != "paper",
-                "all": True,
-            }[command.slow]
+            slow = _slow(command, problem, mode)
             marks = [pytest.mark.slow] if slow else []
             cases.append(pytest.param(command, problem, marks=marks, id=f"{command.id}-{problem}"))
     return cases
