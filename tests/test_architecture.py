@@ -56,7 +56,7 @@ WIDE_SIGNATURES = {
     "allocation/paths.py:_result",
     "allocation/paths.py:_saturated",
     "allocation/propulsion.py:__init__",
-    "robust/parametric_mu.py:_analyse_angle",
+    "robust/mu/_parametric.py:_analyse_angle",
     "simulation/closed_loop.py:_loop_step",
     "simulation/run.py:simulate",
     "simulation/worst_case.py:worst_case_search",

@@ -26,8 +26,8 @@ from casadi_debris.report.worstcase import (
     parameter_file,
     write_worst_cases,
 )
-from casadi_debris.robust.parametric_mu import WorstPerturbation
-from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.robust.mu import WorstPerturbation
+from casadi_debris.robust.plant import parameters_from_normalized
 from casadi_debris.simulation import Case, CaseOutcome, CaseSummary
 from casadi_debris.simulation.monte_carlo import Bands, Extremes
 from run_summaries import zero_run_summary

@@ -21,7 +21,7 @@ from casadi_debris.guidance.sequence import (
     sequence_pieces,
 )
 from casadi_debris.guidance.targets import body_rates
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import simulate
 
 

@@ -28,7 +28,7 @@ from casadi_debris.dynamics.attitude import euler_angles_321
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.guidance.sequence import segment_records
 from casadi_debris.plots.slew import plot_segment_series
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import simulate
 from casadi_debris.simulation.segment_figures import segment_figures
 from casadi_debris.units import MNM_PER_NM

@@ -21,7 +21,7 @@ from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import load_problem
 
 if TYPE_CHECKING:
-    from casadi_debris.robust.body_weights import WeightsChoice
+    from casadi_debris.robust.requirements import WeightsChoice
     from casadi_debris.workflows.design import DesignMethod
 
 TABLE_KEYS = ("result", "required", "ours", "verdict")

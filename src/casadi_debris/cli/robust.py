@@ -34,7 +34,7 @@ from casadi_debris.errors import InputShapeError, SynthesisError
 from casadi_debris.report.common import format_table
 
 if TYPE_CHECKING:
-    from casadi_debris.robust.musyn import Iteration
+    from casadi_debris.robust.synthesis import Iteration
 
 
 @main.command()

@@ -21,10 +21,8 @@ from casadi_debris.report.robust import MarginsSummary
 
 # WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
 from casadi_debris.report.simulation import WorstFigure
-from casadi_debris.robust.binding import BindingLimit
-from casadi_debris.robust.body_weights import BodyFigures
-from casadi_debris.robust.performance_search import DesignAttempt, DesignSearch
-from casadi_debris.robust.requirements import ScalingFigures
+from casadi_debris.robust.requirements import BindingLimit, BodyFigures, ScalingFigures
+from casadi_debris.robust.synthesis import DesignAttempt, DesignSearch
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
     from casadi_debris.report.simulation import CampaignSummary
@@ -209,13 +207,13 @@ class DesignSummary(Record):
     performance search and the verification campaigns.
 
     ``method`` is ``"mu"`` (D-K μ-synthesis), ``"pd"`` or ``"lqr"`` (see
-    :mod:`casadi_debris.robust.classical`; their μ fields are None and ``attempts`` empty).
+    :mod:`casadi_debris.robust.synthesis`; their μ fields are None and ``attempts`` empty).
     ``requirements_met`` is True only when every judged requirement is met
     (``requirements_passed`` of ``requirements`` are); when it is False, ``binding``
     names each missed requirement's limit with its numbers and what would meet it
-    (:mod:`casadi_debris.robust.binding`), and the controller written is the best found.
+    (:mod:`casadi_debris.robust.requirements`), and the controller written is the best found.
     ``body`` holds the body figures the bandwidth and roll-off come from and where each
-    came from (:mod:`casadi_debris.robust.body_weights`).
+    came from (:mod:`casadi_debris.robust.requirements`).
     ``rows`` are the requirement rows (:meth:`RequirementRow.entry`);
     ``guaranteed_pointing_arcsec`` the pointing error μ guarantees per axis (None when
     μ > 1); ``scalings`` and ``attempts`` the derived weights and the search over the
@@ -392,7 +390,7 @@ def binding_lines(binding: tuple[BindingLimit, ...]) -> list[str]:
         lines += [f"    - {remedy}" for remedy in limit.remedies]
     lines += [
         "",
-        "The remedies are estimates from scaling laws (see `casadi_debris.robust.binding`); "
+        "The remedies are estimates from scaling laws (see `casadi_debris.robust.requirements`); "
         "design again to confirm.",
         "",
     ]

@@ -19,7 +19,7 @@ from casadi_debris.report.common import format_figure, verdict_text
 from casadi_debris.report.describe import ModelDescription
 from casadi_debris.report.paper import paper_figure
 from casadi_debris.report.robust import MarginsSummary
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
     from casadi_debris.report.simulation import CampaignSummary

@@ -16,19 +16,23 @@ from casadi_debris.plots import save_figure
 from casadi_debris.records import Record
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.paper import paper_figure
-from casadi_debris.robust.analysis import MarginStudy, loop_shapes, margins_table
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import weight_fit_grid
-from casadi_debris.robust.interconnect import generalized_plant
-from casadi_debris.robust.margins import sampled_loop_at_a_time
-from casadi_debris.robust.musyn import closed_loop_mu
-from casadi_debris.robust.uncertainty import (
+from casadi_debris.robust.margins import (
+    MarginStudy,
+    loop_shapes,
+    margins_table,
+    sampled_loop_at_a_time,
+)
+from casadi_debris.robust.plant import (
+    ControllerRecord,
     diagonal_cover,
     frequency_response,
+    generalized_plant,
+    recorded_performance_weights,
     relative_errors,
     sample_uncertainty,
+    weight_system,
 )
-from casadi_debris.robust.weights import recorded_performance_weights, weight_system
+from casadi_debris.robust.synthesis import closed_loop_mu, weight_fit_grid
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -23,13 +23,13 @@ from casadi_debris.plots.simulation import closed_loop_figure
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.report.simulation import run_figures_options
-from casadi_debris.robust.parametric_mu import (
+from casadi_debris.robust.mu import (
     KINDS,
     ParametricMu,
     ParametricMuSummary,
     WorstPerturbation,
 )
-from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.robust.plant import parameters_from_normalized
 from casadi_debris.simulation import Envelope
 from casadi_debris.simulation.monte_carlo import Bands, Extremes
 from casadi_debris.simulation.worst_case import WorstCaseSearch

@@ -26,7 +26,7 @@ import numpy as np
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.records import Record
-from casadi_debris.robust.uncertainty import corner_angles, parameters_from_normalized
+from casadi_debris.robust.plant import corner_angles, parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError
 
 __all__ = [

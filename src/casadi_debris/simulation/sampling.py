@@ -31,7 +31,7 @@ from scipy import special
 from casadi_debris.config import Problem, VariedQuantity
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import ModelError, ProblemFileError
-from casadi_debris.robust.uncertainty import normalized_from_parameters
+from casadi_debris.robust.plant import normalized_from_parameters
 from casadi_debris.simulation.cases import Case
 from casadi_debris.simulation.closed_loop import SimulationError
 

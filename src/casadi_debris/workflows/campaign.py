@@ -21,8 +21,7 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Parameters
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.uncertainty import normalized_from_parameters
+from casadi_debris.robust.plant import ControllerRecord, normalized_from_parameters
 from casadi_debris.simulation import (
     Case,
     ClosedLoopResult,

@@ -16,7 +16,7 @@ from casadi_debris.config import Problem, default_controller_path, limits
 from casadi_debris.config.loader import UnreadableFileError, read_regular_file
 from casadi_debris.errors import ControllerMismatchError, ProblemFileError
 from casadi_debris.report.folders import default_run_folder
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 
 LOGGER = logging.getLogger(__name__)
 

@@ -3,7 +3,7 @@ the problem's ``[requirements]``.
 
 Scalings from the problem (:mod:`casadi_debris.robust.requirements`), D-K
 mu-synthesis and reduction with a search of the performance level when the
-requirement cannot be guaranteed (:mod:`casadi_debris.robust.performance_search`),
+requirement cannot be guaranteed (:mod:`casadi_debris.robust.synthesis`),
 margins over sampled plants, and the slew and pointing corner campaigns. ``report.md`` puts each
 figure beside the requirement it is judged against.
 
@@ -44,25 +44,29 @@ from casadi_debris.report.design import (
 from casadi_debris.report.folders import RunFolder, default_run_folder
 from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
-from casadi_debris.robust.binding import (
+from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.requirements import (
     BindingLimit,
     BodyLimits,
+    BodyWeights,
+    WeightsChoice,
+    authority_per_axis_mNm,
+    body_weights,
+    derived_scalings,
+    hold_bandwidth_rad_s,
     margins_limit,
     mu_limit,
     pointing_limit,
     slew_limit,
 )
-from casadi_debris.robust.body_weights import (
-    BodyWeights,
-    WeightsChoice,
-    body_weights,
-    hold_bandwidth_rad_s,
+from casadi_debris.robust.synthesis import (
+    REFINEMENTS,
+    ClassicalMethod,
+    DesignSearch,
+    SynthesisSettings,
+    classical_record,
+    search_design,
 )
-from casadi_debris.robust.classical import ClassicalMethod, classical_record
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import SynthesisSettings
-from casadi_debris.robust.performance_search import REFINEMENTS, DesignSearch, search_design
-from casadi_debris.robust.requirements import authority_per_axis_mNm, derived_scalings
 from casadi_debris.slews.maneuver import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 from casadi_debris.workflows._result import ProblemLike, ReportFolderResult, as_problem
@@ -210,12 +214,12 @@ def design(
         of the performance level.
     method : {"mu", "pd", "pid", "lqr"}
         D-K μ-synthesis with the paper's weights (the default), or a per-axis PD, PID or
-        LQG controller on the rigid body (:mod:`casadi_debris.robust.classical`) to
+        LQG controller on the rigid body (:mod:`casadi_debris.robust.synthesis`) to
         compare with it; every method gets the same margins, corners and table.
     weights : {"auto", "derived", "problem"}
         Where the bandwidth and roll-off come from: ``"auto"`` derives them from the body
         unless the problem is the paper's body or sets its own
-        (:mod:`~casadi_debris.robust.body_weights`); ``"problem"`` takes ``[weights]`` as
+        (:mod:`~casadi_debris.robust.requirements`); ``"problem"`` takes ``[weights]`` as
         they are.
     samples, seed : int, optional
         Models for the uncertainty-weight fit and their seed; default the problem's.
@@ -354,7 +358,7 @@ def _classical(
     problem: Problem, method: ClassicalMethod, weights: WeightsChoice = "auto"
 ) -> ControllerRecord:
     """A PD or LQG controller on the rigid body: bandwidth as the μ design's
-    (:func:`~casadi_debris.robust.body_weights.body_weights`);
+    (:func:`~casadi_debris.robust.requirements.body_weights`);
     Bryson's weights from the slew requirement and the authority; the disturbance as
     process noise and :data:`MEASUREMENT_NOISE_ARCSEC` on the star tracker."""
     geometry = build_geometry(problem)
@@ -389,7 +393,10 @@ def binding_limits(
     search: DesignSearch | None,
     slew_problem: Problem,
 ) -> tuple[BindingLimit, ...]:
-    """The limit that binds for each requirement missed (:mod:`casadi_debris.robust.binding`)."""
+    """The limit that binds for each requirement missed.
+
+    See :mod:`casadi_debris.robust.requirements`.
+    """
     met = {row.key: row.met for row in rows}
     found: list[BindingLimit] = []
     if search is not None and not any(a.guarantees for a in search.attempts):

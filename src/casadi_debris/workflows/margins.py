@@ -30,8 +30,8 @@ from casadi_debris.workflows.controller import controller_for
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from casadi_debris.robust.analysis import MarginStudy
-    from casadi_debris.robust.controller import ControllerRecord
+    from casadi_debris.robust.margins import MarginStudy
+    from casadi_debris.robust.plant import ControllerRecord
 
 
 @dataclass(frozen=True)
@@ -110,7 +110,7 @@ def margins(
     SynthesisError
         ``samples`` or ``seed`` out of range (named).
     """
-    from casadi_debris.robust.analysis import margin_study
+    from casadi_debris.robust.margins import margin_study
 
     problem = as_problem(problem)
     record, path = controller_for(problem, controller, allow_mismatch=allow_mismatch)

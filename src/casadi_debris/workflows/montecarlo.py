@@ -47,7 +47,7 @@ from casadi_debris.report.simulation import (
     campaign_summary,
     write_campaign,
 )
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
     Case,

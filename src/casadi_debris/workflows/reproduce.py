@@ -35,7 +35,7 @@ from casadi_debris.report.reproduce import (
 )
 from casadi_debris.report.robust import MarginsSummary
 from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.workflows._result import ReportFolderResult
 from casadi_debris.workflows.campaign import Progress
 from casadi_debris.workflows.controller import load_controller

@@ -22,9 +22,8 @@ from casadi_debris.report.common import write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
-    from casadi_debris.robust.controller import ControllerRecord
-    from casadi_debris.robust.design import ControllerDesign, SynthesisSummary
-    from casadi_debris.robust.musyn import Iteration
+    from casadi_debris.robust.plant import ControllerRecord
+    from casadi_debris.robust.synthesis import ControllerDesign, Iteration, SynthesisSummary
 
 Progress = Callable[[str, "Iteration | None"], None]
 """``progress(stage, iteration)``: at each stage's end (``iteration`` None) and after the
@@ -105,7 +104,7 @@ def synthesize(
     SynthesisError
         A setting out of its range (named), or a problem no controller can be designed for.
     """
-    from casadi_debris.robust.design import SynthesisSettings, design_controller
+    from casadi_debris.robust.synthesis import SynthesisSettings, design_controller
 
     problem = as_problem(problem)
     settings = SynthesisSettings(

@@ -31,9 +31,8 @@ from casadi_debris.report.worstcase import (
     worst_case_summary,
     write_worst_case_files,
 )
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.parametric_mu import ParametricMu, parametric_mu
-from casadi_debris.robust.weights import recorded_performance_weights
+from casadi_debris.robust.mu import ParametricMu, parametric_mu
+from casadi_debris.robust.plant import ControllerRecord, recorded_performance_weights
 from casadi_debris.simulation import Envelope, corner_cases
 from casadi_debris.simulation.worst_case import WorstCaseSearch, worst_case_search
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem

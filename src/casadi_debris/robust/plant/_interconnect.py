@@ -11,7 +11,7 @@ Signals (3 each, deg and mNm as in the paper's scalings)::
 
 so that, with Delta = 0, [z_e; z_u] = diag(We Ve^-1, Wu Vu^-1) [S, -S P; K S, -K S P]
 diag(Vr, Vd) [w_e; w_d]: the paper's four-block problem, whose Vr is its Ve (the
-default of :class:`~casadi_debris.robust.weights.PerformanceWeights`). With Vr = Ve a
+default of :class:`~casadi_debris.robust.plant.PerformanceWeights`). With Vr = Ve a
 looser Ve also scales up the reference the loop must follow (the K S Ve block), so μ can
 rise as Ve loosens; with Vr held, Ve scales only the error rows and μ cannot rise.
 """
@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import control
 import numpy as np
 
-from casadi_debris.robust.weights import PerformanceWeights
+from casadi_debris.robust.plant._weights import PerformanceWeights
 
 N_CHANNELS = 3
 INPUT_GROUPS = ("w_delta", "w_e", "w_d", "u")

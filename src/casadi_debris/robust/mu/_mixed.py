@@ -25,10 +25,10 @@ from typing import Literal
 import numpy as np
 
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.blocks import BlockLike, block_structure, total_size
-from casadi_debris.robust.mu import mu_upper_bound
-from casadi_debris.robust.mu_lmi import lmi_upper_bound
-from casadi_debris.robust.mu_lower import lower_bound
+from casadi_debris.robust.mu._blocks import BlockLike, block_structure, total_size
+from casadi_debris.robust.mu._lmi import lmi_upper_bound
+from casadi_debris.robust.mu._lower import lower_bound
+from casadi_debris.robust.mu._upper import mu_upper_bound
 
 _log = logging.getLogger(__name__)
 

@@ -44,7 +44,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Units, linearization_function, linearize
-from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.robust.plant import parameters_from_normalized
 
 # Singular values of a scaled slope below this fraction of its largest are dropped.
 RANK_TOLERANCE = 1e-6

@@ -22,22 +22,23 @@ from dataclasses import dataclass
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.records import Record
-from casadi_debris.robust.body_weights import (
+from casadi_debris.robust.plant import performance_weights
+from casadi_debris.robust.requirements import (
     BodyWeights,
+    DerivedScalings,
     WeightsChoice,
     body_weights,
+    derived_scalings,
     is_papers_body,
 )
-from casadi_debris.robust.design import (
+from casadi_debris.robust.synthesis._design import (
     ControllerDesign,
     SynthesisSettings,
     UncertaintyFit,
     design_controller,
     fit_uncertainty,
 )
-from casadi_debris.robust.musyn import Iteration
-from casadi_debris.robust.requirements import DerivedScalings, derived_scalings
-from casadi_debris.robust.weights import performance_weights
+from casadi_debris.robust.synthesis._musyn import Iteration
 
 LOGGER = logging.getLogger(__name__)
 
@@ -135,7 +136,7 @@ def search_design(
     refinements : int
         Bisections between the last failure and the first success.
     weights : {"auto", "derived", "problem"}
-        Where We and Wu come from (:func:`~casadi_debris.robust.body_weights.body_weights`).
+        Where We and Wu come from (:func:`~casadi_debris.robust.requirements.body_weights`).
 
     Returns
     -------

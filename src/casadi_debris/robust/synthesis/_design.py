@@ -4,7 +4,7 @@ reduction -> robust-performance check of the reduced controller.
 Example
 -------
 >>> from casadi_debris import load_problem
->>> from casadi_debris.robust.design import design_controller
+>>> from casadi_debris.robust.synthesis import design_controller
 >>> design = design_controller(load_problem())  # doctest: +SKIP
 >>> design.summary().mu_peak  # doctest: +SKIP
 """
@@ -24,24 +24,28 @@ from casadi_debris.config import Problem, limits
 from casadi_debris.dynamics import Model, build_model, linearize
 from casadi_debris.errors import SynthesisError
 from casadi_debris.records import Record
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.interconnect import GeneralizedPlant, generalized_plant
 from casadi_debris.robust.mu import MuBound
-from casadi_debris.robust.musyn import Iteration, MusynResult, closed_loop_mu, dk_iteration
-from casadi_debris.robust.reduce import reduce_controller
-from casadi_debris.robust.uncertainty import (
+from casadi_debris.robust.plant import (
+    W_ORDER,
+    ControllerRecord,
+    GeneralizedPlant,
+    PerformanceWeights,
     UncertaintySamples,
+    UncertaintyWeight,
     diagonal_cover,
+    fit_uncertainty_weight,
+    generalized_plant,
+    performance_weights,
     relative_errors,
     sample_uncertainty,
 )
-from casadi_debris.robust.weights import (
-    W_ORDER,
-    PerformanceWeights,
-    UncertaintyWeight,
-    fit_uncertainty_weight,
-    performance_weights,
+from casadi_debris.robust.synthesis._musyn import (
+    Iteration,
+    MusynResult,
+    closed_loop_mu,
+    dk_iteration,
 )
+from casadi_debris.robust.synthesis._reduce import reduce_controller
 
 
 @dataclass(frozen=True)

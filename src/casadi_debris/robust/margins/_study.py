@@ -18,7 +18,7 @@ from casadi_debris.config import Problem, limits
 from casadi_debris.dynamics import build_model, linearization_function, linearize
 from casadi_debris.errors import SynthesisError
 from casadi_debris.parallel import ItemFailure, parallel_map
-from casadi_debris.robust.margins import (
+from casadi_debris.robust.margins._loop import (
     CHANNELS,
     LoopAtATime,
     LoopMargins,
@@ -26,7 +26,7 @@ from casadi_debris.robust.margins import (
     disk_margins,
     loop_at_a_time,
 )
-from casadi_debris.robust.uncertainty import (
+from casadi_debris.robust.plant import (
     UncertaintySamples,
     frequency_response,
     sample_uncertainty,

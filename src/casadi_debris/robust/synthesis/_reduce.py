@@ -14,7 +14,7 @@ import warnings
 import control
 
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.hinf import well_conditioned
+from casadi_debris.robust.synthesis._hinf import well_conditioned
 
 LOGGER = logging.getLogger(__name__)
 

@@ -41,8 +41,7 @@ from casadi_debris.config import Problem
 from casadi_debris.errors import SynthesisError
 from casadi_debris.geometry import Geometry, build_geometry, torque_authority
 from casadi_debris.records import Record
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import PerformanceWeights, performance_weights
+from casadi_debris.robust.plant import PerformanceWeights, frequency_response, performance_weights
 from casadi_debris.units import ARCSEC_PER_DEG, MN_PER_N, SECONDS_PER_MINUTE
 
 DISTURBANCE_TO_AUTHORITY = 0.01
@@ -157,7 +156,7 @@ def derived_scalings(
         The problem's (built when not given).
     base : PerformanceWeights, optional
         Whose We (for the guarantee) and Wu the design uses; default the problem's
-        (:mod:`~casadi_debris.robust.body_weights` derives them from the body).
+        (:mod:`~casadi_debris.robust.requirements` derives them from the body).
 
     Raises
     ------

@@ -1,6 +1,6 @@
 """The closed loop of a controller around the real-parametric plant, with the performance channels.
 
-Signals as in :mod:`casadi_debris.robust.interconnect` (deg and mNm), with
+Signals as in :mod:`casadi_debris.robust.plant` (deg and mNm), with
 the parametric plant's real channels in place of the complex uncertainty
 block::
 
@@ -19,9 +19,8 @@ from __future__ import annotations
 import control
 import numpy as np
 
-from casadi_debris.robust.interconnect import named, signals, static_gain
-from casadi_debris.robust.parametric import ParametricPlant
-from casadi_debris.robust.weights import PerformanceWeights
+from casadi_debris.robust.mu._lft import ParametricPlant
+from casadi_debris.robust.plant import PerformanceWeights, named, signals, static_gain
 
 N_PERFORMANCE = 6
 

@@ -18,7 +18,7 @@ import slycot
 from slycot.exceptions import SlycotError
 
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.blocks import BlockLike, block_structure, expanded
+from casadi_debris.robust.mu._blocks import BlockLike, block_structure, expanded
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,7 +64,7 @@ def mu_upper_bound(responses: np.ndarray, blocks: Sequence[BlockLike]) -> MuBoun
         Closed-loop frequency response, inputs and outputs ordered as ``blocks``.
     blocks : sequence
         Sizes of full complex blocks (sum n), or blocks as
-        :func:`casadi_debris.robust.blocks.block_structure` takes them,
+        :func:`casadi_debris.robust.mu.block_structure` takes them,
         e.g. ``[("real", 1), ("complex", 2)]``.
 
     Returns

@@ -278,7 +278,7 @@ def fit_uncertainty_weight(omega: np.ndarray, bound: np.ndarray) -> UncertaintyW
         Ascending frequencies [rad/s].
     bound : ndarray, shape (n_omega, 3)
         What |W_i(jw)| must reach, e.g.
-        :func:`~casadi_debris.robust.uncertainty.diagonal_cover` of the samples.
+        :func:`~casadi_debris.robust.plant.diagonal_cover` of the samples.
 
     Returns
     -------

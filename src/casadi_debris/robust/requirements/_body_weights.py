@@ -40,8 +40,8 @@ from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import SynthesisError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.records import Record
-from casadi_debris.robust.requirements import authority_per_axis_mNm
-from casadi_debris.robust.weights import PerformanceWeights, dynamic_weights
+from casadi_debris.robust.plant import PerformanceWeights, dynamic_weights
+from casadi_debris.robust.requirements._scalings import authority_per_axis_mNm
 from casadi_debris.units import NM_PER_MNM
 
 ROLLOFF_BELOW_MODE = 1.2
@@ -116,7 +116,7 @@ class BodyWeights:
     Attributes
     ----------
     bandwidth_rad_s, epsilon, rolloff_rad_s, high_frequency_gain : float
-        The parameters of We and Wu (see :func:`~casadi_debris.robust.weights.dynamic_weights`).
+        The parameters of We and Wu (see :func:`~casadi_debris.robust.plant.dynamic_weights`).
     figures : BodyFigures
     """
 

@@ -2,9 +2,9 @@
 
 The design's complex model lumps the parametric uncertainty into one input
 block; :mod:`.parametric` keeps each parameter a real scalar. Here the D-K
-iteration of :func:`~casadi_debris.robust.musyn.musyn` runs on the
+iteration of :func:`~casadi_debris.robust.synthesis.musyn` runs on the
 real-parametric LFT at one array angle (its generalised plant,
-:func:`~casadi_debris.robust.parametric_loop.parametric_generalized_plant`),
+:func:`~casadi_debris.robust.mu.parametric_generalized_plant`),
 started from a given stabilising controller, and every controller it
 produces is scored by the mixed real/complex upper bound (AB13MD's D-G
 bound, real scalars repeated as the fit gives them) at the largest points
@@ -32,17 +32,17 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.mu import mu_upper_bound
-from casadi_debris.robust.musyn import Iteration, MusynResult, musyn
-from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant
-from casadi_debris.robust.parametric_loop import (
+from casadi_debris.robust.mu import (
     N_PERFORMANCE,
+    ParametricPlant,
+    fit_parametric_plant,
+    mu_upper_bound,
     parametric_closed_loop,
     parametric_generalized_plant,
+    top_frequencies,
 )
-from casadi_debris.robust.parametric_mu import top_frequencies
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import PerformanceWeights
+from casadi_debris.robust.plant import PerformanceWeights, frequency_response
+from casadi_debris.robust.synthesis._musyn import Iteration, MusynResult, musyn
 
 MIXED_POINTS = 4
 
@@ -176,11 +176,11 @@ def parametric_musyn(
     omega : ndarray, optional
         Frequencies [rad/s] (default 50 from 1e-4 to 1e2).
     d_orders, max_iterations
-        As :func:`~casadi_debris.robust.musyn.musyn`'s.
+        As :func:`~casadi_debris.robust.synthesis.musyn`'s.
     mixed_points : int
         Local maxima of each controller's complex bound that get the mixed bound.
     progress : callable, optional
-        Called with each D-K :class:`~casadi_debris.robust.musyn.Iteration`.
+        Called with each D-K :class:`~casadi_debris.robust.synthesis.Iteration`.
 
     Returns
     -------

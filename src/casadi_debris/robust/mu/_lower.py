@@ -32,7 +32,7 @@ import numpy as np
 import scipy.linalg
 from scipy.optimize import minimize
 
-from casadi_debris.robust.blocks import Block
+from casadi_debris.robust.mu._blocks import Block
 
 _REAL_TOL = 1e-7  # an eigenvalue is real when |Im| <= this times |lambda|
 _LOCAL_SOLVES = 1

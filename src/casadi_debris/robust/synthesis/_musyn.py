@@ -26,12 +26,18 @@ import control
 import numpy as np
 
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.blocks import Block, BlockLike, block_structure, expanded, total_size
-from casadi_debris.robust.dscale import fit_d_scales, inverse
-from casadi_debris.robust.hinf import NORM_TOLERANCE, HinfResult, hinf_synthesis
-from casadi_debris.robust.interconnect import GeneralizedPlant, static_gain
-from casadi_debris.robust.mu import MuBound, mu_upper_bound
-from casadi_debris.robust.uncertainty import frequency_response
+from casadi_debris.robust.mu import (
+    Block,
+    BlockLike,
+    MuBound,
+    block_structure,
+    expanded,
+    mu_upper_bound,
+    total_size,
+)
+from casadi_debris.robust.plant import GeneralizedPlant, frequency_response, static_gain
+from casadi_debris.robust.synthesis._dscale import fit_d_scales, inverse
+from casadi_debris.robust.synthesis._hinf import NORM_TOLERANCE, HinfResult, hinf_synthesis
 
 _log = logging.getLogger(__name__)
 

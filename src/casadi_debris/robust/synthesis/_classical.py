@@ -1,7 +1,7 @@
 """Classical attitude controllers to fly beside the μ design: per-axis PD and LQG.
 
 Both are designed on the rigid body (the full rigid inertia's diagonal, arrays included)
-and use the controller file's convention (:mod:`casadi_debris.robust.controller`):
+and use the controller file's convention (:mod:`casadi_debris.robust.plant`):
 input the attitude error ``e = reference - measured`` [deg] per axis, output the torque
 demand [mNm], ``u = K e``, continuous time (the closed loop samples it at its control
 rate).
@@ -30,7 +30,7 @@ from typing import Literal
 import control
 import numpy as np
 
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
 
 ClassicalMethod = Literal["pd", "pid", "lqr"]

@@ -8,7 +8,7 @@ verification measured:
 - Pointing. The loop holds the disturbance with integral action; below its
   crossover its gain rises as (w_c / w)^3, so the steady error under a slow
   disturbance falls as w_c^-3. The bandwidth the authority can hold grows as
-  sqrt(tau - A) (:func:`~casadi_debris.robust.body_weights.hold_bandwidth_rad_s`),
+  sqrt(tau - A) (:func:`~casadi_debris.robust.requirements.hold_bandwidth_rad_s`),
   so the error falls as (tau - A)^(-3/2): to bring a worst error e down to the
   requirement p takes ``tau' = A + (tau - A) (e / p)^(2/3)`` about the axis that
   binds (the one whose hold bandwidth is the lowest). Or a pointing requirement of e.

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.blocks import Block
+from casadi_debris.robust.mu._blocks import Block
 
 # Each feasibility problem is made compact: D is normalised to trace n (the LMI
 # is homogeneous in (D, G)), G is bounded, and the margin lambda only needs its

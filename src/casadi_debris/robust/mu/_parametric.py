@@ -35,13 +35,12 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model, linearization_function
 from casadi_debris.errors import SynthesisError
 from casadi_debris.records import OPTIONAL, Record
-from casadi_debris.robust.blocks import block_structure
-from casadi_debris.robust.mixed_mu import PeakBounds, mu_bounds
-from casadi_debris.robust.mu import mu_upper_bound
-from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant
-from casadi_debris.robust.parametric_loop import N_PERFORMANCE, parametric_closed_loop
-from casadi_debris.robust.uncertainty import corner_angles, frequency_response
-from casadi_debris.robust.weights import PerformanceWeights
+from casadi_debris.robust.mu._blocks import block_structure
+from casadi_debris.robust.mu._lft import ParametricPlant, fit_parametric_plant
+from casadi_debris.robust.mu._loop import N_PERFORMANCE, parametric_closed_loop
+from casadi_debris.robust.mu._mixed import PeakBounds, mu_bounds
+from casadi_debris.robust.mu._upper import mu_upper_bound
+from casadi_debris.robust.plant import PerformanceWeights, corner_angles, frequency_response
 
 _log = logging.getLogger(__name__)
 
@@ -404,7 +403,7 @@ def _tighten(grid: _Grid, points: int) -> int:
     except ImportError:
         _log.info("cvxpy missing: repeated real scalars bounded as independent ones")
         return 0
-    from casadi_debris.robust.mu_lmi import lmi_upper_bound
+    from casadi_debris.robust.mu._lmi import lmi_upper_bound
 
     done: set[tuple[int, int]] = set()
     for _ in range(points):

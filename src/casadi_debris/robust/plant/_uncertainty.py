@@ -26,7 +26,7 @@ from casadi_debris.dynamics import (
     linearize,
 )
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.margins import FrequencyResponse
+from casadi_debris.robust.plant._response import FrequencyResponse
 
 
 @dataclass(frozen=True, eq=False)
