@@ -55,3 +55,59 @@ sed -i -E 's/casadi_debris\.robust\.performance_search\b/casadi_debris.robust.sy
 sed -i -E 's/casadi_debris\.robust\.classical\b/casadi_debris.robust.synthesis/g' "$@"
 # FrequencyResponse and state_space_response: robust/margins.py -> robust/plant/_response.py
 sed -i -E 's/from casadi_debris\.robust\.margins import (FrequencyResponse|state_space_response)$/from casadi_debris.robust.plant import \1/' "$@"
+
+# allocation/: implementation modules private; import from casadi_debris.allocation.
+# allocation/allocator.py -> allocation/_allocator.py
+# allocation/authority.py -> allocation/_authority.py
+# allocation/backends.py -> allocation/_backends.py
+# allocation/baseline.py -> allocation/_baseline.py
+# allocation/batch.py -> allocation/_batch.py
+# allocation/demand.py -> allocation/_demand.py
+# allocation/paths.py -> allocation/_paths.py
+# allocation/propulsion.py -> allocation/_propulsion.py
+# allocation/results.py -> allocation/_results.py
+# allocation/saturation.py -> allocation/_saturation.py
+# allocation/scaled_qp.py -> allocation/_scaled_qp.py
+# allocation/series.py -> allocation/_series.py
+# allocation/state_input.py -> allocation/_state_input.py
+sed -i -E 's/from casadi_debris\.allocation\.(state_input|propulsion|saturation|allocator|authority|scaled_qp|backends|baseline|results|demand|series|batch|paths) import /from casadi_debris.allocation import /g' "$@"
+sed -i -E 's/casadi_debris\.allocation\.(state_input|propulsion|saturation|allocator|authority|scaled_qp|backends|baseline|results|demand|series|batch|paths)\b/casadi_debris.allocation._\1/g' "$@"
+
+# dynamics/: implementation modules private; import from casadi_debris.dynamics.
+# dynamics/attitude.py -> dynamics/_attitude.py
+# dynamics/cantilever.py -> dynamics/_cantilever.py
+# dynamics/compiled.py -> dynamics/_compiled.py
+# dynamics/flexible_body.py -> dynamics/_flexible_body.py
+# dynamics/linearize.py -> dynamics/_linearize.py
+# dynamics/parameters.py -> dynamics/_parameters.py
+sed -i -E 's/from casadi_debris\.dynamics\.(flexible_body|cantilever|parameters|linearize|attitude|compiled) import /from casadi_debris.dynamics import /g' "$@"
+sed -i -E 's/casadi_debris\.dynamics\.(flexible_body|cantilever|parameters|linearize|attitude|compiled)\b/casadi_debris.dynamics._\1/g' "$@"
+
+# environment/: implementation modules private; import from casadi_debris.environment.
+# environment/algebra.py -> environment/_algebra.py
+# environment/gravity.py -> environment/_gravity.py
+# environment/magnetic.py -> environment/_magnetic.py
+# environment/orbit.py -> environment/_orbit.py
+# environment/panels.py -> environment/_panels.py
+# environment/sun.py -> environment/_sun.py
+# environment/torques.py -> environment/_torques.py
+sed -i -E 's/from casadi_debris\.environment\.(magnetic|algebra|gravity|torques|panels|orbit|sun) import /from casadi_debris.environment import /g' "$@"
+sed -i -E 's/casadi_debris\.environment\.(magnetic|algebra|gravity|torques|panels|orbit|sun)\b/casadi_debris.environment._\1/g' "$@"
+
+# config/: implementation modules private; import from casadi_debris.config.
+# config/bodies.py -> config/_bodies.py
+# config/checks.py -> config/_checks.py
+# config/environment.py -> config/_environment.py
+# config/identity.py -> config/_identity.py
+# config/json_schema.py -> config/_json_schema.py
+# config/layouts.py -> config/_layouts.py
+# config/loader.py -> config/_loader.py
+# config/reader.py -> config/_reader.py
+# config/realism.py -> config/_realism.py
+# config/runs.py -> config/_runs.py
+# config/schema.py -> config/_schema.py
+# config/segments.py -> config/_segments.py
+# config/table.py -> config/_table.py
+# config/varied.py -> config/_varied.py
+sed -i -E 's/from casadi_debris\.config\.(environment|json_schema|identity|segments|layouts|realism|bodies|checks|loader|reader|schema|varied|table|runs) import /from casadi_debris.config import /g' "$@"
+sed -i -E 's/casadi_debris\.config\.(environment|json_schema|identity|segments|layouts|realism|bodies|checks|loader|reader|schema|varied|table|runs)\b/casadi_debris.config._\1/g' "$@"

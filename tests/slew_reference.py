@@ -41,7 +41,7 @@ RATIO_SLACK = 1e-6
 def _polytope(problem: Problem, zero_net_force: bool) -> Any:
     """The engines' torque set as facets (the allocator's own construction, not the slew
     check's LP)."""
-    from casadi_debris.allocation.authority import authority_polytope
+    from casadi_debris.allocation import authority_polytope
     from casadi_debris.geometry import build_geometry, max_thrust_N
 
     geometry = build_geometry(problem)

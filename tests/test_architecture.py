@@ -53,9 +53,9 @@ MAX_POSITIONAL_PARAMETERS = 8
 MAX_PARAMETERS = 12
 # Functions still to be given a settings object; this list only shrinks.
 WIDE_SIGNATURES = {
-    "allocation/paths.py:_result",
-    "allocation/paths.py:_saturated",
-    "allocation/propulsion.py:__init__",
+    "allocation/_paths.py:_result",
+    "allocation/_paths.py:_saturated",
+    "allocation/_propulsion.py:__init__",
     "robust/mu/_parametric.py:_analyse_angle",
     "simulation/closed_loop.py:_loop_step",
     "simulation/run.py:simulate",

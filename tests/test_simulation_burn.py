@@ -13,7 +13,7 @@ from scipy.optimize import linprog
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.dynamics import build_model
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.environment import CircularOrbit
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance.burn_plan import (
     BurnPlan,
@@ -132,7 +132,7 @@ def test_the_thrust_axis_holds_its_direction_within_the_requirement(flown) -> No
 
 
 def test_the_offset_puts_the_axis_on_the_direction() -> None:
-    from casadi_debris.dynamics.attitude import quaternion_to_rotation
+    from casadi_debris.dynamics import quaternion_to_rotation
 
     rng = np.random.default_rng(3)
     for _ in range(5):

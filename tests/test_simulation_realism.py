@@ -23,8 +23,8 @@ from casadi_debris.config import (
     Sensors,
     StarTracker,
     load_problem,
+    realism_fields,
 )
-from casadi_debris.config.realism import realism_fields
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import build_loop_step, simulate

@@ -7,7 +7,7 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.environment import CircularOrbit
 from casadi_debris.guidance.targets import (
     blend,
     continuous_sign,

@@ -20,7 +20,7 @@ from casadi_debris.config import load_problem
 from casadi_debris.errors import AllocationError
 
 if TYPE_CHECKING:
-    from casadi_debris.allocation.paths import SaturationMode
+    from casadi_debris.allocation import SaturationMode
 
 # The allocator's own values (a test checks they agree); written here so that the
 # command's help does not load the QP back-ends.

@@ -137,7 +137,7 @@ def burn(
 
 def _axis(text: str) -> str | tuple[float, float, float]:
     """``x``, ``-y``, ... (passed on as the name) or ``a,b,c`` (not all zero) as a vector."""
-    from casadi_debris.config.segments import AXIS_TEXTS
+    from casadi_debris.config import AXIS_TEXTS
 
     if text.strip().lower() in AXIS_TEXTS:
         return text

@@ -61,7 +61,7 @@ def schema() -> None:
     choices. The loader still checks what a schema cannot (a hinge on the hub,
     propellant below its CubeSat's mass, which keys may be left out).
     """
-    from casadi_debris.config.json_schema import problem_schema
+    from casadi_debris.config import problem_schema
 
     echo_json(problem_schema())
 

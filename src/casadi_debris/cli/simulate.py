@@ -31,9 +31,13 @@ from casadi_debris.cli.common import (
     workers_option,
 )
 from casadi_debris.cli.slew import axis_options
-from casadi_debris.config import Problem, limits, load_problem
-from casadi_debris.config.loader import UnreadableFileError, read_regular_file
-from casadi_debris.errors import InputShapeError
+from casadi_debris.config import (
+    Problem,
+    limits,
+    load_problem,
+    read_regular_file,
+)
+from casadi_debris.errors import InputShapeError, UnreadableFileError
 from casadi_debris.report.common import format_figure, format_table, write_csv, write_json_atomic
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.units import NM_PER_MNM

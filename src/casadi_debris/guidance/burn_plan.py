@@ -18,7 +18,7 @@ from scipy.spatial.transform import Rotation
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import BURN_DIRECTIONS, BurnDirection, Problem
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import SimulationError
 from casadi_debris.guidance.targets import lvlh_matrices
 

@@ -30,9 +30,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.config import Problem, Segment, Simulation, SlewSettings, Target
-from casadi_debris.config.segments import axis_unit_vector
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.config import (
+    Problem,
+    Segment,
+    Simulation,
+    SlewSettings,
+    Target,
+    axis_unit_vector,
+)
+from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
 from casadi_debris.guidance.burn_plan import BurnPlan, burn_offset, strongest_axis
 from casadi_debris.guidance.slew import slew_quaternions, solve_slew

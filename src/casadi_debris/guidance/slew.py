@@ -11,7 +11,7 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
 from casadi_debris.config import Problem, SlewReference, SlewSettings
-from casadi_debris.dynamics.attitude import quaternion_rate
+from casadi_debris.dynamics import quaternion_rate
 from casadi_debris.errors import InputShapeError, ProblemFileError, SlewInfeasibleError
 from casadi_debris.slews import (
     SlewOptions,

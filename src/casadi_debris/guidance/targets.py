@@ -1,6 +1,6 @@
 """Attitudes a manoeuvre points at: the orbit's LVLH frame, and smooth joins between references.
 
-The LVLH frame O of :class:`~casadi_debris.environment.orbit.CircularOrbit`
+The LVLH frame O of :class:`~casadi_debris.environment.CircularOrbit`
 (o1 along track, o2 against the orbit normal, o3 to nadir) has the attitude
 q_ON with rotation matrix C_NO = [o1 o2 o3] (frame components to inertial ones).
 A body held at q_OB in it (:class:`~casadi_debris.config.Target` of kind
@@ -33,13 +33,13 @@ from collections.abc import Callable
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.dynamics.attitude import (
+from casadi_debris.dynamics import (
     axis_angle_quaternion,
     quaternion_multiply,
     quaternion_to_rotation,
     rotation_to_quaternion,
 )
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.environment import CircularOrbit
 
 
 def lvlh_matrices(orbit: CircularOrbit, time_s: np.ndarray) -> np.ndarray:

@@ -1,6 +1,6 @@
 """The debris' ballistic coefficient B = m / (C_D A) from its faces.
 
-The drag area is that of the faces :func:`~casadi_debris.environment.panels.debris_panels`
+The drag area is that of the faces :func:`~casadi_debris.environment.debris_panels`
 gives the aerodynamic torque (the hub's six faces, both faces of every array at
 its angle), with the same free-molecular model and the same omissions (no
 shadowing, the CubeSats' own faces left out): a face of area A and outward
@@ -27,7 +27,7 @@ from typing import Literal
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.environment.panels import debris_panels
+from casadi_debris.environment import debris_panels
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry, build_geometry
 

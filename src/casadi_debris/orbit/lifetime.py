@@ -47,7 +47,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from casadi_debris.config import Problem
-from casadi_debris.environment.orbit import EARTH_ROTATION_RAD_S
+from casadi_debris.environment import EARTH_ROTATION_RAD_S
 from casadi_debris.units import M_PER_KM, SECONDS_PER_YEAR
 
 REENTRY_PERIGEE_KM = 120.0

@@ -10,7 +10,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.dynamics.attitude import (
+from casadi_debris.dynamics import (
     error_quaternion,
     euler_angles_321,
     quaternion_axis_angle,

@@ -11,8 +11,7 @@ import numpy as np
 
 from casadi_debris.budgets import BudgetItem
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model, assembled_modes, build_model
-from casadi_debris.dynamics.cantilever import shape_integrals
+from casadi_debris.dynamics import Model, assembled_modes, build_model, shape_integrals
 from casadi_debris.geometry import Geometry, array_axes, torque_authority
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import format_cell, format_table

@@ -13,7 +13,7 @@ the slice of the wrench polytope at that force,
 
     T_phi = { B f : 0 <= f <= f_max, F f = phi }
 
-(:func:`~casadi_debris.allocation.authority.authority_polytope` with
+(:func:`~casadi_debris.allocation.authority_polytope` with
 ``force_N``): exactly the torques the engines can add while they deliver
 ``phi``, neither more (every torque in it is reached with the force kept) nor
 less (a fixed torque-free mix with the residual limits ``f_max - f_0`` on top
@@ -38,9 +38,8 @@ import numpy as np
 
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model
-from casadi_debris.dynamics.attitude import quaternion_to_rotation
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.dynamics import Model, quaternion_to_rotation
+from casadi_debris.environment import CircularOrbit
 from casadi_debris.guidance.burn_plan import (
     BurnPlan,
     BurnWindow,

@@ -20,7 +20,7 @@
   flexible model.
 """
 
-from casadi_debris.dynamics.attitude import euler_angles_321, quaternion_multiply
+from casadi_debris.dynamics import euler_angles_321, quaternion_multiply
 from casadi_debris.slews.bang_bang import BangBangTiming, bang_bang_slew, bang_bang_timing
 from casadi_debris.slews.maneuver import (
     SlewTarget,

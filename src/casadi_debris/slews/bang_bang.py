@@ -55,8 +55,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model, build_model
-from casadi_debris.dynamics.attitude import axis_angle_quaternion, quaternion_multiply
+from casadi_debris.dynamics import Model, axis_angle_quaternion, build_model, quaternion_multiply
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import torque_authority
 from casadi_debris.slews.limits import authority_use

@@ -36,7 +36,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from casadi_debris.dynamics.attitude import attitude_error
+from casadi_debris.dynamics import attitude_error
 from casadi_debris.slews.limits import axis_ratios, box_authority, box_check
 from casadi_debris.slews.maneuver import (
     SlewTarget,

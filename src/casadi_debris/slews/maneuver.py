@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import AXIS_NAMES
-from casadi_debris.dynamics.attitude import (
+from casadi_debris.dynamics import (
     axis_angle_quaternion,
     error_quaternion,
     quaternion_axis_angle,

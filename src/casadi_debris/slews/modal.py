@@ -2,7 +2,7 @@
 
 Linearised about rest, the flexible model is x_dot = A x + B u with
 x = [theta, omega, v, eta, eta_dot] (theta = 2 q_vec, the model's own
-``dynamics`` differentiated, as in :func:`casadi_debris.dynamics.linearize` but
+``dynamics`` differentiated, as in :func:`casadi_debris.dynamics` but
 with the CoG velocity and all nine inputs kept, so that the engines' net force
 excites the arrays as well). A has the rigid eigenvalue 0 (a Jordan block:
 attitude integrates rate) and one lightly damped complex pair per assembled

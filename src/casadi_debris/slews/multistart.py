@@ -36,7 +36,7 @@ from typing import Any, Protocol, TypeVar
 import casadi as ca
 import numpy as np
 
-from casadi_debris.dynamics.attitude import quaternion_product
+from casadi_debris.dynamics import quaternion_product
 from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.parallel import ItemFailure, keep_ctrl_c, parallel_map
 from casadi_debris.slews.rigid_body import N_RIGID_STATE, RigidBody, scaled_rigid_ode

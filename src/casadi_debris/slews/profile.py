@@ -32,8 +32,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model, build_model
-from casadi_debris.dynamics.attitude import euler_angles_321
+from casadi_debris.dynamics import Model, build_model, euler_angles_321
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry
 from casadi_debris.records import FLATTENED, Record

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from casadi_debris.dynamics.attitude import quaternion_product
+from casadi_debris.dynamics import quaternion_product
 from casadi_debris.errors import InputShapeError
 
 # Relative slack of the checks on a measured inertia (symmetry, triangle inequality).

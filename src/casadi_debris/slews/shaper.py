@@ -24,7 +24,7 @@ def zero_vibration_shaper(
     """Cascaded zero-vibration (ZV) input shaper for every array mode of a model.
 
     For a mode of natural frequency omega_n and damping zeta (poles of the
-    model linearised at rest, :func:`casadi_debris.dynamics.linearize`) the ZV
+    model linearised at rest, :func:`casadi_debris.dynamics`) the ZV
     shaper (Singer & Seering, J. Dyn. Sys. Meas. Control 112, 1990) is two
     impulses
 

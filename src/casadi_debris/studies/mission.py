@@ -36,8 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.config import Problem
-from casadi_debris.config.checks import check_transfer_end
+from casadi_debris.config import Problem, check_transfer_end
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
 from casadi_debris.orbit.atmosphere import solar_case

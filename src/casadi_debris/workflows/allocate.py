@@ -23,9 +23,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from casadi_debris.config import Problem
-from casadi_debris.config.loader import UnreadableFileError, read_regular_file
-from casadi_debris.errors import AllocationError, InputShapeError
+from casadi_debris.config import Problem, read_regular_file
+from casadi_debris.errors import AllocationError, InputShapeError, UnreadableFileError
 from casadi_debris.records import Record
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.units import MN_PER_N, MNM_PER_NM, US_PER_S
@@ -35,8 +34,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from casadi_debris.allocation import AllocationResult as Allocation
-    from casadi_debris.allocation import Allocator, DemandError, PropulsionState
-    from casadi_debris.allocation.paths import SaturationMode
+    from casadi_debris.allocation import Allocator, DemandError, PropulsionState, SaturationMode
     from casadi_debris.geometry import Geometry
 
 Vector = Sequence[float]
@@ -221,8 +219,7 @@ def _allocator(
 ) -> Allocator:
     """The allocator of ``problem`` for ``state`` (``how``: the solver and the saturation
     mode); an unknown solver or no engine left refused by name."""
-    from casadi_debris.allocation import Allocator, NoEngineError
-    from casadi_debris.allocation.backends import UnknownSolverError
+    from casadi_debris.allocation import Allocator, NoEngineError, UnknownSolverError
 
     solver, saturation = how
     try:
@@ -311,7 +308,7 @@ def _read_state(path: Path, template: PropulsionState) -> PropulsionState:
 def _demand_message(error: DemandError, torque_mNm: Vector, force_mN: Vector | None) -> str:
     """The allocator's refusal of a demand, said with the option and the units the user
     typed."""
-    from casadi_debris.allocation.demand import ABSURD_FACTOR
+    from casadi_debris.allocation import ABSURD_FACTOR
 
     option, unit = DEMAND_KEYWORDS.get(error.argument, (error.argument, ""))
     given = torque_mNm if error.argument == "torque_Nm" else force_mN

@@ -244,7 +244,7 @@ def _fly(
 
 def _body_axis(axis: str | Sequence[float]) -> tuple[float, float, float]:
     """An axis name (``"x"``, ``"-y"``) or a vector, as a vector not all zero."""
-    from casadi_debris.config.segments import AXIS_TEXTS, axis_unit_vector
+    from casadi_debris.config import AXIS_TEXTS, axis_unit_vector
 
     if isinstance(axis, str):
         name = axis.strip().lower()

@@ -12,9 +12,13 @@ import json
 import logging
 from pathlib import Path
 
-from casadi_debris.config import Problem, default_controller_path, limits
-from casadi_debris.config.loader import UnreadableFileError, read_regular_file
-from casadi_debris.errors import ControllerMismatchError, ProblemFileError
+from casadi_debris.config import (
+    Problem,
+    default_controller_path,
+    limits,
+    read_regular_file,
+)
+from casadi_debris.errors import ControllerMismatchError, ProblemFileError, UnreadableFileError
 from casadi_debris.report.folders import default_run_folder
 from casadi_debris.robust.plant import ControllerRecord
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from casadi_debris.config.checks import check_transfer_end
+from casadi_debris.config import check_transfer_end
 from casadi_debris.orbit import DeorbitSettings
 from casadi_debris.report.mission import mission_figures, write_mission
 from casadi_debris.studies.mission import Mission, MissionSummary, plan_mission

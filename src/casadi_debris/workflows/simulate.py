@@ -189,7 +189,8 @@ def read_parameters_file(path: Path) -> tuple[Any, str]:
     """The ``parameters`` mapping of a JSON file and the case id it gives (default its stem)."""
     import json
 
-    from casadi_debris.config.loader import UnreadableFileError, read_regular_file
+    from casadi_debris.config import read_regular_file
+    from casadi_debris.errors import UnreadableFileError
 
     try:
         data = json.loads(read_regular_file(path).decode("utf-8"))

@@ -9,8 +9,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-from casadi_debris.config import Problem
-from casadi_debris.config.checks import check_transfer_end
+from casadi_debris.config import Problem, check_transfer_end
 from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.orbit.elements import EARTH_J2, mee_circular
@@ -214,7 +213,7 @@ def check_transfer(problem: Problem) -> float:
     ------
     ProblemFileError
         The transfer does not end on the debris' ``[orbit]``
-        (:func:`~casadi_debris.config.checks.check_transfer_end`), or the from and to
+        (:func:`~casadi_debris.config.check_transfer_end`), or the from and to
         orbits are the same.
     """
     check_transfer_end(problem)

@@ -16,8 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.budgets import burn_dv_m_s
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
-from casadi_debris.config.schema import CubeSat
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, CubeSat, Problem
 from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
 from casadi_debris.slews.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration

@@ -23,7 +23,7 @@ import control
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.dynamics.compiled import Model
+from casadi_debris.dynamics._compiled import Model
 from casadi_debris.errors import InputShapeError, ModelError
 
 Units = Literal["SI", "deg_mNm"]

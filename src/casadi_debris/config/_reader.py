@@ -1,7 +1,7 @@
 """Validation of a parsed problem: :func:`problem_from_dict` and the smaller tables.
 
-The debris and swarm tables are read in :mod:`~casadi_debris.config.bodies`,
-the runs in :mod:`~casadi_debris.config.runs`; the checks across tables (the
+The debris and swarm tables are read in :mod:`~casadi_debris.config._bodies`,
+the runs in :mod:`~casadi_debris.config._runs`; the checks across tables (the
 propellant against the CubeSat's mass, the integration step against the
 fastest dynamics) are made here once everything is read.
 """
@@ -14,17 +14,17 @@ from dataclasses import replace
 from typing import Any
 
 from casadi_debris.config import limits
-from casadi_debris.config.bodies import (
+from casadi_debris.config._bodies import (
     check_propellant,
     read_arrays,
     read_cubesats,
     read_engine_defaults,
     read_hub,
 )
-from casadi_debris.config.environment import read_environment, read_orbit
-from casadi_debris.config.realism import read_realism
-from casadi_debris.config.runs import check_integration_step, read_montecarlo, read_simulation
-from casadi_debris.config.schema import (
+from casadi_debris.config._environment import read_environment, read_orbit
+from casadi_debris.config._realism import read_realism
+from casadi_debris.config._runs import check_integration_step, read_montecarlo, read_simulation
+from casadi_debris.config._schema import (
     DEFAULT_MONTECARLO,
     DEFAULT_REQUIREMENTS,
     DEFAULT_SIMULATION,
@@ -38,8 +38,8 @@ from casadi_debris.config.schema import (
     Uncertainty,
     Weights,
 )
-from casadi_debris.config.table import Table, show
-from casadi_debris.config.varied import parse_path, resolve_vary, with_value, without_vary
+from casadi_debris.config._table import Table, show
+from casadi_debris.config._varied import parse_path, resolve_vary, with_value, without_vary
 from casadi_debris.errors import ProblemFileError
 
 

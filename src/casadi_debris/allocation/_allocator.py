@@ -51,11 +51,11 @@ against which the proximal term is sized.
 Failed or spent engines keep their column with an upper bound of zero: the
 solver workspaces are set up once and only their bounds change.
 
-Modules: the QP stages in scaled units (:mod:`~casadi_debris.allocation.scaled_qp`),
-the saturation path and its HiGHS rescue (:mod:`~casadi_debris.allocation.saturation`),
-demand checks (:mod:`~casadi_debris.allocation.demand`), result types
-(:mod:`~casadi_debris.allocation.results`), batches and series
-(:mod:`~casadi_debris.allocation.batch`); this one holds the :class:`Allocator`.
+Modules: the QP stages in scaled units (:mod:`~casadi_debris.allocation._scaled_qp`),
+the saturation path and its HiGHS rescue (:mod:`~casadi_debris.allocation._saturation`),
+demand checks (:mod:`~casadi_debris.allocation._demand`), result types
+(:mod:`~casadi_debris.allocation._results`), batches and series
+(:mod:`~casadi_debris.allocation._batch`); this one holds the :class:`Allocator`.
 """
 
 from __future__ import annotations
@@ -65,14 +65,14 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.allocation import batch
-from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
-from casadi_debris.allocation.demand import ABSURD_FACTOR, SMALLEST_SUBNORMAL, as_vector3
-from casadi_debris.allocation.paths import SaturationMode, SolvePaths
-from casadi_debris.allocation.propulsion import PropulsionState
-from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
-from casadi_debris.allocation.scaled_qp import ScaledQp
-from casadi_debris.allocation.series import PiecewiseAffineQp
+from casadi_debris.allocation import _batch as batch
+from casadi_debris.allocation._authority import AuthorityPolytope, authority_polytope
+from casadi_debris.allocation._demand import ABSURD_FACTOR, SMALLEST_SUBNORMAL, as_vector3
+from casadi_debris.allocation._paths import SaturationMode, SolvePaths
+from casadi_debris.allocation._propulsion import PropulsionState
+from casadi_debris.allocation._results import AllocationResult, BatchAllocation, SeriesAllocation
+from casadi_debris.allocation._scaled_qp import ScaledQp
+from casadi_debris.allocation._series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError, NoEngineError
 from casadi_debris.geometry import Geometry, build_geometry, max_thrust_N
@@ -290,7 +290,7 @@ class Allocator(SolvePaths):
 
     def _set_demand_bounds(self, limits: np.ndarray) -> None:
         """Largest demand component accepted: ABSURD_FACTOR times the largest that any
-        thrust within ``limits`` makes (see :mod:`~casadi_debris.allocation.demand`)."""
+        thrust within ``limits`` makes (see :mod:`~casadi_debris.allocation._demand`)."""
         self._torque_bound_Nm = ABSURD_FACTOR * float((np.abs(self.torque_map) @ limits).max())
         self._force_bound_N = ABSURD_FACTOR * float((np.abs(self.force_map) @ limits).max())
 
@@ -335,10 +335,10 @@ class Allocator(SolvePaths):
         when saturated, and for the force with ``F``.
         This holds for every demand from the smallest subnormal up (tiny ones are
         solved scaled up by a power of two, see
-        :mod:`~casadi_debris.allocation.demand`); a demand of exactly zero gets
+        :mod:`~casadi_debris.allocation._demand`); a demand of exactly zero gets
         exactly zero thrust. No NaN or inf is ever returned: an answer of the
         back-end that fails these checks is recomputed by HiGHS, and if that
-        fails too an :class:`~casadi_debris.allocation.paths.AllocationInternalError` is raised.
+        fails too an :class:`~casadi_debris.allocation._paths.AllocationInternalError` is raised.
 
         Parameters
         ----------
@@ -418,7 +418,7 @@ class Allocator(SolvePaths):
         The same answers as :meth:`allocate` in ``"scale"`` saturation, computed
         for a whole series at once: alpha from the facets of
         :meth:`authority_polytope`, then the least-fuel thrust from the
-        piecewise-affine solution of the QP (:mod:`~casadi_debris.allocation.series`),
+        piecewise-affine solution of the QP (:mod:`~casadi_debris.allocation._series`),
         which needs a QP solve only where the active set changes. Tiny demands
         are scaled up by a power of two as in :meth:`allocate`; every row passes
         the same final check (finite, torque within the promised tolerance of

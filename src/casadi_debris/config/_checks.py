@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from casadi_debris.config._schema import AXIS_NAMES, Problem
+from casadi_debris.config._table import Table
 from casadi_debris.config.limits import PRINCIPAL_INERTIA_KGM2
-from casadi_debris.config.schema import AXIS_NAMES, Problem
-from casadi_debris.config.table import Table
 from casadi_debris.errors import ProblemFileError
 
 TRIANGLE_TOLERANCE = 0.02

@@ -14,22 +14,22 @@ from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 from casadi_debris.config import limits
-from casadi_debris.config.schema import (
+from casadi_debris.config._schema import (
     REFERENCE_KINDS,
     FailureEvent,
     MonteCarlo,
     Problem,
     Simulation,
 )
-from casadi_debris.config.segments import (
+from casadi_debris.config._segments import (
     SLEW_METHODS,
     SlewReference,
     read_axis,
     read_segments,
     read_slew_settings,
 )
-from casadi_debris.config.table import Table
-from casadi_debris.config.varied import read_vary
+from casadi_debris.config._table import Table
+from casadi_debris.config._varied import read_vary
 from casadi_debris.errors import ProblemFileError
 
 

@@ -1,7 +1,7 @@
 """Demands the engines cannot meet: largest alpha, least fuel on the edge, HiGHS rescue,
 least squares.
 
-All in the scaled units of :class:`~casadi_debris.allocation.scaled_qp.ScaledQp`.
+All in the scaled units of :class:`~casadi_debris.allocation._scaled_qp.ScaledQp`.
 Saturation is solved lexicographically, in two QPs: ``max alpha`` over
 ``(u, alpha)`` (no fuel term), then the least-fuel QP at ``alpha * target``.
 The second target sits on the edge of what is reachable, where round-off makes
@@ -17,8 +17,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from casadi_debris.allocation.backends import QpSolution
-from casadi_debris.allocation.scaled_qp import ScaledQp
+from casadi_debris.allocation._backends import QpSolution
+from casadi_debris.allocation._scaled_qp import ScaledQp
 from casadi_debris.errors import AllocationError
 
 # Relative pull-ins of a saturated target, tried in turn when the least-fuel
@@ -56,7 +56,7 @@ class StageSolution(NamedTuple):
         HiGHS gave the answer.
     verified : bool
         ``u``'s residual against ``alpha * target`` was measured within 1e-13
-        (:meth:`~casadi_debris.allocation.scaled_qp.ScaledQp.polish_checked`).
+        (:meth:`~casadi_debris.allocation._scaled_qp.ScaledQp.polish_checked`).
     """
 
     u: np.ndarray | None

@@ -1,6 +1,6 @@
 """Least-fuel allocation of a whole series of demands by reusing active sets.
 
-The least-fuel QP of :mod:`casadi_debris.allocation.allocator`,
+The least-fuel QP of :mod:`casadi_debris.allocation._allocator`,
 
     minimise  eps/2 |u|^2 + w^T u   subject to  A u = b,  0 <= u <= u_max,
 

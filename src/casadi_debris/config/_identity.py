@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:  # the schema's Problem calls this module: no import at run time
-    from casadi_debris.config.schema import Problem
+    from casadi_debris.config._schema import Problem
 
 PLANT_FIELDS = (
     "hub",

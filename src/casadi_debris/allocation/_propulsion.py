@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.allocation.state_input import (
+from casadi_debris.allocation._state_input import (
     checked_id,
     checked_pair,
     engine_stage_matrix,

@@ -52,13 +52,13 @@ from dataclasses import dataclass
 import casadi as ca
 
 from casadi_debris.config import Mode, Problem
-from casadi_debris.dynamics.attitude import (
+from casadi_debris.dynamics._attitude import (
     attitude_error_vector,
     quaternion_product,
     rotation_matrix,
 )
-from casadi_debris.dynamics.cantilever import shape_integrals
-from casadi_debris.dynamics.parameters import ParameterLayout, Parameters
+from casadi_debris.dynamics._cantilever import shape_integrals
+from casadi_debris.dynamics._parameters import ParameterLayout, Parameters
 from casadi_debris.geometry import Geometry, array_axes, array_rigid_inertia
 
 INPUT_NAMES = (

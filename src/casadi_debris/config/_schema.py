@@ -14,9 +14,9 @@ from typing import Any, Literal
 
 import numpy as np
 
-from casadi_debris.config.identity import plant_sha256
-from casadi_debris.config.realism import Actuators, ControllerTiming, Estimation, Sensors
-from casadi_debris.config.segments import Segment, SlewReference
+from casadi_debris.config._identity import plant_sha256
+from casadi_debris.config._realism import Actuators, ControllerTiming, Estimation, Sensors
+from casadi_debris.config._segments import Segment, SlewReference
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -430,7 +430,7 @@ class Simulation:
         By time, at most 1000.
     segments : tuple of Segment
         ``[[simulation.segments]]``, given exactly when ``reference`` is
-        ``"sequence"`` (see :mod:`casadi_debris.config.segments`).
+        ``"sequence"`` (see :mod:`casadi_debris.config._segments`).
 
     The ranges and why are in :mod:`casadi_debris.config.limits`.
     """
@@ -565,7 +565,7 @@ class Problem:
     def plant_sha256(self) -> str:
         """Hash of the plant this problem describes (what a controller is designed for).
 
-        See :mod:`casadi_debris.config.identity`.
+        See :mod:`casadi_debris.config._identity`.
         """
         return plant_sha256(self)
 

@@ -39,7 +39,7 @@ from typing import Literal
 import numpy as np
 
 from casadi_debris.config import limits
-from casadi_debris.config.table import Table, frozen_array
+from casadi_debris.config._table import Table, frozen_array
 
 SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
 SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")

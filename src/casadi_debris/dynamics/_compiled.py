@@ -23,9 +23,9 @@ import numpy as np
 import numpy.typing as npt
 
 from casadi_debris.config import Mode, Problem
-from casadi_debris.dynamics.attitude import attitude_error_vector
-from casadi_debris.dynamics.flexible_body import INPUT_NAMES, FlexibleBodyEquations, StateLayout
-from casadi_debris.dynamics.parameters import ParameterLayout, Parameters
+from casadi_debris.dynamics._attitude import attitude_error_vector
+from casadi_debris.dynamics._flexible_body import INPUT_NAMES, FlexibleBodyEquations, StateLayout
+from casadi_debris.dynamics._parameters import ParameterLayout, Parameters
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.geometry import Geometry, build_geometry
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE

@@ -35,8 +35,8 @@ from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
 from casadi_debris.config import limits
-from casadi_debris.config.schema import DISTRIBUTIONS, Problem, VariedQuantity
-from casadi_debris.config.table import Table, recording, show
+from casadi_debris.config._schema import DISTRIBUTIONS, Problem, VariedQuantity
+from casadi_debris.config._table import Table, recording, show
 from casadi_debris.errors import ProblemFileError
 
 ProblemReader = Callable[[Mapping[str, Any], str | None], Problem]
@@ -46,7 +46,7 @@ _SEGMENT = re.compile(r"([A-Za-z_][A-Za-z0-9_]{0,63})((?:\[\d{1,6}\])*)")
 _INDEX = re.compile(r"\[(\d+)\]")
 PathPart = str | int
 NORMAL_CHECKED_SIGMAS = 4.0
-# A path without a dot names a model parameter (see casadi_debris.dynamics.parameters).
+# A path without a dot names a model parameter (see casadi_debris.dynamics.ParameterLayout).
 _PARAMETER = re.compile(
     r"inertia_scale_[xyz]|mass_kg|array\d{0,3}_angle_offset_rad|bending_frequency_scale"
 )

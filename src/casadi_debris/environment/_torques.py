@@ -1,15 +1,15 @@
 """The environment torques of a problem, together, at a time and an attitude.
 
-:class:`EnvironmentTorques` ties the orbit (:mod:`~casadi_debris.environment.orbit`)
+:class:`EnvironmentTorques` ties the orbit (:mod:`~casadi_debris.environment._orbit`)
 to the torques the problem's ``[environment]`` switches on, all in body axes:
 
-- gravity gradient (:mod:`~casadi_debris.environment.gravity`) from the
+- gravity gradient (:mod:`~casadi_debris.environment._gravity`) from the
   position r_B = [NB]^T r_N;
-- aerodynamic (:mod:`~casadi_debris.environment.panels`) from the velocity
+- aerodynamic (:mod:`~casadi_debris.environment._panels`) from the velocity
   relative to an atmosphere turning with the Earth, v_N - omega_E z x r_N;
-- solar pressure from the Sun's direction (:mod:`~casadi_debris.environment.sun`),
+- solar pressure from the Sun's direction (:mod:`~casadi_debris.environment._sun`),
   off in the Earth's shadow when ``eclipse`` is on;
-- magnetic (:mod:`~casadi_debris.environment.magnetic`) from the dipole field at r.
+- magnetic (:mod:`~casadi_debris.environment._magnetic`) from the dipole field at r.
 
 Everything takes floats and numpy arrays or CasADi symbols alike.
 """
@@ -24,17 +24,17 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import ENVIRONMENT_TORQUES, Environment, Problem
-from casadi_debris.environment.algebra import Vector, as_vector, cross, matvec, symbolic, zeros
-from casadi_debris.environment.gravity import gravity_gradient_torque
-from casadi_debris.environment.magnetic import dipole_axis, dipole_field_T, magnetic_torque
-from casadi_debris.environment.orbit import EARTH_ROTATION_RAD_S, CircularOrbit
-from casadi_debris.environment.panels import (
+from casadi_debris.environment._algebra import Vector, as_vector, cross, matvec, symbolic, zeros
+from casadi_debris.environment._gravity import gravity_gradient_torque
+from casadi_debris.environment._magnetic import dipole_axis, dipole_field_T, magnetic_torque
+from casadi_debris.environment._orbit import EARTH_ROTATION_RAD_S, CircularOrbit
+from casadi_debris.environment._panels import (
     Panel,
     aerodynamic_torque,
     debris_panels,
     solar_pressure_torque,
 )
-from casadi_debris.environment.sun import sun_direction, sunlit
+from casadi_debris.environment._sun import sun_direction, sunlit
 from casadi_debris.geometry import Geometry
 from casadi_debris.units import M_PER_KM
 

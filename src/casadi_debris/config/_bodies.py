@@ -1,8 +1,8 @@
 """Readers of the debris and its swarm: ``[hub]``, ``[[arrays]]``, the CubeSats, ``[engine]``.
 
-Each reader takes one :class:`~casadi_debris.config.table.Table`, bounds every
+Each reader takes one :class:`~casadi_debris.config._table.Table`, bounds every
 number by :mod:`~casadi_debris.config.limits` and returns a frozen dataclass of
-:mod:`~casadi_debris.config.schema`.
+:mod:`~casadi_debris.config._schema`.
 """
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ from typing import Any
 import numpy as np
 
 from casadi_debris.config import limits
-from casadi_debris.config.checks import check_inertia, check_on_surface, check_outside_hub
-from casadi_debris.config.layouts import expand_layout, signed_axis_vector
-from casadi_debris.config.schema import (
+from casadi_debris.config._checks import check_inertia, check_on_surface, check_outside_hub
+from casadi_debris.config._layouts import expand_layout, signed_axis_vector
+from casadi_debris.config._schema import (
     LAYOUT_KINDS,
     MODE_KINDS,
     SIGNED_AXES,
@@ -28,7 +28,7 @@ from casadi_debris.config.schema import (
     Hub,
     Mode,
 )
-from casadi_debris.config.table import Table, frozen_array, show
+from casadi_debris.config._table import Table, frozen_array, show
 
 
 def read_hub(t: Table) -> Hub:

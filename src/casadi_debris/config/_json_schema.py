@@ -2,7 +2,7 @@
 
 The readers of :mod:`casadi_debris.config` are the one statement of what a problem
 file may hold. :func:`problem_schema` reads a few complete example problems with
-:func:`~casadi_debris.config.table.recording` on, so every key a reader takes, with
+:func:`~casadi_debris.config._table.recording` on, so every key a reader takes, with
 its type, shape, range, choices and count, is noted; the notes become a JSON Schema
 (draft 2020-12). Tables allow no other keys. Which keys may be left out (they have
 defaults) and the checks across keys (a hinge on the hub, propellant below the
@@ -17,10 +17,10 @@ import re
 from collections.abc import Mapping
 from typing import Any
 
+from casadi_debris.config._loader import default_problem_path, merge_problem
+from casadi_debris.config._reader import problem_from_dict
+from casadi_debris.config._table import recording
 from casadi_debris.config.limits import Range
-from casadi_debris.config.loader import default_problem_path, merge_problem
-from casadi_debris.config.reader import problem_from_dict
-from casadi_debris.config.table import recording
 
 SCHEMA_URI = "https://json-schema.org/draft/2020-12/schema"
 _INDEX = re.compile(r"\[\d+\]$")

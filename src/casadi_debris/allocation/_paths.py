@@ -4,13 +4,13 @@ final check with its HiGHS fallback.
 :class:`SolvePaths` is the half of :class:`~casadi_debris.allocation.Allocator`
 that turns one demand into thrust (the other half sets up the problem, keeps
 the limits and checks the input). Paths, in scaled units
-(:mod:`~casadi_debris.allocation.scaled_qp`):
+(:mod:`~casadi_debris.allocation._scaled_qp`):
 
 1. a demand of ordinary size: one least-fuel QP, polished;
 2. a tiny demand (below a tenth of an engine's torque): the same, scaled up
-   by a power of two and scaled back (:mod:`~casadi_debris.allocation.demand`);
+   by a power of two and scaled back (:mod:`~casadi_debris.allocation._demand`);
 3. a demand the engines cannot meet: least squares or the largest alpha
-   (:mod:`~casadi_debris.allocation.saturation`).
+   (:mod:`~casadi_debris.allocation._saturation`).
 
 Every answer passes one final check before it is returned (:meth:`SolvePaths._result`):
 finite, and the torque (and force) within the promised tolerance of what the
@@ -29,22 +29,22 @@ from typing import Literal
 
 import numpy as np
 
-from casadi_debris.allocation.demand import (
+from casadi_debris.allocation._demand import (
     FALLBACK_SIZE,
     SMALL_DEMAND,
     SMALL_DEMAND_LEVELS,
     stretch_exponent,
     within_tolerance,
 )
-from casadi_debris.allocation.results import AllocationResult
-from casadi_debris.allocation.saturation import (
+from casadi_debris.allocation._results import AllocationResult
+from casadi_debris.allocation._saturation import (
     BOUNDARY_BACKOFF,
     StageSolution,
     largest_alpha,
     least_squares,
     rescue,
 )
-from casadi_debris.allocation.scaled_qp import THRUST_ROUND_OFF, ScaledQp
+from casadi_debris.allocation._scaled_qp import THRUST_ROUND_OFF, ScaledQp
 from casadi_debris.errors import AllocationInternalError
 
 SaturationMode = Literal["scale", "least_squares"]
@@ -151,7 +151,7 @@ class SolvePaths:
         solve_time_s: float,
     ) -> AllocationResult | None:
         """A demand the exact stage could not meet: least squares when asked, else the
-        largest alpha (:mod:`~casadi_debris.allocation.saturation`).
+        largest alpha (:mod:`~casadi_debris.allocation._saturation`).
 
         ``target`` is the scaled demand times ``2**exponent``, ``size`` its
         largest component.
@@ -341,7 +341,7 @@ class SolvePaths:
     ) -> AllocationResult | None:
         """Result of scaled thrust ``u`` times ``2**-exponent``, or None when it fails the
         final check: a NaN or inf, or a torque (force) off what the mode claims by more
-        than the promised tolerance (:func:`~casadi_debris.allocation.demand.within_tolerance`).
+        than the promised tolerance (:func:`~casadi_debris.allocation._demand.within_tolerance`).
 
         ``clip=False`` when u is already within its bounds. ``verified`` when
         :meth:`ScaledQp.polish_checked` has just measured ``u``'s own residual

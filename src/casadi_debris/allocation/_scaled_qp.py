@@ -2,7 +2,7 @@
 
 Units: thrust ``u = f / f_ref`` in units of the largest limit, torque rows in
 units of the largest lever arm times that limit, force rows likewise (see
-:mod:`casadi_debris.allocation.allocator`), so every number handed to a
+:mod:`casadi_debris.allocation._allocator`), so every number handed to a
 solver is of order one.
 
 Stages, each a QP of fixed structure whose data change only in ``b_eq``,
@@ -25,7 +25,7 @@ from typing import Literal
 import numpy as np
 import numpy.typing as npt
 
-from casadi_debris.allocation.backends import QpBackend, QpData, make_backend
+from casadi_debris.allocation._backends import QpBackend, QpData, make_backend
 
 # Proximal weight of the least-fuel QP, in scaled thrust units against a fuel
 # weight of 1 per engine: far below the reduced costs of the LP (order one),

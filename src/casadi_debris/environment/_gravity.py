@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from casadi_debris.environment.algebra import Vector, cross, matvec, norm
+from casadi_debris.environment._algebra import Vector, cross, matvec, norm
 
 EARTH_MU_M3_S2 = 3.986004418e14
 """The Earth's gravitational parameter (WGS 84) [m^3/s^2]."""

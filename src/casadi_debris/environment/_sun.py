@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from casadi_debris.environment.algebra import Vector, cross, dot, norm, select, stack, trig
+from casadi_debris.environment._algebra import Vector, cross, dot, norm, select, stack, trig
 
 OBLIQUITY_RAD = math.radians(23.44)
 """The tilt of the ecliptic to the equator."""

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from casadi_debris.environment.algebra import (
+from casadi_debris.environment._algebra import (
     Vector,
     as_vector,
     cross,
@@ -32,7 +32,7 @@ from casadi_debris.environment.algebra import (
     symbolic,
     trig,
 )
-from casadi_debris.environment.orbit import EARTH_ROTATION_RAD_S
+from casadi_debris.environment._orbit import EARTH_ROTATION_RAD_S
 
 
 def dipole_axis(

@@ -18,10 +18,10 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
+from casadi_debris.config._reader import problem_from_dict
+from casadi_debris.config._schema import Problem
+from casadi_debris.config._table import show
 from casadi_debris.config.limits import MAX_EXTENDS_DEPTH, MAX_FILE_BYTES
-from casadi_debris.config.reader import problem_from_dict
-from casadi_debris.config.schema import Problem
-from casadi_debris.config.table import show
 from casadi_debris.errors import ProblemFileError, UnreadableFileError
 
 

@@ -26,7 +26,7 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.environment.algebra import symbolic
+from casadi_debris.environment._algebra import symbolic
 from casadi_debris.units import M_PER_KM
 
 EARTH_ROTATION_RAD_S = 7.2921159e-5

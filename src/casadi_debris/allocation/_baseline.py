@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.allocation.allocator import Allocator
-from casadi_debris.allocation.demand import as_vector3
-from casadi_debris.allocation.results import AllocationResult
+from casadi_debris.allocation._allocator import Allocator
+from casadi_debris.allocation._demand import as_vector3
+from casadi_debris.allocation._results import AllocationResult
 from casadi_debris.errors import AllocationError
 
 # A null-space direction counts as positive when its smallest entry exceeds

@@ -21,7 +21,7 @@ from typing import Any, Literal
 import numpy as np
 
 from casadi_debris.config import limits
-from casadi_debris.config.table import Table, frozen_array
+from casadi_debris.config._table import Table, frozen_array
 
 EstimationFilter = Literal["none", "mekf"]
 ESTIMATION_FILTERS: tuple[EstimationFilter, ...] = ("none", "mekf")

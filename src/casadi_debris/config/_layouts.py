@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from casadi_debris.config.schema import (
+from casadi_debris.config._schema import (
     AXIS_NAMES,
     CubeSat,
     CubeSatLayout,

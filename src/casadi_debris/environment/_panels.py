@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.environment.algebra import (
+from casadi_debris.environment._algebra import (
     Vector,
     as_vector,
     cross,

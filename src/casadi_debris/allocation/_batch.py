@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from casadi_debris.allocation.demand import (
+from casadi_debris.allocation._demand import (
     SMALL_DEMAND,
     SMALLEST_SUBNORMAL,
     TORQUE_RTOL,
@@ -23,12 +23,12 @@ from casadi_debris.allocation.demand import (
     batch_forces,
     check_rows,
 )
-from casadi_debris.allocation.results import BatchAllocation, SeriesAllocation
-from casadi_debris.allocation.scaled_qp import EXACT_PROXIMAL, THRUST_ROUND_OFF
-from casadi_debris.allocation.series import PiecewiseAffineQp
+from casadi_debris.allocation._results import BatchAllocation, SeriesAllocation
+from casadi_debris.allocation._scaled_qp import EXACT_PROXIMAL, THRUST_ROUND_OFF
+from casadi_debris.allocation._series import PiecewiseAffineQp
 
 if TYPE_CHECKING:
-    from casadi_debris.allocation.allocator import Allocator
+    from casadi_debris.allocation._allocator import Allocator
 
 # Relative pull-in of a saturated demand in :func:`allocate_series`, so that the
 # target lies strictly inside the reachable set (alpha is promised to 1e-9).
@@ -159,7 +159,7 @@ def _rows_met(
     free_force: bool,
 ) -> np.ndarray:
     """Per row: finite, and torque (and zero force) within the promised tolerance of
-    ``scale`` times the demand (:func:`~casadi_debris.allocation.demand.within_tolerance`).
+    ``scale`` times the demand (:func:`~casadi_debris.allocation._demand.within_tolerance`).
 
     A NaN anywhere in a row makes its comparisons False: not met.
     """

@@ -1,8 +1,8 @@
 """Readers of the orbit and of the environment torques (``[orbit]``, ``[environment]``).
 
 Both tables' optional keys take the defaults of their dataclasses
-(:class:`~casadi_debris.config.schema.Orbit`,
-:class:`~casadi_debris.config.schema.Environment`); an absent ``[environment]``
+(:class:`~casadi_debris.config._schema.Orbit`,
+:class:`~casadi_debris.config._schema.Environment`); an absent ``[environment]``
 switches every environment torque off, as in the paper.
 """
 
@@ -13,8 +13,8 @@ from collections.abc import Callable
 from typing import Any
 
 from casadi_debris.config import limits
-from casadi_debris.config.schema import ENVIRONMENT_TORQUES, Environment, Orbit
-from casadi_debris.config.table import Table, frozen_array, show
+from casadi_debris.config._schema import ENVIRONMENT_TORQUES, Environment, Orbit
+from casadi_debris.config._table import Table, frozen_array, show
 
 _DEFAULT_ENVIRONMENT = Environment()
 
