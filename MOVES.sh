@@ -111,3 +111,26 @@ sed -i -E 's/casadi_debris\.environment\.(magnetic|algebra|gravity|torques|panel
 # config/varied.py -> config/_varied.py
 sed -i -E 's/from casadi_debris\.config\.(environment|json_schema|identity|segments|layouts|realism|bodies|checks|loader|reader|schema|varied|table|runs) import /from casadi_debris.config import /g' "$@"
 sed -i -E 's/casadi_debris\.config\.(environment|json_schema|identity|segments|layouts|realism|bodies|checks|loader|reader|schema|varied|table|runs)\b/casadi_debris.config._\1/g' "$@"
+
+# guidance/: implementation modules private; import from casadi_debris.guidance.
+# guidance/burn_plan.py -> guidance/_burn_plan.py
+# guidance/reference.py -> guidance/_reference.py
+# guidance/sequence.py -> guidance/_sequence.py
+# guidance/slew.py -> guidance/_slew.py
+# guidance/targets.py -> guidance/_targets.py
+sed -i -E 's/from casadi_debris\.guidance\.(burn_plan|reference|sequence|targets|slew) import /from casadi_debris.guidance import /g' "$@"
+sed -i -E 's/casadi_debris\.guidance\.(burn_plan|reference|sequence|targets|slew)\b/casadi_debris.guidance._\1/g' "$@"
+
+# orbit/: implementation modules private; import from casadi_debris.orbit.
+# orbit/atmosphere.py -> orbit/_atmosphere.py
+# orbit/ballistic.py -> orbit/_ballistic.py
+# orbit/curves.py -> orbit/_curves.py
+# orbit/deorbit.py -> orbit/_deorbit.py
+# orbit/elements.py -> orbit/_elements.py
+# orbit/lifetime.py -> orbit/_lifetime.py
+# orbit/lifetime_mc.py -> orbit/_lifetime_mc.py
+# orbit/plan.py -> orbit/_plan.py
+# orbit/propulsion.py -> orbit/_propulsion.py
+# orbit/swarm_size.py -> orbit/_swarm_size.py
+sed -i -E 's/from casadi_debris\.orbit\.(lifetime_mc|atmosphere|propulsion|swarm_size|ballistic|elements|lifetime|deorbit|curves|plan) import /from casadi_debris.orbit import /g' "$@"
+sed -i -E 's/casadi_debris\.orbit\.(lifetime_mc|atmosphere|propulsion|swarm_size|ballistic|elements|lifetime|deorbit|curves|plan)\b/casadi_debris.orbit._\1/g' "$@"

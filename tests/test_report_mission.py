@@ -8,8 +8,7 @@ import re
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.orbit import DeorbitSettings
-from casadi_debris.orbit.deorbit import DV_SEARCH_MAX_M_S
+from casadi_debris.orbit import DV_SEARCH_MAX_M_S, DeorbitSettings
 from casadi_debris.report.mission import mission_text
 from casadi_debris.studies.mission import MAX_EXTRA_STAGES, MissionSummary, plan_mission
 

@@ -15,7 +15,7 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.dynamics import build_model
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.geometry import build_geometry
-from casadi_debris.guidance.burn_plan import (
+from casadi_debris.guidance import (
     BurnPlan,
     burn_offset,
     strongest_axis,
@@ -170,7 +170,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     """Flown by ``simulate`` from the problem file: zero net force while the body joins the
     frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
     from casadi_debris.allocation import Allocator
-    from casadi_debris.guidance.reference import scenario_reference
+    from casadi_debris.guidance import scenario_reference
     from casadi_debris.simulation import simulate
 
     text = (

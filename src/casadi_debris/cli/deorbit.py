@@ -45,7 +45,7 @@ limit_years_option = click.option(
 
 def solar_cases(text: str) -> tuple[str, ...]:
     """``--solar low,mean`` as distinct known cases, or one line naming the option."""
-    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+    from casadi_debris.orbit import SOLAR_CASES
 
     cases = comma_list(text, "--solar", "low,mean,high")
     if [c for c in cases if c not in SOLAR_CASES] or len(set(cases)) != len(cases):
@@ -136,7 +136,7 @@ def _years(value: float) -> str:
 
 def _text(plan: Any) -> str:
     """The cases as a table, then the verdict, the smallest swarm and the Monte Carlo."""
-    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+    from casadi_debris.orbit import SOLAR_CASES
 
     rows = [
         [

@@ -28,7 +28,7 @@ from casadi_debris.report.common import format_table
 from casadi_debris.report.folders import check_output_folder
 
 if TYPE_CHECKING:
-    from casadi_debris.guidance.sequence import ManoeuvreSummary
+    from casadi_debris.guidance import ManoeuvreSummary
     from casadi_debris.workflows.slew import SlewSummary
 
 

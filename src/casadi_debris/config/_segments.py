@@ -65,7 +65,7 @@ EULER_SEQUENCES = tuple(
 DEFAULT_EULER_SEQUENCE = "ZYX"
 DEFAULT_BLEND_S = 1200.0
 """Seconds over which a reference moving at a different rate is joined (see
-:mod:`casadi_debris.guidance.sequence`)."""
+:mod:`casadi_debris.guidance`)."""
 _TARGET_KEYS = ("axis", "angle_deg", "quaternion", "euler_deg", "euler_sequence")
 _NADIR_KEYS = ("nadir_axis", "along_axis")
 _SLEW_KEYS = (

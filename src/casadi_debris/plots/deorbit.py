@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.orbit.curves import CaseTrajectory
+from casadi_debris.orbit import CaseTrajectory
 from casadi_debris.units import M_PER_KM, SECONDS_PER_YEAR
 
 SOLAR_COLOURS = {"low": "#1f5fbf", "mean": "#2e7d32", "high": "#c2185b"}

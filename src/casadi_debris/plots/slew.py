@@ -15,7 +15,7 @@ from casadi_debris.dynamics import (
     euler_angles_321,
     quaternion_axis_angle,
 )
-from casadi_debris.guidance.sequence import SegmentRecord
+from casadi_debris.guidance import SegmentRecord
 from casadi_debris.plots import AXIS_COLOURS, save_figure
 from casadi_debris.slews import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM

@@ -6,8 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.orbit import TransferPlan
-from casadi_debris.orbit.elements import keplerian_from_mee
+from casadi_debris.orbit import TransferPlan, keplerian_from_mee
 from casadi_debris.units import DEG_PER_RAD, M_PER_KM, SECONDS_PER_DAY
 
 

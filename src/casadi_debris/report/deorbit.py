@@ -9,8 +9,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from casadi_debris.orbit.curves import CaseTrajectory
-from casadi_debris.orbit.plan import DeorbitPlan
+from casadi_debris.orbit import CaseTrajectory, DeorbitPlan
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY

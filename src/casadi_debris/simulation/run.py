@@ -29,8 +29,7 @@ from casadi_debris.allocation import (
 )
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model, Parameters
-from casadi_debris.guidance.burn_plan import BurnWindow, burn_thrust_N, burn_windows
-from casadi_debris.guidance.reference import Reference
+from casadi_debris.guidance import BurnWindow, Reference, burn_thrust_N, burn_windows
 from casadi_debris.simulation.batched import roll_together
 from casadi_debris.simulation.closed_loop import (
     DiscreteController,

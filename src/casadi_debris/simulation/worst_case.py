@@ -35,7 +35,7 @@ import scipy.linalg
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, linearization_function, linearize
-from casadi_debris.guidance.reference import Reference
+from casadi_debris.guidance import Reference
 from casadi_debris.robust.plant import FULL_CIRCLE_DEG, parameters_from_normalized
 from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.simulation.run import ClosedLoopResult, simulate

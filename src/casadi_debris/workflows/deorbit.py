@@ -19,9 +19,13 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
-from casadi_debris.orbit.curves import CaseTrajectory, case_trajectories
-from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
-from casadi_debris.orbit.plan import plan_deorbit
+from casadi_debris.orbit import (
+    CaseTrajectory,
+    DeorbitModel,
+    DeorbitSettings,
+    case_trajectories,
+    plan_deorbit,
+)
 from casadi_debris.report.deorbit import DeorbitReport, deorbit_figures, write_deorbit
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 

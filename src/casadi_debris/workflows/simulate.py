@@ -30,7 +30,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from casadi_debris.dynamics import Model
-    from casadi_debris.guidance.reference import Reference
+    from casadi_debris.guidance import Reference
     from casadi_debris.simulation.cases import Case
     from casadi_debris.simulation.run import ClosedLoopResult
     from casadi_debris.simulation.segment_figures import SegmentFigures

@@ -32,7 +32,7 @@ from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from casadi_debris.guidance.sequence import ManoeuvreReference, ManoeuvreSummary
+    from casadi_debris.guidance import ManoeuvreReference, ManoeuvreSummary
     from casadi_debris.slews import SlewProfile
 
 LOGGER = logging.getLogger(__name__)
@@ -200,7 +200,7 @@ class SlewResult(JobResult):
     summary : SlewSummary or ManoeuvreSummary
         A :class:`SlewSummary` for one slew; for a problem that flies
         ``[[simulation.segments]]`` (and no ``axis``, ``angle_deg`` or ``method`` given)
-        a :class:`~casadi_debris.guidance.sequence.ManoeuvreSummary`.
+        a :class:`~casadi_debris.guidance.ManoeuvreSummary`.
     profile : SlewProfile or None
         The one slew, SI units (None for a manoeuvre).
     manoeuvre : ManoeuvreReference or None
@@ -523,7 +523,7 @@ def _limits_warning(summary: SlewSummary) -> str:
 def _manoeuvre(problem: Problem, asked: _Asked, note: Callable[[str], None] | None) -> SlewResult:
     """The reference of the problem's ``[[simulation.segments]]``, as ``simulate`` flies
     it; the settings of one slew are refused (the segments set each slew)."""
-    from casadi_debris.guidance.sequence import manoeuvre_reference
+    from casadi_debris.guidance import manoeuvre_reference
 
     one_slew = {
         "--duration-s": asked.duration_s,

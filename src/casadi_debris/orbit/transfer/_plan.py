@@ -12,8 +12,8 @@ import casadi as ca
 from casadi_debris.config import Problem, check_transfer_end
 from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.orbit.elements import EARTH_J2, mee_circular
-from casadi_debris.orbit.propulsion import ThrustSegment, swarm_thrust
+from casadi_debris.orbit._elements import EARTH_J2, mee_circular
+from casadi_debris.orbit._propulsion import ThrustSegment, swarm_thrust
 from casadi_debris.orbit.transfer._averaged import averaged_dynamics, edelbaum_dv
 from casadi_debris.orbit.transfer._guidance import (
     DEFAULT_PERIOD_S,
@@ -54,7 +54,7 @@ class TransferPlan:
         Edelbaum steering, closed loop, through the whole burn schedule.
     optimal : OptimalTransfer
     groups : tuple of ThrustSegment
-        The swarm's thrust directions (:func:`~casadi_debris.orbit.propulsion.swarm_thrust`),
+        The swarm's thrust directions (:func:`~casadi_debris.orbit._propulsion.swarm_thrust`),
         strongest first; ``Burn.group`` indexes them.
     burns : list of Burn
         The schedule the guidance flew (real burns first).

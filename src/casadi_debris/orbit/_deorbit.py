@@ -1,6 +1,6 @@
 """The least Δv that brings the debris down within five years, and what it takes of the swarm.
 
-For each solar-activity case (constant indices, :mod:`~casadi_debris.orbit.atmosphere`)
+For each solar-activity case (constant indices, :mod:`~casadi_debris.orbit._atmosphere`)
 and each way of lowering the orbit,
 
 - ``spiral``: retrograde thrust all the orbit round (the orbit stays circular
@@ -10,9 +10,9 @@ and each way of lowering the orbit,
   and burn duration, which counts against the five years),
 
 the burn is flown with the swarm's torque-free thrust
-(:mod:`~casadi_debris.orbit.propulsion`) and drag acting together, then the
+(:mod:`~casadi_debris.orbit._propulsion`) and drag acting together, then the
 debris decays. The time counted against the rule runs from the start of the
-burn to re-entry (:mod:`~casadi_debris.orbit.lifetime`). The re-entry time
+burn to re-entry (:mod:`~casadi_debris.orbit._lifetime`). The re-entry time
 falls as the Δv grows, so the least Δv is a root (Brent) of
 ``reentry(dv) - limit``. A case needing more than the swarm carries is solved
 as if the last thrust level went on: that Δv is what a larger swarm must give.
@@ -34,21 +34,21 @@ from scipy.optimize import brentq
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.orbit.atmosphere import (
+from casadi_debris.orbit._atmosphere import (
     SolarActivity,
     density_table,
     log_interp,
     solar_case,
 )
-from casadi_debris.orbit.ballistic import Ballistic, ballistic
-from casadi_debris.orbit.lifetime import (
+from casadi_debris.orbit._ballistic import Ballistic, ballistic
+from casadi_debris.orbit._lifetime import (
     Burn,
     DecayHistory,
     DensityFunction,
     Earth,
     propagate_decay,
 )
-from casadi_debris.orbit.propulsion import SwarmThrust, swarm_thrust
+from casadi_debris.orbit._propulsion import SwarmThrust, swarm_thrust
 from casadi_debris.records import Record
 from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY, SECONDS_PER_HOUR
 

@@ -4,9 +4,9 @@ A swarm of N CubeSats like the problem's first one (its mass, its first
 engine's stages, thrust, Isp and stage life), all pushing along the debris'
 strongest thrust direction with zero net torque, is taken as placeable (pairs
 symmetric about the centre of gravity: the LP of
-:mod:`~casadi_debris.orbit.propulsion` is not re-run for it). The debris
+:mod:`~casadi_debris.orbit._propulsion` is not re-run for it). The debris
 without the problem's CubeSats carries them. For each N the least Δv is that
-of :mod:`~casadi_debris.orbit.deorbit` with N's thrust (more thrust, a shorter
+of :mod:`~casadi_debris.orbit._deorbit` with N's thrust (more thrust, a shorter
 burn, a little less Δv) and N's mass; N is the least whose stages carry that
 Δv under every solar case. The search is a bisection on N: the carried Δv
 grows with N and the needed one does not.
@@ -21,9 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.orbit.atmosphere import solar_case
-from casadi_debris.orbit.deorbit import STRATEGIES, DeorbitModel, DeorbitSettings, best_strategy
-from casadi_debris.orbit.propulsion import SwarmThrust, ThrustSegment
+from casadi_debris.orbit._atmosphere import solar_case
+from casadi_debris.orbit._deorbit import STRATEGIES, DeorbitModel, DeorbitSettings, best_strategy
+from casadi_debris.orbit._propulsion import SwarmThrust, ThrustSegment
 from casadi_debris.records import Record
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 

@@ -1,7 +1,7 @@
 """The deorbit plan: every solar case, the smallest swarm, and a Monte Carlo of the plan.
 
 :func:`plan_deorbit` is the public entry point (a later mission timeline composes
-it): it builds the :class:`~casadi_debris.orbit.deorbit.DeorbitModel` once, plans
+it): it builds the :class:`~casadi_debris.orbit._deorbit.DeorbitModel` once, plans
 each solar-activity case, finds the governing one (the most Δv), and optionally
 searches the smallest swarm and flies the governing plan over solar cycles and
 drag coefficients.
@@ -17,10 +17,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.orbit.atmosphere import solar_case
-from casadi_debris.orbit.deorbit import DeorbitCase, DeorbitModel, DeorbitSettings, plan_case
-from casadi_debris.orbit.lifetime_mc import LifetimeCampaign, lifetime_monte_carlo
-from casadi_debris.orbit.swarm_size import MinimumSwarm, minimum_swarm
+from casadi_debris.orbit._atmosphere import solar_case
+from casadi_debris.orbit._deorbit import DeorbitCase, DeorbitModel, DeorbitSettings, plan_case
+from casadi_debris.orbit._lifetime_mc import LifetimeCampaign, lifetime_monte_carlo
+from casadi_debris.orbit._swarm_size import MinimumSwarm, minimum_swarm
 from casadi_debris.records import Record
 
 

@@ -1,6 +1,6 @@
 """A lifetime Monte Carlo over solar activity and drag coefficient, seeded.
 
-The constant levels of :mod:`~casadi_debris.orbit.atmosphere` bracket the
+The constant levels of :mod:`~casadi_debris.orbit._atmosphere` bracket the
 decay; a real lifetime sees solar cycles. Each run draws
 
 - a solar cycle: F10.7 (= F10.7a) following
@@ -27,9 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem
-from casadi_debris.orbit.atmosphere import density_table, log_interp
-from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
-from casadi_debris.orbit.lifetime import DensityFunction
+from casadi_debris.orbit._atmosphere import density_table, log_interp
+from casadi_debris.orbit._deorbit import DeorbitModel, DeorbitSettings
+from casadi_debris.orbit._lifetime import DensityFunction
 from casadi_debris.parallel import ItemFailure, no_context, parallel_map
 from casadi_debris.records import Record
 from casadi_debris.units import SECONDS_PER_YEAR

@@ -5,18 +5,18 @@ A run starts at rest at q_BN = [1, 0, 0, 0]. Each segment
 left at its start time:
 
 - a slew is solved from there to its target by its method
-  (:func:`~casadi_debris.guidance.slew.solve_slew`), a target in the
+  (:func:`~casadi_debris.guidance._slew.solve_slew`), a target in the
   LVLH frame being the frame's attitude at the slew's end (found by fixed-point
   iteration on the slew's duration when the method picks it);
 - a hold keeps that attitude;
-- a track follows its frame (:mod:`casadi_debris.guidance.targets`); a burn is a
+- a track follows its frame (:mod:`casadi_debris.guidance._targets`); a burn is a
   track of the LVLH frame holding its thrust axis along its direction, whose engines
-  fire from ``blend_s`` on (:mod:`casadi_debris.guidance.burn_plan`).
+  fire from ``blend_s`` on (:mod:`casadi_debris.guidance._burn_plan`).
 
 Slews and holds start and end at rest, so where they meet the reference is
 continuous in attitude and rate as it stands. A track moves at the orbit rate:
 the first ``blend_s`` of a track, and of the segment after one, join the old
-reference to the new one with :func:`~casadi_debris.guidance.targets.blend`
+reference to the new one with :func:`~casadi_debris.guidance._targets.blend`
 (attitude and rate continuous; the join is at most the segment long). A gap
 between segments holds the attitude the segment before left.
 """
@@ -40,9 +40,9 @@ from casadi_debris.config import (
 )
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
-from casadi_debris.guidance.burn_plan import BurnPlan, burn_offset, strongest_axis
-from casadi_debris.guidance.slew import slew_quaternions, solve_slew
-from casadi_debris.guidance.targets import body_rates, frame_attitude, track_attitudes
+from casadi_debris.guidance._burn_plan import BurnPlan, burn_offset, strongest_axis
+from casadi_debris.guidance._slew import slew_quaternions, solve_slew
+from casadi_debris.guidance._targets import body_rates, frame_attitude, track_attitudes
 from casadi_debris.records import Record
 from casadi_debris.slews import SlewProfile, SlewTarget, slew_about_axis, slew_between
 from casadi_debris.units import MN_PER_N
@@ -183,7 +183,7 @@ class _Builder:
         following: Segment | None,
     ) -> Piece:
         """A track, from rest (or from the track before) and, unless the run ends or a
-        track follows, to rest (:func:`~casadi_debris.guidance.targets.track_attitudes`)."""
+        track follows, to rest (:func:`~casadi_debris.guidance._targets.track_attitudes`)."""
         # The reader gives every track its frame; a burn's comes from its axis and direction.
         assert segment.target is not None or segment.burn is not None
         before = self.pieces[-1] if self.pieces else None
@@ -246,7 +246,7 @@ class _Builder:
     def _slew(self, segment: Segment, index: int, key: str, lead_s: float) -> Piece:
         """A slew from where the reference is; onto a frame, aimed at its attitude
         ``lead_s`` after the slew's end (half the next track's start-up: see
-        :func:`~casadi_debris.guidance.targets.track_attitudes`)."""
+        :func:`~casadi_debris.guidance._targets.track_attitudes`)."""
         assert segment.target is not None and segment.slew is not None  # the reader's
         start, q0, target = self.time_s, self.attitude, segment.target
         settings: SlewSettings = segment.slew

@@ -2,7 +2,7 @@
 and the LVLH offset that holds the axis along its direction.
 
 The direction is one of the orbit's LVLH frame (o1 along track, o2 against the orbit
-normal, o3 to nadir; :mod:`~casadi_debris.guidance.targets`): prograde o1,
+normal, o3 to nadir; :mod:`~casadi_debris.guidance._targets`): prograde o1,
 retrograde -o1, normal -o2, anti-normal o2.
 """
 
@@ -20,10 +20,10 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import BURN_DIRECTIONS, BurnDirection, Problem
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import SimulationError
-from casadi_debris.guidance.targets import lvlh_matrices
+from casadi_debris.guidance._targets import lvlh_matrices
 
 if TYPE_CHECKING:
-    from casadi_debris.guidance.reference import Reference
+    from casadi_debris.guidance._reference import Reference
 
 # In LVLH components (o1 along track, o2 against the orbit normal, o3 to nadir).
 _LVLH_DIRECTION = {
@@ -84,10 +84,10 @@ class BurnPlan:
 def strongest_axis(problem: Problem) -> np.ndarray:
     """The body direction of the swarm's largest torque-free thrust, shape (3,).
 
-    The first of :func:`~casadi_debris.orbit.propulsion.swarm_thrust`'s directions
+    The first of :func:`~casadi_debris.orbit.swarm_thrust`'s directions
     (ties broken by its order).
     """
-    from casadi_debris.orbit.propulsion import swarm_thrust
+    from casadi_debris.orbit import swarm_thrust
 
     return np.asarray(swarm_thrust(problem).segments[0].direction_body, dtype=float)
 

@@ -6,10 +6,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.orbit.atmosphere import solar_case
-from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
-from casadi_debris.orbit.lifetime import DecayHistory
-from casadi_debris.orbit.plan import DeorbitPlan
+from casadi_debris.orbit._atmosphere import solar_case
+from casadi_debris.orbit._deorbit import DeorbitModel, DeorbitSettings
+from casadi_debris.orbit._lifetime import DecayHistory
+from casadi_debris.orbit._plan import DeorbitPlan
 
 CURVE_POINTS = 13
 

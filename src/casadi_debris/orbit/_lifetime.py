@@ -17,7 +17,7 @@ held over the orbit:
 - Drag: ``f_t = -rho(h) w^2 / (2 B)``, B = m / (C_D A), w = v - omega_E r cos i the
   speed relative to an atmosphere turning with the Earth (its along-track part,
   exact for a circular orbit), rho the orbit- and day-averaged density of
-  :mod:`~casadi_debris.orbit.atmosphere` at h = r - R_E (R_E the equatorial
+  :mod:`~casadi_debris.orbit._atmosphere` at h = r - R_E (R_E the equatorial
   radius; the table gives NRLMSIS each orbit point's geodetic altitude, which
   is up to 21 km above h near the poles). Integrated over the
   whole orbit by the trapezoidal rule (spectrally

@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import Problem, Simulation
-from casadi_debris.guidance.sequence import Piece, sample_pieces, sequence_pieces
-from casadi_debris.guidance.slew import slew_quaternions, slew_torque
+from casadi_debris.guidance._sequence import Piece, sample_pieces, sequence_pieces
+from casadi_debris.guidance._slew import slew_quaternions, slew_torque
 from casadi_debris.slews import SlewProfile
 
 # Spacing of the slew profile the reference interpolates (its switching instants are added).
@@ -73,7 +73,7 @@ def control_instants(simulation: Simulation) -> np.ndarray:
 def scenario_reference(problem: Problem) -> Reference:
     """The reference of the problem's ``[simulation]`` table at its control instants:
     a hold, its one slew, or its sequence of segments
-    (:mod:`casadi_debris.guidance.sequence`)."""
+    (:mod:`casadi_debris.guidance._sequence`)."""
     times = control_instants(problem.simulation)
     pieces = sequence_pieces(problem, PROFILE_SAMPLE_S)
     slews = [piece for piece in pieces if piece.slew is not None]
