@@ -134,3 +134,26 @@ sed -i -E 's/casadi_debris\.guidance\.(burn_plan|reference|sequence|targets|slew
 # orbit/swarm_size.py -> orbit/_swarm_size.py
 sed -i -E 's/from casadi_debris\.orbit\.(lifetime_mc|atmosphere|propulsion|swarm_size|ballistic|elements|lifetime|deorbit|curves|plan) import /from casadi_debris.orbit import /g' "$@"
 sed -i -E 's/casadi_debris\.orbit\.(lifetime_mc|atmosphere|propulsion|swarm_size|ballistic|elements|lifetime|deorbit|curves|plan)\b/casadi_debris.orbit._\1/g' "$@"
+
+# slews/: implementation modules private; import from casadi_debris.slews.
+# slews/bang_bang.py -> slews/_bang_bang.py
+# slews/global_slew.py -> slews/_global_slew.py
+# slews/initial_guess.py -> slews/_initial_guess.py
+# slews/limits.py -> slews/_limits.py
+# slews/maneuver.py -> slews/_maneuver.py
+# slews/modal.py -> slews/_modal.py
+# slews/modal_window.py -> slews/_modal_window.py
+# slews/multistart.py -> slews/_multistart.py
+# slews/ocp_problem.py -> slews/_ocp_problem.py
+# slews/ocp_solution.py -> slews/_ocp_solution.py
+# slews/optimal.py -> slews/_optimal.py
+# slews/options.py -> slews/_options.py
+# slews/profile.py -> slews/_profile.py
+# slews/propellant.py -> slews/_propellant.py
+# slews/rigid_body.py -> slews/_rigid_body.py
+# slews/shaper.py -> slews/_shaper.py
+# slews/switch_times.py -> slews/_switch_times.py
+# slews/thruster_search.py -> slews/_thruster_search.py
+# slews/transcription.py -> slews/_transcription.py
+sed -i -E 's/from casadi_debris\.slews\.(thruster_search|initial_guess|transcription|modal_window|ocp_solution|switch_times|global_slew|ocp_problem|multistart|propellant|rigid_body|bang_bang|maneuver|optimal|options|profile|limits|shaper|modal) import /from casadi_debris.slews import /g' "$@"
+sed -i -E 's/casadi_debris\.slews\.(thruster_search|initial_guess|transcription|modal_window|ocp_solution|switch_times|global_slew|ocp_problem|multistart|propellant|rigid_body|bang_bang|maneuver|optimal|options|profile|limits|shaper|modal)\b/casadi_debris.slews._\1/g' "$@"

@@ -60,7 +60,7 @@ WIDE_SIGNATURES = {
     "simulation/closed_loop.py:_loop_step",
     "simulation/run.py:simulate",
     "simulation/worst_case.py:worst_case_search",
-    "slews/profile.py:finish_profile",
+    "slews/_profile.py:finish_profile",
 }
 PACKAGE = ROOT / "src" / "casadi_debris"
 

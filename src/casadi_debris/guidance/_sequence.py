@@ -366,7 +366,7 @@ class SegmentRecord(Record):
         A slew profile's propellant (open loop).
     limits_ok : bool or None
         A slew profile within the engines' authority over its whole grid, gyroscopic
-        torque included (:mod:`casadi_debris.slews.limits`).
+        torque included (:mod:`casadi_debris.slews._limits`).
     worst_authority_share : float or None
         The largest share of the authority the slew's torque needs (per signed axis or
         in the engines' torque set; above 1 the loop cannot follow it).

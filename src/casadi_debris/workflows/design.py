@@ -67,7 +67,7 @@ from casadi_debris.robust.synthesis import (
     classical_record,
     search_design,
 )
-from casadi_debris.slews.maneuver import rigid_limit_duration
+from casadi_debris.slews import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
 from casadi_debris.workflows._result import ProblemLike, ReportFolderResult, as_problem
 from casadi_debris.workflows.campaign import Progress

@@ -1,4 +1,4 @@
-"""An NLP solution as a :class:`~casadi_debris.slews.profile.SlewProfile`.
+"""An NLP solution as a :class:`~casadi_debris.slews._profile.SlewProfile`.
 
 The held controls are integrated (CVODES) on the flexible model when the slew
 is flexible, else on the rigid one, sampled on the output grid with every
@@ -14,15 +14,15 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.dynamics import Model
-from casadi_debris.slews.ocp_problem import SlewOcp
-from casadi_debris.slews.profile import (
+from casadi_debris.slews._ocp_problem import SlewOcp
+from casadi_debris.slews._profile import (
     SlewProfile,
     finish_profile,
     sample_grid,
     simulate,
     zoh_input_function,
 )
-from casadi_debris.slews.transcription import COLLOCATION_DEGREE, NlpSolution
+from casadi_debris.slews._transcription import COLLOCATION_DEGREE, NlpSolution
 
 
 def slew_profile(

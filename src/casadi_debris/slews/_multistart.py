@@ -14,10 +14,10 @@ several seeded starts and sorts what they find:
   that reverses at the quarter or half times;
 - the eigenaxis bang-bang plus random noise on every interval.
 
-The NLP is the scaled rigid body (:func:`~casadi_debris.slews.rigid_body.scaled_rigid_ode`:
+The NLP is the scaled rigid body (:func:`~casadi_debris.slews._rigid_body.scaled_rigid_ode`:
 time in units of the eigenaxis limit, torques in units of each axis' bound),
 transcribed by Radau collocation of degree 3 on uniform intervals of free
-total length (the coefficients of :func:`~casadi_debris.slews.transcription.radau_coefficients`),
+total length (the coefficients of :func:`~casadi_debris.slews._transcription.radau_coefficients`),
 the end conditions the attitude error and the rate. It is built once per
 process and re-solved from each start; starts run in parallel processes
 (:func:`~casadi_debris.parallel.parallel_map`) when more than one worker is
@@ -39,8 +39,8 @@ import numpy as np
 from casadi_debris.dynamics import quaternion_product
 from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.parallel import ItemFailure, keep_ctrl_c, parallel_map
-from casadi_debris.slews.rigid_body import N_RIGID_STATE, RigidBody, scaled_rigid_ode
-from casadi_debris.slews.transcription import (
+from casadi_debris.slews._rigid_body import N_RIGID_STATE, RigidBody, scaled_rigid_ode
+from casadi_debris.slews._transcription import (
     ACCEPTED_STATUS,
     COLLOCATION_DEGREE,
     IntervalCollocation,

@@ -2,12 +2,12 @@
 
 The order of the solve:
 
-1. multi-start collocation (:mod:`~casadi_debris.slews.multistart`): the
+1. multi-start collocation (:mod:`~casadi_debris.slews._multistart`): the
    eigenaxis bang-bang and seeded symmetry-breaking starts, in parallel;
 2. symmetric images: the shortest few distinct optima mapped by the slew's
    (near) symmetries (half turns about body axes) and solved again, so that
    starts that went round the wrong way are not lost;
-3. switch times (:mod:`~casadi_debris.slews.switch_times`): the best solution's
+3. switch times (:mod:`~casadi_debris.slews._switch_times`): the best solution's
    bang-bang structure with its switch times as the decision variables, and the
    result verified by integrating the bang-bang control with CVODES.
 
@@ -17,9 +17,9 @@ When a start ends elsewhere, or fails, a ``logging`` warning says so: the best
 slew found may then not be the global one.
 
 The result is a held torque on knots (s, N m), the same for a
-:class:`~casadi_debris.slews.rigid_body.RigidBody` and for the torque-level
+:class:`~casadi_debris.slews._rigid_body.RigidBody` and for the torque-level
 rigid slew of a problem, whose dynamics are the rigid body's
-(:mod:`casadi_debris.slews.ocp_problem`: no force, so the translation stays at
+(:mod:`casadi_debris.slews._ocp_problem`: no force, so the translation stays at
 rest), and a report for the profile's ``settings``.
 """
 
@@ -37,14 +37,14 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.dynamics import attitude_error
-from casadi_debris.slews.limits import axis_ratios, box_authority, box_check
-from casadi_debris.slews.maneuver import (
+from casadi_debris.slews._limits import axis_ratios, box_authority, box_check
+from casadi_debris.slews._maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
     eigenaxis_duration_s,
     rigid_limit_duration,
 )
-from casadi_debris.slews.multistart import (
+from casadi_debris.slews._multistart import (
     AGREEMENT_TOLERANCE,
     MultiStartResult,
     RigidSlew,
@@ -54,15 +54,15 @@ from casadi_debris.slews.multistart import (
     run_starts,
     symmetric_images,
 )
-from casadi_debris.slews.options import SlewOptions
-from casadi_debris.slews.profile import (
+from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._profile import (
     INTEGRATOR_OPTIONS,
     SlewProfile,
     sample_grid,
     zoh_input_function,
 )
-from casadi_debris.slews.rigid_body import N_RIGID_STATE, RigidBody, scaled_rigid_ode
-from casadi_debris.slews.switch_times import NotBangBangError, refine, switch_structure
+from casadi_debris.slews._rigid_body import N_RIGID_STATE, RigidBody, scaled_rigid_ode
+from casadi_debris.slews._switch_times import NotBangBangError, refine, switch_structure
 
 logger = logging.getLogger(__name__)
 # Below this many starts a second process costs more than it saves.
@@ -417,7 +417,7 @@ def rigid_body_profile(
 
 def _box_eigenaxis_s(body: RigidBody, target: SlewTarget) -> float:
     """The eigenaxis bang-bang time within the body's torque box, gyroscopic torque
-    included, s (:func:`~casadi_debris.slews.maneuver.eigenaxis_duration_s`)."""
+    included, s (:func:`~casadi_debris.slews._maneuver.eigenaxis_duration_s`)."""
     authority = box_authority(body.lower_Nm, body.upper_Nm)
 
     def use(torques_Nm: np.ndarray) -> np.ndarray:

@@ -7,12 +7,12 @@ the eigenaxis's structure. So the solve here starts from:
 
 - the eigenaxis bang-bang (the least-fuel thrust of its torque);
 - the torque box's own time-optimal slew, searched globally
-  (:func:`~casadi_debris.slews.global_slew.global_time_optimal`), its torque
+  (:func:`~casadi_debris.slews._global_slew.global_time_optimal`), its torque
   turned into the least-fuel thrust that comes closest (the box's corners lie
   outside the engines' set, so this guess is only near-feasible);
 - seeded perturbations of both (thrust times 1 + noise, length scaled).
 
-Each start is the same NLP (:func:`~casadi_debris.slews.transcription.transcribe_and_solve`);
+Each start is the same NLP (:func:`~casadi_debris.slews._transcription.transcribe_and_solve`);
 they run in parallel processes (:func:`~casadi_debris.parallel.parallel_map`),
 each building the OCP once. The best converged one is kept; the report gives
 every start's duration, how many reached the best, the distinct local optima
@@ -32,13 +32,13 @@ from typing import Any
 
 import numpy as np
 
-from casadi_debris.slews.global_slew import GlobalSlew, SearchSettings, global_time_optimal
-from casadi_debris.slews.initial_guess import InitialGuess, shaped_guess
-from casadi_debris.slews.multistart import AGREEMENT_TOLERANCE, distinct, solve_each
-from casadi_debris.slews.ocp_problem import SlewOcp
-from casadi_debris.slews.propellant import least_fuel_thrust
-from casadi_debris.slews.rigid_body import RigidBody
-from casadi_debris.slews.transcription import (
+from casadi_debris.slews._global_slew import GlobalSlew, SearchSettings, global_time_optimal
+from casadi_debris.slews._initial_guess import InitialGuess, shaped_guess
+from casadi_debris.slews._multistart import AGREEMENT_TOLERANCE, distinct, solve_each
+from casadi_debris.slews._ocp_problem import SlewOcp
+from casadi_debris.slews._propellant import least_fuel_thrust
+from casadi_debris.slews._rigid_body import RigidBody
+from casadi_debris.slews._transcription import (
     Horizon,
     NlpSolution,
     SlewNotConvergedError,
@@ -141,7 +141,7 @@ def thruster_time_optimal(
         At thruster level (``ocp.options.thrusters``).
     eigenaxis : InitialGuess
         The eigenaxis bang-bang as thrust
-        (:func:`~casadi_debris.slews.initial_guess.bang_bang_guess`).
+        (:func:`~casadi_debris.slews._initial_guess.bang_bang_guess`).
     settings : SearchSettings
         Intervals, seed, workers; ``settings.starts`` capped at ``MAX_THRUSTER_STARTS``
         here (the torque box's own search takes all of them).

@@ -2,17 +2,17 @@
 
 The OCP is stated apart from how it is solved, as rockit does:
 
-- :mod:`~casadi_debris.slews.options`: :class:`SlewOptions`, how a slew is
+- :mod:`~casadi_debris.slews._options`: :class:`SlewOptions`, how a slew is
   modelled, transcribed and checked;
-- :mod:`~casadi_debris.slews.ocp_problem`: the statement (states, controls and
+- :mod:`~casadi_debris.slews._ocp_problem`: the statement (states, controls and
   their bounds, end conditions, objectives) on the rigid model;
-- :mod:`~casadi_debris.slews.transcription`: direct Radau collocation and IPOPT;
-- :mod:`~casadi_debris.slews.initial_guess`: where IPOPT starts (the eigenaxis
+- :mod:`~casadi_debris.slews._transcription`: direct Radau collocation and IPOPT;
+- :mod:`~casadi_debris.slews._initial_guess`: where IPOPT starts (the eigenaxis
   bang-bang, or the shaped rigid optimum);
-- :mod:`~casadi_debris.slews.modal_window`: the flexible slew's terminal window,
+- :mod:`~casadi_debris.slews._modal_window`: the flexible slew's terminal window,
   the vibration left bounded in closed form;
-- :mod:`~casadi_debris.slews.shaper`: the zero-vibration input shaper;
-- :mod:`~casadi_debris.slews.ocp_solution`: the solution as a profile.
+- :mod:`~casadi_debris.slews._shaper`: the zero-vibration input shaper;
+- :mod:`~casadi_debris.slews._ocp_solution`: the solution as a profile.
 
 This module holds the public entry points and the order in which a slew is
 solved. A rigid slew is one NLP from the eigenaxis bang-bang. A flexible slew
@@ -35,33 +35,33 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.slews.global_slew import (
+from casadi_debris.slews._global_slew import (
     global_time_optimal,
     rigid_body_profile,
     search_settings,
 )
-from casadi_debris.slews.initial_guess import (
+from casadi_debris.slews._initial_guess import (
     BangBangReferences,
     InitialGuess,
     bang_bang_guess,
     shaped_guess,
 )
-from casadi_debris.slews.maneuver import SlewTarget, slew_about_axis
-from casadi_debris.slews.modal_window import (
+from casadi_debris.slews._maneuver import SlewTarget, slew_about_axis
+from casadi_debris.slews._modal_window import (
     ENERGY_MARGIN,
     WINDOW_INTERVALS,
     VibrationBound,
     energy_limit,
     window_length_s,
 )
-from casadi_debris.slews.ocp_problem import SlewOcp
-from casadi_debris.slews.ocp_solution import slew_profile
-from casadi_debris.slews.options import SlewOptions
-from casadi_debris.slews.profile import SlewProfile, residual_vibration
-from casadi_debris.slews.rigid_body import RigidBody
-from casadi_debris.slews.shaper import shape, zero_vibration_shaper
-from casadi_debris.slews.thruster_search import thruster_time_optimal
-from casadi_debris.slews.transcription import (
+from casadi_debris.slews._ocp_problem import SlewOcp
+from casadi_debris.slews._ocp_solution import slew_profile
+from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._profile import SlewProfile, residual_vibration
+from casadi_debris.slews._rigid_body import RigidBody
+from casadi_debris.slews._shaper import shape, zero_vibration_shaper
+from casadi_debris.slews._thruster_search import thruster_time_optimal
+from casadi_debris.slews._transcription import (
     RIGID_INTERVALS,
     Horizon,
     NlpSolution,
@@ -101,7 +101,7 @@ class _SlewSolver:
 
     def shaper(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The cascaded ZV shaper of the flexible model's modes
-        (:func:`~casadi_debris.slews.shaper.zero_vibration_shaper`), computed once."""
+        (:func:`~casadi_debris.slews._shaper.zero_vibration_shaper`), computed once."""
         if self._shaper is None:
             if self.ocp.flexible_model is None:
                 raise ValueError("the ZV shaper needs a flexible slew OCP (options.flexible)")
@@ -133,9 +133,9 @@ class _SlewSolver:
 
         ``duration_s`` is the length of a fuel-optimal slew (required then); a
         time-optimal one ignores it. A time-optimal torque-level slew is the rigid
-        body's, searched globally (:mod:`casadi_debris.slews.global_slew`); a
+        body's, searched globally (:mod:`casadi_debris.slews._global_slew`); a
         thruster-level one is started from several guesses, the torque box's global
-        optimum among them (:mod:`casadi_debris.slews.thruster_search`); the search's
+        optimum among them (:mod:`casadi_debris.slews._thruster_search`); the search's
         report is kept in ``self.report``.
         """
         ocp = self.ocp
@@ -165,7 +165,7 @@ class _SlewSolver:
 
     def _time_optimal_torque(self, guess: InitialGuess) -> NlpSolution:
         """The torque-level time-optimal slew: the torque box's global optimum (the rigid
-        body's, :mod:`casadi_debris.slews.global_slew`) when the engines can give its
+        body's, :mod:`casadi_debris.slews._global_slew`) when the engines can give its
         torque; else a local optimum within their torque set, started from it.
 
         The box holds torques the engines cannot give together (its corners), so its
@@ -207,7 +207,10 @@ class _SlewSolver:
         return self.ocp.options.intervals or RIGID_INTERVALS
 
     def _energy_limit(self) -> tuple[float, float]:
-        """(limit, bang-bang energy), J (:func:`~casadi_debris.slews.modal_window.energy_limit`)."""
+        """(limit, bang-bang energy), J.
+
+        See :func:`~casadi_debris.slews._modal_window.energy_limit`.
+        """
         ocp = self.ocp
         reference = self.references.at(ocp.limit_duration_s)
         return energy_limit(ocp, reference, ocp.options.residual_energy_fraction)
@@ -259,7 +262,7 @@ class _SlewSolver:
         self, fuel: bool, duration_s: float | None, check_vibration: bool
     ) -> SlewProfile:
         """Rigid bulk and fine window, the vibration left bounded in closed form
-        (:mod:`casadi_debris.slews.modal_window`)."""
+        (:mod:`casadi_debris.slews._modal_window`)."""
         ocp = self.ocp
         shaper_times, shaper_amplitudes, _ = self.shaper()
         shaper_length = float(shaper_times[-1])
@@ -335,7 +338,7 @@ def time_optimal_slew(
 
     Torque-level rigid slews (and every slew of a :class:`RigidBody`) are searched
     globally: several starts, in parallel, then the best one's switch times refined
-    and verified by integration (:mod:`casadi_debris.slews.global_slew`); the
+    and verified by integration (:mod:`casadi_debris.slews._global_slew`); the
     settings report the starts, the local optima found and the verification
     residual, and a ``logging`` warning says when starts disagree.
 

@@ -36,9 +36,9 @@ from casadi_debris.dynamics import Model, build_model, euler_angles_321
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import Geometry
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.slews.limits import LimitCheck, authority_use, check_limits, unchecked
-from casadi_debris.slews.maneuver import SlewTarget, eigenaxis_duration_s
-from casadi_debris.slews.propellant import fuel_weights, least_fuel_thrust, propellant_kg
+from casadi_debris.slews._limits import LimitCheck, authority_use, check_limits, unchecked
+from casadi_debris.slews._maneuver import SlewTarget, eigenaxis_duration_s
+from casadi_debris.slews._propellant import fuel_weights, least_fuel_thrust, propellant_kg
 
 RESIDUAL_WINDOW_PERIODS = 10.0
 INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 200000}
@@ -68,7 +68,7 @@ class SlewProfile:
         Control torque in B (right-continuous at switches; zero at the end).
     thrust_N : ndarray, shape (n, n_engines)
         Thrust per engine: the OCP's when ``thrusters``, else the least-fuel
-        thrust of the torque (see :mod:`casadi_debris.slews.propellant`).
+        thrust of the torque (see :mod:`casadi_debris.slews._propellant`).
     input_function : casadi.Function
         ``u(t) -> [tau (3) N m, 0 (3), F (3) N]``, the model input (no disturbance); zero
         before 0 and after the end.
@@ -88,10 +88,10 @@ class SlewProfile:
         The parameters that define the profile, units in the keys.
     limits : LimitCheck
         The torque (and thrust) against the engines over the whole grid
-        (:mod:`casadi_debris.slews.limits`).
+        (:mod:`casadi_debris.slews._limits`).
     eigenaxis_duration_s : float
         The eigenaxis bang-bang time at the profile's torque fraction, gyroscopic
-        torque included (:func:`~casadi_debris.slews.maneuver.eigenaxis_duration_s`):
+        torque included (:func:`~casadi_debris.slews._maneuver.eigenaxis_duration_s`):
         flyable, so the time-optimal slew at that authority is never longer.
     """
 
@@ -338,7 +338,7 @@ def finish_profile(
     """Assemble a :class:`SlewProfile` from the sampled hub motion and its input.
 
     Every profile is checked against the engines over its whole grid
-    (:func:`~casadi_debris.slews.limits.check_limits`) with the net-force rule
+    (:func:`~casadi_debris.slews._limits.check_limits`) with the net-force rule
     ``zero_net_force`` (the closed loop's allocator keeps it zero; a thruster-level
     profile is checked with its own rule), its thrust too when ``thrusters``; and
     given the eigenaxis bang-bang time at its torque fraction (``inertia_kgm2`` the

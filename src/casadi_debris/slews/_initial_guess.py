@@ -1,10 +1,10 @@
 """Initial guesses of the slew OCP: controls on a time grid, a length, a peak rate.
 
 A rigid slew starts from the eigenaxis bang-bang
-(:func:`~casadi_debris.slews.bang_bang.eigenaxis_guess`) at the requested
+(:func:`~casadi_debris.slews._bang_bang.eigenaxis_guess`) at the requested
 duration or at the rigid limit, its torque put in the OCP's controls (the
 least-fuel thrust at thruster level). A flexible slew starts from the rigid
-optimum through the zero-vibration shaper (:mod:`casadi_debris.slews.shaper`).
+optimum through the zero-vibration shaper (:mod:`casadi_debris.slews._shaper`).
 The transcription marches the guess's controls through its own collocation
 equations, so the guess's states need not be given.
 """
@@ -16,11 +16,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.slews.bang_bang import eigenaxis_guess
-from casadi_debris.slews.ocp_problem import SlewOcp
-from casadi_debris.slews.profile import SlewProfile
-from casadi_debris.slews.propellant import least_fuel_thrust
-from casadi_debris.slews.shaper import held
+from casadi_debris.slews._bang_bang import eigenaxis_guess
+from casadi_debris.slews._ocp_problem import SlewOcp
+from casadi_debris.slews._profile import SlewProfile
+from casadi_debris.slews._propellant import least_fuel_thrust
+from casadi_debris.slews._shaper import held
 
 
 @dataclass(frozen=True)

@@ -1,14 +1,14 @@
 """Direct collocation of the slew OCP and its solution with IPOPT.
 
-The statement (:class:`~casadi_debris.slews.ocp_problem.SlewOcp`) is
+The statement (:class:`~casadi_debris.slews._ocp_problem.SlewOcp`) is
 transcribed by direct collocation on Radau IIA points of degree 3
 (coefficients from ``casadi.collocation_coeff``) over a horizon of uniform
 bulk intervals (an even count puts the single-axis switch at a node; their
 total length free for a time-optimal slew) followed, for a flexible slew, by
 the fixed intervals of the terminal window
-(:mod:`casadi_debris.slews.modal_window`). States and controls are scaled by
+(:mod:`casadi_debris.slews._modal_window`). States and controls are scaled by
 physical magnitudes; the initial guess
-(:mod:`casadi_debris.slews.initial_guess`) is marched through the collocation
+(:mod:`casadi_debris.slews._initial_guess`) is marched through the collocation
 equations themselves, so that IPOPT starts with only the end conditions to fix.
 """
 
@@ -24,9 +24,9 @@ import numpy as np
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import SlewNotConvergedError
 from casadi_debris.parallel import keep_ctrl_c
-from casadi_debris.slews.initial_guess import InitialGuess
-from casadi_debris.slews.modal_window import VibrationBound
-from casadi_debris.slews.ocp_problem import FORCE_ROWS, N_MODEL_INPUTS, TORQUE_ROWS, SlewOcp
+from casadi_debris.slews._initial_guess import InitialGuess
+from casadi_debris.slews._modal_window import VibrationBound
+from casadi_debris.slews._ocp_problem import FORCE_ROWS, N_MODEL_INPUTS, TORQUE_ROWS, SlewOcp
 
 COLLOCATION_DEGREE = 3
 RIGID_INTERVALS = 40

@@ -5,7 +5,7 @@ OCP, said so in ``settings["flexible_method"]``) keeps the optimal rigid
 profile and passes it through the cascaded zero-vibration input shaper
 (:func:`zero_vibration_shaper`); it lengthens the slew by the shaper's length
 (1.38 s for the paper's arrays); fuel-optimal slews give the rigid problem that
-much less time. The modal OCP (:mod:`casadi_debris.slews.modal_window`) starts
+much less time. The modal OCP (:mod:`casadi_debris.slews._modal_window`) starts
 from the shaped rigid optimum too.
 """
 

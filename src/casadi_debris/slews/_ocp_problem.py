@@ -6,7 +6,7 @@ modes=[])``, full rigid inertia), called with the sensor state equal to the
 attitude (its derivative is then zero). Controls, held on each interval:
 
 - torque level: tau in the per-axis box of the engines' authority
-  (:func:`~casadi_debris.slews.maneuver.torque_limits`, times ``torque_fraction``)
+  (:func:`~casadi_debris.slews._maneuver.torque_limits`, times ``torque_fraction``)
   and in the engines' torque set at zero net force, {tau : N tau <= b} times
   ``torque_fraction`` (:meth:`SlewOcp.torque_set`): the box's corners lie outside
   that set (the allocator cannot give them), so the box alone is not enough;
@@ -26,8 +26,8 @@ e the model's attitude error (three equations; q(T) = q_f would be four,
 nearly rank deficient) and h the angular momentum (``model.momenta``).
 
 This module states the problem and nothing about how it is solved: the direct
-collocation is :mod:`casadi_debris.slews.transcription`, the flexible terminal
-window :mod:`casadi_debris.slews.modal_window`.
+collocation is :mod:`casadi_debris.slews._transcription`, the flexible terminal
+window :mod:`casadi_debris.slews._modal_window`.
 """
 
 from __future__ import annotations
@@ -40,14 +40,14 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import max_thrust_N
-from casadi_debris.slews.maneuver import (
+from casadi_debris.slews._maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
     rigid_limit_duration,
     torque_limits,
 )
-from casadi_debris.slews.options import SlewOptions
-from casadi_debris.slews.propellant import axis_fuel_rates, fuel_weights
+from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._propellant import axis_fuel_rates, fuel_weights
 
 # Rows of the model input [tau (3), tau_d (3), F (3)] the controls act on.
 TORQUE_ROWS = [0, 1, 2]

@@ -13,7 +13,7 @@ body frame B, quaternion scalar first:
     tau_min,i <= tau_i <= tau_max,i.
 
 Both slew engines scale these: time by a reference time T_s (the eigenaxis
-limit of the slew, :mod:`casadi_debris.slews.maneuver`), rates by 1 / T_s and
+limit of the slew, :mod:`casadi_debris.slews._maneuver`), rates by 1 / T_s and
 each torque by its axis' largest bound s_i = max(tau_max,i, -tau_min,i), so
 that with w = omega T_s and u_i = tau_i / s_i
 

@@ -16,7 +16,7 @@ An input held at u_j over an interval of length h_j therefore takes it to
 (the zero-order-hold discretisation of a first-order mode, Franklin, Powell &
 Workman, *Digital Control*, ch. 4).
 
-The vibration energy (:func:`casadi_debris.slews.profile.vibration_energy`) is
+The vibration energy (:func:`casadi_debris.slews._profile.vibration_energy`) is
 zero on rigid motion and non-negative, so to second order it is the quadratic
 form 1/2 x_o^T H x_o of the oscillatory part alone, x_o = 2 Re sum_k v_k xi_k
 over the pairs with Im lambda_k > 0 (H its Hessian at rest). The step holds for
@@ -131,7 +131,7 @@ def _small_angle_state(model: Model, z: ca.SX) -> ca.SX:
 
 
 def vibration_energy_expression(model: Model, state: Symbolic, parameters: np.ndarray) -> Symbolic:
-    """Symbolic :func:`~casadi_debris.slews.profile.vibration_energy` of a full state (J)."""
+    """Symbolic :func:`~casadi_debris.slews._profile.vibration_energy` of a full state (J)."""
     lay = model.layout
     mass = np.array(model.mass_matrix(parameters))
     nu = ca.vertcat(state[lay.v], state[lay.omega], state[lay.eta_dot])

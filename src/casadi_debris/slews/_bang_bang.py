@@ -2,7 +2,7 @@
 
 Profile
 -------
-The eigenaxis angle theta(t) (see :mod:`casadi_debris.slews.maneuver`) follows a
+The eigenaxis angle theta(t) (see :mod:`casadi_debris.slews._maneuver`) follows a
 symmetric accelerate / coast / decelerate law with angular acceleration
 magnitude a = torque_fraction * alpha_max. With smoothed switching the
 acceleration ramps linearly over ``smoothing_s`` at every switch (a trapezoidal
@@ -58,8 +58,8 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, axis_angle_quaternion, build_model, quaternion_multiply
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import torque_authority
-from casadi_debris.slews.limits import authority_use
-from casadi_debris.slews.maneuver import (
+from casadi_debris.slews._limits import authority_use
+from casadi_debris.slews._maneuver import (
     SlewTarget,
     check_positive,
     check_torque_fraction,
@@ -68,7 +68,7 @@ from casadi_debris.slews.maneuver import (
     slew_about_axis,
     torque_limits,
 )
-from casadi_debris.slews.profile import SlewProfile, finish_profile, input_vector, sample_grid
+from casadi_debris.slews._profile import SlewProfile, finish_profile, input_vector, sample_grid
 
 DEFAULT_SAMPLE_S = 1.0
 

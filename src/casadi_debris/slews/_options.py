@@ -3,8 +3,8 @@
 What a slew is asked to do (the target, the objective, the duration) is the
 call's business; how it is modelled and solved (rigid or flexible, torque or
 thruster level, how fine, how checked) is a :class:`SlewOptions`, shared by
-:func:`~casadi_debris.slews.optimal.time_optimal_slew`,
-:func:`~casadi_debris.slews.optimal.fuel_optimal_slew` and the pieces of the OCP.
+:func:`~casadi_debris.slews._optimal.time_optimal_slew`,
+:func:`~casadi_debris.slews._optimal.fuel_optimal_slew` and the pieces of the OCP.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from casadi_debris.errors import InputShapeError
-from casadi_debris.slews.maneuver import check_positive, check_torque_fraction
+from casadi_debris.slews._maneuver import check_positive, check_torque_fraction
 
 DEFAULT_RESIDUAL_ENERGY_FRACTION = 0.01
 DEFAULT_SAMPLE_S = 1.0
@@ -35,7 +35,7 @@ class SlewOptions:
     flexible : bool
         Keep the array modes: the vibration energy left at the end is constrained to
         0.8 x max(``residual_energy_fraction`` x the rigid-limit bang-bang's, 1e-12 x
-        the slew's peak kinetic energy) (:mod:`casadi_debris.slews.modal_window`).
+        the slew's peak kinetic energy) (:mod:`casadi_debris.slews._modal_window`).
     thrusters : bool
         Thrust per engine as the decision variable (0 <= f <= torque_fraction f_max).
     zero_net_force : bool
@@ -63,9 +63,9 @@ class SlewOptions:
         ``"shaper"`` passes the rigid optimum through a zero-vibration shaper.
     starts : int
         Time-optimal slews: how many initial guesses (>= 1; the first is the eigenaxis
-        bang-bang, the others symmetry-breaking ones, :mod:`casadi_debris.slews.global_slew`).
+        bang-bang, the others symmetry-breaking ones, :mod:`casadi_debris.slews._global_slew`).
         At thruster level the torque box is searched with as many, and the thruster
-        NLP started from at most four (:mod:`casadi_debris.slews.thruster_search`).
+        NLP started from at most four (:mod:`casadi_debris.slews._thruster_search`).
     seed : int
         Seed of the random starts (>= 0), recorded in the settings.
     workers : int, optional

@@ -38,9 +38,9 @@ import numpy as np
 
 from casadi_debris.errors import NotBangBangError
 from casadi_debris.parallel import keep_ctrl_c
-from casadi_debris.slews.multistart import RigidSlew, StartOutcome
-from casadi_debris.slews.rigid_body import N_RIGID_STATE, scaled_rigid_ode
-from casadi_debris.slews.transcription import ACCEPTED_STATUS, SolverOptions
+from casadi_debris.slews._multistart import RigidSlew, StartOutcome
+from casadi_debris.slews._rigid_body import N_RIGID_STATE, scaled_rigid_ode
+from casadi_debris.slews._transcription import ACCEPTED_STATUS, SolverOptions
 
 SATURATED = 1e-3  # |v| >= 1 - SATURATED: the channel is at a bound
 MAX_TRANSITION = 3  # intermediate intervals one switch may spread over

@@ -6,14 +6,14 @@ for their linear dynamics. The horizon is a bulk of uniform intervals (free
 length T_b) and a terminal window of 32 fixed intervals over W = 1.5 x the
 length of the cascaded ZV shaper of all array modes (2.07 s for the paper's
 arrays), where the controls are fine enough to cancel a vibration. Each
-oscillatory mode's coordinate xi_k (:mod:`casadi_debris.slews.modal`: the
+oscillatory mode's coordinate xi_k (:mod:`casadi_debris.slews._modal`: the
 flexible model linearised at rest, all modes, force and torque inputs) is
 stepped over every interval in closed form, xi+ = exp(lambda h) xi +
 (exp(lambda h) - 1) / lambda w^T B u, with xi at every node a variable, and
 
     E_vib(xi(T)) <= 0.8 * max(residual_energy_fraction * E_bb, floor),
 
-E_vib as in :func:`~casadi_debris.slews.profile.vibration_energy` (its Hessian
+E_vib as in :func:`~casadi_debris.slews._profile.vibration_energy` (its Hessian
 at rest on the modal subspace), E_bb what the eigenaxis bang-bang at the rigid
 limit leaves (CVODES, full model), floor = 1e-12 x the slew's peak kinetic
 energy; 0.8 is a margin for the terms the linear modes leave out (products of
@@ -41,9 +41,9 @@ import casadi as ca
 import numpy as np
 
 from casadi_debris.dynamics import Model
-from casadi_debris.slews.modal import modal_response
-from casadi_debris.slews.ocp_problem import SlewOcp
-from casadi_debris.slews.profile import SlewProfile, simulate, vibration_energy
+from casadi_debris.slews._modal import modal_response
+from casadi_debris.slews._ocp_problem import SlewOcp
+from casadi_debris.slews._profile import SlewProfile, simulate, vibration_energy
 
 WINDOW_INTERVALS = 32  # 64 gave the same optimum (2 ms shorter) at 1.5x the solve time
 WINDOW_SHAPER_MULTIPLE = 1.5
@@ -123,7 +123,7 @@ class VibrationBound:
         """Add the modes' steps and the bound to ``opti``; return the energy left (J).
 
         The modes' coordinates xi at every node are variables, stepped interval by
-        interval in closed form (:class:`~casadi_debris.slews.modal.ModalResponse`).
+        interval in closed form (:class:`~casadi_debris.slews._modal.ModalResponse`).
         A sum over the horizon instead makes the constraint rows dense in every
         control, and CasADi's Jacobian colouring then takes seconds.
 
