@@ -157,3 +157,20 @@ sed -i -E 's/casadi_debris\.orbit\.(lifetime_mc|atmosphere|propulsion|swarm_size
 # slews/transcription.py -> slews/_transcription.py
 sed -i -E 's/from casadi_debris\.slews\.(thruster_search|initial_guess|transcription|modal_window|ocp_solution|switch_times|global_slew|ocp_problem|multistart|propellant|rigid_body|bang_bang|maneuver|optimal|options|profile|limits|shaper|modal) import /from casadi_debris.slews import /g' "$@"
 sed -i -E 's/casadi_debris\.slews\.(thruster_search|initial_guess|transcription|modal_window|ocp_solution|switch_times|global_slew|ocp_problem|multistart|propellant|rigid_body|bang_bang|maneuver|optimal|options|profile|limits|shaper|modal)\b/casadi_debris.slews._\1/g' "$@"
+
+# plots/: implementation modules private; import from casadi_debris.plots.
+# plots/allocation.py -> plots/_allocation.py
+# plots/alternatives.py -> plots/_alternatives.py
+# plots/burn.py -> plots/_burn.py
+# plots/deorbit.py -> plots/_deorbit.py
+# plots/detumble.py -> plots/_detumble.py
+# plots/failures.py -> plots/_failures.py
+# plots/mission.py -> plots/_mission.py
+# plots/placement.py -> plots/_placement.py
+# plots/robust.py -> plots/_robust.py
+# plots/simulation.py -> plots/_simulation.py
+# plots/slew.py -> plots/_slew.py
+# plots/statistics.py -> plots/_statistics.py
+# plots/transfer.py -> plots/_transfer.py
+sed -i -E 's/from casadi_debris\.plots\.(alternatives|allocation|simulation|statistics|placement|detumble|failures|transfer|deorbit|mission|robust|burn|slew) import /from casadi_debris.plots import /g' "$@"
+sed -i -E 's/casadi_debris\.plots\.(alternatives|allocation|simulation|statistics|placement|detumble|failures|transfer|deorbit|mission|robust|burn|slew)\b/casadi_debris.plots._\1/g' "$@"

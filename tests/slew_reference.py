@@ -145,13 +145,10 @@ def check_every_profile(monkeypatch: Any) -> None:
     :func:`assert_checked` for a problem's, the box for a rigid body's. For a
     module-scoped autouse fixture, so that module-scoped slews are checked too."""
     from casadi_debris.config import Problem as ProblemType
-    from casadi_debris.slews import (
-        bang_bang,
-        finish_profile,
-        ocp_solution,
-        optimal,
-        rigid_body_profile,
-    )
+    from casadi_debris.slews import _bang_bang as bang_bang
+    from casadi_debris.slews import _ocp_solution as ocp_solution
+    from casadi_debris.slews import _optimal as optimal
+    from casadi_debris.slews import finish_profile, rigid_body_profile
 
     def finish(**keywords: Any) -> Any:
         slew = finish_profile(**keywords)

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from casadi_debris.plots.statistics import plot_statistics
+from casadi_debris.plots import plot_statistics
 from casadi_debris.simulation.statistics import campaign_statistics
 
 

@@ -102,7 +102,7 @@ def _timeline_boxes(summary: MissionSummary, monkeypatch, tmp_path) -> tuple:
     """The timeline's label boxes, bar boxes and axes box in display units, as written."""
     import matplotlib.pyplot as plt
 
-    from casadi_debris.plots.mission import mission_figure
+    from casadi_debris.plots import mission_figure
 
     figure = mission_figure(summary)
     figure.tight_layout()  # as save_figure lays it out

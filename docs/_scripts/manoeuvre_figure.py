@@ -25,7 +25,7 @@ from casadi_debris import load_problem
 from casadi_debris.config import default_controller_path
 from casadi_debris.dynamics import build_model, euler_angles_321
 from casadi_debris.guidance import scenario_reference, segment_records
-from casadi_debris.plots.slew import plot_segment_series
+from casadi_debris.plots import plot_segment_series
 from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import simulate
 from casadi_debris.simulation.segment_figures import segment_figures

@@ -30,20 +30,10 @@ from casadi_debris.allocation._allocator import (
     NoEngineError,
 )
 from casadi_debris.allocation._authority import AuthorityPolytope, authority_polytope
-from casadi_debris.allocation._backends import (
-    QpSolution,
-    UnknownSolverError,
-    available_solvers,
-)
+from casadi_debris.allocation._backends import QpSolution, UnknownSolverError, available_solvers
 from casadi_debris.allocation._baseline import PseudoInverseAllocator
-from casadi_debris.allocation._demand import (
-    ABSURD_FACTOR,
-    DemandError,
-)
-from casadi_debris.allocation._paths import (
-    AllocationInternalError,
-    SaturationMode,
-)
+from casadi_debris.allocation._demand import ABSURD_FACTOR, DemandError
+from casadi_debris.allocation._paths import AllocationInternalError, SaturationMode
 from casadi_debris.allocation._propulsion import PropulsionState, StageEvent
 from casadi_debris.allocation._results import AllocationResult, BatchAllocation, SeriesAllocation
 

@@ -29,14 +29,8 @@ across tables) and :mod:`~casadi_debris.config._loader` (files and ``extends``).
 
 from __future__ import annotations
 
-from casadi_debris.config._checks import (
-    TRIANGLE_TOLERANCE,
-    check_inertia,
-    check_transfer_end,
-)
-from casadi_debris.config._json_schema import (
-    problem_schema,
-)
+from casadi_debris.config._checks import TRIANGLE_TOLERANCE, check_inertia, check_transfer_end
+from casadi_debris.config._json_schema import problem_schema
 from casadi_debris.config._layouts import (
     cubesat_inertia_on_face,
     expand_layout,
@@ -65,10 +59,7 @@ from casadi_debris.config._realism import (
     StarTracker,
     realism_fields,
 )
-from casadi_debris.config._runs import (
-    run_length_violation,
-    with_duration,
-)
+from casadi_debris.config._runs import run_length_violation, with_duration
 from casadi_debris.config._schema import (
     AXIS_NAMES,
     DEFAULT_MONTECARLO,
@@ -124,11 +115,7 @@ from casadi_debris.config._segments import (
     TrackFrame,
     axis_unit_vector,
 )
-from casadi_debris.config._varied import (
-    key_of,
-    parse_path,
-    with_value,
-)
+from casadi_debris.config._varied import key_of, parse_path, with_value
 
 __all__ = [
     "AXIS_NAMES",

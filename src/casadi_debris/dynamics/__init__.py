@@ -18,10 +18,7 @@ from casadi_debris.dynamics._attitude import (
     rotation_matrix,
     rotation_to_quaternion,
 )
-from casadi_debris.dynamics._cantilever import (
-    bending_eigenvalue,
-    shape_integrals,
-)
+from casadi_debris.dynamics._cantilever import bending_eigenvalue, shape_integrals
 from casadi_debris.dynamics._compiled import Model, build_model, select_modes
 from casadi_debris.dynamics._flexible_body import INPUT_NAMES, StateLayout
 from casadi_debris.dynamics._linearize import (

@@ -14,14 +14,8 @@ from casadi_debris.orbit._atmosphere import (
     msis_mean_density,
     solar_case,
 )
-from casadi_debris.orbit._ballistic import (
-    ballistic,
-    drag_area_m2,
-)
-from casadi_debris.orbit._curves import (
-    CaseTrajectory,
-    case_trajectories,
-)
+from casadi_debris.orbit._ballistic import ballistic, drag_area_m2
+from casadi_debris.orbit._curves import CaseTrajectory, case_trajectories
 from casadi_debris.orbit._deorbit import (
     DV_SEARCH_MAX_M_S,
     STRATEGIES,
@@ -38,12 +32,7 @@ from casadi_debris.orbit._elements import (
     mee_dynamics,
     mee_from_cartesian,
 )
-from casadi_debris.orbit._lifetime import (
-    REENTRY_PERIGEE_KM,
-    Burn,
-    Earth,
-    propagate_decay,
-)
+from casadi_debris.orbit._lifetime import REENTRY_PERIGEE_KM, Burn, Earth, propagate_decay
 from casadi_debris.orbit._lifetime_mc import (
     CYCLE_MIN_SFU,
     CYCLE_PEAK_SFU,
@@ -52,15 +41,8 @@ from casadi_debris.orbit._lifetime_mc import (
     lifetime_monte_carlo,
 )
 from casadi_debris.orbit._plan import DeorbitPlan, plan_deorbit
-from casadi_debris.orbit._propulsion import (
-    DIRECTION_DECIMALS,
-    SwarmThrust,
-    swarm_thrust,
-)
-from casadi_debris.orbit._swarm_size import (
-    minimum_swarm,
-    swarm_of,
-)
+from casadi_debris.orbit._propulsion import DIRECTION_DECIMALS, SwarmThrust, swarm_thrust
+from casadi_debris.orbit._swarm_size import minimum_swarm, swarm_of
 from casadi_debris.orbit.transfer import TransferPlan, TransferSummary, plan_transfer
 
 __all__ = [

@@ -127,6 +127,6 @@ def write_alternatives(folder: Path, report: AlternativesReport, *, plots: bool 
 def alternatives_figures(report: AlternativesReport) -> dict[str, Figure]:
     """``alternatives``: authority margin with and without failures, fuel per torque·time
     and added mass, one bar group per design."""
-    from casadi_debris.plots.alternatives import alternatives_figure
+    from casadi_debris.plots import alternatives_figure
 
     return {"alternatives": alternatives_figure(list(report.designs))}

@@ -69,6 +69,6 @@ def write_burn(
 
 def burn_figures(burn: BurnRun, series: BurnSeries, report: BurnReport) -> dict[str, Figure]:
     """``burn``: the thrust axis' pointing error, the thrust and the propellant split."""
-    from casadi_debris.plots.burn import burn_figure
+    from casadi_debris.plots import burn_figure
 
     return {"burn": burn_figure(burn, series, report.burn, title=report.burn.problem)}

@@ -8,8 +8,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from casadi_debris.plots import save_figure
-from casadi_debris.plots.simulation import comparison_figure
+from casadi_debris.plots import comparison_figure, save_figure
 from casadi_debris.records import Record
 from casadi_debris.report.common import format_figure, write_csv, write_json_atomic
 

@@ -42,7 +42,7 @@ def deorbit_figures(
     report: DeorbitReport, trajectories: Sequence[CaseTrajectory]
 ) -> dict[str, Figure]:
     """``decay`` and ``lifetime_vs_dv``, by the file stem they are written under."""
-    from casadi_debris.plots.deorbit import decay_figure, lifetime_curve_figure
+    from casadi_debris.plots import decay_figure, lifetime_curve_figure
 
     plan = report.plan
     return {

@@ -91,7 +91,7 @@ def write_detumble(
 def detumble_figures(result: DetumbleResult, report: DetumbleReport) -> dict[str, Figure]:
     """``detumble``: the rates against the threshold with the estimates and bounds marked,
     the torque and the propellant per CubeSat."""
-    from casadi_debris.plots.detumble import detumble_figure
+    from casadi_debris.plots import detumble_figure
 
     marks = {
         "per-axis braking estimate": report.budget_time_full_rigid_h,

@@ -53,8 +53,7 @@ def write_mission(folder: Path, mission: Mission, *, plots: bool = True) -> None
 def mission_figures(mission: Mission) -> dict[str, Figure]:
     """``mission`` (timeline and propellant per stage), ``altitude`` (mean altitude and
     perigee per solar case) and ``decay`` (from the burn's start), by file stem."""
-    from casadi_debris.plots.deorbit import decay_figure
-    from casadi_debris.plots.mission import altitude_figure, mission_figure
+    from casadi_debris.plots import altitude_figure, decay_figure, mission_figure
 
     summary = mission.summary
     return {

@@ -169,7 +169,7 @@ def write_placement(
 def placement_figures(study: PlacementStudy, pareto: list[ParetoPoint]) -> dict[str, Figure]:
     """``layout`` (the hub in three projections with the chosen CubeSats) and, after a
     sweep, ``pareto`` (worst authority against count, slew time and Δv)."""
-    from casadi_debris.plots.placement import layout_figure, pareto_figure
+    from casadi_debris.plots import layout_figure, pareto_figure
 
     figures = {"layout": layout_figure(study)}
     if pareto:

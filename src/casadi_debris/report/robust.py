@@ -11,8 +11,13 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.plots import robust as robust_plots
-from casadi_debris.plots import save_figure
+from casadi_debris.plots import (
+    loop_shapes_figure,
+    margins_figure,
+    mu_figure,
+    save_figure,
+    uncertainty_weight_figure,
+)
 from casadi_debris.records import Record
 from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.paper import paper_figure
@@ -221,29 +226,25 @@ def margin_figures(
         curves[f"reduced ({record.reduced.nstates})"] = closed_loop_mu(
             plant, record.reduced, omega
         )[1].mu
-        figures["mu"] = robust_plots.mu_figure(omega, curves)
+        figures["mu"] = mu_figure(omega, curves)
         count = int(weight_info.get("samples", problem.uncertainty.samples))
         samples = sample_uncertainty(problem, design_model, count, record.seed)
         grid = weight_fit_grid(problem)
         bound = diagonal_cover(relative_errors(design_model, samples.parameters, grid))
         response = np.abs(np.diagonal(frequency_response(weight, grid), axis1=1, axis2=2))
-        figures["uncertainty_weight"] = robust_plots.uncertainty_weight_figure(
-            grid, bound, response, count
-        )
+        figures["uncertainty_weight"] = uncertainty_weight_figure(grid, bound, response, count)
         we = np.abs(frequency_response(weights.error, omega)[:, 0, 0])
         w_max = np.max(
             np.abs(np.diagonal(frequency_response(weight, omega), axis1=1, axis2=2)), axis=1
         )
         s_values, t_values = loop_shapes(design_plant, record.reduced, omega)
-        figures["loop_shapes"] = robust_plots.loop_shapes_figure(
-            omega, s_values, t_values, 1 / we, 1 / w_max
-        )
+        figures["loop_shapes"] = loop_shapes_figure(omega, s_values, t_values, 1 / we, 1 / w_max)
     nominal = np.array(
         [[m.gain_margin_db, m.phase_margin_deg, m.delay_margin_s] for m in study.nominal]
     )
     required = required_margins()
     stable = study.sampled[~study.unstable]
-    figures["margins"] = robust_plots.margins_figure(
+    figures["margins"] = margins_figure(
         stable, nominal, (required["gain_margin_db"], required["phase_margin_deg"])
     )
     return figures

@@ -26,9 +26,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
-from casadi_debris.plots import save_figure
-from casadi_debris.plots.simulation import closed_loop_figure, thrust_figure
-from casadi_debris.plots.statistics import statistics_figure
+from casadi_debris.plots import closed_loop_figure, save_figure, statistics_figure, thrust_figure
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
@@ -359,7 +357,8 @@ def campaign_figures(
 ) -> dict[str, Figure]:
     """A campaign's figures by file stem: ``envelope`` (the nominal run over the cases'
     min/max) and, with ``summary.statistics``, ``statistics`` (histograms against the
-    requirement and the rank correlations, drawn by ``casadi_debris.plots.statistics``)."""
+    requirement and the rank correlations, drawn by
+    :func:`casadi_debris.plots.statistics_figure`)."""
     figures = {
         "envelope": closed_loop_figure(
             nominal, envelope=envelope, title=figure_title(problem), **run_figures_options(problem)

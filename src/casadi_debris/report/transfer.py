@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from casadi_debris.orbit import TransferPlan, TransferSummary
-from casadi_debris.plots.transfer import altitude_inclination
+from casadi_debris.plots import altitude_inclination
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.units import DEG_PER_RAD, SECONDS_PER_DAY
 
@@ -66,7 +66,7 @@ def transfer_figures(
     plan: TransferPlan, radius_km: float, target: tuple[float, float]
 ) -> dict[str, Figure]:
     """``transfer``: altitude, inclination, mass and firing direction over the days."""
-    from casadi_debris.plots.transfer import transfer_figure
+    from casadi_debris.plots import transfer_figure
 
     title = plan.result.problem
     return {"transfer": transfer_figure(plan, radius_km=radius_km, target=target, title=title)}

@@ -18,8 +18,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, ParameterLayout, Parameters
-from casadi_debris.plots import save_figure
-from casadi_debris.plots.simulation import closed_loop_figure
+from casadi_debris.plots import closed_loop_figure, save_figure
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.report.simulation import run_figures_options

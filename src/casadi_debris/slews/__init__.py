@@ -22,9 +22,7 @@
 
 from casadi_debris.dynamics import euler_angles_321, quaternion_multiply
 from casadi_debris.slews._bang_bang import BangBangTiming, bang_bang_slew, bang_bang_timing
-from casadi_debris.slews._global_slew import (
-    rigid_body_profile,
-)
+from casadi_debris.slews._global_slew import rigid_body_profile
 from casadi_debris.slews._maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
@@ -33,10 +31,7 @@ from casadi_debris.slews._maneuver import (
     slew_between,
     torque_limits,
 )
-from casadi_debris.slews._modal import (
-    ModalResponse,
-    modal_response,
-)
+from casadi_debris.slews._modal import ModalResponse, modal_response
 from casadi_debris.slews._optimal import fuel_optimal_slew, time_optimal_slew
 from casadi_debris.slews._options import SlewOptions
 from casadi_debris.slews._profile import (
@@ -53,10 +48,7 @@ from casadi_debris.slews._propellant import (
     least_fuel_thrust,
     propellant_kg,
 )
-from casadi_debris.slews._rigid_body import (
-    RigidBody,
-    scaled_rigid_ode,
-)
+from casadi_debris.slews._rigid_body import RigidBody, scaled_rigid_ode
 from casadi_debris.slews._shaper import shape, zero_vibration_shaper
 from casadi_debris.slews._transcription import (
     COLLOCATION_DEGREE,

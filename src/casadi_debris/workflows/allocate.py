@@ -106,7 +106,7 @@ class AllocationResult(JobResult):
     def plot(self) -> dict[str, Figure]:
         """``thrust``: every engine's thrust against its limit, and the torque asked for
         against the torque made. Nothing is written."""
-        from casadi_debris.plots.allocation import allocation_figure
+        from casadi_debris.plots import allocation_figure
 
         summary = self.summary
         status = "met" if summary.feasible else f"saturated, scale {summary.scale:.4g}"

@@ -219,10 +219,10 @@ class SlewResult(JobResult):
         every engine's thrust), or ``reference`` for a manoeuvre (angles and rates,
         segments shaded). Nothing is written; close them with ``matplotlib.pyplot.close``."""
         if self.profile is not None:
-            from casadi_debris.plots.slew import slew_figure
+            from casadi_debris.plots import slew_figure
 
             return {"slew": slew_figure(self.profile, thrust=self.profile.thrusters)}
-        from casadi_debris.plots.slew import manoeuvre_figure
+        from casadi_debris.plots import manoeuvre_figure
         from casadi_debris.report.simulation import figure_title
 
         reference = self._reference()

@@ -11,7 +11,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
-from casadi_debris.plots import AXIS_COLOURS, OFF_SCALE, limit_line, save_figure
+from casadi_debris.plots._style import AXIS_COLOURS, OFF_SCALE, limit_line, save_figure
 from casadi_debris.simulation import ClosedLoopResult, Envelope
 from casadi_debris.simulation.monte_carlo import Extremes
 from casadi_debris.slews import euler_angles_321

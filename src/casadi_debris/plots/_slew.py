@@ -16,7 +16,7 @@ from casadi_debris.dynamics import (
     quaternion_axis_angle,
 )
 from casadi_debris.guidance import SegmentRecord
-from casadi_debris.plots import AXIS_COLOURS, save_figure
+from casadi_debris.plots._style import AXIS_COLOURS, save_figure
 from casadi_debris.slews import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 

@@ -11,7 +11,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from casadi_debris.orbit import CaseTrajectory
-from casadi_debris.plots.deorbit import SOLAR_COLOURS
+from casadi_debris.plots._deorbit import SOLAR_COLOURS
 from casadi_debris.studies.mission import MissionSummary
 from casadi_debris.units import DAYS_PER_YEAR, M_PER_KM, SECONDS_PER_DAY
 

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.plots import AXIS_COLOURS
+from casadi_debris.plots._style import AXIS_COLOURS
 from casadi_debris.simulation.detumble import DetumbleResult
 from casadi_debris.units import MNM_PER_NM
 

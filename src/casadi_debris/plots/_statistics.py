@@ -9,7 +9,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.plots import save_figure
+from casadi_debris.plots._style import save_figure
 from casadi_debris.simulation.statistics import CampaignStatistics, Driver, FigureStatistics
 
 MAX_BARS = 12

@@ -8,7 +8,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from casadi_debris.config import AXIS_NAMES
-from casadi_debris.plots import AXIS_COLOURS
+from casadi_debris.plots._style import AXIS_COLOURS
 from casadi_debris.studies.alternatives import FailureTolerance, SwarmFigures
 
 CASE_SHADES = ("0.2", "0.5", "0.8")

@@ -9,7 +9,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from casadi_debris.config import SIGNED_AXES
-from casadi_debris.plots import save_figure
+from casadi_debris.plots._style import save_figure
 
 PERCENT = 100.0
 ANNOTATE_UP_TO = 40

@@ -8,7 +8,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.plots import AXIS_COLOURS
+from casadi_debris.plots._style import AXIS_COLOURS
 
 AXES = ("x", "y", "z")
 

@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from casadi_debris.plots import limit_line
+from casadi_debris.plots._style import limit_line
 from casadi_debris.simulation.burn import BurnRun
 from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
