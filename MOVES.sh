@@ -174,3 +174,30 @@ sed -i -E 's/casadi_debris\.slews\.(thruster_search|initial_guess|transcription|
 # plots/transfer.py -> plots/_transfer.py
 sed -i -E 's/from casadi_debris\.plots\.(alternatives|allocation|simulation|statistics|placement|detumble|failures|transfer|deorbit|mission|robust|burn|slew) import /from casadi_debris.plots import /g' "$@"
 sed -i -E 's/casadi_debris\.plots\.(alternatives|allocation|simulation|statistics|placement|detumble|failures|transfer|deorbit|mission|robust|burn|slew)\b/casadi_debris.plots._\1/g' "$@"
+
+# report/worstcase.py's campaign_envelope (a saved corner campaign's envelope and worst
+# cases) is corner_campaign_envelope: report.simulation has a campaign_envelope too, and
+# both are now exported by casadi_debris.report. In files that import it from worstcase:
+#   sed -i -E 's/\bcampaign_envelope\b/corner_campaign_envelope/g' FILE
+
+# report/: implementation modules private; import from casadi_debris.report.
+# report/alternatives.py -> report/_alternatives.py
+# report/burn.py -> report/_burn.py
+# report/common.py -> report/_common.py
+# report/compare.py -> report/_compare.py
+# report/deorbit.py -> report/_deorbit.py
+# report/describe.py -> report/_describe.py
+# report/design.py -> report/_design.py
+# report/detumble.py -> report/_detumble.py
+# report/failures.py -> report/_failures.py
+# report/mission.py -> report/_mission.py
+# report/paper.py -> report/_paper.py
+# report/placement.py -> report/_placement.py
+# report/reproduce.py -> report/_reproduce.py
+# report/robust.py -> report/_robust.py
+# report/simulation.py -> report/_simulation.py
+# report/slew.py -> report/_slew.py
+# report/transfer.py -> report/_transfer.py
+# report/worstcase.py -> report/_worstcase.py
+sed -i -E 's/from casadi_debris\.report\.(alternatives|simulation|placement|reproduce|worstcase|describe|detumble|failures|transfer|compare|deorbit|mission|common|design|robust|paper|burn|slew) import /from casadi_debris.report import /g' "$@"
+sed -i -E 's/casadi_debris\.report\.(alternatives|simulation|placement|reproduce|worstcase|describe|detumble|failures|transfer|compare|deorbit|mission|common|design|robust|paper|burn|slew)\b/casadi_debris.report._\1/g' "$@"

@@ -5,14 +5,14 @@ from __future__ import annotations
 import json
 
 from casadi_debris import load_problem
-from casadi_debris.report.design import (
+from casadi_debris.report import (
     CampaignFigures,
     DesignSummary,
     RequirementRow,
+    WorstFigure,
     binding_lines,
     body_lines,
 )
-from casadi_debris.report.simulation import WorstFigure
 from casadi_debris.robust.requirements import body_weights, derived_scalings, slew_limit
 from casadi_debris.robust.synthesis import DesignAttempt
 

@@ -9,7 +9,7 @@ import pytest
 
 from casadi_debris import load_problem
 from casadi_debris.orbit import DV_SEARCH_MAX_M_S, DeorbitSettings
-from casadi_debris.report.mission import mission_text
+from casadi_debris.report import mission_text
 from casadi_debris.studies.mission import MAX_EXTRA_STAGES, MissionSummary, plan_mission
 
 HORIZON_YEARS = DeorbitSettings().horizon_years

@@ -12,7 +12,7 @@ from scipy.optimize import brentq
 
 from casadi_debris.config import default_controller_path
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.report.paper import paper_figure
+from casadi_debris.report import paper_figure
 from casadi_debris.robust.margins import (
     MARGIN_GRID,
     LoopAtATime,

@@ -11,7 +11,7 @@ import casadi_debris
 from casadi_debris.config import default_controller_path
 from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.errors import SynthesisError
-from casadi_debris.report.paper import paper_figure
+from casadi_debris.report import paper_figure
 from casadi_debris.robust.margins import closed_loop_poles
 from casadi_debris.robust.plant import (
     ControllerRecord,

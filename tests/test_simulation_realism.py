@@ -243,7 +243,7 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
 
 
 def test_series_carry_the_estimation_error(short_runs) -> None:
-    from casadi_debris.report.simulation import series_columns
+    from casadi_debris.report import series_columns
 
     run = short_runs["everything"]
     columns = series_columns(run)

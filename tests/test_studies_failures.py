@@ -16,7 +16,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.geometry import torque_authority
-from casadi_debris.report.failures import pointing_window
+from casadi_debris.report import pointing_window
 from casadi_debris.simulation import corner_case
 from casadi_debris.studies.failures import (
     FailureCase,

@@ -92,13 +92,15 @@ def _exports(folder: Path) -> dict[str, str] | None:
     origins: dict[str, str] = {}
     redundant: list[str] = []
     listed: list[str] | None = None
-    for node in tree.body:
+    # Imports anywhere at module level, those of a lazy package under TYPE_CHECKING too.
+    for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
             for alias in node.names:
                 origins[alias.asname or alias.name] = node.module
                 if alias.asname == alias.name:
                     redundant.append(alias.name)
-        elif isinstance(node, ast.FunctionDef | ast.ClassDef):
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef | ast.ClassDef):
             origins[node.name] = dotted
         elif isinstance(node, ast.Assign) and any(
             isinstance(target, ast.Name) and target.id == "__all__" for target in node.targets

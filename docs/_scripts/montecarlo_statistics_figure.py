@@ -24,7 +24,7 @@ import numpy as np
 import casadi_debris as cd
 from casadi_debris import load_problem
 from casadi_debris.plots import plot_statistics
-from casadi_debris.report.simulation import figure_title
+from casadi_debris.report import figure_title
 from casadi_debris.simulation import CaseSummary
 from casadi_debris.simulation.statistics import FIGURES, campaign_statistics, requirement_of
 

@@ -22,7 +22,7 @@ import tempfile
 from pathlib import Path
 
 import casadi_debris as cd
-from casadi_debris.report.common import json_ready
+from casadi_debris.report import json_ready
 
 FACES = ("+x", "-x", "+y", "-y", "+z", "-z")
 FIGURES = Path(__file__).resolve().parents[1] / "figures"

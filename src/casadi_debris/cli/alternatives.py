@@ -15,7 +15,7 @@ from casadi_debris.cli.common import (
     run_folder,
     say,
 )
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 
 @main.command()

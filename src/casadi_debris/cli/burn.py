@@ -21,7 +21,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
 

@@ -17,7 +17,7 @@ import click
 from casadi_debris._version import __version__
 from casadi_debris.config.limits import SEED, UNCERTAINTY_SAMPLES, Range
 from casadi_debris.errors import CasadiDebrisError, InputShapeError, InternalError
-from casadi_debris.report.common import json_ready
+from casadi_debris.report import json_ready
 
 EXIT_BAD_INPUT = 2
 EXIT_INTERNAL = 3

@@ -23,7 +23,7 @@ from casadi_debris.config import load_problem
 @friendly_errors
 def model(problem_file: Path | None, as_json: bool) -> None:
     """Describe the combined system: mass, inertia, CoG, torque authority, modes, engines."""
-    from casadi_debris.report.describe import model_text
+    from casadi_debris.report import model_text
     from casadi_debris.workflows.model import model as model_job
 
     described = model_job(problem_file)
@@ -40,7 +40,7 @@ def model(problem_file: Path | None, as_json: bool) -> None:
 @friendly_errors
 def budget(problem_file: Path | None, as_json: bool) -> None:
     """Δv, propellant, lifetime, transfer and detumble budgets."""
-    from casadi_debris.report.describe import budget_text
+    from casadi_debris.report import budget_text
     from casadi_debris.workflows.budget import budget as budget_job
 
     budgets = budget_job(problem_file)
@@ -77,7 +77,7 @@ def problems(as_json: bool) -> None:
     of that name where the command runs is read first.
     """
     from casadi_debris.config import shipped_problems
-    from casadi_debris.report.common import format_table
+    from casadi_debris.report import format_table
 
     rows = []
     for name, path in shipped_problems().items():

@@ -10,7 +10,7 @@ import click
 from casadi_debris.cli.common import echo_json, folder_option, main, output_options, workers_option
 from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 TABLE_KEYS = ("result", "paper", "accepted", "ours", "verdict")
 

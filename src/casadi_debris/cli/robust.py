@@ -31,7 +31,7 @@ from casadi_debris.config.limits import (
     MU_POINTS,
 )
 from casadi_debris.errors import InputShapeError, SynthesisError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 if TYPE_CHECKING:
     from casadi_debris.robust.synthesis import Iteration

@@ -38,7 +38,7 @@ from casadi_debris.config import (
     read_regular_file,
 )
 from casadi_debris.errors import InputShapeError, UnreadableFileError
-from casadi_debris.report.common import format_figure, format_table, write_csv, write_json_atomic
+from casadi_debris.report import format_figure, format_table, write_csv, write_json_atomic
 from casadi_debris.report.folders import RunFolder, check_output_folder
 from casadi_debris.units import NM_PER_MNM
 

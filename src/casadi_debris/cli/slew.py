@@ -24,7 +24,7 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import limits, load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 from casadi_debris.report.folders import check_output_folder
 
 if TYPE_CHECKING:

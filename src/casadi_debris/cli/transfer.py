@@ -17,7 +17,7 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 
 @main.command()

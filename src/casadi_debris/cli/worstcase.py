@@ -21,10 +21,10 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import limits, load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the command
-    from casadi_debris.report.worstcase import WorstCaseSummary
+    from casadi_debris.report import WorstCaseSummary
 
 
 @main.command()

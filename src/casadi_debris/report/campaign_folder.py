@@ -36,7 +36,7 @@ import numpy as np
 
 from casadi_debris._version import __version__
 from casadi_debris.processes import process_alive
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report._common import write_json_atomic
 from casadi_debris.report.folders import (
     OutputError,
     check_output_folder,

@@ -26,7 +26,7 @@ import numpy as np
 from casadi_debris.config import Problem, read_regular_file
 from casadi_debris.errors import AllocationError, InputShapeError, UnreadableFileError
 from casadi_debris.records import Record
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report import write_json_atomic
 from casadi_debris.units import MN_PER_N, MNM_PER_NM, US_PER_S
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 

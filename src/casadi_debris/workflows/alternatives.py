@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from casadi_debris.report.alternatives import (
+from casadi_debris.report import (
     AlternativesReport,
     alternatives_figures,
     write_alternatives,

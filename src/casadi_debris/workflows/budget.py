@@ -16,8 +16,7 @@ from pathlib import Path
 
 from casadi_debris.budgets import BudgetItem
 from casadi_debris.config import Problem
-from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.describe import BudgetSummary, budget_summary
+from casadi_debris.report import BudgetSummary, budget_summary, write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 

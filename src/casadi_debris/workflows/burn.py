@@ -24,7 +24,7 @@ from casadi_debris.config import BurnDirection, Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.guidance import BurnPlan, burn_thrust_N, strongest_axis
-from casadi_debris.report.burn import BurnReport, burn_figures, write_burn
+from casadi_debris.report import BurnReport, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     DEFAULT_PERIOD_S,
     BurnRun,

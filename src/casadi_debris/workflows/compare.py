@@ -28,7 +28,7 @@ from casadi_debris.errors import (
     ModelError,
 )
 from casadi_debris.guidance import Reference, scenario_reference
-from casadi_debris.report.compare import Comparison, VariantRow, write_comparison
+from casadi_debris.report import Comparison, VariantRow, write_comparison
 from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
 from casadi_debris.simulation.summary import fuel_between_kg
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
@@ -144,7 +144,7 @@ class CompareResult(JobResult):
     def plot(self) -> dict[str, Figure]:
         """``comparison``: a bar chart per figure, the variants side by side. Nothing is
         written."""
-        from casadi_debris.report.compare import comparison_figures
+        from casadi_debris.report import comparison_figures
 
         return comparison_figures(self.summary)
 

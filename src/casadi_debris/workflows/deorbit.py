@@ -26,7 +26,7 @@ from casadi_debris.orbit import (
     case_trajectories,
     plan_deorbit,
 )
-from casadi_debris.report.deorbit import DeorbitReport, deorbit_figures, write_deorbit
+from casadi_debris.report import DeorbitReport, deorbit_figures, write_deorbit
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:

@@ -30,20 +30,21 @@ import numpy as np
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem, Simulation, SlewReference, with_duration
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.design import (
+from casadi_debris.report import (
     CampaignFigures,
+    CampaignSummary,
     DesignFigures,
     DesignSummary,
+    MarginsSummary,
     RequirementRow,
     classical_markdown,
     design_markdown,
     requirement_rows,
+    torque_limits_mNm,
     verification_rows,
+    write_json_atomic,
 )
 from casadi_debris.report.folders import RunFolder, default_run_folder
-from casadi_debris.report.robust import MarginsSummary
-from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
 from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.robust.requirements import (
     BindingLimit,

@@ -23,7 +23,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.detumble import DetumbleReport, detumble_figures, write_detumble
+from casadi_debris.report import DetumbleReport, detumble_figures, write_detumble
 from casadi_debris.simulation.closed_loop import SimulationError
 from casadi_debris.simulation.detumble import (
     DEFAULT_GAIN_PER_S,

@@ -92,14 +92,14 @@ class FailuresResult(JobResult):
     def plot(self) -> dict[str, Figure]:
         """``authority_loss``: the share of the authority each single failure takes, per
         signed axis (none without single failures). Nothing is written."""
-        from casadi_debris.report.failures import failure_figures
+        from casadi_debris.report import failure_figures
 
         return failure_figures(self.summary)
 
     def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
         """``summary.json``, ``cases.csv``, ``report.md``, ``reallocation.csv`` and
         ``authority_loss.png`` (with ``plots``)."""
-        from casadi_debris.report.failures import write_failures
+        from casadi_debris.report import write_failures
 
         summary = replace(self.summary, out_dir=str(out.absolute()))
         write_failures(staging, summary, with_plots=plots)

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from casadi_debris.config import Problem
-from casadi_debris.report.robust import (
+from casadi_debris.report import (
     MarginsSummary,
     margin_figures,
     margins_summary,

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 from casadi_debris.config import check_transfer_end
 from casadi_debris.orbit import DeorbitSettings
-from casadi_debris.report.mission import mission_figures, write_mission
+from casadi_debris.report import mission_figures, write_mission
 from casadi_debris.studies.mission import Mission, MissionSummary, plan_mission
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 

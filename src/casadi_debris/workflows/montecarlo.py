@@ -30,6 +30,15 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.errors import CampaignInterrupted, InputShapeError
 from casadi_debris.guidance import scenario_reference
+from casadi_debris.report import (
+    CampaignRun,
+    CampaignSummary,
+    FailedCase,
+    campaign_envelope,
+    campaign_summary,
+    write_campaign,
+    write_json_atomic,
+)
 from casadi_debris.report.campaign_folder import (
     RECORD_NAME,
     CampaignFolder,
@@ -37,16 +46,7 @@ from casadi_debris.report.campaign_folder import (
     write_case,
     write_failure,
 )
-from casadi_debris.report.common import write_json_atomic
 from casadi_debris.report.folders import check_output_folder
-from casadi_debris.report.simulation import (
-    CampaignRun,
-    CampaignSummary,
-    FailedCase,
-    campaign_envelope,
-    campaign_summary,
-    write_campaign,
-)
 from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import (
     CampaignSetup,
@@ -146,7 +146,7 @@ class MonteCarloResult(JobResult):
         (histograms against the requirement, rank correlations), and the nominal run's
         ``nominal/closed_loop`` and ``nominal/thrust``. Nothing is written; close them
         with ``matplotlib.pyplot.close``."""
-        from casadi_debris.report.simulation import campaign_figures, run_figures
+        from casadi_debris.report import campaign_figures, run_figures
 
         outcomes = list(self.outcomes)
         envelope = campaign_envelope(self.setup, outcomes)

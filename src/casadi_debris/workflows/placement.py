@@ -23,7 +23,7 @@ import numpy as np
 from casadi_debris.config import SIGNED_AXES, Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.geometry import build_geometry, torque_authority
-from casadi_debris.report.placement import PLACEMENT_FILE, placement_figures, write_placement
+from casadi_debris.report import PLACEMENT_FILE, placement_figures, write_placement
 from casadi_debris.studies.placement import (
     DEFAULT_GRID,
     OBJECTIVES,

@@ -23,18 +23,20 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem, default_problem_path, load_problem, with_duration
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.describe import ModelDescription, describe_model
-from casadi_debris.report.folders import RunFolder
-from casadi_debris.report.reproduce import (
+from casadi_debris.report import (
+    CampaignSummary,
     ControllerFigures,
+    MarginsSummary,
+    ModelDescription,
     ReproductionRow,
     ReproductionSummary,
+    describe_model,
     report_markdown,
     reproduction_rows,
+    torque_limits_mNm,
+    write_json_atomic,
 )
-from casadi_debris.report.robust import MarginsSummary
-from casadi_debris.report.simulation import CampaignSummary, torque_limits_mNm
+from casadi_debris.report.folders import RunFolder
 from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.workflows._result import ReportFolderResult
 from casadi_debris.workflows.campaign import Progress

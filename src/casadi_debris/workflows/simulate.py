@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 from casadi_debris.config import FailureEvent, Problem, with_duration
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report import write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 from casadi_debris.workflows.campaign import RunRecord, one_case, parameters_case, run_summary
 from casadi_debris.workflows.controller import controller_for
@@ -67,7 +67,7 @@ class SimulationResult(JobResult):
         ``closed_loop`` (reference, error against the requirement, torque against the
         authority) and ``thrust`` (every engine, propellant per CubeSat). Nothing is
         written; close them with ``matplotlib.pyplot.close``."""
-        from casadi_debris.report.simulation import figure_title, run_figures
+        from casadi_debris.report import figure_title, run_figures
 
         title = f"{figure_title(self.problem)} ({self.summary.case_id})"
         return run_figures(self.result, self.problem, title)
@@ -77,7 +77,7 @@ class SimulationResult(JobResult):
     def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
         """``summary.json``, ``series.csv``, ``closed_loop.png`` and ``thrust.png`` (with
         ``plots``), and ``segments.json`` for a sequence."""
-        from casadi_debris.report.simulation import figure_title, write_run
+        from casadi_debris.report import figure_title, write_run
 
         summary = dataclasses.replace(self.summary, out_dir=str(out.absolute()))
         write_run(

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report import write_json_atomic
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -223,7 +223,7 @@ class SlewResult(JobResult):
 
             return {"slew": slew_figure(self.profile, thrust=self.profile.thrusters)}
         from casadi_debris.plots import manoeuvre_figure
-        from casadi_debris.report.simulation import figure_title
+        from casadi_debris.report import figure_title
 
         reference = self._reference()
         figure = manoeuvre_figure(
@@ -238,7 +238,7 @@ class SlewResult(JobResult):
     def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
         """``summary.json``, ``profile.csv`` and, with ``plots``, ``slew.png`` (one slew) or
         ``reference.png`` (a manoeuvre), each PNG with its PDF."""
-        from casadi_debris.report.slew import write_profile_csv, write_reference_csv
+        from casadi_debris.report import write_profile_csv, write_reference_csv
 
         write_json_atomic(staging / "summary.json", self.summary)
         if self.profile is not None:

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from casadi_debris.config import Problem
-from casadi_debris.report.common import write_json_atomic
+from casadi_debris.report import write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:

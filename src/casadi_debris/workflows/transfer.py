@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 from casadi_debris.config import Problem
 from casadi_debris.orbit import TransferPlan, TransferSummary, plan_transfer
 from casadi_debris.orbit.transfer import Objective, check_transfer
-from casadi_debris.report.transfer import transfer_figures, write_transfer
+from casadi_debris.report import transfer_figures, write_transfer
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:

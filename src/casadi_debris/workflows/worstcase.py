@@ -23,10 +23,10 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.report.worstcase import (
+from casadi_debris.report import (
     WorstCaseIdentity,
     WorstCaseSummary,
-    campaign_envelope,
+    corner_campaign_envelope,
     worst_case_figure,
     worst_case_summary,
     write_worst_case_files,
@@ -144,7 +144,9 @@ def worstcase(
     WorstCaseResult
     """
     problem = as_problem(problem)
-    envelope, compared = (None, None) if campaign is None else campaign_envelope(Path(campaign))
+    envelope, compared = (
+        (None, None) if campaign is None else corner_campaign_envelope(Path(campaign))
+    )
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
     model = build_model(problem)
     mu = None

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from casadi_debris.config import CubeSat, Problem
-from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.report._common import format_figure, write_json_atomic
 from casadi_debris.studies.placement import ParetoPoint, PlacementStudy, PlacementSummary
 
 if TYPE_CHECKING:

@@ -10,7 +10,7 @@ import numpy as np
 
 from casadi_debris.plots import comparison_figure, save_figure
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure, write_csv, write_json_atomic
+from casadi_debris.report._common import format_figure, write_csv, write_json_atomic
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -1,6 +1,6 @@
 """Shared pieces of the reports: tables, JSON, atomic writes.
 
-The paper's figures and tolerances are in :mod:`casadi_debris.report.paper`.
+The paper's figures and tolerances are in :mod:`casadi_debris.report._paper`.
 """
 
 from __future__ import annotations

@@ -20,8 +20,8 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, ParameterLayout, Parameters
 from casadi_debris.plots import closed_loop_figure, save_figure
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.report.common import write_csv, write_json_atomic
-from casadi_debris.report.simulation import run_figures_options
+from casadi_debris.report._common import write_csv, write_json_atomic
+from casadi_debris.report._simulation import run_figures_options
 from casadi_debris.robust.mu import (
     KINDS,
     ParametricMu,
@@ -151,7 +151,7 @@ def _named(layout: ParameterLayout, normalized: np.ndarray) -> dict[str, float]:
     return dict(zip(layout.names, np.asarray(normalized).tolist(), strict=True))
 
 
-def campaign_envelope(folder: Path) -> tuple[Envelope, CampaignWorst]:
+def corner_campaign_envelope(folder: Path) -> tuple[Envelope, CampaignWorst]:
     """A finished corner campaign's envelope and its worst case(s)."""
     from casadi_debris.report.campaign_dataset import open_campaign
 
@@ -188,7 +188,7 @@ def write_worst_cases(
 ) -> WorstCaseSummary:
     """Write everything into the staging ``folder``; returns the summary (``campaign``: a
     finished corner campaign folder the search is compared with and drawn over)."""
-    envelope, compared = (None, None) if campaign is None else campaign_envelope(campaign)
+    envelope, compared = (None, None) if campaign is None else corner_campaign_envelope(campaign)
     summary = worst_case_summary(identity, model.parameter_layout, mu, search, compared)
     write_worst_case_files(folder, problem, model, summary, mu, search, envelope, with_plots)
     return summary

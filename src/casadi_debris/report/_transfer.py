@@ -9,7 +9,7 @@ import numpy as np
 
 from casadi_debris.orbit import TransferPlan, TransferSummary
 from casadi_debris.plots import altitude_inclination
-from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.report._common import write_csv, write_json_atomic
 from casadi_debris.units import DEG_PER_RAD, SECONDS_PER_DAY
 
 if TYPE_CHECKING:

@@ -25,7 +25,7 @@ import numpy as np
 from casadi_debris.config import SIGNED_AXES
 from casadi_debris.plots import authority_loss_figure, save_figure
 from casadi_debris.records import to_jsonable
-from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.report._common import format_figure, write_json_atomic
 from casadi_debris.studies.failures import (
     FailureCaseRecord,
     FailuresSummary,

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from casadi_debris.dynamics import euler_angles_321
-from casadi_debris.report.common import write_csv
+from casadi_debris.report._common import write_csv
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
 
 if TYPE_CHECKING:

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure, write_json_atomic
+from casadi_debris.report._common import format_figure, write_json_atomic
 from casadi_debris.studies.alternatives import FailureTolerance, SwarmFigures
 
 if TYPE_CHECKING:

@@ -28,6 +28,7 @@ from casadi_debris.config import AXIS_NAMES, Problem
 from casadi_debris.geometry import build_geometry
 from casadi_debris.plots import closed_loop_figure, save_figure, statistics_figure, thrust_figure
 from casadi_debris.records import FLATTENED, Record
+from casadi_debris.report._common import write_csv, write_json_atomic
 from casadi_debris.report.campaign_dataset import (
     CASE_FIGURES,
     DATASET_NAME,
@@ -35,7 +36,6 @@ from casadi_debris.report.campaign_dataset import (
     write_campaign_dataset,
 )
 from casadi_debris.report.campaign_folder import CampaignRecord
-from casadi_debris.report.common import write_csv, write_json_atomic
 from casadi_debris.simulation import CampaignSetup, CaseOutcome, ClosedLoopResult, Envelope
 from casadi_debris.simulation.statistics import CampaignStatistics, case_figures
 from casadi_debris.slews import euler_angles_321

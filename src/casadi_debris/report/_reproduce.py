@@ -15,14 +15,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure, verdict_text
-from casadi_debris.report.describe import ModelDescription
-from casadi_debris.report.paper import paper_figure
-from casadi_debris.report.robust import MarginsSummary
+from casadi_debris.report._common import format_figure, verdict_text
+from casadi_debris.report._describe import ModelDescription
+from casadi_debris.report._paper import paper_figure
+from casadi_debris.report._robust import MarginsSummary
 from casadi_debris.robust.plant import ControllerRecord
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
-    from casadi_debris.report.simulation import CampaignSummary
+    from casadi_debris.report._simulation import CampaignSummary
 
 
 @dataclass(frozen=True)

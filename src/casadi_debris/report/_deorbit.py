@@ -11,7 +11,7 @@ import numpy as np
 
 from casadi_debris.orbit import CaseTrajectory, DeorbitPlan
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.report._common import write_csv, write_json_atomic
 from casadi_debris.units import M_PER_KM, SECONDS_PER_DAY
 
 if TYPE_CHECKING:

@@ -19,8 +19,8 @@ from casadi_debris.plots import (
     uncertainty_weight_figure,
 )
 from casadi_debris.records import Record
-from casadi_debris.report.common import write_json_atomic
-from casadi_debris.report.paper import paper_figure
+from casadi_debris.report._common import write_json_atomic
+from casadi_debris.report._paper import paper_figure
 from casadi_debris.robust.margins import (
     MarginStudy,
     loop_shapes,

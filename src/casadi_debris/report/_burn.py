@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.report._common import write_csv, write_json_atomic
 from casadi_debris.simulation.burn import BurnRun
 from casadi_debris.simulation.burn_figures import BurnSeries, BurnSummary
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N

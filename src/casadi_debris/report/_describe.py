@@ -14,8 +14,8 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, assembled_modes, build_model, shape_integrals
 from casadi_debris.geometry import Geometry, array_axes, torque_authority
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.report.common import format_cell, format_table
-from casadi_debris.report.paper import paper_figures
+from casadi_debris.report._common import format_cell, format_table
+from casadi_debris.report._paper import paper_figures
 from casadi_debris.units import MN_PER_N
 
 

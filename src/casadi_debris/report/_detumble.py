@@ -10,7 +10,7 @@ import numpy as np
 
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.report.common import write_csv, write_json_atomic
+from casadi_debris.report._common import write_csv, write_json_atomic
 from casadi_debris.simulation.detumble import DetumbleResult, DetumbleSummary
 from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
 

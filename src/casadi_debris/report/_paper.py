@@ -9,7 +9,7 @@ malformed entry is refused with its key named.
 
 Example
 -------
->>> from casadi_debris.report.paper import paper_figure
+>>> from casadi_debris.report._paper import paper_figure
 >>> mass = paper_figure("mass_kg")
 >>> mass.value, mass.accepted
 (668.0, '±0.5')

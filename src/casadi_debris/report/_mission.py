@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from casadi_debris.orbit import DV_SEARCH_MAX_M_S
-from casadi_debris.report.common import format_table, write_json_atomic
+from casadi_debris.report._common import format_table, write_json_atomic
 from casadi_debris.studies.mission import MAX_EXTRA_STAGES, Mission, MissionSummary
 from casadi_debris.units import G_PER_KG
 

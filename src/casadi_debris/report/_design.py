@@ -16,16 +16,16 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_figure, verdict_text
-from casadi_debris.report.robust import MarginsSummary
+from casadi_debris.report._common import format_figure, verdict_text
+from casadi_debris.report._robust import MarginsSummary
 
 # WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
-from casadi_debris.report.simulation import WorstFigure
+from casadi_debris.report._simulation import WorstFigure
 from casadi_debris.robust.requirements import BindingLimit, BodyFigures, ScalingFigures
 from casadi_debris.robust.synthesis import DesignAttempt, DesignSearch
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
-    from casadi_debris.report.simulation import CampaignSummary
+    from casadi_debris.report._simulation import CampaignSummary
 
 GAIN_MARGIN_DB = 6.0
 PHASE_MARGIN_DEG = 30.0
@@ -194,7 +194,7 @@ def information_rows(
 @dataclass(frozen=True)
 class CampaignFigures(Record):
     """A verification campaign as a design summary gives it: its size, worst cases
-    and nominal run (see :class:`~casadi_debris.report.simulation.CampaignSummary`)."""
+    and nominal run (see :class:`~casadi_debris.report._simulation.CampaignSummary`)."""
 
     cases: int
     worst: dict[str, WorstFigure]
