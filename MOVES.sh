@@ -201,3 +201,29 @@ sed -i -E 's/casadi_debris\.plots\.(alternatives|allocation|simulation|statistic
 # report/worstcase.py -> report/_worstcase.py
 sed -i -E 's/from casadi_debris\.report\.(alternatives|simulation|placement|reproduce|worstcase|describe|detumble|failures|transfer|compare|deorbit|mission|common|design|robust|paper|burn|slew) import /from casadi_debris.report import /g' "$@"
 sed -i -E 's/casadi_debris\.report\.(alternatives|simulation|placement|reproduce|worstcase|describe|detumble|failures|transfer|compare|deorbit|mission|common|design|robust|paper|burn|slew)\b/casadi_debris.report._\1/g' "$@"
+
+# workflows/: implementation modules private; import from casadi_debris.workflows.
+# workflows/allocate.py -> workflows/_allocate.py
+# workflows/alternatives.py -> workflows/_alternatives.py
+# workflows/budget.py -> workflows/_budget.py
+# workflows/burn.py -> workflows/_burn.py
+# workflows/campaign.py -> workflows/_campaign.py
+# workflows/compare.py -> workflows/_compare.py
+# workflows/controller.py -> workflows/_controller.py
+# workflows/deorbit.py -> workflows/_deorbit.py
+# workflows/design.py -> workflows/_design.py
+# workflows/detumble.py -> workflows/_detumble.py
+# workflows/failures.py -> workflows/_failures.py
+# workflows/margins.py -> workflows/_margins.py
+# workflows/mission.py -> workflows/_mission.py
+# workflows/model.py -> workflows/_model.py
+# workflows/montecarlo.py -> workflows/_montecarlo.py
+# workflows/placement.py -> workflows/_placement.py
+# workflows/reproduce.py -> workflows/_reproduce.py
+# workflows/simulate.py -> workflows/_simulate.py
+# workflows/slew.py -> workflows/_slew.py
+# workflows/synthesize.py -> workflows/_synthesize.py
+# workflows/transfer.py -> workflows/_transfer.py
+# workflows/worstcase.py -> workflows/_worstcase.py
+sed -i -E 's/from casadi_debris\.workflows\.(alternatives|controller|montecarlo|synthesize|placement|reproduce|worstcase|allocate|campaign|detumble|failures|simulate|transfer|compare|deorbit|margins|mission|budget|design|model|burn|slew) import /from casadi_debris.workflows import /g' "$@"
+sed -i -E 's/casadi_debris\.workflows\.(alternatives|controller|montecarlo|synthesize|placement|reproduce|worstcase|allocate|campaign|detumble|failures|simulate|transfer|compare|deorbit|margins|mission|budget|design|model|burn|slew)\b/casadi_debris.workflows._\1/g' "$@"

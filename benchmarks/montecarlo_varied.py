@@ -33,7 +33,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import CampaignSetup, Case
 from casadi_debris.simulation.monte_carlo import CaseRunner
-from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows import controller_for
 from recording import Setting, start_benchmark
 
 

@@ -25,7 +25,7 @@ from casadi_debris.robust.plant import (
     recorded_performance_weights,
     weight_system,
 )
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 from recording import Setting, start_benchmark
 
 TARGETS = {"mu_bounds_200_s": 20.0}

@@ -31,7 +31,7 @@ from casadi_debris.robust.plant import (
     parameters_from_normalized,
     recorded_performance_weights,
 )
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 
 @pytest.fixture(scope="module")

@@ -24,7 +24,7 @@ from casadi_debris.robust.mu import (
 )
 from casadi_debris.robust.plant import frequency_response, recorded_performance_weights
 from casadi_debris.robust.synthesis import mixed_bound, parametric_musyn
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 OMEGA = np.logspace(-4, 2, 25)
 

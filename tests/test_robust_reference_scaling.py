@@ -127,7 +127,7 @@ def test_on_the_papers_plant_the_shipped_controller_shows_the_same(problem):
     with Vr held it does not."""
     from casadi_debris.robust.plant import recorded_performance_weights
     from casadi_debris.robust.synthesis import SynthesisSettings, fit_uncertainty
-    from casadi_debris.workflows.controller import load_controller
+    from casadi_debris.workflows import load_controller
 
     record, _ = load_controller()
     fit = fit_uncertainty(problem, SynthesisSettings(samples=40))

@@ -32,7 +32,7 @@ from casadi_debris.simulation.batched import batches, facet_capacity, facet_rows
 from casadi_debris.simulation.closed_loop import _loop_step, c_compiler
 from casadi_debris.simulation.monte_carlo import CaseFailure
 from casadi_debris.simulation.native import NativeFunction
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 pytestmark = pytest.mark.skipif(c_compiler() is None, reason="no C compiler for CasADi's JIT")
 

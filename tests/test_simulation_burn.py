@@ -24,7 +24,7 @@ from casadi_debris.guidance import (
 from casadi_debris.simulation.burn import first_stage_left, simulate_burn
 from casadi_debris.simulation.burn_figures import burn_figures
 from casadi_debris.simulation.closed_loop import SimulationError
-from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows import controller_for
 
 BURN_S = 40.0
 STAGE_LEFT_S = 5.0

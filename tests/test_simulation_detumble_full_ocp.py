@@ -12,7 +12,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.geometry import build_geometry
 from casadi_debris.simulation.detumble_full_ocp import full_time_optimal_detumble
 from casadi_debris.simulation.detumble_ocp import problem_time_optimal_detumble
-from casadi_debris.workflows.detumble import momentum_bound_s
+from casadi_debris.workflows import momentum_bound_s
 
 
 @pytest.fixture(scope="module")

@@ -22,7 +22,7 @@ from casadi_debris.simulation.monte_carlo import (
     bin_bands,
     run_case,
 )
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 
 def _bands(rng: np.random.Generator, n_bins: int = 4) -> Bands:

@@ -31,7 +31,7 @@ from casadi_debris.simulation import build_loop_step, simulate
 from casadi_debris.simulation.closed_loop import DiscreteController, StepInput, StepOutput
 from casadi_debris.simulation.noise import draw_noise
 from casadi_debris.simulation.realism import Realism, engine_basis
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 PERIOD_S = 0.1
 STEPS = 12

@@ -19,7 +19,7 @@ from casadi_debris.simulation.worst_case import (
     linear_screen,
     worst_case_search,
 )
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 SLEW = default_problem_path().parent / "paper_slew.toml"
 

@@ -28,8 +28,7 @@ from casadi_debris.studies.failures import (
     manoeuvres,
 )
 from casadi_debris.units import MN_PER_N
-from casadi_debris.workflows.controller import controller_for
-from casadi_debris.workflows.failures import failures
+from casadi_debris.workflows import controller_for, failures
 
 PROBLEMS = default_problem_path().parent
 SLEW_S = 120.0  # the first two minutes of the paper's slew

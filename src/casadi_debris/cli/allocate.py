@@ -155,7 +155,7 @@ def allocate(
 ) -> None:
     """Thrust of every CubeSat engine for a torque (and force) demand: least fuel, exact when
     reachable, direction kept when not."""
-    from casadi_debris.workflows.allocate import allocate as allocate_job
+    from casadi_debris.workflows import allocate as allocate_job
 
     problem = load_problem(problem_file)
     result = allocate_job(

@@ -47,7 +47,7 @@ def alternatives(
     worst single and double CubeSat failure. Writes summary.json, alternatives.csv,
     alternatives.md and alternatives.png in --out.
     """
-    from casadi_debris.workflows.alternatives import alternatives as alternatives_job
+    from casadi_debris.workflows import alternatives as alternatives_job
 
     folder = run_folder(out, "alternatives", "", overwrite)
     result = alternatives_job(

@@ -91,7 +91,7 @@ def burn(
     Reports the thrust axis' pointing error, Δv (simulated, analytic, rocket equation),
     the propellant split between Δv and attitude, and stage switches.
     """
-    from casadi_debris.workflows.burn import burn as burn_job
+    from casadi_debris.workflows import burn as burn_job
 
     problem = load_problem(problem_file)
     axis = None if body_axis is None else _axis(body_axis)

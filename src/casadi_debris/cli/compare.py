@@ -51,7 +51,7 @@ def compare(
     run fails says why in its row.
     """
     from casadi_debris.report import COLUMNS, cell
-    from casadi_debris.workflows.compare import compare as compare_variants
+    from casadi_debris.workflows import compare as compare_variants
 
     chosen = None if methods is None else comma_list(methods, "--methods", "bang-bang,time-optimal")
     problems = [load_problem(path) for path in problem_files]

@@ -104,7 +104,7 @@ def deorbit(
     decay. Says whether the swarm suffices, how many stages it takes, and the
     smallest swarm that would.
     """
-    from casadi_debris.workflows.deorbit import deorbit as deorbit_job
+    from casadi_debris.workflows import deorbit as deorbit_job
 
     cases = solar_cases(solar)
     problem = load_problem(problem_file)

@@ -24,7 +24,7 @@ from casadi_debris.config import load_problem
 def model(problem_file: Path | None, as_json: bool) -> None:
     """Describe the combined system: mass, inertia, CoG, torque authority, modes, engines."""
     from casadi_debris.report import model_text
-    from casadi_debris.workflows.model import model as model_job
+    from casadi_debris.workflows import model as model_job
 
     described = model_job(problem_file)
     if as_json:
@@ -41,7 +41,7 @@ def model(problem_file: Path | None, as_json: bool) -> None:
 def budget(problem_file: Path | None, as_json: bool) -> None:
     """Δv, propellant, lifetime, transfer and detumble budgets."""
     from casadi_debris.report import budget_text
-    from casadi_debris.workflows.budget import budget as budget_job
+    from casadi_debris.workflows import budget as budget_job
 
     budgets = budget_job(problem_file)
     if as_json:

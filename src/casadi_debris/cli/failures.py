@@ -159,7 +159,7 @@ def failures(
             f"--max-failed: between 1 and {count} (the problem's CubeSats); got {max_failed}"
         )
     folder = run_folder(out, "failures", problem.name, overwrite)
-    from casadi_debris.workflows.failures import failures as study_failures
+    from casadi_debris.workflows import failures as study_failures
 
     result = study_failures(
         problem,

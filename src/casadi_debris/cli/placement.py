@@ -135,7 +135,7 @@ def placement(
     (HiGHS). Writes placement.toml (a problem file extending PROBLEM.toml with the chosen
     [[cubesats]]), summary.json, report.md and layout.png (pareto.png with --pareto)."""
     from casadi_debris.studies.placement import parse_grid
-    from casadi_debris.workflows.placement import placement as placement_job
+    from casadi_debris.workflows import placement as placement_job
 
     sides = None
     if side_engines is not None:

@@ -28,7 +28,7 @@ def reproduce(
     with their Monte-Carlo envelopes; writes report.md with every figure of the
     paper next to ours."""
     from casadi_debris.report.folders import check_output_folder
-    from casadi_debris.workflows.reproduce import reproduce as reproduce_job
+    from casadi_debris.workflows import reproduce as reproduce_job
 
     check_output_folder(out, overwrite=overwrite)
     paper = reproduce_job(

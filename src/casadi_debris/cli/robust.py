@@ -67,7 +67,7 @@ def synthesize(
 
     Writes controller.json (fly it with --controller) and summary.json into --out.
     """
-    from casadi_debris.workflows.synthesize import synthesize as synthesize_job
+    from casadi_debris.workflows import synthesize as synthesize_job
 
     problem = load_problem(problem_file)
     orders = _d_orders(d_orders)
@@ -148,7 +148,7 @@ def margins(
     as_json: bool,
 ) -> None:
     """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
-    from casadi_debris.workflows.margins import margins as margins_job
+    from casadi_debris.workflows import margins as margins_job
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "margins", problem.name, overwrite)

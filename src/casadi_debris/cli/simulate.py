@@ -47,7 +47,7 @@ if TYPE_CHECKING:
 
     from casadi_debris.simulation.segment_figures import SegmentFigures
     from casadi_debris.simulation.statistics import CampaignStatistics
-    from casadi_debris.workflows.campaign import RunRecord
+    from casadi_debris.workflows import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
 
@@ -218,7 +218,7 @@ def simulate(
             raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
-    from casadi_debris.workflows.simulate import simulate as simulate_run
+    from casadi_debris.workflows import simulate as simulate_run
 
     run = simulate_run(
         problem,
@@ -366,7 +366,7 @@ def montecarlo(
     campaign.nc (every case, for xarray) and the nominal run.
     """
     from casadi_debris.errors import CampaignInterrupted
-    from casadi_debris.workflows.montecarlo import montecarlo as run_montecarlo
+    from casadi_debris.workflows import montecarlo as run_montecarlo
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "montecarlo", problem.name, overwrite)

@@ -77,7 +77,7 @@ def worstcase(
     worst_parameters.json and mu_*_parameters.json (for simulate --parameters),
     evaluations.csv and worstcase.png.
     """
-    from casadi_debris.workflows.worstcase import worstcase as find_worst_cases
+    from casadi_debris.workflows import worstcase as find_worst_cases
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "worstcase", problem.name, overwrite)

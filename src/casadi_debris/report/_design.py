@@ -124,8 +124,8 @@ def requirement_rows(
     campaigns: dict[str, CampaignSummary],
     torque_limits_mNm: np.ndarray,
 ) -> list[RequirementRow]:
-    """The design's table (margins as from :func:`~casadi_debris.workflows.margins.margins`,
-    campaigns as from :func:`~casadi_debris.workflows.montecarlo.montecarlo`): the
+    """The design's table (margins as from :func:`~casadi_debris.workflows._margins.margins`,
+    campaigns as from :func:`~casadi_debris.workflows._montecarlo.montecarlo`): the
     judged rows, then :func:`information_rows`."""
     chosen = search.chosen
     pointing_req = problem.requirements.pointing_arcsec

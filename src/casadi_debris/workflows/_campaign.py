@@ -3,7 +3,7 @@
 :func:`parameters_case`) and the record of a run (:class:`RunRecord`).
 
 The campaign itself is :func:`casadi_debris.montecarlo`
-(:mod:`casadi_debris.workflows.montecarlo`).
+(:mod:`casadi_debris.workflows._montecarlo`).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 written into a folder.
 
 The manoeuvres are those ``design`` verifies a controller on
-(:func:`~casadi_debris.workflows.design.verification_problems`): the problem's
+(:func:`~casadi_debris.workflows._design.verification_problems`): the problem's
 own slew (or 180 deg about its slowest axis when it has none) and one
 disturbance period of pointing, judged against its ``[requirements]``. The
 pointing run lasts one whole period of the disturbance, quick or not: a
@@ -46,11 +46,11 @@ from casadi_debris.studies.failures import (
     failure_study,
     manoeuvres,
 )
+from casadi_debris.workflows._campaign import CaseSelection
+from casadi_debris.workflows._controller import controller_for
+from casadi_debris.workflows._design import verification_problems
+from casadi_debris.workflows._reproduce import FULL, QUICK
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.campaign import CaseSelection
-from casadi_debris.workflows.controller import controller_for
-from casadi_debris.workflows.design import verification_problems
-from casadi_debris.workflows.reproduce import FULL, QUICK
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -70,10 +70,9 @@ from casadi_debris.robust.synthesis import (
 )
 from casadi_debris.slews import rigid_limit_duration
 from casadi_debris.units import NM_PER_MNM, SECONDS_PER_MINUTE
-from casadi_debris.workflows._result import ProblemLike, ReportFolderResult, as_problem
-from casadi_debris.workflows.campaign import Progress
-from casadi_debris.workflows.controller import load_controller
-from casadi_debris.workflows.reproduce import (
+from casadi_debris.workflows._campaign import Progress
+from casadi_debris.workflows._controller import load_controller
+from casadi_debris.workflows._reproduce import (
     FULL,
     QUICK,
     Plan,
@@ -81,6 +80,7 @@ from casadi_debris.workflows.reproduce import (
     report_margins,
     stage_announcer,
 )
+from casadi_debris.workflows._result import ProblemLike, ReportFolderResult, as_problem
 
 if TYPE_CHECKING:
     pass
@@ -230,7 +230,7 @@ def design(
         Replace a report folder this toolkit wrote.
     progress : callable, optional
         ``progress(stage)`` as each stage starts; may return a case counter for a
-        campaign (:data:`~casadi_debris.workflows.campaign.Progress`).
+        campaign (:data:`~casadi_debris.workflows._campaign.Progress`).
 
     Returns
     -------

@@ -31,8 +31,8 @@ from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.report import Comparison, VariantRow, write_comparison
 from casadi_debris.simulation import ClosedLoopResult, SimulationError, simulate
 from casadi_debris.simulation.summary import fuel_between_kg
+from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.controller import controller_for
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -174,7 +174,7 @@ def compare(
     controller : str or Path, optional
         Controller file (default the shipped paper controller). It must have been
         designed for every variant's plant (see
-        :func:`~casadi_debris.workflows.controller.controller_for`) unless
+        :func:`~casadi_debris.workflows._controller.controller_for`) unless
         ``allow_mismatch``.
     allow_mismatch : bool
         Fly the controller on variants whose plant it was not designed for.

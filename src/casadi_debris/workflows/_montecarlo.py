@@ -65,15 +65,15 @@ from casadi_debris.simulation.monte_carlo import (
     SchedulerError,
 )
 from casadi_debris.simulation.statistics import statistics_of
-from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.campaign import (
+from casadi_debris.workflows._campaign import (
     CaseSelection,
     Progress,
     RunRecord,
     check_scheduler_address,
     run_summary,
 )
-from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows._controller import controller_for
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
     import xarray as xr

@@ -38,13 +38,13 @@ from casadi_debris.report import (
 )
 from casadi_debris.report.folders import RunFolder
 from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.workflows._campaign import Progress
+from casadi_debris.workflows._controller import load_controller
+from casadi_debris.workflows._montecarlo import montecarlo
 from casadi_debris.workflows._result import ReportFolderResult
-from casadi_debris.workflows.campaign import Progress
-from casadi_debris.workflows.controller import load_controller
-from casadi_debris.workflows.montecarlo import montecarlo
 
 if TYPE_CHECKING:
-    from casadi_debris.workflows.margins import MarginsResult
+    from casadi_debris.workflows._margins import MarginsResult
 
 LOGGER = logging.getLogger(__name__)
 
@@ -100,11 +100,11 @@ def _paper_problems(plan: Plan) -> tuple[Problem, Problem, Problem]:
 
 def _controller(problem: Problem, design_into: Path | None) -> tuple[ControllerRecord, Path]:
     """The shipped controller, or one designed anew
-    (:func:`~casadi_debris.workflows.synthesize.synthesize`) and written into
+    (:func:`~casadi_debris.workflows._synthesize.synthesize`) and written into
     ``design_into``."""
     if design_into is None:
         return load_controller(None)
-    from casadi_debris.workflows.synthesize import synthesize
+    from casadi_debris.workflows._synthesize import synthesize
 
     record = synthesize(problem).record
     return load_controller(write_json_atomic(design_into / "controller.json", record.to_dict()))
@@ -184,10 +184,10 @@ def report_margins(
     folders: tuple[Path, Path],
     stage: Callable[[str], Progress | None],
 ) -> MarginsResult:
-    """The margin study of a report (:func:`~casadi_debris.workflows.margins.margins`)
+    """The margin study of a report (:func:`~casadi_debris.workflows._margins.margins`)
     into ``margins/`` (``folders``: the report's staging folder and where it will end
     up); its summary records that folder."""
-    from casadi_debris.workflows.margins import margins
+    from casadi_debris.workflows._margins import margins
 
     staging, out = folders
     stage(f"margins over {plan.margin_samples} sampled plants")
@@ -271,7 +271,7 @@ def reproduce(
     progress : callable, optional
         ``progress(stage)`` is called as each stage starts and may return a
         case counter for the stage's campaign (see
-        :data:`~casadi_debris.workflows.campaign.Progress`).
+        :data:`~casadi_debris.workflows._campaign.Progress`).
 
     Returns
     -------

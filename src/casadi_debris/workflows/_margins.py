@@ -24,8 +24,8 @@ from casadi_debris.report import (
     margins_summary,
     write_margins,
 )
+from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.controller import controller_for
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

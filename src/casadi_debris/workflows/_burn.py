@@ -34,8 +34,8 @@ from casadi_debris.simulation.burn import (
 from casadi_debris.simulation.burn_figures import BurnSeries
 from casadi_debris.simulation.burn_figures import burn_figures as burn_figures_of
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
+from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.controller import controller_for
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -22,9 +22,9 @@ from typing import TYPE_CHECKING, Any
 from casadi_debris.config import FailureEvent, Problem, with_duration
 from casadi_debris.errors import InputShapeError
 from casadi_debris.report import write_json_atomic
+from casadi_debris.workflows._campaign import RunRecord, one_case, parameters_case, run_summary
+from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.campaign import RunRecord, one_case, parameters_case, run_summary
-from casadi_debris.workflows.controller import controller_for
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -35,8 +35,8 @@ from casadi_debris.robust.mu import ParametricMu, parametric_mu
 from casadi_debris.robust.plant import ControllerRecord, recorded_performance_weights
 from casadi_debris.simulation import Envelope, corner_cases
 from casadi_debris.simulation.worst_case import WorstCaseSearch, worst_case_search
+from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
-from casadi_debris.workflows.controller import controller_for
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
