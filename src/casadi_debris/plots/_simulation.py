@@ -47,6 +47,9 @@ def closed_loop_figure(
 ) -> Figure:
     """Reference, attitude error and torque against time.
 
+    The torque panel draws the run's own torque authority about each signed axis
+    (dotted, + and - apart), stepping where failures or spent stages change it.
+
     Parameters
     ----------
     result : ClosedLoopResult
@@ -56,9 +59,6 @@ def closed_loop_figure(
     error_unit : {"deg", "arcsec"}
     requirement : float, optional
         The error requirement in ``error_unit``, drawn at +- (dashed).
-
-    The torque panel draws the run's own torque authority about each signed axis
-    (dotted, + and - apart), stepping where failures or spent stages change it.
     """
     scale = ERROR_SCALE[error_unit]
     figure, (top, middle, bottom) = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
