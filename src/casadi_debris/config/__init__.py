@@ -17,14 +17,12 @@ Example
 >>> problem.hub.mass_kg
 500.0
 
-Modules: :mod:`~casadi_debris.config._schema` (the frozen dataclasses),
-:mod:`~casadi_debris.config.limits` (the range of every number, and why),
-:mod:`~casadi_debris.config._table` (the typed table reader),
-:mod:`~casadi_debris.config._checks` (physical checks),
-:mod:`~casadi_debris.config._bodies` and :mod:`~casadi_debris.config._runs` (the
-readers of the debris and swarm tables, and of the run tables),
-:mod:`~casadi_debris.config._reader` (:func:`problem_from_dict` and the checks
-across tables) and :mod:`~casadi_debris.config._loader` (files and ``extends``).
+The package exports the schema's frozen dataclasses (:class:`Problem` and its
+tables), the readers (:func:`problem_from_dict`, :func:`problem_with_values`), the
+loader (:func:`load_problem`, :func:`shipped_problems`) and the physical checks
+(:func:`check_inertia`); its modules are private, except
+:mod:`~casadi_debris.config.limits` (the range of every number, and why), which the
+commands read as a namespace.
 """
 
 from __future__ import annotations
