@@ -57,10 +57,12 @@ from casadi_debris.studies.failures import (
     fly_cases,
     manoeuvres,
 )
-from casadi_debris.workflows.campaign import CaseSelection
-from casadi_debris.workflows.controller import load_controller
-from casadi_debris.workflows.design import verification_problems
-from casadi_debris.workflows.failures import DEFAULT_CORNERS
+from casadi_debris.workflows import (
+    DEFAULT_CORNERS,
+    CaseSelection,
+    load_controller,
+    verification_problems,
+)
 from recording import Setting, start_benchmark
 
 CHUNK = 1000
@@ -70,13 +72,8 @@ import json, resource, sys, time
 from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-try:  # the campaigns' own package since the simulation split
-    from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
-except ImportError:
-    from casadi_debris.simulation import (
-        CampaignSetup, corner_cases, run_campaign
-    )
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
+from casadi_debris.workflows import load_controller
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)
 setup = CampaignSetup.create(problem, load_controller(None)[0].reduced, scenario_reference(problem))

@@ -23,9 +23,7 @@ from __future__ import annotations
 import time
 
 from casadi_debris import load_problem
-from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
-from casadi_debris.orbit.lifetime_mc import lifetime_monte_carlo
-from casadi_debris.orbit.plan import plan_deorbit
+from casadi_debris.orbit import DeorbitModel, DeorbitSettings, lifetime_monte_carlo, plan_deorbit
 from recording import Setting, own_cpu_s, start_benchmark
 
 SEED = 20250103

@@ -32,7 +32,7 @@ from casadi_debris.campaigns import CampaignSetup, Case, CaseRunner
 from casadi_debris.config import load_problem, problem_with_values, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows import controller_for
 from recording import Setting, start_benchmark
 
 

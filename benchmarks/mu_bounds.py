@@ -19,10 +19,13 @@ import numpy as np
 from casadi_debris import load_problem
 from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.robust import mu_bounds
-from casadi_debris.robust.interconnect import generalized_plant
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import recorded_performance_weights, weight_system
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.robust.plant import (
+    frequency_response,
+    generalized_plant,
+    recorded_performance_weights,
+    weight_system,
+)
+from casadi_debris.workflows import load_controller
 from recording import Setting, start_benchmark
 
 TARGETS = {"mu_bounds_200_s": 20.0}

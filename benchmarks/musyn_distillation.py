@@ -19,7 +19,7 @@ import time
 import numpy as np
 
 from casadi_debris.robust.examples import DISTILLATION_BLOCKS, distillation_column
-from casadi_debris.robust.musyn import musyn
+from casadi_debris.robust.synthesis import musyn
 from recording import Setting, start_benchmark
 
 DKPY_MU = 1.0360

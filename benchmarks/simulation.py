@@ -42,7 +42,7 @@ from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import (
     LoopSettings,
     discretize_controller,

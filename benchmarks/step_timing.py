@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from casadi_debris.config import default_controller_path
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import build_loop_step, discretize_controller
 
 

@@ -23,9 +23,9 @@ import control
 
 from casadi_debris import load_problem
 from casadi_debris.config import Problem, default_controller_path
-from casadi_debris.robust.analysis import margin_study
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import design_controller
+from casadi_debris.robust.margins import margin_study
+from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.synthesis import design_controller
 from recording import Setting, start_benchmark
 
 TARGETS = {"synthesis_s": 60.0, "margin_sweep_s_2_workers": 30.0}  # the design's, on 2 cores

@@ -33,7 +33,7 @@ def final_state(problem: Problem, slew: Any, modes: str | list) -> tuple[Model, 
     return model, np.array(integrator(x0=start)["xf"])[:, -1]
 
 
-# -- limits, computed here apart from casadi_debris.slews.limits ----------------------------
+# -- limits, computed here apart from casadi_debris.slews ----------------------------------
 
 RATIO_SLACK = 1e-6
 
@@ -41,7 +41,7 @@ RATIO_SLACK = 1e-6
 def _polytope(problem: Problem, zero_net_force: bool) -> Any:
     """The engines' torque set as facets (the allocator's own construction, not the slew
     check's LP)."""
-    from casadi_debris.allocation.authority import authority_polytope
+    from casadi_debris.allocation import authority_polytope
     from casadi_debris.geometry import build_geometry, max_thrust_N
 
     geometry = build_geometry(problem)
@@ -145,9 +145,10 @@ def check_every_profile(monkeypatch: Any) -> None:
     :func:`assert_checked` for a problem's, the box for a rigid body's. For a
     module-scoped autouse fixture, so that module-scoped slews are checked too."""
     from casadi_debris.config import Problem as ProblemType
-    from casadi_debris.slews import bang_bang, ocp_solution, optimal
-    from casadi_debris.slews.global_slew import rigid_body_profile
-    from casadi_debris.slews.profile import finish_profile
+    from casadi_debris.slews import _bang_bang as bang_bang
+    from casadi_debris.slews import _ocp_solution as ocp_solution
+    from casadi_debris.slews import _optimal as optimal
+    from casadi_debris.slews import finish_profile, rigid_body_profile
 
     def finish(**keywords: Any) -> Any:
         slew = finish_profile(**keywords)

@@ -30,8 +30,7 @@ from click.testing import CliRunner
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from casadi_debris.allocation import AllocationInternalError, Allocator, DemandError
-from casadi_debris.allocation.backends import QpSolution
+from casadi_debris.allocation import AllocationInternalError, Allocator, DemandError, QpSolution
 from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError
@@ -376,7 +375,7 @@ def test_a_back_end_answer_failing_the_final_check_goes_to_highs(
 def test_no_answer_passing_the_final_check_is_an_internal_error(
     problem: Problem, geometry: Geometry, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    import casadi_debris.allocation.paths as paths
+    import casadi_debris.allocation._paths as paths
 
     allocator = Allocator.from_problem(problem, geometry)
     _broken_solve(allocator._qp.workspace("exact", False), lambda n: np.full(n, np.nan))

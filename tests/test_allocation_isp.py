@@ -23,7 +23,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem, load_problem, problem_from_dict
 from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import Geometry, build_geometry
-from casadi_debris.slews.propellant import axis_fuel_rates, fuel_weights
+from casadi_debris.slews import axis_fuel_rates, fuel_weights
 from lp_reference import least_mass_flow_kg_s
 
 TWIN_ISP_S = 250.0

@@ -289,7 +289,7 @@ def test_bad_histories_are_named_errors(
 
 
 def test_the_closed_form_anchor_multiplier_is_the_lps_optimum() -> None:
-    from casadi_debris.allocation.series import _multiplier_lp, _one_free_direction
+    from casadi_debris.allocation._series import _multiplier_lp, _one_free_direction
 
     rng = np.random.default_rng(11)
     solved = 0

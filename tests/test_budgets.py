@@ -15,7 +15,7 @@ from casadi_debris.budgets import (
     edelbaum_dv,
     rocket_dv,
 )
-from casadi_debris.report.paper import paper_figure
+from casadi_debris.report import paper_figure
 
 
 @pytest.fixture(scope="module")

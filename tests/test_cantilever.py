@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from casadi_debris.dynamics.cantilever import bending_eigenvalue, shape_integrals
+from casadi_debris.dynamics import bending_eigenvalue, shape_integrals
 
 # Roots of 1 + cos b cosh b = 0 (tabulated, e.g. Blevins, Formulas for Natural Frequency)
 BETA = [1.87510407, 4.69409113, 7.85475744]

@@ -8,7 +8,7 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
-from casadi_debris.report.burn import BurnReport
+from casadi_debris.report import BurnReport
 
 
 def test_a_short_burn_writes_its_folder_and_json(tmp_path: Path) -> None:

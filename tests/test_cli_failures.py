@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_controller_path, default_problem_path
-from casadi_debris.report.failures import write_failures
+from casadi_debris.report import write_failures
 from casadi_debris.studies.failures import FailuresSummary
 from test_studies_failure_records import RUN_KEYS
 

@@ -8,7 +8,7 @@ import re
 import pytest
 
 from casadi_debris.cli.reproduce import TABLE_KEYS, echo_verdicts
-from casadi_debris.report.reproduce import ReproductionRow, ReproductionSummary
+from casadi_debris.report import ReproductionRow, ReproductionSummary
 
 
 def _summary() -> tuple[ReproductionSummary, list[ReproductionRow]]:

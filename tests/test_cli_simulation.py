@@ -18,7 +18,7 @@ from scipy.integrate import solve_ivp
 from casadi_debris.cli import main
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.report.simulation import normalized_column
+from casadi_debris.report import normalized_column
 from casadi_debris.store import MARKER_NAME
 
 PROBLEMS = default_problem_path().parent

@@ -11,7 +11,7 @@ from click.testing import CliRunner
 
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.report.worstcase import WorstCaseSummary
+from casadi_debris.report import WorstCaseSummary
 
 IDENTITY_KEYS = {
     "problem", "problem_sha256", "plant_sha256", "controller_path", "controller_plant_sha256",

@@ -6,9 +6,7 @@ import dataclasses
 
 import pytest
 
-from casadi_debris.config import load_problem
-from casadi_debris.config.checks import check_transfer_end
-from casadi_debris.config.loader import shipped_problems
+from casadi_debris.config import check_transfer_end, load_problem, shipped_problems
 from casadi_debris.errors import ProblemFileError
 
 

@@ -11,8 +11,7 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
-from casadi_debris.config import default_problem_path, problem_from_dict
-from casadi_debris.config.json_schema import problem_schema
+from casadi_debris.config import default_problem_path, problem_from_dict, problem_schema
 from casadi_debris.errors import ProblemFileError
 
 jsonschema = pytest.importorskip("jsonschema")

@@ -6,8 +6,7 @@ import math
 
 import pytest
 
-from casadi_debris.config import limits, load_problem, with_duration
-from casadi_debris.config.runs import run_length_violation
+from casadi_debris.config import limits, load_problem, run_length_violation, with_duration
 from casadi_debris.errors import ProblemFileError
 
 

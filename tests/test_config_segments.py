@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.config import Problem, problem_from_dict
-from casadi_debris.config.segments import EULER_SEQUENCES
+from casadi_debris.config import EULER_SEQUENCES, Problem, problem_from_dict
 from casadi_debris.errors import ProblemFileError
 
 

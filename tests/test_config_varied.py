@@ -8,12 +8,14 @@ from typing import Any
 import pytest
 
 from casadi_debris.config import (
+    key_of,
     limits,
+    parse_path,
     problem_from_dict,
     problem_with_values,
     with_duration,
+    with_value,
 )
-from casadi_debris.config.varied import key_of, parse_path, with_value
 from casadi_debris.errors import ProblemFileError
 
 

@@ -16,7 +16,7 @@ import pytest
 
 from casadi_debris.errors import SlewNotConvergedError
 from casadi_debris.parallel import keep_ctrl_c
-from casadi_debris.slews.transcription import solve_with_ipopt
+from casadi_debris.slews import solve_with_ipopt
 
 
 def _rosenbrock(interrupt_at: int | None) -> tuple[ca.Opti, ca.MX]:

@@ -29,7 +29,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem, default_problem_path
 from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.geometry import build_geometry, torque_authority
-from casadi_debris.report.describe import Thruster, describe_model
+from casadi_debris.report import Thruster, describe_model
 
 GALLERY = default_problem_path().parent / "gallery"
 FILES = sorted(GALLERY.glob("*.toml"))

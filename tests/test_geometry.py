@@ -9,7 +9,7 @@ import pytest
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, signed_axis_vector
 from casadi_debris.geometry import max_thrust_N, torque_authority
-from casadi_debris.report.paper import paper_figure
+from casadi_debris.report import paper_figure
 
 # The paper's figures and accepted tolerances (casadi_debris/data/paper_reference.toml).
 PAPER_MASS = paper_figure("mass_kg")

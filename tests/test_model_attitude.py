@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.dynamics.attitude import (
+from casadi_debris.dynamics import (
     attitude_error,
     attitude_error_vector,
     axis_angle_quaternion,

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.errors import InputShapeError
-from casadi_debris.orbit.atmosphere import (
+from casadi_debris.orbit import (
     SOLAR_CASES,
     density_table,
     msis_mean_density,

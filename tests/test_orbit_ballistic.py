@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.errors import InputShapeError
-from casadi_debris.orbit.ballistic import ballistic, drag_area_m2
+from casadi_debris.orbit import ballistic, drag_area_m2
 
 
 def test_tumbling_area_is_a_quarter_of_all_faces(problem, geometry) -> None:

@@ -10,14 +10,15 @@ import pytest
 from scipy.optimize import brentq
 
 from casadi_debris.errors import InputShapeError
-from casadi_debris.orbit import atmosphere
-from casadi_debris.orbit.atmosphere import solar_case
-from casadi_debris.orbit.deorbit import (
+from casadi_debris.orbit import (
     STRATEGIES,
     DeorbitModel,
+    DeorbitPlan,
     DeorbitSettings,
+    plan_deorbit,
+    solar_case,
 )
-from casadi_debris.orbit.plan import DeorbitPlan, plan_deorbit
+from casadi_debris.orbit import _atmosphere as atmosphere
 from test_orbit_lifetime_msis import INCLINATION_DEG, Atmosphere, Spiral, lifetime_years
 
 HIGH_SPIRAL = DeorbitSettings(solar=("high",), strategies=("spiral",), minimum_swarm=False)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from casadi_debris.orbit.elements import (
+from casadi_debris.orbit import (
     EARTH_J2,
     cartesian_from_mee,
     keplerian_from_mee,

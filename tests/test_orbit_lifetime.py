@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
-from casadi_debris.orbit.atmosphere import SOLAR_CASES, density_table
-from casadi_debris.orbit.lifetime import (
+from casadi_debris.orbit import (
     REENTRY_PERIGEE_KM,
+    SOLAR_CASES,
     Burn,
     Earth,
+    density_table,
     propagate_decay,
 )
 from casadi_debris.units import SECONDS_PER_YEAR

@@ -8,9 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from casadi_debris.orbit.atmosphere import SolarActivity
-from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings
-from casadi_debris.orbit.lifetime_mc import (
+from casadi_debris.orbit import DeorbitModel, DeorbitSettings, SolarActivity
+from casadi_debris.orbit._lifetime_mc import (
     CYCLE_MIN_SFU,
     CYCLE_PEAK_SFU,
     DRAG_COEFFICIENT_RANGE,

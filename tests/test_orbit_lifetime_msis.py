@@ -18,14 +18,16 @@ import numpy as np
 import pytest
 from scipy.integrate import quad, solve_ivp
 
-from casadi_debris.orbit.atmosphere import (
+from casadi_debris.orbit import (
+    REENTRY_PERIGEE_KM,
     SEASONS,
     SOLAR_CASES,
+    Earth,
     SolarActivity,
     density_table,
     geodetic_from_geocentric,
+    propagate_decay,
 )
-from casadi_debris.orbit.lifetime import REENTRY_PERIGEE_KM, Earth, propagate_decay
 from casadi_debris.units import SECONDS_PER_YEAR
 
 A_M = 6378137.0  # WGS-84 (NIMA TR8350.2), written again here

@@ -11,7 +11,7 @@ from scipy.optimize import linprog
 from casadi_debris import load_problem
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.geometry import build_geometry, max_thrust_N
-from casadi_debris.orbit.propulsion import swarm_thrust
+from casadi_debris.orbit import swarm_thrust
 
 
 @pytest.mark.parametrize("name", ["paper", "three_faces", "side_engines_12"])

@@ -6,9 +6,14 @@ import math
 
 import pytest
 
-from casadi_debris.orbit.atmosphere import solar_case
-from casadi_debris.orbit.deorbit import DeorbitModel, DeorbitSettings, best_strategy
-from casadi_debris.orbit.swarm_size import minimum_swarm, swarm_of
+from casadi_debris.orbit import (
+    DeorbitModel,
+    DeorbitSettings,
+    best_strategy,
+    minimum_swarm,
+    solar_case,
+    swarm_of,
+)
 
 MEAN_SPIRAL = DeorbitSettings(solar=("mean",), strategies=("spiral",), minimum_swarm=False)
 

@@ -10,7 +10,7 @@ import pytest
 from casadi_debris import load_problem
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.orbit import plan_transfer
-from casadi_debris.report.paper import load_paper_reference
+from casadi_debris.report import load_paper_reference
 
 pytestmark = pytest.mark.slow
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from casadi_debris.orbit.elements import EARTH_J2, mee_circular, mee_dynamics
+from casadi_debris.orbit import EARTH_J2, mee_circular, mee_dynamics
 from casadi_debris.orbit.transfer import (
     averaged_dynamics,
     averaged_step,

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from casadi_debris.orbit.elements import EARTH_J2, mee_circular
+from casadi_debris.orbit import EARTH_J2, mee_circular
 from casadi_debris.orbit.transfer import (
     Burn,
     TransferTarget,

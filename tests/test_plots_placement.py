@@ -9,8 +9,7 @@ import pytest
 from matplotlib.patches import Polygon
 
 from casadi_debris import load_problem
-from casadi_debris.plots import save_figure
-from casadi_debris.plots.placement import VIEWS, array_outlines_corner_m, layout_figure
+from casadi_debris.plots import VIEWS, array_outlines_corner_m, layout_figure, save_figure
 from casadi_debris.studies.placement import PlacementSettings, optimise_placement
 
 

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from matplotlib.lines import Line2D
 
-import casadi_debris.plots.simulation as simulation_plots
-import casadi_debris.plots.statistics as statistics_plots
+import casadi_debris.plots._simulation as simulation_plots
+import casadi_debris.plots._statistics as statistics_plots
 from casadi_debris.campaigns import campaign_statistics
 
 

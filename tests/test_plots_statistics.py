@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.campaigns import campaign_statistics
-from casadi_debris.plots.statistics import plot_statistics
+from casadi_debris.plots import plot_statistics
 
 
 @pytest.mark.parametrize("count", [2, 50])

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 from matplotlib.colors import to_hex
 
-import casadi_debris.plots.simulation as simulation_plots
+import casadi_debris.plots._simulation as simulation_plots
 from casadi_debris import load_problem
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report.simulation import engine_groups
+from casadi_debris.report import engine_groups
 
 
 def _run(problem_name: str, failed: tuple[int, ...] = ()) -> tuple[SimpleNamespace, dict, list]:

@@ -8,10 +8,9 @@ from pathlib import Path
 
 import pytest
 
-from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
-from casadi_debris.report.paper import (
-    PaperReferenceError,
+from casadi_debris.errors import InputShapeError, PaperReferenceError
+from casadi_debris.report import (
+    format_table,
     load_paper_reference,
     paper_figure,
     paper_figures,
@@ -241,6 +240,6 @@ def test_format_table_aligns_columns():
     [(True, "met", "✅ met"), (False, "met", "❌ not met"), (None, "reproduced", "—")],
 )
 def test_a_verdict_reads_as_printed(outcome: bool | None, word: str, text: str) -> None:
-    from casadi_debris.report.common import verdict_text
+    from casadi_debris.report import verdict_text
 
     assert verdict_text(outcome, word) == text

@@ -14,7 +14,7 @@ from casadi_debris.budgets import compute_budgets
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
 from casadi_debris.geometry import build_geometry, max_thrust_N
-from casadi_debris.report.describe import (
+from casadi_debris.report import (
     BudgetSummary,
     ModelDescription,
     budget_summary,

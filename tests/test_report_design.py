@@ -5,18 +5,16 @@ from __future__ import annotations
 import json
 
 from casadi_debris import load_problem
-from casadi_debris.report.design import (
+from casadi_debris.report import (
     CampaignFigures,
     DesignSummary,
     RequirementRow,
+    WorstFigure,
     binding_lines,
     body_lines,
 )
-from casadi_debris.report.simulation import WorstFigure
-from casadi_debris.robust.binding import slew_limit
-from casadi_debris.robust.body_weights import body_weights
-from casadi_debris.robust.performance_search import DesignAttempt
-from casadi_debris.robust.requirements import derived_scalings
+from casadi_debris.robust.requirements import body_weights, derived_scalings, slew_limit
+from casadi_debris.robust.synthesis import DesignAttempt
 
 
 def test_a_design_summary_reads_back_from_its_json() -> None:

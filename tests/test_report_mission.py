@@ -8,9 +8,8 @@ import re
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.orbit import DeorbitSettings
-from casadi_debris.orbit.deorbit import DV_SEARCH_MAX_M_S
-from casadi_debris.report.mission import mission_text
+from casadi_debris.orbit import DV_SEARCH_MAX_M_S, DeorbitSettings
+from casadi_debris.report import mission_text
 from casadi_debris.studies.mission import MAX_EXTRA_STAGES, MissionSummary, plan_mission
 
 HORIZON_YEARS = DeorbitSettings().horizon_years
@@ -103,7 +102,7 @@ def _timeline_boxes(summary: MissionSummary, monkeypatch, tmp_path) -> tuple:
     """The timeline's label boxes, bar boxes and axes box in display units, as written."""
     import matplotlib.pyplot as plt
 
-    from casadi_debris.plots.mission import mission_figure
+    from casadi_debris.plots import mission_figure
 
     figure = mission_figure(summary)
     figure.tight_layout()  # as save_figure lays it out

@@ -19,16 +19,16 @@ from casadi_debris.campaigns import (
     campaign_dataset,
 )
 from casadi_debris.dynamics import build_model
-from casadi_debris.report.worstcase import (
+from casadi_debris.report import (
     ParameterFile,
     WorstCaseIdentity,
     WorstCaseSummary,
-    campaign_envelope,
+    corner_campaign_envelope,
     parameter_file,
     write_worst_cases,
 )
-from casadi_debris.robust.parametric_mu import WorstPerturbation
-from casadi_debris.robust.uncertainty import parameters_from_normalized
+from casadi_debris.robust.mu import WorstPerturbation
+from casadi_debris.robust.plant import parameters_from_normalized
 from casadi_debris.store import CASE_FIGURES, DATASET_NAME, CampaignRecord, write_campaign_dataset
 from run_summaries import zero_run_summary
 
@@ -88,7 +88,7 @@ def test_the_campaign_worst_and_envelope_come_from_its_cases(tmp_path: Path) -> 
 
 def test_the_envelope_bounds_every_case(tmp_path: Path) -> None:
     outcomes = _campaign(tmp_path, [0.1, 0.2, 0.3])
-    envelope, worst = campaign_envelope(tmp_path)
+    envelope, worst = corner_campaign_envelope(tmp_path)
     lows = np.array([o.bands.error_rad.min for o in outcomes])
     highs = np.array([o.bands.error_rad.max for o in outcomes])
     # campaign.nc stores the bands as float32: compared at that precision.

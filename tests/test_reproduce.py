@@ -15,17 +15,22 @@ import pytest
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
-from casadi_debris.report.describe import ModelDescription
-from casadi_debris.report.paper import paper_figure, table_figures
-from casadi_debris.report.reproduce import (
+from casadi_debris.report import (
+    CampaignRun,
+    CampaignSummary,
     ControllerFigures,
+    DiskMargin,
+    Margins,
+    MarginsSummary,
+    ModelDescription,
     ReproductionRow,
     ReproductionSummary,
+    WorstFigure,
+    paper_figure,
     report_markdown,
     reproduction_rows,
+    table_figures,
 )
-from casadi_debris.report.robust import DiskMargin, Margins, MarginsSummary
-from casadi_debris.report.simulation import CampaignRun, CampaignSummary, WorstFigure
 
 # Rows that need all 256 corners: a quick run (8 slew, 4 pointing corners) cannot pass them.
 NEEDS_EVERY_CORNER = ("slew_envelope_cases", "pointing")

@@ -12,11 +12,15 @@ from scipy.optimize import brentq
 
 from casadi_debris.config import default_controller_path
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.report.paper import paper_figure
-from casadi_debris.robust.analysis import margin_study
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.margins import MARGIN_GRID, LoopAtATime, loop_at_a_time, return_ratio
-from casadi_debris.robust.uncertainty import sample_uncertainty
+from casadi_debris.report import paper_figure
+from casadi_debris.robust.margins import (
+    MARGIN_GRID,
+    LoopAtATime,
+    loop_at_a_time,
+    margin_study,
+    return_ratio,
+)
+from casadi_debris.robust.plant import ControllerRecord, sample_uncertainty
 
 # The paper's margins with their accepted bounds (dB, deg, s), nominal and over sampled plants.
 NOMINAL = paper_figure("margins_nominal")

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from casadi_debris.robust.binding import BodyLimits, mu_limit, pointing_limit, slew_limit
+from casadi_debris.robust.requirements import BodyLimits, mu_limit, pointing_limit, slew_limit
 
 
 def _body() -> BodyLimits:

@@ -13,7 +13,7 @@ from casadi_debris import load_problem
 from casadi_debris.config import default_problem_path
 from casadi_debris.errors import SynthesisError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.robust.body_weights import body_weights, is_papers_body
+from casadi_debris.robust.requirements import body_weights, is_papers_body
 
 GALLERY = default_problem_path().parent / "gallery"
 TEST_PROBLEMS = Path(__file__).parent / "problems"

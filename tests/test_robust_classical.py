@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from scipy.linalg import solve_continuous_are
 
-from casadi_debris.robust.classical import lqg_controller, pid_controller, rigid_axis
+from casadi_debris.robust.synthesis import lqg_controller, pid_controller, rigid_axis
 
 INERTIA = np.diag([677.3, 450.8, 291.0])
 DEG_PER_RAD = 180.0 / math.pi

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 
 
 def _record():

@@ -11,14 +11,17 @@ import casadi_debris
 from casadi_debris.config import default_controller_path
 from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.errors import SynthesisError
-from casadi_debris.report.paper import paper_figure
-from casadi_debris.robust.controller import ControllerRecord
-from casadi_debris.robust.design import SynthesisSettings, design_controller
-from casadi_debris.robust.interconnect import generalized_plant
+from casadi_debris.report import paper_figure
 from casadi_debris.robust.margins import closed_loop_poles
-from casadi_debris.robust.musyn import closed_loop_mu
-from casadi_debris.robust.uncertainty import box_corners, parameters_from_normalized
-from casadi_debris.robust.weights import performance_weights, weight_system
+from casadi_debris.robust.plant import (
+    ControllerRecord,
+    box_corners,
+    generalized_plant,
+    parameters_from_normalized,
+    performance_weights,
+    weight_system,
+)
+from casadi_debris.robust.synthesis import SynthesisSettings, closed_loop_mu, design_controller
 
 # The paper's robust performance (peak mu, full and reduced) and reduced order,
 # with their accepted bounds.

@@ -8,7 +8,7 @@ import pytest
 
 from casadi_debris.errors import SynthesisError
 from casadi_debris.robust.examples import distillation_column
-from casadi_debris.robust.hinf import hinf_synthesis, well_conditioned
+from casadi_debris.robust.synthesis import hinf_synthesis, well_conditioned
 
 
 def _mixed_sensitivity(plant):

@@ -7,9 +7,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.robust.interconnect import generalized_plant
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import performance_weights
+from casadi_debris.robust.plant import frequency_response, generalized_plant, performance_weights
 
 
 @pytest.fixture(scope="module")

@@ -11,8 +11,6 @@ import pytest
 
 from casadi_debris.errors import SynthesisError
 from casadi_debris.robust.margins import (
-    FrequencyResponse,
-    _bracketed_roots,
     disk_margins,
     loop_at_a_time,
     loop_margins,
@@ -20,6 +18,8 @@ from casadi_debris.robust.margins import (
     return_ratios,
     sampled_loop_at_a_time,
 )
+from casadi_debris.robust.margins._loop import _bracketed_roots
+from casadi_debris.robust.plant import FrequencyResponse
 
 
 def _diagonal(transfer, n=3):

@@ -9,7 +9,7 @@ import pytest
 
 from casadi_debris.errors import SynthesisError
 from casadi_debris.robust import mu_bounds
-from casadi_debris.robust.blocks import block_structure
+from casadi_debris.robust.mu import block_structure
 
 MIXED = (
     [("real", 1), ("real", 1), ("complex", 2)],

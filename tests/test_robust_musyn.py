@@ -21,10 +21,10 @@ from scipy.linalg import block_diag
 from scipy.optimize import minimize
 
 from casadi_debris.errors import SynthesisError
-from casadi_debris.robust.blocks import Block, block_structure, expanded
 from casadi_debris.robust.examples import DISTILLATION_BLOCKS, distillation_column
-from casadi_debris.robust.musyn import default_frequency_grid, musyn
-from casadi_debris.robust.uncertainty import frequency_response
+from casadi_debris.robust.mu import Block, block_structure, expanded
+from casadi_debris.robust.plant import frequency_response
+from casadi_debris.robust.synthesis import default_frequency_grid, musyn
 
 DKPY_DISTILLATION_MU = 1.0360  # dkpy 0.1.9, see the module docstring
 DISTILLATION_OMEGA = np.logspace(-3, 3, 61)
@@ -145,7 +145,7 @@ def _stack(parts: list[control.StateSpace]) -> tuple[np.ndarray, ...]:
 @pytest.mark.slow
 def test_distillation_column_within_two_percent_of_dkpy(caplog):
     plant = distillation_column()
-    with caplog.at_level(logging.WARNING, logger="casadi_debris.robust.musyn"):
+    with caplog.at_level(logging.WARNING, logger="casadi_debris.robust.synthesis"):
         result = musyn(plant, DISTILLATION_BLOCKS, 2, 2, omega=DISTILLATION_OMEGA)
     assert result.mu_peak == pytest.approx(DKPY_DISTILLATION_MU, rel=0.02)
     assert result.stop_reason == "converged"

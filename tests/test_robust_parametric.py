@@ -18,12 +18,20 @@ import pytest
 
 from casadi_debris import load_problem
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.robust.parametric import ParametricPlant, fit_parametric_plant
-from casadi_debris.robust.parametric_loop import parametric_closed_loop
-from casadi_debris.robust.parametric_mu import ParametricMu, ParametricMuSummary, parametric_mu
-from casadi_debris.robust.uncertainty import frequency_response, parameters_from_normalized
-from casadi_debris.robust.weights import recorded_performance_weights
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.robust.mu import (
+    ParametricMu,
+    ParametricMuSummary,
+    ParametricPlant,
+    fit_parametric_plant,
+    parametric_closed_loop,
+    parametric_mu,
+)
+from casadi_debris.robust.plant import (
+    frequency_response,
+    parameters_from_normalized,
+    recorded_performance_weights,
+)
+from casadi_debris.workflows import load_controller
 
 
 @pytest.fixture(scope="module")

@@ -16,13 +16,15 @@ import pytest
 
 from casadi_debris import load_problem
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.robust.mixed_mu import mu_bounds
-from casadi_debris.robust.parametric import fit_parametric_plant
-from casadi_debris.robust.parametric_loop import N_PERFORMANCE, parametric_generalized_plant
-from casadi_debris.robust.parametric_synthesis import mixed_bound, parametric_musyn
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import recorded_performance_weights
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.robust.mu import (
+    N_PERFORMANCE,
+    fit_parametric_plant,
+    mu_bounds,
+    parametric_generalized_plant,
+)
+from casadi_debris.robust.plant import frequency_response, recorded_performance_weights
+from casadi_debris.robust.synthesis import mixed_bound, parametric_musyn
+from casadi_debris.workflows import load_controller
 
 OMEGA = np.logspace(-4, 2, 25)
 

@@ -7,8 +7,8 @@ import math
 
 import pytest
 
-from casadi_debris.robust import performance_search
-from casadi_debris.robust.performance_search import DesignAttempt, search_design
+from casadi_debris.robust.synthesis import DesignAttempt, search_design
+from casadi_debris.robust.synthesis import _search as performance_search
 
 
 class _FakeDesign:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import control
 import numpy as np
 
-from casadi_debris.robust.reduce import reduce_controller
+from casadi_debris.robust.synthesis import reduce_controller
 
 
 def test_truncation_error_within_hankel_bound():
@@ -49,7 +49,7 @@ def test_a_slicot_warning_is_logged_not_shown(monkeypatch, caplog):
 
     import control as ct
 
-    from casadi_debris.robust import reduce as reduce_module
+    from casadi_debris.robust.synthesis import _reduce as reduce_module
 
     def balred(system, order, method):
         warnings.warn(
@@ -61,6 +61,6 @@ def test_a_slicot_warning_is_logged_not_shown(monkeypatch, caplog):
     system = ct.rss(6, 1, 1, strictly_proper=True)
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # any warning escaping would fail here
-        with caplog.at_level(logging.INFO, logger="casadi_debris.robust.reduce"):
+        with caplog.at_level(logging.INFO, logger="casadi_debris.robust.synthesis"):
             reduce_module.reduce_controller(system, 2)
     assert "The selected order 25 is greater than the minimal" in caplog.text

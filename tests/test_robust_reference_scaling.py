@@ -18,10 +18,13 @@ import control
 import numpy as np
 import pytest
 
-from casadi_debris.robust.interconnect import generalized_plant
-from casadi_debris.robust.musyn import closed_loop_mu
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import PerformanceWeights, dynamic_weights
+from casadi_debris.robust.plant import (
+    PerformanceWeights,
+    dynamic_weights,
+    frequency_response,
+    generalized_plant,
+)
+from casadi_debris.robust.synthesis import closed_loop_mu
 
 INERTIA_DEG = np.array([300.0, 200.0, 150.0]) * 1e3 * np.pi / 180.0
 """Rigid inertias [kg m^2] in the design units, torque mNm to attitude deg: J [mNm s^2/deg]."""
@@ -122,9 +125,9 @@ def test_on_the_papers_plant_the_shipped_controller_shows_the_same(problem):
     """The shipped controller on the paper's plant, 40 sampled plants for W (seeded):
     in the paper's form μ rises with Ve (0.917, 0.978, 1.69, 3.25 at 1, 2, 4, 8 x);
     with Vr held it does not."""
-    from casadi_debris.robust.design import SynthesisSettings, fit_uncertainty
-    from casadi_debris.robust.weights import recorded_performance_weights
-    from casadi_debris.workflows.controller import load_controller
+    from casadi_debris.robust.plant import recorded_performance_weights
+    from casadi_debris.robust.synthesis import SynthesisSettings, fit_uncertainty
+    from casadi_debris.workflows import load_controller
 
     record, _ = load_controller()
     fit = fit_uncertainty(problem, SynthesisSettings(samples=40))

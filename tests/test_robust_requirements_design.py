@@ -13,9 +13,9 @@ import pytest
 from casadi_debris import load_problem
 from casadi_debris.config import default_problem_path
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.robust.design import design_controller, fit_uncertainty
+from casadi_debris.robust.plant import frequency_response
 from casadi_debris.robust.requirements import derived_scalings
-from casadi_debris.robust.uncertainty import frequency_response
+from casadi_debris.robust.synthesis import design_controller, fit_uncertainty
 
 pytestmark = pytest.mark.slow
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.robust.uncertainty import (
+from casadi_debris.robust.plant import (
     box_corners,
     diagonal_cover,
     relative_errors,

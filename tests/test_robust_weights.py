@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from casadi_debris.robust.uncertainty import frequency_response
-from casadi_debris.robust.weights import (
+from casadi_debris.robust.plant import (
     fit_uncertainty_weight,
+    frequency_response,
     performance_weights,
     second_order_magnitude,
 )

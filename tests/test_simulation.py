@@ -42,8 +42,8 @@ from casadi_debris.config import (
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.geometry import torque_authority
 from casadi_debris.guidance import Reference, sample_reference, scenario_reference
-from casadi_debris.report.paper import paper_figure
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.report import paper_figure
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, LoopSettings, SimulationError, simulate
 from casadi_debris.simulation import _closed_loop as closed_loop_module
 

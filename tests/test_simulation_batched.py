@@ -31,7 +31,7 @@ from casadi_debris.simulation import _jit_cache as jit_cache
 from casadi_debris.simulation._batched import facet_capacity, facet_rows
 from casadi_debris.simulation._closed_loop import _loop_step
 from casadi_debris.simulation._native import NativeFunction
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 pytestmark = pytest.mark.skipif(c_compiler() is None, reason="no C compiler for CasADi's JIT")
 

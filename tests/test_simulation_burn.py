@@ -13,9 +13,9 @@ from scipy.optimize import linprog
 from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.dynamics import build_model
-from casadi_debris.environment.orbit import CircularOrbit
+from casadi_debris.environment import CircularOrbit
 from casadi_debris.geometry import build_geometry
-from casadi_debris.guidance.burn_plan import (
+from casadi_debris.guidance import (
     BurnPlan,
     burn_offset,
     strongest_axis,
@@ -23,7 +23,7 @@ from casadi_debris.guidance.burn_plan import (
 )
 from casadi_debris.simulation import SimulationError
 from casadi_debris.simulation.burn import burn_figures, first_stage_left, simulate_burn
-from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows import controller_for
 
 BURN_S = 40.0
 STAGE_LEFT_S = 5.0
@@ -131,7 +131,7 @@ def test_the_thrust_axis_holds_its_direction_within_the_requirement(flown) -> No
 
 
 def test_the_offset_puts_the_axis_on_the_direction() -> None:
-    from casadi_debris.dynamics.attitude import quaternion_to_rotation
+    from casadi_debris.dynamics import quaternion_to_rotation
 
     rng = np.random.default_rng(3)
     for _ in range(5):
@@ -169,7 +169,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     """Flown by ``simulate`` from the problem file: zero net force while the body joins the
     frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
     from casadi_debris.allocation import Allocator
-    from casadi_debris.guidance.reference import scenario_reference
+    from casadi_debris.guidance import scenario_reference
     from casadi_debris.simulation import LoopSettings, simulate
 
     text = (

@@ -20,7 +20,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import (
     LoopSettings,
     build_loop_step,
@@ -40,7 +40,7 @@ logging.basicConfig(level=logging.INFO, stream=sys.stderr)
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import build_loop_step, discretize_controller
 
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")

@@ -12,7 +12,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.simulation.detumble import detumble
-from casadi_debris.workflows.detumble import momentum_bound_s
+from casadi_debris.workflows import momentum_bound_s
 
 GAIN, PERIOD = 0.02, 1.0
 

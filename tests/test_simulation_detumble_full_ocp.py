@@ -14,7 +14,7 @@ from casadi_debris.simulation.detumble import (
     full_time_optimal_detumble,
     problem_time_optimal_detumble,
 )
-from casadi_debris.workflows.detumble import momentum_bound_s
+from casadi_debris.workflows import momentum_bound_s
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from casadi_debris.simulation.detumble import (
     time_optimal_detumble,
 )
 from casadi_debris.simulation.detumble._ocp import MAX_ANGLE_RAD
-from casadi_debris.workflows.detumble import momentum_bound_s
+from casadi_debris.workflows import momentum_bound_s
 
 RATE = np.array([0.05, 0.05, 0.05])
 THRESHOLD = 1e-4

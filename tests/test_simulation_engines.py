@@ -28,7 +28,7 @@ from casadi_debris.config import (
 )
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import Reference, scenario_reference
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, simulate
 from test_allocation_isp import twin_data
 

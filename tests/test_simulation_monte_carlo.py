@@ -25,7 +25,7 @@ from casadi_debris.config import default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import CasesFailedError
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 
 def _bands(rng: np.random.Generator, n_bins: int = 4) -> Bands:

@@ -23,8 +23,8 @@ from casadi_debris.config import (
     Sensors,
     StarTracker,
     load_problem,
+    realism_fields,
 )
-from casadi_debris.config.realism import realism_fields
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import (
@@ -38,7 +38,7 @@ from casadi_debris.simulation import (
     engine_basis,
     simulate,
 )
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 PERIOD_S = 0.1
 STEPS = 12
@@ -252,7 +252,7 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
 
 
 def test_series_carry_the_estimation_error(short_runs) -> None:
-    from casadi_debris.report.simulation import series_columns
+    from casadi_debris.report import series_columns
 
     run = short_runs["everything"]
     columns = series_columns(run)

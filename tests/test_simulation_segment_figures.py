@@ -11,7 +11,7 @@ import pytest
 from casadi_debris.config import default_controller_path, problem_from_dict
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import segment_figures, simulate
 
 

@@ -7,8 +7,8 @@ import math
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.environment.orbit import CircularOrbit
-from casadi_debris.guidance.targets import (
+from casadi_debris.environment import CircularOrbit
+from casadi_debris.guidance import (
     blend,
     continuous_sign,
     frame_attitude,

@@ -20,7 +20,7 @@ from casadi_debris.config import default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import simulate
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 SLEW = default_problem_path().parent / "paper_slew.toml"
 

@@ -18,16 +18,17 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
 from casadi_debris.slews import (
+    COLLOCATION_DEGREE,
     SlewOptions,
     bang_bang_slew,
     fuel_optimal_slew,
     least_fuel_thrust,
+    radau_coefficients,
     shape,
     slew_about_axis,
     slew_between,
     time_optimal_slew,
 )
-from casadi_debris.slews.transcription import COLLOCATION_DEGREE, radau_coefficients
 from slew_reference import every_profile_checked, final_state  # noqa: F401 (autouse)
 
 PAPER_SLEW_DURATION_S = 1228.0  # paper, Section IV.A

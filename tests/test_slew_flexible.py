@@ -18,7 +18,7 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.plots.slew import plot_slew
+from casadi_debris.plots import plot_slew
 from casadi_debris.slews import fuel_optimal_slew, time_optimal_slew
 from slew_reference import every_profile_checked, final_state  # noqa: F401 (autouse)
 

@@ -10,8 +10,13 @@ import pytest
 
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model, linearize
-from casadi_debris.slews.modal import ModalResponse, modal_response
-from casadi_debris.slews.profile import simulate, vibration_energy, zoh_input_function
+from casadi_debris.slews import (
+    ModalResponse,
+    modal_response,
+    simulate,
+    vibration_energy,
+    zoh_input_function,
+)
 
 
 @pytest.fixture(scope="module")

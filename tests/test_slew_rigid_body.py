@@ -9,8 +9,13 @@ import numpy as np
 import pytest
 
 from casadi_debris.errors import InputShapeError
-from casadi_debris.slews import RigidBody, SlewOptions, fuel_optimal_slew, time_optimal_slew
-from casadi_debris.slews.rigid_body import scaled_rigid_ode
+from casadi_debris.slews import (
+    RigidBody,
+    SlewOptions,
+    fuel_optimal_slew,
+    scaled_rigid_ode,
+    time_optimal_slew,
+)
 
 
 def test_defaults_and_conversion() -> None:

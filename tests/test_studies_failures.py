@@ -17,7 +17,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.geometry import torque_authority
-from casadi_debris.report.failures import pointing_window
+from casadi_debris.report import pointing_window
 from casadi_debris.studies.failures import (
     FailureCase,
     FailureSettings,
@@ -28,8 +28,7 @@ from casadi_debris.studies.failures import (
     manoeuvres,
 )
 from casadi_debris.units import MN_PER_N
-from casadi_debris.workflows.controller import controller_for
-from casadi_debris.workflows.failures import failures
+from casadi_debris.workflows import controller_for, failures
 
 PROBLEMS = default_problem_path().parent
 SLEW_S = 120.0  # the first two minutes of the paper's slew

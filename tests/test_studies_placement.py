@@ -17,8 +17,7 @@ import math
 import numpy as np
 import pytest
 
-from casadi_debris.config import SIGNED_AXES, Problem, signed_axis_vector
-from casadi_debris.config.layouts import expand_layout
+from casadi_debris.config import SIGNED_AXES, Problem, expand_layout, signed_axis_vector
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import build_geometry, max_thrust_N, torque_authority
 from casadi_debris.studies.placement import (

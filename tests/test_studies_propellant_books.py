@@ -11,7 +11,7 @@ import pytest
 from casadi_debris.config import load_problem
 from casadi_debris.errors import AllocationError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.orbit.propulsion import swarm_thrust
+from casadi_debris.orbit import swarm_thrust
 from casadi_debris.simulation.detumble import detumble
 from casadi_debris.studies.mission import thrust_left, transfer_per_engine
 from casadi_debris.studies.propellant_books import PropellantBooks, detumble_engine_kg

@@ -45,7 +45,7 @@ from hypothesis import strategies as st
 from casadi_debris.allocation import Allocator
 from casadi_debris.cli import main
 from casadi_debris.config import Problem, problem_from_dict
-from casadi_debris.report.describe import describe_model
+from casadi_debris.report import describe_model
 from casadi_debris.slews import (
     SlewOptions,
     SlewProfile,

@@ -10,9 +10,8 @@ import pytest
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.simulation import CampaignSummary
-from casadi_debris.workflows.campaign import CaseSelection, check_scheduler_address, one_case
-from casadi_debris.workflows.montecarlo import montecarlo
+from casadi_debris.report import CampaignSummary
+from casadi_debris.workflows import CaseSelection, check_scheduler_address, montecarlo, one_case
 
 
 @pytest.fixture(scope="module")

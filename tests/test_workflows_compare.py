@@ -19,8 +19,7 @@ from casadi_debris.errors import ProblemFileError
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import simulate
 from casadi_debris.store import MARKER_NAME
-from casadi_debris.workflows.compare import compare
-from casadi_debris.workflows.controller import controller_for
+from casadi_debris.workflows import compare, controller_for
 from workflow_files import short_problem as _short
 
 SHORT_S, LONG_S = 60.0, 90.0

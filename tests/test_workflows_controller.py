@@ -13,11 +13,11 @@ from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.config import default_controller_path, default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
-from casadi_debris.errors import ProblemFileError
+from casadi_debris.errors import ControllerMismatchError, ProblemFileError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import simulate
-from casadi_debris.workflows.controller import ControllerMismatchError, controller_for
+from casadi_debris.workflows import controller_for
 
 PROBLEMS = default_problem_path().parent
 

@@ -14,10 +14,9 @@ from click.testing import CliRunner
 from casadi_debris import load_problem
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
-from casadi_debris.report.design import DesignSummary
-from casadi_debris.workflows.controller import load_controller
-from casadi_debris.workflows.design import SLEW_RUN_FACTOR, _classical, verification_problems
-from casadi_debris.workflows.reproduce import QUICK
+from casadi_debris.report import DesignSummary
+from casadi_debris.workflows import QUICK, load_controller
+from casadi_debris.workflows._design import SLEW_RUN_FACTOR, _classical, verification_problems
 
 PROBLEMS = default_problem_path().parent
 
@@ -140,9 +139,8 @@ def test_each_missed_requirement_gets_its_binding_limit_from_the_runs(problem):
     nominal and corner, the slew's own torque fraction, nothing for a requirement met."""
     from types import SimpleNamespace
 
-    from casadi_debris.report.design import RequirementRow
-    from casadi_debris.report.simulation import WorstFigure
-    from casadi_debris.workflows.design import binding_limits
+    from casadi_debris.report import RequirementRow, WorstFigure
+    from casadi_debris.workflows import binding_limits
 
     slew_problem, _ = verification_problems(problem, QUICK)
     pointing = SimpleNamespace(

@@ -15,7 +15,7 @@ from scipy.optimize import brentq
 import casadi_debris as cd
 from casadi_debris.cli import main
 from casadi_debris.dynamics import build_model, linearize
-from casadi_debris.workflows.controller import ControllerMismatchError
+from casadi_debris.errors import ControllerMismatchError
 
 SAMPLES = 70  # the 64 corners and a few random plants: seconds
 VOLATILE = ("time_s", "out_dir")

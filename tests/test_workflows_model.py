@@ -23,7 +23,7 @@ def _cli_json(*arguments: str) -> dict:
 
 
 def test_cd_model_is_the_job_not_a_package() -> None:
-    assert callable(cd.model) and cd.model.__module__ == "casadi_debris.workflows.model"
+    assert callable(cd.model) and cd.model.__module__ == "casadi_debris.workflows._model"
     assert "model" in cd.__all__
 
 

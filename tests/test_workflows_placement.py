@@ -91,7 +91,7 @@ def test_plot_returns_the_layout_and_writes_nothing(
     assert list(tmp_path.iterdir()) == []
     assert len(result.study.chosen) == 6
     # Every chosen CubeSat is a filled dot in the two views that see its face edge on.
-    from casadi_debris.plots.placement import VIEWS
+    from casadi_debris.plots import VIEWS
 
     dots = 0
     for axis, (first, second) in zip(figures["layout"].axes, VIEWS, strict=False):

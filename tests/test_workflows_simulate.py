@@ -99,7 +99,7 @@ def test_a_slew_turned_by_keyword_is_titled_by_what_flew() -> None:
 def test_the_shipped_controller_flies_another_plant_only_when_asked(
     caplog: pytest.LogCaptureFixture,
 ) -> None:
-    from casadi_debris.workflows.controller import ControllerMismatchError
+    from casadi_debris.errors import ControllerMismatchError
 
     with pytest.raises(ControllerMismatchError, match="--allow-mismatch"):
         cd.simulate("side_engines_12", duration_s=5.0)

@@ -19,7 +19,7 @@ import casadi_debris as cd
 from casadi_debris.cli import main
 from casadi_debris.config import default_problem_path
 from casadi_debris.errors import InputShapeError
-from casadi_debris.guidance.sequence import ManoeuvreSummary
+from casadi_debris.guidance import ManoeuvreSummary
 from slew_reference import every_profile_checked  # noqa: F401 (autouse)
 from workflow_files import SEQUENCE
 

@@ -15,7 +15,7 @@ import casadi_debris as cd
 from casadi_debris.cli import main
 from casadi_debris.dynamics import build_model, linearize
 from casadi_debris.errors import OutputError
-from casadi_debris.workflows.controller import load_controller
+from casadi_debris.workflows import load_controller
 
 QUICK = {"mu_points": 10, "max_iterations": 0, "samples": 20}
 QUICK_OPTIONS = ["--mu-points", "10", "--max-iterations", "0", "--samples", "20"]

@@ -2,10 +2,15 @@
 
 Every ``reference/<name>.md`` entry of ``nav`` in ``mkdocs.yml`` that has no file
 in ``docs/`` becomes a page documenting ``casadi_debris.<name>``: the package's
-docstring, then each public module in it (files not starting with ``_``), found on
-disk, so a new module appears without editing anything. ``reference/index.md``,
-if listed and missing, becomes a table of the listed packages with the first line
-of each docstring. The list in ``nav`` is the only list.
+docstring and the names its ``__init__`` exports (``__all__``, or the explicit
+``from x import A as A`` re-exports where there is no ``__all__``), then each public
+module and subpackage in it (names not starting with ``_``), found on disk, so a new
+module appears without editing anything. Implementation modules are private
+(``_name.py``): what they define reaches the page only through the names a package
+exports, under the name a user imports. A name is documented once, in the highest
+package on the page that exports it; a module or subpackage below lists it by link.
+``reference/index.md``, if listed and missing, becomes a table of the listed packages
+with the first line of each docstring. The list in ``nav`` is the only list.
 
 Nothing is imported from the package and nothing is written to ``docs/``: the
 pages exist only in the build (``File.generated``).
@@ -14,6 +19,7 @@ pages exist only in the build (``File.generated``).
 from __future__ import annotations
 
 import ast
+import json
 from pathlib import Path
 from typing import Any
 
@@ -74,12 +80,86 @@ def _defines(folder: Path) -> bool:
     return any(isinstance(node, ast.FunctionDef | ast.ClassDef) for node in tree.body)
 
 
+def _exports(folder: Path) -> dict[str, str] | None:
+    """The names a package's ``__init__.py`` exports, each with the module it comes from.
+
+    ``__all__`` when the package has one, else its redundant-alias re-exports
+    (``from x import A as A``); None when it has neither (it exports nothing by name).
+    A name defined in the ``__init__`` itself comes from the package.
+    """
+    dotted = ".".join((PACKAGE, *folder.relative_to(SOURCE).parts))
+    tree = ast.parse((folder / "__init__.py").read_text(encoding="utf-8"))
+    origins: dict[str, str] = {}
+    redundant: list[str] = []
+    listed: list[str] | None = None
+    # Imports anywhere at module level, those of a lazy package under TYPE_CHECKING too.
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            for alias in node.names:
+                origins[alias.asname or alias.name] = node.module
+                if alias.asname == alias.name:
+                    redundant.append(alias.name)
+    for node in tree.body:
+        if isinstance(node, ast.FunctionDef | ast.ClassDef):
+            origins[node.name] = dotted
+        elif isinstance(node, ast.Assign) and any(
+            isinstance(target, ast.Name) and target.id == "__all__" for target in node.targets
+        ):
+            listed = list(ast.literal_eval(node.value))
+    names = listed if listed is not None else redundant or None
+    if names is None:
+        return None
+    return {name: origins.get(name, dotted) for name in names}
+
+
+def _yaml(value: object) -> str:
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, list):
+        return json.dumps(value)
+    return str(value)
+
+
 def _directive(identifier: str, **options: object) -> str:
     lines = [f"::: {identifier}"]
     if options:
         lines.append("    options:")
-        lines.extend(f"      {key}: {str(value).lower()}" for key, value in options.items())
+        lines.extend(f"      {key}: {_yaml(value)}" for key, value in options.items())
     return "\n".join(lines) + "\n"
+
+
+def _below(origin: str, dotted: str) -> bool:
+    """Whether a name that comes from ``origin`` is defined in ``dotted`` or below it."""
+    return origin == dotted or origin.startswith(f"{dotted}.")
+
+
+# A page's documented names: name -> (the module it comes from, the package documenting it).
+Documented = dict[str, tuple[str, str]]
+
+
+def _section(dotted: str, documented: Documented, **options: object) -> str:
+    """One package or module of a page, without the names documented above it."""
+    path = SOURCE.joinpath(*dotted.split(".")[1:])
+    above = {name: where for name, (origin, where) in documented.items() if _below(origin, dotted)}
+    if path.is_dir():
+        exports = _exports(path)
+        if exports is not None:
+            # The exported names, under the name a user imports, in the order listed.
+            options["members"] = [name for name in exports if name not in above]
+            documented.update(
+                {name: (origin, dotted) for name, origin in exports.items() if name not in above}
+            )
+        elif not _defines(path):
+            # A package that neither defines nor exports anything shows only its docstring
+            # and, below, its public modules.
+            options["members"] = False
+    elif above:
+        options["filters"] = ["!^_[^_]", *(f"!^{name}$" for name in sorted(above))]
+    text = _directive(dotted, **options)
+    if above:
+        links = ", ".join(f"[`{name}`][{where}.{name}]" for name, where in sorted(above.items()))
+        text += f"\nAlso in `{dotted}`, documented above: {links}.\n"
+    return text
 
 
 def package_page(name: str) -> str:
@@ -88,11 +168,10 @@ def package_page(name: str) -> str:
     dotted = f"{PACKAGE}.{name}"
     parts = [f"# `{dotted}`\n"]
     if path.is_dir():
-        # A package that defines its API in __init__.py (parallel) shows it; one that only
-        # re-exports shows its modules below instead of each name twice.
-        parts.append(_directive(dotted) if _defines(path) else _directive(dotted, members=False))
+        documented: Documented = {}
+        parts.append(_section(dotted, documented))
         parts.extend(
-            _directive(module, show_root_heading=True, heading_level=2)
+            _section(module, documented, show_root_heading=True, heading_level=2)
             for module in _modules(path, dotted)
         )
     else:

@@ -11,6 +11,8 @@ parents), as Sphinx would:
 - a name of this package becomes ``[`name`][casadi_debris.full.path]``: a link,
   and a warning (so an error under ``mkdocs build --strict``) if the page that
   documents it does not exist;
+- a name defined in a private module links to the public name it is exported
+  under (``casadi_debris.robust.musyn``, not ``...synthesis._musyn.musyn``);
 - a private name (``_helper``) or a name outside the package (``logging``,
   ``qpsolvers.solve_problem``) becomes plain code: nothing to link to here;
 - a name that resolves to nothing is reported as a warning naming the
@@ -93,8 +95,41 @@ def _is_private(path: str) -> bool:
     return any(part.startswith("_") and not part.endswith("__") for part in path.split("."))
 
 
-def rewrite(text: str, obj: griffe.Object, root: griffe.Module) -> str:
-    """``text`` with every Sphinx role replaced by a link or plain code."""
+def public_paths(root: griffe.Module) -> dict[str, str]:
+    """Where each object defined in a private module is documented: the shortest public
+    path that exports it (``casadi_debris.robust.synthesis._musyn.musyn`` ->
+    ``casadi_debris.robust.musyn``), the package root itself left out (it has no page)."""
+    found: dict[str, str] = {}
+
+    def visit(module: griffe.Module) -> None:
+        for member in list(module.members.values()):
+            if member.is_alias:
+                if module.path == root.path or member.name.startswith("_"):
+                    continue
+                try:
+                    target = member.final_target.path
+                except (griffe.AliasResolutionError, griffe.CyclicAliasError):
+                    continue
+                if _is_private(target) and (
+                    target not in found or len(member.path) < len(found[target])
+                ):
+                    found[target] = member.path
+            elif member.is_module and not _is_private(member.path):
+                visit(member)
+
+    visit(root)
+    return found
+
+
+def rewrite(
+    text: str, obj: griffe.Object, root: griffe.Module, public: dict[str, str] | None = None
+) -> str:
+    """``text`` with every Sphinx role replaced by a link or plain code.
+
+    A role naming an object of a private module links to the public name it is
+    documented under (``public``, from :func:`public_paths`).
+    """
+    public = public or {}
 
     def replace(match: re.Match[str]) -> str:
         role, body = match.groups()
@@ -110,6 +145,7 @@ def rewrite(text: str, obj: griffe.Object, root: griffe.Module) -> str:
             logger.warning("%s: cannot resolve :%s:`%s`", obj.path, role, body)
             return f"`{shown}`"
         inside = path == root.path or path.startswith(f"{root.path}.")
+        path = public.get(path, path)
         if not inside or _is_private(path):
             return f"`{shown}`"
         return f"[`{shown}`][{_documented(root, path)}]"
@@ -129,6 +165,7 @@ class SphinxRoles(griffe.Extension):
     """Rewrite Sphinx roles in every docstring of the loaded package."""
 
     def on_package(self, *, pkg: griffe.Module, **kwargs: Any) -> None:
+        public = public_paths(pkg)
         for obj in _walk(pkg):
             if obj.docstring is not None:
-                obj.docstring.value = rewrite(obj.docstring.value, obj, pkg)
+                obj.docstring.value = rewrite(obj.docstring.value, obj, pkg, public)

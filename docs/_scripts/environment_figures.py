@@ -37,7 +37,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.environment import EnvironmentTorques
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import LoopSettings, simulate
 from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
 

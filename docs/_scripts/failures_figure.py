@@ -18,7 +18,7 @@ import tempfile
 from pathlib import Path
 
 import casadi_debris as cd
-from casadi_debris.report.failures import HEATMAP
+from casadi_debris.report import HEATMAP
 
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "failures_authority_loss.png"
 

@@ -23,12 +23,10 @@ import numpy as np
 
 from casadi_debris import load_problem
 from casadi_debris.config import default_controller_path
-from casadi_debris.dynamics import build_model
-from casadi_debris.dynamics.attitude import euler_angles_321
-from casadi_debris.guidance import scenario_reference
-from casadi_debris.guidance.sequence import segment_records
-from casadi_debris.plots.slew import plot_segment_series
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.dynamics import build_model, euler_angles_321
+from casadi_debris.guidance import scenario_reference, segment_records
+from casadi_debris.plots import plot_segment_series
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import segment_figures, simulate
 from casadi_debris.units import MNM_PER_NM
 

@@ -24,8 +24,8 @@ import numpy as np
 import casadi_debris as cd
 from casadi_debris import load_problem
 from casadi_debris.campaigns import FIGURES, CaseSummary, campaign_statistics, requirement_of
-from casadi_debris.plots.statistics import plot_statistics
-from casadi_debris.report.simulation import figure_title
+from casadi_debris.plots import plot_statistics
+from casadi_debris.report import figure_title
 
 NAME = "paper_slew_dispersions"
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "montecarlo_slew_statistics.png"

@@ -28,11 +28,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from casadi_debris import load_problem
-from casadi_debris.config import Actuators, Problem, default_controller_path
-from casadi_debris.config.realism import realism_fields
+from casadi_debris.config import Actuators, Problem, default_controller_path, realism_fields
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.controller import ControllerRecord
+from casadi_debris.robust.plant import ControllerRecord
 from casadi_debris.simulation import ClosedLoopResult, simulate
 from casadi_debris.units import ARCSEC_PER_RAD
 

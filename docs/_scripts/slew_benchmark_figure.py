@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from casadi_debris.plots.slew import plot_slew_comparison
+from casadi_debris.plots import plot_slew_comparison
 from casadi_debris.slews import RigidBody, time_optimal_slew
 
 FIGURE = Path(__file__).resolve().parents[1] / "figures" / "slew_time_optimal_benchmark.png"

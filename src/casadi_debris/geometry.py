@@ -11,7 +11,7 @@ corner frame; everything else is in B.
 CubeSats and engines
 --------------------
 The problem lists its CubeSats (an explicit ``[[cubesats]]`` list, or one a
-``[cubesat_layout]`` generated: see :mod:`casadi_debris.config.layouts`), each
+``[cubesat_layout]`` generated: see :mod:`casadi_debris.config`), each
 with one or more engines. Every engine is one column of the torque and force
 maps: its force direction, applied at the CubeSat's CoG plus the engine's
 offset.

@@ -1,7 +1,7 @@
 """The shipped problems the corpus mutates, parsed, and the children flattened onto the paper.
 
 The flattening is the package's own ``extends`` merge
-(:func:`casadi_debris.config.loader.merge_problem`), not a copy of it.
+(:func:`casadi_debris.config.merge_problem`), not a copy of it.
 :func:`paper_cubesat_list` is the paper with its ``[cubesat_layout]`` written out as
 the ``[[cubesats]]`` list it expands to (the same plant).
 """
@@ -12,7 +12,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from casadi_debris.config.loader import merge_problem
+from casadi_debris.config import merge_problem
 
 CHILDREN = ("paper_slew", "paper_pointing")
 

@@ -23,21 +23,22 @@ Example
 >>> events = state.advance(result.thrust_N, 60.0)
 """
 
-from casadi_debris.allocation.allocator import (
+from casadi_debris.allocation._allocator import (
     DEFAULT_SOLVER,
     SATURATION_MODES,
     Allocator,
     NoEngineError,
 )
-from casadi_debris.allocation.authority import AuthorityPolytope, authority_polytope
-from casadi_debris.allocation.backends import UnknownSolverError, available_solvers
-from casadi_debris.allocation.baseline import PseudoInverseAllocator
-from casadi_debris.allocation.demand import DemandError
-from casadi_debris.allocation.paths import AllocationInternalError
-from casadi_debris.allocation.propulsion import PropulsionState, StageEvent
-from casadi_debris.allocation.results import AllocationResult, BatchAllocation, SeriesAllocation
+from casadi_debris.allocation._authority import AuthorityPolytope, authority_polytope
+from casadi_debris.allocation._backends import QpSolution, UnknownSolverError, available_solvers
+from casadi_debris.allocation._baseline import PseudoInverseAllocator
+from casadi_debris.allocation._demand import ABSURD_FACTOR, DemandError
+from casadi_debris.allocation._paths import AllocationInternalError, SaturationMode
+from casadi_debris.allocation._propulsion import PropulsionState, StageEvent
+from casadi_debris.allocation._results import AllocationResult, BatchAllocation, SeriesAllocation
 
 __all__ = [
+    "ABSURD_FACTOR",
     "DEFAULT_SOLVER",
     "SATURATION_MODES",
     "AllocationInternalError",
@@ -49,6 +50,8 @@ __all__ = [
     "NoEngineError",
     "PropulsionState",
     "PseudoInverseAllocator",
+    "QpSolution",
+    "SaturationMode",
     "SeriesAllocation",
     "StageEvent",
     "UnknownSolverError",

@@ -27,7 +27,7 @@ from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import SimulationError
 from casadi_debris.records import Record
-from casadi_debris.robust.uncertainty import corner_angles, parameters_from_normalized
+from casadi_debris.robust.plant import corner_angles, parameters_from_normalized
 
 __all__ = [
     "Case",
@@ -79,7 +79,7 @@ class Case:
     def file_values(self) -> tuple[tuple[str, float], ...]:
         """The varied keys of the problem file (not model parameters): the case's problem
         is the campaign's read again with them (see
-        :func:`~casadi_debris.config.reader.problem_with_values`)."""
+        :func:`~casadi_debris.config.problem_with_values`)."""
         return tuple((name, value) for name, value in self.varied if "." in name or "[" in name)
 
     def noise_seed(self, problem: Problem) -> int | None:

@@ -34,7 +34,7 @@ from casadi_debris.campaigns._cases import Case, CaseBatch, CaseIdentity, batche
 from casadi_debris.config import Problem, problem_with_values
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.errors import CasesFailedError, SchedulerError
-from casadi_debris.guidance.reference import Reference
+from casadi_debris.guidance import Reference
 from casadi_debris.parallel import (
     ItemFailure,
     MapResults,

@@ -32,7 +32,7 @@ from casadi_debris.campaigns._cases import Case
 from casadi_debris.config import Problem, VariedQuantity
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import ModelError, ProblemFileError, SimulationError
-from casadi_debris.robust.uncertainty import normalized_from_parameters
+from casadi_debris.robust.plant import normalized_from_parameters
 
 CASE_KIND = "varied"
 

@@ -35,8 +35,8 @@ import scipy.linalg
 from casadi_debris.allocation import Allocator
 from casadi_debris.dynamics import Model, linearization_function, linearize
 from casadi_debris.errors import SimulationError
-from casadi_debris.guidance.reference import Reference
-from casadi_debris.robust.uncertainty import FULL_CIRCLE_DEG, parameters_from_normalized
+from casadi_debris.guidance import Reference
+from casadi_debris.robust.plant import FULL_CIRCLE_DEG, parameters_from_normalized
 from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate
 
 _log = logging.getLogger(__name__)

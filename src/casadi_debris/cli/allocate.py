@@ -20,7 +20,7 @@ from casadi_debris.config import load_problem
 from casadi_debris.errors import AllocationError
 
 if TYPE_CHECKING:
-    from casadi_debris.allocation.paths import SaturationMode
+    from casadi_debris.allocation import SaturationMode
 
 # The allocator's own values (a test checks they agree); written here so that the
 # command's help does not load the QP back-ends.
@@ -155,7 +155,7 @@ def allocate(
 ) -> None:
     """Thrust of every CubeSat engine for a torque (and force) demand: least fuel, exact when
     reachable, direction kept when not."""
-    from casadi_debris.workflows.allocate import allocate as allocate_job
+    from casadi_debris.workflows import allocate as allocate_job
 
     problem = load_problem(problem_file)
     result = allocate_job(

@@ -15,7 +15,7 @@ from casadi_debris.cli.common import (
     run_folder,
     say,
 )
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 
 @main.command()
@@ -47,7 +47,7 @@ def alternatives(
     worst single and double CubeSat failure. Writes summary.json, alternatives.csv,
     alternatives.md and alternatives.png in --out.
     """
-    from casadi_debris.workflows.alternatives import alternatives as alternatives_job
+    from casadi_debris.workflows import alternatives as alternatives_job
 
     folder = run_folder(out, "alternatives", "", overwrite)
     result = alternatives_job(

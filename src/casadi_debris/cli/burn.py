@@ -21,7 +21,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 DIRECTIONS = ("retrograde", "prograde", "normal", "antinormal")
 
@@ -91,7 +91,7 @@ def burn(
     Reports the thrust axis' pointing error, Δv (simulated, analytic, rocket equation),
     the propellant split between Δv and attitude, and stage switches.
     """
-    from casadi_debris.workflows.burn import burn as burn_job
+    from casadi_debris.workflows import burn as burn_job
 
     problem = load_problem(problem_file)
     axis = None if body_axis is None else _axis(body_axis)
@@ -137,7 +137,7 @@ def burn(
 
 def _axis(text: str) -> str | tuple[float, float, float]:
     """``x``, ``-y``, ... (passed on as the name) or ``a,b,c`` (not all zero) as a vector."""
-    from casadi_debris.config.segments import AXIS_TEXTS
+    from casadi_debris.config import AXIS_TEXTS
 
     if text.strip().lower() in AXIS_TEXTS:
         return text

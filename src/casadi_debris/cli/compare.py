@@ -18,7 +18,7 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import SLEW_METHODS, load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 
 @main.command()
@@ -50,8 +50,8 @@ def compare(
     comparison.md, comparison.png and summary.json in --out. A variant whose
     run fails says why in its row.
     """
-    from casadi_debris.report.compare import COLUMNS, cell
-    from casadi_debris.workflows.compare import compare as compare_variants
+    from casadi_debris.report import COLUMNS, cell
+    from casadi_debris.workflows import compare as compare_variants
 
     chosen = None if methods is None else comma_list(methods, "--methods", "bang-bang,time-optimal")
     problems = [load_problem(path) for path in problem_files]

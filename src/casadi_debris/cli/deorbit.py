@@ -24,7 +24,7 @@ from casadi_debris.cli.common import (
 from casadi_debris.config import load_problem
 from casadi_debris.config.limits import SEED
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 MAX_SAMPLES = 100_000
 
@@ -45,7 +45,7 @@ limit_years_option = click.option(
 
 def solar_cases(text: str) -> tuple[str, ...]:
     """``--solar low,mean`` as distinct known cases, or one line naming the option."""
-    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+    from casadi_debris.orbit import SOLAR_CASES
 
     cases = comma_list(text, "--solar", "low,mean,high")
     if [c for c in cases if c not in SOLAR_CASES] or len(set(cases)) != len(cases):
@@ -104,7 +104,7 @@ def deorbit(
     decay. Says whether the swarm suffices, how many stages it takes, and the
     smallest swarm that would.
     """
-    from casadi_debris.workflows.deorbit import deorbit as deorbit_job
+    from casadi_debris.workflows import deorbit as deorbit_job
 
     cases = solar_cases(solar)
     problem = load_problem(problem_file)
@@ -136,7 +136,7 @@ def _years(value: float) -> str:
 
 def _text(plan: Any) -> str:
     """The cases as a table, then the verdict, the smallest swarm and the Monte Carlo."""
-    from casadi_debris.orbit.atmosphere import SOLAR_CASES
+    from casadi_debris.orbit import SOLAR_CASES
 
     rows = [
         [

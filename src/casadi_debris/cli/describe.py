@@ -23,8 +23,8 @@ from casadi_debris.config import load_problem
 @friendly_errors
 def model(problem_file: Path | None, as_json: bool) -> None:
     """Describe the combined system: mass, inertia, CoG, torque authority, modes, engines."""
-    from casadi_debris.report.describe import model_text
-    from casadi_debris.workflows.model import model as model_job
+    from casadi_debris.report import model_text
+    from casadi_debris.workflows import model as model_job
 
     described = model_job(problem_file)
     if as_json:
@@ -40,8 +40,8 @@ def model(problem_file: Path | None, as_json: bool) -> None:
 @friendly_errors
 def budget(problem_file: Path | None, as_json: bool) -> None:
     """Δv, propellant, lifetime, transfer and detumble budgets."""
-    from casadi_debris.report.describe import budget_text
-    from casadi_debris.workflows.budget import budget as budget_job
+    from casadi_debris.report import budget_text
+    from casadi_debris.workflows import budget as budget_job
 
     budgets = budget_job(problem_file)
     if as_json:
@@ -61,7 +61,7 @@ def schema() -> None:
     choices. The loader still checks what a schema cannot (a hinge on the hub,
     propellant below its CubeSat's mass, which keys may be left out).
     """
-    from casadi_debris.config.json_schema import problem_schema
+    from casadi_debris.config import problem_schema
 
     echo_json(problem_schema())
 
@@ -77,7 +77,7 @@ def problems(as_json: bool) -> None:
     of that name where the command runs is read first.
     """
     from casadi_debris.config import shipped_problems
-    from casadi_debris.report.common import format_table
+    from casadi_debris.report import format_table
 
     rows = []
     for name, path in shipped_problems().items():

@@ -21,8 +21,8 @@ from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.config import load_problem
 
 if TYPE_CHECKING:
-    from casadi_debris.robust.body_weights import WeightsChoice
-    from casadi_debris.workflows.design import DesignMethod
+    from casadi_debris.robust.requirements import WeightsChoice
+    from casadi_debris.workflows import DesignMethod
 
 TABLE_KEYS = ("result", "required", "ours", "verdict")
 
@@ -69,7 +69,7 @@ def design(
     margins over sampled plants, slew and pointing corner campaigns; writes controller.json
     and report.md. --method pd, pid or lqr designs a classical controller instead and verifies
     it the same way, to compare with the mu design."""
-    from casadi_debris.workflows.design import design as design_job
+    from casadi_debris.workflows import design as design_job
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "design", problem.name, overwrite)

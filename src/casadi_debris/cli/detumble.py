@@ -19,7 +19,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 MAX_RATE_RAD_S = 100.0
 
@@ -78,7 +78,7 @@ def detumble(
     beside the budget's per-axis estimate, a momentum bound and the time-optimal
     detumble (an OCP over the rates averaged over their precession).
     """
-    from casadi_debris.workflows.detumble import detumble as detumble_job
+    from casadi_debris.workflows import detumble as detumble_job
 
     problem = load_problem(problem_file)
     rate = None if rate_rad_s is None else _rates(rate_rad_s)

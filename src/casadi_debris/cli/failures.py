@@ -23,7 +23,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 if TYPE_CHECKING:
     from casadi_debris.studies.failures import FailuresSummary
@@ -159,7 +159,7 @@ def failures(
             f"--max-failed: between 1 and {count} (the problem's CubeSats); got {max_failed}"
         )
     folder = run_folder(out, "failures", problem.name, overwrite)
-    from casadi_debris.workflows.failures import failures as study_failures
+    from casadi_debris.workflows import failures as study_failures
 
     result = study_failures(
         problem,

@@ -39,8 +39,8 @@ def mission(
     then the debris decays. Writes summary.json, phases.csv, propellant.csv (per CubeSat
     and stage), mission.png, altitude.png and decay.png (and each figure as PDF).
     """
-    from casadi_debris.report.mission import mission_text
-    from casadi_debris.workflows.mission import mission as mission_job
+    from casadi_debris.report import mission_text
+    from casadi_debris.workflows import mission as mission_job
 
     cases = solar_cases(solar)
     problem = load_problem(problem_file)

@@ -24,7 +24,7 @@ from casadi_debris.cli.common import (
 )
 from casadi_debris.config import load_problem
 from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 if TYPE_CHECKING:
     from casadi_debris.studies.placement import PlacementSummary
@@ -135,7 +135,7 @@ def placement(
     (HiGHS). Writes placement.toml (a problem file extending PROBLEM.toml with the chosen
     [[cubesats]]), summary.json, report.md and layout.png (pareto.png with --pareto)."""
     from casadi_debris.studies.placement import parse_grid
-    from casadi_debris.workflows.placement import placement as placement_job
+    from casadi_debris.workflows import placement as placement_job
 
     sides = None
     if side_engines is not None:

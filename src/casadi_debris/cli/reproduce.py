@@ -10,7 +10,7 @@ import click
 from casadi_debris.cli.common import echo_json, folder_option, main, output_options, workers_option
 from casadi_debris.cli.simulate import stage_progress
 from casadi_debris.records import Record
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 TABLE_KEYS = ("result", "paper", "accepted", "ours", "verdict")
 
@@ -28,7 +28,7 @@ def reproduce(
     with their Monte-Carlo envelopes; writes report.md with every figure of the
     paper next to ours."""
     from casadi_debris.store import check_output_folder
-    from casadi_debris.workflows.reproduce import reproduce as reproduce_job
+    from casadi_debris.workflows import reproduce as reproduce_job
 
     check_output_folder(out, overwrite=overwrite)
     paper = reproduce_job(

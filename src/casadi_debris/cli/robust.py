@@ -31,10 +31,10 @@ from casadi_debris.config.limits import (
     MU_POINTS,
 )
 from casadi_debris.errors import InputShapeError, SynthesisError
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 if TYPE_CHECKING:
-    from casadi_debris.robust.musyn import Iteration
+    from casadi_debris.robust.synthesis import Iteration
 
 
 @main.command()
@@ -67,7 +67,7 @@ def synthesize(
 
     Writes controller.json (fly it with --controller) and summary.json into --out.
     """
-    from casadi_debris.workflows.synthesize import synthesize as synthesize_job
+    from casadi_debris.workflows import synthesize as synthesize_job
 
     problem = load_problem(problem_file)
     orders = _d_orders(d_orders)
@@ -148,7 +148,7 @@ def margins(
     as_json: bool,
 ) -> None:
     """Loop-at-a-time, delay and disk margins: nominal and over sampled plants."""
-    from casadi_debris.workflows.margins import margins as margins_job
+    from casadi_debris.workflows import margins as margins_job
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "margins", problem.name, overwrite)

@@ -31,10 +31,14 @@ from casadi_debris.cli.common import (
     workers_option,
 )
 from casadi_debris.cli.slew import axis_options
-from casadi_debris.config import Problem, limits, load_problem
-from casadi_debris.config.loader import UnreadableFileError, read_regular_file
-from casadi_debris.errors import InputShapeError
-from casadi_debris.report.common import format_figure, format_table
+from casadi_debris.config import (
+    Problem,
+    limits,
+    load_problem,
+    read_regular_file,
+)
+from casadi_debris.errors import InputShapeError, UnreadableFileError
+from casadi_debris.report import format_figure, format_table
 from casadi_debris.store import RunFolder, check_output_folder, write_csv, write_json_atomic
 from casadi_debris.units import NM_PER_MNM
 
@@ -43,7 +47,7 @@ if TYPE_CHECKING:
 
     from casadi_debris.campaigns import CampaignStatistics
     from casadi_debris.simulation import SegmentFigures
-    from casadi_debris.workflows.campaign import RunRecord
+    from casadi_debris.workflows import RunRecord
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
 
@@ -214,7 +218,7 @@ def simulate(
             raise InputShapeError("--open-loop TORQUE.csv and --rigid go together")
         _open_loop(problem, open_loop, duration_s, out, overwrite, as_json)
         return
-    from casadi_debris.workflows.simulate import simulate as simulate_run
+    from casadi_debris.workflows import simulate as simulate_run
 
     run = simulate_run(
         problem,
@@ -362,7 +366,7 @@ def montecarlo(
     campaign.nc (every case, for xarray) and the nominal run.
     """
     from casadi_debris.errors import CampaignInterrupted
-    from casadi_debris.workflows.montecarlo import montecarlo as run_montecarlo
+    from casadi_debris.workflows import montecarlo as run_montecarlo
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "montecarlo", problem.name, overwrite)

@@ -24,12 +24,12 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import limits, load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 from casadi_debris.store import check_output_folder
 
 if TYPE_CHECKING:
-    from casadi_debris.guidance.sequence import ManoeuvreSummary
-    from casadi_debris.workflows.slew import SlewSummary
+    from casadi_debris.guidance import ManoeuvreSummary
+    from casadi_debris.workflows import SlewSummary
 
 
 def summary_text(summary: SlewSummary) -> str:
@@ -263,7 +263,7 @@ def slew(
     not given; otherwise the defaults are 180 deg about z by the paper's bang-bang.
     Writes profile.csv, slew.png and summary.json to --out, prints the summary.
     """
-    from casadi_debris.workflows.slew import slew as slew_job
+    from casadi_debris.workflows import slew as slew_job
 
     problem = load_problem(problem_file)
     if out is not None:

@@ -17,7 +17,7 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 
 @main.command()
@@ -41,7 +41,7 @@ def transfer(
     propellant, stages per CubeSat, and whether the swarm's own stages suffice
     (if not: how far they get and what more it takes).
     """
-    from casadi_debris.workflows.transfer import transfer as transfer_job
+    from casadi_debris.workflows import transfer as transfer_job
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "transfer", problem.name, overwrite)

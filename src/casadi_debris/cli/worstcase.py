@@ -21,10 +21,10 @@ from casadi_debris.cli.common import (
     say,
 )
 from casadi_debris.config import limits, load_problem
-from casadi_debris.report.common import format_table
+from casadi_debris.report import format_table
 
 if TYPE_CHECKING:  # the worst-case report imports plotting: loaded by the command
-    from casadi_debris.report.worstcase import WorstCaseSummary
+    from casadi_debris.report import WorstCaseSummary
 
 
 @main.command()
@@ -77,7 +77,7 @@ def worstcase(
     worst_parameters.json and mu_*_parameters.json (for simulate --parameters),
     evaluations.csv and worstcase.png.
     """
-    from casadi_debris.workflows.worstcase import worstcase as find_worst_cases
+    from casadi_debris.workflows import worstcase as find_worst_cases
 
     problem = load_problem(problem_file)
     folder = run_folder(out, "worstcase", problem.name, overwrite)

@@ -17,29 +17,36 @@ Example
 >>> problem.hub.mass_kg
 500.0
 
-Modules: :mod:`~casadi_debris.config.schema` (the frozen dataclasses),
-:mod:`~casadi_debris.config.limits` (the range of every number, and why),
-:mod:`~casadi_debris.config.table` (the typed table reader),
-:mod:`~casadi_debris.config.checks` (physical checks),
-:mod:`~casadi_debris.config.bodies` and :mod:`~casadi_debris.config.runs` (the
-readers of the debris and swarm tables, and of the run tables),
-:mod:`~casadi_debris.config.reader` (:func:`problem_from_dict` and the checks
-across tables) and :mod:`~casadi_debris.config.loader` (files and ``extends``).
+The package exports the schema's frozen dataclasses (:class:`Problem` and its
+tables), the readers (:func:`problem_from_dict`, :func:`problem_with_values`), the
+loader (:func:`load_problem`, :func:`shipped_problems`) and the physical checks
+(:func:`check_inertia`); its modules are private, except
+:mod:`~casadi_debris.config.limits` (the range of every number, and why), which the
+commands read as a namespace.
 """
 
 from __future__ import annotations
 
-from casadi_debris.config.checks import TRIANGLE_TOLERANCE, check_inertia
-from casadi_debris.config.layouts import signed_axis_vector
-from casadi_debris.config.loader import (
+from casadi_debris.config._checks import TRIANGLE_TOLERANCE, check_inertia, check_transfer_end
+from casadi_debris.config._json_schema import problem_schema
+from casadi_debris.config._layouts import (
+    cubesat_inertia_on_face,
+    expand_layout,
+    face_axes,
+    face_engines,
+    signed_axis_vector,
+)
+from casadi_debris.config._loader import (
     default_controller_path,
     default_problem_path,
     load_problem,
+    merge_problem,
     problem_path,
+    read_regular_file,
     shipped_problems,
 )
-from casadi_debris.config.reader import problem_from_dict, problem_with_values
-from casadi_debris.config.realism import (
+from casadi_debris.config._reader import problem_from_dict, problem_with_values
+from casadi_debris.config._realism import (
     ESTIMATION_FILTERS,
     Actuators,
     ControllerTiming,
@@ -48,9 +55,10 @@ from casadi_debris.config.realism import (
     Gyro,
     Sensors,
     StarTracker,
+    realism_fields,
 )
-from casadi_debris.config.runs import with_duration
-from casadi_debris.config.schema import (
+from casadi_debris.config._runs import run_length_violation, with_duration
+from casadi_debris.config._schema import (
     AXIS_NAMES,
     DEFAULT_MONTECARLO,
     DEFAULT_REQUIREMENTS,
@@ -87,8 +95,10 @@ from casadi_debris.config.schema import (
     VariedQuantity,
     Weights,
 )
-from casadi_debris.config.segments import (
+from casadi_debris.config._segments import (
+    AXIS_TEXTS,
     BURN_DIRECTIONS,
+    EULER_SEQUENCES,
     SEGMENT_KINDS,
     SLEW_METHODS,
     TRACK_FRAMES,
@@ -101,16 +111,20 @@ from casadi_debris.config.segments import (
     SlewSettings,
     Target,
     TrackFrame,
+    axis_unit_vector,
 )
+from casadi_debris.config._varied import key_of, parse_path, with_value
 
 __all__ = [
     "AXIS_NAMES",
+    "AXIS_TEXTS",
     "BURN_DIRECTIONS",
     "DEFAULT_MONTECARLO",
     "DEFAULT_REQUIREMENTS",
     "DEFAULT_SIMULATION",
     "ENVIRONMENT_TORQUES",
     "ESTIMATION_FILTERS",
+    "EULER_SEQUENCES",
     "MODE_KINDS",
     "REFERENCE_KINDS",
     "SEGMENT_KINDS",
@@ -161,14 +175,28 @@ __all__ = [
     "Uncertainty",
     "VariedQuantity",
     "Weights",
+    "axis_unit_vector",
     "check_inertia",
+    "check_transfer_end",
+    "cubesat_inertia_on_face",
     "default_controller_path",
     "default_problem_path",
+    "expand_layout",
+    "face_axes",
+    "face_engines",
+    "key_of",
     "load_problem",
+    "merge_problem",
+    "parse_path",
     "problem_from_dict",
     "problem_path",
+    "problem_schema",
     "problem_with_values",
+    "read_regular_file",
+    "realism_fields",
+    "run_length_violation",
     "shipped_problems",
     "signed_axis_vector",
     "with_duration",
+    "with_value",
 ]

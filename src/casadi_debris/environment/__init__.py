@@ -26,17 +26,17 @@ Example
 
 from __future__ import annotations
 
-from casadi_debris.environment.gravity import EARTH_MU_M3_S2, gravity_gradient_torque
-from casadi_debris.environment.magnetic import dipole_axis, dipole_field_T, magnetic_torque
-from casadi_debris.environment.orbit import EARTH_ROTATION_RAD_S, CircularOrbit
-from casadi_debris.environment.panels import (
+from casadi_debris.environment._gravity import EARTH_MU_M3_S2, gravity_gradient_torque
+from casadi_debris.environment._magnetic import dipole_axis, dipole_field_T, magnetic_torque
+from casadi_debris.environment._orbit import EARTH_ROTATION_RAD_S, CircularOrbit
+from casadi_debris.environment._panels import (
     Panel,
     aerodynamic_torque,
     debris_panels,
     solar_pressure_torque,
 )
-from casadi_debris.environment.sun import SOLAR_PRESSURE_N_M2, sun_direction, sunlit
-from casadi_debris.environment.torques import EnvironmentTorques
+from casadi_debris.environment._sun import SOLAR_PRESSURE_N_M2, sun_direction, sunlit
+from casadi_debris.environment._torques import EnvironmentTorques
 
 __all__ = [
     "EARTH_MU_M3_S2",

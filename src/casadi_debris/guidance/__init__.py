@@ -13,7 +13,7 @@ Nothing here closes a loop or integrates the model (that is
 :mod:`casadi_debris.simulation`).
 """
 
-from casadi_debris.guidance.burn_plan import (
+from casadi_debris.guidance._burn_plan import (
     BurnPlan,
     BurnWindow,
     burn_offset,
@@ -23,13 +23,13 @@ from casadi_debris.guidance.burn_plan import (
     strongest_axis,
     torque_free_thrust_N,
 )
-from casadi_debris.guidance.reference import (
+from casadi_debris.guidance._reference import (
     Reference,
     control_instants,
     sample_reference,
     scenario_reference,
 )
-from casadi_debris.guidance.sequence import (
+from casadi_debris.guidance._sequence import (
     ManoeuvreReference,
     ManoeuvreSummary,
     Piece,
@@ -39,11 +39,15 @@ from casadi_debris.guidance.sequence import (
     segment_records,
     sequence_pieces,
 )
-from casadi_debris.guidance.slew import generate_slew, slew_quaternions, solve_slew
-from casadi_debris.guidance.targets import (
+from casadi_debris.guidance._slew import generate_slew, slew_quaternions, solve_slew
+from casadi_debris.guidance._targets import (
+    blend,
     body_rates,
+    continuous_sign,
     frame_attitude,
     lvlh_matrices,
+    smoothstep,
+    smoothstep_integral,
     track_attitudes,
 )
 
@@ -55,10 +59,12 @@ __all__ = [
     "Piece",
     "Reference",
     "SegmentRecord",
+    "blend",
     "body_rates",
     "burn_offset",
     "burn_thrust_N",
     "burn_windows",
+    "continuous_sign",
     "control_instants",
     "direction_inertial",
     "frame_attitude",
@@ -71,6 +77,8 @@ __all__ = [
     "segment_records",
     "sequence_pieces",
     "slew_quaternions",
+    "smoothstep",
+    "smoothstep_integral",
     "solve_slew",
     "strongest_axis",
     "torque_free_thrust_N",

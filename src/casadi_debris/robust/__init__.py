@@ -1,6 +1,21 @@
 """Robust control: uncertainty weight, mu-synthesis on any generalised plant, reduction, margins.
 
 Design units of the paper's problem are the paper's: attitude in deg, torque in mNm.
+The package has five parts, each exporting its public names from its ``__init__``;
+lower parts never import upper ones:
+
+- :mod:`casadi_debris.robust.synthesis`: H-infinity, D-K iteration, reduction, the
+  paper's design end to end, classical controllers;
+- :mod:`casadi_debris.robust.mu`: μ analysis, complex and mixed, bounded above and
+  below, and over the real parametric uncertainty;
+- :mod:`casadi_debris.robust.margins`: loop-at-a-time and disk margins, nominal and
+  sampled;
+- :mod:`casadi_debris.robust.requirements`: scalings and weights derived from the
+  problem and the body, and the limit that binds when a design misses;
+- :mod:`casadi_debris.robust.plant`: the loop's parts as data (frequency responses,
+  uncertainty samples, weights, the generalised plant, the controller file).
+
+The names most used are also here:
 
 - :func:`musyn`: D-K iteration on any generalised plant and block structure
   (full complex blocks of any size, repeated real scalars), e.g.
@@ -20,11 +35,8 @@ Example
 1.04
 """
 
-from casadi_debris.robust.blocks import Block
-from casadi_debris.robust.hinf import HinfResult, hinf_synthesis
-from casadi_debris.robust.mixed_mu import MuBounds, mu_bounds
-from casadi_debris.robust.mu import MuBound, mu_upper_bound
-from casadi_debris.robust.musyn import MusynResult, musyn
+from casadi_debris.robust.mu import Block, MuBound, MuBounds, mu_bounds, mu_upper_bound
+from casadi_debris.robust.synthesis import HinfResult, MusynResult, hinf_synthesis, musyn
 
 __all__ = [
     "Block",

@@ -12,7 +12,7 @@ import control
 import numpy as np
 import scipy.linalg
 
-from casadi_debris.robust.interconnect import static_gain
+from casadi_debris.robust.plant import static_gain
 
 DISTILLATION_GAIN = np.array([[87.8, -86.4], [108.2, -109.6]])
 DISTILLATION_BLOCKS = (("complex", 1), ("complex", 1), ("complex", 2))

@@ -9,7 +9,7 @@ One control period ``h = 1 / control_rate`` of the loop, from the state
    ``u_k = Cd xc_k + Dd (-e_k) [deg -> mNm]``, ``xc_k+1 = Ad xc_k + Bd (-e_k)``;
 3. saturation, as the allocator does it: the largest ``alpha <= 1`` with
    ``alpha u_k`` reachable by the engines at zero net force, from the facets
-   of the authority polytope (:mod:`casadi_debris.allocation.authority`);
+   of the authority polytope (:mod:`casadi_debris.allocation`);
 4. plant: the model's ``dynamics`` with torque ``alpha u_k`` held and the
    disturbance ``d(t)``, integrated over the period by ``integrator_steps``
    classical Runge-Kutta steps (or CVODES, for reference). The environment

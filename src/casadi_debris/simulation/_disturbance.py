@@ -5,7 +5,7 @@ time inside the integrator. The environment torques the problem's
 ``[environment]`` switches on (:class:`~casadi_debris.environment.EnvironmentTorques`)
 are evaluated once per control period, at its start, from the time, the
 attitude of the state ``x`` (its rotation matrix, from the model's own
-:func:`~casadi_debris.dynamics.attitude.rotation_matrix`), the rigid inertia of
+:func:`~casadi_debris.dynamics.rotation_matrix`), the rigid inertia of
 the parameters ``p`` (the gravity gradient) and the arrays' angles of ``p``
 (the faces the air and the light see), and held over the period like the
 controller's torque. The arrays' deflection is left out of all three. With no
@@ -19,8 +19,7 @@ import math
 import casadi as ca
 import numpy as np
 
-from casadi_debris.dynamics import Model
-from casadi_debris.dynamics.attitude import rotation_matrix
+from casadi_debris.dynamics import Model, rotation_matrix
 from casadi_debris.environment import EnvironmentTorques
 
 

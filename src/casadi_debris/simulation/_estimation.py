@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from casadi_debris.dynamics.attitude import attitude_error_vector, quaternion_product
+from casadi_debris.dynamics import attitude_error_vector, quaternion_product
 
 STATE_SIZE = 4 + 3 + 36
 # Keeps |w| > 0 in the quaternion exponential without changing any rate that matters.

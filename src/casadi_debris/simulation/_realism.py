@@ -42,8 +42,7 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model
-from casadi_debris.dynamics.attitude import quaternion_product
+from casadi_debris.dynamics import Model, quaternion_product
 from casadi_debris.simulation._estimation import STATE_SIZE, initial_filter_state, mekf_step
 from casadi_debris.simulation._noise import NoiseStreams, arw_rad_rt_s, rrw_rad_s_rt_s
 from casadi_debris.units import ARCSEC_PER_RAD, DEG_PER_RAD, SECONDS_PER_HOUR

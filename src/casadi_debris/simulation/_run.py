@@ -20,12 +20,15 @@ import casadi as ca
 import control
 import numpy as np
 
-from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionState
-from casadi_debris.allocation.authority import authority_polytope
+from casadi_debris.allocation import (
+    Allocator,
+    AuthorityPolytope,
+    PropulsionState,
+    authority_polytope,
+)
 from casadi_debris.config import FailureEvent, Problem
 from casadi_debris.dynamics import Model, Parameters
-from casadi_debris.guidance.burn_plan import BurnWindow, burn_thrust_N, burn_windows
-from casadi_debris.guidance.reference import Reference
+from casadi_debris.guidance import BurnWindow, Reference, burn_thrust_N, burn_windows
 from casadi_debris.simulation._batched import roll_together
 from casadi_debris.simulation._closed_loop import (
     DiscreteController,

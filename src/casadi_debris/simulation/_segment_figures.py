@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.guidance.sequence import Piece, segment_records
+from casadi_debris.guidance import Piece, segment_records
 from casadi_debris.records import Record
 from casadi_debris.simulation._run import ClosedLoopResult
 from casadi_debris.simulation._summary import fuel_between_kg

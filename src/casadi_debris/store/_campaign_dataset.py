@@ -77,7 +77,7 @@ def open_campaign(folder: str | Path) -> xr.Dataset:
     ----------
     folder : str or Path
         The campaign folder (``--out`` of ``casadi-debris montecarlo``, or the
-        ``out`` of :func:`~casadi_debris.workflows.montecarlo.montecarlo`),
+        ``out`` of :func:`~casadi_debris.workflows._montecarlo.montecarlo`),
         or its ``campaign.nc``.
 
     Returns

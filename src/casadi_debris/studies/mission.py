@@ -12,7 +12,7 @@ The phases, in the order the swarm flies them, each from its own model:
    run starts from full tanks: the transfer burns less than a stage, so the stages the
    detumble fires keep their thrust.
 3. **Deorbit**: the swarm as the transfer and the detumble leave it, engine by engine
-   (the torque-free impulse LP of :func:`~casadi_debris.orbit.propulsion.swarm_thrust`
+   (the torque-free impulse LP of :func:`~casadi_debris.orbit.swarm_thrust`
    on what each engine still carries; what no torque-free mix can use is *stranded*),
    and the docked body's mass without the propellant burnt so far;
    :func:`~casadi_debris.orbit.plan_deorbit` on that model gives each solar case's least
@@ -36,14 +36,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.config import Problem
-from casadi_debris.config.checks import check_transfer_end
+from casadi_debris.config import Problem, check_transfer_end
 from casadi_debris.geometry import Geometry, build_geometry
-from casadi_debris.orbit import DeorbitPlan, DeorbitSettings, plan_deorbit
-from casadi_debris.orbit.atmosphere import solar_case
-from casadi_debris.orbit.curves import CaseTrajectory
-from casadi_debris.orbit.deorbit import DeorbitCase, DeorbitModel
-from casadi_debris.orbit.propulsion import DIRECTION_DECIMALS, SwarmThrust, swarm_thrust
+from casadi_debris.orbit import (
+    DIRECTION_DECIMALS,
+    CaseTrajectory,
+    DeorbitCase,
+    DeorbitModel,
+    DeorbitPlan,
+    DeorbitSettings,
+    SwarmThrust,
+    plan_deorbit,
+    solar_case,
+    swarm_thrust,
+)
 from casadi_debris.orbit.transfer import transfer_dv_m_s
 from casadi_debris.records import Record
 from casadi_debris.simulation.detumble import DetumbleResult, detumble

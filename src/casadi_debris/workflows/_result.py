@@ -20,7 +20,7 @@ from casadi_debris.store import MARKER_NAME, RunFolder, check_output_folder
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from casadi_debris.workflows.margins import MarginsResult
+    from casadi_debris.workflows._margins import MarginsResult
 
 ProblemLike = Problem | str | Path | None
 """A :class:`~casadi_debris.config.Problem`, a problem file, a shipped name

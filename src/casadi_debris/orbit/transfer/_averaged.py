@@ -10,7 +10,7 @@ revolution averages (first-order averaging, e.g. Kechichian 1997; Betts Sec. 6.3
     T = oint dL / L',
 
 with ``x'`` and ``L'`` the Gauss equations with J2 and thrust of
-:mod:`casadi_debris.orbit.elements`. The integral is taken by Gauss-Legendre
+:mod:`casadi_debris.orbit._elements`. The integral is taken by Gauss-Legendre
 quadrature in the argument of latitude ``u = L - Omega``, on the two half
 revolutions where the control law is smooth. J2 enters through its averaged
 (secular) rates, the node's precession above all.
@@ -37,7 +37,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from casadi_debris.orbit.elements import gauss_mee_rates, j2_acceleration_rtn, keplerian_from_mee
+from casadi_debris.orbit._elements import gauss_mee_rates, j2_acceleration_rtn, keplerian_from_mee
 from casadi_debris.units import M_PER_KM
 
 # Gauss-Legendre nodes per half revolution: the integrands are smooth there, and

@@ -9,12 +9,11 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-from casadi_debris.config import Problem
-from casadi_debris.config.checks import check_transfer_end
+from casadi_debris.config import Problem, check_transfer_end
 from casadi_debris.errors import AllocationError, ProblemFileError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.orbit.elements import EARTH_J2, mee_circular
-from casadi_debris.orbit.propulsion import ThrustSegment, swarm_thrust
+from casadi_debris.orbit._elements import EARTH_J2, mee_circular
+from casadi_debris.orbit._propulsion import ThrustSegment, swarm_thrust
 from casadi_debris.orbit.transfer._averaged import averaged_dynamics, edelbaum_dv
 from casadi_debris.orbit.transfer._guidance import (
     DEFAULT_PERIOD_S,
@@ -55,7 +54,7 @@ class TransferPlan:
         Edelbaum steering, closed loop, through the whole burn schedule.
     optimal : OptimalTransfer
     groups : tuple of ThrustSegment
-        The swarm's thrust directions (:func:`~casadi_debris.orbit.propulsion.swarm_thrust`),
+        The swarm's thrust directions (:func:`~casadi_debris.orbit._propulsion.swarm_thrust`),
         strongest first; ``Burn.group`` indexes them.
     burns : list of Burn
         The schedule the guidance flew (real burns first).
@@ -214,7 +213,7 @@ def check_transfer(problem: Problem) -> float:
     ------
     ProblemFileError
         The transfer does not end on the debris' ``[orbit]``
-        (:func:`~casadi_debris.config.checks.check_transfer_end`), or the from and to
+        (:func:`~casadi_debris.config.check_transfer_end`), or the from and to
         orbits are the same.
     """
     check_transfer_end(problem)

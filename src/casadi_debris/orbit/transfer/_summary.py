@@ -9,8 +9,8 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, max_thrust_N
-from casadi_debris.orbit.elements import keplerian_from_mee
-from casadi_debris.orbit.propulsion import ThrustSegment
+from casadi_debris.orbit._elements import keplerian_from_mee
+from casadi_debris.orbit._propulsion import ThrustSegment
 from casadi_debris.orbit.transfer._guidance import GuidedTransfer, remaining_dv_m_s
 from casadi_debris.orbit.transfer._ocp import OptimalTransfer
 from casadi_debris.orbit.transfer._thrust import (

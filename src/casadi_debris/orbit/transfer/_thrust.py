@@ -1,6 +1,6 @@
 """The orbit transfer's burns, staging and propellant, from the swarm's thrust segments.
 
-The thrust itself is :func:`~casadi_debris.orbit.propulsion.swarm_thrust`, the
+The thrust itself is :func:`~casadi_debris.orbit._propulsion.swarm_thrust`, the
 one model the deorbit burns use too: a few body directions (the engines' own
 force directions), each with the largest torque-free impulse the engines give
 along it at zero force across it, fired at a constant mix. To thrust along the
@@ -28,7 +28,7 @@ import numpy as np
 
 from casadi_debris.config import Problem
 from casadi_debris.geometry import Geometry, max_thrust_N
-from casadi_debris.orbit.propulsion import ThrustSegment
+from casadi_debris.orbit._propulsion import ThrustSegment
 from casadi_debris.units import SECONDS_PER_HOUR
 
 
@@ -37,7 +37,7 @@ class Burn:
     """One direction firing, at constant force, from ``start_s`` for ``duration_s``.
 
     ``group`` indexes the thrust segments
-    (:attr:`~casadi_debris.orbit.propulsion.SwarmThrust.segments`); ``real`` is
+    (:attr:`~casadi_debris.orbit._propulsion.SwarmThrust.segments`); ``real`` is
     False for a hypothetical burn past the swarm's stages.
     """
 

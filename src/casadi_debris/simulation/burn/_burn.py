@@ -3,7 +3,7 @@
 During a transfer or deorbit burn a body axis ``a`` (the thrust axis) is held
 along a direction ``d`` of the orbit's LVLH frame (prograde o1, retrograde -o1,
 orbit normal -o2, anti-normal o2; see
-:mod:`~casadi_debris.guidance.targets`). The reference is the LVLH track
+:mod:`~casadi_debris.guidance`). The reference is the LVLH track
 whose offset q_OB is the least rotation taking ``a`` onto ``d``; the body
 starts on it, turning with the frame.
 
@@ -13,7 +13,7 @@ the slice of the wrench polytope at that force,
 
     T_phi = { B f : 0 <= f <= f_max, F f = phi }
 
-(:func:`~casadi_debris.allocation.authority.authority_polytope` with
+(:func:`~casadi_debris.allocation.authority_polytope` with
 ``force_N``): exactly the torques the engines can add while they deliver
 ``phi``, neither more (every torque in it is reached with the force kept) nor
 less (a fixed torque-free mix with the residual limits ``f_max - f_0`` on top
@@ -38,17 +38,17 @@ import numpy as np
 
 from casadi_debris.allocation import PropulsionState
 from casadi_debris.config import Problem
-from casadi_debris.dynamics import Model
-from casadi_debris.dynamics.attitude import quaternion_to_rotation
-from casadi_debris.environment.orbit import CircularOrbit
-from casadi_debris.guidance.burn_plan import (
+from casadi_debris.dynamics import Model, quaternion_to_rotation
+from casadi_debris.environment import CircularOrbit
+from casadi_debris.guidance import (
     BurnPlan,
     BurnWindow,
+    Reference,
+    body_rates,
     burn_offset,
     direction_inertial,
+    frame_attitude,
 )
-from casadi_debris.guidance.reference import Reference
-from casadi_debris.guidance.targets import body_rates, frame_attitude
 from casadi_debris.simulation._closed_loop import SimulationError, discretize_controller
 from casadi_debris.simulation._result import ClosedLoopResult
 from casadi_debris.simulation._run import LoopSettings, RunInputs, _Rollout, _Series

@@ -29,8 +29,8 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import Problem
-from casadi_debris.dynamics.attitude import quaternion_to_rotation
-from casadi_debris.guidance.burn_plan import direction_inertial
+from casadi_debris.dynamics import quaternion_to_rotation
+from casadi_debris.guidance import direction_inertial
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.simulation._summary import RunSummary
 from casadi_debris.simulation.burn._burn import BurnRun

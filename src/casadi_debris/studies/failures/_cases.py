@@ -3,7 +3,7 @@
 A failed CubeSat stays docked (its mass and inertia are unchanged) but none
 of its engines fires again, as a ``[[simulation.failures]]`` entry without a
 stage does. A *failed stage* is read as the propulsion model reads it
-(:mod:`casadi_debris.allocation.propulsion`): that stage of each of the
+(:mod:`casadi_debris.allocation`): that stage of each of the
 CubeSat's engines is lost and the next healthy stage takes over. Every stage
 of an engine has the same thrust, so a stage lost at the start leaves the
 torque authority as it was and takes away one stage of propellant (a third of

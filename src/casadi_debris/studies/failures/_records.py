@@ -162,7 +162,7 @@ class FailuresSummary(Record):
     """A failure campaign: what was run, the whole swarm, and every case, the worst first.
 
     ``controller_path``, ``quick``, ``max_corners`` and ``out_dir`` are the job's (see
-    :func:`~casadi_debris.workflows.failures.failures`). ``disturbance_period_s``
+    :func:`~casadi_debris.workflows._failures.failures`). ``disturbance_period_s``
     is what the pointing run's window is judged against (None in summaries written
     before it was kept).
     """

@@ -27,14 +27,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.config import SIGNED_AXES, Problem
-from casadi_debris.config.layouts import (
+from casadi_debris.config import (
+    SIGNED_AXES,
+    CubeSat,
+    Problem,
     cubesat_inertia_on_face,
     face_axes,
     face_engines,
     signed_axis_vector,
 )
-from casadi_debris.config.schema import CubeSat
 from casadi_debris.errors import InputShapeError
 
 DEFAULT_GRID = (4, 4)

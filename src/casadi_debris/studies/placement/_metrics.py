@@ -3,7 +3,7 @@
 Every figure comes from the toolkit's own functions on the placed problem (the
 input problem with the layout's CubeSats as an explicit list): the authority from
 :func:`casadi_debris.geometry.torque_authority` (what ``casadi-debris model``
-reports), the slew time from :mod:`casadi_debris.slews.maneuver`'s eigenaxis
+reports), the slew time from :mod:`casadi_debris.slews._maneuver`'s eigenaxis
 bang-bang, the Δv from :mod:`casadi_debris.budgets`.
 """
 
@@ -16,11 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.budgets import burn_dv_m_s
-from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
-from casadi_debris.config.schema import CubeSat
+from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, CubeSat, Problem
 from casadi_debris.errors import SlewInfeasibleError
 from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
-from casadi_debris.slews.maneuver import eigenaxis_acceleration_limit, rigid_limit_duration
+from casadi_debris.slews import eigenaxis_acceleration_limit, rigid_limit_duration
 from casadi_debris.studies.failures import axis_ratios
 from casadi_debris.studies.placement._data import bare_debris
 

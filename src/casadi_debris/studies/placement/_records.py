@@ -248,7 +248,7 @@ class PlacementSummary(Record):
     """A placement study: what was asked, the solver, the chosen layout's figures
     (written at the top level), its worst failures, the input layout, the Pareto sweep.
 
-    ``out_dir`` is the job's (see :func:`~casadi_debris.workflows.placement.placement`).
+    ``out_dir`` is the job's (see :func:`~casadi_debris.workflows._placement.placement`).
     """
 
     problem: str

@@ -1,0 +1,171 @@
+"""What a burn asks for, and the quantities it is flown by: its thrust axis, its thrust,
+and the LVLH offset that holds the axis along its direction.
+
+The direction is one of the orbit's LVLH frame (o1 along track, o2 against the orbit
+normal, o3 to nadir; :mod:`~casadi_debris.guidance._targets`): prograde o1,
+retrograde -o1, normal -o2, anti-normal o2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+from scipy.optimize import linprog
+from scipy.spatial.transform import Rotation
+
+from casadi_debris.allocation import Allocator
+from casadi_debris.config import BURN_DIRECTIONS, BurnDirection, Problem
+from casadi_debris.environment import CircularOrbit
+from casadi_debris.errors import SimulationError
+from casadi_debris.guidance._targets import lvlh_matrices
+
+if TYPE_CHECKING:
+    from casadi_debris.guidance._reference import Reference
+
+# In LVLH components (o1 along track, o2 against the orbit normal, o3 to nadir).
+_LVLH_DIRECTION = {
+    "prograde": (1.0, 0.0, 0.0),
+    "retrograde": (-1.0, 0.0, 0.0),
+    "normal": (0.0, -1.0, 0.0),
+    "antinormal": (0.0, 1.0, 0.0),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class BurnPlan:
+    """What a burn asks for.
+
+    Attributes
+    ----------
+    direction : {"prograde", "retrograde", "normal", "antinormal"}
+        Where the thrust points, in the orbit's LVLH frame.
+    body_axis : ndarray, shape (3,)
+        Unit thrust axis in body axes.
+    duration_s : float
+        Engines on [s].
+    thrust_fraction : float
+        Of the largest torque-free thrust along ``body_axis`` (ignored when
+        ``thrust_N`` is given).
+    thrust_N : float or None
+        The thrust itself [N].
+    """
+
+    direction: BurnDirection
+    body_axis: np.ndarray
+    duration_s: float
+    thrust_fraction: float = 1.0
+    thrust_N: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.direction not in BURN_DIRECTIONS:
+            raise SimulationError(
+                f"direction: one of {', '.join(BURN_DIRECTIONS)}, got {self.direction!r}"
+            )
+        axis = np.asarray(self.body_axis, dtype=float)
+        if axis.shape != (3,) or not np.all(np.isfinite(axis)) or not np.any(axis):
+            raise SimulationError(f"body_axis: three finite numbers, not all zero, got {axis}")
+        object.__setattr__(self, "body_axis", axis / np.linalg.norm(axis))
+        if not (math.isfinite(self.duration_s) and self.duration_s > 0):
+            raise SimulationError(f"duration_s: must be positive, got {self.duration_s}")
+        if not 0.0 < self.thrust_fraction <= 1.0:
+            raise SimulationError(f"thrust_fraction: in (0, 1], got {self.thrust_fraction}")
+        if self.thrust_N is not None and not (math.isfinite(self.thrust_N) and self.thrust_N > 0):
+            raise SimulationError(f"thrust_mN: must be positive, got {self.thrust_N}")
+
+    @property
+    def direction_lvlh(self) -> np.ndarray:
+        """Unit direction in LVLH components, shape (3,)."""
+        return np.array(_LVLH_DIRECTION[self.direction])
+
+
+def strongest_axis(problem: Problem) -> np.ndarray:
+    """The body direction of the swarm's largest torque-free thrust, shape (3,).
+
+    The first of :func:`~casadi_debris.orbit.swarm_thrust`'s directions
+    (ties broken by its order).
+    """
+    from casadi_debris.orbit import swarm_thrust
+
+    return np.asarray(swarm_thrust(problem).segments[0].direction_body, dtype=float)
+
+
+def torque_free_thrust_N(allocator: Allocator, axis: np.ndarray) -> float:
+    """Largest thrust along ``axis`` with zero torque and no force across it [N] (an LP).
+
+    ``max a.F f  s.t.  B f = 0, (1 - a a^T) F f = 0, 0 <= f <= f_max``.
+    """
+    a = np.asarray(axis, dtype=float)
+    across = (np.eye(3) - np.outer(a, a)) @ allocator.force_map
+    limits = allocator.max_thrust_N
+    result = linprog(
+        -(a @ allocator.force_map),
+        A_eq=np.vstack([allocator.torque_map, across]),
+        b_eq=np.zeros(6),
+        bounds=list(zip(np.zeros_like(limits), limits, strict=True)),
+        method="highs",
+    )
+    if result.status != 0 or result.x is None:
+        raise SimulationError(f"torque-free thrust LP failed ({result.message})")
+    return max(0.0, -float(result.fun or 0.0))
+
+
+def burn_thrust_N(allocator: Allocator, plan: BurnPlan, *, strict: bool = True) -> float:
+    """The thrust a plan gets from the allocator's engines [N]: its own, or its fraction of
+    the largest torque-free thrust along its axis (:func:`torque_free_thrust_N`).
+
+    Raises
+    ------
+    SimulationError
+        The plan's thrust exceeds what the engines give (with ``strict``; otherwise
+        that is what it gets), or none can thrust along the axis.
+    """
+    available = torque_free_thrust_N(allocator, plan.body_axis)
+    wanted = plan.thrust_fraction * available if plan.thrust_N is None else plan.thrust_N
+    if wanted > available * (1.0 + 1e-9):
+        if strict:
+            raise SimulationError(
+                f"thrust_mN: {wanted * 1e3:.4g} mN asked, the engines give at most "
+                f"{available * 1e3:.4g} mN along the axis without torque"
+            )
+        wanted = available
+    if wanted <= 0.0:
+        raise SimulationError("no engine left can thrust along the burn's axis")
+    return wanted
+
+
+def burn_offset(body_axis: np.ndarray, direction_lvlh: np.ndarray) -> np.ndarray:
+    """q_OB (scalar first) of the least rotation taking ``body_axis`` onto ``direction_lvlh``."""
+    rotation, _ = Rotation.align_vectors([direction_lvlh], [body_axis])
+    xyzw = rotation.as_quat()
+    return np.asarray(xyzw[[3, 0, 1, 2]])
+
+
+def direction_inertial(problem: Problem, plan: BurnPlan, time_s: np.ndarray) -> np.ndarray:
+    """The burn's direction in inertial axes at each time, shape (n, 3)."""
+    orbit = CircularOrbit.from_problem(problem)
+    return np.asarray(plan.direction_lvlh @ lvlh_matrices(orbit, time_s))
+
+
+@dataclass(frozen=True, eq=False)
+class BurnWindow:
+    """The control periods ``start .. stop - 1`` in which the engines fire a burn."""
+
+    start: int
+    stop: int
+    plan: BurnPlan
+
+
+def burn_windows(reference: Reference, period_s: float) -> list[BurnWindow]:
+    """The burns of a reference's pieces, in periods (those that fire at all)."""
+    windows = []
+    for piece in reference.pieces:
+        if piece.burn is None or piece.firing_s is None:
+            continue
+        start, stop = (math.ceil(t / period_s - 1e-9) for t in piece.firing_s)
+        stop = min(stop, len(reference.time_s) - 1)
+        if stop > start:
+            windows.append(BurnWindow(start, stop, piece.burn))
+    return windows

@@ -1,0 +1,257 @@
+"""Thrusting while pointing: a burn flown in closed loop (``casadi-debris burn``).
+
+Example
+-------
+>>> import casadi_debris as cd
+>>> result = cd.burn("paper", direction="normal", hours=0.1)  # doctest: +SKIP
+>>> result.summary.burn.pointing_max_arcsec  # doctest: +SKIP
+28.3
+>>> result.save("runs/burn-paper")  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from casadi_debris.allocation import Allocator, PropulsionState
+from casadi_debris.config import BurnDirection, Problem
+from casadi_debris.dynamics import build_model
+from casadi_debris.errors import InputShapeError
+from casadi_debris.guidance import BurnPlan, burn_thrust_N, strongest_axis
+from casadi_debris.report import BurnReport, burn_figures, write_burn
+from casadi_debris.simulation.burn import (
+    DEFAULT_PERIOD_S,
+    BurnRun,
+    BurnSeries,
+    first_stage_left,
+    simulate_burn,
+)
+from casadi_debris.simulation.burn import burn_figures as burn_figures_of
+from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
+from casadi_debris.workflows._controller import controller_for
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+
+@dataclass(frozen=True)
+class BurnRequest:
+    """What to fly.
+
+    Attributes
+    ----------
+    direction : {"prograde", "retrograde", "normal", "antinormal"}
+        In the orbit's LVLH frame.
+    duration_s : float
+        Engines on [s].
+    body_axis : tuple of 3 float, optional
+        Thrust axis in body axes; default the swarm's strongest torque-free direction.
+    thrust_fraction : float
+        Of the largest torque-free thrust along the axis.
+    thrust_mN : float, optional
+        The thrust itself (instead of the fraction) [mN].
+    first_stage_left_s : float, optional
+        Start with every engine's first stage holding this much full-thrust time
+        (to see the stages switch during a short burn); default full.
+    controller : str or Path, optional
+        Controller file (default the shipped paper controller, for the paper's plant).
+    allow_mismatch : bool
+        Fly a controller designed for another plant.
+    period_s : float
+        Control period [s].
+    jit : bool
+        Compile the control step to C.
+    """
+
+    direction: BurnDirection = "retrograde"
+    duration_s: float = 600.0
+    body_axis: tuple[float, float, float] | None = None
+    thrust_fraction: float = 1.0
+    thrust_mN: float | None = None
+    first_stage_left_s: float | None = None
+    controller: str | Path | None = None
+    allow_mismatch: bool = False
+    period_s: float = DEFAULT_PERIOD_S
+    jit: bool = True
+
+
+def burn_plan(problem: Problem, request: BurnRequest) -> tuple[BurnPlan, PropulsionState]:
+    """The plan a request asks for and the engines it starts with, checked (quick: two LPs).
+
+    Raises
+    ------
+    SimulationError
+        A field that cannot be flown (named), e.g. a thrust beyond the engines.
+    """
+    r = request
+    axis = strongest_axis(problem) if r.body_axis is None else np.asarray(r.body_axis, dtype=float)
+    thrust_N = None if r.thrust_mN is None else r.thrust_mN / MN_PER_N
+    plan = BurnPlan(r.direction, axis, r.duration_s, r.thrust_fraction, thrust_N)
+    engines = PropulsionState.from_problem(problem)
+    if r.first_stage_left_s is not None:
+        engines = first_stage_left(engines, r.first_stage_left_s)
+    burn_thrust_N(Allocator.from_problem(problem, state=engines), plan)
+    return plan, engines
+
+
+@dataclass(frozen=True)
+class BurnResult(JobResult):
+    """A burn flown in closed loop: its figures and its series.
+
+    Attributes
+    ----------
+    summary : BurnReport
+        What ``summary.json`` holds: pointing error, Δv three ways, the propellant split,
+        stage switches, and the controller flown.
+    run : BurnRun
+        The closed-loop run and the thrust axis' pointing error (SI).
+    series : BurnSeries
+        Thrust along the axis [N], Δv along the direction [m/s] and the propellant split
+        [kg] over time.
+    """
+
+    summary: BurnReport
+    run: BurnRun
+    series: BurnSeries
+
+    command = "burn"
+
+    def plot(self) -> dict[str, Figure]:
+        """``burn``: the pointing error against the requirement, the thrust and the
+        propellant split, stage switches marked; nothing is written."""
+        return burn_figures(self.run, self.series, self.summary)
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """``summary.json``, ``series.csv`` and, with ``plots``, ``burn.png``."""
+        summary = dataclasses.replace(self.summary, out_dir=str(out.absolute()))
+        write_burn(staging, self.run, self.series, summary, plots=plots)
+
+
+def burn(
+    problem: ProblemLike = None,
+    *,
+    direction: BurnDirection = "retrograde",
+    hours: float = 0.25,
+    body_axis: str | Sequence[float] | None = None,
+    thrust_fraction: float | None = None,
+    thrust_mN: float | None = None,
+    first_stage_left_s: float | None = None,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    no_jit: bool = False,
+    progress: Callable[[str], None] | None = None,
+) -> BurnResult:
+    """Fly a burn: the thrust axis held along an LVLH direction by the attitude loop on the
+    flexible model (every array mode), while the engines deliver the thrust and the
+    loop's torque together.
+
+    Parameters
+    ----------
+    problem : Problem, str or Path, optional
+        A problem, a problem file or a shipped name; default the paper.
+    direction : {"retrograde", "prograde", "normal", "antinormal"}
+        Where the thrust points, in the orbit's LVLH frame.
+    hours : float
+        Engines on [h].
+    body_axis : str or sequence of 3 float, optional
+        Thrust axis in body axes (``"x"``, ``"-y"``, ... or a vector, not zero); default
+        the swarm's strongest torque-free direction.
+    thrust_fraction : float, optional
+        Of the largest torque-free thrust along the axis, in (0, 1]; default 1.
+    thrust_mN : float, optional
+        The thrust itself [mN], instead of ``thrust_fraction``.
+    first_stage_left_s : float, optional
+        Start with every engine's first stage holding this much full-thrust time [s] (to
+        see the stages switch in a short burn); default full.
+    controller : str or Path, optional
+        Controller file; default the shipped paper controller (for the paper's plant).
+    allow_mismatch : bool
+        Fly a controller designed for another plant.
+    no_jit : bool
+        Run the control step on CasADi's virtual machine instead of compiled C.
+    progress : callable, optional
+        ``progress(line)`` once the burn and the controller are checked, as the long part
+        starts.
+
+    Returns
+    -------
+    BurnResult
+
+    Raises
+    ------
+    InputShapeError
+        Both ``thrust_fraction`` and ``thrust_mN``, or a zero ``body_axis``.
+    SimulationError
+        A burn that cannot be flown (named), e.g. a thrust beyond the engines.
+    ControllerMismatchError
+        The controller was designed for another plant (and ``allow_mismatch`` is false).
+    """
+    if thrust_fraction is not None and thrust_mN is not None:
+        raise InputShapeError("--thrust-mN: give either --thrust-fraction or --thrust-mN")
+    problem = as_problem(problem)
+    request = BurnRequest(
+        direction=direction,
+        duration_s=hours * SECONDS_PER_HOUR,
+        body_axis=None if body_axis is None else _body_axis(body_axis),
+        thrust_fraction=1.0 if thrust_fraction is None else thrust_fraction,
+        thrust_mN=thrust_mN,
+        first_stage_left_s=first_stage_left_s,
+        controller=controller,
+        allow_mismatch=allow_mismatch,
+        jit=not no_jit,
+    )
+    return _fly(problem, request, progress)
+
+
+def _fly(
+    problem: Problem, request: BurnRequest, progress: Callable[[str], None] | None
+) -> BurnResult:
+    """Check the request (two LPs) and the controller, then fly it (the long part)."""
+    plan, engines = burn_plan(problem, request)
+    record, controller_path = controller_for(
+        problem, request.controller, allow_mismatch=request.allow_mismatch
+    )
+    if progress is not None:
+        hours = request.duration_s / SECONDS_PER_HOUR
+        progress(
+            f"Flying a {request.direction} burn of {hours:g} h on {problem.name} "
+            "(flexible model) ..."
+        )
+    run = simulate_burn(
+        build_model(problem),
+        record.reduced,
+        plan,
+        period_s=request.period_s,
+        propulsion=engines,
+        jit=request.jit,
+    )
+    summary, series = burn_figures_of(problem, run, Allocator.from_problem(problem))
+    report = BurnReport(
+        burn=summary,
+        controller_path=str(controller_path),
+        first_stage_left_s=request.first_stage_left_s,
+    )
+    return BurnResult(summary=report, run=run, series=series)
+
+
+def _body_axis(axis: str | Sequence[float]) -> tuple[float, float, float]:
+    """An axis name (``"x"``, ``"-y"``) or a vector, as a vector not all zero."""
+    from casadi_debris.config import AXIS_TEXTS, axis_unit_vector
+
+    if isinstance(axis, str):
+        name = axis.strip().lower()
+        if name not in AXIS_TEXTS:
+            raise InputShapeError(f"--body-axis: x, -y, ... or three numbers, got {axis!r}")
+        x, y, z = (float(v) for v in axis_unit_vector(name))
+        return (x, y, z)
+    values = np.asarray(axis, dtype=float)
+    if values.shape != (3,) or not np.all(np.isfinite(values)) or not np.any(values):
+        raise InputShapeError(f"--body-axis: three finite numbers not all zero, got {axis!r}")
+    return (float(values[0]), float(values[1]), float(values[2]))
