@@ -15,12 +15,13 @@ controller are given the shipped paper controller with ``--allow-mismatch`` on t
 gallery problems (designing one for each would take minutes; ``design`` itself is
 checked on its own).
 
-By default each command runs in plain text on the paper's problem and, unless it takes
-tens of seconds even at its quickest, on ``side_engines_12`` (the shape farthest from the
-paper's); its ``--json --out`` cell runs on the paper's problem unless the job's own test
-(``tests/test_workflows_<command>.py``) already runs that line by default, comparing it
-with the Python function (``elsewhere``). The rest of the cells, and ``reproduce --quick``,
-run under ``-m slow``.
+By default a quick command runs in plain text on the paper's problem and on
+``side_engines_12`` (the shape farthest from the paper's), and with ``--json --out`` on
+the paper's problem; a command that takes tens of seconds even at its quickest runs only
+that ``--json --out`` cell. A command whose own test (``tests/test_workflows_<command>.py``)
+already runs ``--json --out`` on the paper's problem by default, comparing it with the
+Python function (``elsewhere``), skips that cell here. The rest of the cells, and
+``reproduce --quick``, run under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -317,7 +318,7 @@ def _slow(command: Command, problem: str, mode: str) -> bool:
         return problem != "paper" or bool(command.elsewhere)
     return {"": False, "long": True, "gallery-json": False, "gallery": problem != "paper"}[
         command.slow
-    ] and not (command.slow == "long" and problem == "paper" and command.elsewhere)
+    ]
 
 
 def _cases(mode: str) -> list[object]:

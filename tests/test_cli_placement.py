@@ -277,7 +277,8 @@ main(sys.argv[1:])
 """
 
 
-@pytest.mark.parametrize("verbose", [False, True])
+# Quiet by default; the verbose run (the same placement, its log shown) under -m slow.
+@pytest.mark.parametrize("verbose", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_solver_log_lines_stay_quiet_unless_verbose(tmp_path, verbose):
     """The solver's own lines reach neither stdout nor the terminal, except with -v."""
     args = ["-v"] if verbose else []

@@ -53,8 +53,10 @@ def test_the_wall_time_is_what_the_user_waited_and_covers_the_solve() -> None:
     assert summary["solve_time_s"] <= summary["wall_time_s"] <= waited
 
 
-GALLERY_QUICK = ("rigid_no_arrays", "side_engines_12")
+# rigid_no_arrays's thruster-level slew runs by default in tests/test_workflows_slew.py.
+GALLERY_QUICK = ("side_engines_12",)
 GALLERY_SLOW = (
+    "rigid_no_arrays",
     "differential_2u",
     "fewer_stronger",
     "one_array",

@@ -88,7 +88,11 @@ def test_bad_simulation_tables_name_the_key(tmp_path, table: str, key: str) -> N
         load_problem(path)
 
 
-@pytest.mark.parametrize("method", ["bang-bang", "time-optimal"])
+# The time-optimal minimum is solved by default by the slew command's too-short deadline
+# (tests/test_slew_flexible.py); here under -m slow.
+@pytest.mark.parametrize(
+    "method", ["bang-bang", pytest.param("time-optimal", marks=pytest.mark.slow)]
+)
 def test_a_slew_shorter_than_possible_names_its_duration(tmp_path, method: str) -> None:
     path = tmp_path / "fast.toml"
     path.write_text(
@@ -100,6 +104,7 @@ def test_a_slew_shorter_than_possible_names_its_duration(tmp_path, method: str) 
         generate_slew(problem, problem.simulation.slew, 1.0)
 
 
+@pytest.mark.slow
 def test_a_time_optimal_slew_within_its_deadline_is_the_fastest(tmp_path) -> None:
     path = tmp_path / "deadline.toml"
     path.write_text(

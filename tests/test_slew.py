@@ -145,6 +145,8 @@ def test_single_axis_time_optimal_is_the_rigid_limit_with_switch_at_half(
     assert np.allclose(z[~before], -tau, rtol=1e-4)
 
 
+# The paper's time-optimal slew is solved by default in tests/test_slew_global.py.
+@pytest.mark.slow
 def test_three_axis_time_optimal_not_longer_than_eigenaxis(problem: Problem) -> None:
     # Bilimoria & Wie (1993): with all axes free the 180 deg slew beats the eigenaxis one.
     slew = time_optimal_slew(problem, "z", math.pi, check_vibration=False)

@@ -105,7 +105,8 @@ def test_flexible_slew_about_an_axis_that_excites_no_mode(problem: Problem) -> N
     assert slew.duration_s <= 1.10 * slew.limit_duration_s
 
 
-@pytest.mark.parametrize("thrusters", [False, True])
+# Torque level by default; the thruster level (the same OCP with engines) under -m slow.
+@pytest.mark.parametrize("thrusters", [False, pytest.param(True, marks=pytest.mark.slow)])
 def test_flexible_fuel_optimal_meets_the_limit_for_about_the_rigid_fuel(
     problem: Problem, thrusters: bool
 ) -> None:
@@ -144,14 +145,9 @@ def test_unknown_flexible_method(problem: Problem) -> None:
         time_optimal_slew(problem, "z", math.pi, flexible=True, flexible_method="modal")
 
 
-# Each deadline solves the same minimum-time problem before it compares: one by default,
-# the rest under -m slow.
-TOO_SHORT = [
-    pytest.param(-1.0, marks=pytest.mark.slow),
-    pytest.param(0.0, marks=pytest.mark.slow),
-    pytest.param(500.0, marks=pytest.mark.slow),
-    900.0,
-]
+# Each deadline solves the same minimum-time problem before it compares: all under
+# -m slow (the command's too-short deadline below runs by default).
+TOO_SHORT = [pytest.param(d, marks=pytest.mark.slow) for d in (-1.0, 0.0, 500.0, 900.0)]
 
 
 @pytest.mark.parametrize("duration", TOO_SHORT)

@@ -26,7 +26,7 @@ def _without_volatile(payload: dict) -> dict:
     return {k: v for k, v in payload.items() if k not in VOLATILE}
 
 
-@pytest.mark.parametrize("problem", [None, "rigid_no_arrays"])
+@pytest.mark.parametrize("problem", [None, pytest.param("rigid_no_arrays", marks=pytest.mark.slow)])
 def test_python_and_command_line_give_the_same_design_and_folder(
     problem: str | None, tmp_path: Path
 ) -> None:
