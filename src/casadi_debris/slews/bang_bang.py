@@ -27,8 +27,9 @@ of the model (hub, CubeSats and both arrays). The acceleration a is sized on tha
 whole torque (:func:`sized_timing`): about a non-principal axis the gyroscopic
 part e x J e is not small (on the paper's debris about (1, 1, 1) it needs 2.6 x the
 y authority if a is sized from J e alone), so a is the largest for which the
-torque stays within the authority about every signed axis and within the
-engines' torque set at zero net force, at every instant.
+torque stays within the engines' torque set at zero net force at every instant
+(its gauge, :func:`~casadi_debris.slews.limits.authority_use`: the set is what the
+allocator can give; a per-axis share above 1 with the gauge at most 1 is flyable).
 
 The paper's 180 deg z slew "completed in 1228 s"
 -------------------------------------------------
@@ -58,7 +59,6 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.dynamics.attitude import axis_angle_quaternion, quaternion_multiply
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.geometry import torque_authority
 from casadi_debris.slews.limits import authority_use
 from casadi_debris.slews.maneuver import (
     SlewTarget,
@@ -446,11 +446,8 @@ def bang_bang_slew(
 
 def _loop_authority_use(rigid: Model) -> Callable[[np.ndarray], np.ndarray]:
     """The share of the authority torques need, as the closed loop's allocator flies them:
-    at zero net force."""
-    authority = torque_authority(rigid.geometry, zero_net_force=True)
-    return functools.partial(
-        authority_use, rigid.geometry, zero_net_force=True, authority_Nm=authority
-    )
+    their gauge in the engines' torque set at zero net force."""
+    return functools.partial(authority_use, rigid.geometry, zero_net_force=True)
 
 
 def eigenaxis_guess(

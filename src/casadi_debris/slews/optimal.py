@@ -168,11 +168,15 @@ class _SlewSolver:
         body's, :mod:`casadi_debris.slews.global_slew`) when the engines can give its
         torque; else a local optimum within their torque set, started from it.
 
-        The box holds torques the engines cannot give together (its corners), so its
-        optimum often leaves the torque set. Box and set together are a subset of the
-        box: a box optimum inside the set is optimal for both; one outside it is the
-        start of a collocation solve with both constraints, whose result IPOPT gives as a
-        local optimum (``report["optimum"]`` says which).
+        The box is the bounding box of the engines' torque set at zero net force (the
+        rule of the allocator that flies the slew and of its limit check,
+        :func:`~casadi_debris.slews.ocp_problem.torque_set_box`): the set lies in the
+        box, so the box's optimum is never longer than the set's, and one inside the set
+        is the set's global optimum. The box holds torques the engines cannot give
+        together (its corners), so its optimum often leaves the set; it is then the
+        start of a collocation solve within the set, whose result IPOPT gives as a local
+        optimum (``report["optimum"]`` says which; ``report["box_duration_s"]``, the
+        box's optimum, is a lower bound on the set's).
         """
         ocp = self.ocp
         found = global_time_optimal(
@@ -197,8 +201,8 @@ class _SlewSolver:
                 ocp, fuel=False, horizon=Horizon(None, self._bulk_intervals()), guess=guess
             )
         self.report["optimum"] = (
-            "local: within the engines' torque set, started from the torque box's global "
-            f"optimum ({box_s:.1f} s, which needs {gauge:.2f} x the set)"
+            "local: within the engines' torque set, started from the global optimum of its "
+            f"bounding box ({box_s:.1f} s, a lower bound, which needs {gauge:.2f} x the set)"
         )
         self.report["box_duration_s"] = box_s
         return solution
