@@ -249,18 +249,19 @@ def _random_problem(data: dict[str, Any]) -> tuple[Problem, Any]:
 
 def _axis_extreme(ref: Any, axis: int, sign: float) -> np.ndarray:
     """The torque of the set (zero net force) with the largest sign * tau_axis, by an LP
-    over the test's own engine columns."""
+    over the test's own engine columns, posed in mN (HiGHS' tolerances are absolute: in
+    newtons a swarm of weak levers came out 1.8 % beyond the set)."""
     from scipy.optimize import linprog
 
     result = linprog(
         -sign * ref.torque_per_N[axis],
         A_eq=ref.direction,
         b_eq=np.zeros(3),
-        bounds=[(0.0, f) for f in ref.max_thrust_N],
+        bounds=[(0.0, f * 1e3) for f in ref.max_thrust_N],
         method="highs",
     )
     assert result.status == 0, result.message
-    return ref.torque_per_N @ result.x
+    return ref.torque_per_N @ result.x * 1e-3
 
 
 def check_inside_passes_outside_fails(
@@ -272,7 +273,7 @@ def check_inside_passes_outside_fails(
     its reach fails."""
     from casadi_debris.geometry import build_geometry
     from casadi_debris.slews.limits import check_limits
-    from valid_problems import SIGNED_AXES, lp_reach
+    from valid_problems import SIGNED_AXES, lp_authority, lp_reach
 
     problem, ref = _random_problem(data)
     geometry = build_geometry(problem)
@@ -288,7 +289,10 @@ def check_inside_passes_outside_fails(
     assert check.worst_torque_set_ratio == pytest.approx(1.0, rel=1e-6)
     # The per-axis ratios are the extremes over the pure-axis authority (LPs here): at least
     # 1, often more, and information only.
-    pure = ref.authority_Nm(zero_net_force=True)
+    # The pure-axis authority by LPs here, in mN (a pure torque of 1e-7 N m is below HiGHS'
+    # absolute tolerances in newtons).
+    pure_mNm = lp_authority(ref.torque_per_N, ref.direction, ref.max_thrust_N * 1e3, True)
+    pure = {name: value * 1e-3 for name, value in pure_mNm.items()}
     for k, name in enumerate(SIGNED_AXES):
         reach = abs(float(extremes[k][k // 2]))
         assert reach >= pure[name] * (1 - 1e-6)

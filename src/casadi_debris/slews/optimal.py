@@ -46,7 +46,8 @@ from casadi_debris.slews.initial_guess import (
     bang_bang_guess,
     shaped_guess,
 )
-from casadi_debris.slews.maneuver import SlewTarget, slew_about_axis
+from casadi_debris.slews.limits import authority_use
+from casadi_debris.slews.maneuver import SlewTarget, eigenaxis_duration_s, slew_about_axis
 from casadi_debris.slews.modal_window import (
     ENERGY_MARGIN,
     WINDOW_INTERVALS,
@@ -426,8 +427,9 @@ def fuel_optimal_slew(
     """Least-propellant rest-to-rest slew of a given duration.
 
     Parameters are those of :func:`time_optimal_slew`, with ``duration_s`` (s) the
-    slew's length; ``single_axis`` does not apply. Durations below the rigid
-    eigenaxis limit are checked against the time-optimal slew first.
+    slew's length; ``single_axis`` does not apply. Durations below the eigenaxis
+    bang-bang that fits the engines' torque set (gyroscopic torque included) are checked
+    against the time-optimal slew first.
 
     Raises
     ------
@@ -454,8 +456,9 @@ def fuel_optimal_slew(
         raise InputShapeError("single_axis applies to time-optimal slews only")
     _check_finite_duration(duration_s)
     solver = _solver(problem, axis, angle_rad, target, options)
-    if duration_s < solver.ocp.limit_duration_s:
-        # Three free axes can beat the eigenaxis limit (Bilimoria & Wie 1993): ask the OCP.
+    if duration_s < _flyable_eigenaxis_s(solver.ocp):
+        # No eigenaxis bang-bang this short fits the engines' torque set, but three free axes
+        # can beat it (Bilimoria & Wie 1993): ask the time-optimal OCP.
         _check_not_below(
             duration_s, solver.solve(fuel=False, duration_s=None, check_vibration=False)
         )
@@ -509,6 +512,18 @@ def _solver(
     """The solver of the slew about ``axis`` by ``angle_rad``, or to ``target``."""
     goal = slew_about_axis(axis, angle_rad) if target is None else target
     return _SlewSolver(SlewOcp(problem, goal, options))
+
+
+def _flyable_eigenaxis_s(ocp: SlewOcp) -> float:
+    """The eigenaxis bang-bang time within the OCP's torque set (its net-force rule, times
+    its torque fraction), gyroscopic torque included, s: every longer duration has a
+    feasible profile (a slower bang-bang)."""
+    fraction = ocp.options.torque_fraction
+
+    def use(torque_Nm: np.ndarray) -> np.ndarray:
+        return authority_use(ocp.geometry, torque_Nm, ocp.zero_net_force) / fraction
+
+    return eigenaxis_duration_s(ocp.target.angle_rad, ocp.inertia, ocp.target.axis_B, use)
 
 
 def _check_finite_duration(duration_s: float) -> None:
