@@ -388,3 +388,19 @@ def test_subnormal_axis_components_give_the_axis_slew() -> None:
     assert summary["axis_B"] == [-1.0, 0.0, 0.0]
     assert summary["duration_s"] == expected["duration_s"]
     assert summary["limits_ok"] is True
+
+
+def test_the_gauge_of_many_samples_is_each_samples_own(problem: Problem) -> None:
+    """Over several blocks of LPs (LP_BLOCK samples each), every gauge is the one an LP on
+    the engines written here finds for that torque alone."""
+    from casadi_debris.geometry import build_geometry, max_thrust_N
+    from casadi_debris.slews.limits import LP_BLOCK, torque_set_ratio
+    from lp_reference import largest_alpha
+
+    geometry = build_geometry(problem)
+    torque = np.random.default_rng(5).normal(size=(2 * LP_BLOCK + 7, 3)) * 2e-3
+    gauge = torque_set_ratio(geometry, torque, zero_net_force=True)
+    limits = max_thrust_N(geometry)
+    for k in range(0, len(torque), 9):
+        alpha = largest_alpha(geometry, limits, torque[k], np.zeros(3), at_most=None)
+        assert gauge[k] == pytest.approx(1.0 / alpha, rel=1e-6)

@@ -47,6 +47,8 @@ from casadi_debris.records import OPTIONAL, Record
 RATIO_TOLERANCE = 1e-6
 # Thrust in units of the largest engine, torque in units of the largest lever times it.
 ZERO_TORQUE = 1e-12
+# Samples per block-diagonal LP of the torque-set gauge.
+LP_BLOCK = 64
 
 
 @dataclass(frozen=True)
@@ -158,8 +160,13 @@ def torque_set_ratio(
     force = np.zeros_like(torque) if force_N is None else np.atleast_2d(force_N) / unit_f
     rows = np.hstack([scaled, force])[active]
     distinct, inverse = np.unique(rows, axis=0, return_inverse=True)
-    scale = _largest_scales(
-        geometry, distinct[:, :3], limits / unit_f, zero_net_force, distinct[:, 3:]
+    # The samples' LPs are independent: solved in blocks of LP_BLOCK, since HiGHS' cost grows
+    # faster than the size of one block-diagonal LP (a long profile has thousands).
+    scale = np.concatenate(
+        [
+            _largest_scales(geometry, chunk[:, :3], limits / unit_f, zero_net_force, chunk[:, 3:])
+            for chunk in np.array_split(distinct, math.ceil(len(distinct) / LP_BLOCK))
+        ]
     )
     with np.errstate(divide="ignore"):
         gauge[active] = np.where(scale > 0.0, 1.0 / scale, np.inf)[np.ravel(inverse)]
