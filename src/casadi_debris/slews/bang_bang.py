@@ -462,13 +462,17 @@ def eigenaxis_guess(
     problem : Problem
     target : SlewTarget
     duration_s : float
-        At least the eigenaxis time on J e alone (``SlewOcp.limit_duration_s``), s.
+        Its length, s (``SlewOcp.limit_duration_s``, the eigenaxis time on J e alone in
+        the OCP's box, for a time-optimal slew's guess).
     model : Model
         The rigid model.
     """
     started = time.perf_counter()
     inertia = np.array(model.rigid_inertia(model.nominal_parameters))
     alpha_max = eigenaxis_acceleration_limit(inertia, target.axis_B, *torque_limits(model.geometry))
+    # A duration below the pure-axis box's eigenaxis time (the OCP's box, the torque set's
+    # bounding box, can be wider) is flown as the bang-bang of that duration, no coast.
+    alpha_max = max(alpha_max, 4.0 * target.angle_rad / duration_s**2)
     timing = bang_bang_timing(target.angle_rad, alpha_max, duration_s=duration_s)
     return _profile(
         problem,
