@@ -298,3 +298,24 @@ def test_solver_log_lines_stay_quiet_unless_verbose(tmp_path, verbose):
         if json_flag:
             assert json.loads(run.stdout)["count"] == 4
         args = [*args[:-1], str(tmp_path / "r2")]
+
+
+def test_the_failure_row_says_what_it_counts(runner, tmp_path):
+    """Text output of a small single-failure placement: the row names the failures it is
+    the worst over, and equals the least authority over disturbance the JSON gives; with no
+    failure objective there is no such row (it would repeat the nominal one)."""
+    args = ["placement", "--count", "6", "--candidates", "2x2"]
+    single = runner.invoke(
+        main, [*args, "--objective", "worst-single-failure", "--out", str(tmp_path / "a")]
+    )
+    assert single.exit_code == 0, single.output
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    worst = summary["worst_failure"]
+    (row,) = [line for line in single.stdout.splitlines() if "failed" in line]
+    assert row.startswith("worst authority / disturbance, any one CubeSat failed")
+    ratio = min(worst["torque_min_zero_force_mNm"].values()) / 0.7
+    assert float(row.split()[-2]) == pytest.approx(ratio, rel=1e-3)
+    assert "any one CubeSat failed" in (tmp_path / "a" / "report.md").read_text()
+    nominal = runner.invoke(main, [*args, "--out", str(tmp_path / "b")])
+    assert nominal.exit_code == 0, nominal.output
+    assert not [line for line in nominal.stdout.splitlines() if "failed" in line]

@@ -85,3 +85,18 @@ def test_worstcase_parameters_rerun_by_simulate_give_the_reported_error(
     rerun = json.loads(stdout)
     assert rerun["case_id"] == "worstcase"
     assert rerun["max_error_deg"] == pytest.approx(summary["search"]["max_error_deg"], rel=1e-9)
+
+
+def test_both_stages_skipped_say_so_instead_of_an_empty_table(tmp_path: Path) -> None:
+    out = tmp_path / "skipped"
+    code, stdout, _ = invoke("worstcase", "--no-mu", "--no-search", "--out", str(out))
+    assert code == 0, stdout
+    rows = {line.split("  ")[0]: line for line in stdout.splitlines()}
+    assert "skipped" in rows["mu robust stability, performance"]
+    assert "--no-mu" in rows["mu robust stability, performance"]
+    assert (
+        "skipped" in rows["worst max error [deg]"]
+        and "--no-search" in rows["worst max error [deg]"]
+    )
+    summary = json.loads((out / "summary.json").read_text())
+    assert "mu" not in summary and "search" not in summary  # the JSON keys stay out

@@ -299,7 +299,9 @@ def lp_authority(
 
 
 def lp_reach(ref: Reference, unit: np.ndarray, zero_net_force: bool) -> float:
-    """Largest s with s * unit a torque the engines make (with zero net force) [N m]."""
+    """Largest s with s * unit a torque the engines make (with zero net force) [N m].
+
+    Posed in mN and mNm (HiGHS' tolerances are absolute; thrusts are of order 1e-3 N)."""
     n = ref.max_thrust_N.size
     # Variables: thrusts f, then s. B f - s u = 0 (and F f = 0); maximise s.
     a_eq = np.hstack([ref.torque_per_N, -unit[:, None]])
@@ -309,11 +311,28 @@ def lp_reach(ref: Reference, unit: np.ndarray, zero_net_force: bool) -> float:
         np.r_[np.zeros(n), -1.0],
         A_eq=a_eq,
         b_eq=np.zeros(a_eq.shape[0]),
-        bounds=[(0.0, f) for f in ref.max_thrust_N] + [(0.0, None)],
+        bounds=[(0.0, f * 1e3) for f in ref.max_thrust_N] + [(0.0, None)],
         method="highs",
     )
     assert result.status == 0, result.message
-    return float(-result.fun)
+    return float(-result.fun) * 1e-3
+
+
+def lp_gauge(ref: Reference, torque_Nm: np.ndarray, zero_net_force: bool) -> np.ndarray:
+    """Gauge of each torque (rows) in the engines' torque set: |tau| / (reach along
+    tau / |tau|), 0 for a zero torque; one LP per distinct row, shape (n,)."""
+    torque = np.atleast_2d(np.asarray(torque_Nm, dtype=float))
+    sizes = np.linalg.norm(torque, axis=1)
+    gauge = np.zeros(len(torque))
+    active = np.flatnonzero(sizes > 1e-12 * max(float(sizes.max(initial=0.0)), 1e-300))
+    if active.size == 0:
+        return gauge
+    rows, inverse = np.unique(torque[active], axis=0, return_inverse=True)
+    values = np.array(
+        [np.linalg.norm(r) / lp_reach(ref, r / np.linalg.norm(r), zero_net_force) for r in rows]
+    )
+    gauge[active] = values[np.ravel(inverse)]
+    return gauge
 
 
 def with_disturbance(data: dict[str, Any], ref: Reference) -> dict[str, Any]:

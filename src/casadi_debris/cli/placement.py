@@ -197,13 +197,14 @@ def _count(text: str) -> int:
 
 
 def _print_summary(summary: PlacementSummary) -> None:
+    from casadi_debris.report import failure_label
+
     chosen, own = summary.figures, summary.input_layout.figures
     worst, own_worst = summary.worst_failure, summary.input_layout.worst_failure
     rows: list[list[object]] = [
         ["CubeSats", chosen.count, own.count],
         ["worst axis", chosen.worst_axis, own.worst_axis],
         ["worst authority / disturbance", chosen.worst_ratio, own.worst_ratio],
-        [f"worst of {worst.failures} failed", worst.worst_ratio, own_worst.worst_ratio],
         ["slowest rigid slew [s]", chosen.slowest_slew_s, own.slowest_slew_s],
         [
             "weakest one-stage Δv [m/s]",
@@ -211,6 +212,8 @@ def _print_summary(summary: PlacementSummary) -> None:
             own.weakest_dv_one_stage_m_s,
         ],
     ]
+    if worst.failures:  # with none failed it is the row above
+        rows.insert(3, [failure_label(worst.failures), worst.worst_ratio, own_worst.worst_ratio])
     click.echo(format_table(["", "chosen", "input layout"], rows))
     solver = summary.solver
     status = "optimal" if solver.optimal else "NOT proven optimal"

@@ -116,9 +116,12 @@ def worstcase(
 
 
 def _rows(summary: WorstCaseSummary) -> list[list[str]]:
-    """The table the command prints: the bounds, the search, the campaign's worst."""
+    """The table the command prints: the bounds, the search, the campaign's worst; a stage
+    skipped says so (with both skipped the table is not left empty)."""
     rows = []
-    if summary.mu is not None:
+    if summary.mu is None:
+        rows.append(["mu robust stability, performance", "skipped", "--no-mu"])
+    else:
         for kind, bounds in (
             ("stability", summary.mu.stability),
             ("performance", summary.mu.performance),
@@ -130,7 +133,9 @@ def _rows(summary: WorstCaseSummary) -> list[list[str]]:
                     f"gap {bounds.gap:.1%}",
                 ]
             )
-    if summary.search is not None:
+    if summary.search is None:
+        rows.append(["worst max error [deg]", "skipped", "--no-search"])
+    else:
         found = summary.search
         rows.append(
             ["worst max error [deg]", f"{found.max_error_deg:.4f}", f"{found.simulations} runs"]

@@ -20,10 +20,11 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import BURN_DIRECTIONS, BurnDirection, Problem
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import SimulationError
-from casadi_debris.guidance._targets import lvlh_matrices
+from casadi_debris.guidance._targets import body_rates, frame_attitude, lvlh_matrices
 
 if TYPE_CHECKING:
     from casadi_debris.guidance._reference import Reference
+    from casadi_debris.slews import LimitCheck
 
 # In LVLH components (o1 along track, o2 against the orbit normal, o3 to nadir).
 _LVLH_DIRECTION = {
@@ -169,3 +170,64 @@ def burn_windows(reference: Reference, period_s: float) -> list[BurnWindow]:
         if stop > start:
             windows.append(BurnWindow(start, stop, piece.burn))
     return windows
+
+
+def attitude_torque_Nm(
+    inertia_kgm2: np.ndarray, time_s: np.ndarray, quaternion_BN: np.ndarray
+) -> np.ndarray:
+    """The control torque an attitude series needs, J alpha + omega x J omega, shape (n, 3)
+    [N m]: omega by :func:`~casadi_debris.guidance._targets.body_rates`, alpha its
+    derivative by second-order differences (a rigid body, no disturbance).
+
+    Parameters
+    ----------
+    inertia_kgm2 : ndarray, shape (3, 3)
+    time_s : ndarray, shape (n,)
+        Increasing, at least three.
+    quaternion_BN : ndarray, shape (n, 4)
+    """
+    rate = body_rates(time_s, quaternion_BN)
+    acceleration = np.gradient(rate, time_s, axis=0, edge_order=2)
+    inertia = np.asarray(inertia_kgm2, dtype=float)
+    return acceleration @ inertia.T + np.cross(rate, rate @ inertia.T)
+
+
+def attitude_limits(
+    problem: Problem,
+    time_s: np.ndarray,
+    quaternion_BN: np.ndarray,
+    force_N: np.ndarray | None = None,
+) -> LimitCheck:
+    """An attitude series (an LVLH track, a burn's) against the engines' torque set, as a
+    slew profile is checked (:func:`~casadi_debris.slews._limits.check_limits`): the torque
+    it needs (:func:`attitude_torque_Nm`, the full rigid inertia) within the torques the
+    engines give at zero net force, or, where ``force_N`` is given, while they hold that
+    net force (a burn's thrust, the set its loop saturates on).
+
+    Parameters
+    ----------
+    problem : Problem
+    time_s : ndarray, shape (n,)
+    quaternion_BN : ndarray, shape (n, 4)
+    force_N : ndarray, shape (n, 3), optional
+        The engines' net force at each time, body axes [N] (zero where none).
+    """
+    from casadi_debris.dynamics import build_model
+    from casadi_debris.slews import check_limits
+
+    model = build_model(problem, modes=[])
+    inertia = np.array(model.rigid_inertia(model.nominal_parameters))
+    torque = attitude_torque_Nm(inertia, time_s, quaternion_BN)
+    return check_limits(model.geometry, time_s, torque, zero_net_force=True, force_N=force_N)
+
+
+def burn_limits(problem: Problem, plan: BurnPlan, thrust_N: float, sample_s: float) -> LimitCheck:
+    """A burn's attitude (the LVLH track holding its axis along its direction, from its
+    start on the frame) against the torques the engines add while they give its thrust
+    (:func:`attitude_limits`), over its firing, every ``sample_s`` seconds."""
+    steps = max(2, math.ceil(plan.duration_s / sample_s - 1e-9))
+    times = np.linspace(0.0, plan.duration_s, steps + 1)
+    offset = burn_offset(plan.body_axis, plan.direction_lvlh)
+    attitude = frame_attitude(CircularOrbit.from_problem(problem), offset, times)
+    force = np.tile(thrust_N * plan.body_axis, (len(times), 1))
+    return attitude_limits(problem, times, attitude, force)

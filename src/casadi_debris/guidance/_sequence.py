@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from casadi_debris.allocation import Allocator
 from casadi_debris.config import (
     Problem,
     Segment,
@@ -40,11 +41,17 @@ from casadi_debris.config import (
 )
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
-from casadi_debris.guidance._burn_plan import BurnPlan, burn_offset, strongest_axis
+from casadi_debris.guidance._burn_plan import (
+    BurnPlan,
+    attitude_limits,
+    burn_offset,
+    burn_thrust_N,
+    strongest_axis,
+)
 from casadi_debris.guidance._slew import slew_quaternions, solve_slew
 from casadi_debris.guidance._targets import body_rates, frame_attitude, track_attitudes
 from casadi_debris.records import Record
-from casadi_debris.slews import SlewProfile, SlewTarget, slew_about_axis, slew_between
+from casadi_debris.slews import LimitCheck, SlewProfile, SlewTarget, slew_about_axis, slew_between
 from casadi_debris.units import MN_PER_N
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
@@ -65,7 +72,7 @@ class Piece:
 
     Attributes
     ----------
-    kind : {"slew", "hold", "track"}
+    kind : {"slew", "hold", "track", "burn"}
     start_s, end_s : float
         Its window [s] (``end_s`` the run's end for the last).
     attitude : callable
@@ -354,7 +361,7 @@ class SegmentRecord(Record):
     segment : int or None
         Its ``[[simulation.segments]]`` entry, numbered from 1; None for a hold
         the sequence adds (before a late start, after the last segment).
-    kind : {"slew", "hold", "track"}
+    kind : {"slew", "hold", "track", "burn"}
     start_s, end_s : float
     method : str or None
         A slew's method.
@@ -365,11 +372,16 @@ class SegmentRecord(Record):
     fuel_kg : float or None
         A slew profile's propellant (open loop).
     limits_ok : bool or None
-        A slew profile within the engines' authority over its whole grid, gyroscopic
-        torque included (:mod:`casadi_debris.slews._limits`).
+        A slew profile, a track or a burn within the engines' authority over its whole
+        window, gyroscopic torque included (:mod:`casadi_debris.slews._limits`; a track's
+        torque is that of its attitude, a burn's within the torques the engines add to its
+        thrust); None for a hold.
     worst_authority_share : float or None
-        The largest share of the authority the slew's torque needs (per signed axis or
-        in the engines' torque set; above 1 the loop cannot follow it).
+        The largest share of the authority the slew's (track's, burn's) torque needs: its
+        gauge in the engines' torque set (above 1 the loop cannot follow it; the per-axis
+        ratios of the slew's check are information, :mod:`casadi_debris.slews._limits`).
+    limits_note : str or None
+        What the check found over the limits, with the figures ("" when within them).
     """
 
     segment: int | None
@@ -382,13 +394,42 @@ class SegmentRecord(Record):
     fuel_kg: float | None = None
     limits_ok: bool | None = None
     worst_authority_share: float | None = None
+    limits_note: str | None = None
 
 
-def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentRecord, ...]:
-    """The pieces as records (1-based segment numbers, slews' figures)."""
+# Sample spacing of a track's limit check [s], and at least this many samples per blend.
+TRACK_CHECK_S = 1.0
+TRACK_CHECK_BLEND_SAMPLES = 100
+
+
+def track_limits(problem: Problem, piece: Piece) -> LimitCheck:
+    """A track's or burn's attitude over its window against the engines
+    (:func:`~casadi_debris.guidance._burn_plan.attitude_limits`): a burn's while its engines
+    fire within the torques they add to its thrust, elsewhere at zero net force."""
+    step = TRACK_CHECK_S
+    if piece.blend_s > 0.0:
+        step = min(step, piece.blend_s / TRACK_CHECK_BLEND_SAMPLES)
+    count = max(3, math.ceil((piece.end_s - piece.start_s) / step - 1e-9) + 1)
+    times = np.linspace(piece.start_s, piece.end_s, count)
+    force = None
+    if piece.burn is not None and piece.firing_s is not None:
+        thrust = burn_thrust_N(Allocator.from_problem(problem), piece.burn, strict=False)
+        firing = (times >= piece.firing_s[0]) & (times <= piece.firing_s[1])
+        force = np.where(firing[:, None], thrust * piece.burn.body_axis[None, :], 0.0)
+    return attitude_limits(problem, times, piece.attitude(times), force)
+
+
+def segment_records(
+    pieces: list[Piece] | tuple[Piece, ...], problem: Problem | None = None
+) -> tuple[SegmentRecord, ...]:
+    """The pieces as records (1-based segment numbers, slews' figures); with ``problem``,
+    tracks and burns checked against the engines too (:func:`track_limits`)."""
     records = []
     for piece in pieces:
         slew = piece.slew
+        check = slew.limits if slew is not None else None
+        if check is None and problem is not None and piece.kind in TRACKS:
+            check = track_limits(problem, piece)
         records.append(
             SegmentRecord(
                 segment=None if piece.index is None else piece.index + 1,
@@ -399,17 +440,13 @@ def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentRec
                 angle_deg=None if slew is None else math.degrees(slew.target.angle_rad),
                 axis=None if slew is None else tuple(float(v) for v in slew.target.axis_B),
                 fuel_kg=None if slew is None else slew.fuel_kg,
-                limits_ok=None if slew is None else slew.limits.limits_ok,
-                worst_authority_share=None if slew is None else _worst_share(slew),
+                limits_ok=None if check is None else check.limits_ok,
+                # The torque-set gauge: what limits_ok tests.
+                worst_authority_share=None if check is None else check.worst_torque_set_ratio,
+                limits_note=None if check is None else check.limits_note,
             )
         )
     return tuple(records)
-
-
-def _worst_share(slew: SlewProfile) -> float:
-    """The largest share of the authority a slew's torque needs (its limit check)."""
-    check = slew.limits
-    return max([check.worst_torque_set_ratio, *check.worst_axis_ratio.values()])
 
 
 @dataclass(frozen=True)
@@ -427,7 +464,9 @@ class ManoeuvreSummary(Record):
     wall_time_s : float
         Solving every slew and sampling the reference.
     slews_within_limits : bool
-        Every slew within the engines' authority (each segment's ``limits_ok``).
+        Every slew within the engines' authority (each slew segment's ``limits_ok``).
+    tracks_within_limits : bool
+        Every LVLH track and burn within it (each such segment's ``limits_ok``).
     """
 
     problem: str
@@ -436,6 +475,7 @@ class ManoeuvreSummary(Record):
     fuel_slews_kg: float
     wall_time_s: float
     slews_within_limits: bool = True
+    tracks_within_limits: bool = True
 
 
 @dataclass(frozen=True, eq=False)
@@ -464,13 +504,14 @@ def manoeuvre_reference(problem: Problem, sample_s: float) -> ManoeuvreReference
     run_s = problem.simulation.duration_s
     times = np.append(np.arange(0.0, run_s, sample_s), run_s)
     quaternion = sample_pieces(pieces, times)
-    records = segment_records(pieces)
+    records = segment_records(pieces, problem)
     summary = ManoeuvreSummary(
         problem=problem.name,
         duration_s=run_s,
         segments=records,
         fuel_slews_kg=float(sum(r.fuel_kg for r in records if r.fuel_kg is not None)),
         wall_time_s=time.perf_counter() - started,
-        slews_within_limits=all(r.limits_ok is not False for r in records),
+        slews_within_limits=all(r.limits_ok is not False for r in records if r.kind == "slew"),
+        tracks_within_limits=all(r.limits_ok is not False for r in records if r.kind != "slew"),
     )
     return ManoeuvreReference(times, quaternion, body_rates(times, quaternion), summary)

@@ -83,6 +83,7 @@ if TYPE_CHECKING:
     )
     from casadi_debris.report._placement import (
         PLACEMENT_FILE,
+        failure_label,
         placement_figures,
         write_placement,
     )
@@ -188,6 +189,7 @@ __all__ = [
     "engine_groups",
     "failure_figures",
     "figure_title",
+    "failure_label",
     "format_figure",
     "format_table",
     "load_paper_reference",
@@ -285,6 +287,7 @@ _LAZY = {
     "paper_figures": "casadi_debris.report._paper",
     "table_figures": "casadi_debris.report._paper",
     "PLACEMENT_FILE": "casadi_debris.report._placement",
+    "failure_label": "casadi_debris.report._placement",
     "placement_figures": "casadi_debris.report._placement",
     "write_placement": "casadi_debris.report._placement",
     "ControllerFigures": "casadi_debris.report._reproduce",

@@ -30,12 +30,24 @@ class BurnReport(Record):
         The engines' first stages held this much full-thrust time at the start
         (None: full).
     out_dir : str or None
+    limits_ok : bool or None
+        The burn's attitude (its LVLH track) needs a torque within what the engines add
+        to its thrust, gyroscopic torque included
+        (:func:`~casadi_debris.guidance._burn_plan.burn_limits`; the engines at full
+        limits).
+    limits_note : str or None
+        What needs more than the engines give, with the figures ("" when within).
+    worst_torque_set_ratio : float or None
+        The largest gauge of that torque in the engines' set at the burn's force.
     """
 
     burn: BurnSummary = field(metadata=FLATTENED)
     controller_path: str
     first_stage_left_s: float | None = None
     out_dir: str | None = None
+    limits_ok: bool | None = None
+    limits_note: str | None = None
+    worst_torque_set_ratio: float | None = None
 
 
 def write_burn(

@@ -83,6 +83,15 @@ def placement_toml(problem: Problem, cubesats: tuple[CubeSat, ...], note: str) -
     return "\n".join(header + body) + "\n"
 
 
+def failure_label(failures: int) -> str:
+    """What the failure row counts: the least authority over disturbance of any signed
+    axis, over every set of ``failures`` CubeSats failed at once."""
+    if failures == 0:
+        return "worst authority / disturbance, no CubeSat failed"
+    sets = "any one CubeSat failed" if failures == 1 else f"any {failures} CubeSats failed together"
+    return f"worst authority / disturbance, {sets}"
+
+
 def placement_markdown(summary: PlacementSummary) -> str:
     """``report.md``: the chosen layout beside the input one, the solver's status."""
     solver, chosen, own = summary.solver, summary.figures, summary.input_layout.figures
@@ -96,7 +105,7 @@ def placement_markdown(summary: PlacementSummary) -> str:
             list(own.torque_max_zero_force_mNm.values()),
         ),
         (
-            f"worst of {summary.worst_failure.failures} failed: authority / disturbance",
+            failure_label(summary.worst_failure.failures),
             summary.worst_failure.worst_ratio,
             summary.input_layout.worst_failure.worst_ratio,
         ),

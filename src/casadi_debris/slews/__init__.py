@@ -23,6 +23,7 @@
 from casadi_debris.dynamics import euler_angles_321, quaternion_multiply
 from casadi_debris.slews._bang_bang import BangBangTiming, bang_bang_slew, bang_bang_timing
 from casadi_debris.slews._global_slew import rigid_body_profile
+from casadi_debris.slews._limits import LimitCheck, check_limits
 from casadi_debris.slews._maneuver import (
     SlewTarget,
     eigenaxis_acceleration_limit,
@@ -59,6 +60,7 @@ from casadi_debris.slews._transcription import (
 __all__ = [
     "COLLOCATION_DEGREE",
     "BangBangTiming",
+    "LimitCheck",
     "ModalResponse",
     "RigidBody",
     "SlewOptions",
@@ -68,6 +70,7 @@ __all__ = [
     "axis_fuel_rates",
     "bang_bang_slew",
     "bang_bang_timing",
+    "check_limits",
     "eigenaxis_acceleration_limit",
     "euler_angles_321",
     "finish_profile",

@@ -27,8 +27,9 @@ of the model (hub, CubeSats and both arrays). The acceleration a is sized on tha
 whole torque (:func:`sized_timing`): about a non-principal axis the gyroscopic
 part e x J e is not small (on the paper's debris about (1, 1, 1) it needs 2.6 x the
 y authority if a is sized from J e alone), so a is the largest for which the
-torque stays within the authority about every signed axis and within the
-engines' torque set at zero net force, at every instant.
+torque stays within the engines' torque set at zero net force at every instant
+(its gauge, :func:`~casadi_debris.slews._limits.authority_use`: the set is what the
+allocator can give; a per-axis share above 1 with the gauge at most 1 is flyable).
 
 The paper's 180 deg z slew "completed in 1228 s"
 -------------------------------------------------
@@ -57,7 +58,6 @@ import numpy as np
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, axis_angle_quaternion, build_model, quaternion_multiply
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
-from casadi_debris.geometry import torque_authority
 from casadi_debris.slews._limits import authority_use
 from casadi_debris.slews._maneuver import (
     SlewTarget,
@@ -452,11 +452,8 @@ def bang_bang_slew(
 
 def _loop_authority_use(rigid: Model) -> Callable[[np.ndarray], np.ndarray]:
     """The share of the authority torques need, as the closed loop's allocator flies them:
-    at zero net force."""
-    authority = torque_authority(rigid.geometry, zero_net_force=True)
-    return functools.partial(
-        authority_use, rigid.geometry, zero_net_force=True, authority_Nm=authority
-    )
+    their gauge in the engines' torque set at zero net force."""
+    return functools.partial(authority_use, rigid.geometry, zero_net_force=True)
 
 
 def eigenaxis_guess(
@@ -471,13 +468,17 @@ def eigenaxis_guess(
     problem : Problem
     target : SlewTarget
     duration_s : float
-        At least the eigenaxis time on J e alone (``SlewOcp.limit_duration_s``), s.
+        Its length, s (``SlewOcp.limit_duration_s``, the eigenaxis time on J e alone in
+        the OCP's box, for a time-optimal slew's guess).
     model : Model
         The rigid model.
     """
     started = time.perf_counter()
     inertia = np.array(model.rigid_inertia(model.nominal_parameters))
     alpha_max = eigenaxis_acceleration_limit(inertia, target.axis_B, *torque_limits(model.geometry))
+    # A duration below the pure-axis box's eigenaxis time (the OCP's box, the torque set's
+    # bounding box, can be wider) is flown as the bang-bang of that duration, no coast.
+    alpha_max = max(alpha_max, 4.0 * target.angle_rad / duration_s**2)
     timing = bang_bang_timing(target.angle_rad, alpha_max, duration_s=duration_s)
     return _profile(
         problem,

@@ -46,6 +46,10 @@ from casadi_debris.geometry import Geometry, torque_authority
 QUATERNION_TOLERANCE = 1e-9
 
 
+# Axis components below this share of the largest are round-off (cleared).
+AXIS_ROUND_OFF = 1e-12
+
+
 @dataclass(frozen=True)
 class SlewTarget:
     """A rest-to-rest re-orientation.
@@ -68,7 +72,12 @@ class SlewTarget:
 
 
 def axis_vector(axis: str | Sequence[float] | np.ndarray) -> np.ndarray:
-    """Unit vector of ``"x"``, ``"-z"``, ... or of three numbers, shape (3,)."""
+    """Unit vector of ``"x"``, ``"-z"``, ... or of three numbers, shape (3,).
+
+    Components under ``AXIS_ROUND_OFF`` of the largest are round-off and are cleared:
+    left in, a subnormal one (5e-306) reaches the integrators as products that
+    underflow, and turns the axis by less than any solver tolerance anyway.
+    """
     if isinstance(axis, str):
         name = axis.strip().lower()
         sign = -1.0 if name.startswith("-") else 1.0
@@ -81,10 +90,12 @@ def axis_vector(axis: str | Sequence[float] | np.ndarray) -> np.ndarray:
     vector = np.asarray(axis, dtype=float)
     if vector.shape != (3,) or not np.all(np.isfinite(vector)):
         raise InputShapeError(f"axis: expected three finite numbers, got {axis!r}")
-    norm = float(np.linalg.norm(vector))
-    if norm == 0.0:
+    largest = float(np.max(np.abs(vector)))
+    if largest == 0.0:
         raise InputShapeError("axis: must not be zero")
-    return vector / norm
+    vector = vector / largest  # scaled first: the squares of 1e-170 underflow to zero
+    vector = np.where(np.abs(vector) < AXIS_ROUND_OFF, 0.0, vector)
+    return vector / float(np.linalg.norm(vector))
 
 
 def _unit_quaternion(q: Sequence[float] | np.ndarray, name: str) -> np.ndarray:

@@ -5,14 +5,20 @@ the dynamics are the model's own ``dynamics`` Function (``build_model(problem,
 modes=[])``, full rigid inertia), called with the sensor state equal to the
 attitude (its derivative is then zero). Controls, held on each interval:
 
-- torque level: tau in the per-axis box of the engines' authority
-  (:func:`~casadi_debris.slews._maneuver.torque_limits`, times ``torque_fraction``)
-  and in the engines' torque set at zero net force, {tau : N tau <= b} times
-  ``torque_fraction`` (:meth:`SlewOcp.torque_set`): the box's corners lie outside
-  that set (the allocator cannot give them), so the box alone is not enough;
+- torque level: tau in the engines' torque set at zero net force (the closed loop's
+  allocator's rule, the one the limit check applies), {tau : N tau <= b} times
+  ``torque_fraction`` (:meth:`SlewOcp.torque_set`), and in that set's bounding box
+  (:func:`torque_set_box`, the same rule and fraction), which the set lies in, so
+  it cuts nothing: it scales the problem and is the torque box of the rigid-body
+  global search, whose optimum is then a lower bound on the slew within the set
+  (and the slew itself when its torque lies in the set). The box is not the largest
+  *pure* torque about each axis: the set reaches past those points in combined
+  directions, and the box's corners lie outside it;
 - thruster level: the thrust of every engine, 0 <= f_i <= f_max,i; the model
   receives tau = B f and F = B_F f (geometry torque and force maps), so the
-  profile is realisable by construction.
+  profile is realisable by construction. The box (time scale, and the start its
+  global optimum gives) is the bounding box of the set with the slew's own
+  net-force rule (``zero_net_force``).
 
 Problems (Betts, *Practical Methods for Optimal Control*, 2nd ed., ch. 4):
 
@@ -35,16 +41,16 @@ from __future__ import annotations
 import casadi as ca
 import numpy as np
 
-from casadi_debris.allocation import authority_polytope
+from casadi_debris.allocation import AuthorityPolytope, authority_polytope
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.geometry import max_thrust_N
 from casadi_debris.slews._maneuver import (
     SlewTarget,
+    check_torque_fraction,
     eigenaxis_acceleration_limit,
     rigid_limit_duration,
-    torque_limits,
 )
 from casadi_debris.slews._options import SlewOptions
 from casadi_debris.slews._propellant import axis_fuel_rates, fuel_weights
@@ -74,7 +80,8 @@ class SlewOcp:
     inertia : ndarray, shape (3, 3)
         The full rigid inertia at the nominal parameters, kg m^2.
     lower, upper : ndarray, shape (3,)
-        Per-axis torque box, N m.
+        The bounding box of the engines' torque set (:func:`torque_set_box`) times
+        ``torque_fraction``, N m.
     alpha_max : float
         Eigenaxis acceleration limit, rad/s^2.
     limit_duration_s : float
@@ -98,13 +105,21 @@ class SlewOcp:
             raise InputShapeError("flexible: the problem has no array modes")
         self.geometry = self.rigid_model.geometry
         self.parameters = self.rigid_model.nominal_parameters
-        self.lower, self.upper = torque_limits(self.geometry, options.torque_fraction)
+        self.f_max = max_thrust_N(self.geometry)
+        # The allocator's rule at torque level; a thruster-level slew's own.
+        self.zero_net_force = options.zero_net_force or not options.thrusters
+        self.polytope = authority_polytope(
+            self.geometry.torque_map,
+            self.geometry.force_map,
+            self.f_max,
+            free_force=not self.zero_net_force,
+        )
+        self.lower, self.upper = torque_set_box(self.polytope, options.torque_fraction)
         self.inertia = np.array(self.rigid_model.rigid_inertia(self.parameters))
         self.alpha_max = eigenaxis_acceleration_limit(
             self.inertia, target.axis_B, self.lower, self.upper
         )
         self.limit_duration_s = rigid_limit_duration(target.angle_rad, self.alpha_max)
-        self.f_max = max_thrust_N(self.geometry)
 
     @property
     def thrusters(self) -> bool:
@@ -139,8 +154,9 @@ class SlewOcp:
         """
         if self.thrusters:
             return None
-        polytope = authority_polytope(self.geometry.torque_map, self.geometry.force_map, self.f_max)
-        return np.asarray(polytope.normals), self.options.torque_fraction * polytope.offsets
+        return np.asarray(
+            self.polytope.normals
+        ), self.options.torque_fraction * self.polytope.offsets
 
     def input_map(self, fuel: bool) -> np.ndarray:
         """G, shape (9, n_u): the model input [tau, 0, F] = G u of this OCP's controls."""
@@ -223,3 +239,27 @@ class SlewOcp:
         momentum_scale = float(self.target.axis_B @ inertia @ self.target.axis_B) * peak_rate_rad_s
         _, angular = model.momenta(ca.vertcat(final, final_q), self.parameters)
         return [model.attitude_error(self.target.q_final_BN, final_q), angular / momentum_scale]
+
+
+def torque_set_box(
+    polytope: AuthorityPolytope, torque_fraction: float = 1.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The bounding box of the engines' torque set: (lower, upper), N m, shape (3,) each.
+
+    The smallest and largest component of the set's vertices (exact: a polytope's
+    extremes along an axis are at its vertices), times ``torque_fraction``. Every
+    torque the engines can give lies in it, unlike the per-axis box of the largest
+    *pure* torques (:func:`~casadi_debris.slews._maneuver.torque_limits`), which the
+    set overreaches in combined directions.
+
+    Parameters
+    ----------
+    polytope : AuthorityPolytope
+        The set (:func:`~casadi_debris.allocation.authority_polytope`), with the
+        net-force rule of the allocator that flies the slew.
+    torque_fraction : float
+        In (0, 1].
+    """
+    check_torque_fraction(torque_fraction)
+    vertices = np.asarray(polytope.vertices)
+    return torque_fraction * vertices.min(axis=0), torque_fraction * vertices.max(axis=0)

@@ -46,7 +46,8 @@ from casadi_debris.slews._initial_guess import (
     bang_bang_guess,
     shaped_guess,
 )
-from casadi_debris.slews._maneuver import SlewTarget, slew_about_axis
+from casadi_debris.slews._limits import authority_use
+from casadi_debris.slews._maneuver import SlewTarget, eigenaxis_duration_s, slew_about_axis
 from casadi_debris.slews._modal_window import (
     ENERGY_MARGIN,
     WINDOW_INTERVALS,
@@ -168,11 +169,15 @@ class _SlewSolver:
         body's, :mod:`casadi_debris.slews._global_slew`) when the engines can give its
         torque; else a local optimum within their torque set, started from it.
 
-        The box holds torques the engines cannot give together (its corners), so its
-        optimum often leaves the torque set. Box and set together are a subset of the
-        box: a box optimum inside the set is optimal for both; one outside it is the
-        start of a collocation solve with both constraints, whose result IPOPT gives as a
-        local optimum (``report["optimum"]`` says which).
+        The box is the bounding box of the engines' torque set at zero net force (the
+        rule of the allocator that flies the slew and of its limit check,
+        :func:`~casadi_debris.slews._ocp_problem.torque_set_box`): the set lies in the
+        box, so the box's optimum is never longer than the set's, and one inside the set
+        is the set's global optimum. The box holds torques the engines cannot give
+        together (its corners), so its optimum often leaves the set; it is then the
+        start of a collocation solve within the set, whose result IPOPT gives as a local
+        optimum (``report["optimum"]`` says which; ``report["box_duration_s"]``, the
+        box's optimum, is a lower bound on the set's).
         """
         ocp = self.ocp
         found = global_time_optimal(
@@ -197,8 +202,8 @@ class _SlewSolver:
                 ocp, fuel=False, horizon=Horizon(None, self._bulk_intervals()), guess=guess
             )
         self.report["optimum"] = (
-            "local: within the engines' torque set, started from the torque box's global "
-            f"optimum ({box_s:.1f} s, which needs {gauge:.2f} x the set)"
+            "local: within the engines' torque set, started from the global optimum of its "
+            f"bounding box ({box_s:.1f} s, a lower bound, which needs {gauge:.2f} x the set)"
         )
         self.report["box_duration_s"] = box_s
         return solution
@@ -425,8 +430,9 @@ def fuel_optimal_slew(
     """Least-propellant rest-to-rest slew of a given duration.
 
     Parameters are those of :func:`time_optimal_slew`, with ``duration_s`` (s) the
-    slew's length; ``single_axis`` does not apply. Durations below the rigid
-    eigenaxis limit are checked against the time-optimal slew first.
+    slew's length; ``single_axis`` does not apply. Durations below the eigenaxis
+    bang-bang that fits the engines' torque set (gyroscopic torque included) are checked
+    against the time-optimal slew first.
 
     Raises
     ------
@@ -453,8 +459,9 @@ def fuel_optimal_slew(
         raise InputShapeError("single_axis applies to time-optimal slews only")
     _check_finite_duration(duration_s)
     solver = _solver(problem, axis, angle_rad, target, options)
-    if duration_s < solver.ocp.limit_duration_s:
-        # Three free axes can beat the eigenaxis limit (Bilimoria & Wie 1993): ask the OCP.
+    if duration_s < _flyable_eigenaxis_s(solver.ocp):
+        # No eigenaxis bang-bang this short fits the engines' torque set, but three free axes
+        # can beat it (Bilimoria & Wie 1993): ask the time-optimal OCP.
         _check_not_below(
             duration_s, solver.solve(fuel=False, duration_s=None, check_vibration=False)
         )
@@ -508,6 +515,18 @@ def _solver(
     """The solver of the slew about ``axis`` by ``angle_rad``, or to ``target``."""
     goal = slew_about_axis(axis, angle_rad) if target is None else target
     return _SlewSolver(SlewOcp(problem, goal, options))
+
+
+def _flyable_eigenaxis_s(ocp: SlewOcp) -> float:
+    """The eigenaxis bang-bang time within the OCP's torque set (its net-force rule, times
+    its torque fraction), gyroscopic torque included, s: every longer duration has a
+    feasible profile (a slower bang-bang)."""
+    fraction = ocp.options.torque_fraction
+
+    def use(torque_Nm: np.ndarray) -> np.ndarray:
+        return authority_use(ocp.geometry, torque_Nm, ocp.zero_net_force) / fraction
+
+    return eigenaxis_duration_s(ocp.target.angle_rad, ocp.inertia, ocp.target.axis_B, use)
 
 
 def _check_finite_duration(duration_s: float) -> None:

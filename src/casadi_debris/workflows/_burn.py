@@ -12,6 +12,7 @@ Example
 from __future__ import annotations
 
 import dataclasses
+import logging
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,7 +24,7 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import BurnDirection, Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
-from casadi_debris.guidance import BurnPlan, burn_thrust_N, strongest_axis
+from casadi_debris.guidance import BurnPlan, burn_limits, burn_thrust_N, strongest_axis
 from casadi_debris.report import BurnReport, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     DEFAULT_PERIOD_S,
@@ -39,6 +40,8 @@ from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+LOGGER = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
@@ -232,11 +235,23 @@ def _fly(
         propulsion=engines,
         jit=request.jit,
     )
-    summary, series = burn_figures_of(problem, run, Allocator.from_problem(problem))
+    allocator = Allocator.from_problem(problem)
+    summary, series = burn_figures_of(problem, run, allocator)
+    check = burn_limits(
+        problem, plan, burn_thrust_N(allocator, plan, strict=False), request.period_s
+    )
+    if not check.limits_ok:
+        LOGGER.warning(
+            "warning: the burn's attitude needs more torque than the engines add to its thrust: %s",
+            check.limits_note,
+        )
     report = BurnReport(
         burn=summary,
         controller_path=str(controller_path),
         first_stage_left_s=request.first_stage_left_s,
+        limits_ok=check.limits_ok,
+        limits_note=check.limits_note,
+        worst_torque_set_ratio=check.worst_torque_set_ratio,
     )
     return BurnResult(summary=report, run=run, series=series)
 

@@ -550,4 +550,13 @@ def _manoeuvre(problem: Problem, asked: _Asked, note: Callable[[str], None] | No
             "warning: a slew is not within the engines' limits (authority share above 1): "
             "the closed loop cannot fly it as it is"
         )
+    if not reference.summary.tracks_within_limits:
+        notes = "; ".join(
+            f"segment {r.segment} ({r.kind}): {r.limits_note}"
+            for r in reference.summary.segments
+            if r.kind != "slew" and r.limits_ok is False
+        )
+        LOGGER.warning(
+            "warning: a track or burn needs more torque than the engines give: %s", notes
+        )
     return SlewResult(problem=problem, summary=reference.summary, manoeuvre=reference)
