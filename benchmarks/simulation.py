@@ -42,12 +42,12 @@ from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import (
     LoopSettings,
     discretize_controller,
     release_compiled_steps,
-    simulate,
+    simulate_closed_loop,
 )
 from casadi_debris.simulation import _jit_cache as jit_cache
 from casadi_debris.units import DEG_PER_RAD
@@ -100,7 +100,7 @@ def main() -> None:
 
     problem = load_problem(default_problem_path().parent / "paper_slew.toml")
     model = build_model(problem)
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
 
@@ -137,12 +137,12 @@ def main() -> None:
 
     whole = []
     for _ in range(args.repeat):
-        result = simulate(model, record.reduced, reference, allocator=allocator)
+        result = simulate_closed_loop(model, record.reduced, reference, allocator=allocator)
         whole.append(result.wall_time_s)
     steps = len(result.scale)
     whole_c = []
     for _ in range(args.repeat):
-        result_c = simulate(
+        result_c = simulate_closed_loop(
             model, record.reduced, reference, allocator=allocator, settings=LoopSettings(jit=True)
         )
         whole_c.append(result_c.wall_time_s)

@@ -28,8 +28,8 @@ from casadi_debris.config import (
 )
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import Reference, scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
-from casadi_debris.simulation import ClosedLoopResult, simulate
+from casadi_debris.robust.plant import Controller
+from casadi_debris.simulation import ClosedLoopResult, simulate_closed_loop
 from test_allocation_isp import twin_data
 
 RUN_S = 400.0
@@ -55,13 +55,13 @@ def problem(paper_data: dict[str, Any]) -> Problem:
 
 @pytest.fixture(scope="module")
 def run(problem: Problem) -> ClosedLoopResult:
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     keep = reference.time_s <= RUN_S + 1e-9
     reference = Reference(
         reference.time_s[keep], reference.quaternion_BN[keep], reference.slew, reference.start_s
     )
-    return simulate(build_model(problem), record.reduced, reference)
+    return simulate_closed_loop(build_model(problem), record.reduced, reference)
 
 
 def exhaust(problem: Problem) -> np.ndarray:

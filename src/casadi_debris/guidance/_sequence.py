@@ -353,7 +353,7 @@ def sample_pieces(pieces: list[Piece], time_s: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class SegmentRecord(Record):
+class SegmentPlanSummary(Record):
     """One stretch of a manoeuvre as a user reads it.
 
     Attributes
@@ -421,7 +421,7 @@ def track_limits(problem: Problem, piece: Piece) -> LimitCheck:
 
 def segment_records(
     pieces: list[Piece] | tuple[Piece, ...], problem: Problem | None = None
-) -> tuple[SegmentRecord, ...]:
+) -> tuple[SegmentPlanSummary, ...]:
     """The pieces as records (1-based segment numbers, slews' figures); with ``problem``,
     tracks and burns checked against the engines too (:func:`track_limits`)."""
     records = []
@@ -431,7 +431,7 @@ def segment_records(
         if check is None and problem is not None and piece.kind in TRACKS:
             check = track_limits(problem, piece)
         records.append(
-            SegmentRecord(
+            SegmentPlanSummary(
                 segment=None if piece.index is None else piece.index + 1,
                 kind=piece.kind,
                 start_s=piece.start_s,
@@ -458,7 +458,7 @@ class ManoeuvreSummary(Record):
     problem : str
     duration_s : float
         The run's length.
-    segments : tuple of SegmentRecord
+    segments : tuple of SegmentPlanSummary
     fuel_slews_kg : float
         The slew profiles' propellant, summed (open loop: no feedback, no disturbance).
     wall_time_s : float
@@ -471,7 +471,7 @@ class ManoeuvreSummary(Record):
 
     problem: str
     duration_s: float
-    segments: tuple[SegmentRecord, ...]
+    segments: tuple[SegmentPlanSummary, ...]
     fuel_slews_kg: float
     wall_time_s: float
     slews_within_limits: bool = True

@@ -16,10 +16,10 @@ import numpy as np
 
 from casadi_debris.records import Record
 from casadi_debris.report._common import format_figure, verdict_text
-from casadi_debris.report._describe import ModelDescription
+from casadi_debris.report._describe import ModelSummary
 from casadi_debris.report._paper import paper_figure
 from casadi_debris.report._robust import MarginsSummary
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
     from casadi_debris.report._simulation import CampaignSummary
@@ -152,7 +152,7 @@ BUDGET_KEYS = (
 )
 
 
-def model_rows(model: ModelDescription) -> list[ReproductionRow]:
+def model_rows(model: ModelSummary) -> list[ReproductionRow]:
     """Mass, inertia and torque authority of the combined system."""
     torque = model.torque_max_mNm
     # The paper gives one authority per axis: the smaller of + and - is what
@@ -172,7 +172,7 @@ def budget_rows(budgets: dict[str, float]) -> list[ReproductionRow]:
 
 
 @dataclass(frozen=True)
-class ControllerFigures:
+class ControllerSummary:
     """What the reproduction reads of a controller: peak μ of the full and the reduced
     loop, and their orders (``order_full`` None for a file without its full order)."""
 
@@ -182,7 +182,7 @@ class ControllerFigures:
     order_reduced: int
 
     @classmethod
-    def of(cls, record: ControllerRecord) -> ControllerFigures:
+    def of(cls, record: Controller) -> ControllerSummary:
         """The figures of a controller file."""
         return cls(
             mu_peak=record.mu_peak,
@@ -192,7 +192,7 @@ class ControllerFigures:
         )
 
 
-def controller_rows(controller: ControllerFigures) -> list[ReproductionRow]:
+def controller_rows(controller: ControllerSummary) -> list[ReproductionRow]:
     """Peak μ and order of the controller."""
     return [
         paper_row("mu_peak", [controller.mu_peak, controller.mu_peak_reduced]),
@@ -258,9 +258,9 @@ def pointing_rows(
 
 
 def reproduction_rows(
-    model: ModelDescription,
+    model: ModelSummary,
     budgets: dict[str, float],
-    controller: ControllerFigures,
+    controller: ControllerSummary,
     margins: MarginsSummary,
     slew: CampaignSummary,
     slew_duration_s: float | None,

@@ -4,7 +4,7 @@
 - :mod:`~casadi_debris.slews._bang_bang`: the paper's reference profile.
 - :mod:`~casadi_debris.slews._optimal`: time- and fuel-optimal OCPs (torque or
   thruster level; flexible = the vibration left bounded in closed form, or ZV-shaped),
-  set by a :class:`SlewOptions`; stated in :mod:`~casadi_debris.slews._ocp_problem`,
+  set by a :class:`OptimalSlewSettings`; stated in :mod:`~casadi_debris.slews._ocp_problem`,
   transcribed in :mod:`~casadi_debris.slews._transcription`, started from
   :mod:`~casadi_debris.slews._initial_guess`, the flexible end in
   :mod:`~casadi_debris.slews._modal_window`.
@@ -34,12 +34,12 @@ from casadi_debris.slews._maneuver import (
 )
 from casadi_debris.slews._modal import ModalResponse, modal_response
 from casadi_debris.slews._optimal import fuel_optimal_slew, time_optimal_slew
-from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._options import OptimalSlewSettings
 from casadi_debris.slews._profile import (
+    ProfileSummary,
     SlewProfile,
-    SlewSummary,
     finish_profile,
-    simulate,
+    simulate_open_loop,
     vibration_energy,
     zoh_input_function,
 )
@@ -62,10 +62,10 @@ __all__ = [
     "BangBangTiming",
     "LimitCheck",
     "ModalResponse",
+    "OptimalSlewSettings",
+    "ProfileSummary",
     "RigidBody",
-    "SlewOptions",
     "SlewProfile",
-    "SlewSummary",
     "SlewTarget",
     "axis_fuel_rates",
     "bang_bang_slew",
@@ -85,7 +85,7 @@ __all__ = [
     "rigid_limit_duration",
     "scaled_rigid_ode",
     "shape",
-    "simulate",
+    "simulate_open_loop",
     "slew_about_axis",
     "slew_between",
     "solve_with_ipopt",

@@ -12,7 +12,7 @@ can use it.
   :func:`write_csv`, :func:`json_ready`.
 - Campaign folders: :class:`CampaignFolder`, the ``<out>.partial`` folder a campaign
   is written into case by case (:func:`write_case`, :func:`write_failure`), locked,
-  checked against its :class:`CampaignRecord`, and resumed from.
+  checked against its :class:`CampaignIdentity`, and resumed from.
 - Campaign datasets: every case of a Monte-Carlo campaign, its binned error and
   torque and its figures, as labelled arrays in one netCDF-4 file, ``campaign.nc``
   (written with h5netcdf, :func:`write_campaign_dataset`, beside ``cases.csv``; read
@@ -60,9 +60,9 @@ from casadi_debris.store._campaign_dataset import (
     BAND_QUANTITIES,
     BOUNDS,
     CASE_FIGURES,
+    DATASET_FORMAT_VERSION,
     DATASET_NAME,
     FORMAT_ATTRIBUTE,
-    FORMAT_VERSION,
     NO_SEED,
     open_campaign,
     write_campaign_dataset,
@@ -72,7 +72,7 @@ from casadi_debris.store._campaign_folder import (
     PARTIAL_SUFFIX,
     RECORD_NAME,
     CampaignFolder,
-    CampaignRecord,
+    CampaignIdentity,
     partial_folder,
     write_case,
     write_failure,
@@ -98,16 +98,16 @@ __all__ = [
     "BAND_QUANTITIES",
     "BOUNDS",
     "CASE_FIGURES",
+    "DATASET_FORMAT_VERSION",
     "DATASET_NAME",
     "FORMAT_ATTRIBUTE",
-    "FORMAT_VERSION",
     "LOCK_NAME",
     "MARKER_NAME",
     "NO_SEED",
     "PARTIAL_SUFFIX",
     "RECORD_NAME",
     "CampaignFolder",
-    "CampaignRecord",
+    "CampaignIdentity",
     "RunFolder",
     "check_output_file",
     "check_output_folder",

@@ -25,15 +25,15 @@ from casadi_debris.config import BurnDirection, Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.guidance import BurnPlan, burn_limits, burn_thrust_N, strongest_axis
-from casadi_debris.report import BurnReport, burn_figures, write_burn
+from casadi_debris.report import BurnSummary, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
-    DEFAULT_PERIOD_S,
+    BURN_PERIOD_S,
     BurnRun,
     BurnSeries,
+    burn_summary,
     first_stage_left,
     simulate_burn,
 )
-from casadi_debris.simulation.burn import burn_figures as burn_figures_of
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
@@ -81,7 +81,7 @@ class BurnRequest:
     first_stage_left_s: float | None = None
     controller: str | Path | None = None
     allow_mismatch: bool = False
-    period_s: float = DEFAULT_PERIOD_S
+    period_s: float = BURN_PERIOD_S
     jit: bool = True
 
 
@@ -110,7 +110,7 @@ class BurnResult(JobResult):
 
     Attributes
     ----------
-    summary : BurnReport
+    summary : BurnSummary
         What ``summary.json`` holds: pointing error, Δv three ways, the propellant split,
         stage switches, and the controller flown.
     run : BurnRun
@@ -120,7 +120,7 @@ class BurnResult(JobResult):
         [kg] over time.
     """
 
-    summary: BurnReport
+    summary: BurnSummary
     run: BurnRun
     series: BurnSeries
 
@@ -236,7 +236,7 @@ def _fly(
         jit=request.jit,
     )
     allocator = Allocator.from_problem(problem)
-    summary, series = burn_figures_of(problem, run, allocator)
+    summary, series = burn_summary(problem, run, allocator)
     check = burn_limits(
         problem, plan, burn_thrust_N(allocator, plan, strict=False), request.period_s
     )
@@ -245,7 +245,7 @@ def _fly(
             "warning: the burn's attitude needs more torque than the engines add to its thrust: %s",
             check.limits_note,
         )
-    report = BurnReport(
+    report = BurnSummary(
         burn=summary,
         controller_path=str(controller_path),
         first_stage_left_s=request.first_stage_left_s,

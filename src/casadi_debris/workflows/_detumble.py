@@ -23,16 +23,16 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report import DetumbleReport, detumble_figures, write_detumble
+from casadi_debris.report import DetumbleSummary, detumble_figures, write_detumble
 from casadi_debris.simulation import SimulationError
 from casadi_debris.simulation.detumble import (
     DEFAULT_GAIN_PER_S,
-    DEFAULT_PERIOD_S,
     DEFAULT_THRESHOLD_RAD_S,
+    DETUMBLE_PERIOD_S,
     problem_time_optimal_detumble,
 )
-from casadi_debris.simulation.detumble import DetumbleResult as DetumbleRun
-from casadi_debris.simulation.detumble import detumble as fly_detumble
+from casadi_debris.simulation.detumble import DetumbleRunResult as DetumbleRun
+from casadi_debris.simulation.detumble import simulate_detumble as fly_detumble
 from casadi_debris.units import SECONDS_PER_HOUR
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -46,14 +46,14 @@ class DetumbleResult(JobResult):
 
     Attributes
     ----------
-    summary : DetumbleReport
+    summary : DetumbleSummary
         What ``summary.json`` holds: the run's figures, the budget's estimates, the
         momentum bound and the time-optimal detumble.
-    run : simulation.detumble.DetumbleResult
+    run : simulation.detumble.DetumbleRunResult
         The run's time series (rates [rad/s], torque [N m], propellant), SI.
     """
 
-    summary: DetumbleReport
+    summary: DetumbleSummary
     run: DetumbleRun
 
     command = "detumble"
@@ -75,7 +75,7 @@ def detumble(
     rate_rad_s: Sequence[float] | None = None,
     threshold_rad_s: float = DEFAULT_THRESHOLD_RAD_S,
     gain_per_s: float = DEFAULT_GAIN_PER_S,
-    period_s: float = DEFAULT_PERIOD_S,
+    period_s: float = DETUMBLE_PERIOD_S,
     ocp: bool = True,
     progress: Callable[[str], None] | None = None,
 ) -> DetumbleResult:
@@ -127,7 +127,7 @@ def detumble(
         detumble=dataclasses.replace(problem.detumble, initial_rate_rad_s=result.rate_rad_s[0]),
     )
     budgets = budgets_as_dict(compute_budgets(flown))
-    report = DetumbleReport(
+    report = DetumbleSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         budget_time_h=budgets["detumble_time_h"],

@@ -3,31 +3,31 @@
 - :func:`simulate_burn`: the burn's thrust axis held along its LVLH direction while
   the engines deliver the force and the controller's torque together
   (:class:`BurnRun`).
-- :func:`burn_figures`: what the burn delivered: pointing of the thrust axis, Δv, the
+- :func:`burn_summary`: what the burn delivered: pointing of the thrust axis, Δv, the
   propellant split between Δv and attitude, the arrays' load
-  (:class:`BurnSummary`, :class:`BurnSeries`).
+  (:class:`BurnRunSummary`, :class:`BurnSeries`).
 
 The loop is :mod:`casadi_debris.simulation`'s; the burn plan is
 :mod:`casadi_debris.guidance`'s.
 """
 
 from casadi_debris.simulation.burn._burn import (
-    DEFAULT_PERIOD_S,
+    BURN_PERIOD_S,
     BurnRun,
     burn_reference,
     first_stage_left,
     pointing_error_rad,
     simulate_burn,
 )
-from casadi_debris.simulation.burn._figures import BurnSeries, BurnSummary, burn_figures
+from casadi_debris.simulation.burn._figures import BurnRunSummary, BurnSeries, burn_summary
 
 __all__ = [
-    "DEFAULT_PERIOD_S",
+    "BURN_PERIOD_S",
     "BurnRun",
+    "BurnRunSummary",
     "BurnSeries",
-    "BurnSummary",
-    "burn_figures",
     "burn_reference",
+    "burn_summary",
     "first_stage_left",
     "pointing_error_rad",
     "simulate_burn",

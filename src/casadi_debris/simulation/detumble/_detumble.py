@@ -45,14 +45,14 @@ DEFAULT_THRESHOLD_RAD_S = 1e-4
 # Rate-damping gain: the linear tail decays with a time constant of 1 / K [s].
 DEFAULT_GAIN_PER_S = 0.02
 STRETCH_STEPS = 2000
-DEFAULT_PERIOD_S = 1.0
+DETUMBLE_PERIOD_S = 1.0
 # Runge-Kutta steps per control period: 0.1 s steps at 1 rad/s keep the rate equations'
 # error per step near 1e-7 of the rate.
 SUBSTEPS = 10
 
 
 @dataclass(frozen=True, kw_only=True)
-class DetumbleSummary(Record):
+class DetumbleRunSummary(Record):
     """Figures of a closed-loop detumble.
 
     Attributes
@@ -99,7 +99,7 @@ class DetumbleSummary(Record):
 
 
 @dataclass(eq=False)
-class DetumbleResult:
+class DetumbleRunResult:
     """Series of a detumble (SI units), one row per control instant.
 
     Attributes
@@ -112,7 +112,7 @@ class DetumbleResult:
         Saturation factor of the demand.
     fuel_per_cubesat_kg : ndarray, shape (n + 1, n_cubesats)
         Propellant burnt so far.
-    summary : DetumbleSummary
+    summary : DetumbleRunSummary
     """
 
     time_s: np.ndarray
@@ -120,7 +120,7 @@ class DetumbleResult:
     torque_Nm: np.ndarray
     scale: np.ndarray
     fuel_per_cubesat_kg: np.ndarray
-    summary: DetumbleSummary
+    summary: DetumbleRunSummary
 
 
 def rate_damping_stretch(
@@ -190,15 +190,15 @@ def held_torque_rates(
     return w
 
 
-def detumble(
+def simulate_detumble(
     problem: Problem,
     *,
     initial_rate_rad_s: npt.ArrayLike | None = None,
     threshold_rad_s: float = DEFAULT_THRESHOLD_RAD_S,
     gain_per_s: float = DEFAULT_GAIN_PER_S,
-    period_s: float = DEFAULT_PERIOD_S,
+    period_s: float = DETUMBLE_PERIOD_S,
     max_duration_s: float | None = None,
-) -> DetumbleResult:
+) -> DetumbleRunResult:
     """Detumble the rigid body in closed loop through the problem's engines.
 
     Parameters
@@ -325,7 +325,7 @@ class _Rollout:
 
     def result(
         self, problem: Problem, rate0: np.ndarray, threshold: float, wall_time_s: float
-    ) -> DetumbleResult:
+    ) -> DetumbleRunResult:
         rates = np.vstack(self.rates)
         torques, scales = np.vstack(self.torques), np.concatenate(self.scales)
         time_s = np.arange(len(rates)) * self.period_s
@@ -334,7 +334,7 @@ class _Rollout:
         mass_kg = build_geometry(problem).mass_kg
         # The propellant's mean exhaust velocity: total impulse over propellant.
         exhaust = self.impulse_Ns / fuel.sum() if fuel.sum() > 0 else 0.0
-        summary = DetumbleSummary(
+        summary = DetumbleRunSummary(
             initial_rate_rad_s=tuple(rate0),
             threshold_rad_s=threshold,
             gain_per_s=self.gain,
@@ -352,4 +352,4 @@ class _Rollout:
             control_period_s=self.period_s,
             wall_time_s=wall_time_s,
         )
-        return DetumbleResult(time_s, rates, torques, scales, np.vstack(self.fuel), summary)
+        return DetumbleRunResult(time_s, rates, torques, scales, np.vstack(self.fuel), summary)
