@@ -42,7 +42,7 @@ from casadi_debris.campaigns import CampaignSetup, corner_cases, run_campaign
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import (
     LoopSettings,
     discretize_controller,
@@ -100,7 +100,7 @@ def main() -> None:
 
     problem = load_problem(default_problem_path().parent / "paper_slew.toml")
     model = build_model(problem)
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     allocator = Allocator.from_problem(problem, model.geometry)
 

@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from casadi_debris.config import default_controller_path
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import build_loop_step, discretize_controller
 
 
@@ -22,7 +22,7 @@ def variant_loops(problems: dict, build) -> dict:
     """``build(problem, record, jit)`` of every variant flying the shipped controller, on
     CasADi's virtual machine and compiled, keyed by ``(jit, name)``; one thread each."""
     os.environ.setdefault("OMP_NUM_THREADS", "1")
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     return {
         (jit, name): build(problem, record, jit)
         for jit in (False, True)

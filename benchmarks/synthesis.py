@@ -24,7 +24,7 @@ import control
 from casadi_debris import load_problem
 from casadi_debris.config import Problem, default_controller_path
 from casadi_debris.robust.margins import margin_study
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.robust.synthesis import design_controller
 from recording import Setting, start_benchmark
 
@@ -64,7 +64,7 @@ def main() -> None:
     settings["sweep_only"] = args.sweep_only
     problem = load_problem()
     if args.sweep_only:
-        record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+        record = Controller.from_dict(json.loads(default_controller_path().read_text()))
         sweeps = margin_sweeps(problem, record.reduced, args.samples)
         recording.finish(settings, {**sweeps, "targets": TARGETS})
         return

@@ -8,7 +8,7 @@ from pathlib import Path
 from click.testing import CliRunner
 
 from casadi_debris.cli import main
-from casadi_debris.report import BurnReport
+from casadi_debris.report import BurnSummary
 
 
 def test_a_short_burn_writes_its_folder_and_json(tmp_path: Path) -> None:
@@ -19,7 +19,7 @@ def test_a_short_burn_writes_its_folder_and_json(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     assert summary == json.loads((out / "summary.json").read_text())
-    assert BurnReport.from_json(summary).to_json() == summary
+    assert BurnSummary.from_json(summary).to_json() == summary
     assert summary["direction"] == "normal" and summary["first_stage_left_s"] == 3.0
     assert abs(summary["thrust_mN"] - 0.5 * 2.56) <= 1e-12
     assert summary["burn_s"] == 18.0

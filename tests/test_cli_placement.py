@@ -13,7 +13,7 @@ from click.testing import CliRunner
 from casadi_debris.cli import main
 from casadi_debris.config import SIGNED_AXES, load_problem
 from casadi_debris.geometry import build_geometry, torque_authority
-from casadi_debris.studies.placement import ParetoFigures, PlacementSummary
+from casadi_debris.studies.placement import ParetoPointSummary, PlacementSummary
 from casadi_debris.units import MNM_PER_NM
 
 
@@ -172,7 +172,7 @@ def test_the_summary_reads_back_into_its_record(placed):
 
 
 def test_pareto_points_keep_their_keys_and_read_back():
-    point = ParetoFigures("N=8", 8, 1.44, "+y", 2319.2, 0.0, None, True, True, (2, 3, 5))
+    point = ParetoPointSummary("N=8", 8, 1.44, "+y", 2319.2, 0.0, None, True, True, (2, 3, 5))
     written = point.to_json()
     assert set(written) == {
         "label",
@@ -187,8 +187,8 @@ def test_pareto_points_keep_their_keys_and_read_back():
         "candidates",
     }
     assert written["candidates"] == [2, 3, 5] and written["max_slew_s"] is None
-    assert ParetoFigures.from_json(written) == point
-    assert ParetoFigures.from_json({**written, "candidates": None}).candidates is None
+    assert ParetoPointSummary.from_json(written) == point
+    assert ParetoPointSummary.from_json({**written, "candidates": None}).candidates is None
 
 
 def test_refuses_to_overwrite_a_folder_it_did_not_write(runner, tmp_path):

@@ -11,7 +11,7 @@ import pytest
 
 from casadi_debris.campaigns import CaseIdentity, CaseSummary
 from casadi_debris.records import FLATTENED, OPTIONAL, Record, to_jsonable
-from casadi_debris.simulation import EventRecord
+from casadi_debris.simulation import EventSummary
 from run_summaries import zero_run_summary
 
 
@@ -58,7 +58,7 @@ def test_unknown_keys_and_missing_fields_are_refused() -> None:
 
 
 def test_a_campaign_case_is_one_flat_row_that_reads_back() -> None:
-    event = EventRecord(5.0, "stage_depleted", 3, None, 1, 2, True, "CubeSat 3: stage 1 empty")
+    event = EventSummary(5.0, "stage_depleted", 3, None, 1, 2, True, "CubeSat 3: stage 1 empty")
     run = zero_run_summary(max_error_deg=0.45, events=(event,), settle_time_s=None)
     case = CaseSummary(CaseIdentity("corner-0142", "corner", 142, None, (1.0, -1.0)), run)
     row = json.loads(json.dumps(case.to_json()))

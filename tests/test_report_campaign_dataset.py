@@ -12,7 +12,7 @@ import xarray as xr
 from casadi_debris.campaigns import (
     Bands,
     Case,
-    CaseOutcome,
+    CaseResult,
     CaseSummary,
     Extremes,
     campaign_dataset,
@@ -21,7 +21,7 @@ from casadi_debris.store import (
     CASE_FIGURES,
     DATASET_NAME,
     NO_SEED,
-    CampaignRecord,
+    CampaignIdentity,
     open_campaign,
     write_campaign_dataset,
 )
@@ -31,7 +31,7 @@ PARAMETERS = ("p1", "p2", "p3", "p4", "p5", "p6")
 N_BINS = 5
 
 
-def _outcome(index: int, rng: np.random.Generator, seed: int | None) -> CaseOutcome:
+def _outcome(index: int, rng: np.random.Generator, seed: int | None) -> CaseResult:
     kind = "corner" if seed is None else "sample"
     case = Case(f"{kind}-{index:04d}", kind, index, seed, rng.uniform(-1, 1, 6), np.ones(6))
     values = rng.standard_normal((4, N_BINS, 3)) * 1e-7
@@ -43,11 +43,11 @@ def _outcome(index: int, rng: np.random.Generator, seed: int | None) -> CaseOutc
         fuel_per_cubesat_kg=tuple(rng.uniform(size=24)),
     )
     bands = Bands(Extremes(values[0], values[1]), Extremes(values[2], values[3]))
-    return CaseOutcome(case, CaseSummary(case.identity(), run), bands)
+    return CaseResult(case, CaseSummary(case.identity(), run), bands)
 
 
-def _record(seed: int | None, ids: list[str]) -> CampaignRecord:
-    return CampaignRecord(
+def _record(seed: int | None, ids: list[str]) -> CampaignIdentity:
+    return CampaignIdentity(
         problem_name="paper_slew",
         problem_sha256="a" * 64,
         controller_sha256="b" * 64,
@@ -58,7 +58,7 @@ def _record(seed: int | None, ids: list[str]) -> CampaignRecord:
     )
 
 
-def _dataset(seed: int | None = None, count: int = 3) -> tuple[xr.Dataset, list[CaseOutcome]]:
+def _dataset(seed: int | None = None, count: int = 3) -> tuple[xr.Dataset, list[CaseResult]]:
     rng = np.random.default_rng(8)
     outcomes = [_outcome(i, rng, seed) for i in range(count)]
     record = _record(seed, [o.case.case_id for o in outcomes])
@@ -163,7 +163,7 @@ def test_a_varied_campaign_keeps_every_cases_seed_and_values_by_name(tmp_path: P
             varied=tuple(zip(names, row.tolist(), strict=True)),
         )
         outcomes.append(
-            CaseOutcome(case, CaseSummary(case.identity(), plain.summary.run), plain.bands)
+            CaseResult(case, CaseSummary(case.identity(), plain.summary.run), plain.bands)
         )
     record = _record(11, [o.case.case_id for o in outcomes])
     path = write_campaign_dataset(

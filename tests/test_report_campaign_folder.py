@@ -10,21 +10,21 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from casadi_debris.campaigns import Bands, Case, CaseOutcome, CaseSummary, Extremes
+from casadi_debris.campaigns import Bands, Case, CaseResult, CaseSummary, Extremes
 from casadi_debris.errors import OutputError
 from casadi_debris.store import (
     LOCK_NAME,
     MARKER_NAME,
     RECORD_NAME,
     CampaignFolder,
-    CampaignRecord,
+    CampaignIdentity,
     partial_folder,
     write_atomically,
 )
 from run_summaries import zero_run_summary
 
 
-def _record(**changes) -> CampaignRecord:
+def _record(**changes) -> CampaignIdentity:
     fields = {
         "problem_name": "p",
         "problem_sha256": "a" * 64,
@@ -34,7 +34,7 @@ def _record(**changes) -> CampaignRecord:
         "case_ids": ("sample-0000", "sample-0001"),
         "envelope_bin_s": 1.0,
     }
-    return CampaignRecord(**{**fields, **changes})
+    return CampaignIdentity(**{**fields, **changes})
 
 
 def _dead_pid() -> int:
@@ -44,23 +44,23 @@ def _dead_pid() -> int:
     return int(done.stdout)
 
 
-def _outcome(index: int, rng: np.random.Generator) -> CaseOutcome:
+def _outcome(index: int, rng: np.random.Generator) -> CaseResult:
     case = Case(f"sample-{index:04d}", "sample", index, 1, np.zeros(6), np.ones(6))
     values = rng.standard_normal((4, 5, 3)) * 1e-7  # not representable in float32
     bands = Bands(Extremes(values[0], values[1]), Extremes(values[2], values[3]))
     run = zero_run_summary(max_error_deg=float(values.max()), settle_time_s=None)
-    return CaseOutcome(case, CaseSummary(case.identity(), run), bands)
+    return CaseResult(case, CaseSummary(case.identity(), run), bands)
 
 
-def _write(folder: CampaignFolder, outcome: CaseOutcome) -> None:
+def _write(folder: CampaignFolder, outcome: CaseResult) -> None:
     folder.write_case(outcome.case.case_id, outcome.bands.to_arrays(), outcome.summary)
 
 
-def _finished(folder: CampaignFolder, cases: list[Case]) -> dict[str, CaseOutcome]:
+def _finished(folder: CampaignFolder, cases: list[Case]) -> dict[str, CaseResult]:
     by_id = {case.case_id: case for case in cases}
     return folder.finished_cases(
         by_id,
-        lambda case_id, summary, arrays: CaseOutcome.from_saved(by_id[case_id], summary, arrays),
+        lambda case_id, summary, arrays: CaseResult.from_saved(by_id[case_id], summary, arrays),
     )
 
 
@@ -72,7 +72,7 @@ def _same_bands(first: Bands, second: Bands) -> bool:
 def test_record_differences_name_each_field() -> None:
     mine = _record()
     assert mine.differences(_record()) == []
-    assert CampaignRecord.from_dict(mine.to_dict()) == mine
+    assert CampaignIdentity.from_dict(mine.to_dict()) == mine
     found = mine.differences(_record(seed=2, problem_sha256="c" * 64, case_ids=("x",)))
     assert any("seed (2 there, 1 here)" in f for f in found)
     assert any(f.startswith("problem file (sha256 cccccccccccc") for f in found)

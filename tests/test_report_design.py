@@ -6,10 +6,10 @@ import json
 
 from casadi_debris import load_problem
 from casadi_debris.report import (
-    CampaignFigures,
     DesignSummary,
     RequirementRow,
-    WorstFigure,
+    VerificationSummary,
+    WorstValueSummary,
     binding_lines,
     body_lines,
 )
@@ -20,8 +20,8 @@ from casadi_debris.robust.synthesis import DesignAttempt
 def test_a_design_summary_reads_back_from_its_json() -> None:
     problem = load_problem()
     row = RequirementRow("pointing_arcsec", "pointing [arcsec]", "≤ 60", "55", (55.0,), True)
-    campaign = CampaignFigures(
-        8, {"max_error_deg": WorstFigure(0.6, "corner-0003")}, {"max_error_deg": 0.45}
+    campaign = VerificationSummary(
+        8, {"max_error_deg": WorstValueSummary(0.6, "corner-0003")}, {"max_error_deg": 0.45}
     )
     summary = DesignSummary(
         problem="paper", problem_sha256="a" * 64, plant_sha256="b" * 64, requirements_met=False,

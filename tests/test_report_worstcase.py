@@ -13,7 +13,7 @@ from casadi_debris import load_problem
 from casadi_debris.campaigns import (
     Bands,
     Case,
-    CaseOutcome,
+    CaseResult,
     CaseSummary,
     Extremes,
     campaign_dataset,
@@ -29,7 +29,7 @@ from casadi_debris.report import (
 )
 from casadi_debris.robust.mu import WorstPerturbation
 from casadi_debris.robust.plant import parameters_from_normalized
-from casadi_debris.store import CASE_FIGURES, DATASET_NAME, CampaignRecord, write_campaign_dataset
+from casadi_debris.store import CASE_FIGURES, DATASET_NAME, CampaignIdentity, write_campaign_dataset
 from run_summaries import zero_run_summary
 
 N_BINS = 4
@@ -39,7 +39,7 @@ IDENTITY_KEYS = {
 }  # fmt: skip
 
 
-def _campaign(folder: Path, errors_deg: list[float]) -> list[CaseOutcome]:
+def _campaign(folder: Path, errors_deg: list[float]) -> list[CaseResult]:
     """A corner campaign.nc whose cases reach ``errors_deg``, with random bands."""
     rng = np.random.default_rng(5)
     outcomes = []
@@ -51,9 +51,9 @@ def _campaign(folder: Path, errors_deg: list[float]) -> list[CaseOutcome]:
         )
         values = rng.standard_normal((4, N_BINS, 3))
         bands = Bands(Extremes(values[0], values[1]), Extremes(values[2], values[3]))
-        outcomes.append(CaseOutcome(case, CaseSummary(case.identity(), run), bands))
+        outcomes.append(CaseResult(case, CaseSummary(case.identity(), run), bands))
     ids = tuple(o.case.case_id for o in outcomes)
-    record = CampaignRecord("paper_slew", "a" * 64, "b" * 64, "corner", None, ids, 2.0)
+    record = CampaignIdentity("paper_slew", "a" * 64, "b" * 64, "corner", None, ids, 2.0)
     names = tuple(f"p{i}" for i in range(6))
     dataset = campaign_dataset(record, 2.0 * np.arange(N_BINS), outcomes, names)
     write_campaign_dataset(folder / DATASET_NAME, dataset)

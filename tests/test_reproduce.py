@@ -18,14 +18,14 @@ from casadi_debris.cli import main
 from casadi_debris.report import (
     CampaignRun,
     CampaignSummary,
-    ControllerFigures,
+    ControllerSummary,
     DiskMargin,
     Margins,
     MarginsSummary,
     ModelDescription,
     ReproductionRow,
     ReproductionSummary,
-    WorstFigure,
+    WorstValueSummary,
     paper_figure,
     report_markdown,
     reproduction_rows,
@@ -124,7 +124,7 @@ def _results() -> dict[str, Any]:
             "dv_transfer_m_s": 144.0,
             "detumble_time_h": 16.5,
         },
-        "controller": ControllerFigures(
+        "controller": ControllerSummary(
             mu_peak=0.92, mu_peak_reduced=0.93, order_full=49, order_reduced=25
         ),
         "margins": {
@@ -156,7 +156,7 @@ def _campaign(nominal: dict[str, float], worst_key: str, worst: float) -> Campai
     """A 256-corner campaign summary holding only the figures the rows read."""
     return CampaignSummary(
         problem="paper", problem_sha256="", cases=256,
-        worst={worst_key: WorstFigure(worst, "corner-0001")},
+        worst={worst_key: WorstValueSummary(worst, "corner-0001")},
         max_torque_mNm=(LIMITS_MNM * 0.5).tolist(), fuel_kg_range=[0.0, 0.0],
         envelope_bin_s=1.0, nominal=dict(nominal),
         run=CampaignRun(
@@ -223,7 +223,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     results = _results()
     if group is None:
         results[field] = value
-    elif isinstance(results[group], CampaignSummary | ModelDescription | ControllerFigures):
+    elif isinstance(results[group], CampaignSummary | ModelDescription | ControllerSummary):
         results[group] = dataclasses.replace(results[group], **{field: value})
     else:
         results[group][field] = value

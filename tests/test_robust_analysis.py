@@ -20,7 +20,7 @@ from casadi_debris.robust.margins import (
     margin_study,
     return_ratio,
 )
-from casadi_debris.robust.plant import ControllerRecord, sample_uncertainty
+from casadi_debris.robust.plant import Controller, sample_uncertainty
 
 # The paper's margins with their accepted bounds (dB, deg, s), nominal and over sampled plants.
 NOMINAL = paper_figure("margins_nominal")
@@ -31,7 +31,7 @@ CI_SAMPLES = 300  # the paper samples 3000; `casadi-debris margins` does by defa
 @pytest.fixture(scope="module")
 def controller():
     data = json.loads(default_controller_path().read_text())
-    return ControllerRecord.from_dict(data).reduced
+    return Controller.from_dict(data).reduced
 
 
 @pytest.fixture(scope="module")

@@ -9,13 +9,13 @@ import numpy as np
 import pytest
 
 from casadi_debris.errors import ProblemFileError
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 
 
 def _record():
     reduced = control.ss(np.diag([-1.0, -2.0]), np.ones((2, 3)), np.ones((3, 2)), np.eye(3))
     full = control.ss(np.diag([-1.0, -2.0, -3.0]), np.ones((3, 3)), np.ones((3, 3)), np.eye(3))
-    return ControllerRecord(reduced, full, 0.98, 0.99, "abc", 7, {"mu_per_iteration": [1.2, 0.98]})
+    return Controller(reduced, full, 0.98, 0.99, "abc", 7, {"mu_per_iteration": [1.2, 0.98]})
 
 
 def test_round_trip_through_json():
@@ -23,7 +23,7 @@ def test_round_trip_through_json():
     data = json.loads(json.dumps(record.to_dict()))
     assert data["order_full"] == 3 and data["order_reduced"] == 2
     assert len(data["A"]) == 2 and len(data["B"][0]) == 3
-    back = ControllerRecord.from_dict(data)
+    back = Controller.from_dict(data)
     omega = np.logspace(-2, 2, 7)
     np.testing.assert_allclose(
         back.reduced.frequency_response(omega).frdata,
@@ -38,21 +38,21 @@ def test_missing_and_bad_keys_named():
     data = _record().to_dict()
     del data["A"]
     with pytest.raises(ProblemFileError, match="A: missing"):
-        ControllerRecord.from_dict(data, "k.json")
+        Controller.from_dict(data, "k.json")
     data = _record().to_dict()
     del data["mu_peak"]  # the μ bookkeeping is a design's, a plain controller has none
-    assert ControllerRecord.from_dict(data).mu_peak is None
+    assert Controller.from_dict(data).mu_peak is None
     data["mu_peak_reduced"] = -1.0
     with pytest.raises(ProblemFileError, match="mu_peak_reduced: must be a non-negative"):
-        ControllerRecord.from_dict(data)
+        Controller.from_dict(data)
     data = _record().to_dict()
     data["B"] = [[1.0, 2.0]]
     with pytest.raises(ProblemFileError, match="3-input, 3-output"):
-        ControllerRecord.from_dict(data)
+        Controller.from_dict(data)
     data = _record().to_dict()
     data["D"][0][0] = float("nan")
     with pytest.raises(ProblemFileError, match="finite"):
-        ControllerRecord.from_dict(data)
+        Controller.from_dict(data)
 
 
 @pytest.mark.parametrize(
@@ -73,4 +73,4 @@ def test_a_damaged_controller_file_is_refused_naming_the_key(change, key) -> Non
     data = copy.deepcopy(json.loads(default_controller_path().read_text()))
     change(data)
     with pytest.raises(ProblemFileError, match=f"^ctl.json: {key}: "):
-        ControllerRecord.from_dict(data, "ctl.json")
+        Controller.from_dict(data, "ctl.json")

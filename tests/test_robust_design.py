@@ -14,7 +14,7 @@ from casadi_debris.errors import SynthesisError
 from casadi_debris.report import paper_figure
 from casadi_debris.robust.margins import closed_loop_poles
 from casadi_debris.robust.plant import (
-    ControllerRecord,
+    Controller,
     box_corners,
     generalized_plant,
     parameters_from_normalized,
@@ -30,9 +30,9 @@ REDUCED_ORDER = paper_figure("controller_order").component("reduced")
 
 
 @pytest.fixture(scope="module")
-def shipped() -> ControllerRecord:
+def shipped() -> Controller:
     path = default_controller_path()
-    return ControllerRecord.from_dict(json.loads(path.read_text()), str(path))
+    return Controller.from_dict(json.loads(path.read_text()), str(path))
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ from casadi_debris.errors import SynthesisError
 from casadi_debris.geometry import Geometry
 from casadi_debris.robust.requirements import (
     DISTURBANCE_TO_AUTHORITY,
-    ScalingFigures,
+    ScalingSummary,
     derived_scalings,
 )
 
@@ -108,7 +108,7 @@ def test_the_figures_are_the_scalings_by_name_and_read_back(problem):
         "pointing_per_mu_arcsec": scalings.pointing_per_mu_arcsec.tolist(),
         "reference_scaling_deg": scalings.reference_deg.tolist(),
     }
-    assert ScalingFigures.from_json(data) == figures
+    assert ScalingSummary.from_json(data) == figures
     # Looser than the requirement, the reference stays at the requirement's Ve (Ve loosens
     # alone); tighter, it is Ve, as in the paper's form.
     np.testing.assert_allclose(scalings.reference_deg, scalings.error_deg / 2.0, rtol=1e-15)

@@ -43,7 +43,7 @@ from casadi_debris.dynamics import Model, build_model
 from casadi_debris.geometry import torque_authority
 from casadi_debris.guidance import Reference, sample_reference, scenario_reference
 from casadi_debris.report import paper_figure
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import ClosedLoopResult, LoopSettings, SimulationError, simulate
 from casadi_debris.simulation import _closed_loop as closed_loop_module
 
@@ -206,7 +206,7 @@ def assert_engines_within_limits(result: ClosedLoopResult, problem: Problem) -> 
 
 @pytest.fixture(scope="module")
 def controller() -> control.StateSpace:
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     return record.reduced
 
 

@@ -20,7 +20,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import (
     LoopSettings,
     build_loop_step,
@@ -40,12 +40,12 @@ logging.basicConfig(level=logging.INFO, stream=sys.stderr)
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import default_controller_path, default_problem_path, load_problem
 from casadi_debris.dynamics import build_model
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import build_loop_step, discretize_controller
 
 problem = load_problem(default_problem_path().parent / "paper_slew.toml")
 model = build_model(problem)
-record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+record = Controller.from_dict(json.loads(default_controller_path().read_text()))
 period = 1.0 / problem.simulation.control_rate_hz
 loop = build_loop_step(
     model,
@@ -99,7 +99,7 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
     problem = load_problem(default_problem_path().parent / "paper_slew.toml")
     problem = replace(problem, simulation=replace(problem.simulation, duration_s=150.0))
     model = build_model(problem)
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     corner = model.parameters(inertia_scale_z=1.17, array_angle_offset_rad=0.8)
     runs = [
@@ -228,7 +228,7 @@ def test_a_failing_compiler_leaves_the_step_on_the_virtual_machine(
         pytest.skip("no `false` command")
     monkeypatch.setattr(closed_loop, "c_compiler", lambda: failing)
     monkeypatch.setattr(closed_loop, "_JIT_STEPS", {})
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     problem = model.problem
     with caplog.at_level(logging.WARNING, logger=closed_loop.__name__):
         loop = build_loop_step(
@@ -251,7 +251,7 @@ def test_the_cached_library_computes_what_casadis_own_jit_computes(
     monkeypatch.setattr(closed_loop, "_JIT_STEPS", {})
     problem = load_problem(default_problem_path().parent / "paper_slew.toml")
     model = build_model(problem)
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     controller = discretize_controller(record.reduced, 1.0 / problem.simulation.control_rate_hz)
     polytope = Allocator.from_problem(problem, model.geometry).authority_polytope()

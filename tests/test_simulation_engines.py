@@ -28,7 +28,7 @@ from casadi_debris.config import (
 )
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import Reference, scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import ClosedLoopResult, simulate
 from test_allocation_isp import twin_data
 
@@ -55,7 +55,7 @@ def problem(paper_data: dict[str, Any]) -> Problem:
 
 @pytest.fixture(scope="module")
 def run(problem: Problem) -> ClosedLoopResult:
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     keep = reference.time_s <= RUN_S + 1e-9
     reference = Reference(

@@ -21,7 +21,7 @@ from casadi_debris.config import ENVIRONMENT_TORQUES, Problem, default_controlle
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.environment import CircularOrbit, EnvironmentTorques, gravity_gradient_torque
 from casadi_debris.guidance import sample_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate
 
 RUN_S = 120.0
@@ -34,7 +34,7 @@ def _with_torques(problem: Problem, torques: tuple[str, ...]) -> Problem:
 
 @pytest.fixture(scope="module")
 def controller() -> control.StateSpace:
-    return ControllerRecord.from_dict(json.loads(default_controller_path().read_text())).reduced
+    return Controller.from_dict(json.loads(default_controller_path().read_text())).reduced
 
 
 def _run(problem: Problem, controller: control.StateSpace, start: Rotation) -> tuple:

@@ -11,7 +11,7 @@ import pytest
 from casadi_debris.config import default_controller_path, problem_from_dict
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import segment_figures, simulate
 
 
@@ -25,7 +25,7 @@ def test_segments_tile_the_run(fresh_data: dict[str, Any]) -> None:
         ],
     }
     problem = problem_from_dict(fresh_data, "<test>")
-    controller = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    controller = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
     result = simulate(build_model(problem), controller.reduced, reference)
     figures = segment_figures(result, reference.pieces)

@@ -22,7 +22,7 @@ from casadi_debris.guidance import (
     segment_records,
     sequence_pieces,
 )
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import simulate
 
 
@@ -107,7 +107,7 @@ def test_euler_and_quaternion_targets_reach_their_attitude(fresh_data: dict[str,
 
 @pytest.fixture(scope="module")
 def controller() -> Any:
-    return ControllerRecord.from_dict(json.loads(default_controller_path().read_text())).reduced
+    return Controller.from_dict(json.loads(default_controller_path().read_text())).reduced
 
 
 def test_a_quaternion_target_flies_as_the_same_axis_angle(

@@ -19,7 +19,7 @@ from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
 from casadi_debris.slews import (
     COLLOCATION_DEGREE,
-    SlewOptions,
+    OptimalSlewSettings,
     bang_bang_slew,
     fuel_optimal_slew,
     least_fuel_thrust,
@@ -210,7 +210,7 @@ def test_zero_net_force_needs_thrusters(problem: Problem) -> None:
 
 
 def test_options_object_and_keywords_give_the_same_slew(problem: Problem) -> None:
-    options = SlewOptions(intervals=8, check_vibration=False, sample_s=10.0)
+    options = OptimalSlewSettings(intervals=8, check_vibration=False, sample_s=10.0)
     by_object = time_optimal_slew(problem, "z", math.pi, options=options)
     by_keywords = time_optimal_slew(
         problem, "z", math.pi, intervals=8, check_vibration=False, sample_s=10.0
@@ -275,7 +275,7 @@ def test_too_short_bang_bang_says_minimum(problem: Problem, geometry: Geometry, 
 )
 def test_bad_slew_option_is_named(field: str, value: Any, message: str) -> None:
     with pytest.raises(InputShapeError, match=message):
-        SlewOptions(**{field: value})
+        OptimalSlewSettings(**{field: value})
 
 
 def test_unknown_keyword_and_single_axis_fuel_are_refused(problem: Problem) -> None:

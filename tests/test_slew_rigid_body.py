@@ -10,8 +10,8 @@ import pytest
 
 from casadi_debris.errors import InputShapeError
 from casadi_debris.slews import (
+    OptimalSlewSettings,
     RigidBody,
-    SlewOptions,
     fuel_optimal_slew,
     scaled_rigid_ode,
     time_optimal_slew,
@@ -85,4 +85,4 @@ def test_fuel_optimal_needs_a_problem() -> None:
 )
 def test_bad_search_options_are_named(field: str, value: Any) -> None:
     with pytest.raises(InputShapeError, match=f"{field}: must be an integer"):
-        SlewOptions(**{field: value})
+        OptimalSlewSettings(**{field: value})

@@ -5,10 +5,10 @@ from __future__ import annotations
 import json
 
 from casadi_debris.studies.failures import (
-    ClosedLoopVerdict,
-    FailureCaseRecord,
-    HoldingRecord,
-    RunVerdict,
+    ClosedLoopCheckSummary,
+    FailureCaseSummary,
+    HoldingSummary,
+    RunCheckSummary,
     ThrustChange,
 )
 
@@ -34,8 +34,8 @@ RUN_KEYS = {
 checks them on a flown campaign)."""
 
 
-def _case(met: bool) -> FailureCaseRecord:
-    slew = RunVerdict(
+def _case(met: bool) -> FailureCaseSummary:
+    slew = RunCheckSummary(
         manoeuvre="slew",
         error_key="max_error_deg",
         error=0.45 if met else 3.0,
@@ -47,7 +47,7 @@ def _case(met: bool) -> FailureCaseRecord:
         fuel_per_cubesat_kg=(0.004, 0.006),
         stage_switches=1,
     )
-    return FailureCaseRecord(
+    return FailureCaseSummary(
         case_id="failed-3",
         failed=(3,),
         failed_stage=(),
@@ -65,9 +65,9 @@ def _case(met: bool) -> FailureCaseRecord:
         worst_axis="+y",
         worst_ratio=2.8,
         authority_loss={"+x": 0.1, "-x": None, "+y": 0.0, "-y": 0.0, "+z": 0.0, "-z": 0.0},
-        holding=HoldingRecord(600.0, 1e-3, (5e-4, 5e-4), 1.0, (0.05, 0.05), 0.0, 3.2e7, 2),
+        holding=HoldingSummary(600.0, 1e-3, (5e-4, 5e-4), 1.0, (0.05, 0.05), 0.0, 3.2e7, 2),
         reallocation=(ThrustChange(2, 0.05, 0.1),),
-        closed_loop=ClosedLoopVerdict(met, {"slew": slew}, {}),
+        closed_loop=ClosedLoopCheckSummary(met, {"slew": slew}, {}),
     )
 
 
@@ -75,7 +75,7 @@ def test_a_case_with_closed_loop_verdicts_reads_back_from_its_json_text():
     for met in (True, False):
         case = _case(met)
         text = json.dumps(case.to_json())
-        assert FailureCaseRecord.from_json(json.loads(text)) == case
+        assert FailureCaseSummary.from_json(json.loads(text)) == case
 
 
 def test_a_run_verdict_writes_every_figure_it_promises():

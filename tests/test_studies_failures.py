@@ -23,7 +23,7 @@ from casadi_debris.studies.failures import (
     FailureSettings,
     FailuresSummary,
     FailureStudy,
-    RunVerdict,
+    RunCheckSummary,
     failure_study,
     manoeuvres,
 )
@@ -68,7 +68,7 @@ def _simulate(*args: str) -> dict:
 EXACT_KEYS = ("fuel_kg", "fuel_per_cubesat_kg", "torque_saturated_s", "settle_time_s")
 
 
-def _figure(verdict: RunVerdict, key: str) -> object:
+def _figure(verdict: RunCheckSummary, key: str) -> object:
     """A verdict's figure as the run's JSON gives it."""
     return verdict.to_json()[key]
 

@@ -47,7 +47,7 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem, problem_from_dict
 from casadi_debris.report import describe_model
 from casadi_debris.slews import (
-    SlewOptions,
+    OptimalSlewSettings,
     SlewProfile,
     bang_bang_slew,
     fuel_optimal_slew,
@@ -307,8 +307,8 @@ def test_bang_bang_many(data, axis, angle_deg) -> None:
     check_bang_bang(data, axis, angle_deg)
 
 
-def _options(reference_s: float, **extra: Any) -> SlewOptions:
-    return SlewOptions(
+def _options(reference_s: float, **extra: Any) -> OptimalSlewSettings:
+    return OptimalSlewSettings(
         sample_s=max(1e-3, reference_s / 300),
         check_vibration=False,
         starts=2,

@@ -139,19 +139,19 @@ def test_each_missed_requirement_gets_its_binding_limit_from_the_runs(problem):
     nominal and corner, the slew's own torque fraction, nothing for a requirement met."""
     from types import SimpleNamespace
 
-    from casadi_debris.report import RequirementRow, WorstFigure
+    from casadi_debris.report import RequirementRow, WorstValueSummary
     from casadi_debris.workflows import binding_limits
 
     slew_problem, _ = verification_problems(problem, QUICK)
     pointing = SimpleNamespace(
         nominal={"max_error_arcsec": 70.0},
-        worst={"max_error_arcsec": WorstFigure(81.0, "corner-0002")},
+        worst={"max_error_arcsec": WorstValueSummary(81.0, "corner-0002")},
     )
     slew = SimpleNamespace(
         nominal={"max_error_deg": 0.5},
         worst={
-            "max_error_deg": WorstFigure(0.9, "corner-0001"),
-            "torque_saturated_s": WorstFigure(30.0, "corner-0001"),
+            "max_error_deg": WorstValueSummary(0.9, "corner-0001"),
+            "torque_saturated_s": WorstValueSummary(30.0, "corner-0001"),
         },
     )
     rows = [

@@ -1,7 +1,7 @@
 """Griffe extension: Sphinx cross-reference roles in docstrings become links.
 
 The docstrings are numpydoc and cite other objects the Sphinx way
-(``:func:`load_problem```, ``:class:`~casadi_debris.slews.SlewOptions```,
+(``:func:`load_problem```, ``:class:`~casadi_debris.slews.OptimalSlewSettings```,
 ``:mod:`.mu```). mkdocstrings reads Markdown, where such a role would show as
 literal text, so before the docstrings are parsed each role is rewritten into a
 mkdocstrings cross-reference to the object's full path, resolved in the scope of

@@ -37,7 +37,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.environment import EnvironmentTorques
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import LoopSettings, simulate
 from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
 
@@ -105,7 +105,7 @@ TITLE = {
 
 
 def pointing_runs() -> dict[str, float]:
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     figure, axes = plt.subplots(3, 1, figsize=(8, 8.5), sharex=True)
     numbers = {}
     for ax, (name, problem) in zip(axes, _variants().items(), strict=True):

@@ -31,7 +31,7 @@ from casadi_debris import load_problem
 from casadi_debris.config import Actuators, Problem, default_controller_path, realism_fields
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import ClosedLoopResult, simulate
 from casadi_debris.units import ARCSEC_PER_RAD
 
@@ -47,7 +47,7 @@ def realistic(problem: Problem, realism: Problem) -> Problem:
     return dataclasses.replace(problem, **realism_fields(realism))
 
 
-def run(problem: Problem, record: ControllerRecord) -> ClosedLoopResult:
+def run(problem: Problem, record: Controller) -> ClosedLoopResult:
     return simulate(build_model(problem), record.reduced, scenario_reference(problem))
 
 
@@ -69,7 +69,7 @@ def figures(result: ClosedLoopResult) -> dict:
 
 
 def main() -> None:
-    record = ControllerRecord.from_dict(json.loads(default_controller_path().read_text()))
+    record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     real = load_problem("paper_realistic")
     slew, pointing = load_problem("paper_slew"), load_problem("paper_pointing")
     runs = {

@@ -6,7 +6,7 @@ worst case.
   and :func:`varied_cases` / :func:`varied_case` (the quantities of
   ``[[montecarlo.vary]]``); every :class:`Case` carries what re-runs it alone.
 - :func:`run_campaign`: the cases on local processes or Dask, each a
-  :class:`CaseOutcome` (its :class:`CaseSummary` and :class:`Bands`), with an
+  :class:`CaseResult` (its :class:`CaseSummary` and :class:`Bands`), with an
   :class:`Envelope` over them; a case that raises is a :class:`CaseFailure` and the
   campaign goes on.
 - :func:`campaign_statistics`: pass rate, moments, percentiles and what drives the worst
@@ -38,8 +38,8 @@ from casadi_debris.campaigns._monte_carlo import (
     Bands,
     CampaignSetup,
     CaseFailure,
-    CaseFailureRecord,
-    CaseOutcome,
+    CaseFailureSummary,
+    CaseResult,
     CaseRunner,
     CaseSummary,
     Envelope,
@@ -85,9 +85,9 @@ __all__ = [
     "Case",
     "CaseBatch",
     "CaseFailure",
-    "CaseFailureRecord",
+    "CaseFailureSummary",
     "CaseIdentity",
-    "CaseOutcome",
+    "CaseResult",
     "CaseRunner",
     "CaseSummary",
     "Driver",

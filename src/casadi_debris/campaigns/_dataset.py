@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from casadi_debris.campaigns._monte_carlo import CaseOutcome
+from casadi_debris.campaigns._monte_carlo import CaseResult
 from casadi_debris.campaigns._statistics import case_quantities
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.store import (
@@ -20,7 +20,7 @@ from casadi_debris.store import (
     FORMAT_ATTRIBUTE,
     FORMAT_VERSION,
     NO_SEED,
-    CampaignRecord,
+    CampaignIdentity,
 )
 
 if TYPE_CHECKING:
@@ -28,20 +28,20 @@ if TYPE_CHECKING:
 
 
 def campaign_dataset(
-    record: CampaignRecord,
+    record: CampaignIdentity,
     bin_start_s: np.ndarray,
-    outcomes: Sequence[CaseOutcome],
+    outcomes: Sequence[CaseResult],
     parameter_names: Sequence[str],
 ) -> xr.Dataset:
     """Every case of a campaign as one labelled dataset.
 
     Parameters
     ----------
-    record : CampaignRecord
+    record : CampaignIdentity
         What identifies the campaign (becomes the attributes).
     bin_start_s : ndarray, shape (n_bins,)
         Start of every time bin [s].
-    outcomes : sequence of CaseOutcome
+    outcomes : sequence of CaseResult
         The cases, in campaign order; each summary holds the figures of
         :data:`CASE_FIGURES` (None or missing: NaN), ``max_torque_mNm`` (3)
         and ``fuel_per_cubesat_kg`` (n_cubesats).
@@ -95,7 +95,7 @@ def campaign_dataset(
     return xr.Dataset(data_vars, coords, _attributes(record))
 
 
-def _stacked_bands(outcomes: Sequence[CaseOutcome], name: str) -> np.ndarray:
+def _stacked_bands(outcomes: Sequence[CaseResult], name: str) -> np.ndarray:
     """One binned quantity of every case, shape (n_cases, n_bins, 2, 3)."""
     per_case = []
     for outcome in outcomes:
@@ -109,7 +109,7 @@ def _number(value: Any) -> float:
 
 
 def _coordinates(
-    outcomes: Sequence[CaseOutcome], bin_start_s: np.ndarray, parameter_names: Sequence[str]
+    outcomes: Sequence[CaseResult], bin_start_s: np.ndarray, parameter_names: Sequence[str]
 ) -> dict[str, Any]:
     cases = [o.case for o in outcomes]
     return {
@@ -133,7 +133,7 @@ def _coordinates(
     }
 
 
-def _attributes(record: CampaignRecord) -> dict[str, Any]:
+def _attributes(record: CampaignIdentity) -> dict[str, Any]:
     return {
         "title": f"Monte-Carlo campaign of {record.problem_name}",
         "problem": record.problem_name,

@@ -218,7 +218,7 @@ class Bands:
 
 
 @dataclass(frozen=True, eq=False)
-class CaseOutcome:
+class CaseResult:
     """One finished case.
 
     Attributes
@@ -237,7 +237,7 @@ class CaseOutcome:
     @classmethod
     def from_saved(
         cls, case: Case, summary: dict[str, Any], arrays: Mapping[str, np.ndarray]
-    ) -> CaseOutcome:
+    ) -> CaseResult:
         """The case as its files keep it: its summary's JSON and its bands' named arrays
         (:meth:`Bands.to_arrays`); a layout of another version raises ValueError,
         KeyError or TypeError."""
@@ -253,7 +253,7 @@ class CaseSummary(Record):
 
 
 @dataclass(frozen=True)
-class CaseFailureRecord(Record):
+class CaseFailureSummary(Record):
     """A case that raised, as its JSON records it."""
 
     identity: CaseIdentity = field(metadata=FLATTENED)
@@ -282,10 +282,10 @@ class CaseFailure:
     message: str
     traceback: str
 
-    def summary(self) -> CaseFailureRecord:
+    def summary(self) -> CaseFailureSummary:
         """The case's identity and what it raised."""
         identity = self.case.identity()
-        return CaseFailureRecord(identity, self.error_type, self.message, self.traceback)
+        return CaseFailureSummary(identity, self.error_type, self.message, self.traceback)
 
 
 def bin_bands(setup: CampaignSetup, result: ClosedLoopResult) -> Bands:
@@ -309,7 +309,7 @@ def _extremes(values: np.ndarray, bins: np.ndarray, n_bins: int) -> Extremes:
     return Extremes(low, high)
 
 
-def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) -> CaseOutcome:
+def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) -> CaseResult:
     """Simulate one case of a campaign.
 
     A case that varies keys of the problem file (``Case.file_values``) flies
@@ -334,7 +334,7 @@ def run_case(setup: CampaignSetup, case: Case, *, model: Model | None = None) ->
         model = build_model(problem)
     result = fly_case(model, setup.controller, setup.reference, case, jit=jit)
     summary = CaseSummary(case.identity(), result.summary())
-    return CaseOutcome(case, summary, bin_bands(setup, result))
+    return CaseResult(case, summary, bin_bands(setup, result))
 
 
 def fly_case(
@@ -395,11 +395,11 @@ class CaseRunner:
         self.setup = setup
         self.model = build_model(setup.problem)
 
-    def __call__(self, case: Case) -> CaseOutcome:
+    def __call__(self, case: Case) -> CaseResult:
         """Simulate ``case`` (see :func:`run_case`)."""
         return run_case(self.setup, case, model=self.model)
 
-    def batch(self, batch: CaseBatch) -> list[CaseOutcome | CaseFailure]:
+    def batch(self, batch: CaseBatch) -> list[CaseResult | CaseFailure]:
         """Simulate the cases of ``batch`` together; each one's outcome, or its failure."""
         setup, model = self.setup, self.model
         # A fresh allocator per case, as run_case: a case's numbers never depend on its batch.
@@ -426,21 +426,21 @@ class CaseRunner:
 
 def _outcome(
     setup: CampaignSetup, case: Case, result: ClosedLoopResult | Exception
-) -> CaseOutcome | CaseFailure:
+) -> CaseResult | CaseFailure:
     if not isinstance(result, Exception):
         try:
             summary = CaseSummary(case.identity(), result.summary())
-            return CaseOutcome(case, summary, bin_bands(setup, result))
+            return CaseResult(case, summary, bin_bands(setup, result))
         except Exception as exc:  # this case's failure, as run_case would raise it
             result = exc
     return CaseFailure(case, *describe_error(result))
 
 
-def _run_with(runner: CaseRunner, case: Case) -> CaseOutcome:
+def _run_with(runner: CaseRunner, case: Case) -> CaseResult:
     return runner(case)
 
 
-def _run_batch_with(runner: CaseRunner, batch: CaseBatch) -> list[CaseOutcome | CaseFailure]:
+def _run_batch_with(runner: CaseRunner, batch: CaseBatch) -> list[CaseResult | CaseFailure]:
     return runner.batch(batch)
 
 
@@ -458,9 +458,9 @@ def run_campaign(
     *,
     workers: int = 1,
     scheduler: str | None = None,
-    on_result: Callable[[CaseOutcome], None] | None = None,
+    on_result: Callable[[CaseResult], None] | None = None,
     on_failure: Callable[[CaseFailure], None] | None = None,
-) -> list[CaseOutcome]:
+) -> list[CaseResult]:
     """Run cases, in parallel, calling ``on_result`` as each finishes.
 
     A case that raises is recorded as a :class:`CaseFailure` and the others
@@ -478,7 +478,7 @@ def run_campaign(
         Address of a Dask scheduler (``tcp://host:8786``); needs the
         ``distributed`` package (``pip install 'casadi_debris[dask]'``).
     on_result : callable, optional
-        Called with each :class:`CaseOutcome` in completion order.
+        Called with each :class:`CaseResult` in completion order.
     on_failure : callable, optional
         Called with each :class:`CaseFailure` in completion order. Without
         it, failed cases raise :class:`CasesFailedError` once every other
@@ -486,7 +486,7 @@ def run_campaign(
 
     Returns
     -------
-    list of CaseOutcome
+    list of CaseResult
         The cases that finished, in the order of ``cases``.
 
     Raises
@@ -531,11 +531,11 @@ def run_campaign(
 
 def _collect(
     finished: Iterable[Any],
-    on_result: Callable[[CaseOutcome], None] | None,
+    on_result: Callable[[CaseResult], None] | None,
     on_failure: Callable[[CaseFailure], None] | None,
-) -> tuple[dict[str, CaseOutcome], list[CaseFailure]]:
+) -> tuple[dict[str, CaseResult], list[CaseFailure]]:
     """Outcomes by case id and the failures, calling back on each as it comes."""
-    by_id: dict[str, CaseOutcome] = {}
+    by_id: dict[str, CaseResult] = {}
     failures: list[CaseFailure] = []
     for item in finished:
         for done in _cases_of(item):
@@ -550,7 +550,7 @@ def _collect(
     return by_id, failures
 
 
-def _cases_of(item: Any) -> list[CaseOutcome | CaseFailure]:
+def _cases_of(item: Any) -> list[CaseResult | CaseFailure]:
     """What one item of the map gives: a case's outcome, or a batch's, or their failure."""
     if isinstance(item, ItemFailure):
         cases = item.item.cases if isinstance(item.item, CaseBatch) else (item.item,)

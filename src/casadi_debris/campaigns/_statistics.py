@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import stats
 
-from casadi_debris.campaigns._monte_carlo import CaseOutcome
+from casadi_debris.campaigns._monte_carlo import CaseResult
 from casadi_debris.config import Problem
 from casadi_debris.records import Record
 from casadi_debris.simulation import RunSummary
@@ -231,7 +231,7 @@ def requirement_shortfalls(problem: Problem, run: RunSummary) -> tuple[str, ...]
 
 
 def case_quantities(
-    outcomes: Sequence[CaseOutcome], parameter_names: Sequence[str]
+    outcomes: Sequence[CaseResult], parameter_names: Sequence[str]
 ) -> dict[str, np.ndarray]:
     """What varied over the cases, by name, shape (n_cases,) each.
 
@@ -249,7 +249,7 @@ def case_quantities(
     return {name: matrix[:, k] for k, name in enumerate(names)}
 
 
-def case_figures(outcomes: Sequence[CaseOutcome]) -> dict[str, np.ndarray]:
+def case_figures(outcomes: Sequence[CaseResult]) -> dict[str, np.ndarray]:
     """Every figure of :data:`FIGURES` over the cases (None: NaN), those some case has."""
     table = {
         name: np.array([_number(getattr(o.summary.run, name)) for o in outcomes], dtype=float)
@@ -427,7 +427,7 @@ def _driver(
 
 def statistics_of(
     problem: Problem,
-    outcomes: Sequence[CaseOutcome],
+    outcomes: Sequence[CaseResult],
     parameter_names: Sequence[str],
     failed_cases: int = 0,
 ) -> CampaignStatistics:

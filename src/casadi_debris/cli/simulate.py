@@ -46,13 +46,13 @@ if TYPE_CHECKING:
     import numpy as np
 
     from casadi_debris.campaigns import CampaignStatistics
-    from casadi_debris.simulation import SegmentFigures
-    from casadi_debris.workflows import RunRecord
+    from casadi_debris.simulation import SegmentRunSummary
+    from casadi_debris.workflows import SimulationSummary
 
 EXIT_INTERRUPTED = 130  # the shell's code for a process ended by Ctrl-C
 
 
-def summary_text(summary: RunRecord) -> str:
+def summary_text(summary: SimulationSummary) -> str:
     run = summary.run
     settle = run.settle_time_s
     rows: list[list[Any]] = [
@@ -77,7 +77,7 @@ def summary_text(summary: RunRecord) -> str:
     return format_table(["figure", "value"], rows)
 
 
-def segments_text(segments: Sequence[SegmentFigures] | None) -> str:
+def segments_text(segments: Sequence[SegmentRunSummary] | None) -> str:
     """A manoeuvre's segments (window, largest error and fuel of each) on the lines after a
     newline; nothing without segments."""
     if segments is None:

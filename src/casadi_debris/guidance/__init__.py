@@ -5,7 +5,7 @@
   :func:`sample_reference`: a slew profile sampled at given instants.
 - :func:`generate_slew`, :func:`solve_slew`: the slew a ``[simulation.slew]`` asks for.
 - :func:`manoeuvre_reference`, :func:`sequence_pieces`: a sequence of slews, holds,
-  LVLH tracks and burns (:class:`Piece`, :class:`SegmentRecord`).
+  LVLH tracks and burns (:class:`Piece`, :class:`SegmentPlanSummary`).
 - :func:`frame_attitude`, :func:`track_attitudes`, :func:`body_rates`: frame targets.
 - :class:`BurnPlan`, :func:`burn_windows`, :func:`burn_thrust_N`: orbit-raising burns.
 
@@ -33,7 +33,7 @@ from casadi_debris.guidance._sequence import (
     ManoeuvreReference,
     ManoeuvreSummary,
     Piece,
-    SegmentRecord,
+    SegmentPlanSummary,
     manoeuvre_reference,
     sample_pieces,
     segment_records,
@@ -58,7 +58,7 @@ __all__ = [
     "ManoeuvreSummary",
     "Piece",
     "Reference",
-    "SegmentRecord",
+    "SegmentPlanSummary",
     "blend",
     "body_rates",
     "burn_offset",

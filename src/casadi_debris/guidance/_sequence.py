@@ -346,7 +346,7 @@ def sample_pieces(pieces: list[Piece], time_s: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True)
-class SegmentRecord(Record):
+class SegmentPlanSummary(Record):
     """One stretch of a manoeuvre as a user reads it.
 
     Attributes
@@ -384,13 +384,13 @@ class SegmentRecord(Record):
     worst_authority_share: float | None = None
 
 
-def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentRecord, ...]:
+def segment_records(pieces: list[Piece] | tuple[Piece, ...]) -> tuple[SegmentPlanSummary, ...]:
     """The pieces as records (1-based segment numbers, slews' figures)."""
     records = []
     for piece in pieces:
         slew = piece.slew
         records.append(
-            SegmentRecord(
+            SegmentPlanSummary(
                 segment=None if piece.index is None else piece.index + 1,
                 kind=piece.kind,
                 start_s=piece.start_s,
@@ -421,7 +421,7 @@ class ManoeuvreSummary(Record):
     problem : str
     duration_s : float
         The run's length.
-    segments : tuple of SegmentRecord
+    segments : tuple of SegmentPlanSummary
     fuel_slews_kg : float
         The slew profiles' propellant, summed (open loop: no feedback, no disturbance).
     wall_time_s : float
@@ -432,7 +432,7 @@ class ManoeuvreSummary(Record):
 
     problem: str
     duration_s: float
-    segments: tuple[SegmentRecord, ...]
+    segments: tuple[SegmentPlanSummary, ...]
     fuel_slews_kg: float
     wall_time_s: float
     slews_within_limits: bool = True

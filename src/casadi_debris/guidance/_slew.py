@@ -14,7 +14,7 @@ from casadi_debris.config import Problem, SlewReference, SlewSettings
 from casadi_debris.dynamics import quaternion_rate
 from casadi_debris.errors import InputShapeError, ProblemFileError, SlewInfeasibleError
 from casadi_debris.slews import (
-    SlewOptions,
+    OptimalSlewSettings,
     SlewProfile,
     SlewTarget,
     bang_bang_slew,
@@ -119,7 +119,7 @@ def _slew_of(
             sample_s=sample_s,
             check_vibration=False,
         )
-    options = SlewOptions(
+    options = OptimalSlewSettings(
         thrusters=settings.thrusters,
         zero_net_force=settings.thrusters,
         flexible=settings.flexible,

@@ -9,12 +9,12 @@ from matplotlib.figure import Figure
 
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.plots._style import AXIS_COLOURS
-from casadi_debris.studies.alternatives import FailureTolerance, SwarmFigures
+from casadi_debris.studies.alternatives import FailureTolerance, SwarmSummary
 
 CASE_SHADES = ("0.2", "0.5", "0.8")
 
 
-def alternatives_figure(designs: list[SwarmFigures]) -> Figure:
+def alternatives_figure(designs: list[SwarmSummary]) -> Figure:
     """Three panels, one bar group per design.
 
     Top: the weakest signed axis' authority over the disturbance amplitude, intact and

@@ -7,13 +7,15 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from casadi_debris.plots._style import limit_line
-from casadi_debris.simulation.burn import BurnRun, BurnSeries, BurnSummary
+from casadi_debris.simulation.burn import BurnRun, BurnRunSummary, BurnSeries
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
 
 GRAMS_PER_KG = 1e3
 
 
-def burn_figure(burn: BurnRun, series: BurnSeries, summary: BurnSummary, *, title: str) -> Figure:
+def burn_figure(
+    burn: BurnRun, series: BurnSeries, summary: BurnRunSummary, *, title: str
+) -> Figure:
     """Pointing error of the thrust axis against the requirement, the thrust along the
     axis and of every engine together, and the running propellant split, with the stage
     switches marked.
@@ -22,7 +24,7 @@ def burn_figure(burn: BurnRun, series: BurnSeries, summary: BurnSummary, *, titl
     ----------
     burn : BurnRun
     series : BurnSeries
-    summary : BurnSummary
+    summary : BurnRunSummary
     title : str
     """
     result = burn.result

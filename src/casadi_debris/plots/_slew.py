@@ -15,7 +15,7 @@ from casadi_debris.dynamics import (
     euler_angles_321,
     quaternion_axis_angle,
 )
-from casadi_debris.guidance import SegmentRecord
+from casadi_debris.guidance import SegmentPlanSummary
 from casadi_debris.plots._style import AXIS_COLOURS, save_figure
 from casadi_debris.slews import SlewProfile
 from casadi_debris.units import MN_PER_N, MNM_PER_NM
@@ -138,7 +138,7 @@ def plot_slew_comparison(profiles: Mapping[str, SlewProfile], path: Path) -> Pat
 SEGMENT_SHADES = {"slew": "0.88", "hold": "white", "track": "#dcebf7", "burn": "#fbe3d0"}
 
 
-def shade_segments(axis: plt.Axes, records: Sequence[SegmentRecord], label: bool) -> None:
+def shade_segments(axis: plt.Axes, records: Sequence[SegmentPlanSummary], label: bool) -> None:
     """Shade each segment's window (slews grey, tracks blue) and, with ``label``, name
     it at the top of ``axis``."""
     for record in records:
@@ -161,7 +161,7 @@ def manoeuvre_figure(
     time_s: np.ndarray,
     quaternion_BN: np.ndarray,
     rate_rad_s: np.ndarray,
-    records: Sequence[SegmentRecord],
+    records: Sequence[SegmentPlanSummary],
     title: str = "",
 ) -> Figure:
     """A manoeuvre's reference: 3-2-1 Euler angles Φ, Θ, Ψ (deg) and body rates (deg/s)
@@ -173,7 +173,7 @@ def manoeuvre_figure(
     quaternion_BN : ndarray, shape (n, 4)
         Scalar first.
     rate_rad_s : ndarray, shape (n, 3)
-    records : sequence of SegmentRecord
+    records : sequence of SegmentPlanSummary
     title : str
     """
     angles = np.degrees(np.unwrap(euler_angles_321(quaternion_BN), axis=0))
@@ -184,7 +184,7 @@ def manoeuvre_figure(
 def plot_segment_series(
     time_s: np.ndarray,
     panels: Sequence[tuple[str, np.ndarray]],
-    records: Sequence[SegmentRecord],
+    records: Sequence[SegmentPlanSummary],
     path: Path,
     title: str = "",
 ) -> Path:
@@ -195,7 +195,7 @@ def plot_segment_series(
 def segment_series_figure(
     time_s: np.ndarray,
     panels: Sequence[tuple[str, np.ndarray]],
-    records: Sequence[SegmentRecord],
+    records: Sequence[SegmentPlanSummary],
     title: str = "",
 ) -> Figure:
     """x, y, z series against time (s), one panel each, segments shaded; not written.
@@ -206,7 +206,7 @@ def segment_series_figure(
     panels : sequence of (str, ndarray)
         Each panel's y label and values: shape (n, 3) drawn as lines, (n - 1, 3) held
         over each step (torques); the first panel's legend names Φ / x, Θ / y, Ψ / z.
-    records : sequence of SegmentRecord
+    records : sequence of SegmentPlanSummary
     title : str
     """
     figure, axes = plt.subplots(len(panels), 1, figsize=(9, 2.6 * len(panels) + 0.8), sharex=True)

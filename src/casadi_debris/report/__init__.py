@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from casadi_debris.report._alternatives import (
-        AlternativesReport,
+        AlternativesSummary,
         alternatives_figures,
         write_alternatives,
     )
     from casadi_debris.report._burn import (
-        BurnReport,
+        BurnSummary,
         burn_figures,
         write_burn,
     )
@@ -34,7 +34,7 @@ if TYPE_CHECKING:
         write_comparison,
     )
     from casadi_debris.report._deorbit import (
-        DeorbitReport,
+        DeorbitSummary,
         deorbit_figures,
         write_deorbit,
     )
@@ -48,10 +48,10 @@ if TYPE_CHECKING:
         model_text,
     )
     from casadi_debris.report._design import (
-        CampaignFigures,
         DesignFigures,
         DesignSummary,
         RequirementRow,
+        VerificationSummary,
         binding_lines,
         body_lines,
         classical_markdown,
@@ -60,7 +60,7 @@ if TYPE_CHECKING:
         verification_rows,
     )
     from casadi_debris.report._detumble import (
-        DetumbleReport,
+        DetumbleSummary,
         detumble_figures,
         write_detumble,
     )
@@ -87,7 +87,7 @@ if TYPE_CHECKING:
         write_placement,
     )
     from casadi_debris.report._reproduce import (
-        ControllerFigures,
+        ControllerSummary,
         ReproductionRow,
         ReproductionSummary,
         report_markdown,
@@ -105,7 +105,7 @@ if TYPE_CHECKING:
         CampaignRun,
         CampaignSummary,
         FailedCase,
-        WorstFigure,
+        WorstValueSummary,
         campaign_envelope,
         campaign_figures,
         campaign_summary,
@@ -142,18 +142,17 @@ __all__ = [
     "COLUMNS",
     "HEATMAP",
     "PLACEMENT_FILE",
-    "AlternativesReport",
+    "AlternativesSummary",
     "BudgetSummary",
-    "BurnReport",
-    "CampaignFigures",
+    "BurnSummary",
     "CampaignRun",
     "CampaignSummary",
     "Comparison",
-    "ControllerFigures",
-    "DeorbitReport",
+    "ControllerSummary",
+    "DeorbitSummary",
     "DesignFigures",
     "DesignSummary",
-    "DetumbleReport",
+    "DetumbleSummary",
     "DiskMargin",
     "FailedCase",
     "Margins",
@@ -165,9 +164,10 @@ __all__ = [
     "RequirementRow",
     "Thruster",
     "VariantRow",
+    "VerificationSummary",
     "WorstCaseIdentity",
     "WorstCaseSummary",
-    "WorstFigure",
+    "WorstValueSummary",
     "alternatives_figures",
     "binding_lines",
     "body_lines",
@@ -235,10 +235,10 @@ __all__ = [
 # Imported on first use: the commands import this package for a few helpers, and the
 # modules behind the rest bring in matplotlib, the studies and the simulation.
 _LAZY = {
-    "AlternativesReport": "casadi_debris.report._alternatives",
+    "AlternativesSummary": "casadi_debris.report._alternatives",
     "alternatives_figures": "casadi_debris.report._alternatives",
     "write_alternatives": "casadi_debris.report._alternatives",
-    "BurnReport": "casadi_debris.report._burn",
+    "BurnSummary": "casadi_debris.report._burn",
     "burn_figures": "casadi_debris.report._burn",
     "write_burn": "casadi_debris.report._burn",
     "format_figure": "casadi_debris.report._common",
@@ -250,7 +250,7 @@ _LAZY = {
     "cell": "casadi_debris.report._compare",
     "comparison_figures": "casadi_debris.report._compare",
     "write_comparison": "casadi_debris.report._compare",
-    "DeorbitReport": "casadi_debris.report._deorbit",
+    "DeorbitSummary": "casadi_debris.report._deorbit",
     "deorbit_figures": "casadi_debris.report._deorbit",
     "write_deorbit": "casadi_debris.report._deorbit",
     "BudgetSummary": "casadi_debris.report._describe",
@@ -260,7 +260,7 @@ _LAZY = {
     "budget_text": "casadi_debris.report._describe",
     "describe_model": "casadi_debris.report._describe",
     "model_text": "casadi_debris.report._describe",
-    "CampaignFigures": "casadi_debris.report._design",
+    "VerificationSummary": "casadi_debris.report._design",
     "DesignFigures": "casadi_debris.report._design",
     "DesignSummary": "casadi_debris.report._design",
     "RequirementRow": "casadi_debris.report._design",
@@ -270,7 +270,7 @@ _LAZY = {
     "design_markdown": "casadi_debris.report._design",
     "requirement_rows": "casadi_debris.report._design",
     "verification_rows": "casadi_debris.report._design",
-    "DetumbleReport": "casadi_debris.report._detumble",
+    "DetumbleSummary": "casadi_debris.report._detumble",
     "detumble_figures": "casadi_debris.report._detumble",
     "write_detumble": "casadi_debris.report._detumble",
     "HEATMAP": "casadi_debris.report._failures",
@@ -287,7 +287,7 @@ _LAZY = {
     "PLACEMENT_FILE": "casadi_debris.report._placement",
     "placement_figures": "casadi_debris.report._placement",
     "write_placement": "casadi_debris.report._placement",
-    "ControllerFigures": "casadi_debris.report._reproduce",
+    "ControllerSummary": "casadi_debris.report._reproduce",
     "ReproductionRow": "casadi_debris.report._reproduce",
     "ReproductionSummary": "casadi_debris.report._reproduce",
     "report_markdown": "casadi_debris.report._reproduce",
@@ -301,7 +301,7 @@ _LAZY = {
     "CampaignRun": "casadi_debris.report._simulation",
     "CampaignSummary": "casadi_debris.report._simulation",
     "FailedCase": "casadi_debris.report._simulation",
-    "WorstFigure": "casadi_debris.report._simulation",
+    "WorstValueSummary": "casadi_debris.report._simulation",
     "campaign_envelope": "casadi_debris.report._simulation",
     "campaign_figures": "casadi_debris.report._simulation",
     "campaign_summary": "casadi_debris.report._simulation",

@@ -1,6 +1,6 @@
 """Swarm designs side by side as a run folder (``casadi-debris alternatives``).
 
-Files: ``summary.json`` (every design's :class:`~casadi_debris.studies.alternatives.SwarmFigures`),
+Files: ``summary.json`` (every design's :class:`~casadi_debris.studies.alternatives.SwarmSummary`),
 ``alternatives.csv`` (one row per design, units in the column names),
 ``alternatives.md`` (the table as Markdown) and ``alternatives.png``.
 """
@@ -16,7 +16,7 @@ from casadi_debris.config import AXIS_NAMES
 from casadi_debris.records import Record
 from casadi_debris.report._common import format_figure
 from casadi_debris.store import write_json_atomic
-from casadi_debris.studies.alternatives import FailureTolerance, SwarmFigures
+from casadi_debris.studies.alternatives import FailureTolerance, SwarmSummary
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -41,16 +41,16 @@ COLUMNS = (
 
 
 @dataclass(frozen=True)
-class AlternativesReport(Record):
+class AlternativesSummary(Record):
     """The designs compared, the failure sets tried (``max_failed``) and the wall time [s]."""
 
-    designs: list[SwarmFigures]
+    designs: list[SwarmSummary]
     max_failed: int
     wall_time_s: float
     out_dir: str | None = None
 
 
-def design_row(design: SwarmFigures) -> list[object]:
+def design_row(design: SwarmSummary) -> list[object]:
     """One design as the CSV row of :data:`COLUMNS`."""
     torque = design.torque_max_zero_force_mNm
     fuel = design.fuel_per_torque_time_g_per_mNm_h
@@ -85,7 +85,7 @@ def _failure_text(tolerance: FailureTolerance | None) -> str:
     return f"{format_figure(tolerance.worst_ratio)} ({ids}); {kept} above"
 
 
-def alternatives_markdown(designs: list[SwarmFigures]) -> str:
+def alternatives_markdown(designs: list[SwarmSummary]) -> str:
     """The comparison as a Markdown table (authority in mNm, weaker sign per axis)."""
     lines = [
         "| design | CubeSats / engines | swarm mass [kg] "
@@ -109,7 +109,7 @@ def alternatives_markdown(designs: list[SwarmFigures]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_alternatives(folder: Path, report: AlternativesReport, *, plots: bool = True) -> None:
+def write_alternatives(folder: Path, report: AlternativesSummary, *, plots: bool = True) -> None:
     """``summary.json``, ``alternatives.csv``, ``alternatives.md`` and, with ``plots``,
     ``alternatives.png`` (and its PDF)."""
     write_json_atomic(folder / "summary.json", report)
@@ -125,7 +125,7 @@ def write_alternatives(folder: Path, report: AlternativesReport, *, plots: bool 
             save_figure(figure, folder / f"{stem}.png")
 
 
-def alternatives_figures(report: AlternativesReport) -> dict[str, Figure]:
+def alternatives_figures(report: AlternativesSummary) -> dict[str, Figure]:
     """``alternatives``: authority margin with and without failures, fuel per torque·time
     and added mass, one bar group per design."""
     from casadi_debris.plots import alternatives_figure

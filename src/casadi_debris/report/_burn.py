@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.simulation.burn import BurnRun, BurnSeries, BurnSummary
+from casadi_debris.simulation.burn import BurnRun, BurnRunSummary, BurnSeries
 from casadi_debris.store import write_csv, write_json_atomic
 from casadi_debris.units import ARCSEC_PER_RAD, MN_PER_N
 
@@ -18,12 +18,12 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, kw_only=True)
-class BurnReport(Record):
+class BurnSummary(Record):
     """A burn's figures and where they came from.
 
     Attributes
     ----------
-    burn : BurnSummary
+    burn : BurnRunSummary
         Written into the same JSON object.
     controller_path : str
     first_stage_left_s : float or None
@@ -32,14 +32,14 @@ class BurnReport(Record):
     out_dir : str or None
     """
 
-    burn: BurnSummary = field(metadata=FLATTENED)
+    burn: BurnRunSummary = field(metadata=FLATTENED)
     controller_path: str
     first_stage_left_s: float | None = None
     out_dir: str | None = None
 
 
 def write_burn(
-    folder: Path, burn: BurnRun, series: BurnSeries, report: BurnReport, *, plots: bool = True
+    folder: Path, burn: BurnRun, series: BurnSeries, report: BurnSummary, *, plots: bool = True
 ) -> None:
     """``summary.json``, ``series.csv`` (one row per control instant) and, with ``plots``,
     ``burn.png`` (and its PDF)."""
@@ -66,7 +66,7 @@ def write_burn(
             save_figure(figure, folder / f"{stem}.png")
 
 
-def burn_figures(burn: BurnRun, series: BurnSeries, report: BurnReport) -> dict[str, Figure]:
+def burn_figures(burn: BurnRun, series: BurnSeries, report: BurnSummary) -> dict[str, Figure]:
     """``burn``: the thrust axis' pointing error, the thrust and the propellant split."""
     from casadi_debris.plots import burn_figure
 

@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, kw_only=True)
-class DeorbitReport(Record):
+class DeorbitSummary(Record):
     """The plan beside the budget's Δv.
 
     Attributes
@@ -39,7 +39,7 @@ class DeorbitReport(Record):
 
 
 def deorbit_figures(
-    report: DeorbitReport, trajectories: Sequence[CaseTrajectory]
+    report: DeorbitSummary, trajectories: Sequence[CaseTrajectory]
 ) -> dict[str, Figure]:
     """``decay`` and ``lifetime_vs_dv``, by the file stem they are written under."""
     from casadi_debris.plots import decay_figure, lifetime_curve_figure
@@ -58,7 +58,7 @@ def deorbit_figures(
 
 def write_deorbit(
     folder: Path,
-    report: DeorbitReport,
+    report: DeorbitSummary,
     trajectories: Sequence[CaseTrajectory],
     *,
     plots: bool = True,

@@ -19,9 +19,9 @@ from casadi_debris.records import Record
 from casadi_debris.report._common import format_figure, verdict_text
 from casadi_debris.report._robust import MarginsSummary
 
-# WorstFigure at run time: DesignSummary.from_json resolves its fields' types by name.
-from casadi_debris.report._simulation import WorstFigure
-from casadi_debris.robust.requirements import BindingLimit, BodyFigures, ScalingFigures
+# WorstValueSummary at run time: DesignSummary.from_json resolves its fields' types by name.
+from casadi_debris.report._simulation import WorstValueSummary
+from casadi_debris.robust.requirements import BindingLimit, BodySummary, ScalingSummary
 from casadi_debris.robust.synthesis import DesignAttempt, DesignSearch
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
@@ -192,12 +192,12 @@ def information_rows(
 
 
 @dataclass(frozen=True)
-class CampaignFigures(Record):
+class VerificationSummary(Record):
     """A verification campaign as a design summary gives it: its size, worst cases
     and nominal run (see :class:`~casadi_debris.report._simulation.CampaignSummary`)."""
 
     cases: int
-    worst: dict[str, WorstFigure]
+    worst: dict[str, WorstValueSummary]
     nominal: dict[str, Any]
 
 
@@ -231,11 +231,11 @@ class DesignSummary(Record):
     mu_peak_reduced: float | None
     guaranteed_pointing_arcsec: list[float] | None
     required_pointing_arcsec: Any
-    scalings: ScalingFigures
+    scalings: ScalingSummary
     attempts: tuple[DesignAttempt, ...]
     seed: int | None
-    slew: CampaignFigures
-    pointing: CampaignFigures
+    slew: VerificationSummary
+    pointing: VerificationSummary
     rows: tuple[RequirementEntry, ...]
     time_s: float
     out_dir: str
@@ -243,7 +243,7 @@ class DesignSummary(Record):
     workers: int
     controller_path: str
     binding: tuple[BindingLimit, ...] = ()
-    body: BodyFigures | None = None
+    body: BodySummary | None = None
 
 
 @dataclass(frozen=True)
@@ -397,7 +397,7 @@ def binding_lines(binding: tuple[BindingLimit, ...]) -> list[str]:
     return lines
 
 
-def body_lines(body: BodyFigures | None) -> list[str]:
+def body_lines(body: BodySummary | None) -> list[str]:
     """How the bandwidth and roll-off were chosen, with the body figures behind them."""
     if body is None:
         return ["- We and Wu: the problem's `[weights]`.", ""]

@@ -10,7 +10,7 @@ import numpy as np
 
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.simulation.detumble import DetumbleResult, DetumbleSummary
+from casadi_debris.simulation.detumble import DetumbleResult, DetumbleRunSummary
 from casadi_debris.store import write_csv, write_json_atomic
 from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
 
@@ -19,7 +19,7 @@ if TYPE_CHECKING:
 
 
 @dataclass(frozen=True, kw_only=True)
-class DetumbleReport(Record):
+class DetumbleSummary(Record):
     """The detumble beside the budget's estimates and a bound no detumble can beat.
 
     Attributes
@@ -35,7 +35,7 @@ class DetumbleReport(Record):
     momentum_bound_h : float
         ``|J omega_0| / max |tau|`` over the torques the engines reach: the angular
         momentum cannot shrink faster than the largest torque.
-    run : DetumbleSummary
+    run : DetumbleRunSummary
     out_dir : str or None
     ocp_method : str or None
         How ``ocp_time_h`` was found, or why it was not (None when not asked for).
@@ -58,7 +58,7 @@ class DetumbleReport(Record):
     budget_time_full_rigid_h: float
     budget_dv_m_s: float
     momentum_bound_h: float
-    run: DetumbleSummary = field(metadata=FLATTENED)
+    run: DetumbleRunSummary = field(metadata=FLATTENED)
     out_dir: str | None = None
     ocp_method: str | None = None
     ocp_time_h: float | None = None
@@ -69,7 +69,7 @@ class DetumbleReport(Record):
 
 
 def write_detumble(
-    folder: Path, result: DetumbleResult, report: DetumbleReport, *, plots: bool = True
+    folder: Path, result: DetumbleResult, report: DetumbleSummary, *, plots: bool = True
 ) -> None:
     """``summary.json``, ``series.csv`` (rates in deg/s, torque in mNm) and, with
     ``plots``, ``detumble.png`` (and its PDF)."""
@@ -88,7 +88,7 @@ def write_detumble(
             save_figure(figure, folder / f"{stem}.png")
 
 
-def detumble_figures(result: DetumbleResult, report: DetumbleReport) -> dict[str, Figure]:
+def detumble_figures(result: DetumbleResult, report: DetumbleSummary) -> dict[str, Figure]:
     """``detumble``: the rates against the threshold with the estimates and bounds marked,
     the torque and the propellant per CubeSat."""
     from casadi_debris.plots import detumble_figure

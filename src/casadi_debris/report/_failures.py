@@ -28,9 +28,9 @@ from casadi_debris.records import to_jsonable
 from casadi_debris.report._common import format_figure
 from casadi_debris.store import write_json_atomic
 from casadi_debris.studies.failures import (
-    FailureCaseRecord,
+    FailureCaseSummary,
     FailuresSummary,
-    RunVerdict,
+    RunCheckSummary,
 )
 from casadi_debris.units import SECONDS_PER_DAY
 
@@ -47,7 +47,7 @@ def _ids(ids: tuple[int, ...]) -> str:
     return " ".join(str(i) for i in ids)
 
 
-def _run_figure(runs: dict[str, RunVerdict], name: str) -> float | None:
+def _run_figure(runs: dict[str, RunCheckSummary], name: str) -> float | None:
     """The judged figure of a manoeuvre's worst run (None: not flown)."""
     run = runs.get(name)
     return None if run is None else run.error
@@ -61,14 +61,14 @@ def _days(seconds: float | None) -> float | None:
     return None if seconds is None else seconds / SECONDS_PER_DAY
 
 
-def _rises(case: FailureCaseRecord) -> str:
+def _rises(case: FailureCaseSummary) -> str:
     return ", ".join(
         f"{r.cubesat} (+{r.thrust_after_mN - r.thrust_before_mN:.3g} mN)"
         for r in case.reallocation[:RISES_SHOWN]
     )
 
 
-def case_row(rank: int, case: FailureCaseRecord) -> dict[str, Any]:
+def case_row(rank: int, case: FailureCaseSummary) -> dict[str, Any]:
     """One case as a table row (a CSV line), display units in the keys."""
     holding, loop = case.holding, case.closed_loop
     torque = case.torque_max_zero_force_mNm

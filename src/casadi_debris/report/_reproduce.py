@@ -19,7 +19,7 @@ from casadi_debris.report._common import format_figure, verdict_text
 from casadi_debris.report._describe import ModelDescription
 from casadi_debris.report._paper import paper_figure
 from casadi_debris.report._robust import MarginsSummary
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 
 if TYPE_CHECKING:  # the campaign's module draws figures: imported by its callers
     from casadi_debris.report._simulation import CampaignSummary
@@ -172,7 +172,7 @@ def budget_rows(budgets: dict[str, float]) -> list[ReproductionRow]:
 
 
 @dataclass(frozen=True)
-class ControllerFigures:
+class ControllerSummary:
     """What the reproduction reads of a controller: peak μ of the full and the reduced
     loop, and their orders (``order_full`` None for a file without its full order)."""
 
@@ -182,7 +182,7 @@ class ControllerFigures:
     order_reduced: int
 
     @classmethod
-    def of(cls, record: ControllerRecord) -> ControllerFigures:
+    def of(cls, record: Controller) -> ControllerSummary:
         """The figures of a controller file."""
         return cls(
             mu_peak=record.mu_peak,
@@ -192,7 +192,7 @@ class ControllerFigures:
         )
 
 
-def controller_rows(controller: ControllerFigures) -> list[ReproductionRow]:
+def controller_rows(controller: ControllerSummary) -> list[ReproductionRow]:
     """Peak μ and order of the controller."""
     return [
         paper_row("mu_peak", [controller.mu_peak, controller.mu_peak_reduced]),
@@ -260,7 +260,7 @@ def pointing_rows(
 def reproduction_rows(
     model: ModelDescription,
     budgets: dict[str, float],
-    controller: ControllerFigures,
+    controller: ControllerSummary,
     margins: MarginsSummary,
     slew: CampaignSummary,
     slew_duration_s: float | None,

@@ -27,7 +27,7 @@ from casadi_debris.robust.margins import (
     sampled_loop_at_a_time,
 )
 from casadi_debris.robust.plant import (
-    ControllerRecord,
+    Controller,
     diagonal_cover,
     frequency_response,
     generalized_plant,
@@ -142,7 +142,7 @@ class MarginsSummary(Record):
 
 
 def margins_summary(
-    problem: Problem, record: ControllerRecord, controller_path: Path, study: MarginStudy
+    problem: Problem, record: Controller, controller_path: Path, study: MarginStudy
 ) -> MarginsSummary:
     """What ``summary.json`` holds of a margin study of ``record`` (flown from
     ``controller_path``) on ``problem``; ``out_dir`` is None until it is written."""
@@ -194,7 +194,7 @@ def write_margins(
         save_figure(figure, staging / f"{name}.png")
 
 
-def _sampled_data_margins(problem: Problem, record: ControllerRecord, modes: str) -> Margins:
+def _sampled_data_margins(problem: Problem, record: Controller, modes: str) -> Margins:
     """The nominal loop's margins held and sampled at the problem's control rate."""
     plant = linearize(build_model(problem, modes=modes), sensor=True, units="deg_mNm")
     period_s = 1.0 / problem.simulation.control_rate_hz
@@ -202,9 +202,7 @@ def _sampled_data_margins(problem: Problem, record: ControllerRecord, modes: str
     return Margins.worst(per_channel)
 
 
-def margin_figures(
-    problem: Problem, record: ControllerRecord, study: MarginStudy
-) -> dict[str, Figure]:
+def margin_figures(problem: Problem, record: Controller, study: MarginStudy) -> dict[str, Figure]:
     """The figures of a margin study by file stem: ``mu``, ``uncertainty_weight`` and
     ``loop_shapes`` (when the controller records its uncertainty weight, as a μ design
     does) and ``margins`` (gain against phase margin of every sampled plant)."""

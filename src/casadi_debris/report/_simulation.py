@@ -27,7 +27,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.campaigns import (
     CampaignSetup,
     CampaignStatistics,
-    CaseOutcome,
+    CaseResult,
     Envelope,
     campaign_dataset,
     case_figures,
@@ -41,7 +41,7 @@ from casadi_debris.slews import euler_angles_321
 from casadi_debris.store import (
     CASE_FIGURES,
     DATASET_NAME,
-    CampaignRecord,
+    CampaignIdentity,
     write_campaign_dataset,
     write_csv,
     write_json_atomic,
@@ -170,7 +170,7 @@ def normalized_column(parameter: str) -> str:
 
 
 @dataclass(frozen=True)
-class WorstFigure(Record):
+class WorstValueSummary(Record):
     """The worst value of one figure over a campaign and the case it came from.
 
     ``value`` is None when some cases lack the figure (a pointing run has no settling
@@ -229,7 +229,7 @@ class CampaignSummary(Record):
     problem: str
     problem_sha256: str
     cases: int
-    worst: dict[str, WorstFigure]
+    worst: dict[str, WorstValueSummary]
     max_torque_mNm: list[float]
     fuel_kg_range: list[float]
     envelope_bin_s: float
@@ -253,7 +253,7 @@ WORST_FIGURES = (
 def campaign_summary(
     problem: Problem,
     setup: CampaignSetup,
-    outcomes: list[CaseOutcome],
+    outcomes: list[CaseResult],
     nominal: dict[str, Any],
     run: CampaignRun,
     statistics: CampaignStatistics | None = None,
@@ -264,13 +264,13 @@ def campaign_summary(
     case_ids = [o.case.case_id for o in outcomes]
     fuels = [run.fuel_kg for run in runs]
 
-    def worst(key: str) -> WorstFigure:
+    def worst(key: str) -> WorstValueSummary:
         values = [getattr(run, key) for run in runs]
         if any(v is None for v in values):
             missing = [c for c, v in zip(case_ids, values, strict=True) if v is None]
-            return WorstFigure(None, missing[0], len(missing))
+            return WorstValueSummary(None, missing[0], len(missing))
         index = int(np.argmax(values))
-        return WorstFigure(float(values[index]), case_ids[index])
+        return WorstValueSummary(float(values[index]), case_ids[index])
 
     return CampaignSummary(
         problem=problem.name,
@@ -304,11 +304,11 @@ def write_campaign(
     folder: Path,
     problem: Problem,
     setup: CampaignSetup,
-    outcomes: list[CaseOutcome],
+    outcomes: list[CaseResult],
     nominal: ClosedLoopResult,
     nominal_summary: Record,
     summary: CampaignSummary,
-    record: CampaignRecord,
+    record: CampaignIdentity,
     *,
     with_plots: bool = True,
 ) -> Envelope:
@@ -347,7 +347,7 @@ def write_campaign(
     return envelope
 
 
-def campaign_envelope(setup: CampaignSetup, outcomes: list[CaseOutcome]) -> Envelope:
+def campaign_envelope(setup: CampaignSetup, outcomes: list[CaseResult]) -> Envelope:
     """The min/max over every case of ``outcomes``, in the campaign's time bins."""
     envelope = Envelope(setup.bin_start_s)
     for outcome in outcomes:
@@ -357,7 +357,7 @@ def campaign_envelope(setup: CampaignSetup, outcomes: list[CaseOutcome]) -> Enve
 
 def campaign_figures(
     problem: Problem,
-    outcomes: list[CaseOutcome],
+    outcomes: list[CaseResult],
     nominal: ClosedLoopResult,
     summary: CampaignSummary,
     envelope: Envelope,

@@ -37,10 +37,10 @@ from casadi_debris.simulation._run import (
     simulate,
     simulate_many,
 )
-from casadi_debris.simulation._segment_figures import SegmentFigures, segment_figures
+from casadi_debris.simulation._segment_figures import SegmentRunSummary, segment_figures
 from casadi_debris.simulation._summary import (
     SETTLE_BAND_ARCSEC,
-    EventRecord,
+    EventSummary,
     RunSummary,
     fuel_between_kg,
 )
@@ -49,14 +49,14 @@ __all__ = [
     "SETTLE_BAND_ARCSEC",
     "ClosedLoopResult",
     "DiscreteController",
-    "EventRecord",
+    "EventSummary",
     "LoopSettings",
     "OpenLoopResult",
     "Realism",
     "RunEvent",
     "RunInputs",
     "RunSummary",
-    "SegmentFigures",
+    "SegmentRunSummary",
     "SimulationError",
     "StepInput",
     "StepOutput",

@@ -14,7 +14,7 @@ import numpy as np
 
 from casadi_debris.allocation import PropulsionState, StageEvent
 from casadi_debris.config import FailureEvent
-from casadi_debris.simulation._summary import EventRecord
+from casadi_debris.simulation._summary import EventSummary
 
 EVENT_KINDS = ("stage_depleted", "stage_failed", "cubesat_failed", "engine_failed")
 
@@ -63,9 +63,9 @@ class RunEvent:
         then = "none left" if self.next_stage is None else f"stage {self.next_stage + 1} takes over"
         return f"{who}: stage {_number(self.stage)} empty, {then}"
 
-    def record(self) -> EventRecord:
+    def record(self) -> EventSummary:
         """The event as a user reads it: 1-based ids, in words."""
-        return EventRecord(
+        return EventSummary(
             time_s=self.time_s,
             kind=self.kind,
             cubesat=self.cubesat + 1,

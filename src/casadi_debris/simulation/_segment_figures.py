@@ -15,7 +15,7 @@ from casadi_debris.units import ARCSEC_PER_RAD
 
 
 @dataclass(frozen=True)
-class SegmentFigures(Record):
+class SegmentRunSummary(Record):
     """One segment of a closed-loop run.
 
     Attributes
@@ -41,14 +41,14 @@ class SegmentFigures(Record):
 
 def segment_figures(
     result: ClosedLoopResult, pieces: tuple[Piece, ...] | list[Piece]
-) -> tuple[SegmentFigures, ...]:
+) -> tuple[SegmentRunSummary, ...]:
     """Each piece of the reference ``result`` flew, with its largest error and its fuel."""
     figures = []
     for record in segment_records(pieces):
         inside = (result.time_s >= record.start_s) & (result.time_s <= record.end_s)
         peak = float(np.abs(result.error_rad[inside]).max()) if inside.any() else 0.0
         figures.append(
-            SegmentFigures(
+            SegmentRunSummary(
                 segment=record.segment,
                 kind=record.kind,
                 start_s=record.start_s,

@@ -19,7 +19,7 @@ SETTLE_BAND_ARCSEC = 60.0
 
 
 @dataclass(frozen=True)
-class EventRecord(Record):
+class EventSummary(Record):
     """A change of the engines during a run, as a user reads it (ids from 1).
 
     Attributes
@@ -76,7 +76,7 @@ class RunSummary(Record):
     max_torque_mNm, max_demand_mNm : tuple of 3 float
         Largest |component| of the applied torque and of the demand.
     stage_switches : int
-    events : tuple of EventRecord
+    events : tuple of EventSummary
     allocation_residual_Nm, max_net_force_N : float
     allocation_point_solves : int
     duration_s, control_period_s : float
@@ -111,7 +111,7 @@ class RunSummary(Record):
     max_torque_mNm: tuple[float, ...]
     max_demand_mNm: tuple[float, ...]
     stage_switches: int
-    events: tuple[EventRecord, ...]
+    events: tuple[EventSummary, ...]
     allocation_residual_Nm: float
     max_net_force_N: float
     allocation_point_solves: int

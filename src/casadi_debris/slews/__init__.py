@@ -4,7 +4,7 @@
 - :mod:`~casadi_debris.slews._bang_bang`: the paper's reference profile.
 - :mod:`~casadi_debris.slews._optimal`: time- and fuel-optimal OCPs (torque or
   thruster level; flexible = the vibration left bounded in closed form, or ZV-shaped),
-  set by a :class:`SlewOptions`; stated in :mod:`~casadi_debris.slews._ocp_problem`,
+  set by a :class:`OptimalSlewSettings`; stated in :mod:`~casadi_debris.slews._ocp_problem`,
   transcribed in :mod:`~casadi_debris.slews._transcription`, started from
   :mod:`~casadi_debris.slews._initial_guess`, the flexible end in
   :mod:`~casadi_debris.slews._modal_window`.
@@ -33,7 +33,7 @@ from casadi_debris.slews._maneuver import (
 )
 from casadi_debris.slews._modal import ModalResponse, modal_response
 from casadi_debris.slews._optimal import fuel_optimal_slew, time_optimal_slew
-from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._options import OptimalSlewSettings
 from casadi_debris.slews._profile import (
     SlewProfile,
     SlewSummary,
@@ -60,8 +60,8 @@ __all__ = [
     "COLLOCATION_DEGREE",
     "BangBangTiming",
     "ModalResponse",
+    "OptimalSlewSettings",
     "RigidBody",
-    "SlewOptions",
     "SlewProfile",
     "SlewSummary",
     "SlewTarget",

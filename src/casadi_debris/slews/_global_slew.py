@@ -55,7 +55,7 @@ from casadi_debris.slews._multistart import (
     run_starts,
     symmetric_images,
 )
-from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._options import OptimalSlewSettings
 from casadi_debris.slews._profile import (
     INTEGRATOR_OPTIONS,
     SlewProfile,
@@ -138,7 +138,7 @@ class SearchSettings:
         return 2 if main and cores >= 2 and self.starts >= PARALLEL_STARTS else 1
 
 
-def search_settings(options: SlewOptions, intervals: int) -> SearchSettings:
+def search_settings(options: OptimalSlewSettings, intervals: int) -> SearchSettings:
     """The search of ``options`` (starts, seed, workers, refine) on ``intervals``."""
     return SearchSettings(intervals, options.starts, options.seed, options.workers, options.refine)
 

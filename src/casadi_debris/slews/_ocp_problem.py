@@ -46,7 +46,7 @@ from casadi_debris.slews._maneuver import (
     rigid_limit_duration,
     torque_limits,
 )
-from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._options import OptimalSlewSettings
 from casadi_debris.slews._propellant import axis_fuel_rates, fuel_weights
 
 # Rows of the model input [tau (3), tau_d (3), F (3)] the controls act on.
@@ -62,7 +62,7 @@ class SlewOcp:
     ----------
     problem : Problem
     target : SlewTarget
-    options : SlewOptions
+    options : OptimalSlewSettings
 
     Attributes
     ----------
@@ -88,7 +88,7 @@ class SlewOcp:
         ``options.flexible`` on a problem without array modes.
     """
 
-    def __init__(self, problem: Problem, target: SlewTarget, options: SlewOptions) -> None:
+    def __init__(self, problem: Problem, target: SlewTarget, options: OptimalSlewSettings) -> None:
         self.problem = problem
         self.target = target
         self.options = options

@@ -2,7 +2,7 @@
 
 The OCP is stated apart from how it is solved, as rockit does:
 
-- :mod:`~casadi_debris.slews._options`: :class:`SlewOptions`, how a slew is
+- :mod:`~casadi_debris.slews._options`: :class:`OptimalSlewSettings`, how a slew is
   modelled, transcribed and checked;
 - :mod:`~casadi_debris.slews._ocp_problem`: the statement (states, controls and
   their bounds, end conditions, objectives) on the rigid model;
@@ -56,7 +56,7 @@ from casadi_debris.slews._modal_window import (
 )
 from casadi_debris.slews._ocp_problem import SlewOcp
 from casadi_debris.slews._ocp_solution import slew_profile
-from casadi_debris.slews._options import SlewOptions
+from casadi_debris.slews._options import OptimalSlewSettings
 from casadi_debris.slews._profile import SlewProfile, residual_vibration
 from casadi_debris.slews._rigid_body import RigidBody
 from casadi_debris.slews._shaper import shape, zero_vibration_shaper
@@ -74,8 +74,8 @@ from casadi_debris.slews._transcription import (
 TORQUE_SET_TOLERANCE = 1e-6
 
 __all__ = [
+    "OptimalSlewSettings",
     "RigidBody",
-    "SlewOptions",
     "fuel_optimal_slew",
     "shape",
     "time_optimal_slew",
@@ -331,7 +331,7 @@ def time_optimal_slew(
     *,
     target: SlewTarget | None = None,
     duration_s: float | None = None,
-    options: SlewOptions | None = None,
+    options: OptimalSlewSettings | None = None,
     **settings: Any,
 ) -> SlewProfile:
     """Minimum-time rest-to-rest slew (free final time, nonlinear attitude dynamics).
@@ -354,10 +354,10 @@ def time_optimal_slew(
         Any rest-to-rest attitude pair.
     duration_s : float, optional
         A deadline (s): the slew must not take longer. Checked after the solve.
-    options : SlewOptions, optional
-        How the slew is modelled, solved and checked (default ``SlewOptions()``).
+    options : OptimalSlewSettings, optional
+        How the slew is modelled, solved and checked (default ``OptimalSlewSettings()``).
     **settings
-        Any field of :class:`SlewOptions` by name (``flexible``, ``thrusters``,
+        Any field of :class:`OptimalSlewSettings` by name (``flexible``, ``thrusters``,
         ``starts``, ...), in place of the value in ``options``.
 
     Returns
@@ -386,7 +386,7 @@ def time_optimal_slew(
     >>> round(slew.duration_s, 4), round(slew.limit_duration_s, 4)
     (3.2431, 3.5449)
     """
-    options = SlewOptions.merged("time_optimal_slew", options, settings)
+    options = OptimalSlewSettings.merged("time_optimal_slew", options, settings)
     if duration_s is not None:
         _check_finite_duration(duration_s)
     if isinstance(problem, RigidBody):
@@ -419,7 +419,7 @@ def fuel_optimal_slew(
     *,
     duration_s: float,
     target: SlewTarget | None = None,
-    options: SlewOptions | None = None,
+    options: OptimalSlewSettings | None = None,
     **settings: Any,
 ) -> SlewProfile:
     """Least-propellant rest-to-rest slew of a given duration.
@@ -443,7 +443,7 @@ def fuel_optimal_slew(
     >>> round(slew.fuel_kg * 1e6)
     210
     """
-    options = SlewOptions.merged("fuel_optimal_slew", options, settings)
+    options = OptimalSlewSettings.merged("fuel_optimal_slew", options, settings)
     if isinstance(problem, RigidBody):
         raise InputShapeError(
             "problem: a fuel-optimal slew needs a Problem (a RigidBody has no engines to "
@@ -467,7 +467,7 @@ def _rigid_body_slew(
     angle_rad: float,
     target: SlewTarget | None,
     duration_s: float | None,
-    options: SlewOptions,
+    options: OptimalSlewSettings,
 ) -> SlewProfile:
     """The time-optimal slew of a plain rigid body, searched globally."""
     for name in ("flexible", "thrusters", "single_axis"):
@@ -503,7 +503,7 @@ def _solver(
     axis: str | Sequence[float],
     angle_rad: float,
     target: SlewTarget | None,
-    options: SlewOptions,
+    options: OptimalSlewSettings,
 ) -> _SlewSolver:
     """The solver of the slew about ``axis`` by ``angle_rad``, or to ``target``."""
     goal = slew_about_axis(axis, angle_rad) if target is None else target

@@ -1,8 +1,8 @@
-"""Settings of the optimal slews: one frozen, validated :class:`SlewOptions`.
+"""Settings of the optimal slews: one frozen, validated :class:`OptimalSlewSettings`.
 
 What a slew is asked to do (the target, the objective, the duration) is the
 call's business; how it is modelled and solved (rigid or flexible, torque or
-thruster level, how fine, how checked) is a :class:`SlewOptions`, shared by
+thruster level, how fine, how checked) is a :class:`OptimalSlewSettings`, shared by
 :func:`~casadi_debris.slews._optimal.time_optimal_slew`,
 :func:`~casadi_debris.slews._optimal.fuel_optimal_slew` and the pieces of the OCP.
 """
@@ -24,7 +24,7 @@ DEFAULT_STARTS = 16
 
 
 @dataclass(frozen=True)
-class SlewOptions:
+class OptimalSlewSettings:
     """How an optimal slew is modelled, transcribed and checked.
 
     Every field is checked on construction; a bad one raises
@@ -76,7 +76,7 @@ class SlewOptions:
 
     Examples
     --------
-    >>> options = SlewOptions(thrusters=True, zero_net_force=True)
+    >>> options = OptimalSlewSettings(thrusters=True, zero_net_force=True)
     >>> dataclasses.replace(options, torque_fraction=0.5).torque_fraction
     0.5
     """
@@ -121,17 +121,17 @@ class SlewOptions:
 
     @classmethod
     def merged(
-        cls, caller: str, options: SlewOptions | None, keywords: dict[str, Any]
-    ) -> SlewOptions:
+        cls, caller: str, options: OptimalSlewSettings | None, keywords: dict[str, Any]
+    ) -> OptimalSlewSettings:
         """``options`` (or the defaults) with the fields given as keywords replaced.
 
         Parameters
         ----------
         caller : str
             The public function's name, for the message about an unknown keyword.
-        options : SlewOptions, optional
+        options : OptimalSlewSettings, optional
         keywords : dict
-            Field names of :class:`SlewOptions` and their values.
+            Field names of :class:`OptimalSlewSettings` and their values.
 
         Raises
         ------

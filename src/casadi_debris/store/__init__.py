@@ -12,7 +12,7 @@ can use it.
   :func:`write_csv`, :func:`json_ready`.
 - Campaign folders: :class:`CampaignFolder`, the ``<out>.partial`` folder a campaign
   is written into case by case (:func:`write_case`, :func:`write_failure`), locked,
-  checked against its :class:`CampaignRecord`, and resumed from.
+  checked against its :class:`CampaignIdentity`, and resumed from.
 - Campaign datasets: every case of a Monte-Carlo campaign, its binned error and
   torque and its figures, as labelled arrays in one netCDF-4 file, ``campaign.nc``
   (written with h5netcdf, :func:`write_campaign_dataset`, beside ``cases.csv``; read
@@ -72,7 +72,7 @@ from casadi_debris.store._campaign_folder import (
     PARTIAL_SUFFIX,
     RECORD_NAME,
     CampaignFolder,
-    CampaignRecord,
+    CampaignIdentity,
     partial_folder,
     write_case,
     write_failure,
@@ -107,7 +107,7 @@ __all__ = [
     "PARTIAL_SUFFIX",
     "RECORD_NAME",
     "CampaignFolder",
-    "CampaignRecord",
+    "CampaignIdentity",
     "RunFolder",
     "check_output_file",
     "check_output_folder",

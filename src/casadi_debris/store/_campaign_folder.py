@@ -62,7 +62,7 @@ def partial_folder(out: Path) -> Path:
 
 
 @dataclass(frozen=True)
-class CampaignRecord:
+class CampaignIdentity:
     """What identifies a campaign: a resume must match every field.
 
     Attributes
@@ -96,10 +96,10 @@ class CampaignRecord:
         return {**asdict(self), "case_ids": list(self.case_ids)}
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> CampaignRecord:
+    def from_dict(cls, data: dict[str, Any]) -> CampaignIdentity:
         return cls(**{**data, "case_ids": tuple(data["case_ids"])})
 
-    def differences(self, other: CampaignRecord) -> list[str]:
+    def differences(self, other: CampaignIdentity) -> list[str]:
         """Human-readable fields in which ``other`` differs from this record."""
         found = []
         for name, mine in self.to_dict().items():
@@ -186,7 +186,7 @@ class CampaignFolder:
     def open(
         cls,
         out: str | Path,
-        record: CampaignRecord,
+        record: CampaignIdentity,
         *,
         overwrite: bool = False,
         option: str = "--out",
@@ -218,7 +218,7 @@ class CampaignFolder:
         folder._clean()
         return folder
 
-    def _check_record(self, record: CampaignRecord, option: str) -> None:
+    def _check_record(self, record: CampaignIdentity, option: str) -> None:
         path = self.partial / RECORD_NAME
         if not path.exists():
             if (self.partial / "cases").exists():
@@ -229,7 +229,7 @@ class CampaignFolder:
             write_json_atomic(path, record.to_dict())
             return
         try:
-            found = CampaignRecord.from_dict(json.loads(path.read_text()))
+            found = CampaignIdentity.from_dict(json.loads(path.read_text()))
         except (OSError, ValueError, TypeError, KeyError) as exc:
             raise OutputError(f"{option}: {path} is damaged ({exc}); remove the folder") from None
         differences = record.differences(found)

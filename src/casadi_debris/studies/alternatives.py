@@ -62,7 +62,7 @@ class FailureTolerance(Record):
 
 
 @dataclass(frozen=True)
-class SwarmFigures(Record):
+class SwarmSummary(Record):
     """What decides between swarm designs, for one problem (see the module's text).
 
     ``fuel_per_torque_time_g_per_mNm_h``: grams of propellant per mN·m of pure torque held
@@ -148,7 +148,7 @@ def failure_tolerance(
     )
 
 
-def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
+def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmSummary:
     """Authority, fuel per torque·time, failure tolerance and mass of ``problem``'s swarm.
 
     Parameters
@@ -160,7 +160,7 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
 
     Returns
     -------
-    SwarmFigures
+    SwarmSummary
     """
     geometry = build_geometry(problem)
     allocator = Allocator.from_problem(problem, geometry)
@@ -175,7 +175,7 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmFigures:
         failure_tolerance(geometry, disturbance_Nm, size) if size <= max_failed else None
         for size in (1, 2)
     ]
-    return SwarmFigures(
+    return SwarmSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         cubesats=len(geometry.cubesats),

@@ -34,7 +34,7 @@ if TYPE_CHECKING:
     )
     from casadi_debris.workflows._campaign import (
         CaseSelection,
-        RunRecord,
+        SimulationSummary,
         check_scheduler_address,
         one_case,
     )
@@ -136,8 +136,8 @@ __all__ = [
     "MonteCarloResult",
     "PlacementResult",
     "ReproductionResult",
-    "RunRecord",
     "SimulationResult",
+    "SimulationSummary",
     "SlewResult",
     "SlewSummary",
     "SynthesisResult",
@@ -185,7 +185,7 @@ _LAZY = {
     "burn": "casadi_debris.workflows._burn",
     "CaseSelection": "casadi_debris.workflows._campaign",
     "one_case": "casadi_debris.workflows._campaign",
-    "RunRecord": "casadi_debris.workflows._campaign",
+    "SimulationSummary": "casadi_debris.workflows._campaign",
     "check_scheduler_address": "casadi_debris.workflows._campaign",
     "CompareResult": "casadi_debris.workflows._compare",
     "compare": "casadi_debris.workflows._compare",

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from casadi_debris.report import (
-    AlternativesReport,
+    AlternativesSummary,
     alternatives_figures,
     write_alternatives,
 )
@@ -42,12 +42,12 @@ class AlternativesResult(JobResult):
 
     Attributes
     ----------
-    summary : AlternativesReport
+    summary : AlternativesSummary
         Every design's figures, the failure sets tried and the wall time (what
         ``summary.json`` holds).
     """
 
-    summary: AlternativesReport
+    summary: AlternativesSummary
 
     command = "alternatives"
 
@@ -109,7 +109,7 @@ def alternatives(
         if progress is not None:
             progress(problem.name)
         designs.append(swarm_figures(problem, max_failed=max_failed))
-    summary = AlternativesReport(
+    summary = AlternativesSummary(
         designs=designs, max_failed=max_failed, wall_time_s=time.perf_counter() - started
     )
     return AlternativesResult(summary=summary)

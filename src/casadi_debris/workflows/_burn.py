@@ -24,7 +24,7 @@ from casadi_debris.config import BurnDirection, Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
 from casadi_debris.guidance import BurnPlan, burn_thrust_N, strongest_axis
-from casadi_debris.report import BurnReport, burn_figures, write_burn
+from casadi_debris.report import BurnSummary, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     DEFAULT_PERIOD_S,
     BurnRun,
@@ -107,7 +107,7 @@ class BurnResult(JobResult):
 
     Attributes
     ----------
-    summary : BurnReport
+    summary : BurnSummary
         What ``summary.json`` holds: pointing error, Δv three ways, the propellant split,
         stage switches, and the controller flown.
     run : BurnRun
@@ -117,7 +117,7 @@ class BurnResult(JobResult):
         [kg] over time.
     """
 
-    summary: BurnReport
+    summary: BurnSummary
     run: BurnRun
     series: BurnSeries
 
@@ -233,7 +233,7 @@ def _fly(
         jit=request.jit,
     )
     summary, series = burn_figures_of(problem, run, Allocator.from_problem(problem))
-    report = BurnReport(
+    report = BurnSummary(
         burn=summary,
         controller_path=str(controller_path),
         first_stage_left_s=request.first_stage_left_s,

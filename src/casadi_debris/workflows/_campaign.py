@@ -1,6 +1,6 @@
 """What a campaign and a single run share: the cases a campaign runs
 (:class:`CaseSelection`), the one case a run flies (:func:`one_case`,
-:func:`parameters_case`) and the record of a run (:class:`RunRecord`).
+:func:`parameters_case`) and the record of a run (:class:`SimulationSummary`).
 
 The campaign itself is :func:`casadi_debris.montecarlo`
 (:mod:`casadi_debris.workflows._montecarlo`).
@@ -32,7 +32,7 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model, Parameters
 from casadi_debris.errors import InputShapeError, ModelError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
-from casadi_debris.robust.plant import ControllerRecord, normalized_from_parameters
+from casadi_debris.robust.plant import Controller, normalized_from_parameters
 from casadi_debris.simulation import ClosedLoopResult, RunSummary, SimulationError
 
 LOGGER = logging.getLogger(__name__)
@@ -136,7 +136,7 @@ def parameters_case(model: Model, values: Any, case_id: str) -> Case:
 
 
 @dataclass(frozen=True, kw_only=True)
-class RunRecord(Record):
+class SimulationSummary(Record):
     """A run's figures and what identifies it: the case, its seed, the files, the plants.
 
     Attributes
@@ -182,13 +182,13 @@ def run_summary(
     case: Case,
     result: ClosedLoopResult,
     controller_path: Path,
-    record: ControllerRecord | None = None,
-) -> RunRecord:
+    record: Controller | None = None,
+) -> SimulationSummary:
     """A run's figures plus what identifies it (case, seed, files, the plants), judged
     against the problem's ``[requirements]``."""
     run = result.summary()
     shortfalls = requirement_shortfalls(problem, run)
-    return RunRecord(
+    return SimulationSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         plant_sha256=problem.plant_sha256,

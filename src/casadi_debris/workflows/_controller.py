@@ -19,13 +19,13 @@ from casadi_debris.config import (
     read_regular_file,
 )
 from casadi_debris.errors import ControllerMismatchError, ProblemFileError, UnreadableFileError
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.store import default_run_folder
 
 LOGGER = logging.getLogger(__name__)
 
 
-def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, Path]:
+def load_controller(path: str | Path | None = None) -> tuple[Controller, Path]:
     """Read a controller file.
 
     Parameters
@@ -35,7 +35,7 @@ def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, P
 
     Returns
     -------
-    ControllerRecord
+    Controller
     Path
         The file read, absolute.
 
@@ -55,12 +55,12 @@ def load_controller(path: str | Path | None = None) -> tuple[ControllerRecord, P
         ) from None
     if not isinstance(data, dict):
         raise ProblemFileError("", "a controller file holds a JSON object", str(resolved))
-    return ControllerRecord.from_dict(data, str(resolved)), resolved
+    return Controller.from_dict(data, str(resolved)), resolved
 
 
 def controller_for(
     problem: Problem, path: str | Path | None = None, *, allow_mismatch: bool = False
-) -> tuple[ControllerRecord, Path]:
+) -> tuple[Controller, Path]:
     """The controller to fly on ``problem``, checked against the plant it was designed for.
 
     Parameters
@@ -74,7 +74,7 @@ def controller_for(
 
     Returns
     -------
-    ControllerRecord
+    Controller
     Path
         The file read, absolute.
 

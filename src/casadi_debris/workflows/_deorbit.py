@@ -26,7 +26,7 @@ from casadi_debris.orbit import (
     case_trajectories,
     plan_deorbit,
 )
-from casadi_debris.report import DeorbitReport, deorbit_figures, write_deorbit
+from casadi_debris.report import DeorbitSummary, deorbit_figures, write_deorbit
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
@@ -39,13 +39,13 @@ class DeorbitResult(JobResult):
 
     Attributes
     ----------
-    summary : DeorbitReport
+    summary : DeorbitSummary
         The plan beside the budget's Δv (what ``summary.json`` holds).
     trajectories : tuple of CaseTrajectory
         Per solar case: the decay from the burn's start and re-entry time against Δv (SI).
     """
 
-    summary: DeorbitReport
+    summary: DeorbitSummary
     trajectories: tuple[CaseTrajectory, ...]
 
     command = "deorbit"
@@ -125,7 +125,7 @@ def deorbit(
     )
     plan = plan_deorbit(problem, settings)
     model = DeorbitModel.from_problem(problem, settings)
-    summary = DeorbitReport(
+    summary = DeorbitSummary(
         problem_sha256=problem.sha256,
         budget_dv_m_s=budgets_as_dict(compute_budgets(problem))["dv_all_stages_all_faces_m_s"],
         plan=plan,

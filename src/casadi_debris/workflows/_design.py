@@ -31,19 +31,19 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.config import AXIS_NAMES, Problem, Simulation, SlewReference, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report import (
-    CampaignFigures,
     CampaignSummary,
     DesignFigures,
     DesignSummary,
     MarginsSummary,
     RequirementRow,
+    VerificationSummary,
     classical_markdown,
     design_markdown,
     requirement_rows,
     torque_limits_mNm,
     verification_rows,
 )
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.robust.requirements import (
     BindingLimit,
     BodyLimits,
@@ -166,7 +166,7 @@ class DesignResult(ReportFolderResult):
     folder : Path
         The report folder written: ``controller.json``, ``report.md``, ``summary.json``,
         ``margins/``, ``slew/`` and ``pointing/``.
-    record : ControllerRecord
+    record : Controller
         The controller (fly it with ``cd.simulate(..., controller=folder /
         "controller.json")``).
     margins : MarginsResult
@@ -176,7 +176,7 @@ class DesignResult(ReportFolderResult):
     """
 
     problem: Problem
-    record: ControllerRecord
+    record: Controller
     summary: DesignSummary
 
     command = "design"
@@ -268,7 +268,7 @@ def design(
 class _Verified:
     """A controller and what verified it."""
 
-    record: ControllerRecord
+    record: Controller
     search: DesignSearch | None
     margins: MarginsSummary
     campaigns: dict[str, CampaignSummary]
@@ -329,7 +329,7 @@ def _designed(
     settings: SynthesisSettings | None,
     stage: Callable[[str], Any],
     how: tuple[bool, WeightsChoice],
-) -> tuple[ControllerRecord, DesignSearch | None]:
+) -> tuple[Controller, DesignSearch | None]:
     """The controller ``method`` designs, and the μ design's search (None for the others);
     ``how`` is (quick, where the weights come from)."""
     quick, weights = how
@@ -356,7 +356,7 @@ def _record(search: DesignSearch) -> Any:
 
 def _classical(
     problem: Problem, method: ClassicalMethod, weights: WeightsChoice = "auto"
-) -> ControllerRecord:
+) -> Controller:
     """A PD or LQG controller on the rigid body: bandwidth as the μ design's
     (:func:`~casadi_debris.robust.requirements.body_weights`);
     Bryson's weights from the slew requirement and the authority; the disturbance as
@@ -463,7 +463,9 @@ def _summary(
 ) -> DesignSummary:
     """What ``summary.json`` holds."""
     judged = [row for row in rows if row.met is not None]
-    figures = {name: CampaignFigures(c.cases, c.worst, c.nominal) for name, c in campaigns.items()}
+    figures = {
+        name: VerificationSummary(c.cases, c.worst, c.nominal) for name, c in campaigns.items()
+    }
     chosen = None if search is None else search.chosen
     guaranteed = None if chosen is None else chosen.guaranteed_pointing_arcsec
     return DesignSummary(

@@ -23,7 +23,7 @@ from casadi_debris.allocation import Allocator
 from casadi_debris.budgets import budgets_as_dict, compute_budgets
 from casadi_debris.config import Problem
 from casadi_debris.geometry import build_geometry
-from casadi_debris.report import DetumbleReport, detumble_figures, write_detumble
+from casadi_debris.report import DetumbleSummary, detumble_figures, write_detumble
 from casadi_debris.simulation import SimulationError
 from casadi_debris.simulation.detumble import (
     DEFAULT_GAIN_PER_S,
@@ -46,14 +46,14 @@ class DetumbleResult(JobResult):
 
     Attributes
     ----------
-    summary : DetumbleReport
+    summary : DetumbleSummary
         What ``summary.json`` holds: the run's figures, the budget's estimates, the
         momentum bound and the time-optimal detumble.
     run : simulation.detumble.DetumbleResult
         The run's time series (rates [rad/s], torque [N m], propellant), SI.
     """
 
-    summary: DetumbleReport
+    summary: DetumbleSummary
     run: DetumbleRun
 
     command = "detumble"
@@ -127,7 +127,7 @@ def detumble(
         detumble=dataclasses.replace(problem.detumble, initial_rate_rad_s=result.rate_rad_s[0]),
     )
     budgets = budgets_as_dict(compute_budgets(flown))
-    report = DetumbleReport(
+    report = DetumbleSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         budget_time_h=budgets["detumble_time_h"],

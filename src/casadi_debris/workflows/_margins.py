@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from casadi_debris.robust.margins import MarginStudy
-    from casadi_debris.robust.plant import ControllerRecord
+    from casadi_debris.robust.plant import Controller
 
 
 @dataclass(frozen=True)
@@ -41,7 +41,7 @@ class MarginsResult(JobResult):
     Attributes
     ----------
     problem : Problem
-    record : ControllerRecord
+    record : Controller
         The controller studied (its reduced-order state space is the one flown).
     study : MarginStudy
         Per channel and plant: gain [dB], phase [deg] and delay [s] margins, the nominal
@@ -51,7 +51,7 @@ class MarginsResult(JobResult):
     """
 
     problem: Problem
-    record: ControllerRecord
+    record: Controller
     study: MarginStudy
     summary: MarginsSummary
 

@@ -31,7 +31,7 @@ from casadi_debris.campaigns import (
     CampaignSetup,
     Case,
     CaseFailure,
-    CaseOutcome,
+    CaseResult,
     nominal_case,
     run_campaign,
     statistics_of,
@@ -53,12 +53,12 @@ from casadi_debris.report import (
     campaign_summary,
     write_campaign,
 )
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.simulation import ClosedLoopResult, c_compiler, simulate
 from casadi_debris.store import (
     RECORD_NAME,
     CampaignFolder,
-    CampaignRecord,
+    CampaignIdentity,
     check_output_folder,
     write_case,
     write_failure,
@@ -67,7 +67,7 @@ from casadi_debris.store import (
 from casadi_debris.workflows._campaign import (
     CaseSelection,
     Progress,
-    RunRecord,
+    SimulationSummary,
     check_scheduler_address,
     run_summary,
 )
@@ -103,29 +103,29 @@ class MonteCarloResult(JobResult):
         What ``summary.json`` holds (and ``--json`` prints): the worst case of every
         figure, the nominal run's figures, the statistics; ``summary.run.out_dir`` is
         None for a campaign run without a folder.
-    record : CampaignRecord
+    record : CampaignIdentity
         What identifies the campaign (``campaign.json``: hashes, case list, bins).
     setup : CampaignSetup
         What every case shared (controller, reference, time bins).
-    outcomes : tuple of CaseOutcome
+    outcomes : tuple of CaseResult
         Every finished case (resumed or run), in campaign order: its figures and its
         min/max bands per time bin.
     failures : tuple of CaseFailure
         The cases of this run that raised (the campaign went on without them).
     nominal : ClosedLoopResult
         The nominal run, SI units.
-    nominal_summary : RunRecord
+    nominal_summary : SimulationSummary
         Its figures in display units.
     """
 
     problem: Problem
     summary: CampaignSummary
-    record: CampaignRecord
+    record: CampaignIdentity
     setup: CampaignSetup
-    outcomes: tuple[CaseOutcome, ...]
+    outcomes: tuple[CaseResult, ...]
     failures: tuple[CaseFailure, ...]
     nominal: ClosedLoopResult
-    nominal_summary: RunRecord
+    nominal_summary: SimulationSummary
 
     command = "montecarlo"
 
@@ -267,12 +267,12 @@ def montecarlo(
 class _Plan:
     """What a campaign flies: the problem's model, the controller, the cases."""
 
-    record: ControllerRecord
+    record: Controller
     controller_path: Path
     model: Model
     cases: list[Case]
     setup: CampaignSetup
-    identity: CampaignRecord
+    identity: CampaignIdentity
 
     @classmethod
     def create(
@@ -369,7 +369,7 @@ def _final(path: Path, moved_to: tuple[Path, Path] | None) -> Path:
 
 
 def _finished(
-    plan: _Plan, outcomes: list[CaseOutcome], failures: list[CaseFailure], run: CampaignRun
+    plan: _Plan, outcomes: list[CaseResult], failures: list[CaseFailure], run: CampaignRun
 ) -> MonteCarloResult:
     """Run the nominal case and summarise the campaign (worst cases, statistics)."""
     setup, model, identity = plan.setup, plan.model, plan.identity
@@ -403,9 +403,9 @@ def _finished(
     )
 
 
-def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) -> CampaignRecord:
+def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) -> CampaignIdentity:
     """What the campaign is, as its folder records it for a resume."""
-    return CampaignRecord(
+    return CampaignIdentity(
         problem_name=setup.problem.name,
         problem_sha256=setup.problem.sha256,
         controller_sha256=hashlib.sha256(controller_path.read_bytes()).hexdigest(),
@@ -419,11 +419,11 @@ def _identity(setup: CampaignSetup, cases: list[Case], controller_path: Path) ->
 def _run_missing(
     setup: CampaignSetup,
     cases: list[Case],
-    done: dict[str, CaseOutcome],
+    done: dict[str, CaseResult],
     folder: CampaignFolder | None,
     how: _How,
     progress: Progress | None,
-) -> tuple[list[CaseOutcome], list[CaseFailure]]:
+) -> tuple[list[CaseResult], list[CaseFailure]]:
     """Run the cases not in ``done``, each written into ``folder`` (if any) as it finishes.
 
     Returns every finished case (resumed or run), in campaign order, and the
@@ -437,10 +437,10 @@ def _run_missing(
         len(done),
         len(todo),
     )
-    finished: dict[str, CaseOutcome] = {}
+    finished: dict[str, CaseResult] = {}
     failures: list[CaseFailure] = []
 
-    def keep(outcome: CaseOutcome) -> None:
+    def keep(outcome: CaseResult) -> None:
         if folder is not None:
             folder.write_case(outcome.case.case_id, outcome.bands.to_arrays(), outcome.summary)
         finished[outcome.case.case_id] = outcome
@@ -491,12 +491,12 @@ def _run_missing(
     return [every[c.case_id] for c in cases if c.case_id in every], failures
 
 
-def _finished_cases(folder: CampaignFolder, cases: list[Case]) -> dict[str, CaseOutcome]:
+def _finished_cases(folder: CampaignFolder, cases: list[Case]) -> dict[str, CaseResult]:
     """The cases of ``cases`` already written in ``folder``, as outcomes."""
     by_id = {case.case_id: case for case in cases}
     return folder.finished_cases(
         by_id,
-        lambda case_id, summary, arrays: CaseOutcome.from_saved(by_id[case_id], summary, arrays),
+        lambda case_id, summary, arrays: CaseResult.from_saved(by_id[case_id], summary, arrays),
     )
 
 

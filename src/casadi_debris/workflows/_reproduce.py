@@ -25,7 +25,7 @@ from casadi_debris.config import Problem, default_problem_path, load_problem, wi
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report import (
     CampaignSummary,
-    ControllerFigures,
+    ControllerSummary,
     MarginsSummary,
     ModelDescription,
     ReproductionRow,
@@ -35,7 +35,7 @@ from casadi_debris.report import (
     reproduction_rows,
     torque_limits_mNm,
 )
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.store import RunFolder, write_json_atomic
 from casadi_debris.workflows._campaign import Progress
 from casadi_debris.workflows._controller import load_controller
@@ -97,7 +97,7 @@ def _paper_problems(plan: Plan) -> tuple[Problem, Problem, Problem]:
     return problem, slew_problem, pointing_problem
 
 
-def _controller(problem: Problem, design_into: Path | None) -> tuple[ControllerRecord, Path]:
+def _controller(problem: Problem, design_into: Path | None) -> tuple[Controller, Path]:
     """The shipped controller, or one designed anew
     (:func:`~casadi_debris.workflows._synthesize.synthesize`) and written into
     ``design_into``."""
@@ -326,7 +326,7 @@ def _rows(
     problem: Problem,
     model_summary: ModelDescription,
     budgets: dict[str, float],
-    record: ControllerRecord,
+    record: Controller,
     margins: MarginsSummary,
     campaigns: dict[str, CampaignSummary],
     slew_duration_s: float | None,
@@ -336,7 +336,7 @@ def _rows(
     return reproduction_rows(
         model_summary,
         budgets,
-        ControllerFigures.of(record),
+        ControllerSummary.of(record),
         margins,
         campaigns["slew"],
         slew_duration_s,

@@ -22,7 +22,12 @@ from typing import TYPE_CHECKING, Any
 from casadi_debris.config import FailureEvent, Problem, with_duration
 from casadi_debris.errors import InputShapeError
 from casadi_debris.store import write_json_atomic
-from casadi_debris.workflows._campaign import RunRecord, one_case, parameters_case, run_summary
+from casadi_debris.workflows._campaign import (
+    SimulationSummary,
+    one_case,
+    parameters_case,
+    run_summary,
+)
 from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -32,7 +37,7 @@ if TYPE_CHECKING:
     from casadi_debris.campaigns import Case
     from casadi_debris.dynamics import Model
     from casadi_debris.guidance import Reference
-    from casadi_debris.simulation import ClosedLoopResult, SegmentFigures
+    from casadi_debris.simulation import ClosedLoopResult, SegmentRunSummary
 
 LOGGER = logging.getLogger(__name__)
 
@@ -49,17 +54,17 @@ class SimulationResult(JobResult):
         The problem as flown (with the run length, slew and failures asked for).
     result : ClosedLoopResult
         Every time series, SI units.
-    summary : RunRecord
+    summary : SimulationSummary
         The figures in display units, with ``requirements_met``.
-    segments : tuple of SegmentFigures or None
+    segments : tuple of SegmentRunSummary or None
         Each segment's window, largest error and fuel, for a problem that flies
         ``[[simulation.segments]]``.
     """
 
     problem: Problem
     result: ClosedLoopResult
-    summary: RunRecord
-    segments: tuple[SegmentFigures, ...] | None = None
+    summary: SimulationSummary
+    segments: tuple[SegmentRunSummary, ...] | None = None
 
     def plot(self) -> dict[str, Figure]:
         """The run's figures, by the file stem ``save`` writes them under:
@@ -223,7 +228,7 @@ def _as_asked(
 
 def _segment_figures(
     problem: Problem, result: ClosedLoopResult, reference: Reference
-) -> tuple[SegmentFigures, ...] | None:
+) -> tuple[SegmentRunSummary, ...] | None:
     """Each segment's figures when the problem flies ``[[simulation.segments]]``, else None."""
     if problem.simulation.reference != "sequence":
         return None

@@ -404,7 +404,7 @@ class _Asked:
 
     def _solve(self, problem: Problem) -> SlewProfile:
         from casadi_debris.slews import (
-            SlewOptions,
+            OptimalSlewSettings,
             bang_bang_slew,
             fuel_optimal_slew,
             slew_about_axis,
@@ -431,7 +431,7 @@ class _Asked:
             )
         if self.rate_limit_deg_s is not None or self.smoothing_s:
             raise InputShapeError("--rate-limit-deg-s and --smoothing-s apply to bang-bang only")
-        options = SlewOptions(
+        options = OptimalSlewSettings(
             flexible=self.flexible,
             thrusters=self.thrusters,
             zero_net_force=self.zero_net_force,

@@ -22,7 +22,7 @@ from casadi_debris.store import write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
 if TYPE_CHECKING:
-    from casadi_debris.robust.plant import ControllerRecord
+    from casadi_debris.robust.plant import Controller
     from casadi_debris.robust.synthesis import ControllerDesign, Iteration, SynthesisSummary
 
 Progress = Callable[[str, "Iteration | None"], None]
@@ -52,7 +52,7 @@ class SynthesisResult(JobResult):
     command = "synthesize"
 
     @property
-    def record(self) -> ControllerRecord:
+    def record(self) -> Controller:
         """The controller (full and reduced order, with the plant it was designed for), as
         ``controller.json`` holds it."""
         return self.design.record

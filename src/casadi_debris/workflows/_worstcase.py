@@ -39,7 +39,7 @@ from casadi_debris.report import (
     write_worst_case_files,
 )
 from casadi_debris.robust.mu import ParametricMu, parametric_mu
-from casadi_debris.robust.plant import ControllerRecord, recorded_performance_weights
+from casadi_debris.robust.plant import Controller, recorded_performance_weights
 from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -59,7 +59,7 @@ class WorstCaseResult(JobResult):
     ----------
     problem : Problem
     model : Model
-    record : ControllerRecord
+    record : Controller
         The controller analysed.
     controller_path : Path
     mu : ParametricMu or None
@@ -74,7 +74,7 @@ class WorstCaseResult(JobResult):
 
     problem: Problem
     model: Model
-    record: ControllerRecord
+    record: Controller
     controller_path: Path
     mu: ParametricMu | None
     search: WorstCaseSearch | None
@@ -178,7 +178,7 @@ def worstcase(
 
 def _search(
     model: Model,
-    record: ControllerRecord,
+    record: Controller,
     mu: ParametricMu | None,
     budget: int,
     seed: int,

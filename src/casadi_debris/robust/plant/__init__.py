@@ -11,11 +11,11 @@ and generalised plant of the design, and a designed controller.
   generalised plant from them (:class:`GeneralizedPlant`).
 - :class:`FrequencyResponse` evaluates C (jw I - A)^-1 B + D of any state-space system
   on any grid, after one block-diagonal Schur decomposition.
-- :class:`ControllerRecord` is a designed controller as the controller file holds it,
+- :class:`Controller` is a designed controller as the controller file holds it,
   bound to the problem it was designed for.
 """
 
-from casadi_debris.robust.plant._controller import FORMAT_VERSION, ControllerRecord
+from casadi_debris.robust.plant._controller import FORMAT_VERSION, Controller
 from casadi_debris.robust.plant._interconnect import (
     GeneralizedPlant,
     generalized_plant,
@@ -52,7 +52,7 @@ __all__ = [
     "FORMAT_VERSION",
     "FULL_CIRCLE_DEG",
     "W_ORDER",
-    "ControllerRecord",
+    "Controller",
     "FrequencyResponse",
     "GeneralizedPlant",
     "PerformanceWeights",

@@ -31,7 +31,7 @@ def _toolkit_version() -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class ControllerRecord:
+class Controller:
     """Reduced controller plus how it was obtained.
 
     Attributes
@@ -84,7 +84,7 @@ class ControllerRecord:
         return payload
 
     @classmethod
-    def from_dict(cls, data: dict[str, Any], source: str | None = None) -> ControllerRecord:
+    def from_dict(cls, data: dict[str, Any], source: str | None = None) -> Controller:
         """Rebuild from :meth:`to_dict` output; names the missing or bad key."""
         for key in REQUIRED_KEYS:
             if key not in data:

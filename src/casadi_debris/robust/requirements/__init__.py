@@ -3,10 +3,10 @@ from the problem and the body, and the physical limit that binds when a design m
 
 - :func:`derived_scalings`: the error, control and disturbance scalings (Ve, Vu, Vd) of
   a problem from its pointing requirement and torque authority
-  (:class:`DerivedScalings`, :class:`ScalingFigures`).
+  (:class:`DerivedScalings`, :class:`ScalingSummary`).
 - :func:`body_weights`: the dynamic weights We and Wu derived from the body (its hold
   bandwidth and first flexible mode) for a debris that is not the paper's
-  (:class:`BodyWeights`, :class:`BodyFigures`).
+  (:class:`BodyWeights`, :class:`BodySummary`).
 - :func:`pointing_limit`, :func:`slew_limit`, :func:`mu_limit`, :func:`margins_limit`:
   which limit binds for each requirement missed, with its numbers and what would meet it
   (:class:`BindingLimit`).
@@ -22,7 +22,7 @@ from casadi_debris.robust.requirements._binding import (
 )
 from casadi_debris.robust.requirements._body_weights import (
     WEIGHTS_CHOICES,
-    BodyFigures,
+    BodySummary,
     BodyWeights,
     WeightsChoice,
     body_weights,
@@ -34,7 +34,7 @@ from casadi_debris.robust.requirements._body_weights import (
 from casadi_debris.robust.requirements._scalings import (
     DISTURBANCE_TO_AUTHORITY,
     DerivedScalings,
-    ScalingFigures,
+    ScalingSummary,
     authority_per_axis_mNm,
     derived_scalings,
 )
@@ -43,11 +43,11 @@ __all__ = [
     "DISTURBANCE_TO_AUTHORITY",
     "WEIGHTS_CHOICES",
     "BindingLimit",
-    "BodyFigures",
     "BodyLimits",
+    "BodySummary",
     "BodyWeights",
     "DerivedScalings",
-    "ScalingFigures",
+    "ScalingSummary",
     "WeightsChoice",
     "authority_per_axis_mNm",
     "body_weights",

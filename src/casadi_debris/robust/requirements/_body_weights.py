@@ -71,7 +71,7 @@ Origin = Literal["derived", "problem", "paper"]
 
 
 @dataclass(frozen=True)
-class BodyFigures(Record):
+class BodySummary(Record):
     """The body figures the dynamic weights come from, and where each weight came from.
 
     Attributes
@@ -117,14 +117,14 @@ class BodyWeights:
     ----------
     bandwidth_rad_s, epsilon, rolloff_rad_s, high_frequency_gain : float
         The parameters of We and Wu (see :func:`~casadi_debris.robust.plant.dynamic_weights`).
-    figures : BodyFigures
+    figures : BodySummary
     """
 
     bandwidth_rad_s: float
     epsilon: float
     rolloff_rad_s: float
     high_frequency_gain: float
-    figures: BodyFigures
+    figures: BodySummary
 
     def parameters(self) -> dict[str, float]:
         """The weights as a controller file records them."""
@@ -283,7 +283,7 @@ def body_weights(
     used_rolloff, rolloff_from = pick(
         own.control_rolloff_rad_s, paper.control_rolloff_rad_s, rolloff
     )
-    figures = BodyFigures(
+    figures = BodySummary(
         inertia_kgm2=tuple(inertia.tolist()),
         authority_mNm=tuple(authority.tolist()),
         disturbance_mNm=tuple(disturbance.tolist()),

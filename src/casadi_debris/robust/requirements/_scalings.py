@@ -104,9 +104,9 @@ class DerivedScalings:
             parameters=base.parameters,
         )
 
-    def figures(self) -> ScalingFigures:
+    def figures(self) -> ScalingSummary:
         """The scalings as a summary gives them, units in the names."""
-        return ScalingFigures(
+        return ScalingSummary(
             error_scaling_deg=tuple(self.error_deg.tolist()),
             control_scaling_mNm=tuple(self.control_mNm.tolist()),
             disturbance_scaling_mNm=tuple(self.disturbance_mNm.tolist()),
@@ -118,7 +118,7 @@ class DerivedScalings:
 
 
 @dataclass(frozen=True)
-class ScalingFigures(Record):
+class ScalingSummary(Record):
     """:class:`DerivedScalings` in a summary: Ve [deg], Vu and Vd [mNm] per axis, Ve over
     the requirement's, the disturbance frequency [rad/s] and the pointing error per unit
     of μ [arcsec] per axis, and Vr [deg] (the reference scaling: Ve, held at the

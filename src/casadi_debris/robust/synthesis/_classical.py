@@ -30,7 +30,7 @@ from typing import Literal
 import control
 import numpy as np
 
-from casadi_debris.robust.plant import ControllerRecord
+from casadi_debris.robust.plant import Controller
 from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
 
 ClassicalMethod = Literal["pd", "pid", "lqr"]
@@ -153,7 +153,7 @@ def classical_record(
     disturbance_Nm: np.ndarray,
     measurement_noise_rad: float,
     plant_sha256: str,
-) -> ControllerRecord:
+) -> Controller:
     """A PD or LQG controller as a controller file's record (no μ bookkeeping).
 
     The arguments are those of :func:`pid_controller` (``bandwidth_rad_s``) and
@@ -176,7 +176,7 @@ def classical_record(
             "process_noise_torque_mNm": (np.asarray(disturbance_Nm) * MNM_PER_NM).tolist(),
             "measurement_noise_arcsec": math.degrees(measurement_noise_rad) * 3600.0,
         }
-    return ControllerRecord(
+    return Controller(
         reduced=system,
         full=None,
         mu_peak=None,

@@ -27,7 +27,7 @@ from casadi_debris.records import Record
 from casadi_debris.robust.mu import MuBound
 from casadi_debris.robust.plant import (
     W_ORDER,
-    ControllerRecord,
+    Controller,
     GeneralizedPlant,
     PerformanceWeights,
     UncertaintySamples,
@@ -172,7 +172,7 @@ class ControllerDesign:
     plant: GeneralizedPlant
     musyn: MusynResult
     mu_reduced: MuBound
-    record: ControllerRecord
+    record: Controller
     timings_s: dict[str, float] = field(default_factory=dict)
 
     def summary(self) -> SynthesisSummary:
@@ -309,7 +309,7 @@ def design_controller(
         _, mu_reduced = closed_loop_mu(plant, reduced, omega)
     report("reduce")
 
-    record = ControllerRecord(
+    record = Controller(
         reduced=reduced,
         full=musyn.controller,
         mu_peak=musyn.mu_peak,

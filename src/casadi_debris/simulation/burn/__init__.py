@@ -5,7 +5,7 @@
   (:class:`BurnRun`).
 - :func:`burn_figures`: what the burn delivered: pointing of the thrust axis, Δv, the
   propellant split between Δv and attitude, the arrays' load
-  (:class:`BurnSummary`, :class:`BurnSeries`).
+  (:class:`BurnRunSummary`, :class:`BurnSeries`).
 
 The loop is :mod:`casadi_debris.simulation`'s; the burn plan is
 :mod:`casadi_debris.guidance`'s.
@@ -19,13 +19,13 @@ from casadi_debris.simulation.burn._burn import (
     pointing_error_rad,
     simulate_burn,
 )
-from casadi_debris.simulation.burn._figures import BurnSeries, BurnSummary, burn_figures
+from casadi_debris.simulation.burn._figures import BurnRunSummary, BurnSeries, burn_figures
 
 __all__ = [
     "DEFAULT_PERIOD_S",
     "BurnRun",
+    "BurnRunSummary",
     "BurnSeries",
-    "BurnSummary",
     "burn_figures",
     "burn_reference",
     "first_stage_left",

@@ -44,7 +44,7 @@ STEADY_FRACTION = 0.5
 
 
 @dataclass(frozen=True, kw_only=True)
-class BurnSummary(Record):
+class BurnRunSummary(Record):
     """Figures of a burn flown while pointing.
 
     Attributes
@@ -136,7 +136,7 @@ class BurnSeries:
 
 def burn_figures(
     problem: Problem, burn: BurnRun, allocator: Allocator
-) -> tuple[BurnSummary, BurnSeries]:
+) -> tuple[BurnRunSummary, BurnSeries]:
     """The figures and series of a burn (``allocator`` of the problem, full engines)."""
     result, plan = burn.result, burn.plan
     h, mass = result.control_period_s, result.total_mass_kg
@@ -159,7 +159,7 @@ def burn_figures(
     run = result.summary()
     m_dv = float(fuel_dv[-1])
     m_bound = float(np.abs(along).sum() * h / c_best)
-    summary = BurnSummary(
+    summary = BurnRunSummary(
         problem=problem.name,
         problem_sha256=problem.sha256,
         direction=plan.direction,

@@ -3,7 +3,7 @@ detumble.
 
 - :func:`detumble`: the closed loop that brakes the problem's initial tumble, vertex
   by vertex of the engines' authority, with allocation, staging and fuel
-  (:class:`DetumbleResult`, its figures a :class:`DetumbleSummary`).
+  (:class:`DetumbleResult`, its figures a :class:`DetumbleRunSummary`).
 - :func:`problem_time_optimal_detumble` / :func:`time_optimal_detumble`: the
   time-optimal detumble as an OCP over the polhode-averaged rates
   (:class:`DetumbleOcp`), checked for small tumbles by the full transcription
@@ -19,7 +19,7 @@ from casadi_debris.simulation.detumble._detumble import (
     DEFAULT_PERIOD_S,
     DEFAULT_THRESHOLD_RAD_S,
     DetumbleResult,
-    DetumbleSummary,
+    DetumbleRunSummary,
     detumble,
     held_torque_rates,
 )
@@ -44,7 +44,7 @@ __all__ = [
     "DetumbleOcp",
     "DetumbleOcpSummary",
     "DetumbleResult",
-    "DetumbleSummary",
+    "DetumbleRunSummary",
     "FullDetumbleOcp",
     "PolhodeAverages",
     "PrincipalBody",

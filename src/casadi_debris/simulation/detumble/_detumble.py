@@ -52,7 +52,7 @@ SUBSTEPS = 10
 
 
 @dataclass(frozen=True, kw_only=True)
-class DetumbleSummary(Record):
+class DetumbleRunSummary(Record):
     """Figures of a closed-loop detumble.
 
     Attributes
@@ -112,7 +112,7 @@ class DetumbleResult:
         Saturation factor of the demand.
     fuel_per_cubesat_kg : ndarray, shape (n + 1, n_cubesats)
         Propellant burnt so far.
-    summary : DetumbleSummary
+    summary : DetumbleRunSummary
     """
 
     time_s: np.ndarray
@@ -120,7 +120,7 @@ class DetumbleResult:
     torque_Nm: np.ndarray
     scale: np.ndarray
     fuel_per_cubesat_kg: np.ndarray
-    summary: DetumbleSummary
+    summary: DetumbleRunSummary
 
 
 def rate_damping_stretch(
@@ -334,7 +334,7 @@ class _Rollout:
         mass_kg = build_geometry(problem).mass_kg
         # The propellant's mean exhaust velocity: total impulse over propellant.
         exhaust = self.impulse_Ns / fuel.sum() if fuel.sum() > 0 else 0.0
-        summary = DetumbleSummary(
+        summary = DetumbleRunSummary(
             initial_rate_rad_s=tuple(rate0),
             threshold_rad_s=threshold,
             gain_per_s=self.gain,

@@ -34,7 +34,7 @@ from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model
 from casadi_debris.geometry import Geometry, torque_authority
 from casadi_debris.studies.failures._cases import FailureCase
-from casadi_debris.studies.failures._records import HoldingRecord
+from casadi_debris.studies.failures._records import HoldingSummary
 from casadi_debris.studies.failures._sets import axis_ratios, weakest_axis
 from casadi_debris.units import MN_PER_N, SECONDS_PER_MINUTE
 
@@ -79,9 +79,9 @@ class HoldingLoad:
         fuel = self.fuel_per_cubesat_kg[self.survivors]
         return float(fuel.max() / fuel.mean()) if len(fuel) and fuel.mean() > 0 else None
 
-    def record(self) -> HoldingRecord:
+    def record(self) -> HoldingSummary:
         """For JSON: units in the names, CubeSats from 1."""
-        return HoldingRecord(
+        return HoldingSummary(
             period_s=self.period_s,
             fuel_per_period_kg=float(self.fuel_per_cubesat_kg.sum()),
             fuel_per_cubesat_kg=tuple(self.fuel_per_cubesat_kg.tolist()),

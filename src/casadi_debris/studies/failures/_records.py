@@ -15,7 +15,7 @@ from casadi_debris.records import Record
 
 
 @dataclass(frozen=True, kw_only=True)
-class RunVerdict(Record):
+class RunCheckSummary(Record):
     """A manoeuvre's worst run for one failure case, against its requirement.
 
     Attributes
@@ -70,17 +70,17 @@ class RunVerdict(Record):
 
 
 @dataclass(frozen=True)
-class ClosedLoopVerdict(Record):
+class ClosedLoopCheckSummary(Record):
     """A case's closed-loop runs: ``met`` when every one is within its requirement
     (None: none flown, or one raised and none missed)."""
 
     met: bool | None
-    nominal: dict[str, RunVerdict]
-    corners: dict[str, RunVerdict]
+    nominal: dict[str, RunCheckSummary]
+    corners: dict[str, RunCheckSummary]
 
 
 @dataclass(frozen=True)
-class HoldingRecord(Record):
+class HoldingSummary(Record):
     """The allocation of the torque that cancels the disturbance over one period.
 
     See :func:`~casadi_debris.studies.failures.case_authority` for how each figure is computed.
@@ -106,7 +106,7 @@ class ThrustChange(Record):
 
 
 @dataclass(frozen=True, kw_only=True)
-class FailureCaseRecord(Record):
+class FailureCaseSummary(Record):
     """One case of a failure campaign, as ``summary.json`` lists it.
 
     Attributes
@@ -126,11 +126,11 @@ class FailureCaseRecord(Record):
     worst_ratio : float
     authority_loss : dict or None
         Share of the whole swarm's authority lost per signed axis (None for the baseline).
-    holding : HoldingRecord or None
+    holding : HoldingSummary or None
         None when no engine is left.
     reallocation : tuple of ThrustChange
         The CubeSats whose mean holding thrust rises most, the largest rise first.
-    closed_loop : ClosedLoopVerdict
+    closed_loop : ClosedLoopCheckSummary
     """
 
     case_id: str
@@ -143,13 +143,13 @@ class FailureCaseRecord(Record):
     worst_axis: str
     worst_ratio: float
     authority_loss: dict[str, float | None] | None
-    holding: HoldingRecord | None
+    holding: HoldingSummary | None
     reallocation: tuple[ThrustChange, ...]
-    closed_loop: ClosedLoopVerdict
+    closed_loop: ClosedLoopCheckSummary
 
 
 @dataclass(frozen=True)
-class ManoeuvreRecord(Record):
+class ManoeuvreRunSummary(Record):
     """A run every case flew."""
 
     name: str
@@ -178,13 +178,13 @@ class FailuresSummary(Record):
     cubesats: int
     disturbance_mNm: tuple[float, ...]
     requirements: dict[str, float]
-    manoeuvres: tuple[ManoeuvreRecord, ...]
+    manoeuvres: tuple[ManoeuvreRunSummary, ...]
     corner_plants: int
     case_count: int
     cases_met: int
     cases_not_met: int
-    baseline: FailureCaseRecord
-    cases: tuple[FailureCaseRecord, ...]
+    baseline: FailureCaseSummary
+    cases: tuple[FailureCaseSummary, ...]
     wall_time_s: float
     controller_path: str | None = None
     quick: bool = False

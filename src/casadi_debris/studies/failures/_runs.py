@@ -22,14 +22,14 @@ from casadi_debris.campaigns import (
     CampaignSetup,
     Case,
     CaseFailure,
-    CaseOutcome,
+    CaseResult,
     run_campaign,
 )
 from casadi_debris.config import Problem
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.simulation import RunSummary
 from casadi_debris.studies.failures._cases import FailureCase
-from casadi_debris.studies.failures._records import RunVerdict
+from casadi_debris.studies.failures._records import RunCheckSummary
 
 Progress = Callable[[int, int], None]
 """``progress(done, total)``: runs finished of the runs of one stage."""
@@ -76,12 +76,12 @@ def run_id(case: FailureCase, plant: Case) -> str:
 
 def _verdict(
     manoeuvre: Manoeuvre, case: FailureCase, worst: RunSummary, runs: int, run: str
-) -> RunVerdict:
+) -> RunCheckSummary:
     """The verdict of ``case``'s worst run ``worst`` (named ``run``) of ``runs``."""
     error = float(getattr(worst, manoeuvre.error_key))
     fuel = [f for i, f in enumerate(worst.fuel_per_cubesat_kg) if i not in case.cubesats]
     mean = sum(fuel) / len(fuel) if fuel else 0.0
-    return RunVerdict(
+    return RunCheckSummary(
         manoeuvre=manoeuvre.name,
         error_key=manoeuvre.error_key,
         error=error,
@@ -103,19 +103,19 @@ def _verdict(
 def verdicts(
     manoeuvre: Manoeuvre,
     cases: Sequence[FailureCase],
-    outcomes: dict[str, CaseOutcome],
+    outcomes: dict[str, CaseResult],
     failures: dict[str, CaseFailure],
     plants: Sequence[Case],
-) -> dict[str, RunVerdict]:
+) -> dict[str, RunCheckSummary]:
     """Each failure case's worst run over ``plants`` (by the judged figure), by case id."""
-    judged: dict[str, RunVerdict] = {}
+    judged: dict[str, RunCheckSummary] = {}
     for case in cases:
         ids = [run_id(case, plant) for plant in plants]
         raised = [failures[i] for i in ids if i in failures]
         done = [outcomes[i] for i in ids if i in outcomes]
         if raised:
             first = raised[0]
-            judged[case.case_id] = RunVerdict(
+            judged[case.case_id] = RunCheckSummary(
                 manoeuvre=manoeuvre.name,
                 error_key=manoeuvre.error_key,
                 error=None,
@@ -143,7 +143,7 @@ def fly_cases(
     jit: bool = True,
     batch_cases: int = DEFAULT_BATCH_CASES,
     progress: Progress | None = None,
-) -> dict[str, RunVerdict]:
+) -> dict[str, RunCheckSummary]:
     """Fly ``manoeuvre`` for every failure case on every plant; the worst run of each case.
 
     Parameters
@@ -168,7 +168,7 @@ def fly_cases(
     Returns
     -------
     dict
-        :class:`RunVerdict` by failure case id.
+        :class:`RunCheckSummary` by failure case id.
     """
     setup = CampaignSetup.create(
         manoeuvre.problem,
@@ -182,10 +182,10 @@ def fly_cases(
         for case in cases
         for plant in plants
     ]
-    outcomes: dict[str, CaseOutcome] = {}
+    outcomes: dict[str, CaseResult] = {}
     failures: dict[str, CaseFailure] = {}
 
-    def finished(item: CaseOutcome | CaseFailure) -> None:
+    def finished(item: CaseResult | CaseFailure) -> None:
         if isinstance(item, CaseFailure):
             failures[item.case.case_id] = item
         else:

@@ -27,11 +27,11 @@ from casadi_debris.studies.failures._cases import (
     failure_cases,
 )
 from casadi_debris.studies.failures._records import (
-    ClosedLoopVerdict,
-    FailureCaseRecord,
+    ClosedLoopCheckSummary,
+    FailureCaseSummary,
     FailuresSummary,
-    ManoeuvreRecord,
-    RunVerdict,
+    ManoeuvreRunSummary,
+    RunCheckSummary,
     ThrustChange,
 )
 from casadi_debris.studies.failures._runs import Manoeuvre, StageProgress, fly_cases
@@ -85,15 +85,15 @@ class FailureCaseResult:
     Attributes
     ----------
     authority : CaseAuthority
-    runs : dict of str to RunVerdict
+    runs : dict of str to RunCheckSummary
         Per manoeuvre, on the nominal plant (empty without closed loop).
-    corners : dict of str to RunVerdict
+    corners : dict of str to RunCheckSummary
         Per manoeuvre, the worst corner plant (empty unless among the worst sets).
     """
 
     authority: CaseAuthority
-    runs: dict[str, RunVerdict] = field(default_factory=dict)
-    corners: dict[str, RunVerdict] = field(default_factory=dict)
+    runs: dict[str, RunCheckSummary] = field(default_factory=dict)
+    corners: dict[str, RunCheckSummary] = field(default_factory=dict)
 
     @property
     def case(self) -> FailureCase:
@@ -128,7 +128,7 @@ class FailureCaseResult:
             self.case.cubesats + self.case.stage_of,
         )
 
-    def record(self, baseline: CaseAuthority | None = None) -> FailureCaseRecord:
+    def record(self, baseline: CaseAuthority | None = None) -> FailureCaseSummary:
         """The case for ``summary.json``: ``failed``, ``torque_max_zero_force_mNm``,
         ``closed_loop`` (its verdict in ``met``), and beside the ``baseline`` (the whole
         swarm) the authority lost per signed axis and the re-allocation."""
@@ -142,7 +142,7 @@ class FailureCaseResult:
                 else None
                 for name in SIGNED_AXES
             }
-        return FailureCaseRecord(
+        return FailureCaseSummary(
             case_id=case.case_id,
             failed=tuple(i + 1 for i in case.cubesats),
             failed_stage=tuple(i + 1 for i in case.stage_of),
@@ -155,7 +155,7 @@ class FailureCaseResult:
             authority_loss=loss,
             holding=None if authority.holding is None else authority.holding.record(),
             reallocation=() if baseline is None else reallocation(baseline, authority),
-            closed_loop=ClosedLoopVerdict(self.met, dict(self.runs), dict(self.corners)),
+            closed_loop=ClosedLoopCheckSummary(self.met, dict(self.runs), dict(self.corners)),
         )
 
 
@@ -220,7 +220,7 @@ class FailureStudy:
             disturbance_period_s=self.problem.disturbance.period_min * SECONDS_PER_MINUTE,
             requirements={m.error_key: m.required for m in self.manoeuvres},
             manoeuvres=tuple(
-                ManoeuvreRecord(m.name, m.problem.name, m.problem.simulation.duration_s)
+                ManoeuvreRunSummary(m.name, m.problem.name, m.problem.simulation.duration_s)
                 for m in self.manoeuvres
             ),
             corner_plants=self.corner_plants,
@@ -321,9 +321,9 @@ class _Flights:
 
     def __call__(
         self, cases: Sequence[FailureCase], plants: Sequence[Case], where: str
-    ) -> dict[str, dict[str, RunVerdict]]:
+    ) -> dict[str, dict[str, RunCheckSummary]]:
         """``{case id: {manoeuvre: verdict}}`` of ``cases`` on ``plants``."""
-        judged: dict[str, dict[str, RunVerdict]] = {c.case_id: {} for c in cases}
+        judged: dict[str, dict[str, RunCheckSummary]] = {c.case_id: {} for c in cases}
         for manoeuvre in self.manoeuvres:
             verdicts = fly_cases(
                 manoeuvre,

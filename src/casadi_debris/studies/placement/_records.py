@@ -39,7 +39,7 @@ def _per_axis(values: np.ndarray) -> dict[str, float]:
 
 
 @dataclass(frozen=True)
-class LayoutFigures(Record):
+class LayoutSummary(Record):
     """A layout's figures (see :class:`~casadi_debris.studies.placement.LayoutMetrics`)."""
 
     count: int
@@ -55,7 +55,7 @@ class LayoutFigures(Record):
     mass_kg: float
 
     @classmethod
-    def of(cls, metrics: LayoutMetrics) -> LayoutFigures:
+    def of(cls, metrics: LayoutMetrics) -> LayoutSummary:
         """The figures of ``metrics`` in display units."""
         return cls(
             count=metrics.count,
@@ -73,7 +73,7 @@ class LayoutFigures(Record):
 
 
 @dataclass(frozen=True)
-class FailureFigures(Record):
+class WorstFailureSummary(Record):
     """The worst set of ``failures`` failed CubeSats per signed axis.
 
     Attributes
@@ -99,7 +99,7 @@ class FailureFigures(Record):
     @classmethod
     def of(
         cls, worst: WorstFailures, ids: dict[int, int], disturbance_Nm: np.ndarray
-    ) -> FailureFigures:
+    ) -> WorstFailureSummary:
         """``worst`` with candidates renamed by ``ids`` (candidate -> CubeSat id from 1)."""
         return cls(
             failures=worst.failures,
@@ -114,20 +114,20 @@ class FailureFigures(Record):
 
 
 @dataclass(frozen=True)
-class InputLayoutFigures(Record):
+class InputLayoutSummary(Record):
     """The problem's own CubeSats, judged like the chosen layout.
 
     ``among_candidates``: every one of them is a candidate (then the optimum is at
     least as good).
     """
 
-    figures: LayoutFigures = field(metadata=FLATTENED)
+    figures: LayoutSummary = field(metadata=FLATTENED)
     among_candidates: bool
-    worst_failure: FailureFigures
+    worst_failure: WorstFailureSummary
 
 
 @dataclass(frozen=True)
-class CandidateFigures(Record):
+class CandidateSummary(Record):
     """The candidates offered: mounts per face, how many, engine templates."""
 
     grid_per_face: tuple[int, ...]
@@ -146,7 +146,7 @@ class PlacementLimits(Record):
 
 
 @dataclass(frozen=True)
-class SolveFigures(Record):
+class MilpSolveSummary(Record):
     """One HiGHS call (see :class:`~casadi_debris.studies.placement.MilpSolve`)."""
 
     status: int
@@ -160,13 +160,13 @@ class SolveFigures(Record):
     mip_gap: float | None
 
     @classmethod
-    def of(cls, solve: MilpSolve) -> SolveFigures:
+    def of(cls, solve: MilpSolve) -> MilpSolveSummary:
         """The fields of ``solve`` this record has (the same names, units and values)."""
         return cls(**{f.name: getattr(solve, f.name) for f in dataclasses.fields(cls)})
 
 
 @dataclass(frozen=True)
-class SolverFigures(Record):
+class SolverSummary(Record):
     """How sure the MILP is of its layout (``optimal``: proven within ``mip_rel_gap``)."""
 
     backend: str
@@ -179,10 +179,10 @@ class SolverFigures(Record):
     blocks_extensive: int
     blocks_used: int
     time_s: float
-    solves: tuple[SolveFigures, ...]
+    solves: tuple[MilpSolveSummary, ...]
 
     @classmethod
-    def of(cls, study: PlacementStudy) -> SolverFigures:
+    def of(cls, study: PlacementStudy) -> SolverSummary:
         solution = study.solution
         return cls(
             backend=SOLVER_BACKEND,
@@ -195,7 +195,7 @@ class SolverFigures(Record):
             blocks_extensive=solution.blocks_total,
             blocks_used=solution.blocks_used,
             time_s=solution.time_s,
-            solves=tuple(SolveFigures.of(s) for s in solution.solves),
+            solves=tuple(MilpSolveSummary.of(s) for s in solution.solves),
         )
 
 
@@ -212,7 +212,7 @@ class ChosenCubeSat(Record):
 
 
 @dataclass(frozen=True)
-class ParetoFigures(Record):
+class ParetoPointSummary(Record):
     """A point of the Pareto sweep (``candidates`` from 1; None: no layout found)."""
 
     label: str
@@ -227,7 +227,7 @@ class ParetoFigures(Record):
     candidates: tuple[int, ...] | None
 
     @classmethod
-    def of(cls, point: ParetoPoint) -> ParetoFigures:
+    def of(cls, point: ParetoPoint) -> ParetoPointSummary:
         metrics = point.metrics
         return cls(
             label=point.label,
@@ -255,14 +255,14 @@ class PlacementSummary(Record):
     problem_sha256: str
     objective: str
     count_limits: tuple[int, ...]
-    candidates: CandidateFigures
+    candidates: CandidateSummary
     limits: PlacementLimits
-    solver: SolverFigures
+    solver: SolverSummary
     chosen: tuple[ChosenCubeSat, ...]
-    figures: LayoutFigures = field(metadata=FLATTENED)
-    worst_failure: FailureFigures
-    input_layout: InputLayoutFigures
-    pareto: tuple[ParetoFigures, ...]
+    figures: LayoutSummary = field(metadata=FLATTENED)
+    worst_failure: WorstFailureSummary
+    input_layout: InputLayoutSummary
+    pareto: tuple[ParetoPointSummary, ...]
     out_dir: str | None = None
 
 
@@ -280,7 +280,7 @@ def placement_summary(
         problem_sha256=study.problem.sha256,
         objective=objective,
         count_limits=tuple(settings.count),
-        candidates=CandidateFigures(
+        candidates=CandidateSummary(
             grid_per_face=tuple(candidates.grid),
             mounts=candidates.n_mounts,
             candidates=len(candidates.candidates),
@@ -291,7 +291,7 @@ def placement_summary(
             max_slew_s=settings.max_slew_s,
             slew_angle_deg=settings.slew_angle_deg,
         ),
-        solver=SolverFigures.of(study),
+        solver=SolverSummary.of(study),
         chosen=tuple(
             ChosenCubeSat(
                 cubesat=i + 1,
@@ -303,14 +303,14 @@ def placement_summary(
             )
             for i, c in enumerate(study.chosen)
         ),
-        figures=LayoutFigures.of(study.metrics),
-        worst_failure=FailureFigures.of(solution.worst, ids, disturbance_Nm),
-        input_layout=InputLayoutFigures(
-            figures=LayoutFigures.of(own.metrics),
+        figures=LayoutSummary.of(study.metrics),
+        worst_failure=WorstFailureSummary.of(solution.worst, ids, disturbance_Nm),
+        input_layout=InputLayoutSummary(
+            figures=LayoutSummary.of(own.metrics),
             among_candidates=own.among_candidates is not None,
-            worst_failure=FailureFigures.of(
+            worst_failure=WorstFailureSummary.of(
                 own.worst, {i: i + 1 for i in range(own.metrics.count)}, disturbance_Nm
             ),
         ),
-        pareto=tuple(ParetoFigures.of(p) for p in pareto),
+        pareto=tuple(ParetoPointSummary.of(p) for p in pareto),
     )
