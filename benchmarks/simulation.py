@@ -47,7 +47,7 @@ from casadi_debris.simulation import (
     LoopSettings,
     discretize_controller,
     release_compiled_steps,
-    simulate,
+    simulate_closed_loop,
 )
 from casadi_debris.simulation import _jit_cache as jit_cache
 from casadi_debris.units import DEG_PER_RAD
@@ -137,12 +137,12 @@ def main() -> None:
 
     whole = []
     for _ in range(args.repeat):
-        result = simulate(model, record.reduced, reference, allocator=allocator)
+        result = simulate_closed_loop(model, record.reduced, reference, allocator=allocator)
         whole.append(result.wall_time_s)
     steps = len(result.scale)
     whole_c = []
     for _ in range(args.repeat):
-        result_c = simulate(
+        result_c = simulate_closed_loop(
             model, record.reduced, reference, allocator=allocator, settings=LoopSettings(jit=True)
         )
         whole_c.append(result_c.wall_time_s)

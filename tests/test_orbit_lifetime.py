@@ -12,8 +12,8 @@ from scipy.integrate import quad, solve_ivp
 from casadi_debris.orbit import (
     REENTRY_PERIGEE_KM,
     SOLAR_CASES,
-    Burn,
     Earth,
+    RetrogradeBurn,
     density_table,
     propagate_decay,
 )
@@ -142,7 +142,7 @@ def test_lifetime_falls_with_area_to_mass_and_solar_flux(table) -> None:
 
 
 def _burn(target_Ns, thrust_N=0.01, half_width=math.pi):
-    return Burn(
+    return RetrogradeBurn(
         thrust_N=(thrust_N,),
         impulse_Ns=(1e9,),
         target_impulse_Ns=target_Ns,

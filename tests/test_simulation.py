@@ -44,7 +44,12 @@ from casadi_debris.geometry import torque_authority
 from casadi_debris.guidance import Reference, sample_reference, scenario_reference
 from casadi_debris.report import paper_figure
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import ClosedLoopResult, LoopSettings, SimulationError, simulate
+from casadi_debris.simulation import (
+    ClosedLoopResult,
+    LoopSettings,
+    SimulationError,
+    simulate_closed_loop,
+)
 from casadi_debris.simulation import _closed_loop as closed_loop_module
 
 PROBLEMS = default_problem_path().parent
@@ -227,7 +232,7 @@ def slew_reference(slew_problem: Problem) -> Reference:
 
 @pytest.fixture(scope="module")
 def nominal_slew(slew_problem, slew_model, controller, slew_reference) -> ClosedLoopResult:
-    return simulate(slew_model, controller, slew_reference)
+    return simulate_closed_loop(slew_model, controller, slew_reference)
 
 
 @pytest.fixture(scope="module")
@@ -258,7 +263,7 @@ def hold_reference(pointing_problem: Problem) -> Reference:
 
 @pytest.fixture(scope="module")
 def nominal_pointing(pointing_problem, pointing_model, controller, hold_reference):
-    return simulate(pointing_model, controller, hold_reference)
+    return simulate_closed_loop(pointing_model, controller, hold_reference)
 
 
 def slew_data_with(failures: list[dict[str, Any]], duration_s: float) -> dict[str, Any]:
@@ -291,7 +296,7 @@ def failure_problem() -> Problem:
 
 @pytest.fixture(scope="module")
 def failure_run(failure_problem, slew_model, controller, slew_reference) -> ClosedLoopResult:
-    return simulate(
+    return simulate_closed_loop(
         build_model(failure_problem), controller, truncated(slew_reference, FAILURE_RUN_S)
     )
 
@@ -314,7 +319,7 @@ def staging_start(slew_problem: Problem) -> PropulsionState:
 
 @pytest.fixture(scope="module")
 def staging_run(slew_problem, slew_model, controller, slew_reference, staging_start):
-    return simulate(slew_model, controller, slew_reference, propulsion=staging_start)
+    return simulate_closed_loop(slew_model, controller, slew_reference, propulsion=staging_start)
 
 
 # --------------------------------------------------------------------------- paper slew
@@ -416,7 +421,7 @@ def test_slew_saturation_against_linear_programs(
 
 
 def test_reproducible(nominal_slew, slew_problem, slew_model, controller, slew_reference) -> None:
-    again = simulate(slew_model, controller, slew_reference)
+    again = simulate_closed_loop(slew_model, controller, slew_reference)
     for name in ("state", "error_rad", "demand_Nm", "torque_Nm", "thrust_N", "scale"):
         np.testing.assert_array_equal(getattr(again, name), getattr(nominal_slew, name))
     np.testing.assert_array_equal(
@@ -439,18 +444,18 @@ def test_rk4_against_cvodes(
     """
     reference = truncated(slew_reference, 100.0)
     periods = len(reference.time_s) - 1
-    rk4 = simulate(slew_model, controller, reference)
+    rk4 = simulate_closed_loop(slew_model, controller, reference)
     assert np.abs(rk4.error_rad).max() > 1e-3  # the slew is under way
 
     options = closed_loop_module.CVODES_OPTIONS
     cvodes = LoopSettings(integrator="cvodes")
-    shipped = simulate(slew_model, controller, reference, settings=cvodes)
+    shipped = simulate_closed_loop(slew_model, controller, reference, settings=cvodes)
     bound = periods * (options["reltol"] + options["abstol"])
     assert np.abs(rk4.error_rad - shipped.error_rad).max() <= bound
 
     tight = {**options, "reltol": 1e-13, "abstol": 1e-14}
     monkeypatch.setattr(closed_loop_module, "CVODES_OPTIONS", tight)
-    accurate = simulate(slew_model, controller, reference, settings=cvodes)
+    accurate = simulate_closed_loop(slew_model, controller, reference, settings=cvodes)
     bound = periods * (tight["reltol"] + tight["abstol"])
     assert np.abs(rk4.error_rad - accurate.error_rad).max() <= bound
 
@@ -519,7 +524,7 @@ def test_pointing_corner(
 ) -> None:
     angle = corner_angles(pointing_problem)[angle_index]
     p = corner(pointing_model, pointing_problem, signs, angle)
-    result = simulate(pointing_model, controller, hold_reference, parameters=p)
+    result = simulate_closed_loop(pointing_model, controller, hold_reference, parameters=p)
     np.testing.assert_array_equal(list(result.parameters.values()), p)
     assert PAPER_POINTING_ERROR.accepts(pointing_checks(result, pointing_model, pointing_problem))
 
@@ -533,7 +538,7 @@ def test_pointing_more_corners(
     for angle in corner_angles(pointing_problem):
         signs = tuple(int(s) for s in rng.choice([-1, 1], size=5))
         p = corner(pointing_model, pointing_problem, signs, angle)
-        result = simulate(pointing_model, controller, hold_reference, parameters=p)
+        result = simulate_closed_loop(pointing_model, controller, hold_reference, parameters=p)
         error = pointing_checks(result, pointing_model, pointing_problem)
         assert PAPER_POINTING_ERROR.accepts(error), (signs, angle, error)
 
@@ -629,7 +634,7 @@ def test_failed_engines_keep_the_allocator_fast(failure_run: ClosedLoopResult) -
 def test_failures_full_slew(slew_model, controller, slew_reference) -> None:
     duration = load_problem(PROBLEMS / "paper_slew.toml").simulation.duration_s
     problem = problem_from_dict(slew_data_with(FAILURES, duration), "failures")
-    result = simulate(build_model(problem), controller, slew_reference)
+    result = simulate_closed_loop(build_model(problem), controller, slew_reference)
     step = round(FAILURE_TIME_S / result.control_period_s)
     np.testing.assert_array_equal(result.thrust_N[step:, [16, 18]], 0.0)
     assert PAPER_SLEW_MAX_ERROR.accepts(result.summary().max_error_deg)
@@ -713,23 +718,23 @@ def test_non_uniform_reference_rejected(slew_problem, slew_model, controller) ->
     times[7] += 0.01
     reference = Reference(times, np.tile([1.0, 0, 0, 0], (len(times), 1)), None)
     with pytest.raises(SimulationError, match="uniformly"):
-        simulate(slew_model, controller, reference)
+        simulate_closed_loop(slew_model, controller, reference)
     single = Reference(times[:1], np.array([[1.0, 0, 0, 0]]), None)
     with pytest.raises(SimulationError, match="two instants"):
-        simulate(slew_model, controller, single)
+        simulate_closed_loop(slew_model, controller, single)
 
 
 def test_wrong_controller_rejected(slew_problem, slew_model) -> None:
     reference = sample_reference(np.arange(0.0, 1.0, 0.1))
     wrong = control.ss(-np.eye(2), np.ones((2, 2)), np.ones((3, 2)), np.zeros((3, 2)))
     with pytest.raises(SimulationError, match="3 attitude errors"):
-        simulate(slew_model, wrong, reference)
+        simulate_closed_loop(slew_model, wrong, reference)
 
 
 def test_unknown_integrator_rejected(slew_problem, slew_model, controller) -> None:
     reference = sample_reference(np.arange(0.0, 1.0, 0.1))
     with pytest.raises(SimulationError, match="integrator"):
-        simulate(
+        simulate_closed_loop(
             slew_model,
             controller,
             reference,

@@ -24,7 +24,7 @@ from casadi_debris.simulation import (
     RunInputs,
     c_compiler,
     discretize_controller,
-    simulate,
+    simulate_closed_loop,
     simulate_many,
 )
 from casadi_debris.simulation import _jit_cache as jit_cache
@@ -84,7 +84,7 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
     for corner, failed, batched in zip(corners, failures, together, strict=True):
         assert not isinstance(batched, Exception)
         assert batched.compiled_step
-        alone = simulate(
+        alone = simulate_closed_loop(
             model,
             controller,
             reference,
@@ -97,7 +97,7 @@ def test_batched_corners_equal_their_runs_alone(short_slew) -> None:
         assert np.array_equal(batched.state, alone.state)
         assert np.array_equal(batched.thrust_N, alone.thrust_N)
         # CasADi's virtual machine with the authority folded in as constants: round-off.
-        folded = simulate(
+        folded = simulate_closed_loop(
             model,
             controller,
             reference,
@@ -149,7 +149,7 @@ def test_a_failure_case_batched_equals_simulate_with_its_failures(short_slew) ->
     assert answer.exit_code == 0, answer.output
     alone = json.loads(answer.stdout)
     # simulate flies the nominal plant; the corner here is another: fly it alone too.
-    direct = simulate(
+    direct = simulate_closed_loop(
         model,
         controller,
         scenario_reference(problem),

@@ -22,7 +22,7 @@ from casadi_debris.guidance import (
     torque_free_thrust_N,
 )
 from casadi_debris.simulation import SimulationError
-from casadi_debris.simulation.burn import burn_figures, first_stage_left, simulate_burn
+from casadi_debris.simulation.burn import burn_summary, first_stage_left, simulate_burn
 from casadi_debris.workflows import controller_for
 
 BURN_S = 40.0
@@ -38,7 +38,7 @@ def flown():
     engines = first_stage_left(PropulsionState.from_problem(problem), STAGE_LEFT_S)
     run = simulate_burn(model, controller, plan, propulsion=engines, jit=True)
     allocator = Allocator.from_problem(problem)
-    summary, series = burn_figures(problem, run, allocator)
+    summary, series = burn_summary(problem, run, allocator)
     return problem, run, summary, series, allocator
 
 
@@ -170,7 +170,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     frame, the plan's force from ``blend_s`` on, and the allocation exact throughout."""
     from casadi_debris.allocation import Allocator
     from casadi_debris.guidance import scenario_reference
-    from casadi_debris.simulation import LoopSettings, simulate
+    from casadi_debris.simulation import LoopSettings, simulate_closed_loop
 
     text = (
         'extends = "paper.toml"\nname = "burn_window"\n[simulation]\nduration_s = 120.0\n'
@@ -185,7 +185,7 @@ def test_a_burn_segment_fires_only_in_its_window(tmp_path) -> None:
     reference = scenario_reference(problem)
     assert [p.kind for p in reference.pieces] == ["burn"]
     assert reference.pieces[0].firing_s == (40.0, 120.0)
-    result = simulate(model, controller, reference, settings=LoopSettings(jit=True))
+    result = simulate_closed_loop(model, controller, reference, settings=LoopSettings(jit=True))
     allocator = Allocator.from_problem(problem)
     force = result.thrust_N @ allocator.force_map.T
     firing = result.time_s[:-1] >= 40.0 - 1e-9

@@ -26,7 +26,7 @@ from casadi_debris.simulation import (
     build_loop_step,
     c_compiler,
     discretize_controller,
-    simulate,
+    simulate_closed_loop,
 )
 from casadi_debris.simulation import _closed_loop as closed_loop
 from casadi_debris.simulation import _jit_cache as jit_cache
@@ -103,7 +103,7 @@ def test_compiled_and_virtual_machine_runs_agree() -> None:
     reference = scenario_reference(problem)
     corner = model.parameters(inertia_scale_z=1.17, array_angle_offset_rad=0.8)
     runs = [
-        simulate(
+        simulate_closed_loop(
             model,
             record.reduced,
             reference,

@@ -11,7 +11,7 @@ from casadi_debris import load_problem
 from casadi_debris.allocation import Allocator
 from casadi_debris.errors import CasadiDebrisError
 from casadi_debris.geometry import build_geometry
-from casadi_debris.simulation.detumble import detumble
+from casadi_debris.simulation.detumble import simulate_detumble
 from casadi_debris.workflows import momentum_bound_s
 
 GAIN, PERIOD = 0.02, 1.0
@@ -62,7 +62,7 @@ def test_once_the_engines_can_the_damping_is_linear(geometry, tumble) -> None:
 
 @pytest.fixture(scope="module")
 def tumble(problem):
-    return detumble(problem, initial_rate_rad_s=[0.02, 0.03, -0.02], threshold_rad_s=1e-4)
+    return simulate_detumble(problem, initial_rate_rad_s=[0.02, 0.03, -0.02], threshold_rad_s=1e-4)
 
 
 def test_the_torque_removes_the_kinetic_energy(problem, geometry, tumble) -> None:
@@ -96,4 +96,4 @@ def test_no_detumble_beats_the_momentum_bound(problem, tumble) -> None:
 )
 def test_bad_settings_name_the_field(problem, options, field) -> None:
     with pytest.raises(CasadiDebrisError, match=field):
-        detumble(problem, **options)
+        simulate_detumble(problem, **options)

@@ -13,9 +13,9 @@ from casadi_debris.geometry import build_geometry
 from casadi_debris.simulation import SimulationError
 from casadi_debris.simulation.detumble import (
     PrincipalBody,
-    detumble,
     polhode_averages,
     problem_time_optimal_detumble,
+    simulate_detumble,
     time_optimal_detumble,
 )
 from casadi_debris.simulation.detumble._ocp import MAX_ANGLE_RAD
@@ -77,7 +77,9 @@ def test_the_bounds_the_optimum_and_the_closed_loop_are_in_order(problem, solved
     s = solved.summary
     bound_h = momentum_bound_s(problem, RATE) / 3600.0
     # A short control period: the closed loop's greedy law, held 0.25 s.
-    loop = detumble(problem, initial_rate_rad_s=RATE, threshold_rad_s=THRESHOLD, period_s=0.25)
+    loop = simulate_detumble(
+        problem, initial_rate_rad_s=RATE, threshold_rad_s=THRESHOLD, period_s=0.25
+    )
     assert bound_h < s.averaged_bound_h < s.time_h < s.greedy_time_h
     assert s.greedy_time_h < loop.summary.time_to_threshold_h
 
@@ -88,7 +90,9 @@ def test_the_averaged_greedy_law_is_the_closed_loop_while_the_rates_precess_fast
 ) -> None:
     """Averaging holds while braking is slow against the precession: down to 30 % of
     the momentum at this small tumble (the closer to zero, the slower the precession)."""
-    loop = detumble(problem, initial_rate_rad_s=RATE, threshold_rad_s=THRESHOLD, period_s=0.25)
+    loop = simulate_detumble(
+        problem, initial_rate_rad_s=RATE, threshold_rad_s=THRESHOLD, period_s=0.25
+    )
     momentum = np.linalg.norm(
         loop.rate_rad_s @ build_geometry(problem).inertia_total_kgm2.T, axis=1
     )

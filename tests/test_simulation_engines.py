@@ -29,7 +29,7 @@ from casadi_debris.config import (
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import ClosedLoopResult, simulate
+from casadi_debris.simulation import ClosedLoopResult, simulate_closed_loop
 from test_allocation_isp import twin_data
 
 RUN_S = 400.0
@@ -61,7 +61,7 @@ def run(problem: Problem) -> ClosedLoopResult:
     reference = Reference(
         reference.time_s[keep], reference.quaternion_BN[keep], reference.slew, reference.start_s
     )
-    return simulate(build_model(problem), record.reduced, reference)
+    return simulate_closed_loop(build_model(problem), record.reduced, reference)
 
 
 def exhaust(problem: Problem) -> np.ndarray:

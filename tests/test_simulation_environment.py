@@ -22,7 +22,7 @@ from casadi_debris.dynamics import Model, build_model
 from casadi_debris.environment import CircularOrbit, EnvironmentTorques, gravity_gradient_torque
 from casadi_debris.guidance import sample_reference
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate
+from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate_closed_loop
 
 RUN_S = 120.0
 
@@ -44,7 +44,7 @@ def _run(problem: Problem, controller: control.StateSpace, start: Rotation) -> t
     reference = sample_reference(times)
     q = start.as_quat()[[3, 0, 1, 2]]
     reference = dataclasses.replace(reference, quaternion_BN=np.tile(q, (len(times), 1)))
-    return model, simulate(model, controller, reference)
+    return model, simulate_closed_loop(model, controller, reference)
 
 
 def _sine(problem: Problem, time_s: np.ndarray) -> np.ndarray:
@@ -146,8 +146,8 @@ def test_the_compiled_step_carries_the_environment(controller) -> None:
     problem = _with_torques(load_problem(), ENVIRONMENT_TORQUES)
     model = build_model(problem)
     reference = sample_reference(0.1 * np.arange(301))
-    virtual = simulate(model, controller, reference)
-    compiled = simulate(model, controller, reference, settings=LoopSettings(jit=True))
+    virtual = simulate_closed_loop(model, controller, reference)
+    compiled = simulate_closed_loop(model, controller, reference, settings=LoopSettings(jit=True))
     assert compiled.compiled_step
     np.testing.assert_allclose(compiled.state, virtual.state, rtol=0, atol=1e-12)
     np.testing.assert_allclose(compiled.disturbance_Nm, virtual.disturbance_Nm, atol=1e-15)

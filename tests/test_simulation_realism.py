@@ -36,7 +36,7 @@ from casadi_debris.simulation import (
     build_loop_step,
     draw_noise,
     engine_basis,
-    simulate,
+    simulate_closed_loop,
 )
 from casadi_debris.workflows import load_controller
 
@@ -182,10 +182,10 @@ def short_runs(paper):
     everything = dataclasses.replace(short, **realism_fields(realistic))
     held_model = build_model(held)
     return {
-        "held": simulate(held_model, record.reduced, reference),
-        "held_again": simulate(held_model, record.reduced, reference),
-        "other_seed": simulate(held_model, record.reduced, reference, noise_seed=9),
-        "everything": simulate(build_model(everything), record.reduced, reference),
+        "held": simulate_closed_loop(held_model, record.reduced, reference),
+        "held_again": simulate_closed_loop(held_model, record.reduced, reference),
+        "other_seed": simulate_closed_loop(held_model, record.reduced, reference, noise_seed=9),
+        "everything": simulate_closed_loop(build_model(everything), record.reduced, reference),
     }
 
 
@@ -224,9 +224,9 @@ def test_engines_without_effects_fly_the_ideal_loop(paper) -> None:
         problem, simulation=dataclasses.replace(problem.simulation, duration_s=20.0)
     )
     reference = scenario_reference(short)
-    ideal = simulate(build_model(short), record.reduced, reference)
+    ideal = simulate_closed_loop(build_model(short), record.reduced, reference)
     books = dataclasses.replace(short, actuators=Actuators(minimum_impulse_bit_uNs=1e-9))
-    engines = simulate(build_model(books), record.reduced, reference)
+    engines = simulate_closed_loop(build_model(books), record.reduced, reference)
     np.testing.assert_allclose(engines.state, ideal.state, rtol=1e-9, atol=1e-15)
     np.testing.assert_allclose(engines.thrust_N, ideal.thrust_N, rtol=1e-9, atol=1e-12)
 
@@ -243,8 +243,10 @@ def test_compiled_realistic_step_matches_the_virtual_machine(paper) -> None:
     )
     reference = scenario_reference(short)
     short_model = build_model(short)
-    machine = simulate(short_model, record.reduced, reference)
-    compiled = simulate(short_model, record.reduced, reference, settings=LoopSettings(jit=True))
+    machine = simulate_closed_loop(short_model, record.reduced, reference)
+    compiled = simulate_closed_loop(
+        short_model, record.reduced, reference, settings=LoopSettings(jit=True)
+    )
     if not compiled.compiled_step:
         pytest.skip("no C compiler")
     np.testing.assert_allclose(compiled.state, machine.state, rtol=1e-9, atol=1e-12)

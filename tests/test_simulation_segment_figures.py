@@ -12,7 +12,7 @@ from casadi_debris.config import default_controller_path, problem_from_dict
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import segment_figures, simulate
+from casadi_debris.simulation import segment_figures, simulate_closed_loop
 
 
 def test_segments_tile_the_run(fresh_data: dict[str, Any]) -> None:
@@ -27,7 +27,7 @@ def test_segments_tile_the_run(fresh_data: dict[str, Any]) -> None:
     problem = problem_from_dict(fresh_data, "<test>")
     controller = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
-    result = simulate(build_model(problem), controller.reduced, reference)
+    result = simulate_closed_loop(build_model(problem), controller.reduced, reference)
     figures = segment_figures(result, reference.pieces)
     assert [(f.segment, f.kind, f.start_s, f.end_s) for f in figures] == [
         (1, "hold", 0.0, 50.0),

@@ -23,7 +23,7 @@ from casadi_debris.guidance import (
     sequence_pieces,
 )
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import simulate
+from casadi_debris.simulation import simulate_closed_loop
 
 
 def sequence(
@@ -125,7 +125,7 @@ def test_a_quaternion_target_flies_as_the_same_axis_angle(
         problem = sequence(data, [{"kind": "slew", **target, **timing}], duration_s=620.0)
         reference = scenario_reference(problem)
         model = build_model(problem)
-        runs.append((reference, simulate(model, controller, reference)))
+        runs.append((reference, simulate_closed_loop(model, controller, reference)))
     (ref_a, run_a), (ref_b, run_b) = runs
     assert np.abs(ref_a.quaternion_BN - ref_b.quaternion_BN).max() < 1e-12
     assert np.abs(run_a.error_rad - run_b.error_rad).max() < 1e-10

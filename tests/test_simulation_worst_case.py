@@ -19,7 +19,7 @@ from casadi_debris.campaigns._worst_case import _largest_outputs, _project, _rot
 from casadi_debris.config import default_problem_path, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import simulate
+from casadi_debris.simulation import simulate_closed_loop
 from casadi_debris.workflows import load_controller
 
 SLEW = default_problem_path().parent / "paper_slew.toml"
@@ -69,7 +69,7 @@ def test_the_screen_of_the_papers_corners_is_their_forced_responses(monkeypatch)
 
 def _max_error(problem, model, controller, reference, p) -> float:
     allocator = Allocator.from_problem(problem, model.geometry)
-    run = simulate(model, controller, reference, parameters=p, allocator=allocator)
+    run = simulate_closed_loop(model, controller, reference, parameters=p, allocator=allocator)
     return float(run.summary().max_error_deg)
 
 

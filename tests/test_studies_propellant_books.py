@@ -12,7 +12,7 @@ from casadi_debris.config import load_problem
 from casadi_debris.errors import AllocationError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.orbit import swarm_thrust
-from casadi_debris.simulation.detumble import detumble
+from casadi_debris.simulation.detumble import simulate_detumble
 from casadi_debris.studies.mission import thrust_left, transfer_per_engine
 from casadi_debris.studies.propellant_books import PropellantBooks, detumble_engine_kg
 
@@ -96,7 +96,7 @@ def test_the_detumble_replay_splits_the_runs_fuel_among_the_engines():
     """Five engines per CubeSat: the replay through the allocator and staging gives back the
     run's fuel per CubeSat, and only engines that can push fire."""
     problem = load_problem(Path(__file__).parents[1] / "problems/gallery/side_engines_12.toml")
-    run = detumble(problem)
+    run = simulate_detumble(problem)
     engine_kg = detumble_engine_kg(problem, run)
     assert engine_kg.shape == (len(problem.engines),)
     assert np.all(engine_kg >= 0.0)

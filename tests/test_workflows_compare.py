@@ -17,7 +17,7 @@ from casadi_debris.config import FailureEvent, with_duration
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ProblemFileError
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import simulate
+from casadi_debris.simulation import simulate_closed_loop
 from casadi_debris.store import MARKER_NAME
 from casadi_debris.workflows import compare, controller_for
 from workflow_files import short_problem as _short
@@ -55,7 +55,7 @@ def test_fuel_over_the_common_window_is_what_a_run_of_that_length_burns(comparis
     problem = with_duration(variants[0], SHORT_S)
     record, _ = controller_for(problem, None)
     model = build_model(problem)
-    alone = simulate(
+    alone = simulate_closed_loop(
         model,
         record.reduced,
         scenario_reference(problem),

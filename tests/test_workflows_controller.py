@@ -16,7 +16,7 @@ from casadi_debris.dynamics import build_model
 from casadi_debris.errors import ControllerMismatchError, ProblemFileError
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance import scenario_reference
-from casadi_debris.simulation import simulate
+from casadi_debris.simulation import simulate_closed_loop
 from casadi_debris.workflows import controller_for
 
 PROBLEMS = default_problem_path().parent
@@ -103,7 +103,7 @@ def test_a_plain_state_space_file_is_flown_as_given(
     # The same matrices as the shipped file: the same closed-loop run, to the bit.
     short = with_duration(problem, 30.0)
     runs = [
-        simulate(build_model(short), r.reduced, scenario_reference(short))
+        simulate_closed_loop(build_model(short), r.reduced, scenario_reference(short))
         for r in (record, controller_for(short)[0])
     ]
     assert np.array_equal(runs[0].error_rad, runs[1].error_rad)

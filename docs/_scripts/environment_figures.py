@@ -38,7 +38,7 @@ from casadi_debris.environment import EnvironmentTorques
 from casadi_debris.geometry import build_geometry
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import LoopSettings, simulate
+from casadi_debris.simulation import LoopSettings, simulate_closed_loop
 from casadi_debris.units import ARCSEC_PER_RAD, MNM_PER_NM
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
@@ -111,7 +111,9 @@ def pointing_runs() -> dict[str, float]:
     for ax, (name, problem) in zip(axes, _variants().items(), strict=True):
         model = build_model(problem)
         jit = LoopSettings(jit=True)
-        result = simulate(model, record.reduced, scenario_reference(problem), settings=jit)
+        result = simulate_closed_loop(
+            model, record.reduced, scenario_reference(problem), settings=jit
+        )
         error = result.error_rad * ARCSEC_PER_RAD
         for axis, label in enumerate(("Φ", "Θ", "Ψ")):
             ax.plot(result.time_s / 60.0, error[:, axis], lw=0.8, label=label)

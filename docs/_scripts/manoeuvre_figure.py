@@ -27,7 +27,7 @@ from casadi_debris.dynamics import build_model, euler_angles_321
 from casadi_debris.guidance import scenario_reference, segment_records
 from casadi_debris.plots import plot_segment_series
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import segment_figures, simulate
+from casadi_debris.simulation import segment_figures, simulate_closed_loop
 from casadi_debris.units import MNM_PER_NM
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
@@ -37,7 +37,7 @@ def main() -> None:
     problem = load_problem("paper_sequence")
     record = Controller.from_dict(json.loads(default_controller_path().read_text()))
     reference = scenario_reference(problem)
-    result = simulate(build_model(problem), record.reduced, reference)
+    result = simulate_closed_loop(build_model(problem), record.reduced, reference)
     records = segment_records(reference.pieces)
     time = result.time_s
     plot_segment_series(

@@ -32,7 +32,7 @@ from casadi_debris.config import Actuators, Problem, default_controller_path, re
 from casadi_debris.dynamics import build_model
 from casadi_debris.guidance import scenario_reference
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import ClosedLoopResult, simulate
+from casadi_debris.simulation import ClosedLoopResult, simulate_closed_loop
 from casadi_debris.units import ARCSEC_PER_RAD
 
 FIGURES = Path(__file__).resolve().parents[1] / "figures"
@@ -48,7 +48,7 @@ def realistic(problem: Problem, realism: Problem) -> Problem:
 
 
 def run(problem: Problem, record: Controller) -> ClosedLoopResult:
-    return simulate(build_model(problem), record.reduced, scenario_reference(problem))
+    return simulate_closed_loop(build_model(problem), record.reduced, scenario_reference(problem))
 
 
 def figures(result: ClosedLoopResult) -> dict:

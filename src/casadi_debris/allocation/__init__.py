@@ -35,14 +35,14 @@ from casadi_debris.allocation._baseline import PseudoInverseAllocator
 from casadi_debris.allocation._demand import ABSURD_FACTOR, DemandError
 from casadi_debris.allocation._paths import AllocationInternalError, SaturationMode
 from casadi_debris.allocation._propulsion import PropulsionState, StageEvent
-from casadi_debris.allocation._results import AllocationResult, BatchAllocation, SeriesAllocation
+from casadi_debris.allocation._results import Allocation, BatchAllocation, SeriesAllocation
 
 __all__ = [
     "ABSURD_FACTOR",
     "DEFAULT_SOLVER",
     "SATURATION_MODES",
+    "Allocation",
     "AllocationInternalError",
-    "AllocationResult",
     "Allocator",
     "AuthorityPolytope",
     "BatchAllocation",

@@ -70,7 +70,7 @@ from casadi_debris.allocation._authority import AuthorityPolytope, authority_pol
 from casadi_debris.allocation._demand import ABSURD_FACTOR, SMALLEST_SUBNORMAL, as_vector3
 from casadi_debris.allocation._paths import SaturationMode, SolvePaths
 from casadi_debris.allocation._propulsion import PropulsionState
-from casadi_debris.allocation._results import AllocationResult, BatchAllocation, SeriesAllocation
+from casadi_debris.allocation._results import Allocation, BatchAllocation, SeriesAllocation
 from casadi_debris.allocation._scaled_qp import ScaledQp
 from casadi_debris.allocation._series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
@@ -319,7 +319,7 @@ class Allocator(SolvePaths):
 
     def allocate(
         self, torque_Nm: Any, force_N: Any = None, *, free_force: bool = False
-    ) -> AllocationResult:
+    ) -> Allocation:
         """Thrust of every engine for one torque (and force) demand.
 
         The answer is exact (``feasible``, mode ``"exact"``) only when the
@@ -351,7 +351,7 @@ class Allocator(SolvePaths):
 
         Returns
         -------
-        AllocationResult
+        Allocation
 
         Raises
         ------

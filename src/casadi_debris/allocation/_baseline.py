@@ -18,7 +18,7 @@ import numpy as np
 
 from casadi_debris.allocation._allocator import Allocator
 from casadi_debris.allocation._demand import as_vector3
-from casadi_debris.allocation._results import AllocationResult
+from casadi_debris.allocation._results import Allocation
 from casadi_debris.errors import AllocationError
 
 # A null-space direction counts as positive when its smallest entry exceeds
@@ -69,7 +69,7 @@ class PseudoInverseAllocator:
             )
         self._bias = bias / bias.max()
 
-    def allocate(self, torque_Nm: Any, force_N: Any = None) -> AllocationResult:
+    def allocate(self, torque_Nm: Any, force_N: Any = None) -> Allocation:
         """Thrust by biased, clipped pseudo-inverse (see the module docstring).
 
         Parameters
@@ -101,7 +101,7 @@ class PseudoInverseAllocator:
         achieved = allocator.torque_map @ thrust
         norm2 = float(torque @ torque)
         error = float(np.linalg.norm(achieved - torque))
-        return AllocationResult(
+        return Allocation(
             thrust_N=thrust,
             torque_Nm=achieved,
             force_N=allocator.force_map @ thrust,

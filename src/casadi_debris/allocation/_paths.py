@@ -36,7 +36,7 @@ from casadi_debris.allocation._demand import (
     stretch_exponent,
     within_tolerance,
 )
-from casadi_debris.allocation._results import AllocationResult
+from casadi_debris.allocation._results import Allocation
 from casadi_debris.allocation._saturation import (
     BOUNDARY_BACKOFF,
     StageSolution,
@@ -69,13 +69,13 @@ class SolvePaths:
     _floor_Nm: float  # subnormal resolution of B f
     _floor_N: float  # and of F f
 
-    def _allocate(self, torque: np.ndarray, force: np.ndarray | None) -> AllocationResult:
+    def _allocate(self, torque: np.ndarray, force: np.ndarray | None) -> Allocation:
         """Allocation of a checked demand; a result that fails the final check (None) is
         recomputed by HiGHS."""
         result = self._solve(torque, force)
         return result if result is not None else self._fallback(torque, force)
 
-    def _solve(self, torque: np.ndarray, force: np.ndarray | None) -> AllocationResult | None:
+    def _solve(self, torque: np.ndarray, force: np.ndarray | None) -> Allocation | None:
         # The feasible case is the common one and is kept lean (about twice the
         # back-end's own time): no array is built twice, maxima of a few
         # numbers are taken in Python (numpy's reductions cost 1.5 us each at
@@ -102,7 +102,7 @@ class SolvePaths:
             target, size, 0, torque, force, solution.iterations, solution.solve_time_s
         )
 
-    def _solve_small(self, torque: np.ndarray, force: np.ndarray | None) -> AllocationResult | None:
+    def _solve_small(self, torque: np.ndarray, force: np.ndarray | None) -> Allocation | None:
         """A demand far below one engine's torque or thrust: solved scaled up by ``2**k``.
 
         The solvers' tolerances are absolute, so at 1e-12 of an engine's torque
@@ -149,7 +149,7 @@ class SolvePaths:
         force: np.ndarray | None,
         iterations: int,
         solve_time_s: float,
-    ) -> AllocationResult | None:
+    ) -> Allocation | None:
         """A demand the exact stage could not meet: least squares when asked, else the
         largest alpha (:mod:`~casadi_debris.allocation._saturation`).
 
@@ -212,7 +212,7 @@ class SolvePaths:
         rescued: bool,
         *,
         verified: bool = False,
-    ) -> AllocationResult | None:
+    ) -> Allocation | None:
         """Result of the saturation path: thrust ``u`` makes ``alpha`` times the target,
         which is the demand times ``2**exponent``.
 
@@ -255,7 +255,7 @@ class SolvePaths:
             verified=verified,
         )
 
-    def _fallback(self, torque: np.ndarray, force: np.ndarray | None) -> AllocationResult:
+    def _fallback(self, torque: np.ndarray, force: np.ndarray | None) -> Allocation:
         """Both LPs by HiGHS, polished, for a demand whose first answer failed the final
         check (non-finite thrust, or a torque off the one it claims).
 
@@ -304,7 +304,7 @@ class SolvePaths:
         clip: bool = False,
         exponent: int = 0,
         verified: bool = False,
-    ) -> AllocationResult | None:
+    ) -> Allocation | None:
         """:meth:`_result` of a demand met in full (scale 1, mode ``"exact"``); ``u`` is
         taken as within its bounds unless ``clip``."""
         return self._result(
@@ -335,7 +335,7 @@ class SolvePaths:
         clip: bool = True,
         exponent: int = 0,
         verified: bool = False,
-    ) -> AllocationResult | None:
+    ) -> Allocation | None:
         """Result of scaled thrust ``u`` times ``2**-exponent``, or None when it fails the
         final check: a NaN or inf, or a torque (force) off what the mode claims by more
         than the promised tolerance (:func:`~casadi_debris.allocation._demand.within_tolerance`).
@@ -364,7 +364,7 @@ class SolvePaths:
             torque_Nm, force_N, torque, force, scale, mode, total_N
         ):
             return None
-        return AllocationResult(
+        return Allocation(
             thrust,
             torque_Nm,
             force_N,

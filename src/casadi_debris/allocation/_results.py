@@ -12,7 +12,7 @@ import numpy as np
 
 
 @dataclass(frozen=True, eq=False)
-class AllocationResult:
+class Allocation:
     """Thrust of every engine for one demand.
 
     Attributes

@@ -1,6 +1,6 @@
 """Monte Carlo campaigns: many closed-loop cases in parallel, summaries and envelope.
 
-A campaign runs :func:`~casadi_debris.simulation.simulate` for each
+A campaign runs :func:`~casadi_debris.simulation.simulate_closed_loop` for each
 :class:`~casadi_debris.campaigns.Case` on local processes (default),
 or on a Dask cluster when a scheduler address is given, through
 ``casadi_debris.parallel.parallel_map``. Each case returns
@@ -51,7 +51,7 @@ from casadi_debris.simulation import (
     SimulationError,
     release_batched_loops,
     release_compiled_steps,
-    simulate,
+    simulate_closed_loop,
     simulate_many,
 )
 
@@ -353,7 +353,7 @@ def fly_case(
     on the case run before it, and a resumed campaign differ.
     """
     problem = model.problem
-    return simulate(
+    return simulate_closed_loop(
         model,
         controller,
         reference,

@@ -1,6 +1,6 @@
 """A worst-case search over the uncertainty box for the closed loop's largest pointing error.
 
-The objective is the nonlinear closed loop itself (:func:`simulate`: flexible
+The objective is the nonlinear closed loop itself (:func:`simulate_closed_loop`: flexible
 model, star tracker, allocator, engines): the largest attitude error of the
 run, over the parameters' normalised positions z in [-1, 1] (the array angle
 wraps around when its range is a full turn).
@@ -37,7 +37,7 @@ from casadi_debris.dynamics import Model, linearization_function, linearize
 from casadi_debris.errors import SimulationError
 from casadi_debris.guidance import Reference
 from casadi_debris.robust.plant import FULL_CIRCLE_DEG, parameters_from_normalized
-from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate
+from casadi_debris.simulation import ClosedLoopResult, LoopSettings, simulate_closed_loop
 
 _log = logging.getLogger(__name__)
 SCREEN_STEP_S = 1.0
@@ -233,7 +233,7 @@ class _Objective:
         p = parameters_from_normalized(self.model, z)
         # A fresh allocator per run, as in a campaign: no warm start carried between cases.
         allocator = Allocator.from_problem(self.problem, self.model.geometry)
-        result = simulate(
+        result = simulate_closed_loop(
             self.model,
             self.controller,
             self.reference,
@@ -293,7 +293,7 @@ def worst_case_search(
     Parameters
     ----------
     model, controller, reference
-        As :func:`simulate` takes them (the problem is ``model.problem``;
+        As :func:`simulate_closed_loop` takes them (the problem is ``model.problem``;
         controller: error [deg] -> torque [mNm]).
     corners : ndarray, shape (n_corners, n_parameters)
         Normalised corners the linear screen ranks (the campaign's corner set).

@@ -32,7 +32,7 @@ from casadi_debris.orbit._elements import (
     mee_dynamics,
     mee_from_cartesian,
 )
-from casadi_debris.orbit._lifetime import REENTRY_PERIGEE_KM, Burn, Earth, propagate_decay
+from casadi_debris.orbit._lifetime import REENTRY_PERIGEE_KM, Earth, RetrogradeBurn, propagate_decay
 from casadi_debris.orbit._lifetime_mc import (
     CYCLE_MIN_SFU,
     CYCLE_PEAK_SFU,
@@ -56,7 +56,6 @@ __all__ = [
     "SEASONS",
     "SOLAR_CASES",
     "STRATEGIES",
-    "Burn",
     "CaseTrajectory",
     "DeorbitCase",
     "DeorbitModel",
@@ -64,6 +63,7 @@ __all__ = [
     "DeorbitSettings",
     "Earth",
     "LifetimeDraw",
+    "RetrogradeBurn",
     "SolarActivity",
     "SwarmThrust",
     "TransferPlan",

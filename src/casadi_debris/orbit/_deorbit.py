@@ -42,10 +42,10 @@ from casadi_debris.orbit._atmosphere import (
 )
 from casadi_debris.orbit._ballistic import Ballistic, ballistic
 from casadi_debris.orbit._lifetime import (
-    Burn,
     DecayHistory,
     DensityFunction,
     Earth,
+    RetrogradeBurn,
     propagate_decay,
 )
 from casadi_debris.orbit._propulsion import SwarmThrust, swarm_thrust
@@ -277,7 +277,7 @@ class DeorbitModel:
     ) -> DecayHistory:
         """Burn ``dv_m_s`` on the arc, then decay: the averaged orbit to re-entry."""
         segments = self.thrust.segments
-        burn = Burn(
+        burn = RetrogradeBurn(
             thrust_N=tuple(s.thrust_N for s in segments),
             impulse_Ns=tuple(s.impulse_Ns for s in segments),
             target_impulse_Ns=self.impulse_for(dv_m_s),

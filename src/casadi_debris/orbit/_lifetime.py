@@ -84,7 +84,7 @@ class Earth:
 
 
 @dataclass(frozen=True)
-class Burn:
+class RetrogradeBurn:
     """A retrograde low-thrust burn: thrust levels used one after another.
 
     Attributes
@@ -208,7 +208,7 @@ def propagate_decay(
     density: DensityFunction,
     earth: Earth,
     inclination_rad: float,
-    burn: Burn | None = None,
+    burn: RetrogradeBurn | None = None,
     horizon_years: float = DEFAULT_HORIZON_YEARS,
 ) -> DecayHistory:
     """Integrate the averaged orbit from a (possibly burning) start to re-entry.
@@ -224,7 +224,7 @@ def propagate_decay(
     earth : Earth
     inclination_rad : float
         For the atmosphere's rotation.
-    burn : Burn, optional
+    burn : RetrogradeBurn, optional
         Fired first, from t = 0 (its own drag areas while it fires).
     horizon_years : float
         Give up after this long (re-entry ``inf``).
@@ -272,7 +272,7 @@ class _AveragedRates:
     density: DensityFunction
     earth: Earth
     cos_i: float
-    burn: Burn | None
+    burn: RetrogradeBurn | None
 
     def __call__(self, t: float, y: np.ndarray, segment: int) -> list[float]:
         """Rates with thrust segment ``segment`` firing (-1: none)."""
@@ -294,7 +294,7 @@ class _AveragedRates:
         return float(y[0] * (1.0 - max(y[1], 0.0)) - reentry_radius)
 
 
-def _burn_stops(burn: Burn | None) -> list[tuple[int, float]]:
+def _burn_stops(burn: RetrogradeBurn | None) -> list[tuple[int, float]]:
     """(segment, impulse at which it stops) of each segment the burn fires, in order."""
     if burn is None or burn.target_impulse_Ns <= 0.0:
         return []

@@ -7,7 +7,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from casadi_debris.plots._style import AXIS_COLOURS
-from casadi_debris.simulation.detumble import DetumbleResult
+from casadi_debris.simulation.detumble import DetumbleRunResult
 from casadi_debris.units import MNM_PER_NM
 
 AXES = ("x", "y", "z")
@@ -15,12 +15,12 @@ LINE_STYLES = (":", "-.", (0, (10, 3)), "--")
 BINS = 600
 
 
-def detumble_figure(result: DetumbleResult, *, title: str, marks_h: dict[str, float]) -> Figure:
+def detumble_figure(result: DetumbleRunResult, *, title: str, marks_h: dict[str, float]) -> Figure:
     """Body rates (log scale) against the threshold, torque, and propellant per CubeSat.
 
     Parameters
     ----------
-    result : DetumbleResult
+    result : DetumbleRunResult
     title : str
     marks_h : dict
         Label -> a time drawn as a vertical line on the rates [h] (estimates, bounds).

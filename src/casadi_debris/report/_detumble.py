@@ -10,7 +10,7 @@ import numpy as np
 
 from casadi_debris.config import AXIS_NAMES
 from casadi_debris.records import FLATTENED, Record
-from casadi_debris.simulation.detumble import DetumbleResult, DetumbleRunSummary
+from casadi_debris.simulation.detumble import DetumbleRunResult, DetumbleRunSummary
 from casadi_debris.store import write_csv, write_json_atomic
 from casadi_debris.units import DEG_PER_RAD, MNM_PER_NM
 
@@ -69,7 +69,7 @@ class DetumbleSummary(Record):
 
 
 def write_detumble(
-    folder: Path, result: DetumbleResult, report: DetumbleSummary, *, plots: bool = True
+    folder: Path, result: DetumbleRunResult, report: DetumbleSummary, *, plots: bool = True
 ) -> None:
     """``summary.json``, ``series.csv`` (rates in deg/s, torque in mNm) and, with
     ``plots``, ``detumble.png`` (and its PDF)."""
@@ -88,7 +88,7 @@ def write_detumble(
             save_figure(figure, folder / f"{stem}.png")
 
 
-def detumble_figures(result: DetumbleResult, report: DetumbleSummary) -> dict[str, Figure]:
+def detumble_figures(result: DetumbleRunResult, report: DetumbleSummary) -> dict[str, Figure]:
     """``detumble``: the rates against the threshold with the estimates and bounds marked,
     the torque and the propellant per CubeSat."""
     from casadi_debris.plots import detumble_figure

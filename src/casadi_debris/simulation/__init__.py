@@ -1,7 +1,7 @@
 """The closed loop: the nonlinear model, sensors and estimator, the robust controller,
 the allocator and the engines, run together over time.
 
-- :func:`simulate`: one scenario (:class:`ClosedLoopResult`, and its figures as a
+- :func:`simulate_closed_loop`: one scenario (:class:`ClosedLoopResult`, and its figures as a
   :class:`RunSummary`); :func:`simulate_many`: several, with ``jit`` as one compiled
   function mapped over them.
 - :func:`build_loop_step`: one control period as a compiled CasADi Function.
@@ -34,7 +34,7 @@ from casadi_debris.simulation._run import (
     ClosedLoopResult,
     LoopSettings,
     RunInputs,
-    simulate,
+    simulate_closed_loop,
     simulate_many,
 )
 from casadi_debris.simulation._segment_figures import SegmentRunSummary, segment_figures
@@ -70,6 +70,6 @@ __all__ = [
     "release_batched_loops",
     "release_compiled_steps",
     "segment_figures",
-    "simulate",
+    "simulate_closed_loop",
     "simulate_many",
 ]

@@ -11,7 +11,7 @@ Every case of a campaign, whatever its plant, failures or depleted stages,
 runs on it: nothing is compiled per case or per failure set.
 
 Between stretches each case goes on as a run of its own
-(:func:`~casadi_debris.simulation.simulate`): its allocator turns the
+(:func:`~casadi_debris.simulation.simulate_closed_loop`): its allocator turns the
 stretch's torques into thrust, its engines burn, its failures and depleted
 stages end a stretch early and change its authority. Each slot computes
 exactly what the one-case roll-out computes from the same inputs, so a case

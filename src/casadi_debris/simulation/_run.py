@@ -1,6 +1,6 @@
 """One closed-loop scenario: plant, star tracker, controller, allocator, engines, reference.
 
-:func:`simulate` rolls the compiled control period
+:func:`simulate_closed_loop` rolls the compiled control period
 (:mod:`casadi_debris.simulation._closed_loop`) out in stretches. After each
 stretch the allocator turns the applied torques into engine thrust
 (least fuel, zero net force) and the propulsion state burns it. A stretch
@@ -82,7 +82,7 @@ class LoopSettings:
 
 @dataclass(frozen=True, eq=False)
 class RunInputs:
-    """What one run of :func:`simulate_many` varies (each field as in :func:`simulate`).
+    """What one run of :func:`simulate_many` varies (each field as in :func:`simulate_closed_loop`).
 
     Attributes
     ----------
@@ -100,7 +100,7 @@ class RunInputs:
     noise_seed: int | None = None
 
 
-def simulate(
+def simulate_closed_loop(
     model: Model,
     controller: control.StateSpace,
     reference: Reference,
@@ -170,18 +170,18 @@ def simulate_many(
     With ``jit`` (RK4, the paper's ideal loop) every stretch of every run is one call of one
     compiled function mapped over the runs
     (:func:`~casadi_debris.simulation._batched.roll_together`); between
-    stretches each run allocates, burns and fails as :func:`simulate` does
+    stretches each run allocates, burns and fails as :func:`simulate_closed_loop` does
     alone, and gets the same numbers. Otherwise (or without a C compiler)
     the runs go one after the other on CasADi's virtual machine.
 
     Parameters
     ----------
     model, controller, reference
-        As :func:`simulate`, shared by the runs.
+        As :func:`simulate_closed_loop`, shared by the runs.
     runs : sequence of RunInputs
         What each run varies.
     settings : LoopSettings
-        As :func:`simulate`.
+        As :func:`simulate_closed_loop`.
     slots : int, optional
         Cases of the compiled function (default ``len(runs)``): a campaign
         keeps one size for all its batches, so that one library serves them.

@@ -35,10 +35,10 @@ from casadi_debris.slews._modal import ModalResponse, modal_response
 from casadi_debris.slews._optimal import fuel_optimal_slew, time_optimal_slew
 from casadi_debris.slews._options import OptimalSlewSettings
 from casadi_debris.slews._profile import (
+    ProfileSummary,
     SlewProfile,
-    SlewSummary,
     finish_profile,
-    simulate,
+    simulate_open_loop,
     vibration_energy,
     zoh_input_function,
 )
@@ -61,9 +61,9 @@ __all__ = [
     "BangBangTiming",
     "ModalResponse",
     "OptimalSlewSettings",
+    "ProfileSummary",
     "RigidBody",
     "SlewProfile",
-    "SlewSummary",
     "SlewTarget",
     "axis_fuel_rates",
     "bang_bang_slew",
@@ -82,7 +82,7 @@ __all__ = [
     "rigid_limit_duration",
     "scaled_rigid_ode",
     "shape",
-    "simulate",
+    "simulate_open_loop",
     "slew_about_axis",
     "slew_between",
     "solve_with_ipopt",

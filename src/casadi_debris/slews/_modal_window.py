@@ -43,7 +43,7 @@ import numpy as np
 from casadi_debris.dynamics import Model
 from casadi_debris.slews._modal import modal_response
 from casadi_debris.slews._ocp_problem import SlewOcp
-from casadi_debris.slews._profile import SlewProfile, simulate, vibration_energy
+from casadi_debris.slews._profile import SlewProfile, simulate_open_loop, vibration_energy
 
 WINDOW_INTERVALS = 32  # 64 gave the same optimum (2 ms shorter) at 1.5x the solve time
 WINDOW_SHAPER_MULTIPLE = 1.5
@@ -76,7 +76,7 @@ def energy_limit(ocp: SlewOcp, reference: SlewProfile, fraction: float) -> tuple
     """
     model = _flexible_model(ocp)
     knots = np.array([0.0, reference.duration_s / 2.0, reference.duration_s])
-    states = simulate(
+    states = simulate_open_loop(
         model,
         reference.input_function,
         knots,

@@ -21,7 +21,7 @@ from casadi_debris.slews._profile import (
     SlewProfile,
     finish_profile,
     sample_grid,
-    simulate,
+    simulate_open_loop,
     zoh_input_function,
 )
 from casadi_debris.slews._transcription import COLLOCATION_DEGREE, NlpSolution
@@ -114,7 +114,7 @@ def _motion(
 ) -> tuple[np.ndarray, np.ndarray]:
     """States (shape (n, n_state)) and body angular accelerations (rad/s^2, shape
     (n, 3)) of ``model`` from rest under ``input_function`` at the times ``grid`` (s)."""
-    states = simulate(
+    states = simulate_open_loop(
         model,
         input_function,
         grid,

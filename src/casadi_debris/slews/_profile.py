@@ -128,9 +128,9 @@ class SlewProfile:
         """Largest |torque| per body axis, shape (3,)."""
         return np.max(np.abs(self.torque_Nm), axis=0)
 
-    def summary(self) -> SlewSummary:
+    def summary(self) -> ProfileSummary:
         """Figures of the profile, SI units in the names."""
-        return SlewSummary(
+        return ProfileSummary(
             method=self.method,
             flexible=self.flexible,
             thrusters=self.thrusters,
@@ -158,7 +158,7 @@ def _limit_keys(check: LimitCheck) -> dict[str, Any]:
 
 
 @dataclass(frozen=True, kw_only=True)
-class SlewSummary(Record):
+class ProfileSummary(Record):
     """Figures of a slew profile, SI units in the names.
 
     Attributes
@@ -227,7 +227,7 @@ def input_vector(torque: ca.SX, force: ca.SX | None = None) -> ca.SX:
     return ca.vertcat(torque, ca.SX.zeros(N_DISTURBANCE), force)
 
 
-def simulate(
+def simulate_open_loop(
     model: Model,
     input_function: ca.Function,
     time_s: np.ndarray,
@@ -285,7 +285,9 @@ def residual_vibration(
     window = RESIDUAL_WINDOW_PERIODS * 2.0 * math.pi / min(frequencies)
     after = duration_s + np.linspace(0.0, window, 401)
     grid = np.unique(np.concatenate([[0.0], knots_s[knots_s < duration_s], after]))
-    states = simulate(model, input_function, grid, model.initial_state(target.q_initial_BN), p)
+    states = simulate_open_loop(
+        model, input_function, grid, model.initial_state(target.q_initial_BN), p
+    )
     tail = states[grid >= duration_s]
     errors = np.array(
         [np.array(model.attitude_error(target.q_final_BN, s[model.layout.q])).ravel() for s in tail]

@@ -8,7 +8,7 @@ The phases, in the order the swarm flies them, each from its own model:
    propellant by the rocket equation with the CubeSat's mass and its strongest engine;
    the time at that thrust.
 2. **Detumble** after docking: the closed-loop rigid-body run of
-   :func:`~casadi_debris.simulation.detumble.detumble` (allocator, staging, fuel). The
+   :func:`~casadi_debris.simulation.detumble.simulate_detumble` (allocator, staging, fuel). The
    run starts from full tanks: the transfer burns less than a stage, so the stages the
    detumble fires keep their thrust.
 3. **Deorbit**: the swarm as the transfer and the detumble leave it, engine by engine
@@ -52,7 +52,7 @@ from casadi_debris.orbit import (
 )
 from casadi_debris.orbit.transfer import transfer_dv_m_s
 from casadi_debris.records import Record
-from casadi_debris.simulation.detumble import DetumbleResult, detumble
+from casadi_debris.simulation.detumble import DetumbleRunResult, simulate_detumble
 from casadi_debris.studies.propellant_books import PhaseBook, PropellantBooks, detumble_engine_kg
 from casadi_debris.units import DAYS_PER_YEAR, SECONDS_PER_DAY
 
@@ -130,7 +130,7 @@ class Mission:
     """
 
     summary: MissionSummary
-    detumble: DetumbleResult
+    detumble: DetumbleRunResult
     trajectories: tuple[CaseTrajectory, ...]
     plan: DeorbitPlan
     model: DeorbitModel
@@ -236,7 +236,7 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
     books = PropellantBooks.from_problem(problem)
     dv_transfer, transfer_kg, transfer_s = transfer_per_engine(problem)
     pages = [books.burn("transfer", transfer_kg)]
-    tumble = detumble(problem)
+    tumble = simulate_detumble(problem)
     pages.append(books.burn("detumble", detumble_engine_kg(problem, tumble)))
     full = swarm_thrust(problem, geometry)
     left_Ns = books.left_impulse_Ns()  # before the deorbit burn
@@ -308,7 +308,7 @@ def _finite(value: float) -> float | None:
 def _summary(
     problem: Problem,
     plan: DeorbitPlan,
-    tumble: DetumbleResult,
+    tumble: DetumbleRunResult,
     transfer: tuple[float, np.ndarray],
     books: PropellantBooks,
     pages: list[PhaseBook],

@@ -23,7 +23,7 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import Problem
 from casadi_debris.errors import AllocationError
 from casadi_debris.records import Record
-from casadi_debris.simulation.detumble import DetumbleResult
+from casadi_debris.simulation.detumble import DetumbleRunResult
 
 LOGGER = logging.getLogger(__name__)
 STARTED_KG = 1e-12
@@ -146,7 +146,7 @@ class PropellantBooks:
         )
 
 
-def detumble_engine_kg(problem: Problem, run: DetumbleResult) -> np.ndarray:
+def detumble_engine_kg(problem: Problem, run: DetumbleRunResult) -> np.ndarray:
     """Propellant each engine burnt in the detumble ``run``, shape (n_engines,) [kg].
 
     One engine per CubeSat: the run's per-CubeSat figures. Otherwise the run's torques

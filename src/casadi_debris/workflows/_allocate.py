@@ -33,8 +33,13 @@ from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from casadi_debris.allocation import AllocationResult as Allocation
-    from casadi_debris.allocation import Allocator, DemandError, PropulsionState, SaturationMode
+    from casadi_debris.allocation import (
+        Allocation,
+        Allocator,
+        DemandError,
+        PropulsionState,
+        SaturationMode,
+    )
     from casadi_debris.geometry import Geometry
 
 Vector = Sequence[float]
@@ -84,7 +89,7 @@ class AllocationResult(JobResult):
 
     Attributes
     ----------
-    allocation : casadi_debris.allocation.AllocationResult
+    allocation : casadi_debris.allocation.Allocation
         Thrust of every engine [N], achieved torque [N m] and force [N], the demand,
         mode, scale and solver figures.
     state : PropulsionState

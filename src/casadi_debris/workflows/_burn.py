@@ -29,10 +29,10 @@ from casadi_debris.simulation.burn import (
     DEFAULT_PERIOD_S,
     BurnRun,
     BurnSeries,
+    burn_summary,
     first_stage_left,
     simulate_burn,
 )
-from casadi_debris.simulation.burn import burn_figures as burn_figures_of
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
@@ -232,7 +232,7 @@ def _fly(
         propulsion=engines,
         jit=request.jit,
     )
-    summary, series = burn_figures_of(problem, run, Allocator.from_problem(problem))
+    summary, series = burn_summary(problem, run, Allocator.from_problem(problem))
     report = BurnSummary(
         burn=summary,
         controller_path=str(controller_path),

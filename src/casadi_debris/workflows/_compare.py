@@ -29,7 +29,12 @@ from casadi_debris.errors import (
 )
 from casadi_debris.guidance import Reference, scenario_reference
 from casadi_debris.report import Comparison, VariantRow, write_comparison
-from casadi_debris.simulation import ClosedLoopResult, SimulationError, fuel_between_kg, simulate
+from casadi_debris.simulation import (
+    ClosedLoopResult,
+    SimulationError,
+    fuel_between_kg,
+    simulate_closed_loop,
+)
 from casadi_debris.workflows._controller import controller_for
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -74,7 +79,7 @@ def compare_row(
     try:
         model = build_model(problem)
         allocator = Allocator.from_problem(problem, model.geometry)
-        result = simulate(model, controller, reference, allocator=allocator)
+        result = simulate_closed_loop(model, controller, reference, allocator=allocator)
     except (AllocationError, ModelError, SimulationError) as exc:
         LOGGER.warning("variant %s failed: %s", label, exc)
         return VariantRow(

@@ -31,8 +31,8 @@ from casadi_debris.simulation.detumble import (
     DEFAULT_THRESHOLD_RAD_S,
     problem_time_optimal_detumble,
 )
-from casadi_debris.simulation.detumble import DetumbleResult as DetumbleRun
-from casadi_debris.simulation.detumble import detumble as fly_detumble
+from casadi_debris.simulation.detumble import DetumbleRunResult as DetumbleRun
+from casadi_debris.simulation.detumble import simulate_detumble as fly_detumble
 from casadi_debris.units import SECONDS_PER_HOUR
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -49,7 +49,7 @@ class DetumbleResult(JobResult):
     summary : DetumbleSummary
         What ``summary.json`` holds: the run's figures, the budget's estimates, the
         momentum bound and the time-optimal detumble.
-    run : simulation.detumble.DetumbleResult
+    run : simulation.detumble.DetumbleRunResult
         The run's time series (rates [rad/s], torque [N m], propellant), SI.
     """
 

@@ -54,7 +54,7 @@ from casadi_debris.report import (
     write_campaign,
 )
 from casadi_debris.robust.plant import Controller
-from casadi_debris.simulation import ClosedLoopResult, c_compiler, simulate
+from casadi_debris.simulation import ClosedLoopResult, c_compiler, simulate_closed_loop
 from casadi_debris.store import (
     RECORD_NAME,
     CampaignFolder,
@@ -377,7 +377,7 @@ def _finished(
         raise CasesFailedError(failures)  # nothing to summarise; a folder stays for a resume
     problem = setup.problem
     allocator = Allocator.from_problem(problem, model.geometry)
-    nominal = simulate(model, setup.controller, setup.reference, allocator=allocator)
+    nominal = simulate_closed_loop(model, setup.controller, setup.reference, allocator=allocator)
     nominal_summary = run_summary(problem, nominal_case(model), nominal, Path(run.controller_path))
     statistics = statistics_of(
         problem, outcomes, model.parameter_layout.names, len(run.failed_cases)

@@ -3,7 +3,7 @@
 - :func:`simulate_burn`: the burn's thrust axis held along its LVLH direction while
   the engines deliver the force and the controller's torque together
   (:class:`BurnRun`).
-- :func:`burn_figures`: what the burn delivered: pointing of the thrust axis, Δv, the
+- :func:`burn_summary`: what the burn delivered: pointing of the thrust axis, Δv, the
   propellant split between Δv and attitude, the arrays' load
   (:class:`BurnRunSummary`, :class:`BurnSeries`).
 
@@ -19,15 +19,15 @@ from casadi_debris.simulation.burn._burn import (
     pointing_error_rad,
     simulate_burn,
 )
-from casadi_debris.simulation.burn._figures import BurnRunSummary, BurnSeries, burn_figures
+from casadi_debris.simulation.burn._figures import BurnRunSummary, BurnSeries, burn_summary
 
 __all__ = [
     "DEFAULT_PERIOD_S",
     "BurnRun",
     "BurnRunSummary",
     "BurnSeries",
-    "burn_figures",
     "burn_reference",
+    "burn_summary",
     "first_stage_left",
     "pointing_error_rad",
     "simulate_burn",

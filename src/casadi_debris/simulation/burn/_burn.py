@@ -122,7 +122,7 @@ def simulate_burn(
     propulsion : PropulsionState, optional
         Engines at the start (default full); not modified.
     jit : bool
-        Compile the control step to C (see :func:`~casadi_debris.simulation.simulate`).
+        Compile the control step to C (see :func:`~casadi_debris.simulation.simulate_closed_loop`).
 
     Returns
     -------

@@ -134,7 +134,7 @@ class BurnSeries:
     dv_along_m_s: np.ndarray
 
 
-def burn_figures(
+def burn_summary(
     problem: Problem, burn: BurnRun, allocator: Allocator
 ) -> tuple[BurnRunSummary, BurnSeries]:
     """The figures and series of a burn (``allocator`` of the problem, full engines)."""

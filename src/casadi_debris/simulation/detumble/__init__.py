@@ -1,9 +1,9 @@
 """Detumbling the debris: rate damping through the staged engines, and the time-optimal
 detumble.
 
-- :func:`detumble`: the closed loop that brakes the problem's initial tumble, vertex
+- :func:`simulate_detumble`: the closed loop that brakes the problem's initial tumble, vertex
   by vertex of the engines' authority, with allocation, staging and fuel
-  (:class:`DetumbleResult`, its figures a :class:`DetumbleRunSummary`).
+  (:class:`DetumbleRunResult`, its figures a :class:`DetumbleRunSummary`).
 - :func:`problem_time_optimal_detumble` / :func:`time_optimal_detumble`: the
   time-optimal detumble as an OCP over the polhode-averaged rates
   (:class:`DetumbleOcp`), checked for small tumbles by the full transcription
@@ -18,10 +18,10 @@ from casadi_debris.simulation.detumble._detumble import (
     DEFAULT_GAIN_PER_S,
     DEFAULT_PERIOD_S,
     DEFAULT_THRESHOLD_RAD_S,
-    DetumbleResult,
+    DetumbleRunResult,
     DetumbleRunSummary,
-    detumble,
     held_torque_rates,
+    simulate_detumble,
 )
 from casadi_debris.simulation.detumble._full_ocp import FullDetumbleOcp, full_time_optimal_detumble
 from casadi_debris.simulation.detumble._ocp import (
@@ -43,16 +43,16 @@ __all__ = [
     "DEFAULT_THRESHOLD_RAD_S",
     "DetumbleOcp",
     "DetumbleOcpSummary",
-    "DetumbleResult",
+    "DetumbleRunResult",
     "DetumbleRunSummary",
     "FullDetumbleOcp",
     "PolhodeAverages",
     "PrincipalBody",
-    "detumble",
     "full_time_optimal_detumble",
     "held_torque_rates",
     "polhode_averages",
     "polhode_points",
     "problem_time_optimal_detumble",
+    "simulate_detumble",
     "time_optimal_detumble",
 ]

@@ -99,7 +99,7 @@ class DetumbleRunSummary(Record):
 
 
 @dataclass(eq=False)
-class DetumbleResult:
+class DetumbleRunResult:
     """Series of a detumble (SI units), one row per control instant.
 
     Attributes
@@ -190,7 +190,7 @@ def held_torque_rates(
     return w
 
 
-def detumble(
+def simulate_detumble(
     problem: Problem,
     *,
     initial_rate_rad_s: npt.ArrayLike | None = None,
@@ -198,7 +198,7 @@ def detumble(
     gain_per_s: float = DEFAULT_GAIN_PER_S,
     period_s: float = DEFAULT_PERIOD_S,
     max_duration_s: float | None = None,
-) -> DetumbleResult:
+) -> DetumbleRunResult:
     """Detumble the rigid body in closed loop through the problem's engines.
 
     Parameters
@@ -325,7 +325,7 @@ class _Rollout:
 
     def result(
         self, problem: Problem, rate0: np.ndarray, threshold: float, wall_time_s: float
-    ) -> DetumbleResult:
+    ) -> DetumbleRunResult:
         rates = np.vstack(self.rates)
         torques, scales = np.vstack(self.torques), np.concatenate(self.scales)
         time_s = np.arange(len(rates)) * self.period_s
@@ -352,4 +352,4 @@ class _Rollout:
             control_period_s=self.period_s,
             wall_time_s=wall_time_s,
         )
-        return DetumbleResult(time_s, rates, torques, scales, np.vstack(self.fuel), summary)
+        return DetumbleRunResult(time_s, rates, torques, scales, np.vstack(self.fuel), summary)
