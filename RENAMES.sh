@@ -78,3 +78,8 @@ SIM="src/casadi_debris/simulation/_run.py src/casadi_debris/workflows/_compare.p
 sed -i -E 's/(^|[^._a-zA-Z"'"'"'])simulate\(/\1simulate_closed_loop(/g; s/^(\s+)simulate,$/\1simulate_closed_loop,/; s/(import .*)\bsimulate\b/\1simulate_closed_loop/; s/:func:`simulate`/:func:`simulate_closed_loop`/g' $SIM
 sed -i -E 's/^    "simulate",$/    "simulate_closed_loop",/' $S/simulation/__init__.py
 sed -i -E 's/\bsimulation\.simulate\b/simulation.simulate_closed_loop/g' $FILES
+# Constants two packages exported with one name and two meanings.
+sed -i -E 's/\bFORMAT_VERSION\b/CONTROLLER_FORMAT_VERSION/g' $S/robust/plant/_controller.py $S/robust/plant/__init__.py
+sed -i -E 's/\bFORMAT_VERSION\b/DATASET_FORMAT_VERSION/g' $S/store/_campaign_dataset.py $S/store/__init__.py $S/campaigns/_dataset.py
+sed -i -E 's/\bDEFAULT_PERIOD_S\b/DETUMBLE_PERIOD_S/g' $S/simulation/detumble/_detumble.py $S/simulation/detumble/__init__.py $S/workflows/_detumble.py
+sed -i -E 's/\bDEFAULT_PERIOD_S\b/BURN_PERIOD_S/g' $S/simulation/burn/_burn.py $S/simulation/burn/__init__.py $S/workflows/_burn.py

@@ -17,8 +17,8 @@ from casadi_debris.store import (
     BAND_QUANTITIES,
     BOUNDS,
     CASE_FIGURES,
+    DATASET_FORMAT_VERSION,
     FORMAT_ATTRIBUTE,
-    FORMAT_VERSION,
     NO_SEED,
     CampaignIdentity,
 )
@@ -144,5 +144,5 @@ def _attributes(record: CampaignIdentity) -> dict[str, Any]:
         "bin_width_s": record.envelope_bin_s,
         "toolkit": "casadi_debris",
         "toolkit_version": record.toolkit_version,
-        FORMAT_ATTRIBUTE: FORMAT_VERSION,
+        FORMAT_ATTRIBUTE: DATASET_FORMAT_VERSION,
     }

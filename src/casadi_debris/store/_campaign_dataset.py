@@ -16,7 +16,7 @@ if TYPE_CHECKING:
 DATASET_NAME = "campaign.nc"
 ENGINE: Final = "h5netcdf"
 FORMAT_ATTRIBUTE = "casadi_debris_campaign_format"
-FORMAT_VERSION = 1
+DATASET_FORMAT_VERSION = 1
 NO_SEED = -1
 BOUNDS = ("min", "max")
 BAND_DIMS = ("case", "time", "bound", "axis")

@@ -26,7 +26,7 @@ from casadi_debris.errors import InputShapeError
 from casadi_debris.guidance import BurnPlan, burn_thrust_N, strongest_axis
 from casadi_debris.report import BurnSummary, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
-    DEFAULT_PERIOD_S,
+    BURN_PERIOD_S,
     BurnRun,
     BurnSeries,
     burn_summary,
@@ -78,7 +78,7 @@ class BurnRequest:
     first_stage_left_s: float | None = None
     controller: str | Path | None = None
     allow_mismatch: bool = False
-    period_s: float = DEFAULT_PERIOD_S
+    period_s: float = BURN_PERIOD_S
     jit: bool = True
 
 

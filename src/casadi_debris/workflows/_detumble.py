@@ -27,8 +27,8 @@ from casadi_debris.report import DetumbleSummary, detumble_figures, write_detumb
 from casadi_debris.simulation import SimulationError
 from casadi_debris.simulation.detumble import (
     DEFAULT_GAIN_PER_S,
-    DEFAULT_PERIOD_S,
     DEFAULT_THRESHOLD_RAD_S,
+    DETUMBLE_PERIOD_S,
     problem_time_optimal_detumble,
 )
 from casadi_debris.simulation.detumble import DetumbleRunResult as DetumbleRun
@@ -75,7 +75,7 @@ def detumble(
     rate_rad_s: Sequence[float] | None = None,
     threshold_rad_s: float = DEFAULT_THRESHOLD_RAD_S,
     gain_per_s: float = DEFAULT_GAIN_PER_S,
-    period_s: float = DEFAULT_PERIOD_S,
+    period_s: float = DETUMBLE_PERIOD_S,
     ocp: bool = True,
     progress: Callable[[str], None] | None = None,
 ) -> DetumbleResult:

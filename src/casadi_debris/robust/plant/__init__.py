@@ -15,7 +15,7 @@ and generalised plant of the design, and a designed controller.
   bound to the problem it was designed for.
 """
 
-from casadi_debris.robust.plant._controller import FORMAT_VERSION, Controller
+from casadi_debris.robust.plant._controller import CONTROLLER_FORMAT_VERSION, Controller
 from casadi_debris.robust.plant._interconnect import (
     GeneralizedPlant,
     generalized_plant,
@@ -49,7 +49,7 @@ from casadi_debris.robust.plant._weights import (
 )
 
 __all__ = [
-    "FORMAT_VERSION",
+    "CONTROLLER_FORMAT_VERSION",
     "FULL_CIRCLE_DEG",
     "W_ORDER",
     "Controller",

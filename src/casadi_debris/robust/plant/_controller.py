@@ -16,7 +16,7 @@ import numpy as np
 
 from casadi_debris.errors import ProblemFileError
 
-FORMAT_VERSION = 1
+CONTROLLER_FORMAT_VERSION = 1
 # No designed controller comes near this; a larger entry is a corrupted file.
 MAX_ENTRY = 1e12
 REQUIRED_KEYS = ("A", "B", "C", "D")
@@ -66,7 +66,7 @@ class Controller:
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict: the reduced A, B, C, D at the top level, as rows."""
         payload: dict[str, Any] = {
-            "format_version": FORMAT_VERSION,
+            "format_version": CONTROLLER_FORMAT_VERSION,
             "input": "attitude error e = reference - measured [deg] (phi, theta, psi)",
             "output": "torque demand [mNm] (x, y, z), u = K e",
             **_matrices(self.reduced),
@@ -89,11 +89,12 @@ class Controller:
         for key in REQUIRED_KEYS:
             if key not in data:
                 raise ProblemFileError(key, "missing from the controller file", source)
-        version = data.get("format_version", FORMAT_VERSION)
-        if isinstance(version, bool) or version != FORMAT_VERSION:
+        version = data.get("format_version", CONTROLLER_FORMAT_VERSION)
+        if isinstance(version, bool) or version != CONTROLLER_FORMAT_VERSION:
             raise ProblemFileError(
                 "format_version",
-                f"this toolkit reads controller files of format {FORMAT_VERSION}, got {version!r}",
+                f"this toolkit reads controller files of format {CONTROLLER_FORMAT_VERSION}, "
+                f"got {version!r}",
                 source,
             )
         for key in ("mu_peak", "mu_peak_reduced"):

@@ -12,7 +12,7 @@ The loop is :mod:`casadi_debris.simulation`'s; the burn plan is
 """
 
 from casadi_debris.simulation.burn._burn import (
-    DEFAULT_PERIOD_S,
+    BURN_PERIOD_S,
     BurnRun,
     burn_reference,
     first_stage_left,
@@ -22,7 +22,7 @@ from casadi_debris.simulation.burn._burn import (
 from casadi_debris.simulation.burn._figures import BurnRunSummary, BurnSeries, burn_summary
 
 __all__ = [
-    "DEFAULT_PERIOD_S",
+    "BURN_PERIOD_S",
     "BurnRun",
     "BurnRunSummary",
     "BurnSeries",

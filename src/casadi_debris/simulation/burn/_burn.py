@@ -53,7 +53,7 @@ from casadi_debris.simulation._closed_loop import SimulationError, discretize_co
 from casadi_debris.simulation._result import ClosedLoopResult
 from casadi_debris.simulation._run import LoopSettings, RunInputs, _Rollout, _Series
 
-DEFAULT_PERIOD_S = 0.1
+BURN_PERIOD_S = 0.1
 
 
 def burn_reference(problem: Problem, plan: BurnPlan, period_s: float) -> Reference:
@@ -102,7 +102,7 @@ def simulate_burn(
     controller: control.StateSpace,
     plan: BurnPlan,
     *,
-    period_s: float = DEFAULT_PERIOD_S,
+    period_s: float = BURN_PERIOD_S,
     propulsion: PropulsionState | None = None,
     jit: bool = False,
 ) -> BurnRun:

@@ -16,8 +16,8 @@ The rigid body only: at such rates the flexible model is not valid.
 
 from casadi_debris.simulation.detumble._detumble import (
     DEFAULT_GAIN_PER_S,
-    DEFAULT_PERIOD_S,
     DEFAULT_THRESHOLD_RAD_S,
+    DETUMBLE_PERIOD_S,
     DetumbleRunResult,
     DetumbleRunSummary,
     held_torque_rates,
@@ -39,8 +39,8 @@ from casadi_debris.simulation.detumble._polhode import (
 
 __all__ = [
     "DEFAULT_GAIN_PER_S",
-    "DEFAULT_PERIOD_S",
     "DEFAULT_THRESHOLD_RAD_S",
+    "DETUMBLE_PERIOD_S",
     "DetumbleOcp",
     "DetumbleOcpSummary",
     "DetumbleRunResult",

@@ -45,7 +45,7 @@ DEFAULT_THRESHOLD_RAD_S = 1e-4
 # Rate-damping gain: the linear tail decays with a time constant of 1 / K [s].
 DEFAULT_GAIN_PER_S = 0.02
 STRETCH_STEPS = 2000
-DEFAULT_PERIOD_S = 1.0
+DETUMBLE_PERIOD_S = 1.0
 # Runge-Kutta steps per control period: 0.1 s steps at 1 rad/s keep the rate equations'
 # error per step near 1e-7 of the rate.
 SUBSTEPS = 10
@@ -196,7 +196,7 @@ def simulate_detumble(
     initial_rate_rad_s: npt.ArrayLike | None = None,
     threshold_rad_s: float = DEFAULT_THRESHOLD_RAD_S,
     gain_per_s: float = DEFAULT_GAIN_PER_S,
-    period_s: float = DEFAULT_PERIOD_S,
+    period_s: float = DETUMBLE_PERIOD_S,
     max_duration_s: float | None = None,
 ) -> DetumbleRunResult:
     """Detumble the rigid body in closed loop through the problem's engines.
