@@ -2,7 +2,8 @@
 # Result types renamed to the four words (Settings, Request, Result, Summary).
 # Run once from a worktree root: the lines run in order, and two of them reuse a name
 # another line has just freed (BurnSummary, DetumbleSummary), so a second run would
-# rename again.
+# rename again. Afterwards run `ruff format` and `ruff check --fix` (import and __all__
+# order); one f-string in robust/plant/_controller.py then needs splitting by hand (E501).
 FILES=$(grep -rlE --include='*.py' --include='*.md' --include='*.toml' --include='*.yml' --include='*.txt' '[A-Za-z]' src tests docs examples benchmarks README.md mkdocs.yml 2>/dev/null)
 # "Figures" that hold numbers: records in display units.
 sed -i -E 's/\bBodyFigures\b/BodySummary/g' $FILES
@@ -83,3 +84,6 @@ sed -i -E 's/\bFORMAT_VERSION\b/CONTROLLER_FORMAT_VERSION/g' $S/robust/plant/_co
 sed -i -E 's/\bFORMAT_VERSION\b/DATASET_FORMAT_VERSION/g' $S/store/_campaign_dataset.py $S/store/__init__.py $S/campaigns/_dataset.py
 sed -i -E 's/\bDEFAULT_PERIOD_S\b/DETUMBLE_PERIOD_S/g' $S/simulation/detumble/_detumble.py $S/simulation/detumble/__init__.py $S/workflows/_detumble.py
 sed -i -E 's/\bDEFAULT_PERIOD_S\b/BURN_PERIOD_S/g' $S/simulation/burn/_burn.py $S/simulation/burn/__init__.py $S/workflows/_burn.py
+# Two job summaries that did not end in Summary.
+sed -i -E 's/\bComparison\b/CompareSummary/g' $FILES
+sed -i -E 's/\bModelDescription\b/ModelSummary/g' $FILES

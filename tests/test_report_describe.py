@@ -16,7 +16,7 @@ from casadi_debris.config import default_problem_path
 from casadi_debris.geometry import build_geometry, max_thrust_N
 from casadi_debris.report import (
     BudgetSummary,
-    ModelDescription,
+    ModelSummary,
     budget_summary,
     describe_model,
     model_text,
@@ -94,7 +94,7 @@ def test_model_json_keeps_its_keys_and_reads_back(name: str) -> None:
     assert all(set(mode) == MODE_KEYS for mode in data["modes"])
     assert all(set(thruster) == THRUSTER_KEYS for thruster in data["thrusters"])
     assert set(data["torque_max_mNm"]) == set(data["torque_max_zero_force_mNm"]) == SIGNED_AXES
-    described = ModelDescription.from_json(data)
+    described = ModelSummary.from_json(data)
     assert described == describe_model(problem)
     assert described.to_json() == data
     # The values against the geometry, computed apart from the description.

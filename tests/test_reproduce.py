@@ -22,7 +22,7 @@ from casadi_debris.report import (
     DiskMargin,
     Margins,
     MarginsSummary,
-    ModelDescription,
+    ModelSummary,
     ReproductionRow,
     ReproductionSummary,
     WorstValueSummary,
@@ -142,9 +142,9 @@ def _results() -> dict[str, Any]:
     }
 
 
-def _model(mass_kg: float, inertia: np.ndarray, torque: dict[str, float]) -> ModelDescription:
+def _model(mass_kg: float, inertia: np.ndarray, torque: dict[str, float]) -> ModelSummary:
     """A description holding only the figures the rows read."""
-    return ModelDescription(
+    return ModelSummary(
         problem="paper", problem_path="", problem_sha256="", mass_kg=mass_kg, cog_m=(),
         inertia_hub_cubesats_kgm2=tuple(map(tuple, inertia.tolist())), inertia_total_kgm2=(),
         array_angle_deg=(), arrays=(), torque_max_mNm=torque, torque_max_zero_force_mNm={},
@@ -223,7 +223,7 @@ def test_a_result_outside_fails_its_row_only(group, field, value, key):
     results = _results()
     if group is None:
         results[field] = value
-    elif isinstance(results[group], CampaignSummary | ModelDescription | ControllerSummary):
+    elif isinstance(results[group], CampaignSummary | ModelSummary | ControllerSummary):
         results[group] = dataclasses.replace(results[group], **{field: value})
     else:
         results[group][field] = value

@@ -27,7 +27,7 @@ if TYPE_CHECKING:
     from casadi_debris.report._common import format_figure, format_table, verdict_text
     from casadi_debris.report._compare import (
         COLUMNS,
-        Comparison,
+        CompareSummary,
         VariantRow,
         cell,
         comparison_figures,
@@ -40,7 +40,7 @@ if TYPE_CHECKING:
     )
     from casadi_debris.report._describe import (
         BudgetSummary,
-        ModelDescription,
+        ModelSummary,
         Thruster,
         budget_summary,
         budget_text,
@@ -147,7 +147,7 @@ __all__ = [
     "BurnSummary",
     "CampaignRun",
     "CampaignSummary",
-    "Comparison",
+    "CompareSummary",
     "ControllerSummary",
     "DeorbitSummary",
     "DesignFigures",
@@ -157,7 +157,7 @@ __all__ = [
     "FailedCase",
     "Margins",
     "MarginsSummary",
-    "ModelDescription",
+    "ModelSummary",
     "ParameterFile",
     "ReproductionRow",
     "ReproductionSummary",
@@ -245,7 +245,7 @@ _LAZY = {
     "format_table": "casadi_debris.report._common",
     "verdict_text": "casadi_debris.report._common",
     "COLUMNS": "casadi_debris.report._compare",
-    "Comparison": "casadi_debris.report._compare",
+    "CompareSummary": "casadi_debris.report._compare",
     "VariantRow": "casadi_debris.report._compare",
     "cell": "casadi_debris.report._compare",
     "comparison_figures": "casadi_debris.report._compare",
@@ -254,7 +254,7 @@ _LAZY = {
     "deorbit_figures": "casadi_debris.report._deorbit",
     "write_deorbit": "casadi_debris.report._deorbit",
     "BudgetSummary": "casadi_debris.report._describe",
-    "ModelDescription": "casadi_debris.report._describe",
+    "ModelSummary": "casadi_debris.report._describe",
     "Thruster": "casadi_debris.report._describe",
     "budget_summary": "casadi_debris.report._describe",
     "budget_text": "casadi_debris.report._describe",

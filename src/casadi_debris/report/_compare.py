@@ -75,7 +75,7 @@ class VariantRow(Record):
 
 
 @dataclass(frozen=True)
-class Comparison(Record):
+class CompareSummary(Record):
     """Variants side by side, and what they were flown with.
 
     Attributes
@@ -140,7 +140,7 @@ def cell(row: VariantRow, key: str) -> Any:
     return verdict(row) if key == "verdict" else getattr(row, key)
 
 
-def write_comparison(folder: Path, summary: Comparison, *, with_plots: bool = True) -> None:
+def write_comparison(folder: Path, summary: CompareSummary, *, with_plots: bool = True) -> None:
     """``comparison.csv``, ``comparison.md``, ``comparison.png`` (``with_plots``) and
     ``summary.json``."""
     rows = summary.variants
@@ -153,7 +153,7 @@ def write_comparison(folder: Path, summary: Comparison, *, with_plots: bool = Tr
     write_json_atomic(folder / "summary.json", summary)
 
 
-def comparison_figures(summary: Comparison) -> dict[str, Figure]:
+def comparison_figures(summary: CompareSummary) -> dict[str, Figure]:
     """``comparison``: one bar chart per figure (fuel, error, saturation), the variants
     side by side, each slew's error bound drawn."""
     rows = summary.variants
@@ -170,7 +170,7 @@ def _slew_bounds(rows: tuple[VariantRow, ...]) -> list[float | None]:
     return [row.required if row.requirement == "slew_error_deg" else None for row in rows]
 
 
-def comparison_markdown(summary: Comparison) -> str:
+def comparison_markdown(summary: CompareSummary) -> str:
     """The rows as a Markdown table, display units in the header."""
     header = "| " + " | ".join(title for _, title in COLUMNS) + " |"
     rule = "| " + " | ".join("---" for _ in COLUMNS) + " |"

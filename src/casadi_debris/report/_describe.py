@@ -100,7 +100,7 @@ class Thruster(Record):
 
 
 @dataclass(frozen=True)
-class ModelDescription(Record):
+class ModelSummary(Record):
     """The combined system in display units (``casadi-debris model``).
 
     ``cog_m`` is in the hub-corner frame; ``inertia_hub_cubesats_kgm2`` and
@@ -127,7 +127,7 @@ class ModelDescription(Record):
     notes: tuple[str, ...]
 
 
-def describe_model(model: Problem | Model) -> ModelDescription:
+def describe_model(model: Problem | Model) -> ModelSummary:
     """The combined system in display units (the ``casadi-debris model`` output), of a
     problem or of its model already built."""
     model = model if isinstance(model, Model) else build_model(model)
@@ -135,7 +135,7 @@ def describe_model(model: Problem | Model) -> ModelDescription:
     zero_force_mNm = {
         k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
     }
-    return ModelDescription(
+    return ModelSummary(
         problem=problem.name,
         problem_path=problem.source,
         problem_sha256=problem.sha256,
@@ -257,7 +257,7 @@ def _paper_cells(key: str, ours: Any, show_paper: bool) -> list[str]:
     return [format_cell(paper), mark]
 
 
-def model_text(summary: ModelDescription, show_paper: bool) -> str:
+def model_text(summary: ModelSummary, show_paper: bool) -> str:
     """Readable tables of :func:`describe_model`'s output."""
     headers = (
         ["quantity", "toolkit", "paper", "check"] if show_paper else ["quantity", "value", "", ""]
@@ -294,7 +294,7 @@ def _notes(problem: Problem, parameter_names: tuple[str, ...]) -> list[str]:
     ]
 
 
-def _quantity_rows(summary: ModelDescription, show_paper: bool) -> list[list[Any]]:
+def _quantity_rows(summary: ModelSummary, show_paper: bool) -> list[list[Any]]:
     """Mass, CoG, inertia and torque authority, each with the paper's figure when shown."""
     torque = summary.torque_max_mNm
     torque_pos = [torque["+x"], torque["+y"], torque["+z"]]

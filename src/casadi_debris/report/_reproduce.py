@@ -16,7 +16,7 @@ import numpy as np
 
 from casadi_debris.records import Record
 from casadi_debris.report._common import format_figure, verdict_text
-from casadi_debris.report._describe import ModelDescription
+from casadi_debris.report._describe import ModelSummary
 from casadi_debris.report._paper import paper_figure
 from casadi_debris.report._robust import MarginsSummary
 from casadi_debris.robust.plant import Controller
@@ -152,7 +152,7 @@ BUDGET_KEYS = (
 )
 
 
-def model_rows(model: ModelDescription) -> list[ReproductionRow]:
+def model_rows(model: ModelSummary) -> list[ReproductionRow]:
     """Mass, inertia and torque authority of the combined system."""
     torque = model.torque_max_mNm
     # The paper gives one authority per axis: the smaller of + and - is what
@@ -258,7 +258,7 @@ def pointing_rows(
 
 
 def reproduction_rows(
-    model: ModelDescription,
+    model: ModelSummary,
     budgets: dict[str, float],
     controller: ControllerSummary,
     margins: MarginsSummary,

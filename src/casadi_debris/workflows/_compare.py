@@ -28,7 +28,7 @@ from casadi_debris.errors import (
     ModelError,
 )
 from casadi_debris.guidance import Reference, scenario_reference
-from casadi_debris.report import Comparison, VariantRow, write_comparison
+from casadi_debris.report import CompareSummary, VariantRow, write_comparison
 from casadi_debris.simulation import (
     ClosedLoopResult,
     SimulationError,
@@ -136,12 +136,12 @@ class CompareResult(JobResult):
 
     Attributes
     ----------
-    summary : Comparison
+    summary : CompareSummary
         What ``summary.json`` holds (and ``--json`` prints): the rows, the controller,
         the plants, the common window; ``out_dir`` None until saved.
     """
 
-    summary: Comparison
+    summary: CompareSummary
 
     command = "compare"
 
@@ -216,7 +216,7 @@ def compare(
         if progress is not None:
             progress(label)
         rows.append(compare_row(label, problem, reference, record.reduced, window_s))
-    summary = Comparison(
+    summary = CompareSummary(
         controller_path=str(resolved),
         controller_plant_sha256=record.problem_sha256,
         plant_sha256={problem.name: problem.plant_sha256 for problem in problems},

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from casadi_debris.config import Problem
-from casadi_debris.report import ModelDescription, describe_model
+from casadi_debris.report import ModelSummary, describe_model
 from casadi_debris.store import write_json_atomic
 from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 
@@ -34,7 +34,7 @@ class ModelResult(JobResult):
     model : Model
         The CasADi model of the combined body (named ``casadi.Function``s, its geometry
         and parameters), SI units.
-    summary : ModelDescription
+    summary : ModelSummary
         What ``casadi-debris model --json`` prints: mass [kg], CoG [m], inertias
         [kg m^2], torque authority by signed axis [mN m], arrays, modes and thrusters
         (ids from 1).
@@ -42,7 +42,7 @@ class ModelResult(JobResult):
 
     problem: Problem
     model: Model
-    summary: ModelDescription
+    summary: ModelSummary
 
     command = "model"
 

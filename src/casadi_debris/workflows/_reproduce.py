@@ -27,7 +27,7 @@ from casadi_debris.report import (
     CampaignSummary,
     ControllerSummary,
     MarginsSummary,
-    ModelDescription,
+    ModelSummary,
     ReproductionRow,
     ReproductionSummary,
     describe_model,
@@ -324,7 +324,7 @@ def reproduce(
 
 def _rows(
     problem: Problem,
-    model_summary: ModelDescription,
+    model_summary: ModelSummary,
     budgets: dict[str, float],
     record: Controller,
     margins: MarginsSummary,
