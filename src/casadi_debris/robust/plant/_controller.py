@@ -93,7 +93,8 @@ class Controller:
         if isinstance(version, bool) or version != CONTROLLER_FORMAT_VERSION:
             raise ProblemFileError(
                 "format_version",
-                f"this toolkit reads controller files of format {CONTROLLER_FORMAT_VERSION}, got {version!r}",
+                f"this toolkit reads controller files of format {CONTROLLER_FORMAT_VERSION}, "
+                f"got {version!r}",
                 source,
             )
         for key in ("mu_peak", "mu_peak_reduced"):
