@@ -167,12 +167,12 @@ def test_synthesize_quick_writes_a_loadable_controller(runner, tmp_path):
 
 def test_margins_json_and_plots(runner, tmp_path):
     out = tmp_path / "run"
-    result = runner.invoke(main, ["margins", "--samples", "7", "--out", str(out), "--json"])
+    result = runner.invoke(main, ["margins", "--samples", "70", "--out", str(out), "--json"])
     assert result.exit_code == 0, result.output
     summary = json.loads(result.stdout)
     for block in ("nominal", "sampled_min"):
         assert set(summary[block]) >= {"gain_margin_db", "phase_margin_deg", "delay_margin_s"}
-    assert summary["samples"] == 7 and "controller_path" in summary and "seed" in summary
+    assert summary["samples"] == 70 and "controller_path" in summary and "seed" in summary
     assert set(summary["per_channel"]) == {"x", "y", "z"}
     for name in (
         "mu.png",
