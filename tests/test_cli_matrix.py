@@ -15,13 +15,13 @@ controller are given the shipped paper controller with ``--allow-mismatch`` on t
 gallery problems (designing one for each would take minutes; ``design`` itself is
 checked on its own).
 
-By default a quick command runs in plain text on the paper's problem and on
-``side_engines_12`` (the shape farthest from the paper's), and with ``--json --out`` on
-the paper's problem; a command that takes tens of seconds even at its quickest runs only
-that ``--json --out`` cell. A command whose own test (``tests/test_workflows_<command>.py``)
-already runs ``--json --out`` on the paper's problem by default, comparing it with the
-Python function (``elsewhere``), skips that cell here. The rest of the cells, and
-``reproduce --quick``, run under ``-m slow``.
+By default a quick command runs in plain text and with ``--json --out`` on all three
+problems; a command that takes tens of seconds even at its quickest runs only its
+``--json --out`` cell on the paper's problem. A command whose own test
+(``tests/test_workflows_<command>.py``) already runs ``--json --out`` by default on the
+paper's problem and on another shape, comparing it with the Python function
+(``elsewhere``), leaves its ``--json --out`` cells here to ``-m slow``. The rest of the
+cells, and ``reproduce --quick``, run under ``-m slow``.
 """
 
 from __future__ import annotations
@@ -306,19 +306,17 @@ COMMANDS = (
 )
 
 
-# The gallery problem whose cells run by default (the others' under -m slow).
-DEFAULT_GALLERY = "side_engines_12"
-
-
 def _slow(command: Command, problem: str, mode: str) -> bool:
     """Whether a cell runs only under ``-m slow`` (module notes)."""
-    if command.slow == "all" or problem not in ("paper", DEFAULT_GALLERY):
+    if mode == "json" and command.elsewhere:
         return True
-    if mode == "json":
-        return problem != "paper" or bool(command.elsewhere)
-    return {"": False, "long": True, "gallery-json": False, "gallery": problem != "paper"}[
-        command.slow
-    ]
+    return {
+        "": False,
+        "long": problem != "paper" or mode == "text",
+        "gallery-json": problem != "paper" and mode == "json",
+        "gallery": problem != "paper",
+        "all": True,
+    }[command.slow]
 
 
 def _cases(mode: str) -> list[object]:
