@@ -66,51 +66,6 @@ if TYPE_CHECKING:
         worstcase,
     )
 
-# Name -> the module that defines it, imported on first use.
-_LAZY = {
-    "AllocationResult": "casadi_debris.workflows._allocate",
-    "allocate": "casadi_debris.workflows._allocate",
-    "AlternativesResult": "casadi_debris.workflows._alternatives",
-    "alternatives": "casadi_debris.workflows._alternatives",
-    "BudgetResult": "casadi_debris.workflows._budget",
-    "budget": "casadi_debris.workflows._budget",
-    "BurnResult": "casadi_debris.workflows._burn",
-    "burn": "casadi_debris.workflows._burn",
-    "CompareResult": "casadi_debris.workflows._compare",
-    "compare": "casadi_debris.workflows._compare",
-    "DeorbitResult": "casadi_debris.workflows._deorbit",
-    "deorbit": "casadi_debris.workflows._deorbit",
-    "DesignResult": "casadi_debris.workflows._design",
-    "design": "casadi_debris.workflows._design",
-    "DetumbleResult": "casadi_debris.workflows._detumble",
-    "detumble": "casadi_debris.workflows._detumble",
-    "FailuresResult": "casadi_debris.workflows._failures",
-    "failures": "casadi_debris.workflows._failures",
-    "MarginsResult": "casadi_debris.workflows._margins",
-    "margins": "casadi_debris.workflows._margins",
-    "MissionResult": "casadi_debris.workflows._mission",
-    "mission": "casadi_debris.workflows._mission",
-    "ModelResult": "casadi_debris.workflows._model",
-    "model": "casadi_debris.workflows._model",
-    "MonteCarloResult": "casadi_debris.workflows._montecarlo",
-    "montecarlo": "casadi_debris.workflows._montecarlo",
-    "PlacementResult": "casadi_debris.workflows._placement",
-    "placement": "casadi_debris.workflows._placement",
-    "ReproductionResult": "casadi_debris.workflows._reproduce",
-    "reproduce": "casadi_debris.workflows._reproduce",
-    "SimulationResult": "casadi_debris.workflows._simulate",
-    "simulate": "casadi_debris.workflows._simulate",
-    "SlewResult": "casadi_debris.workflows._slew",
-    "SlewSummary": "casadi_debris.workflows._slew",
-    "slew": "casadi_debris.workflows._slew",
-    "SynthesisResult": "casadi_debris.workflows._synthesize",
-    "synthesize": "casadi_debris.workflows._synthesize",
-    "TransferResult": "casadi_debris.workflows._transfer",
-    "transfer": "casadi_debris.workflows._transfer",
-    "WorstCaseResult": "casadi_debris.workflows._worstcase",
-    "worstcase": "casadi_debris.workflows._worstcase",
-}
-
 __all__ = [
     "AllocationResult",
     "AlternativesResult",
@@ -161,4 +116,7 @@ __all__ = [
 ]
 
 
+# The jobs and their results: every exported name not imported above, found in
+# casadi_debris.workflows (which itself imports each job's module on first use).
+_LAZY = {name: "casadi_debris.workflows" for name in __all__ if name not in globals()}
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)
