@@ -51,23 +51,38 @@ def held_input(names: tuple[str, ...], knots_s: np.ndarray, thrust_N: np.ndarray
     return np.array(rows, dtype=[("time", float)] + [(n, float) for n in names])
 
 
-def reference_states(model: Model, knots_s: np.ndarray, thrust_N: np.ndarray, grid: np.ndarray):
-    """The model's dynamics with the engines' maps, by CVODES, sampled on ``grid``."""
+def reference_states(
+    model: Model,
+    knots_s: np.ndarray,
+    thrust_N: np.ndarray,
+    grid: np.ndarray,
+    parameters: np.ndarray | None = None,
+    start: np.ndarray | None = None,
+    disturbance_Nm: np.ndarray | tuple[float, ...] = (0.0, 0.0, 0.0),
+) -> np.ndarray:
+    """The model's dynamics with the engines' maps, by CVODES, sampled on ``grid``.
+
+    Nominal parameters, at rest at the identity unless ``parameters`` and ``start`` say
+    otherwise; the disturbance torque is constant.
+    """
     geometry = model.geometry
     x = ca.SX.sym("x", model.layout.size)
     thrust = ca.SX.sym("thrust", thrust_N.shape[1])
     span = ca.SX.sym("span")
     loads = ca.vertcat(
-        ca.DM(geometry.torque_map) @ thrust, ca.DM.zeros(3), ca.DM(geometry.force_map) @ thrust
+        ca.DM(geometry.torque_map) @ thrust,
+        ca.DM(disturbance_Nm),
+        ca.DM(geometry.force_map) @ thrust,
     )
-    rate = model.dynamics(x, loads, model.nominal_parameters)
+    p = model.nominal_parameters if parameters is None else parameters
+    rate = model.dynamics(x, loads, p)
     options = {"abstol": 1e-18, "reltol": 1e-12, "max_num_steps": 1_000_000}
     step = ca.integrator(
         "reference", "cvodes", {"x": x, "p": ca.vertcat(thrust, span), "ode": span * rate}, 0.0,
         1.0, options,
     )  # fmt: skip
     states = np.zeros((len(grid), model.layout.size))
-    states[0] = model.initial_state()
+    states[0] = model.initial_state() if start is None else start
     for i in range(len(grid) - 1):
         held = thrust_N[np.searchsorted(knots_s, grid[i] + 1e-9, side="right") - 1]
         params = np.append(held, grid[i + 1] - grid[i])
@@ -187,6 +202,83 @@ def test_engine_limits_and_loads(paper_model: Model, paper_fmu: FmuSummary):
     force = np.array([result[f"force_{a}_N"][-1] for a in "xyz"])
     np.testing.assert_allclose(torque, paper_model.geometry.torque_map @ applied, rtol=1e-12)
     np.testing.assert_allclose(force, paper_model.geometry.force_map @ applied, rtol=1e-12)
+
+
+@needs_compiler
+def test_parameters_start_and_disturbance_reach_the_plant(
+    paper_model: Model, paper_fmu: FmuSummary
+):
+    """Off-nominal parameters, a tilted, turning start and a held disturbance torque."""
+    corner = {
+        "inertia_scale_x": 1.17,
+        "inertia_scale_z": 0.83,
+        "mass_kg": 600.0,
+        "array_angle_offset_rad": 0.5,
+        "bending_frequency_scale": 0.8,
+    }
+    quaternion = np.array([0.9, 0.1, -0.3, 0.2])
+    rate = np.array([1e-3, -2e-3, 5e-4])
+    disturbance = np.array([2e-3, -1e-3, 3e-3])
+    start = {
+        **corner,
+        **{f"initial_q{i}_BN": float(v) for i, v in enumerate(quaternion)},
+        **{f"initial_omega_{a}_rad_s": float(v) for a, v in zip("xyz", rate, strict=True)},
+    }
+    knots, thrust = bang_bang(paper_model, axis=1)
+    names = (*paper_fmu.inputs[: thrust.shape[1]], *paper_fmu.inputs[-3:])
+    table = np.hstack([thrust, np.tile(disturbance, (len(knots), 1))])
+    signal = held_input(names, knots, table)
+    grid, states, _ = fmu_states(Path(paper_fmu.path), paper_model, signal, 24.0, **start)
+    reference = reference_states(
+        paper_model,
+        knots,
+        thrust,
+        grid,
+        parameters=paper_model.parameters(**corner),
+        start=paper_model.initial_state(quaternion, rate),
+        disturbance_Nm=disturbance,
+    )
+    error = relative_error(states, reference)
+    assert error.max() < RK4_RELATIVE_AT_DEFAULT, error
+    # The nominal plant from the same start is far off: the parameters did reach it.
+    nominal = reference_states(
+        paper_model, knots, thrust, grid, start=paper_model.initial_state(quaternion, rate),
+        disturbance_Nm=disturbance,
+    )  # fmt: skip
+    assert relative_error(states, nominal)[4:7].max() > 100 * RK4_RELATIVE_AT_DEFAULT
+
+
+@needs_compiler
+def test_saved_state_replays_the_same_step(paper_model: Model, paper_fmu: FmuSummary, tmp_path):
+    """fmi2GetFMUstate / fmi2SetFMUstate: a restored instance steps to the same outputs."""
+    from fmpy.fmi2 import FMU2Slave
+
+    description = fmpy.read_model_description(paper_fmu.path)
+    unzipped = fmpy.extract(paper_fmu.path, str(tmp_path / "unzipped"))
+    references = {v.name: v.valueReference for v in description.modelVariables}
+    slave = FMU2Slave(
+        guid=description.guid,
+        unzipDirectory=unzipped,
+        modelIdentifier=description.coSimulation.modelIdentifier,
+        instanceName="replay",
+    )
+    slave.instantiate()
+    slave.setupExperiment(startTime=0.0)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    outputs = [references[n] for n in paper_fmu.outputs]
+    slave.setReal([references["thrust_cs01_e1_N"]], [6.4e-4])
+    slave.doStep(0.0, 0.5)
+    saved = slave.getFMUstate()
+    slave.doStep(0.5, 0.5)
+    first = slave.getReal(outputs)
+    slave.setFMUstate(saved)
+    slave.doStep(0.5, 0.5)
+    assert slave.getReal(outputs) == first
+    assert any(value != 0.0 for value in first[4:7])  # the engine turned the debris
+    slave.freeFMUstate(saved)
+    slave.terminate()
+    slave.freeInstance()
 
 
 @needs_compiler
