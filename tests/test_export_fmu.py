@@ -24,7 +24,7 @@ import pytest
 from casadi_debris import load_problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.errors import InputShapeError, OutputError
-from casadi_debris.export import FmuSettings, FmuSummary, fmu_layout, write_fmu
+from casadi_debris.export import FmuSettings, FmuSummary, engine_names, fmu_layout, write_fmu
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy.validation import validate_fmu  # noqa: E402
@@ -173,6 +173,17 @@ def test_variables_name_engines_from_one(paper_model: Model, paper_fmu: FmuSumma
     assert paper_fmu.parameters["mass_kg"] == pytest.approx(paper_model.geometry.mass_kg)
 
 
+def test_side_engines_are_named_by_cubesat_and_engine():
+    """Five engines per CubeSat: each CubeSat's are e1..e5, in the model's engine order."""
+    model = build_model(load_problem("side_engines_12"))
+    names = engine_names(model)
+    assert len(set(names)) == len(names) == len(model.geometry.engines)
+    for engine, name in zip(model.geometry.engines, names, strict=True):
+        own = model.geometry.cubesats[engine.cubesat].engines
+        assert name == f"thrust_cs{engine.cubesat + 1:02d}_e{own.index(engine.index) + 1}_N"
+    assert {name[-4:] for name in names} == {f"e{k}_N" for k in range(1, 6)}
+
+
 @needs_compiler
 def test_bang_bang_agrees_with_cvodes(paper_model: Model, paper_fmu: FmuSummary):
     knots, thrust = bang_bang(paper_model, axis=2)
@@ -228,7 +239,7 @@ def test_parameters_start_and_disturbance_reach_the_plant(
     names = (*paper_fmu.inputs[: thrust.shape[1]], *paper_fmu.inputs[-3:])
     table = np.hstack([thrust, np.tile(disturbance, (len(knots), 1))])
     signal = held_input(names, knots, table)
-    grid, states, _ = fmu_states(Path(paper_fmu.path), paper_model, signal, 24.0, **start)
+    grid, states, _ = fmu_states(Path(paper_fmu.path), paper_model, signal, 12.0, **start)
     reference = reference_states(
         paper_model,
         knots,
@@ -248,22 +259,26 @@ def test_parameters_start_and_disturbance_reach_the_plant(
     assert relative_error(states, nominal)[4:7].max() > 100 * RK4_RELATIVE_AT_DEFAULT
 
 
-@needs_compiler
-def test_saved_state_replays_the_same_step(paper_model: Model, paper_fmu: FmuSummary, tmp_path):
-    """fmi2GetFMUstate / fmi2SetFMUstate: a restored instance steps to the same outputs."""
+def instantiated(summary: FmuSummary, folder: Path):
+    """An fmpy co-simulation slave of the FMU, instantiated, and its value references."""
     from fmpy.fmi2 import FMU2Slave
 
-    description = fmpy.read_model_description(paper_fmu.path)
-    unzipped = fmpy.extract(paper_fmu.path, str(tmp_path / "unzipped"))
-    references = {v.name: v.valueReference for v in description.modelVariables}
+    description = fmpy.read_model_description(summary.path)
     slave = FMU2Slave(
         guid=description.guid,
-        unzipDirectory=unzipped,
+        unzipDirectory=fmpy.extract(summary.path, str(folder)),
         modelIdentifier=description.coSimulation.modelIdentifier,
-        instanceName="replay",
+        instanceName="check",
     )
     slave.instantiate()
     slave.setupExperiment(startTime=0.0)
+    return slave, {v.name: v.valueReference for v in description.modelVariables}
+
+
+@needs_compiler
+def test_saved_state_replays_the_same_step(paper_fmu: FmuSummary, tmp_path: Path):
+    """fmi2GetFMUstate / fmi2SetFMUstate: a restored instance steps to the same outputs."""
+    slave, references = instantiated(paper_fmu, tmp_path)
     slave.enterInitializationMode()
     slave.exitInitializationMode()
     outputs = [references[n] for n in paper_fmu.outputs]
@@ -279,6 +294,36 @@ def test_saved_state_replays_the_same_step(paper_model: Model, paper_fmu: FmuSum
     slave.freeFMUstate(saved)
     slave.terminate()
     slave.freeInstance()
+
+
+@needs_compiler
+def test_bad_values_are_refused_by_name(paper_fmu: FmuSummary, tmp_path: Path, capfd):
+    """The unit refuses a non-positive mass, a non-finite input and a late parameter."""
+    from fmpy.fmi1 import FMICallException
+
+    slave, references = instantiated(paper_fmu, tmp_path)
+    slave.setReal([references["mass_kg"]], [-1.0])
+    slave.enterInitializationMode()
+    with pytest.raises(FMICallException):
+        slave.exitInitializationMode()
+    slave.setReal([references["mass_kg"]], [600.0])
+    slave.exitInitializationMode()
+    with pytest.raises(FMICallException):
+        slave.setReal([references["thrust_cs02_e1_N"]], [float("nan")])
+    with pytest.raises(FMICallException):
+        slave.setReal([references["inertia_scale_x"]], [1.1])
+    with pytest.raises(FMICallException):
+        slave.setReal([references["q0_BN"]], [1.0])
+    slave.terminate()
+    slave.freeInstance()
+    messages = capfd.readouterr().out
+    for expected in (
+        "mass_kg must be positive",
+        "thrust_cs02_e1_N must be finite",
+        "inertia_scale_x: a parameter is fixed",
+        "q0_BN: an output cannot be set",
+    ):
+        assert expected in messages, messages
 
 
 @needs_compiler

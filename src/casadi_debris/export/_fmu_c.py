@@ -111,9 +111,16 @@ def wrapper_source(
         "POSITIVE": ", ".join(map(str, positive)),
         "MAX_THRUST": _c_array(max_thrust),
         "START": _c_array(starts),
+        "NAMES": _c_strings([v.name for v in layout.variables]),
         **sizes,
     }
     return Template(_WRAPPER).substitute(values)
+
+
+def _c_strings(names: list[str]) -> str:
+    """Variable names as C string literals, four a line (they are plain identifiers)."""
+    items = [f'"{name}"' for name in names]
+    return ",\n    ".join(", ".join(items[i : i + 4]) for i in range(0, len(items), 4))
 
 
 def _c_array(values: list[float] | np.ndarray) -> str:
@@ -208,6 +215,10 @@ static const double max_thrust_N[NE] = {
 static const double start_values[NR] = {
     ${START}
 };
+/* Names, for the messages: an error names the variable. */
+static const char *const names[NR] = {
+    ${NAMES}
+};
 /* Parameters that must be positive: mass, inertia factors, the step. */
 static const int positive[N_POSITIVE] = {${POSITIVE}};
 
@@ -231,13 +242,17 @@ typedef struct {
 } Instance;
 
 static void report(Instance *m, fmi2Status status, const char *format, ...) {
-    char text[512];
+    char text[512], *p;
     va_list args;
     if (m == NULL || m->cb.logger == NULL || (!m->logging && status < fmi2Error)) return;
     va_start(args, format);
     vsnprintf(text, sizeof text, format, args);
     va_end(args);
-    m->cb.logger(m->cb.componentEnvironment, m->name, status, "logStatusError", "%s", text);
+    /* The text goes as the message itself (some importers print it without formatting),
+     * so no '%' may be left in it to be read as a conversion by those that do. */
+    for (p = text; *p; ++p)
+        if (*p == '%') *p = '?';
+    m->cb.logger(m->cb.componentEnvironment, m->name, status, "logStatusError", text);
 }
 
 static fmi2Status fail(Instance *m, const char *where, const char *what) {
@@ -375,7 +390,7 @@ CDB_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     if (m->phase != INITIALIZATION) return fail(m, "fmi2ExitInitializationMode", "wrong state");
     for (i = 0; i < N_POSITIVE; ++i)
         if (!(m->r[positive[i]] > 0.0)) {
-            report(m, fmi2Error, "parameter %u must be positive, got %g", (unsigned)positive[i],
+            report(m, fmi2Error, "parameter %s must be positive, got %g", names[positive[i]],
                    m->r[positive[i]]);
             return fmi2Error;
         }
@@ -418,12 +433,12 @@ CDB_EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[]
     Instance *m = (Instance *)c;
     size_t i;
     for (i = 0; i < nvr; ++i) {
-        if (vr[i] >= VR_STATE) return fail(m, "fmi2SetReal", "an output or unknown reference");
+        if (vr[i] >= NR) return fail(m, "fmi2SetReal", "unknown value reference");
+        if (vr[i] >= VR_STATE) return fail(m, names[vr[i]], "an output cannot be set");
         if (vr[i] < VR_THRUST && m->phase != INSTANTIATED && m->phase != INITIALIZATION)
-            return fail(m, "fmi2SetReal", "parameters are fixed after initialisation");
+            return fail(m, names[vr[i]], "a parameter is fixed after initialisation");
         if (!isfinite(value[i])) {
-            report(m, fmi2Error, "fmi2SetReal: value reference %u must be finite",
-                   (unsigned)vr[i]);
+            report(m, fmi2Error, "fmi2SetReal: %s must be finite", names[vr[i]]);
             return fmi2Error;
         }
         m->r[vr[i]] = value[i];
