@@ -109,7 +109,7 @@ def wrapper_source(
         "Q_ST": model.layout.q_st.start,
         "N_POSITIVE": len(positive),
         "POSITIVE": ", ".join(map(str, positive)),
-        "MAX_THRUST": _c_array(max_thrust),
+        "MAX_THRUST": _c_array(max_thrust or [0.0]),  # C99 has no empty array
         "START": _c_array(starts),
         "NAMES": _c_strings([v.name for v in layout.variables]),
         **sizes,
@@ -192,6 +192,7 @@ typedef struct {
 #define GUID "${GUID}"
 #define NX ${NX}                 /* states */
 #define NE ${NE}                 /* engines */
+#define NE_ALLOC (NE > 0 ? NE : 1)
 #define NR ${NR}                 /* Real variables */
 #define VR_INIT ${VR_INIT}       /* initial q_BN (4), omega (3) */
 #define VR_MAX_STEP ${VR_MAX_STEP}
@@ -209,7 +210,7 @@ typedef struct {
  * max_step_s, not a limit of the method. */
 #define MAX_SUBSTEPS 100000000.0
 
-static const double max_thrust_N[NE] = {
+static const double max_thrust_N[NE_ALLOC] = {
     ${MAX_THRUST}
 };
 static const double start_values[NR] = {
@@ -232,7 +233,7 @@ typedef struct {
     double time;
     double r[NR];
     double x[NX];
-    double thrust[NE];
+    double thrust[NE_ALLOC];
     double k[4][NX];
     double trial[NX];
     const casadi_real *arg[SZ_ARG];
