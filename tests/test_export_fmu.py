@@ -24,7 +24,15 @@ import pytest
 from casadi_debris import load_problem
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.errors import InputShapeError, OutputError
-from casadi_debris.export import FmuSettings, FmuSummary, engine_names, fmu_layout, write_fmu
+from casadi_debris.export import (
+    FmuSettings,
+    FmuSummary,
+    engine_names,
+    fmi_platform,
+    fmu_layout,
+    model_identifier,
+    write_fmu,
+)
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy.validation import validate_fmu  # noqa: E402
@@ -153,7 +161,8 @@ def test_fmpy_finds_no_problem(paper_fmu: FmuSummary):
     assert description.coSimulation is not None and description.modelExchange is None
     with zipfile.ZipFile(paper_fmu.path) as archive:
         names = set(archive.namelist())
-    library = f"binaries/linux64/{paper_fmu.model_identifier}.so"
+    folder, suffix = fmi_platform()
+    library = f"binaries/{folder}/{paper_fmu.model_identifier}{suffix}"
     assert {"modelDescription.xml", "sources/fmu.c", "sources/plant.c", library} <= names
 
 
@@ -349,6 +358,14 @@ def test_sources_build_against_the_standard_headers(
                "-shared", "-o", str(tmp_path / "rebuilt.so"), "fmu.c", "-lm"]  # fmt: skip
     built = subprocess.run(command, cwd=tmp_path / "sources", capture_output=True, text=True)
     assert built.returncode == 0, built.stderr
+
+
+def test_summary_is_a_record(paper_fmu: FmuSummary):
+    data = paper_fmu.to_json()
+    assert FmuSummary.from_json(data) == paper_fmu
+    assert data["fmi_version"] == "2.0" and data["platform"] == fmi_platform()[0]
+    assert data["size_bytes"] == Path(paper_fmu.path).stat().st_size
+    assert model_identifier("my debris-1 (v2)") == "casadi_debris_my_debris_1_v2"
 
 
 def test_bad_requests_are_named(paper_model: Model, tmp_path: Path):
