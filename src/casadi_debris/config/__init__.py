@@ -107,11 +107,11 @@ from casadi_debris.config._segments import (
     Segment,
     SegmentKind,
     SlewMethod,
-    SlewReference,
-    SlewSettings,
+    SlewRequest,
     Target,
     TrackFrame,
     axis_unit_vector,
+    slew_about,
 )
 from casadi_debris.config._varied import key_of, parse_path, with_value
 
@@ -166,8 +166,7 @@ __all__ = [
     "SignedAxis",
     "Simulation",
     "SlewMethod",
-    "SlewReference",
-    "SlewSettings",
+    "SlewRequest",
     "StarTracker",
     "Target",
     "TrackFrame",
@@ -197,6 +196,7 @@ __all__ = [
     "run_length_violation",
     "shipped_problems",
     "signed_axis_vector",
+    "slew_about",
     "with_duration",
     "with_value",
 ]

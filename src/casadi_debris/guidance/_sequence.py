@@ -35,7 +35,7 @@ from casadi_debris.config import (
     Problem,
     Segment,
     Simulation,
-    SlewSettings,
+    SlewRequest,
     Target,
     axis_unit_vector,
 )
@@ -115,8 +115,7 @@ def one_slew_segments(simulation: Simulation) -> tuple[Segment, ...]:
     slew = simulation.slew
     if simulation.reference != "slew" or slew is None:
         return ()
-    target = Target("rotation", axis=slew.axis, angle_deg=slew.angle_deg)
-    return (Segment("slew", slew.start_s, slew.duration_s, target, slew.settings),)
+    return (Segment.of_slew(slew),)
 
 
 def _held(q: np.ndarray) -> Attitudes:
@@ -256,11 +255,11 @@ class _Builder:
         :func:`~casadi_debris.guidance._targets.track_attitudes`)."""
         assert segment.target is not None and segment.slew is not None  # the reader's
         start, q0, target = self.time_s, self.attitude, segment.target
-        settings: SlewSettings = segment.slew
+        request: SlewRequest = segment.slew
 
         def solve(end_s: float) -> SlewProfile:
             goal = self._slew_target(target, q0, end_s + lead_s, key)
-            return solve_slew(self.problem, goal, settings, segment.duration_s, self.sample_s, key)
+            return solve_slew(self.problem, goal, request, self.sample_s, key)
 
         profile = solve(start + (segment.duration_s or 0.0))
         if target.kind == "frame" and segment.duration_s is None:
@@ -272,7 +271,7 @@ class _Builder:
             _slew_attitudes(profile, start),
             index,
             profile,
-            settings.feedforward,
+            request.feedforward,
         )
 
     def _onto_frame(
