@@ -6,3 +6,7 @@
 FILES=$(git ls-files '*.py' '*.md')
 sed -i -E 's/\bSlewReference\b/SlewRequest/g; s/\bSlewSettings\b/SlewRequest/g' $FILES
 sed -i -E 's/\bread_slew_settings\b/read_slew_request/g' $FILES
+# One burn request: config.BurnSettings is config.BurnRequest (its thrust_mN field is
+# thrust_N, SI: divide by 1000 by hand, not by sed, the JSON keys keep thrust_mN);
+# guidance.plan_burn(problem, request, duration_s) derives the BurnPlan.
+sed -i -E 's/\bBurnSettings\b/BurnRequest/g' $FILES

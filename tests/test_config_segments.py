@@ -247,8 +247,29 @@ def test_a_burn_reads_its_axis_and_thrust(fresh_data: dict[str, Any]) -> None:
     segment = {"kind": "burn", "direction": "antinormal", "body_axis": "-z", "thrust_mN": 1.5}
     burn = sequence(fresh_data, [segment]).simulation.segments[0].burn
     assert burn is not None
-    assert (burn.direction, burn.body_axis, burn.thrust_mN) == ("antinormal", "-z", 1.5)
-    assert burn.thrust_fraction == 1.0
+    # SI inside: the file's mN become N in the request.
+    assert (burn.direction, burn.body_axis, burn.thrust_N) == ("antinormal", "-z", 1.5e-3)
+    assert burn.thrust_fraction == 1.0 and burn.duration_s is None
+
+
+def test_a_burn_plan_is_derived_from_its_request(fresh_data: dict[str, Any]) -> None:
+    """The plan resolves the request's axis (a name, a vector, or the swarm's strongest
+    torque-free direction) to a unit vector and takes the firing time its segment gives."""
+    from casadi_debris.config import BurnRequest
+    from casadi_debris.errors import SimulationError
+    from casadi_debris.guidance import plan_burn, strongest_axis
+
+    problem = problem_from_dict(fresh_data, "<test>")
+    named = plan_burn(problem, BurnRequest("normal", "-z", thrust_N=2e-3, duration_s=60.0))
+    assert np.array_equal(named.body_axis, [0.0, 0.0, -1.0])
+    assert (named.direction, named.duration_s, named.thrust_N) == ("normal", 60.0, 2e-3)
+    vector = plan_burn(problem, BurnRequest("prograde", (3.0, 0.0, 4.0)), duration_s=30.0)
+    assert np.allclose(vector.body_axis, [0.6, 0.0, 0.8], rtol=0, atol=1e-15)
+    assert vector.duration_s == 30.0 and vector.thrust_fraction == 1.0
+    strongest = plan_burn(problem, BurnRequest("retrograde", thrust_fraction=0.5), 10.0)
+    assert np.allclose(strongest.body_axis, strongest_axis(problem), rtol=0, atol=1e-15)
+    with pytest.raises(SimulationError, match="duration_s: a burn needs its firing time"):
+        plan_burn(problem, BurnRequest("normal"))
 
 
 def test_a_slew_segment_and_the_one_slew_table_read_into_one_request(

@@ -42,6 +42,7 @@ import numpy as np
 from casadi_debris.config import limits
 from casadi_debris.config._table import Table, frozen_array
 from casadi_debris.errors import InputShapeError
+from casadi_debris.units import MN_PER_N
 
 SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
 SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
@@ -186,24 +187,33 @@ def slew_about(
 
 
 @dataclass(frozen=True, eq=False)
-class BurnSettings:
-    """What a burn segment thrusts with.
+class BurnRequest:
+    """What a burn does (a burn segment, or the ``burn`` job's options), SI inside.
+
+    The plan flown (the axis as a unit vector, the firing time) is derived from it:
+    :func:`~casadi_debris.guidance.plan_burn`.
 
     Attributes
     ----------
     direction : {"prograde", "retrograde", "normal", "antinormal"}
+        Where the thrust points, in the orbit's LVLH frame.
     body_axis : str or tuple of 3 floats, or None
-        The thrust axis (None: the swarm's strongest torque-free direction).
+        The thrust axis in body axes, a name (``"-y"``) or a vector (None: the swarm's
+        strongest torque-free direction).
     thrust_fraction : float
-        Of the largest torque-free thrust along the axis.
-    thrust_mN : float or None
-        The thrust itself, instead of the fraction.
+        Of the largest torque-free thrust along the axis (ignored when ``thrust_N`` is
+        given).
+    thrust_N : float or None
+        The thrust itself [N] (``thrust_mN`` in a problem file and on the command line).
+    duration_s : float or None
+        Engines on [s]; None: a segment's window sets it (after its blend).
     """
 
     direction: BurnDirection
     body_axis: str | tuple[float, float, float] | None = None
     thrust_fraction: float = 1.0
-    thrust_mN: float | None = None
+    thrust_N: float | None = None
+    duration_s: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -227,7 +237,7 @@ class Segment:
     blend_s : float
         A track: how long its start (and a segment after it) takes to join
         the new reference, rate and attitude [s].
-    burn : BurnSettings or None
+    burn : BurnRequest or None
         Given for a burn (a track of the LVLH frame whose offset the burn sets).
     """
 
@@ -237,7 +247,7 @@ class Segment:
     target: Target | None = None
     slew: SlewRequest | None = None
     blend_s: float = DEFAULT_BLEND_S
-    burn: BurnSettings | None = None
+    burn: BurnRequest | None = None
 
     @classmethod
     def of_slew(cls, request: SlewRequest) -> Segment:
@@ -430,7 +440,7 @@ def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Se
     duration_s = t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None
     target: Target | None = None
     slew: SlewRequest | None = None
-    burn: BurnSettings | None = None
+    burn: BurnRequest | None = None
     blend_s = DEFAULT_BLEND_S
     if kind == "slew":
         slew = read_slew_request(
@@ -463,7 +473,7 @@ def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Se
     return Segment(kind, start_s, duration_s, target, slew, blend_s, burn)
 
 
-def _read_burn(t: Table) -> BurnSettings:
+def _read_burn(t: Table) -> BurnRequest:
     """A burn's keys: ``direction`` (required), ``body_axis``, ``thrust_fraction`` or
     ``thrust_mN``."""
     if not t.has("direction"):
@@ -471,13 +481,15 @@ def _read_burn(t: Table) -> BurnSettings:
     if t.has("thrust_fraction") and t.has("thrust_mN"):
         raise t.error(t.key("thrust_mN"), "give thrust_fraction or thrust_mN, not both")
     direction: BurnDirection = t.text("direction", BURN_DIRECTIONS)
-    return BurnSettings(
+    return BurnRequest(
         direction=direction,
         body_axis=read_axis(t, "body_axis") if t.has("body_axis") else None,
         thrust_fraction=(
             t.number("thrust_fraction", limits.positive(1.0)) if t.has("thrust_fraction") else 1.0
         ),
-        thrust_mN=t.number("thrust_mN", limits.THRUST_MN) if t.has("thrust_mN") else None,
+        thrust_N=(
+            t.number("thrust_mN", limits.THRUST_MN) / MN_PER_N if t.has("thrust_mN") else None
+        ),
     )
 
 

@@ -37,7 +37,6 @@ from casadi_debris.config import (
     Simulation,
     SlewRequest,
     Target,
-    axis_unit_vector,
 )
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
@@ -46,13 +45,12 @@ from casadi_debris.guidance._burn_plan import (
     attitude_limits,
     burn_offset,
     burn_thrust_N,
-    strongest_axis,
+    plan_burn,
 )
 from casadi_debris.guidance._slew import slew_quaternions, solve_slew
 from casadi_debris.guidance._targets import body_rates, frame_attitude, track_attitudes
 from casadi_debris.records import Record
 from casadi_debris.slews import LimitCheck, SlewProfile, SlewTarget, slew_about_axis, slew_between
-from casadi_debris.units import MN_PER_N
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 TRACKS = ("track", "burn")
@@ -229,13 +227,8 @@ class _Builder:
         self, segment: Segment, index: int, window_s: tuple[float, float], stop: bool
     ) -> tuple[BurnPlan, Target]:
         """A burn segment's plan and the LVLH offset holding its axis along its direction."""
-        settings = segment.burn
-        assert settings is not None
-        axis = (
-            strongest_axis(self.problem)
-            if settings.body_axis is None
-            else axis_unit_vector(settings.body_axis)
-        )
+        request = segment.burn
+        assert request is not None
         firing = window_s[1] - window_s[0] - segment.blend_s * (2 if stop else 1)
         if firing <= 0.0:
             raise ProblemFileError(
@@ -244,8 +237,7 @@ class _Builder:
                 f"blend_s ({segment.blend_s:g} s)" + (" and stops as long" if stop else ""),
                 self.problem.source,
             )
-        thrust_N = None if settings.thrust_mN is None else settings.thrust_mN / MN_PER_N
-        plan = BurnPlan(settings.direction, axis, firing, settings.thrust_fraction, thrust_N)
+        plan = plan_burn(self.problem, request, firing)
         offset = burn_offset(plan.body_axis, plan.direction_lvlh)
         return plan, Target("frame", quaternion=offset, frame="lvlh")
 
