@@ -54,8 +54,7 @@ if TYPE_CHECKING:
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
     """Largest pure torque per axis at zero net force (the smaller of + and -), shape (3,)."""
-    authority = allocator.torque_authority()
-    return np.array([min(authority[f"+{a}"], authority[f"-{a}"]) for a in AXIS_NAMES]) * MNM_PER_NM
+    return allocator.torque_authority().weakest_Nm * MNM_PER_NM
 
 
 def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
