@@ -189,3 +189,16 @@ def test_callers_import_from_the_package():
     """Implementation modules are private: what another package needs, the package exports
     from its __init__ (tests may still reach into a module to patch it)."""
     assert not _private_imports()
+
+
+def test_the_report_package_lists_its_names_once():
+    """``casadi_debris.report`` exports what its TYPE_CHECKING block imports (the lazy
+    table is read from it): every name in ``__all__`` resolves, none is left out."""
+    import casadi_debris.report as report
+    from casadi_debris._lazy import type_checking_imports
+
+    imported = type_checking_imports(report.__file__)
+    assert set(imported) == set(report.__all__)
+    for name in report.__all__:
+        value = getattr(report, name)
+        assert getattr(value, "__module__", imported[name]) == imported[name], name
