@@ -147,6 +147,7 @@ def check_every_profile(monkeypatch: Any) -> None:
     :func:`assert_checked` for a problem's, the box for a rigid body's. For a
     module-scoped autouse fixture, so that module-scoped slews are checked too."""
     from casadi_debris.config import Problem as ProblemType
+    from casadi_debris.dynamics import Model
     from casadi_debris.slews import _bang_bang as bang_bang
     from casadi_debris.slews import _ocp_solution as ocp_solution
     from casadi_debris.slews import _optimal as optimal
@@ -154,8 +155,10 @@ def check_every_profile(monkeypatch: Any) -> None:
 
     def finish(**keywords: Any) -> Any:
         slew = finish_profile(**keywords)
-        assert isinstance(keywords["problem"], ProblemType)
-        assert_checked(keywords["problem"], slew)
+        given = keywords["problem"]  # a problem, or its flexible model
+        problem = given.problem if isinstance(given, Model) else given
+        assert isinstance(problem, ProblemType)
+        assert_checked(problem, slew)
         return slew
 
     def rigid(body: Any, *arguments: Any, **keywords: Any) -> Any:

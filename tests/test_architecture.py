@@ -95,6 +95,21 @@ def test_signatures_stay_narrow():
     assert not wide, f"group these parameters into a settings object: {sorted(wide)}"
 
 
+# A model knows its problem (``Model.problem``, ``DeorbitModel.problem``): a function that
+# took both could be handed a model of another problem.
+MODEL_PARAMETERS = ("model", "rigid", "rigid_model", "flexible_model")
+
+
+def test_a_function_takes_a_model_or_a_problem_never_both():
+    both = []
+    for name, node in _functions():
+        args = node.args
+        names = {a.arg for a in args.posonlyargs + args.args + args.kwonlyargs}
+        if "problem" in names and names & set(MODEL_PARAMETERS):
+            both.append(f"{name}:{node.lineno} {node.name}")
+    assert not both, f"take the model (it knows its problem) or the problem: {both}"
+
+
 def _import_cycles() -> list[list[str]]:
     """Groups of modules that import each other at run time (type-checking imports left
     out), by Tarjan's strongly connected components."""
@@ -174,3 +189,16 @@ def test_callers_import_from_the_package():
     """Implementation modules are private: what another package needs, the package exports
     from its __init__ (tests may still reach into a module to patch it)."""
     assert not _private_imports()
+
+
+def test_the_report_package_lists_its_names_once():
+    """``casadi_debris.report`` exports what its TYPE_CHECKING block imports (the lazy
+    table is read from it): every name in ``__all__`` resolves, none is left out."""
+    import casadi_debris.report as report
+    from casadi_debris._lazy import type_checking_imports
+
+    imported = type_checking_imports(report.__file__)
+    assert set(imported) == set(report.__all__)
+    for name in report.__all__:
+        value = getattr(report, name)
+        assert getattr(value, "__module__", imported[name]) == imported[name], name

@@ -247,5 +247,77 @@ def test_a_burn_reads_its_axis_and_thrust(fresh_data: dict[str, Any]) -> None:
     segment = {"kind": "burn", "direction": "antinormal", "body_axis": "-z", "thrust_mN": 1.5}
     burn = sequence(fresh_data, [segment]).simulation.segments[0].burn
     assert burn is not None
-    assert (burn.direction, burn.body_axis, burn.thrust_mN) == ("antinormal", "-z", 1.5)
-    assert burn.thrust_fraction == 1.0
+    # SI inside: the file's mN become N in the request.
+    assert (burn.direction, burn.body_axis, burn.thrust_N) == ("antinormal", "-z", 1.5e-3)
+    assert burn.thrust_fraction == 1.0 and burn.duration_s is None
+
+
+def test_a_burn_plan_is_derived_from_its_request(fresh_data: dict[str, Any]) -> None:
+    """The plan resolves the request's axis (a name, a vector, or the swarm's strongest
+    torque-free direction) to a unit vector and takes the firing time its segment gives."""
+    from casadi_debris.config import BurnRequest
+    from casadi_debris.errors import SimulationError
+    from casadi_debris.guidance import plan_burn, strongest_axis
+
+    problem = problem_from_dict(fresh_data, "<test>")
+    named = plan_burn(problem, BurnRequest("normal", "-z", thrust_N=2e-3, duration_s=60.0))
+    assert np.array_equal(named.body_axis, [0.0, 0.0, -1.0])
+    assert (named.direction, named.duration_s, named.thrust_N) == ("normal", 60.0, 2e-3)
+    vector = plan_burn(problem, BurnRequest("prograde", (3.0, 0.0, 4.0)), duration_s=30.0)
+    assert np.allclose(vector.body_axis, [0.6, 0.0, 0.8], rtol=0, atol=1e-15)
+    assert vector.duration_s == 30.0 and vector.thrust_fraction == 1.0
+    strongest = plan_burn(problem, BurnRequest("retrograde", thrust_fraction=0.5), 10.0)
+    assert np.allclose(strongest.body_axis, strongest_axis(problem), rtol=0, atol=1e-15)
+    with pytest.raises(SimulationError, match="duration_s: a burn needs its firing time"):
+        plan_burn(problem, BurnRequest("normal"))
+
+
+def test_a_slew_segment_and_the_one_slew_table_read_into_one_request(
+    fresh_data: dict[str, Any],
+) -> None:
+    """A slew segment holds one SlewRequest whose target, start and duration are the
+    segment's; ``[simulation.slew]`` reads into the same type, and flies as that segment."""
+    from casadi_debris.config import Segment, SlewRequest
+
+    written = {"method": "time-optimal", "thrusters": True, "torque_fraction": 0.5}
+    segment = sequence(
+        fresh_data,
+        [{"kind": "slew", "axis": "y", "angle_deg": 40.0, "start_s": 10.0, **written}],
+    ).simulation.segments[0]
+    request = segment.slew
+    assert isinstance(request, SlewRequest)
+    assert request.target is segment.target and request.target.axis == "y"
+    assert (request.start_s, request.duration_s) == (segment.start_s, segment.duration_s)
+    assert (request.method, request.torque_fraction) == ("time-optimal", 0.5)
+    # A problem file's thruster level is at zero net force, as the loop's allocator flies it.
+    assert request.thrusters and request.zero_net_force
+
+    del fresh_data["simulation"]["segments"]
+    fresh_data["simulation"] |= {"reference": "slew", "duration_s": 1500.0}
+    fresh_data["simulation"]["slew"] = {"axis": "y", "angle_deg": 40.0, "start_s": 10.0}
+    fresh_data["simulation"]["slew"] |= written
+    one = problem_from_dict(fresh_data, "<test>").simulation
+    assert isinstance(one.slew, SlewRequest)
+    flown = Segment.of_slew(one.slew)
+    assert flown.slew is one.slew and flown.target is one.slew.target
+    assert (flown.kind, flown.start_s, flown.duration_s) == ("slew", 10.0, None)
+    assert (one.slew.axis, one.slew.angle_deg) == ("y", 40.0)
+
+
+def test_a_turn_has_an_axis_and_an_attitude_has_none(fresh_data: dict[str, Any]) -> None:
+    from casadi_debris.config import slew_about
+    from casadi_debris.errors import InputShapeError
+
+    turn = slew_about("-x", 25.0, method="fuel-optimal", duration_s=600.0)
+    assert (turn.axis, turn.angle_deg, turn.method, turn.duration_s) == (
+        "-x",
+        25.0,
+        "fuel-optimal",
+        600.0,
+    )
+    attitude = sequence(
+        fresh_data, [{"kind": "slew", "quaternion": [0.0, 1.0, 0.0, 0.0]}]
+    ).simulation.segments[0]
+    assert attitude.slew is not None
+    with pytest.raises(InputShapeError, match="axis: the slew's target is an attitude, not a turn"):
+        _ = attitude.slew.axis

@@ -163,6 +163,33 @@ def test_zero_net_force_never_raises_authority(geometry):
         assert balanced[name] <= free[name] + 1e-15
 
 
+def test_the_authority_reads_by_signed_axis_and_by_named_arrays(geometry):
+    """One type for the authority: its mapping, its arrays and its mN m edge agree with
+    each other and with the six values of the LP, in ``SIGNED_AXES`` order."""
+    from casadi_debris.errors import CasadiDebrisError
+    from casadi_debris.geometry import Authority
+
+    authority = torque_authority(geometry, zero_net_force=True)
+    assert isinstance(authority, Authority) and authority.zero_net_force
+    assert list(authority) == list(SIGNED_AXES)
+    values = [authority[name] for name in SIGNED_AXES]
+    assert np.array_equal(authority.torque_Nm, values)
+    for i, axis in enumerate(AXIS_NAMES):
+        assert authority.positive_Nm[i] == authority[f"+{axis}"]
+        assert authority.negative_Nm[i] == authority[f"-{axis}"]
+        assert authority.weakest_Nm[i] == min(authority[f"+{axis}"], authority[f"-{axis}"])
+    assert authority.to_mNm() == {
+        name: value * 1e3 for name, value in zip(SIGNED_AXES, values, strict=True)
+    }
+    # Equal to a mapping of the same figures (the dicts it replaces), frozen.
+    assert authority == dict(zip(SIGNED_AXES, values, strict=True))
+    assert authority != dict(zip(SIGNED_AXES, [*values[:-1], values[-1] + 1.0], strict=True))
+    with pytest.raises(ValueError, match="read-only"):
+        authority.torque_Nm[0] = 0.0
+    with pytest.raises(CasadiDebrisError, match="six signed axes"):
+        Authority(np.ones(3), zero_net_force=False)
+
+
 def test_full_rigid_inertia_adds_arrays(problem, geometry):
     # Each array: principal inertia rotated into B plus the parallel-axis term of its CoG.
     assert np.all(np.linalg.eigvalsh(geometry.inertia_arrays_kgm2) > 0)

@@ -46,10 +46,10 @@ def test_a_given_model_is_used_as_is(problem, high_plan) -> None:
     """The plan of the model it would build is the plan it builds; a lighter body (some
     propellant spent) decays faster and needs less Δv, with that mass in the plan."""
     model = DeorbitModel.from_problem(problem, HIGH_SPIRAL)
-    same = plan_deorbit(problem, HIGH_SPIRAL, model=model)
+    same = plan_deorbit(model, HIGH_SPIRAL)
     assert same.to_json() == high_plan.to_json()
     lighter = DeorbitModel.from_problem(problem, HIGH_SPIRAL, mass_kg=model.decay.mass_kg - 50.0)
-    plan = plan_deorbit(problem, HIGH_SPIRAL, model=lighter)
+    plan = plan_deorbit(lighter, HIGH_SPIRAL)
     assert plan.mass_kg == pytest.approx(model.decay.mass_kg - 50.0)
     assert plan.ballistic_coefficient_kg_m2 < high_plan.ballistic_coefficient_kg_m2
     assert plan.deorbit_dv_m_s < high_plan.deorbit_dv_m_s

@@ -20,7 +20,7 @@ MEAN_SPIRAL = DeorbitSettings(solar=("mean",), strategies=("spiral",), minimum_s
 
 def test_one_cubesat_fewer_does_not_carry_the_needed_dv(problem) -> None:
     model = DeorbitModel.from_problem(problem, MEAN_SPIRAL)
-    smallest = minimum_swarm(problem, model, MEAN_SPIRAL, "mean")
+    smallest = minimum_swarm(model, MEAN_SPIRAL, "mean")
     assert smallest is not None
     n = smallest.cubesats
     # What n CubeSats of 3.5 kg, 3 stages of 0.64 mN x 500 h, Isp 1000 s carry (by hand).
@@ -33,7 +33,7 @@ def test_one_cubesat_fewer_does_not_carry_the_needed_dv(problem) -> None:
 
     assert smallest.capacity_dv_m_s == pytest.approx(carried(n))
     assert smallest.deorbit_dv_m_s <= carried(n)
-    fewer = swarm_of(problem, model, n - 1)
+    fewer = swarm_of(model, n - 1)
     need, _ = best_strategy(fewer, fewer.density(solar_case("mean")), MEAN_SPIRAL)
     assert need > carried(n - 1)
     assert smallest.thrust_mN == pytest.approx(0.64 * n)

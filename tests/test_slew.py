@@ -278,6 +278,37 @@ def test_bad_slew_option_is_named(field: str, value: Any, message: str) -> None:
         OptimalSlewSettings(**{field: value})
 
 
+@pytest.mark.parametrize(
+    ("written", "expected"),
+    [
+        ({}, {"torque_fraction": 1.0, "thrusters": False, "flexible": False}),
+        (
+            {"thrusters": True, "zero_net_force": True, "torque_fraction": 0.4},
+            {"torque_fraction": 0.4, "thrusters": True, "zero_net_force": True},
+        ),
+        (
+            {"flexible": True, "flexible_method": "shaper"},
+            {"flexible": True, "flexible_method": "shaper"},
+        ),
+    ],
+)
+def test_settings_are_derived_from_the_request(
+    written: dict[str, Any], expected: dict[str, Any]
+) -> None:
+    """What the request says of the model and the authority is the settings'; the
+    solver's own choices are the call's, else the defaults."""
+    from casadi_debris.config import slew_about
+
+    request = slew_about("z", 90.0, method="time-optimal", **written)
+    settings = OptimalSlewSettings.for_request(request, sample_s=2.0, starts=3, seed=7)
+    for name, value in expected.items():
+        assert getattr(settings, name) == value, name
+    assert (settings.sample_s, settings.starts, settings.seed) == (2.0, 3, 7)
+    assert settings.intervals == OptimalSlewSettings().intervals
+    with pytest.raises(InputShapeError, match="zero_net_force applies to thruster-level"):
+        OptimalSlewSettings.for_request(slew_about("z", 90.0, zero_net_force=True))
+
+
 def test_unknown_keyword_and_single_axis_fuel_are_refused(problem: Problem) -> None:
     with pytest.raises(TypeError, match=r"time_optimal_slew\(\) got an unexpected keyword"):
         time_optimal_slew(problem, "z", math.pi, torque_fractoin=0.5)

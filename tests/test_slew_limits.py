@@ -207,7 +207,7 @@ def _old_sizing_diagonal(problem: Problem) -> Any:
     inertia = np.array(model.rigid_inertia(model.nominal_parameters))
     target = slew_about_axis(DIAGONAL, math.pi)
     alpha = eigenaxis_acceleration_limit(inertia, target.axis_B, *torque_limits(model.geometry))
-    return eigenaxis_guess(problem, target, rigid_limit_duration(math.pi, alpha), model)
+    return eigenaxis_guess(model, target, rigid_limit_duration(math.pi, alpha))
 
 
 def test_diagonal_slew_sized_on_j_e_alone_is_still_refused(problem: Problem) -> None:

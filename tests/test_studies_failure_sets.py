@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from casadi_debris.config import SIGNED_AXES, load_problem, signed_axis_vector
-from casadi_debris.geometry import build_geometry, max_thrust_N
+from casadi_debris.geometry import Authority, build_geometry, max_thrust_N
 from casadi_debris.studies.failures import (
     authority_ratio,
     authority_without,
@@ -36,7 +36,7 @@ def test_ratio_is_inf_without_disturbance_and_matches_division_otherwise():
     ratio = authority_ratio(authority, disturbance)
     np.testing.assert_array_equal(ratio[:, 2:4], np.inf)
     np.testing.assert_allclose(ratio[0, [0, 1, 4, 5]], [2.0, 4.0, 0.0, 3.0])
-    named = axis_ratios(dict(zip(SIGNED_AXES, authority[0], strict=True)), disturbance)
+    named = axis_ratios(Authority(authority[0], zero_net_force=True), disturbance)
     assert list(named) == list(SIGNED_AXES)
     assert named == dict(zip(SIGNED_AXES, ratio[0].tolist(), strict=True))
 
@@ -60,7 +60,7 @@ def test_authority_without_failed_cubesats_is_an_independent_lp():
     geometry = build_geometry(load_problem("two_per_face"))
     for failed in [(), (0,), (3, 7), (0, 1, 2, 3, 4, 5)]:
         np.testing.assert_allclose(
-            authority_without(geometry, failed),
+            authority_without(geometry, failed).torque_Nm,
             _independent_Nm(geometry, failed),
             rtol=1e-7,
             atol=1e-12,
@@ -74,7 +74,7 @@ def test_worst_per_axis_and_weakest_ratio_against_brute_force():
         range(len(geometry.cubesats)), 2, lambda s: authority_without(geometry, s)
     )
     every = {
-        s: authority_without(geometry, s)
+        s: authority_without(geometry, s).torque_Nm
         for s in itertools.combinations(range(len(geometry.cubesats)), 2)
     }
     assert found.sets == tuple(every)
@@ -91,7 +91,7 @@ def test_worst_per_axis_and_weakest_ratio_against_brute_force():
 
 
 def test_weakest_axis_is_the_least_ratio_then_the_least_authority():
-    authority = dict(zip(SIGNED_AXES, [3.0, 2.0, 5.0, 1.0, 4.0, 6.0], strict=True))
+    authority = Authority(np.array([3.0, 2.0, 5.0, 1.0, 4.0, 6.0]), zero_net_force=True)
     assert weakest_axis(axis_ratios(authority, np.array([1.0, 1.0, 1.0])), authority) == "-y"
     # Without disturbance every ratio is inf: the least authority decides.
     assert weakest_axis(axis_ratios(authority, np.zeros(3)), authority) == "-y"

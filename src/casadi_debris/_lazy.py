@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
+import ast
 import importlib
 import sys
 from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Any
 
 
@@ -39,3 +41,30 @@ def lazy_exports(
         return sorted(set(namespace) | set(table))
 
     return __getattr__, __dir__
+
+
+def type_checking_imports(init_file: str) -> dict[str, str]:
+    """Each name a package's ``if TYPE_CHECKING:`` block imports, and its module.
+
+    The block (which type checkers read) is then the one list of where each exported
+    name lives: the lazy table is derived from it, not written beside it.
+
+    Parameters
+    ----------
+    init_file : str
+        The package's ``__init__.py`` (its ``__file__``).
+
+    Returns
+    -------
+    dict
+        ``{name: module}`` in the block's order.
+    """
+    tree = ast.parse(Path(init_file).read_text(encoding="utf-8"))
+    table: dict[str, str] = {}
+    for node in tree.body:
+        if isinstance(node, ast.If) and ast.unparse(node.test) == "TYPE_CHECKING":
+            for statement in node.body:
+                if isinstance(statement, ast.ImportFrom) and statement.module:
+                    for alias in statement.names:
+                        table[alias.asname or alias.name] = statement.module
+    return table

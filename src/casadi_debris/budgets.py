@@ -19,7 +19,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import AXIS_NAMES, Problem
-from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
+from casadi_debris.geometry import (
+    Authority,
+    Geometry,
+    build_geometry,
+    thrust_directions,
+    torque_authority,
+)
 from casadi_debris.orbit.transfer import edelbaum_dv as edelbaum_dv
 
 # Edelbaum's formula lives with the transfer; re-exported here, beside the other budget lines.
@@ -66,7 +72,9 @@ def burn_dv_m_s(problem: Problem, initial_mass_kg: float, stages: dict[int, int]
     return rocket_dv(isp, g0, initial_mass_kg, propellant)
 
 
-def detumble_time_s(inertia_kgm2: np.ndarray, rate_rad_s: np.ndarray, authority: dict) -> float:
+def detumble_time_s(
+    inertia_kgm2: np.ndarray, rate_rad_s: np.ndarray, authority: Authority
+) -> float:
     """Time to null a body rate at full torque, each axis braked on its own [s].
 
     The slowest axis decides: max_i I_ii |omega_i| / tau_i, with tau_i the

@@ -31,6 +31,7 @@ come from one piece of code.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
 import casadi as ca
@@ -341,9 +342,64 @@ def axis_authority_Nm(
     return np.maximum(per_block.sum(axis=1), 0.0) * unit + 0.0  # + 0.0: no -0.0
 
 
+@dataclass(frozen=True, eq=False)
+class Authority(Mapping[str, float]):
+    """The largest pure torque about each signed body axis [N m], with or without net force.
+
+    The one form of a torque authority: read it by signed axis (``authority["-y"]``, as a
+    mapping in the order ``SIGNED_AXES``) or through its named arrays; it becomes mN·m
+    only at the edges (:meth:`to_mNm`). Equal to a mapping of the same values.
+
+    Attributes
+    ----------
+    torque_Nm : ndarray, shape (6,)
+        About +x, -x, +y, -y, +z, -z (magnitudes, >= 0) [N m].
+    zero_net_force : bool
+        Whether the engines' forces cancel (as the closed loop's allocator keeps them).
+    """
+
+    torque_Nm: np.ndarray
+    zero_net_force: bool
+
+    def __post_init__(self) -> None:
+        torque = np.array(self.torque_Nm, dtype=float)
+        if torque.shape != (len(SIGNED_AXES),):
+            raise CasadiDebrisError(f"authority: six signed axes, got shape {torque.shape}")
+        torque.setflags(write=False)
+        object.__setattr__(self, "torque_Nm", torque)
+
+    def __getitem__(self, signed_axis: str) -> float:
+        return float(self.torque_Nm[SIGNED_AXES.index(signed_axis)])
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(SIGNED_AXES)
+
+    def __len__(self) -> int:
+        return len(SIGNED_AXES)
+
+    @property
+    def positive_Nm(self) -> np.ndarray:
+        """About +x, +y, +z [N m], shape (3,)."""
+        return np.asarray(self.torque_Nm[0::2])
+
+    @property
+    def negative_Nm(self) -> np.ndarray:
+        """About -x, -y, -z (magnitudes) [N m], shape (3,)."""
+        return np.asarray(self.torque_Nm[1::2])
+
+    @property
+    def weakest_Nm(self) -> np.ndarray:
+        """The smaller of the two signs about x, y, z [N m], shape (3,)."""
+        return np.minimum(self.positive_Nm, self.negative_Nm)
+
+    def to_mNm(self) -> dict[str, float]:
+        """``{"+x": tau [mN m], ...}``, as the JSON files write it."""
+        return {name: value * MN_PER_N for name, value in self.items()}
+
+
 def torque_authority(
     geometry: Geometry, zero_net_force: bool = False, available: np.ndarray | None = None
-) -> dict[str, float]:
+) -> Authority:
     """Largest pure torque about each signed body axis, by linear programming
     (:func:`axis_authority_Nm` on the geometry's engines).
 
@@ -357,14 +413,13 @@ def torque_authority(
 
     Returns
     -------
-    dict
-        ``{"+x": tau [N m], "-x": ..., ...}``.
+    Authority
     """
     limits = max_thrust_N(geometry)
     if available is not None:
         limits = np.where(available, limits, 0.0)
     authority = axis_authority_Nm(geometry.torque_map, geometry.force_map, limits, zero_net_force)
-    return dict(zip(SIGNED_AXES, authority.tolist(), strict=True))
+    return Authority(authority, zero_net_force)
 
 
 def thrust_directions(geometry: Geometry) -> list[tuple[np.ndarray, list[int]]]:

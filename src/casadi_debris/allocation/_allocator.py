@@ -75,7 +75,7 @@ from casadi_debris.allocation._scaled_qp import ScaledQp
 from casadi_debris.allocation._series import PiecewiseAffineQp
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, Problem
 from casadi_debris.errors import AllocationError, InputShapeError, NoEngineError
-from casadi_debris.geometry import Geometry, build_geometry, max_thrust_N
+from casadi_debris.geometry import Authority, Geometry, build_geometry, max_thrust_N
 
 __all__ = ["DEFAULT_SOLVER", "SATURATION_MODES", "Allocator", "NoEngineError"]
 
@@ -442,7 +442,7 @@ class Allocator(SolvePaths):
         """
         return batch.allocate_series(self, torques_Nm, free_force)
 
-    def torque_authority(self, *, free_force: bool = False) -> dict[str, float]:
+    def torque_authority(self, *, free_force: bool = False) -> Authority:
         """Largest pure torque about each signed body axis with the current limits.
 
         Found by allocating a demand far beyond reach along each axis and
@@ -450,8 +450,8 @@ class Allocator(SolvePaths):
 
         Returns
         -------
-        dict
-            ``{"+x": tau [N m], "-x": ..., ...}``.
+        Authority
+            At zero net force unless ``free_force``.
         """
         beyond_reach = 10.0 * self._torque_ref_Nm * self.n_engines
         authority: dict[str, float] = {}
@@ -465,7 +465,7 @@ class Allocator(SolvePaths):
                 authority[name] = abs(float(result.torque_Nm[axis]))
         finally:
             self.saturation = saturation
-        return authority
+        return Authority(np.array([authority[name] for name in SIGNED_AXES]), not free_force)
 
 
 def _exhaust_velocities(exhaust_velocity_m_s: float | npt.ArrayLike, n: int) -> np.ndarray:

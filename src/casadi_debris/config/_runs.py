@@ -23,37 +23,32 @@ from casadi_debris.config._schema import (
 )
 from casadi_debris.config._segments import (
     SLEW_METHODS,
-    SlewReference,
+    SlewRequest,
+    Target,
     read_axis,
     read_segments,
-    read_slew_settings,
+    read_slew_request,
 )
 from casadi_debris.config._table import Table
 from casadi_debris.config._varied import read_vary
 from casadi_debris.errors import ProblemFileError
 
 
-def read_slew(t: Table, run_duration_s: float) -> SlewReference:
-    """``[simulation.slew]``; it must start within the run of ``run_duration_s`` [s]."""
+def read_slew(t: Table, run_duration_s: float) -> SlewRequest:
+    """``[simulation.slew]``: a turn about a body axis, starting (default at 0) within the
+    run of ``run_duration_s`` [s]."""
     axis = read_axis(t, "axis")
     angle_deg = t.number("angle_deg", limits.SLEW_ANGLE_DEG)
-    settings = read_slew_settings(t, SLEW_METHODS)
-    slew = SlewReference(
-        axis=axis,
-        angle_deg=angle_deg,
-        method=settings.method,
-        start_s=t.number("start_s", limits.nonnegative(run_duration_s))
-        if t.has("start_s")
-        else 0.0,
-        duration_s=t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None,
-        torque_fraction=settings.torque_fraction,
-        feedforward=settings.feedforward,
-        thrusters=settings.thrusters,
-        flexible=settings.flexible,
-        flexible_method=settings.flexible_method,
-    )
-    if slew.method == "fuel-optimal" and slew.duration_s is None:
-        raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
+
+    def timing() -> tuple[float | None, float | None]:
+        start_s = (
+            t.number("start_s", limits.nonnegative(run_duration_s)) if t.has("start_s") else 0.0
+        )
+        duration_s = t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None
+        return start_s, duration_s
+
+    target = Target("rotation", axis=axis, angle_deg=angle_deg)
+    slew = read_slew_request(t, SLEW_METHODS, lambda: target, timing)
     t.done()
     return slew
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from casadi_debris.config._identity import plant_sha256
 from casadi_debris.config._realism import Actuators, ControllerTiming, Estimation, Sensors
-from casadi_debris.config._segments import Segment, SlewReference
+from casadi_debris.config._segments import Segment, SlewRequest
 from casadi_debris.units import MN_PER_N, SECONDS_PER_HOUR
 
 AxisName = Literal["x", "y", "z"]
@@ -424,8 +424,9 @@ class Simulation:
         Runge-Kutta steps per control period, 1 to 1000, short enough for the
         fastest dynamics (step x rate <= 2) and at most 1e7 in the run.
     reference : {"hold", "slew", "sequence"}
-    slew : SlewReference or None
-        Given exactly when ``reference`` is ``"slew"``.
+    slew : SlewRequest or None
+        Given exactly when ``reference`` is ``"slew"``: a turn about a body axis,
+        starting at ``slew.start_s``.
     failures : tuple of FailureEvent
         By time, at most 1000.
     segments : tuple of Segment
@@ -439,7 +440,7 @@ class Simulation:
     control_rate_hz: float
     integrator_steps: int
     reference: ReferenceKind
-    slew: SlewReference | None
+    slew: SlewRequest | None
     failures: tuple[FailureEvent, ...]
     segments: tuple[Segment, ...] = ()
 

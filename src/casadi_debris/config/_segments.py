@@ -33,13 +33,16 @@ Targets (:class:`Target`), each written with one group of keys:
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import Any, Literal
 
 import numpy as np
 
 from casadi_debris.config import limits
 from casadi_debris.config._table import Table, frozen_array
+from casadi_debris.errors import InputShapeError
+from casadi_debris.units import MN_PER_N
 
 SlewMethod = Literal["bang-bang", "time-optimal", "fuel-optimal"]
 SLEW_METHODS: tuple[SlewMethod, ...] = ("bang-bang", "time-optimal", "fuel-optimal")
@@ -105,75 +108,112 @@ class Target:
 
 
 @dataclass(frozen=True, eq=False)
-class SlewSettings:
-    """How a slew segment flies: its method and options (see ``[simulation.slew]``)."""
+class SlewRequest:
+    """What a slew does: its target, method, timing and authority (``[simulation.slew]``,
+    a slew segment, or the ``slew`` job's options).
 
-    method: SlewMethod = "bang-bang"
-    torque_fraction: float | None = None
-    feedforward: bool = False
-    thrusters: bool = False
-    flexible: bool = False
-    flexible_method: str = "ocp"
+    Every slew is rest to rest (no start or end rate). How an optimal one is solved
+    (grid, starts, checks) is a :class:`~casadi_debris.slews.OptimalSlewSettings`,
+    derived from the request (:meth:`~casadi_debris.slews.OptimalSlewSettings.for_request`);
+    the request resolved to quaternions for a start attitude is a
+    :class:`~casadi_debris.slews.SlewTarget`.
 
-
-@dataclass(frozen=True, eq=False)
-class SlewReference:
-    """Rest-to-rest slew commanded to the closed loop (``[simulation.slew]``).
-
-    ``duration_s`` and ``torque_fraction`` are optional (None): the slew
-    methods then pick their own (see :mod:`casadi_debris.slews`). With
-    ``feedforward`` the profile's torque is added to the controller's demand
-    (the paper's loop has none). With ``thrusters`` an optimal slew is solved at
-    thruster level with zero net force, as the closed loop's allocator keeps it,
-    so that its torque is one the engines can give there. With ``flexible`` an
-    optimal slew keeps the array vibration left bounded, by the OCP or by the
-    zero-vibration shaper (``flexible_method``). ``axis`` is a body axis name or
-    any vector (normalised by the slew methods).
+    Attributes
+    ----------
+    target : Target
+        A turn about a body axis (``axis``, ``angle_deg``), an attitude, or a frame.
+    method : {"bang-bang", "time-optimal", "fuel-optimal"}
+    start_s : float or None
+        When it starts [s]; None: when the segment before ends (a segment's own rule).
+    duration_s : float or None
+        Its length [s]: a deadline for time-optimal, needed by fuel-optimal; None: the
+        method picks it.
+    torque_fraction : float or None
+        Share of the authority to use, (0, 1]; None: the method's own.
+    rate_limit_rad_s : float or None
+        A bang-bang's largest rate [rad/s] (it coasts at it); None: no limit.
+    feedforward : bool
+        The profile's torque is added to the controller's demand (the paper's loop has
+        none).
+    thrusters : bool
+        An optimal slew solved at thruster level, so that its torque is one the engines
+        can give.
+    zero_net_force : bool
+        At thruster level, the engines' net force kept zero at every instant, as the
+        closed loop's allocator keeps it (a problem file's ``thrusters`` sets both).
+    flexible : bool
+        An optimal slew keeps the array vibration left bounded ...
+    flexible_method : {"ocp", "shaper"}
+        ... by the OCP or by the zero-vibration shaper.
     """
 
-    axis: str | tuple[float, float, float]
-    angle_deg: float
-    method: SlewMethod
-    start_s: float
-    duration_s: float | None
-    torque_fraction: float | None
+    target: Target
+    method: SlewMethod = "bang-bang"
+    start_s: float | None = None
+    duration_s: float | None = None
+    torque_fraction: float | None = None
+    rate_limit_rad_s: float | None = None
     feedforward: bool = False
     thrusters: bool = False
+    zero_net_force: bool = False
     flexible: bool = False
     flexible_method: str = "ocp"
 
     @property
-    def settings(self) -> SlewSettings:
-        """Method and options, as a slew segment holds them."""
-        return SlewSettings(
-            method=self.method,
-            torque_fraction=self.torque_fraction,
-            feedforward=self.feedforward,
-            thrusters=self.thrusters,
-            flexible=self.flexible,
-            flexible_method=self.flexible_method,
-        )
+    def axis(self) -> str | tuple[float, float, float]:
+        """The body axis of a turn (a name or a vector, normalised by the slew methods)."""
+        if self.target.axis is None:
+            raise InputShapeError(f"axis: {self._not_a_turn()}")
+        return self.target.axis
+
+    @property
+    def angle_deg(self) -> float:
+        """The angle of a turn [deg]."""
+        if self.target.angle_deg is None:
+            raise InputShapeError(f"angle_deg: {self._not_a_turn()}")
+        return self.target.angle_deg
+
+    def _not_a_turn(self) -> str:
+        what = "an attitude" if self.target.kind == "attitude" else "a frame"
+        return f"the slew's target is {what}, not a turn about a body axis"
+
+
+def slew_about(
+    axis: str | tuple[float, float, float], angle_deg: float, **fields: Any
+) -> SlewRequest:
+    """A request to turn ``angle_deg`` about a body ``axis``; ``fields`` are the rest of
+    :class:`SlewRequest`'s (``method``, ``duration_s``, ...)."""
+    return SlewRequest(Target("rotation", axis=axis, angle_deg=angle_deg), **fields)
 
 
 @dataclass(frozen=True, eq=False)
-class BurnSettings:
-    """What a burn segment thrusts with.
+class BurnRequest:
+    """What a burn does (a burn segment, or the ``burn`` job's options), SI inside.
+
+    The plan flown (the axis as a unit vector, the firing time) is derived from it:
+    :func:`~casadi_debris.guidance.plan_burn`.
 
     Attributes
     ----------
     direction : {"prograde", "retrograde", "normal", "antinormal"}
+        Where the thrust points, in the orbit's LVLH frame.
     body_axis : str or tuple of 3 floats, or None
-        The thrust axis (None: the swarm's strongest torque-free direction).
+        The thrust axis in body axes, a name (``"-y"``) or a vector (None: the swarm's
+        strongest torque-free direction).
     thrust_fraction : float
-        Of the largest torque-free thrust along the axis.
-    thrust_mN : float or None
-        The thrust itself, instead of the fraction.
+        Of the largest torque-free thrust along the axis (ignored when ``thrust_N`` is
+        given).
+    thrust_N : float or None
+        The thrust itself [N] (``thrust_mN`` in a problem file and on the command line).
+    duration_s : float or None
+        Engines on [s]; None: a segment's window sets it (after its blend).
     """
 
     direction: BurnDirection
     body_axis: str | tuple[float, float, float] | None = None
     thrust_fraction: float = 1.0
-    thrust_mN: float | None = None
+    thrust_N: float | None = None
+    duration_s: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -191,12 +231,13 @@ class Segment:
         track's length (None: to the end of the run, for the last one only).
     target : Target or None
         A slew's target, a track's frame; None for a hold.
-    slew : SlewSettings or None
-        Given for a slew.
+    slew : SlewRequest or None
+        Given for a slew (its ``target``, ``start_s`` and ``duration_s`` are the
+        segment's: :meth:`of_slew`).
     blend_s : float
         A track: how long its start (and a segment after it) takes to join
         the new reference, rate and attitude [s].
-    burn : BurnSettings or None
+    burn : BurnRequest or None
         Given for a burn (a track of the LVLH frame whose offset the burn sets).
     """
 
@@ -204,9 +245,14 @@ class Segment:
     start_s: float | None
     duration_s: float | None
     target: Target | None = None
-    slew: SlewSettings | None = None
+    slew: SlewRequest | None = None
     blend_s: float = DEFAULT_BLEND_S
-    burn: BurnSettings | None = None
+    burn: BurnRequest | None = None
+
+    @classmethod
+    def of_slew(cls, request: SlewRequest) -> Segment:
+        """The slew segment flying ``request`` (its start, duration and target)."""
+        return cls("slew", request.start_s, request.duration_s, request.target, request)
 
 
 def read_axis(t: Table, name: str) -> str | tuple[float, float, float]:
@@ -329,29 +375,63 @@ def read_frame_target(t: Table) -> Target:
     )
 
 
-def read_slew_settings(t: Table, methods: tuple[SlewMethod, ...]) -> SlewSettings:
-    """Method and options of a slew (``[simulation.slew]`` or a slew segment)."""
-    settings = SlewSettings(
-        method=t.text("method", methods) if t.has("method") else "bang-bang",
-        torque_fraction=(
-            t.number("torque_fraction", limits.positive(1.0)) if t.has("torque_fraction") else None
-        ),
-        feedforward=t.boolean("feedforward") if t.has("feedforward") else False,
-        thrusters=t.boolean("thrusters") if t.has("thrusters") else False,
-        flexible=t.boolean("flexible") if t.has("flexible") else False,
-        flexible_method=(
-            t.text("flexible_method", FLEXIBLE_METHODS) if t.has("flexible_method") else "ocp"
-        ),
+def read_slew_request(
+    t: Table,
+    methods: tuple[SlewMethod, ...],
+    target: Callable[[], Target],
+    timing: Callable[[], tuple[float | None, float | None]],
+) -> SlewRequest:
+    """A slew with the method and options of its table (``[simulation.slew]`` or a slew
+    segment); ``thrusters`` is thruster level at zero net force, as the closed loop's
+    allocator keeps it.
+
+    ``target`` and ``timing`` (start and duration [s]) are read after the options, so
+    that a table with several mistakes names the same one first whatever reads it.
+    """
+    method: SlewMethod = t.text("method", methods) if t.has("method") else "bang-bang"
+    torque_fraction = (
+        t.number("torque_fraction", limits.positive(1.0)) if t.has("torque_fraction") else None
     )
-    if settings.method == "bang-bang":
-        for name in ("thrusters", "flexible"):
-            if getattr(settings, name):
+    feedforward = t.boolean("feedforward") if t.has("feedforward") else False
+    thrusters = t.boolean("thrusters") if t.has("thrusters") else False
+    flexible = t.boolean("flexible") if t.has("flexible") else False
+    flexible_method = (
+        t.text("flexible_method", FLEXIBLE_METHODS) if t.has("flexible_method") else "ocp"
+    )
+    if method == "bang-bang":
+        for name, given in (("thrusters", thrusters), ("flexible", flexible)):
+            if given:
                 raise t.error(
                     t.key(name), "only for time-optimal and fuel-optimal slews (not bang-bang)"
                 )
-    if t.has("flexible_method") and not settings.flexible:
+    if t.has("flexible_method") and not flexible:
         raise t.error(t.key("flexible_method"), "only with flexible = true")
-    return settings
+    goal = target()
+    start_s, duration_s = timing()
+    if method == "fuel-optimal" and duration_s is None:
+        raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
+    return SlewRequest(
+        target=goal,
+        method=method,
+        start_s=start_s,
+        duration_s=duration_s,
+        torque_fraction=torque_fraction,
+        feedforward=feedforward,
+        thrusters=thrusters,
+        zero_net_force=thrusters,
+        flexible=flexible,
+        flexible_method=flexible_method,
+    )
+
+
+def _read_slew_target(t: Table) -> Target:
+    target = read_frame_target(t) if t.has("frame") else read_orientation(t, rotation=True)
+    if target is None:
+        raise t.error(
+            t.key("axis"),
+            "missing: a slew needs a target (axis and angle_deg, quaternion, euler_deg or frame)",
+        )
+    return target
 
 
 def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Segment:
@@ -359,20 +439,14 @@ def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Se
     start_s = t.number("start_s", limits.nonnegative(run_s)) if t.has("start_s") else None
     duration_s = t.number("duration_s", limits.SLEW_DURATION_S) if t.has("duration_s") else None
     target: Target | None = None
-    slew: SlewSettings | None = None
-    burn: BurnSettings | None = None
+    slew: SlewRequest | None = None
+    burn: BurnRequest | None = None
     blend_s = DEFAULT_BLEND_S
     if kind == "slew":
-        slew = read_slew_settings(t, methods)
-        target = read_frame_target(t) if t.has("frame") else read_orientation(t, rotation=True)
-        if target is None:
-            raise t.error(
-                t.key("axis"),
-                "missing: a slew needs a target (axis and angle_deg, quaternion, euler_deg "
-                "or frame)",
-            )
-        if slew.method == "fuel-optimal" and duration_s is None:
-            raise t.error(t.key("duration_s"), "missing: a fuel-optimal slew needs its duration")
+        slew = read_slew_request(
+            t, methods, lambda: _read_slew_target(t), lambda: (start_s, duration_s)
+        )
+        target = slew.target
     elif kind == "track":
         target = read_frame_target(t)
     elif kind == "burn":
@@ -399,7 +473,7 @@ def _read_segment(t: Table, methods: tuple[SlewMethod, ...], run_s: float) -> Se
     return Segment(kind, start_s, duration_s, target, slew, blend_s, burn)
 
 
-def _read_burn(t: Table) -> BurnSettings:
+def _read_burn(t: Table) -> BurnRequest:
     """A burn's keys: ``direction`` (required), ``body_axis``, ``thrust_fraction`` or
     ``thrust_mN``."""
     if not t.has("direction"):
@@ -407,13 +481,15 @@ def _read_burn(t: Table) -> BurnSettings:
     if t.has("thrust_fraction") and t.has("thrust_mN"):
         raise t.error(t.key("thrust_mN"), "give thrust_fraction or thrust_mN, not both")
     direction: BurnDirection = t.text("direction", BURN_DIRECTIONS)
-    return BurnSettings(
+    return BurnRequest(
         direction=direction,
         body_axis=read_axis(t, "body_axis") if t.has("body_axis") else None,
         thrust_fraction=(
             t.number("thrust_fraction", limits.positive(1.0)) if t.has("thrust_fraction") else 1.0
         ),
-        thrust_mN=t.number("thrust_mN", limits.THRUST_MN) if t.has("thrust_mN") else None,
+        thrust_N=(
+            t.number("thrust_mN", limits.THRUST_MN) / MN_PER_N if t.has("thrust_mN") else None
+        ),
     )
 
 

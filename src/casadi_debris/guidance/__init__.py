@@ -7,7 +7,8 @@
 - :func:`manoeuvre_reference`, :func:`sequence_pieces`: a sequence of slews, holds,
   LVLH tracks and burns (:class:`Piece`, :class:`SegmentPlanSummary`).
 - :func:`frame_attitude`, :func:`track_attitudes`, :func:`body_rates`: frame targets.
-- :class:`BurnPlan`, :func:`burn_windows`, :func:`burn_thrust_N`: orbit-raising burns.
+- :class:`BurnPlan` (:func:`plan_burn`, from a :class:`~casadi_debris.config.BurnRequest`),
+  :func:`burn_windows`, :func:`burn_thrust_N`: orbit-raising burns.
 
 Nothing here closes a loop or integrates the model (that is
 :mod:`casadi_debris.simulation`).
@@ -22,6 +23,7 @@ from casadi_debris.guidance._burn_plan import (
     burn_thrust_N,
     burn_windows,
     direction_inertial,
+    plan_burn,
     strongest_axis,
     torque_free_thrust_N,
 )
@@ -75,6 +77,7 @@ __all__ = [
     "generate_slew",
     "lvlh_matrices",
     "manoeuvre_reference",
+    "plan_burn",
     "sample_pieces",
     "sample_reference",
     "scenario_reference",

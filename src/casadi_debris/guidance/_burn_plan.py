@@ -17,7 +17,13 @@ from scipy.optimize import linprog
 from scipy.spatial.transform import Rotation
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import BURN_DIRECTIONS, BurnDirection, Problem
+from casadi_debris.config import (
+    BURN_DIRECTIONS,
+    BurnDirection,
+    BurnRequest,
+    Problem,
+    axis_unit_vector,
+)
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import SimulationError
 from casadi_debris.guidance._targets import body_rates, frame_attitude, lvlh_matrices
@@ -37,7 +43,8 @@ _LVLH_DIRECTION = {
 
 @dataclass(frozen=True, eq=False)
 class BurnPlan:
-    """What a burn asks for.
+    """A burn as flown: its request with the axis resolved to a unit vector and the firing
+    time set (:func:`plan_burn`).
 
     Attributes
     ----------
@@ -80,6 +87,35 @@ class BurnPlan:
     def direction_lvlh(self) -> np.ndarray:
         """Unit direction in LVLH components, shape (3,)."""
         return np.array(_LVLH_DIRECTION[self.direction])
+
+
+def plan_burn(problem: Problem, request: BurnRequest, duration_s: float | None = None) -> BurnPlan:
+    """The plan of ``request``: its axis (default the swarm's strongest torque-free one) as
+    a unit vector, and its firing time.
+
+    Parameters
+    ----------
+    problem : Problem
+    request : BurnRequest
+    duration_s : float, optional
+        Engines on [s], for a request that leaves it to its segment (``duration_s``
+        None); default the request's.
+
+    Raises
+    ------
+    SimulationError
+        A field that cannot be flown, named (a zero axis, no firing time, ...).
+    """
+    firing_s = request.duration_s if duration_s is None else duration_s
+    if firing_s is None:
+        raise SimulationError("duration_s: a burn needs its firing time")
+    if request.body_axis is None:
+        axis = strongest_axis(problem)
+    elif isinstance(request.body_axis, str):
+        axis = axis_unit_vector(request.body_axis)
+    else:
+        axis = np.asarray(request.body_axis, dtype=float)  # the plan normalises it
+    return BurnPlan(request.direction, axis, firing_s, request.thrust_fraction, request.thrust_N)
 
 
 def strongest_axis(problem: Problem) -> np.ndarray:

@@ -35,9 +35,8 @@ from casadi_debris.config import (
     Problem,
     Segment,
     Simulation,
-    SlewSettings,
+    SlewRequest,
     Target,
-    axis_unit_vector,
 )
 from casadi_debris.environment import CircularOrbit
 from casadi_debris.errors import InputShapeError, ProblemFileError
@@ -46,13 +45,12 @@ from casadi_debris.guidance._burn_plan import (
     attitude_limits,
     burn_offset,
     burn_thrust_N,
-    strongest_axis,
+    plan_burn,
 )
 from casadi_debris.guidance._slew import slew_quaternions, solve_slew
 from casadi_debris.guidance._targets import body_rates, frame_attitude, track_attitudes
 from casadi_debris.records import Record
 from casadi_debris.slews import LimitCheck, SlewProfile, SlewTarget, slew_about_axis, slew_between
-from casadi_debris.units import MN_PER_N
 
 IDENTITY = np.array([1.0, 0.0, 0.0, 0.0])
 TRACKS = ("track", "burn")
@@ -115,8 +113,7 @@ def one_slew_segments(simulation: Simulation) -> tuple[Segment, ...]:
     slew = simulation.slew
     if simulation.reference != "slew" or slew is None:
         return ()
-    target = Target("rotation", axis=slew.axis, angle_deg=slew.angle_deg)
-    return (Segment("slew", slew.start_s, slew.duration_s, target, slew.settings),)
+    return (Segment.of_slew(slew),)
 
 
 def _held(q: np.ndarray) -> Attitudes:
@@ -230,13 +227,8 @@ class _Builder:
         self, segment: Segment, index: int, window_s: tuple[float, float], stop: bool
     ) -> tuple[BurnPlan, Target]:
         """A burn segment's plan and the LVLH offset holding its axis along its direction."""
-        settings = segment.burn
-        assert settings is not None
-        axis = (
-            strongest_axis(self.problem)
-            if settings.body_axis is None
-            else axis_unit_vector(settings.body_axis)
-        )
+        request = segment.burn
+        assert request is not None
         firing = window_s[1] - window_s[0] - segment.blend_s * (2 if stop else 1)
         if firing <= 0.0:
             raise ProblemFileError(
@@ -245,8 +237,7 @@ class _Builder:
                 f"blend_s ({segment.blend_s:g} s)" + (" and stops as long" if stop else ""),
                 self.problem.source,
             )
-        thrust_N = None if settings.thrust_mN is None else settings.thrust_mN / MN_PER_N
-        plan = BurnPlan(settings.direction, axis, firing, settings.thrust_fraction, thrust_N)
+        plan = plan_burn(self.problem, request, firing)
         offset = burn_offset(plan.body_axis, plan.direction_lvlh)
         return plan, Target("frame", quaternion=offset, frame="lvlh")
 
@@ -256,11 +247,11 @@ class _Builder:
         :func:`~casadi_debris.guidance._targets.track_attitudes`)."""
         assert segment.target is not None and segment.slew is not None  # the reader's
         start, q0, target = self.time_s, self.attitude, segment.target
-        settings: SlewSettings = segment.slew
+        request: SlewRequest = segment.slew
 
         def solve(end_s: float) -> SlewProfile:
             goal = self._slew_target(target, q0, end_s + lead_s, key)
-            return solve_slew(self.problem, goal, settings, segment.duration_s, self.sample_s, key)
+            return solve_slew(self.problem, goal, request, self.sample_s, key)
 
         profile = solve(start + (segment.duration_s or 0.0))
         if target.kind == "frame" and segment.duration_s is None:
@@ -272,7 +263,7 @@ class _Builder:
             _slew_attitudes(profile, start),
             index,
             profile,
-            settings.feedforward,
+            request.feedforward,
         )
 
     def _onto_frame(

@@ -3,14 +3,13 @@ time- or fuel-optimal), and a slew profile's attitude at any instant."""
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 
 import numpy as np
 from scipy.interpolate import CubicHermiteSpline
 
-from casadi_debris.config import Problem, SlewReference, SlewSettings
+from casadi_debris.config import Problem, SlewRequest
 from casadi_debris.dynamics import quaternion_rate
 from casadi_debris.errors import InputShapeError, ProblemFileError, SlewInfeasibleError
 from casadi_debris.slews import (
@@ -26,14 +25,16 @@ from casadi_debris.slews import (
 logger = logging.getLogger(__name__)
 
 
-def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) -> SlewProfile:
-    """The slew a ``[simulation.slew]`` table asks for (rigid; torque level, or thruster
-    level with zero net force when ``settings.thrusters``).
+def generate_slew(problem: Problem, request: SlewRequest, sample_s: float) -> SlewProfile:
+    """The slew a ``[simulation.slew]`` table asks for: a turn about a body axis from the
+    reference attitude (rigid; torque level, or thruster level with zero net force when
+    ``request.thrusters``).
 
     Parameters
     ----------
     problem : Problem
-    settings : SlewReference
+    request : SlewRequest
+        A turn (``request.axis``, ``request.angle_deg``).
     sample_s : float
         Output sample spacing [s] (the control period).
 
@@ -43,30 +44,28 @@ def generate_slew(problem: Problem, settings: SlewReference, sample_s: float) ->
         The slew cannot be done as the table asks (e.g. a duration below the
         minimum), naming ``simulation.slew.duration_s`` when one is given.
     """
-    target = slew_about_axis(settings.axis, math.radians(settings.angle_deg))
-    return solve_slew(
-        problem, target, settings.settings, settings.duration_s, sample_s, "simulation.slew"
-    )
+    target = slew_about_axis(request.axis, math.radians(request.angle_deg))
+    return solve_slew(problem, target, request, sample_s, "simulation.slew")
 
 
 def solve_slew(
     problem: Problem,
     target: SlewTarget,
-    settings: SlewSettings,
-    duration_s: float | None,
+    request: SlewRequest,
     sample_s: float,
     key: str,
 ) -> SlewProfile:
-    """The slew to ``target`` by the method and options of ``settings``.
+    """The slew to ``target`` (``request.target`` resolved for its start attitude) by the
+    method, timing and options of ``request``.
 
     Parameters
     ----------
     problem : Problem
     target : SlewTarget
         Start and end attitudes.
-    settings : SlewSettings
-    duration_s : float or None
-        The slew's length [s] (a deadline for time-optimal); None: the method's own.
+    request : SlewRequest
+        Its ``duration_s`` is the slew's length [s] (a deadline for time-optimal); None:
+        the method's own.
     sample_s : float
         Output sample spacing [s].
     key : str
@@ -78,13 +77,14 @@ def solve_slew(
         The slew cannot be done as asked, naming ``<key>.duration_s`` when a
         duration is given, else ``key``.
     """
-    if settings.method == "fuel-optimal" and duration_s is None:
-        # The loader refuses it; a table built in Python may not.
+    duration_s = request.duration_s
+    if request.method == "fuel-optimal" and duration_s is None:
+        # The loader refuses it; a request built in Python may not.
         raise ProblemFileError(
             f"{key}.duration_s", "missing: a fuel-optimal slew needs its duration", problem.source
         )
     try:
-        slew = _slew_of(problem, target, settings, duration_s, sample_s)
+        slew = _slew_of(problem, target, request, sample_s)
     except SlewInfeasibleError as exc:
         named = f"{key}.duration_s" if duration_s is not None else key
         raise ProblemFileError(named, str(exc), problem.source) from None
@@ -104,36 +104,26 @@ def solve_slew(
 
 
 def _slew_of(
-    problem: Problem,
-    target: SlewTarget,
-    settings: SlewSettings,
-    duration_s: float | None,
-    sample_s: float,
+    problem: Problem, target: SlewTarget, request: SlewRequest, sample_s: float
 ) -> SlewProfile:
-    if settings.method == "bang-bang":
+    if request.method == "bang-bang":
         return bang_bang_slew(
             problem,
             target=target,
-            duration_s=duration_s,
-            torque_fraction=settings.torque_fraction,
+            duration_s=request.duration_s,
+            torque_fraction=request.torque_fraction,
+            rate_limit_rad_s=request.rate_limit_rad_s,
             sample_s=sample_s,
             check_vibration=False,
         )
-    options = OptimalSlewSettings(
-        thrusters=settings.thrusters,
-        zero_net_force=settings.thrusters,
-        flexible=settings.flexible,
-        flexible_method=settings.flexible_method,
-        sample_s=sample_s,
-        check_vibration=False,
-    )
-    if settings.torque_fraction is not None:  # else the slew's own default
-        options = dataclasses.replace(options, torque_fraction=settings.torque_fraction)
-    if settings.method == "time-optimal":
+    options = OptimalSlewSettings.for_request(request, sample_s=sample_s, check_vibration=False)
+    if request.method == "time-optimal":
         # A duration is the slew's deadline: the optimum must not be longer.
-        return time_optimal_slew(problem, target=target, duration_s=duration_s, options=options)
+        return time_optimal_slew(
+            problem, target=target, duration_s=request.duration_s, options=options
+        )
     return fuel_optimal_slew(
-        problem, target=target, duration_s=float(duration_s or 0.0), options=options
+        problem, target=target, duration_s=float(request.duration_s or 0.0), options=options
     )
 
 

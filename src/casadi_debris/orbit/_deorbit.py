@@ -185,6 +185,8 @@ class DeorbitModel:
 
     Attributes
     ----------
+    problem : Problem
+        The problem it was built for.
     earth : Earth
     semi_major_axis_m, inclination_rad : float
     decay : Ballistic
@@ -194,6 +196,7 @@ class DeorbitModel:
     thrust : SwarmThrust
     """
 
+    problem: Problem
     earth: Earth
     semi_major_axis_m: float
     inclination_rad: float
@@ -234,6 +237,7 @@ class DeorbitModel:
         decay = tumbling if settings.tumbling else held[0]
         earth = Earth.from_problem(problem)
         return cls(
+            problem=problem,
             earth=earth,
             semi_major_axis_m=earth.radius_m + problem.orbit.altitude_km * M_PER_KM,
             inclination_rad=math.radians(problem.orbit.inclination_deg),

@@ -145,7 +145,7 @@ def _run_chunk(context: None, chunk: _Chunk) -> list[float]:
 
 
 def lifetime_monte_carlo(
-    problem: Problem,
+    problem: Problem | DeorbitModel,
     *,
     runs: int,
     seed: int,
@@ -153,13 +153,13 @@ def lifetime_monte_carlo(
     arc_half_width_deg: float = 180.0,
     settings: DeorbitSettings | None = None,
     workers: int = 1,
-    model: DeorbitModel | None = None,
 ) -> LifetimeCampaign:
     """Re-entry times of a plan (a burn of ``dv_m_s``, or none) over ``runs`` draws.
 
     Parameters
     ----------
-    problem : Problem
+    problem : Problem or DeorbitModel
+        A problem, or its model already built (reused as is).
     runs, seed : int
     dv_m_s : float
         The burn's Δv [m/s] (flown with the swarm's thrust as in the plan).
@@ -169,15 +169,17 @@ def lifetime_monte_carlo(
         The limit and horizon (its solar cases are not used: the cycles replace them).
     workers : int
         Local worker processes.
-    model : DeorbitModel, optional
-        Reused if already built for ``problem``.
 
     Returns
     -------
     LifetimeCampaign
     """
     settings = settings or DeorbitSettings()
-    model = model or DeorbitModel.from_problem(problem, settings)
+    model = (
+        problem
+        if isinstance(problem, DeorbitModel)
+        else DeorbitModel.from_problem(problem, settings)
+    )
     ids = list(range(1, runs + 1))
     chunks = [
         _Chunk(

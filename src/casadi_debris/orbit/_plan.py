@@ -82,22 +82,17 @@ class DeorbitPlan(Record):
 
 
 def plan_deorbit(
-    problem: Problem,
-    settings: DeorbitSettings | None = None,
-    *,
-    model: DeorbitModel | None = None,
+    problem: Problem | DeorbitModel, settings: DeorbitSettings | None = None
 ) -> DeorbitPlan:
     """The least Δv (and propellant, time, stages) that re-enters the debris within five years.
 
     Parameters
     ----------
-    problem : Problem
-        The debris' circular orbit (``[orbit]``), its faces and mass, the swarm.
+    problem : Problem or DeorbitModel
+        The debris' circular orbit (``[orbit]``), its faces and mass, the swarm; or its
+        model already built (a swarm with part of its propellant spent, say), used as is.
     settings : DeorbitSettings, optional
         Solar cases, limit, strategies, C_D, minimum swarm search, Monte Carlo.
-    model : DeorbitModel, optional
-        Built from ``problem`` and ``settings`` when not given; a caller that has one
-        (a swarm with part of its propellant spent, say) passes it and it is used as is.
 
     Returns
     -------
@@ -113,35 +108,36 @@ def plan_deorbit(
     True
     """
     settings = settings or DeorbitSettings()
-    model = model or DeorbitModel.from_problem(problem, settings)
+    model = (
+        problem
+        if isinstance(problem, DeorbitModel)
+        else DeorbitModel.from_problem(problem, settings)
+    )
     cases = tuple(plan_case(model, solar_case(name), settings) for name in settings.solar)
-    plan = assemble_plan(problem, model, settings, cases)
+    plan = assemble_plan(model, settings, cases)
     governing = next(c for c in cases if c.solar == plan.governing_case)
     if settings.minimum_swarm:
-        smallest = minimum_swarm(problem, model, settings, plan.governing_case)
+        smallest = minimum_swarm(model, settings, plan.governing_case)
         plan = dataclasses.replace(plan, minimum_swarm=smallest)
     if settings.samples > 0:
         campaign = lifetime_monte_carlo(
-            problem,
+            model,
             runs=settings.samples,
             seed=settings.seed,
             dv_m_s=governing.flown_dv_m_s,
             arc_half_width_deg=governing.arc_half_width_deg,
             settings=settings,
             workers=settings.workers,
-            model=model,
         )
         plan = dataclasses.replace(plan, monte_carlo=campaign)
     return plan
 
 
 def assemble_plan(
-    problem: Problem,
-    model: DeorbitModel,
-    settings: DeorbitSettings,
-    cases: Sequence[DeorbitCase],
+    model: DeorbitModel, settings: DeorbitSettings, cases: Sequence[DeorbitCase]
 ) -> DeorbitPlan:
     """The plan's verdict from its cases: the governing case needs the most Δv."""
+    problem = model.problem
     needs = [c.deorbit_dv_m_s if math.isfinite(c.deorbit_dv_m_s) else math.inf for c in cases]
     governing = cases[int(np.argmax(needs))]
     return DeorbitPlan(

@@ -20,7 +20,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.config import Problem
 from casadi_debris.orbit._atmosphere import solar_case
 from casadi_debris.orbit._deorbit import STRATEGIES, DeorbitModel, DeorbitSettings, best_strategy
 from casadi_debris.orbit._propulsion import SwarmThrust, ThrustSegment
@@ -63,8 +62,9 @@ class MinimumSwarm(Record):
     governing_case: str
 
 
-def swarm_of(problem: Problem, model: DeorbitModel, count: int) -> DeorbitModel:
-    """``model`` with ``count`` of the problem's first CubeSat instead of its swarm."""
+def swarm_of(model: DeorbitModel, count: int) -> DeorbitModel:
+    """``model`` with ``count`` of its problem's first CubeSat instead of its swarm."""
+    problem = model.problem
     cubesat = problem.cubesats[0]
     engine = cubesat.engines[0]
     g0 = problem.constants.standard_gravity_m_s2
@@ -102,31 +102,31 @@ def _enough(model: DeorbitModel, settings: DeorbitSettings, case: str) -> tuple[
 
 
 def minimum_swarm(
-    problem: Problem, model: DeorbitModel, settings: DeorbitSettings, governing_case: str
+    model: DeorbitModel, settings: DeorbitSettings, governing_case: str
 ) -> MinimumSwarm | None:
     """The fewest CubeSats that carry the least Δv under ``governing_case`` (then checked
     under the other cases); None if even :data:`MAX_CUBESATS` do not."""
     low, high = 0, 1
-    while not _enough(swarm_of(problem, model, high), settings, governing_case)[0]:
+    while not _enough(swarm_of(model, high), settings, governing_case)[0]:
         low, high = high, 2 * high
         if high > MAX_CUBESATS:
             return None
     while high - low > 1:
         middle = (low + high) // 2
-        if _enough(swarm_of(problem, model, middle), settings, governing_case)[0]:
+        if _enough(swarm_of(model, middle), settings, governing_case)[0]:
             high = middle
         else:
             low = middle
     count = high
     for case in settings.solar:
-        while not _enough(swarm_of(problem, model, count), settings, case)[0]:
+        while not _enough(swarm_of(model, count), settings, case)[0]:
             count += 1
             if count > MAX_CUBESATS:
                 return None
-    chosen = swarm_of(problem, model, count)
+    chosen = swarm_of(model, count)
     _, need, strategy = _enough(chosen, settings, governing_case)
     segment = chosen.thrust.segments[0]
-    engine = problem.cubesats[0].engines[0]
+    engine = model.problem.cubesats[0].engines[0]
     return MinimumSwarm(
         cubesats=count,
         stages=count * engine.stages,

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from casadi_debris._lazy import lazy_exports
+from casadi_debris._lazy import lazy_exports, type_checking_imports
 
 if TYPE_CHECKING:
     from casadi_debris.report._alternatives import (
@@ -236,101 +236,9 @@ __all__ = [
 ]
 
 # Imported on first use: the commands import this package for a few helpers, and the
-# modules behind the rest bring in matplotlib, the studies and the simulation.
+# modules behind the rest bring in matplotlib, the studies and the simulation. Where each
+# name lives is read from the TYPE_CHECKING imports above (one list, with __all__).
 _LAZY = {
-    "AlternativesSummary": "casadi_debris.report._alternatives",
-    "alternatives_figures": "casadi_debris.report._alternatives",
-    "write_alternatives": "casadi_debris.report._alternatives",
-    "BurnSummary": "casadi_debris.report._burn",
-    "burn_figures": "casadi_debris.report._burn",
-    "write_burn": "casadi_debris.report._burn",
-    "format_figure": "casadi_debris.report._common",
-    "format_table": "casadi_debris.report._common",
-    "verdict_text": "casadi_debris.report._common",
-    "COLUMNS": "casadi_debris.report._compare",
-    "CompareSummary": "casadi_debris.report._compare",
-    "VariantRow": "casadi_debris.report._compare",
-    "cell": "casadi_debris.report._compare",
-    "comparison_figures": "casadi_debris.report._compare",
-    "write_comparison": "casadi_debris.report._compare",
-    "DeorbitSummary": "casadi_debris.report._deorbit",
-    "deorbit_figures": "casadi_debris.report._deorbit",
-    "write_deorbit": "casadi_debris.report._deorbit",
-    "BudgetSummary": "casadi_debris.report._describe",
-    "ModelSummary": "casadi_debris.report._describe",
-    "Thruster": "casadi_debris.report._describe",
-    "budget_summary": "casadi_debris.report._describe",
-    "budget_text": "casadi_debris.report._describe",
-    "describe_model": "casadi_debris.report._describe",
-    "model_text": "casadi_debris.report._describe",
-    "VerificationSummary": "casadi_debris.report._design",
-    "DesignFigures": "casadi_debris.report._design",
-    "DesignSummary": "casadi_debris.report._design",
-    "RequirementRow": "casadi_debris.report._design",
-    "binding_lines": "casadi_debris.report._design",
-    "body_lines": "casadi_debris.report._design",
-    "classical_markdown": "casadi_debris.report._design",
-    "design_markdown": "casadi_debris.report._design",
-    "requirement_rows": "casadi_debris.report._design",
-    "verification_rows": "casadi_debris.report._design",
-    "DetumbleSummary": "casadi_debris.report._detumble",
-    "detumble_figures": "casadi_debris.report._detumble",
-    "write_detumble": "casadi_debris.report._detumble",
-    "HEATMAP": "casadi_debris.report._failures",
-    "failure_figures": "casadi_debris.report._failures",
-    "pointing_window": "casadi_debris.report._failures",
-    "write_failures": "casadi_debris.report._failures",
-    "mission_figures": "casadi_debris.report._mission",
-    "mission_text": "casadi_debris.report._mission",
-    "write_mission": "casadi_debris.report._mission",
-    "load_paper_reference": "casadi_debris.report._paper",
-    "paper_figure": "casadi_debris.report._paper",
-    "paper_figures": "casadi_debris.report._paper",
-    "table_figures": "casadi_debris.report._paper",
-    "PLACEMENT_FILE": "casadi_debris.report._placement",
-    "failure_label": "casadi_debris.report._placement",
-    "placement_figures": "casadi_debris.report._placement",
-    "write_placement": "casadi_debris.report._placement",
-    "ControllerSummary": "casadi_debris.report._reproduce",
-    "ReproductionRow": "casadi_debris.report._reproduce",
-    "ReproductionSummary": "casadi_debris.report._reproduce",
-    "report_markdown": "casadi_debris.report._reproduce",
-    "reproduction_rows": "casadi_debris.report._reproduce",
-    "DiskMargin": "casadi_debris.report._robust",
-    "Margins": "casadi_debris.report._robust",
-    "MarginsSummary": "casadi_debris.report._robust",
-    "margin_figures": "casadi_debris.report._robust",
-    "margins_summary": "casadi_debris.report._robust",
-    "write_margins": "casadi_debris.report._robust",
-    "CampaignRun": "casadi_debris.report._simulation",
-    "CampaignSummary": "casadi_debris.report._simulation",
-    "FailedCase": "casadi_debris.report._simulation",
-    "WorstValueSummary": "casadi_debris.report._simulation",
-    "campaign_envelope": "casadi_debris.report._simulation",
-    "campaign_figures": "casadi_debris.report._simulation",
-    "campaign_summary": "casadi_debris.report._simulation",
-    "engine_groups": "casadi_debris.report._simulation",
-    "figure_title": "casadi_debris.report._simulation",
-    "normalized_column": "casadi_debris.report._simulation",
-    "run_figures": "casadi_debris.report._simulation",
-    "series_columns": "casadi_debris.report._simulation",
-    "torque_limits_mNm": "casadi_debris.report._simulation",
-    "write_campaign": "casadi_debris.report._simulation",
-    "write_run": "casadi_debris.report._simulation",
-    "write_profile_csv": "casadi_debris.report._slew",
-    "write_reference_csv": "casadi_debris.report._slew",
-    "transfer_figures": "casadi_debris.report._transfer",
-    "write_transfer": "casadi_debris.report._transfer",
-    "ParameterFile": "casadi_debris.report._worstcase",
-    "WorstCaseIdentity": "casadi_debris.report._worstcase",
-    "WorstCaseSummary": "casadi_debris.report._worstcase",
-    "corner_campaign_envelope": "casadi_debris.report._worstcase",
-    "parameter_file": "casadi_debris.report._worstcase",
-    "worst_case_figure": "casadi_debris.report._worstcase",
-    "worst_case_summary": "casadi_debris.report._worstcase",
-    "write_worst_case_files": "casadi_debris.report._worstcase",
-    "write_worst_cases": "casadi_debris.report._worstcase",
+    name: module for name, module in type_checking_imports(__file__).items() if name in __all__
 }
-
-
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)

@@ -132,9 +132,7 @@ def describe_model(model: Problem | Model) -> ModelSummary:
     problem or of its model already built."""
     model = model if isinstance(model, Model) else build_model(model)
     problem, geometry = model.problem, model.geometry
-    zero_force_mNm = {
-        k: v * MN_PER_N for k, v in torque_authority(geometry, zero_net_force=True).items()
-    }
+    zero_force_mNm = torque_authority(geometry, zero_net_force=True).to_mNm()
     return ModelSummary(
         problem=problem.name,
         problem_path=problem.source,
@@ -145,7 +143,7 @@ def describe_model(model: Problem | Model) -> ModelSummary:
         inertia_total_kgm2=_matrix(geometry.inertia_total_kgm2),
         array_angle_deg=tuple(array.angle_deg for array in problem.arrays),
         arrays=_array_orientations(problem, geometry),
-        torque_max_mNm={k: v * MN_PER_N for k, v in torque_authority(geometry).items()},
+        torque_max_mNm=torque_authority(geometry).to_mNm(),
         torque_max_zero_force_mNm=zero_force_mNm,
         modes=_modes(model),
         thrusters=_thrusters(problem, geometry),

@@ -19,7 +19,7 @@ import csv
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypedDict
 
 import numpy as np
 
@@ -54,8 +54,7 @@ if TYPE_CHECKING:
 
 def torque_limits_mNm(allocator: Allocator) -> np.ndarray:
     """Largest pure torque per axis at zero net force (the smaller of + and -), shape (3,)."""
-    authority = allocator.torque_authority()
-    return np.array([min(authority[f"+{a}"], authority[f"-{a}"]) for a in AXIS_NAMES]) * MNM_PER_NM
+    return allocator.torque_authority().weakest_Nm * MNM_PER_NM
 
 
 def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
@@ -91,7 +90,14 @@ def series_columns(result: ClosedLoopResult) -> dict[str, np.ndarray]:
     return columns
 
 
-def run_figures_options(problem: Problem) -> dict[str, Any]:
+class ErrorAxis(TypedDict):
+    """How a run's attitude error is drawn: its unit and the requirement line in it."""
+
+    error_unit: str
+    requirement: float
+
+
+def run_figures_options(problem: Problem) -> ErrorAxis:
     """Error unit and requirement line: the slew error bound in degrees for a slew, the
     pointing bound in arcsec for a hold (the problem's ``[requirements]``)."""
     if problem.simulation.reference == "hold":

@@ -370,7 +370,7 @@ def _bisected(
 
 
 def bang_bang_slew(
-    problem: Problem,
+    problem: Problem | Model,
     axis: str | Sequence[float] = "z",
     angle_rad: float = math.pi,
     *,
@@ -381,13 +381,14 @@ def bang_bang_slew(
     smoothing_s: float = 0.0,
     sample_s: float = DEFAULT_SAMPLE_S,
     check_vibration: bool = True,
-    model: Model | None = None,
 ) -> SlewProfile:
     """Rest-to-rest eigenaxis bang-bang slew reference.
 
     Parameters
     ----------
-    problem : Problem
+    problem : Problem or Model
+        The problem, or its rigid model already built (``build_model(problem, modes=[])``),
+        J taken from it.
     axis, angle_rad
         Eigenaxis and angle (ignored when ``target`` is given).
     target : SlewTarget, optional
@@ -401,8 +402,6 @@ def bang_bang_slew(
         Output sample spacing (switching times are added).
     check_vibration : bool
         Integrate the torque on the full flexible model for the residual vibration.
-    model : Model, optional
-        Rigid model (``build_model(problem, modes=[])``) to take J from.
 
     Returns
     -------
@@ -421,7 +420,7 @@ def bang_bang_slew(
     """
     started = time.perf_counter()
     check_positive("sample_s", sample_s)
-    rigid = build_model(problem, modes=[]) if model is None else model
+    rigid = problem if isinstance(problem, Model) else build_model(problem, modes=[])
     goal = slew_about_axis(axis, angle_rad) if target is None else target
     inertia = np.array(rigid.rigid_inertia(rigid.nominal_parameters))
     # The time scale of the OCPs (J e alone); the profile itself is sized on its whole torque.
@@ -437,7 +436,6 @@ def bang_bang_slew(
         smoothing_s=smoothing_s,
     )
     return _profile(
-        problem,
         rigid,
         goal,
         timing,
@@ -456,22 +454,19 @@ def _loop_authority_use(rigid: Model) -> Callable[[np.ndarray], np.ndarray]:
     return functools.partial(authority_use, rigid.geometry, zero_net_force=True)
 
 
-def eigenaxis_guess(
-    problem: Problem, target: SlewTarget, duration_s: float, model: Model
-) -> SlewProfile:
+def eigenaxis_guess(model: Model, target: SlewTarget, duration_s: float) -> SlewProfile:
     """The eigenaxis bang-bang of ``duration_s`` with its acceleration from the duration
     alone, no sizing on the authority: where the optimal slews start (a guess need not
     be flyable, and about a non-principal axis this one is not; its ``limits`` say so).
 
     Parameters
     ----------
-    problem : Problem
+    model : Model
+        The rigid model (its problem's).
     target : SlewTarget
     duration_s : float
         Its length, s (``SlewOcp.limit_duration_s``, the eigenaxis time on J e alone in
         the OCP's box, for a time-optimal slew's guess).
-    model : Model
-        The rigid model.
     """
     started = time.perf_counter()
     inertia = np.array(model.rigid_inertia(model.nominal_parameters))
@@ -481,7 +476,6 @@ def eigenaxis_guess(
     alpha_max = max(alpha_max, 4.0 * target.angle_rad / duration_s**2)
     timing = bang_bang_timing(target.angle_rad, alpha_max, duration_s=duration_s)
     return _profile(
-        problem,
         model,
         target,
         timing,
@@ -495,7 +489,6 @@ def eigenaxis_guess(
 
 
 def _profile(
-    problem: Problem,
     rigid: Model,
     goal: SlewTarget,
     timing: BangBangTiming,
@@ -544,7 +537,7 @@ def _profile(
         figures=figures,
     )
     return finish_profile(
-        problem=problem,
+        problem=rigid.problem,
         geometry=rigid.geometry,
         request=request,
         settings=ProfileSettings(torque_fraction=need, check_vibration=check_vibration),

@@ -60,7 +60,7 @@ class BangBangReferences:
         duration_s = max(duration_s, self.ocp.limit_duration_s)
         if duration_s not in self._profiles:
             self._profiles[duration_s] = eigenaxis_guess(
-                self.ocp.problem, self.ocp.target, duration_s, self.ocp.rigid_model
+                self.ocp.rigid_model, self.ocp.target, duration_s
             )
         return self._profiles[duration_s]
 

@@ -39,7 +39,7 @@ from scipy.optimize import linprog
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES
 from casadi_debris.errors import CasadiDebrisError
-from casadi_debris.geometry import Geometry, max_thrust_N, torque_authority
+from casadi_debris.geometry import Authority, Geometry, max_thrust_N, torque_authority
 from casadi_debris.records import OPTIONAL, Record
 
 # Relative slack on every ratio and bound: IPOPT meets its bounds to about 1e-8, HiGHS
@@ -97,12 +97,12 @@ class LimitCheck(Record):
     limits_note: str = field(default="")
 
 
-def axis_ratios(authority_Nm: dict[str, float], torque_Nm: np.ndarray) -> np.ndarray:
+def axis_ratios(authority_Nm: Authority, torque_Nm: np.ndarray) -> np.ndarray:
     """Need over authority about each signed axis, shape (n, 6) (``SIGNED_AXES`` order).
 
     Parameters
     ----------
-    authority_Nm : dict
+    authority_Nm : Authority
         Largest pure torque about ``"+x"`` ... ``"-z"``, N m (>= 0).
     torque_Nm : ndarray, shape (n, 3)
     """
@@ -276,7 +276,7 @@ def check_limits(
     return LimitCheck(
         limits_ok=not notes,
         limits_zero_net_force=zero_net_force,
-        limits_authority_Nm=authority,
+        limits_authority_Nm=dict(authority),
         worst_axis_ratio=worst_axis,
         worst_torque_set_ratio=worst_set,
         worst_ratio_time_s=float(np.asarray(time_s)[at]) if len(gauge) else 0.0,
@@ -321,13 +321,13 @@ def _thrust_figures(
     }
 
 
-def box_authority(lower_Nm: np.ndarray, upper_Nm: np.ndarray) -> dict[str, float]:
-    """A per-axis torque box (N m, shape (3,) each) as the authority about each signed axis."""
-    authority = {}
-    for index, axis in enumerate(AXIS_NAMES):
-        authority[f"+{axis}"] = float(upper_Nm[index])
-        authority[f"-{axis}"] = float(-lower_Nm[index])
-    return authority
+def box_authority(lower_Nm: np.ndarray, upper_Nm: np.ndarray) -> Authority:
+    """A per-axis torque box (N m, shape (3,) each) as the authority about each signed axis
+    (actuators without a net force)."""
+    signed = np.column_stack(
+        [np.asarray(upper_Nm, dtype=float), -np.asarray(lower_Nm, dtype=float)]
+    )
+    return Authority(signed.ravel(), zero_net_force=False)
 
 
 def box_check(
@@ -344,7 +344,7 @@ def box_check(
     return LimitCheck(
         limits_ok=ok,
         limits_zero_net_force=False,
-        limits_authority_Nm=authority,
+        limits_authority_Nm=dict(authority),
         worst_axis_ratio=worst_axis,
         worst_torque_set_ratio=worst,
         worst_ratio_time_s=float(np.asarray(time_s)[int(np.argmax(worst_each))])

@@ -100,12 +100,11 @@ def slew_profile(
         zero_net_force=ocp.options.zero_net_force if ocp.thrusters else True,
     )
     return finish_profile(
-        problem=ocp.problem,
+        problem=ocp.problem if ocp.flexible_model is None else ocp.flexible_model,
         geometry=ocp.geometry,
         request=request,
         settings=settings,
         inertia_kgm2=ocp.inertia,
-        flexible_model=ocp.flexible_model,
     )
 
 

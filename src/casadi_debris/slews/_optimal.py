@@ -406,13 +406,14 @@ def time_optimal_slew(
     if not options.check_vibration:
         return fastest
     # The deadline is met: now the (long) check on the flexible model.
-    return _vibration_checked(problem, solver.ocp, fastest)
+    return _vibration_checked(solver.ocp, fastest)
 
 
-def _vibration_checked(problem: Problem, ocp: SlewOcp, slew: SlewProfile) -> SlewProfile:
+def _vibration_checked(ocp: SlewOcp, slew: SlewProfile) -> SlewProfile:
     """``slew`` with the vibration it leaves on the full flexible model."""
+    flexible = ocp.problem if ocp.flexible_model is None else ocp.flexible_model
     vibration, energy = residual_vibration(
-        problem, ocp.target, slew.input_function, slew.time_s, slew.duration_s, ocp.flexible_model
+        flexible, ocp.target, slew.input_function, slew.time_s, slew.duration_s
     )
     return dataclasses.replace(slew, residual_vibration_rad=vibration, residual_energy_J=energy)
 

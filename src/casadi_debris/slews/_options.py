@@ -1,8 +1,10 @@
 """Settings of the optimal slews: one frozen, validated :class:`OptimalSlewSettings`.
 
-What a slew is asked to do (the target, the objective, the duration) is the
-call's business; how it is modelled and solved (rigid or flexible, torque or
-thruster level, how fine, how checked) is a :class:`OptimalSlewSettings`, shared by
+What a slew is asked to do (the target, the objective, the duration, the
+authority) is a :class:`~casadi_debris.config.SlewRequest`; how it is modelled and
+solved (rigid or flexible, torque or thruster level, how fine, how checked) is a
+:class:`OptimalSlewSettings`, derived from the request
+(:meth:`OptimalSlewSettings.for_request`) and shared by
 :func:`~casadi_debris.slews._optimal.time_optimal_slew`,
 :func:`~casadi_debris.slews._optimal.fuel_optimal_slew` and the pieces of the OCP.
 """
@@ -12,10 +14,13 @@ from __future__ import annotations
 import dataclasses
 import numbers
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from casadi_debris.errors import InputShapeError
 from casadi_debris.slews._maneuver import check_positive, check_torque_fraction
+
+if TYPE_CHECKING:
+    from casadi_debris.config import SlewRequest
 
 DEFAULT_RESIDUAL_ENERGY_FRACTION = 0.01
 DEFAULT_SAMPLE_S = 1.0
@@ -118,6 +123,46 @@ class OptimalSlewSettings:
                 f"flexible_method: one of {', '.join(FLEXIBLE_METHODS)}, "
                 f"got {self.flexible_method!r}"
             )
+
+    @classmethod
+    def for_request(
+        cls,
+        request: SlewRequest,
+        *,
+        sample_s: float = DEFAULT_SAMPLE_S,
+        check_vibration: bool = True,
+        starts: int | None = None,
+        seed: int = 0,
+        workers: int | None = None,
+    ) -> OptimalSlewSettings:
+        """How to solve ``request``: its model (rigid or flexible, torque or thruster level,
+        zero net force, torque fraction) and the solver's choices given here.
+
+        Parameters
+        ----------
+        request : SlewRequest
+            What the slew does; its ``torque_fraction`` None is the whole authority.
+        sample_s : float
+            Output sample spacing [s].
+        check_vibration : bool
+            Integrate the result on the full flexible model for the residual vibration.
+        starts : int, optional
+            Initial guesses of a time-optimal slew (default ``DEFAULT_STARTS``).
+        seed, workers : int
+            See the attributes.
+        """
+        return cls(
+            flexible=request.flexible,
+            thrusters=request.thrusters,
+            zero_net_force=request.zero_net_force,
+            torque_fraction=1.0 if request.torque_fraction is None else request.torque_fraction,
+            sample_s=sample_s,
+            check_vibration=check_vibration,
+            flexible_method=request.flexible_method,
+            starts=DEFAULT_STARTS if starts is None else starts,
+            seed=seed,
+            workers=workers,
+        )
 
     @classmethod
     def merged(

@@ -262,24 +262,26 @@ def vibration_energy(model: Model, state: np.ndarray, parameters: np.ndarray) ->
 
 
 def residual_vibration(
-    problem: Problem,
+    problem: Problem | Model,
     target: SlewTarget,
     input_function: ca.Function,
     knots_s: np.ndarray,
     duration_s: float,
-    flexible_model: Model | None = None,
     parameters: np.ndarray | None = None,
 ) -> tuple[float, float]:
     """(residual_vibration_rad, residual_energy_J) of an input on the full flexible model.
 
     Parameters
     ----------
+    problem : Problem or Model
+        The problem, or its full flexible model already built (every array mode).
     knots_s : ndarray
         Switching times of the input (integration restarts there).
     """
-    model = build_model(problem, "all") if flexible_model is None else flexible_model
+    model = problem if isinstance(problem, Model) else build_model(problem, "all")
     p = model.nominal_parameters if parameters is None else parameters
-    frequencies = [mode.omega_rad_s for array in problem.arrays for mode in array.modes]
+    arrays = model.problem.arrays
+    frequencies = [mode.omega_rad_s for array in arrays for mode in array.modes]
     if not frequencies:  # a rigid debris: nothing rings after the slew
         frequencies = [math.inf]
     window = RESIDUAL_WINDOW_PERIODS * 2.0 * math.pi / min(frequencies)
@@ -380,12 +382,11 @@ class ProfileSettings:
 
 def finish_profile(
     *,
-    problem: Problem,
+    problem: Problem | Model,
     geometry: Geometry,
     request: ProfileRequest,
     settings: ProfileSettings,
     inertia_kgm2: np.ndarray,
-    flexible_model: Model | None = None,
 ) -> SlewProfile:
     """Assemble a :class:`SlewProfile` from the sampled hub motion and its input.
 
@@ -393,8 +394,9 @@ def finish_profile(
     (:func:`~casadi_debris.slews._limits.check_limits`) with the net-force rule
     ``settings.zero_net_force``, its thrust too when ``request.thrusters``; and
     given the eigenaxis bang-bang time at its torque fraction (``inertia_kgm2`` the
-    rigid inertia, kg m^2, shape (3, 3)). ``flexible_model`` (default: built from
-    ``problem`` with all modes) is the model the residual vibration is measured on.
+    rigid inertia, kg m^2, shape (3, 3)). ``problem`` is the problem, or its full flexible
+    model already built, on which the residual vibration is measured (else built from the
+    problem with all modes).
 
     Propellant comes from ``request.interval_thrust_N`` (thrust held on each knot
     interval) when given, else from the least-fuel thrust of the torque at the
@@ -402,9 +404,10 @@ def finish_profile(
     piecewise-constant torque, second order otherwise).
     """
     r = request
+    own = problem.problem if isinstance(problem, Model) else problem
     torque = np.array(r.input_function.map(len(r.time_s))(r.time_s)).T[:, :N_TORQUE]
     thrust, fuel, extra = _thrust_and_fuel(
-        problem, geometry, r.input_function, r.time_s, r.knots_s, r.interval_thrust_N, torque
+        own, geometry, r.input_function, r.time_s, r.knots_s, r.interval_thrust_N, torque
     )
     record = {"torque_fraction": settings.torque_fraction, **r.figures, **extra}
     limits = check_limits(
@@ -420,7 +423,7 @@ def finish_profile(
     vibration, energy = (math.nan, math.nan)
     if settings.check_vibration:
         vibration, energy = residual_vibration(
-            problem, r.target, r.input_function, r.knots_s, r.duration_s, flexible_model
+            problem, r.target, r.input_function, r.knots_s, r.duration_s
         )
     return SlewProfile(
         method=r.method,

@@ -27,7 +27,7 @@ import numpy as np
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.config import SIGNED_AXES, Problem, signed_axis_vector
-from casadi_debris.geometry import Geometry, build_geometry, torque_authority
+from casadi_debris.geometry import Authority, Geometry, build_geometry, torque_authority
 from casadi_debris.records import Record
 from casadi_debris.studies.failures import (
     authority_without,
@@ -85,7 +85,7 @@ class SwarmSummary(Record):
     double_failure: FailureTolerance | None
 
 
-def fuel_per_torque(allocator: Allocator, authority_Nm: dict[str, float]) -> dict[str, float]:
+def fuel_per_torque(allocator: Allocator, authority_Nm: Authority) -> dict[str, float]:
     """Least propellant flow per unit pure torque at zero net force, per signed axis.
 
     The allocator's exact least-fuel answer for half the authority about each signed
@@ -95,8 +95,8 @@ def fuel_per_torque(allocator: Allocator, authority_Nm: dict[str, float]) -> dic
     ----------
     allocator : Allocator
         Of the swarm, all engines available.
-    authority_Nm : dict
-        ``{"+x": tau [N m], ...}`` at zero net force.
+    authority_Nm : Authority
+        At zero net force.
 
     Returns
     -------
@@ -182,7 +182,7 @@ def swarm_figures(problem: Problem, *, max_failed: int = 2) -> SwarmSummary:
         engines=len(geometry.engines),
         swarm_mass_kg=float(sum(c.mass_kg for c in geometry.cubesats)),
         total_mass_kg=float(geometry.mass_kg),
-        torque_max_zero_force_mNm={k: v * MNM_PER_NM for k, v in authority.items()},
+        torque_max_zero_force_mNm=authority.to_mNm(),
         weakest_axis=weakest,
         weakest_ratio=ratio[weakest],
         fuel_per_torque_time_g_per_mNm_h=fuel,

@@ -243,7 +243,7 @@ def plan_mission(problem: Problem, settings: DeorbitSettings | None = None) -> M
     thrust = thrust_left(problem, geometry, left_Ns, full)
     mass = geometry.mass_kg - float(books.used_kg.sum())
     model = DeorbitModel.from_problem(problem, settings, thrust=thrust, mass_kg=mass)
-    plan = plan_deorbit(problem, settings, model=model)
+    plan = plan_deorbit(model, settings)
     governing = next(c for c in plan.cases if c.solar == plan.governing_case)
     usable_kg = thrust.engine_impulse(thrust.impulse_Ns) / books.exhaust_m_s
     stranded = books.per_cubesat(np.clip(books.left_kg() - usable_kg, 0.0, None))
@@ -285,7 +285,7 @@ def extra_stages_needed(
         thrust = thrust_left(problem, geometry, topped_Ns, full)
         heavier = mass_kg + extra * stage_kg
         model = DeorbitModel.from_problem(problem, settings, thrust=thrust, mass_kg=heavier)
-        if plan_deorbit(problem, settings, model=model).meets_five_year_rule:
+        if plan_deorbit(model, settings).meets_five_year_rule:
             return extra
     return None
 

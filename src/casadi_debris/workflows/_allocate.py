@@ -40,7 +40,7 @@ if TYPE_CHECKING:
         PropulsionState,
         SaturationMode,
     )
-    from casadi_debris.geometry import Geometry
+    from casadi_debris.geometry import Authority, Geometry
 
 Vector = Sequence[float]
 
@@ -338,7 +338,7 @@ def _summary(
     allocation: Allocation,
     allocator: Allocator,
     state: PropulsionState,
-    authority_Nm: dict[str, float],
+    authority_Nm: Authority,
 ) -> AllocationSummary:
     """The allocation in display units, ids from 1."""
     limits = allocator.max_thrust_N
@@ -363,7 +363,7 @@ def _summary(
         else _floats(allocation.demand_force_N * MN_PER_N),
         force_achieved_mN=_floats(allocation.force_N * MN_PER_N),
         fuel_rate_kg_s=float(allocation.fuel_rate_kg_s),
-        torque_authority_mNm={k: v * MNM_PER_NM for k, v in authority_Nm.items()},
+        torque_authority_mNm=authority_Nm.to_mNm(),
         solver=allocation.solver,
         iterations=int(allocation.iterations),
         solve_time_us=allocation.solve_time_s * US_PER_S,

@@ -21,10 +21,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from casadi_debris.allocation import Allocator, PropulsionState
-from casadi_debris.config import BurnDirection, Problem
+from casadi_debris.config import BurnDirection, BurnRequest, Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
-from casadi_debris.guidance import BurnPlan, burn_limits, burn_thrust_N, strongest_axis
+from casadi_debris.guidance import BurnPlan, burn_limits, burn_thrust_N, plan_burn
 from casadi_debris.report import BurnSummary, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     BURN_PERIOD_S,
@@ -45,21 +45,13 @@ LOGGER = logging.getLogger(__name__)
 
 
 @dataclass(frozen=True)
-class BurnRequest:
-    """What to fly.
+class _Flight:
+    """A burn request and how the job flies it.
 
     Attributes
     ----------
-    direction : {"prograde", "retrograde", "normal", "antinormal"}
-        In the orbit's LVLH frame.
-    duration_s : float
-        Engines on [s].
-    body_axis : tuple of 3 float, optional
-        Thrust axis in body axes; default the swarm's strongest torque-free direction.
-    thrust_fraction : float
-        Of the largest torque-free thrust along the axis.
-    thrust_mN : float, optional
-        The thrust itself (instead of the fraction) [mN].
+    request : BurnRequest
+        What to fly (SI: ``thrust_N``, ``duration_s``).
     first_stage_left_s : float, optional
         Start with every engine's first stage holding this much full-thrust time
         (to see the stages switch during a short burn); default full.
@@ -73,35 +65,27 @@ class BurnRequest:
         Compile the control step to C.
     """
 
-    direction: BurnDirection = "retrograde"
-    duration_s: float = 600.0
-    body_axis: tuple[float, float, float] | None = None
-    thrust_fraction: float = 1.0
-    thrust_mN: float | None = None
+    request: BurnRequest
     first_stage_left_s: float | None = None
     controller: str | Path | None = None
     allow_mismatch: bool = False
     period_s: float = BURN_PERIOD_S
     jit: bool = True
 
+    def plan(self, problem: Problem) -> tuple[BurnPlan, PropulsionState]:
+        """The plan of the request and the engines it starts with, checked (quick: two LPs).
 
-def burn_plan(problem: Problem, request: BurnRequest) -> tuple[BurnPlan, PropulsionState]:
-    """The plan a request asks for and the engines it starts with, checked (quick: two LPs).
-
-    Raises
-    ------
-    SimulationError
-        A field that cannot be flown (named), e.g. a thrust beyond the engines.
-    """
-    r = request
-    axis = strongest_axis(problem) if r.body_axis is None else np.asarray(r.body_axis, dtype=float)
-    thrust_N = None if r.thrust_mN is None else r.thrust_mN / MN_PER_N
-    plan = BurnPlan(r.direction, axis, r.duration_s, r.thrust_fraction, thrust_N)
-    engines = PropulsionState.from_problem(problem)
-    if r.first_stage_left_s is not None:
-        engines = first_stage_left(engines, r.first_stage_left_s)
-    burn_thrust_N(Allocator.from_problem(problem, state=engines), plan)
-    return plan, engines
+        Raises
+        ------
+        SimulationError
+            A field that cannot be flown (named), e.g. a thrust beyond the engines.
+        """
+        plan = plan_burn(problem, self.request)
+        engines = PropulsionState.from_problem(problem)
+        if self.first_stage_left_s is not None:
+            engines = first_stage_left(engines, self.first_stage_left_s)
+        burn_thrust_N(Allocator.from_problem(problem, state=engines), plan)
+        return plan, engines
 
 
 @dataclass(frozen=True)
@@ -201,44 +185,44 @@ def burn(
     problem = as_problem(problem)
     request = BurnRequest(
         direction=direction,
-        duration_s=hours * SECONDS_PER_HOUR,
         body_axis=None if body_axis is None else _body_axis(body_axis),
         thrust_fraction=1.0 if thrust_fraction is None else thrust_fraction,
-        thrust_mN=thrust_mN,
+        thrust_N=None if thrust_mN is None else thrust_mN / MN_PER_N,
+        duration_s=hours * SECONDS_PER_HOUR,
+    )
+    flight = _Flight(
+        request,
         first_stage_left_s=first_stage_left_s,
         controller=controller,
         allow_mismatch=allow_mismatch,
         jit=not no_jit,
     )
-    return _fly(problem, request, progress)
+    return _fly(problem, flight, progress)
 
 
-def _fly(
-    problem: Problem, request: BurnRequest, progress: Callable[[str], None] | None
-) -> BurnResult:
+def _fly(problem: Problem, flight: _Flight, progress: Callable[[str], None] | None) -> BurnResult:
     """Check the request (two LPs) and the controller, then fly it (the long part)."""
-    plan, engines = burn_plan(problem, request)
+    plan, engines = flight.plan(problem)
     record, controller_path = controller_for(
-        problem, request.controller, allow_mismatch=request.allow_mismatch
+        problem, flight.controller, allow_mismatch=flight.allow_mismatch
     )
     if progress is not None:
-        hours = request.duration_s / SECONDS_PER_HOUR
+        hours = plan.duration_s / SECONDS_PER_HOUR
         progress(
-            f"Flying a {request.direction} burn of {hours:g} h on {problem.name} "
-            "(flexible model) ..."
+            f"Flying a {plan.direction} burn of {hours:g} h on {problem.name} (flexible model) ..."
         )
     run = simulate_burn(
         build_model(problem),
         record.reduced,
         plan,
-        period_s=request.period_s,
+        period_s=flight.period_s,
         propulsion=engines,
-        jit=request.jit,
+        jit=flight.jit,
     )
     allocator = Allocator.from_problem(problem)
     summary, series = burn_summary(problem, run, allocator)
     check = burn_limits(
-        problem, plan, burn_thrust_N(allocator, plan, strict=False), request.period_s
+        problem, plan, burn_thrust_N(allocator, plan, strict=False), flight.period_s
     )
     if not check.limits_ok:
         LOGGER.warning(
@@ -248,7 +232,7 @@ def _fly(
     report = BurnSummary(
         burn=summary,
         controller_path=str(controller_path),
-        first_stage_left_s=request.first_stage_left_s,
+        first_stage_left_s=flight.first_stage_left_s,
         limits_ok=check.limits_ok,
         limits_note=check.limits_note,
         worst_torque_set_ratio=check.worst_torque_set_ratio,

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from casadi_debris.allocation import Allocator
-from casadi_debris.config import AXIS_NAMES, Problem, Simulation, SlewReference, with_duration
+from casadi_debris.config import AXIS_NAMES, Problem, Simulation, slew_about, with_duration
 from casadi_debris.geometry import build_geometry
 from casadi_debris.report import (
     CampaignSummary,
@@ -137,12 +137,11 @@ def _default_slew(problem: Problem, simulation: Simulation) -> Problem:
     fraction = SLEW_TORQUE_SHARE * (1.0 - disturbance_Nm / authority_Nm)
     acceleration = fraction * authority_Nm / np.diag(geometry.inertia_total_kgm2)
     axis = int(np.argmin(acceleration))
-    slew = SlewReference(
-        axis=AXIS_NAMES[axis],
-        angle_deg=SLEW_ANGLE_DEG,
+    slew = slew_about(
+        AXIS_NAMES[axis],
+        SLEW_ANGLE_DEG,
         method="bang-bang",
         start_s=0.0,
-        duration_s=None,
         torque_fraction=float(fraction[axis]),
     )
     slew_s = rigid_limit_duration(math.radians(SLEW_ANGLE_DEG), float(acceleration[axis]))

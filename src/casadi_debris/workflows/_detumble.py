@@ -15,7 +15,7 @@ import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 
@@ -140,9 +140,20 @@ def detumble(
     return DetumbleResult(summary=report, run=result)
 
 
+class _OcpFields(TypedDict, total=False):
+    """The detumble summary's ``ocp_*`` fields."""
+
+    ocp_method: str
+    ocp_time_h: float
+    ocp_fuel_kg: float
+    ocp_greedy_time_h: float
+    ocp_averaged_bound_h: float
+    ocp_solver_status: str
+
+
 def _time_optimal(
     problem: Problem, initial_rate_rad_s: np.ndarray, threshold_rad_s: float
-) -> dict[str, Any]:
+) -> _OcpFields:
     """The report's ``ocp_*`` fields; a body or polytope the OCP cannot take says why."""
     try:
         solved = problem_time_optimal_detumble(problem, initial_rate_rad_s, threshold_rad_s)

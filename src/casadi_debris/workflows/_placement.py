@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from casadi_debris.config import SIGNED_AXES, Problem, load_problem
+from casadi_debris.config import Problem, load_problem
 from casadi_debris.errors import CasadiDebrisError, InputShapeError
 from casadi_debris.geometry import build_geometry, torque_authority
 from casadi_debris.report import PLACEMENT_FILE, placement_figures, write_placement
@@ -66,8 +66,8 @@ def check_written_layout(path: Path, study: PlacementStudy) -> None:
     except CasadiDebrisError as exc:
         raise InputShapeError(f"{PLACEMENT_FILE} would not load: {exc}") from None
     authority = torque_authority(build_geometry(placed), zero_net_force=True)
-    expected = np.array([study.metrics.authority_Nm[n] for n in SIGNED_AXES])
-    got = np.array([authority[n] for n in SIGNED_AXES])
+    expected = study.metrics.authority_Nm.torque_Nm
+    got = authority.torque_Nm
     if not np.allclose(got, expected, rtol=AUTHORITY_RELATIVE_TOLERANCE, atol=1e-15):
         raise CasadiDebrisError(f"{PLACEMENT_FILE} loads with authority {got} N m, not {expected}")
 

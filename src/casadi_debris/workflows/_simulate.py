@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from casadi_debris.config import FailureEvent, Problem, with_duration
+from casadi_debris.config import FailureEvent, Problem, Target, with_duration
 from casadi_debris.errors import InputShapeError
 from casadi_debris.store import write_json_atomic
 from casadi_debris.workflows._campaign import (
@@ -252,11 +252,12 @@ def _with_slew(problem: Problem, axis: Axis | None, angle_deg: float | None) -> 
             else "no slew (give a problem with a [simulation.slew], e.g. paper_slew)"
         )
         raise InputShapeError(f"{option}: {problem.name} flies {flies}")
-    changed = dataclasses.replace(
-        slew,
+    turn = Target(
+        "rotation",
         axis=slew.axis if axis is None else axis,
         angle_deg=slew.angle_deg if angle_deg is None else angle_deg,
     )
+    changed = dataclasses.replace(slew, target=turn)
     if slew.method == "bang-bang" and slew.duration_s is not None and slew.torque_fraction is None:
         # The file's duration sets the share of the authority its slew uses; another turn
         # flies at that share (paper_slew: 0.561), not in that time.

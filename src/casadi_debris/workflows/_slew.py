@@ -20,9 +20,9 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
-from casadi_debris.config import Problem
+from casadi_debris.config import Problem, SlewRequest, Target, slew_about
 from casadi_debris.errors import InputShapeError, SlewInfeasibleError
 from casadi_debris.records import FLATTENED, OPTIONAL, Record
 from casadi_debris.store import write_json_atomic
@@ -32,6 +32,7 @@ from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from casadi_debris.config import SlewMethod
     from casadi_debris.guidance import ManoeuvreReference, ManoeuvreSummary
     from casadi_debris.slews import SlewProfile
 
@@ -340,13 +341,13 @@ def slew(
     asked = _Asked(*(what + how), starts, seed, workers)
     if not asked.one_slew(problem):
         return _manoeuvre(problem, asked, note)
-    return _one_slew(problem, asked.resolved(problem, note), started)
+    return _one_slew(problem, asked, asked.request(problem, note), started)
 
 
-def _one_slew(problem: Problem, asked: _Asked, started: float) -> SlewResult:
-    """The slew ``asked`` (resolved), its summary timed from ``started``
+def _one_slew(problem: Problem, asked: _Asked, request: SlewRequest, started: float) -> SlewResult:
+    """The slew ``request`` solved as ``asked``, its summary timed from ``started``
     (``time.perf_counter``), a warning logged when the engines cannot fly it."""
-    profile = asked.solve(problem)
+    profile = asked.solve(problem, request)
     # What the user waited for: the solve, the flexible check, the shaper, the model build.
     summary = slew_summary(profile, problem.name, time.perf_counter() - started)
     if not summary.limits_ok:
@@ -356,7 +357,12 @@ def _one_slew(problem: Problem, asked: _Asked, started: float) -> SlewResult:
 
 @dataclass(frozen=True)
 class _Asked:
-    """The slew asked for, in the options' units; None: the problem's own (``resolved``)."""
+    """The job's keywords, in the options' units; None: the problem's own.
+
+    What to slew becomes a :class:`~casadi_debris.config.SlewRequest` (:meth:`request`,
+    resolved against the problem); the rest (``smoothing_s``, ``sample_s``, ``starts``,
+    ``seed``, ``workers``) is how it is solved and sampled.
+    """
 
     axis: Axis | None
     angle_deg: float | None
@@ -384,25 +390,36 @@ class _Asked:
         chosen = self.axis or self.angle_deg or self.method
         return problem.simulation.reference != "sequence" or bool(chosen)
 
-    def resolved(self, problem: Problem, note: Callable[[str], None] | None) -> _Asked:
-        """The settings left open taken from the problem's slew (:func:`_problem_slew`)."""
+    def request(self, problem: Problem, note: Callable[[str], None] | None) -> SlewRequest:
+        """The slew asked for, what is left open taken from the problem's
+        (:func:`_problem_slew`)."""
         all_given = self.axis and self.angle_deg is not None and self.method
         if note is not None and problem.simulation.slew is not None and not all_given:
             note(f"Slew from {problem.name}'s [simulation.slew] where no option says otherwise.")
-        timing = (self.duration_s, self.torque_fraction)
-        chosen = _problem_slew(
-            problem, self.axis, self.angle_deg, self.method, timing, self.thrusters
+        rate_limit = self.rate_limit_deg_s
+        asked = slew_about(
+            self.axis or "z",
+            180.0 if self.angle_deg is None else self.angle_deg,
+            method=cast("SlewMethod", self.method or "bang-bang"),
+            duration_s=self.duration_s,
+            torque_fraction=self.torque_fraction,
+            rate_limit_rad_s=None if rate_limit is None else math.radians(rate_limit),
+            thrusters=self.thrusters,
+            zero_net_force=self.zero_net_force,
+            flexible=self.flexible,
+            flexible_method=self.flexible_method,
         )
-        return dataclasses.replace(self, **chosen)
+        own = problem.simulation.slew
+        return asked if own is None else _problem_slew(own, self, asked)
 
-    def solve(self, problem: Problem) -> SlewProfile:
-        """The profile of the chosen method, errors named after the options."""
+    def solve(self, problem: Problem, request: SlewRequest) -> SlewProfile:
+        """The profile of the request's method, errors named after the options."""
         try:
-            return self._solve(problem)
+            return self._solve(problem, request)
         except (InputShapeError, SlewInfeasibleError) as exc:
-            raise _named_after_options(exc, self) from None
+            raise _named_after_options(exc, request) from None
 
-    def _solve(self, problem: Problem) -> SlewProfile:
+    def _solve(self, problem: Problem, request: SlewRequest) -> SlewProfile:
         from casadi_debris.slews import (
             OptimalSlewSettings,
             bang_bang_slew,
@@ -411,89 +428,70 @@ class _Asked:
             time_optimal_slew,
         )
 
-        if self.axis is None or self.angle_deg is None or self.method is None:
-            raise ValueError("solve the slew resolved against its problem (_Asked.resolved)")
-        target = slew_about_axis(self.axis, math.radians(self.angle_deg))
-        if self.method == "bang-bang":
-            if self.flexible or self.thrusters or self.zero_net_force:
+        target = slew_about_axis(request.axis, math.radians(request.angle_deg))
+        if request.method == "bang-bang":
+            if request.flexible or request.thrusters or request.zero_net_force:
                 raise InputShapeError(
                     "--flexible, --thrusters and --zero-net-force apply to the optimal methods"
                 )
-            rate_limit = self.rate_limit_deg_s
             return bang_bang_slew(
                 problem,
                 target=target,
-                duration_s=self.duration_s,
-                torque_fraction=self.torque_fraction,
-                rate_limit_rad_s=None if rate_limit is None else math.radians(rate_limit),
+                duration_s=request.duration_s,
+                torque_fraction=request.torque_fraction,
+                rate_limit_rad_s=request.rate_limit_rad_s,
                 smoothing_s=self.smoothing_s,
                 sample_s=self.sample_s,
             )
-        if self.rate_limit_deg_s is not None or self.smoothing_s:
+        if request.rate_limit_rad_s is not None or self.smoothing_s:
             raise InputShapeError("--rate-limit-deg-s and --smoothing-s apply to bang-bang only")
-        options = OptimalSlewSettings(
-            flexible=self.flexible,
-            thrusters=self.thrusters,
-            zero_net_force=self.zero_net_force,
-            torque_fraction=1.0 if self.torque_fraction is None else self.torque_fraction,
+        options = OptimalSlewSettings.for_request(
+            request,
             sample_s=self.sample_s,
-            flexible_method=self.flexible_method,
+            starts=self.starts,
             seed=self.seed,
             workers=self.workers,
         )
-        if self.starts is not None:  # else the library's default
-            options = dataclasses.replace(options, starts=self.starts)
-        if self.method == "time-optimal":
+        if request.method == "time-optimal":
             return time_optimal_slew(
-                problem, target=target, duration_s=self.duration_s, options=options
+                problem, target=target, duration_s=request.duration_s, options=options
             )
-        if self.duration_s is None:
+        if request.duration_s is None:
             raise InputShapeError("--duration-s: needed for a fuel-optimal slew")
         return fuel_optimal_slew(
-            problem, target=target, duration_s=self.duration_s, options=options
+            problem, target=target, duration_s=request.duration_s, options=options
         )
 
 
-def _problem_slew(
-    problem: Problem,
-    axis: Axis | None,
-    angle_deg: float | None,
-    method: str | None,
-    timing: tuple[float | None, float | None],
-    thrusters: bool,
-) -> dict[str, Any]:
-    """The settings left open (None) taken from the problem's slew, as ``_Asked`` fields.
+def _problem_slew(own: SlewRequest, asked: _Asked, request: SlewRequest) -> SlewRequest:
+    """``request`` with what ``asked`` leaves open (None) taken from the problem's slew.
 
     The problem's ``[simulation.slew]`` (the slew ``simulate`` flies) gives the axis,
     angle and method, and, when the slew is its own (no other axis, angle or method)
     and neither is given, the duration and torque fraction; its thruster level for
-    an optimal method. Without one, 180 deg about z by the paper's bang-bang.
+    an optimal method.
     """
-    own = problem.simulation.slew
-    if own is None:
-        return {
-            "axis": axis or "z",
-            "angle_deg": 180.0 if angle_deg is None else angle_deg,
-            "method": method or "bang-bang",
-            "duration_s": timing[0],
-            "torque_fraction": timing[1],
-        }
-    chosen = method or own.method
-    same = (axis or own.axis, own.angle_deg if angle_deg is None else angle_deg, chosen)
-    if same == (own.axis, own.angle_deg, own.method) and timing == (None, None):
+    method = cast("SlewMethod", asked.method or own.method)
+    angle_deg = own.angle_deg if asked.angle_deg is None else asked.angle_deg
+    turn = Target("rotation", axis=asked.axis or own.axis, angle_deg=angle_deg)
+    timing = (asked.duration_s, asked.torque_fraction)
+    its_own = (turn.axis, angle_deg, method) == (own.axis, own.angle_deg, own.method)
+    if its_own and timing == (None, None):
         timing = (own.duration_s, own.torque_fraction)
-    own_thrusters = own.thrusters and chosen != "bang-bang" and not thrusters
-    resolved: dict[str, Any] = {
-        "axis": axis or own.axis,
-        "angle_deg": own.angle_deg if angle_deg is None else angle_deg,
-        "method": chosen,
-        "duration_s": timing[0],
-        "torque_fraction": timing[1],
-    }
-    return resolved | ({"thrusters": True, "zero_net_force": True} if own_thrusters else {})
+    own_thrusters = own.thrusters and method != "bang-bang" and not asked.thrusters
+    resolved = dataclasses.replace(
+        request,
+        target=turn,
+        method=method,
+        duration_s=timing[0],
+        torque_fraction=timing[1],
+    )
+    if own_thrusters:
+        resolved = dataclasses.replace(resolved, thrusters=True, zero_net_force=True)
+    return resolved
 
 
-def _named_after_options(error: Exception, asked: _Asked) -> InputShapeError:
+def _named_after_options(error: Exception, request: SlewRequest) -> InputShapeError:
     """The error with the option it is about in front (the library names its parameters)."""
     text = str(error)
     name, separator, rest = text.partition(": ")
@@ -501,7 +499,7 @@ def _named_after_options(error: Exception, asked: _Asked) -> InputShapeError:
         return InputShapeError(f"{OPTION_OF_PARAMETER[name]}: {rest}")
     if text.startswith("--"):
         return InputShapeError(text)
-    if isinstance(error, SlewInfeasibleError) and asked.duration_s is not None:
+    if isinstance(error, SlewInfeasibleError) and request.duration_s is not None:
         return InputShapeError(f"--duration-s: {text}")
     return InputShapeError(f"--axis/--method: {text}")
 

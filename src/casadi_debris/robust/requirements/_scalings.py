@@ -135,8 +135,7 @@ class ScalingSummary(Record):
 
 def authority_per_axis_mNm(geometry: Geometry) -> np.ndarray:
     """min(+, -) torque authority with zero net force about x, y, z [mNm], shape (3,)."""
-    signed = torque_authority(geometry, zero_net_force=True)
-    return np.array([min(signed[f"+{a}"], signed[f"-{a}"]) for a in "xyz"]) * MN_PER_N
+    return torque_authority(geometry, zero_net_force=True).weakest_Nm * MN_PER_N
 
 
 def derived_scalings(

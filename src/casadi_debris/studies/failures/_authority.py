@@ -32,7 +32,7 @@ import numpy as np
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import Model
-from casadi_debris.geometry import Geometry, torque_authority
+from casadi_debris.geometry import Authority, Geometry, torque_authority
 from casadi_debris.studies.failures._cases import FailureCase
 from casadi_debris.studies.failures._records import HoldingSummary
 from casadi_debris.studies.failures._sets import axis_ratios, weakest_axis
@@ -100,8 +100,8 @@ class CaseAuthority:
     Attributes
     ----------
     case : FailureCase
-    torque_Nm : dict
-        ``{"+x": tau, ...}``: largest pure torque per signed axis at zero net force [N m].
+    torque_Nm : Authority
+        Largest pure torque per signed axis at zero net force [N m].
     disturbance_Nm : ndarray, shape (3,)
         The disturbance's amplitude per axis [N m].
     holding : HoldingLoad or None
@@ -109,7 +109,7 @@ class CaseAuthority:
     """
 
     case: FailureCase
-    torque_Nm: dict[str, float]
+    torque_Nm: Authority
     disturbance_Nm: np.ndarray
     holding: HoldingLoad | None
 

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from casadi_debris.config import SIGNED_AXES
-from casadi_debris.geometry import Geometry, torque_authority
+from casadi_debris.geometry import Authority, Geometry, torque_authority
 
 TIE_RTOL = 1e-9
 """Authorities (or ratios) this close, relative to the least, are one worst."""
@@ -63,21 +63,20 @@ def authority_ratio(authority_Nm: np.ndarray, disturbance_Nm: np.ndarray) -> np.
         return np.where(amplitude > 0, np.asarray(authority_Nm, dtype=float) / amplitude, np.inf)
 
 
-def axis_ratios(authority_Nm: dict[str, float], disturbance_Nm: np.ndarray) -> dict[str, float]:
-    """:func:`authority_ratio` of ``{"+x": tau, ...}``, as ``{"+x": ratio, ...}``."""
-    ratio = authority_ratio(np.array([authority_Nm[name] for name in SIGNED_AXES]), disturbance_Nm)
+def axis_ratios(authority_Nm: Authority, disturbance_Nm: np.ndarray) -> dict[str, float]:
+    """:func:`authority_ratio` of an authority, as ``{"+x": ratio, ...}``."""
+    ratio = authority_ratio(authority_Nm.torque_Nm, disturbance_Nm)
     return dict(zip(SIGNED_AXES, ratio.tolist(), strict=True))
 
 
-def authority_without(geometry: Geometry, failed: tuple[int, ...]) -> np.ndarray:
-    """Zero-net-force authority per signed axis [N m], shape (6,), with every engine of the
-    CubeSats ``failed`` (0-based) out."""
+def authority_without(geometry: Geometry, failed: tuple[int, ...]) -> Authority:
+    """Zero-net-force authority per signed axis [N m] with every engine of the CubeSats
+    ``failed`` (0-based) out."""
     available = ~np.isin(geometry.engine_cubesat, failed)
-    authority = torque_authority(geometry, zero_net_force=True, available=available)
-    return np.array([authority[name] for name in SIGNED_AXES])
+    return torque_authority(geometry, zero_net_force=True, available=available)
 
 
-def weakest_axis(ratio: dict[str, float], authority_Nm: dict[str, float]) -> str:
+def weakest_axis(ratio: dict[str, float], authority_Nm: Authority) -> str:
     """The signed axis of least authority over the disturbance (of least authority among
     equal ratios, e.g. axes without disturbance)."""
     return min(SIGNED_AXES, key=lambda name: (ratio[name], authority_Nm[name]))
@@ -122,7 +121,7 @@ def first_least(values: np.ndarray) -> int:
 
 
 def set_authority(
-    members: Iterable[int], size: int, authority_Nm: Callable[[tuple[int, ...]], np.ndarray]
+    members: Iterable[int], size: int, authority_Nm: Callable[[tuple[int, ...]], Authority]
 ) -> SetAuthority:
     """The authority left by every set of ``size`` failed ``members``.
 
@@ -131,13 +130,12 @@ def set_authority(
     members : iterable of int
     size : int
     authority_Nm : callable
-        ``authority_Nm(failed)``: the authority per signed axis, shape (6,), with the
-        CubeSats ``failed`` out (an LP).
+        ``authority_Nm(failed)``: the authority with the CubeSats ``failed`` out (an LP).
 
     Returns
     -------
     SetAuthority
     """
     sets = failure_sets(members, size)
-    values = np.array([authority_Nm(failed) for failed in sets], dtype=float)
+    values = np.array([authority_Nm(failed).torque_Nm for failed in sets], dtype=float)
     return SetAuthority(tuple(sets), values.reshape(len(sets), len(SIGNED_AXES)))

@@ -148,7 +148,7 @@ class FailureCaseResult:
             failed_stage=tuple(i + 1 for i in case.stage_of),
             stage=FAILED_STAGE + 1 if case.stage_of else None,
             label=case.label,
-            torque_max_zero_force_mNm={k: v * MN_PER_N for k, v in torque.items()},
+            torque_max_zero_force_mNm=torque.to_mNm(),
             authority_ratio=authority.ratio,
             worst_axis=authority.worst_axis,
             worst_ratio=authority.worst_ratio,

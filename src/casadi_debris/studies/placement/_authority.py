@@ -12,20 +12,21 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from casadi_debris.geometry import axis_authority_Nm
+from casadi_debris.geometry import Authority, axis_authority_Nm
 from casadi_debris.studies.failures import authority_ratio, set_authority
 from casadi_debris.studies.placement._data import PlacementData
 
 
 def layout_authority_Nm(
     data: PlacementData, chosen: tuple[int, ...], failed: tuple[int, ...] = ()
-) -> np.ndarray:
-    """Authority (6 signed axes, N m) of the chosen candidates with some of them failed."""
+) -> Authority:
+    """Zero-net-force authority of the chosen candidates with some of them failed."""
     alive = [c for c in chosen if c not in set(failed)]
     engines = data.engines_of(alive)
-    return axis_authority_Nm(
+    torque_Nm = axis_authority_Nm(
         data.torque_map[:, engines], data.force_map[:, engines], data.max_thrust_N[engines]
     )
+    return Authority(torque_Nm, zero_net_force=True)
 
 
 @dataclass(frozen=True)
@@ -38,20 +39,21 @@ class WorstFailures:
         CubeSats failed per set (k).
     sets : int
         Sets evaluated (C(N, k)).
-    authority_Nm : ndarray, shape (6,)
-        Least authority left about each signed axis over the sets.
+    authority_Nm : Authority
+        Least authority left about each signed axis over the sets (each axis its own
+        worst set).
     worst_set : tuple of tuple of int
         Per signed axis, the candidates (0-based) whose failure leaves it.
     """
 
     failures: int
     sets: int
-    authority_Nm: np.ndarray
+    authority_Nm: Authority
     worst_set: tuple[tuple[int, ...], ...]
 
     def ratio(self, disturbance_Nm: np.ndarray) -> np.ndarray:
         """Authority over the disturbance about each signed axis, shape (6,)."""
-        return authority_ratio(self.authority_Nm, disturbance_Nm)
+        return authority_ratio(self.authority_Nm.torque_Nm, disturbance_Nm)
 
 
 def worst_failures(data: PlacementData, chosen: tuple[int, ...], failures: int) -> WorstFailures:
@@ -60,5 +62,8 @@ def worst_failures(data: PlacementData, chosen: tuple[int, ...], failures: int) 
     found = set_authority(chosen, count, lambda failed: layout_authority_Nm(data, chosen, failed))
     authority, worst_set = found.worst_per_axis()
     return WorstFailures(
-        failures=count, sets=len(found.sets), authority_Nm=authority, worst_set=worst_set
+        failures=count,
+        sets=len(found.sets),
+        authority_Nm=Authority(authority, zero_net_force=True),
+        worst_set=worst_set,
     )

@@ -18,7 +18,13 @@ import numpy as np
 from casadi_debris.budgets import burn_dv_m_s
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES, CubeSat, Problem
 from casadi_debris.errors import SlewInfeasibleError
-from casadi_debris.geometry import Geometry, build_geometry, thrust_directions, torque_authority
+from casadi_debris.geometry import (
+    Authority,
+    Geometry,
+    build_geometry,
+    thrust_directions,
+    torque_authority,
+)
 from casadi_debris.slews import eigenaxis_acceleration_limit, rigid_limit_duration
 from casadi_debris.studies.failures import axis_ratios
 from casadi_debris.studies.placement._data import bare_debris
@@ -65,7 +71,7 @@ class LayoutMetrics:
     """
 
     count: int
-    authority_Nm: dict[str, float]
+    authority_Nm: Authority
     ratio: dict[str, float]
     worst_axis: str
     slew_s: np.ndarray
@@ -89,12 +95,10 @@ class LayoutMetrics:
         return min(self.dv_one_stage_m_s.values())
 
 
-def rigid_slew_times_s(
-    geometry: Geometry, authority_Nm: dict[str, float], angle_deg: float
-) -> np.ndarray:
+def rigid_slew_times_s(geometry: Geometry, authority_Nm: Authority, angle_deg: float) -> np.ndarray:
     """Eigenaxis bang-bang time about each body axis [s], shape (3,); inf without authority."""
-    upper = np.array([authority_Nm[f"+{a}"] for a in AXIS_NAMES])
-    lower = -np.array([authority_Nm[f"-{a}"] for a in AXIS_NAMES])
+    upper = authority_Nm.positive_Nm
+    lower = -authority_Nm.negative_Nm
     times = []
     for axis in range(3):
         try:

@@ -487,7 +487,7 @@ def meets_limits(data: PlacementData, settings: PlacementSettings, chosen: tuple
         return True
     gain = 4.0 * math.radians(settings.slew_angle_deg) / settings.max_slew_s**2
     inertia = np.diag(data.inertia_bare_kgm2) + added
-    authority = layout_authority_Nm(data, chosen).reshape(3, 2).min(axis=1)
+    authority = layout_authority_Nm(data, chosen).weakest_Nm
     return bool(np.all(authority >= gain * inertia))
 
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from casadi_debris.config import AXIS_NAMES, SIGNED_AXES
+from casadi_debris.geometry import Authority
 from casadi_debris.records import FLATTENED, Record
 from casadi_debris.studies.placement._authority import WorstFailures
 from casadi_debris.studies.placement._metrics import LayoutMetrics
@@ -27,10 +28,10 @@ from casadi_debris.units import MNM_PER_NM
 SOLVER_BACKEND = "HiGHS (scipy.optimize.milp)"
 
 
-def _mNm(values_Nm: dict[str, float] | np.ndarray) -> dict[str, float]:
+def _mNm(values_Nm: Authority | np.ndarray) -> dict[str, float]:
     """Per signed axis, N m to mN m."""
-    if isinstance(values_Nm, dict):
-        return {name: float(values_Nm[name]) * MNM_PER_NM for name in SIGNED_AXES}
+    if isinstance(values_Nm, Authority):
+        return values_Nm.to_mNm()
     return {name: float(v) * MNM_PER_NM for name, v in zip(SIGNED_AXES, values_Nm, strict=True)}
 
 
