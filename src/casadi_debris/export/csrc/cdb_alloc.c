@@ -34,7 +34,7 @@
 #define LIMIT_ACTIVE_RTOL ((cdb_real)1e-9)
 #define SMALL_DEMAND ((cdb_real)0.1)
 #define N_SMALL_LEVELS 4
-#define QP_MAX_NEWTON 12
+#define QP_MAX_NEWTON 4
 #define QP_MAX_HALVINGS 60
 #define QP_DIVERGED ((cdb_real)1e8)
 #ifdef CDB_FLOAT
