@@ -45,7 +45,7 @@
 #else
 #define POLISH_TOLERANCE ((cdb_real)1e-13)
 #define QP_TOLERANCE ((cdb_real)1e-13)
-#define QP_ACCEPT ((cdb_real)1e-9)
+#define QP_ACCEPT ((cdb_real)1e-11)
 #define QP_REGULARISATION ((cdb_real)1e-12)
 #endif
 
@@ -679,9 +679,9 @@ static int active_set(const cdb_real upper[NE], const unsigned char in_basis[NE]
  * does not converge, the simplex finds a thrust meeting the target (or shows there is
  * none) and the primal active-set method goes from there to the least-fuel one. */
 static int least_fuel(const cdb_real target[NR], const cdb_real upper[NE], cdb_real u[NE],
-                      int *iterations, cdb_state *state) {
+                      int try_newton, cdb_real *alpha, int *iterations, cdb_state *state) {
     qp_data d;
-    cdb_real x[NX], reach = (cdb_real)0;
+    cdb_real x[NX], saved[NR], reach = (cdb_real)0, scale;
     unsigned char in_basis[NE];
     int i, j;
     d.n = NE;
@@ -691,14 +691,23 @@ static int least_fuel(const cdb_real target[NR], const cdb_real upper[NE], cdb_r
     d.c = cdb_cost;
     d.hi = upper;
     d.eps = EXACT_PROXIMAL;
-    if (state->warm_exact && qp_solve(&d, state->lambda_exact, x, iterations)) {
-        for (i = 0; i < NE; ++i) {
-            u[i] = x[i];
+    *alpha = (cdb_real)-1;
+    if (try_newton && state->warm_exact) {
+        for (j = 0; j < NR; ++j) {
+            saved[j] = state->lambda_exact[j];
         }
-        polish(u, target, upper);
-        return 1;
+        if (qp_solve(&d, state->lambda_exact, x, iterations)) {
+            for (i = 0; i < NE; ++i) {
+                u[i] = x[i];
+            }
+            polish(u, target, upper);
+            return 1;
+        }
+        /* Keep the last good multipliers: the next target may be near them again. */
+        for (j = 0; j < NR; ++j) {
+            state->lambda_exact[j] = saved[j];
+        }
     }
-    state->warm_exact = 0;
     for (j = 0; j < NR; ++j) {
         cdb_real r = (cdb_real)0;
         for (i = 0; i < NE; ++i) {
@@ -706,11 +715,16 @@ static int least_fuel(const cdb_real target[NR], const cdb_real upper[NE], cdb_r
         }
         reach = r > reach ? r : reach;
     }
-    if (largest_magnitude(target, NR) > reach ||
-        largest_scale(target, upper, u, in_basis, iterations) < (cdb_real)1) {
+    if (largest_magnitude(target, NR) > reach) {
+        return 0;
+    }
+    scale = largest_scale(target, upper, u, in_basis, iterations);
+    if (scale < (cdb_real)1) {
+        *alpha = scale; /* the largest scale of this target (-1: the pivots ran out) */
         return 0;
     }
     if (!active_set(upper, in_basis, u, state->lambda_exact, iterations)) {
+        state->warm_exact = 0;
         return 0;
     }
     state->warm_exact = 1;
@@ -747,7 +761,8 @@ static int any_on_limit(const cdb_real u[NE], const cdb_real upper[NE]) {
 /* Least fuel for a wrench in SI, stretched by 2^k when small (the Allocator's exact and
  * small-demand paths). Returns 1 and the thrust in N when met. */
 static int exact_thrust(const cdb_real wrench[NR], const cdb_real upper[NE],
-                        cdb_real thrust_N[NE], int *iterations, cdb_state *state) {
+                        cdb_real thrust_N[NE], int try_newton, cdb_real *alpha,
+                        int *iterations, cdb_state *state) {
     static const cdb_real levels[N_SMALL_LEVELS] = {(cdb_real)0.1, (cdb_real)1e-2,
                                                     (cdb_real)1e-4, (cdb_real)1e-6};
     cdb_real target[NR], u[NE];
@@ -756,7 +771,7 @@ static int exact_thrust(const cdb_real wrench[NR], const cdb_real upper[NE],
         target[j] = wrench[j] / cdb_wrench_ref[j];
     }
     if (largest_magnitude(target, NR) >= SMALL_DEMAND) {
-        if (!least_fuel(target, upper, u, iterations, state)) {
+        if (!least_fuel(target, upper, u, try_newton, alpha, iterations, state)) {
             return 0;
         }
     } else {
@@ -769,7 +784,7 @@ static int exact_thrust(const cdb_real wrench[NR], const cdb_real upper[NE],
             for (j = 0; j < NR; ++j) {
                 target[j] = (cdb_real)ldexp((double)wrench[j], k) / cdb_wrench_ref[j];
             }
-            if (least_fuel(target, upper, u, iterations, state)) {
+            if (least_fuel(target, upper, u, try_newton, alpha, iterations, state)) {
                 if (k == 0 || level == N_SMALL_LEVELS - 1 || !any_on_limit(u, upper)) {
                     found = 1;
                     break;
@@ -795,7 +810,7 @@ unsigned int cdb_allocate(const cdb_real demand_Nm[3], const cdb_real limit_N[CD
                           cdb_state *state) {
     cdb_real upper[NE], wrench[NR], target[NR], vertex[NE];
     unsigned char in_basis[NE];
-    cdb_real size, reach = (cdb_real)0, alpha;
+    cdb_real size, reach = (cdb_real)0, alpha = (cdb_real)-1, unused;
     int i, j, any = 0;
     *scale = (cdb_real)1;
     for (i = 0; i < NE; ++i) {
@@ -805,6 +820,7 @@ unsigned int cdb_allocate(const cdb_real demand_Nm[3], const cdb_real limit_N[CD
         if (upper[i] != state->limit[i]) {
             state->limit[i] = upper[i];
             state->warm_exact = 0;
+            state->saturated = 0;
         }
     }
     if (!any) {
@@ -819,27 +835,37 @@ unsigned int cdb_allocate(const cdb_real demand_Nm[3], const cdb_real limit_N[CD
     if (size == (cdb_real)0) {
         return 0u; /* exactly zero: exactly zero thrust */
     }
-    if (exact_thrust(wrench, upper, thrust_N, iterations, state)) {
+    /* After a saturated period the next demand is most likely beyond reach as well: no
+     * Newton attempt on it (the simplex answers both questions at once). */
+    if (exact_thrust(wrench, upper, thrust_N, !state->saturated, &alpha, iterations, state)) {
+        state->saturated = 0;
         return 0u;
     }
-    /* Beyond reach: the largest scale along the demand, found for the demand brought to
-     * the size of what the engines reach (where the proximal term leaves it exact). */
-    for (j = 0; j < NR; ++j) {
-        cdb_real r = (cdb_real)0;
-        for (i = 0; i < NE; ++i) {
-            r += magnitude(cdb_rows[j * NE + i]) * upper[i];
+    state->saturated = 1;
+    if (size >= SMALL_DEMAND && alpha >= (cdb_real)0) {
+        /* The simplex of the least-fuel attempt found the largest scale of the demand
+         * itself: the same number as for the demand brought to the engines' reach. */
+        reach = size;
+    } else {
+        /* The largest scale along the demand, found for the demand brought to the size
+         * of what the engines reach. */
+        for (j = 0; j < NR; ++j) {
+            cdb_real r = (cdb_real)0;
+            for (i = 0; i < NE; ++i) {
+                r += magnitude(cdb_rows[j * NE + i]) * upper[i];
+            }
+            if (r > reach) {
+                reach = r;
+            }
         }
-        if (r > reach) {
-            reach = r;
+        for (j = 0; j < NR; ++j) {
+            target[j] *= reach / size;
         }
-    }
-    for (j = 0; j < NR; ++j) {
-        target[j] *= reach / size;
-    }
-    alpha = largest_scale(target, upper, vertex, in_basis, iterations);
-    if (alpha < (cdb_real)0) {
-        *scale = (cdb_real)0;
-        return CDB_FLAG_INFEASIBLE;
+        alpha = largest_scale(target, upper, vertex, in_basis, iterations);
+        if (alpha < (cdb_real)0) {
+            *scale = (cdb_real)0;
+            return CDB_FLAG_INFEASIBLE;
+        }
     }
     alpha *= reach / size;
     if (alpha > (cdb_real)1) {
@@ -852,7 +878,7 @@ unsigned int cdb_allocate(const cdb_real demand_Nm[3], const cdb_real limit_N[CD
     for (j = 0; j < NR; ++j) {
         wrench[j] *= alpha * ((cdb_real)1 - SATURATION_BACKOFF);
     }
-    if (!exact_thrust(wrench, upper, thrust_N, iterations, state)) {
+    if (!exact_thrust(wrench, upper, thrust_N, 1, &unused, iterations, state)) {
         for (i = 0; i < NE; ++i) {
             thrust_N[i] = (cdb_real)0;
         }

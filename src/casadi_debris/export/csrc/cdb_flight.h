@@ -47,6 +47,7 @@ typedef struct {
     cdb_real limit[CDB_N_ENGINES];      /* scaled thrust limits of the last step */
     cdb_real lambda_exact[CDB_N_ROWS];  /* warm start of the least-fuel QP (dual) */
     int warm_exact;
+    int saturated;                      /* the last period's demand was beyond reach */
     cdb_real law_w[CDB_LAW_SZ_W + 1];   /* workspace of the generated control law */
     casadi_int law_iw[CDB_LAW_SZ_IW + 1];
 } cdb_state;

@@ -17,6 +17,7 @@ int cdb_init(cdb_state *state) {
         state->lambda_exact[i] = (cdb_real)0;
     }
     state->warm_exact = 0;
+    state->saturated = 0;
     return 0;
 }
 
