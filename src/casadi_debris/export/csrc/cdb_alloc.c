@@ -35,7 +35,6 @@
 #define SMALL_DEMAND ((cdb_real)0.1)
 #define N_SMALL_LEVELS 4
 #define QP_MAX_NEWTON 4
-#define QP_MAX_HALVINGS 60
 #define QP_DIVERGED ((cdb_real)1e8)
 #ifdef CDB_FLOAT
 #define POLISH_TOLERANCE ((cdb_real)1e-6)
@@ -153,21 +152,94 @@ static cdb_real dual_point(const qp_data *d, const cdb_real lambda[NR], cdb_real
     return value;
 }
 
+/* Derivative of the dual along `step` at t (with s = c + A'lambda and w = A'step). */
+static cdb_real dual_slope(const qp_data *d, const cdb_real s[NX], const cdb_real w[NX],
+                           cdb_real step_b, cdb_real t) {
+    cdb_real f = -step_b;
+    int i;
+    for (i = 0; i < d->n; ++i) {
+        cdb_real v = -(s[i] + t * w[i]) / d->eps;
+        v = v < (cdb_real)0 ? (cdb_real)0 : (v > d->hi[i] ? d->hi[i] : v);
+        f += w[i] * v;
+    }
+    return f;
+}
+
+/* The step length along `step` that maximises the dual: the derivative along it is
+ * nonincreasing and piecewise linear in t, with kinks where an engine reaches a bound;
+ * its root, found between the sorted kinks (t = 1, the Newton step, when no kink lies
+ * before it). Returns -1 when the derivative stays positive: the dual grows without
+ * bound along `step`, and no x in the box meets A x = b. */
+static cdb_real exact_step(const qp_data *d, const cdb_real lambda[NR], const cdb_real step[NR],
+                           cdb_real slope) {
+    cdb_real s[NX], w[NX], kinks[2 * NX] = {0};
+    cdb_real step_b = (cdb_real)0, previous_t = (cdb_real)0, previous_f = slope, f;
+    int n_kinks = 0, i, j, k;
+    for (j = 0; j < NR; ++j) {
+        step_b += step[j] * d->b[j];
+    }
+    for (i = 0; i < d->n; ++i) {
+        s[i] = linear_cost(d, i);
+        w[i] = (cdb_real)0;
+        for (j = 0; j < NR; ++j) {
+            s[i] += d->a[j * d->stride + i] * lambda[j];
+            w[i] += d->a[j * d->stride + i] * step[j];
+        }
+        if (w[i] != (cdb_real)0) {
+            cdb_real t0 = -s[i] / w[i], t1 = -(s[i] + d->eps * d->hi[i]) / w[i];
+            if (t0 > (cdb_real)0) {
+                kinks[n_kinks++] = t0;
+            }
+            if (t1 > (cdb_real)0) {
+                kinks[n_kinks++] = t1;
+            }
+        }
+    }
+    {
+        /* No kink before the Newton step: it is the root (the common case near the end). */
+        cdb_real first = (cdb_real)2;
+        for (k = 0; k < n_kinks; ++k) {
+            first = kinks[k] < first ? kinks[k] : first;
+        }
+        if (first >= (cdb_real)1) {
+            return (cdb_real)1;
+        }
+    }
+    for (k = 1; k < n_kinks; ++k) { /* insertion sort: at most 2 NX entries */
+        cdb_real v = kinks[k];
+        for (j = k - 1; j >= 0 && kinks[j] > v; --j) {
+            kinks[j + 1] = kinks[j];
+        }
+        kinks[j + 1] = v;
+    }
+    for (k = 0; k < n_kinks; ++k) {
+        f = dual_slope(d, s, w, step_b, kinks[k]);
+        if (f <= (cdb_real)0) {
+            if (previous_f - f <= (cdb_real)0) {
+                return kinks[k];
+            }
+            return previous_t + previous_f * (kinks[k] - previous_t) / (previous_f - f);
+        }
+        previous_t = kinks[k];
+        previous_f = f;
+    }
+    return (cdb_real)-1;
+}
+
 /* Newton's method on the dual from `lambda` (updated). Returns 1 when A x = b was met to
  * QP_TOLERANCE (x is then the minimiser), or to QP_ACCEPT where Newton stalls at
  * round-off on a degenerate optimum (the polish that follows removes that residual as it
  * does DAQP's); 0 when not (diverging multipliers: no x in the box meets A x = b). */
 static int qp_solve(const qp_data *d, cdb_real lambda[NR], cdb_real x[NX], int *iterations) {
     unsigned char inside[NX];
-    cdb_real gradient[NR], trial_gradient[NR], trial[NR], step[NR], m[NR * NR];
-    cdb_real value, tolerance, accept;
-    int newton, halving, i, j, k;
+    cdb_real gradient[NR], step[NR], m[NR * NR];
+    cdb_real tolerance, accept;
+    int newton, i, j, k;
     tolerance = QP_TOLERANCE * ((cdb_real)1 + largest_magnitude(d->b, NR));
     accept = QP_ACCEPT * ((cdb_real)1 + largest_magnitude(d->b, NR));
-    value = dual_point(d, lambda, x, inside, gradient);
+    (void)dual_point(d, lambda, x, inside, gradient);
     for (newton = 0; newton < QP_MAX_NEWTON; ++newton) {
-        cdb_real slope = (cdb_real)0, t = (cdb_real)1;
-        int accepted = 0;
+        cdb_real slope = (cdb_real)0, t;
         if (largest_magnitude(gradient, NR) <= tolerance) {
             return 1;
         }
@@ -196,26 +268,16 @@ static int qp_solve(const qp_data *d, cdb_real lambda[NR], cdb_real x[NX], int *
         for (j = 0; j < NR; ++j) {
             slope += gradient[j] * step[j];
         }
-        for (halving = 0; halving < QP_MAX_HALVINGS; ++halving) {
-            cdb_real trial_value;
-            for (j = 0; j < NR; ++j) {
-                trial[j] = lambda[j] + t * step[j];
-            }
-            trial_value = dual_point(d, trial, x, inside, trial_gradient);
-            if (trial_value >= value + (cdb_real)1e-4 * t * slope) {
-                accepted = 1;
-                value = trial_value;
-                for (j = 0; j < NR; ++j) {
-                    lambda[j] = trial[j];
-                    gradient[j] = trial_gradient[j];
-                }
-                break;
-            }
-            t *= (cdb_real)0.5;
+        t = exact_step(d, lambda, step, slope);
+        if (t < (cdb_real)0) {
+            return 0; /* unbounded dual: the target is beyond reach */
         }
-        if (!accepted || t * largest_magnitude(step, NR) <= QP_TOLERANCE * largest_magnitude(lambda, NR)) {
+        for (j = 0; j < NR; ++j) {
+            lambda[j] += t * step[j];
+        }
+        (void)dual_point(d, lambda, x, inside, gradient);
+        if (t * largest_magnitude(step, NR) <= QP_TOLERANCE * largest_magnitude(lambda, NR)) {
             /* No ascent left at round-off: x(lambda) is the answer if it meets A x = b. */
-            value = dual_point(d, lambda, x, inside, gradient);
             return largest_magnitude(gradient, NR) <= accept;
         }
     }
