@@ -18,8 +18,6 @@ from casadi_debris.errors import CompileError
 
 LIBRARY_FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
 SOURCES = ("cdb_step.c", "cdb_alloc.c", "cdb_law.c", "cdb_data.c")
-# Room for cdb_state, whose layout the C owns (a multiple of the real size is harmless).
-STATE_BYTES_PER_WORD = 8
 
 
 def compile_library(
@@ -120,8 +118,8 @@ class FlightLibrary:
         self.period_s = float(content["period_s"])
         self._lib = ctypes.CDLL(str(library))
         self._inputs_type, self._outputs_type = _structures(self.sizes)
-        words = 64 * (self.sizes["engines"] + self.sizes["controller_states"]) + 4096
-        self._state = ctypes.create_string_buffer(STATE_BYTES_PER_WORD * words)
+        self._lib.cdb_state_bytes.restype = ctypes.c_ulong
+        self._state = ctypes.create_string_buffer(int(self._lib.cdb_state_bytes()))
         self._lib.cdb_step.restype = ctypes.c_int
         self._lib.cdb_allocate.restype = ctypes.c_uint
         self.reset()

@@ -314,7 +314,7 @@ def write_flight_code(
         "period_s": period,
         "sizes": sizes,
         "reference_end_s": float((len(table) - 1) * period),
-        "entry_points": ["cdb_init", "cdb_step", "cdb_allocate"],
+        "entry_points": ["cdb_init", "cdb_step", "cdb_allocate", "cdb_state_bytes"],
         "sources": list(SOURCES),
     }
     (folder / "manifest.json").write_text(json.dumps(manifest, indent=2) + "\n")

@@ -52,6 +52,9 @@ typedef struct {
     casadi_int law_iw[CDB_LAW_SZ_IW + 1];
 } cdb_state;
 
+/* sizeof(cdb_state), for callers that hold the state in their own memory (bindings). */
+unsigned long cdb_state_bytes(void);
+
 /* Reset the state: controller at rest, no warm start. Returns 0. */
 int cdb_init(cdb_state *state);
 

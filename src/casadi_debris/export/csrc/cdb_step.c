@@ -5,6 +5,8 @@
 #include "cdb_flight.h"
 #include "cdb_law.h"
 
+unsigned long cdb_state_bytes(void) { return (unsigned long)sizeof(cdb_state); }
+
 int cdb_init(cdb_state *state) {
     int i;
     for (i = 0; i < CDB_N_CONTROLLER; ++i) {
