@@ -937,14 +937,24 @@ unsigned int cdb_allocate(const cdb_real demand_Nm[3], const cdb_real limit_N[CD
     if (alpha <= (cdb_real)0) {
         return CDB_FLAG_SATURATED;
     }
-    for (j = 0; j < NR; ++j) {
-        wrench[j] *= alpha * ((cdb_real)1 - SATURATION_BACKOFF);
-    }
-    if (!exact_thrust(wrench, upper, thrust_N, 1, &unused, iterations, state)) {
-        for (i = 0; i < NE; ++i) {
-            thrust_N[i] = (cdb_real)0;
+    {
+        /* The loop's pull-in first; where round-off still puts that torque out of reach
+         * (a nearly flat authority, CubeSats failed), ten and a hundred times more. */
+        static const cdb_real backoffs[3] = {SATURATION_BACKOFF, (cdb_real)10 * SATURATION_BACKOFF,
+                                             (cdb_real)100 * SATURATION_BACKOFF};
+        cdb_real applied[NR];
+        int attempt;
+        for (attempt = 0; attempt < 3; ++attempt) {
+            for (j = 0; j < NR; ++j) {
+                applied[j] = wrench[j] * (alpha * ((cdb_real)1 - backoffs[attempt]));
+            }
+            if (exact_thrust(applied, upper, thrust_N, 1, &unused, iterations, state)) {
+                return alpha < (cdb_real)1 ? CDB_FLAG_SATURATED : 0u;
+            }
         }
-        return CDB_FLAG_SATURATED | CDB_FLAG_INFEASIBLE;
     }
-    return alpha < (cdb_real)1 ? CDB_FLAG_SATURATED : 0u;
+    for (i = 0; i < NE; ++i) {
+        thrust_N[i] = (cdb_real)0;
+    }
+    return CDB_FLAG_SATURATED | CDB_FLAG_INFEASIBLE;
 }
