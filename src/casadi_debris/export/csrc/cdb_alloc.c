@@ -286,7 +286,7 @@ static int qp_solve(const qp_data *d, cdb_real lambda[NR], cdb_real x[NX], int *
 
 /* The Allocator's polish: clip, zero the round-off, and one least-norm step of the free
  * engines onto A u = target when the residual is above POLISH_TOLERANCE. */
-static void polish(cdb_real u[NE], const cdb_real target[NR], const cdb_real upper[NE]) {
+static int polish_once(cdb_real u[NE], const cdb_real target[NR], const cdb_real upper[NE]) {
     cdb_real m[NR * NR], step[NR], polished[NE];
     cdb_real worst = (cdb_real)0, after = (cdb_real)0;
     int i, j, k, n_free = 0;
@@ -309,13 +309,13 @@ static void polish(cdb_real u[NE], const cdb_real target[NR], const cdb_real upp
         }
     }
     if (worst <= POLISH_TOLERANCE * largest_magnitude(target, NR)) {
-        return;
+        return 0;
     }
     for (i = 0; i < NE; ++i) {
         n_free += (u[i] > (cdb_real)0 && u[i] < upper[i]) ? 1 : 0;
     }
     if (n_free == 0) {
-        return;
+        return 0;
     }
     for (j = 0; j < NR; ++j) {
         for (k = 0; k < NR; ++k) {
@@ -328,8 +328,26 @@ static void polish(cdb_real u[NE], const cdb_real target[NR], const cdb_real upp
             m[j * NR + k] = v;
         }
     }
-    if (!cholesky_solve(m, step)) {
-        return;
+    {
+        /* The Gram matrix of nearly dependent free engines may not factor: then with a
+         * regularisation of 1e-12 of its largest diagonal (a least-norm-like step). */
+        cdb_real copy[NR * NR], rhs[NR], largest = (cdb_real)0;
+        for (j = 0; j < NR * NR; ++j) {
+            copy[j] = m[j];
+        }
+        for (j = 0; j < NR; ++j) {
+            rhs[j] = step[j];
+            largest = m[j * NR + j] > largest ? m[j * NR + j] : largest;
+        }
+        if (!cholesky_solve(m, step)) {
+            for (j = 0; j < NR; ++j) {
+                copy[j * NR + j] += (cdb_real)1e-12 * largest;
+                step[j] = rhs[j];
+            }
+            if (!cholesky_solve(copy, step)) {
+                return 0;
+            }
+        }
     }
     for (i = 0; i < NE; ++i) {
         polished[i] = u[i];
@@ -350,9 +368,22 @@ static void polish(cdb_real u[NE], const cdb_real target[NR], const cdb_real upp
             after = magnitude(r);
         }
     }
-    if (after <= worst) {
+    if (after < worst) {
         for (i = 0; i < NE; ++i) {
             u[i] = polished[i];
+        }
+        return 1;
+    }
+    return 0;
+}
+
+/* The Allocator's polish (one step), repeated while a step still lowers the residual
+ * above POLISH_TOLERANCE (ill-conditioned free engines, at most three steps). */
+static void polish(cdb_real u[NE], const cdb_real target[NR], const cdb_real upper[NE]) {
+    int round;
+    for (round = 0; round < 3; ++round) {
+        if (!polish_once(u, target, upper)) {
+            break;
         }
     }
 }
