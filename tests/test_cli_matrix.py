@@ -82,6 +82,12 @@ def _command(name: str, *args: str, keys: tuple[str, ...], **kwargs: object) -> 
 
 COMMANDS = (
     _command(
+        "export",
+        keys=("problem", "engines", "period_s", "out_dir"),
+        flies=True,
+        elsewhere="tests/test_export.py",
+    ),
+    _command(
         "model",
         keys=("problem", "mass_kg", "torque_max_zero_force_mNm", "thrusters"),
         folder=None,

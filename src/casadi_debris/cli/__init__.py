@@ -19,6 +19,7 @@ from casadi_debris.cli import (  # noqa: F401
     describe,  # model, budget, schema, problems
     design,  # design
     detumble,  # detumble
+    export,  # export
     failures,  # failures
     mission,  # mission
     placement,  # placement

@@ -64,6 +64,11 @@ if TYPE_CHECKING:
         detumble,
         momentum_bound_s,
     )
+    from casadi_debris.workflows._export import (
+        ExportResult,
+        ExportSummary,
+        export,
+    )
     from casadi_debris.workflows._failures import (
         DEFAULT_CORNERS,
         FailuresResult,
@@ -130,6 +135,8 @@ __all__ = [
     "DesignMethod",
     "DesignResult",
     "DetumbleResult",
+    "ExportResult",
+    "ExportSummary",
     "FailuresResult",
     "MarginsResult",
     "MissionResult",
@@ -155,6 +162,7 @@ __all__ = [
     "deorbit",
     "design",
     "detumble",
+    "export",
     "failures",
     "load_controller",
     "margins",
@@ -203,6 +211,9 @@ _LAZY = {
     "DetumbleResult": "casadi_debris.workflows._detumble",
     "detumble": "casadi_debris.workflows._detumble",
     "momentum_bound_s": "casadi_debris.workflows._detumble",
+    "ExportResult": "casadi_debris.workflows._export",
+    "ExportSummary": "casadi_debris.workflows._export",
+    "export": "casadi_debris.workflows._export",
     "DEFAULT_CORNERS": "casadi_debris.workflows._failures",
     "FailuresResult": "casadi_debris.workflows._failures",
     "failures": "casadi_debris.workflows._failures",

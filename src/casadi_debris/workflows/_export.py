@@ -1,0 +1,188 @@
+"""The flight step as C (``casadi-debris export``): the reference, attitude error,
+discrete reduced controller and least-fuel allocator of a problem and a controller,
+written as portable C99 with its build files, README and manifest.
+
+Example
+-------
+>>> import casadi_debris as cd
+>>> exported = cd.export("paper_slew", out="runs/export-paper_slew")  # doctest: +SKIP
+>>> exported.summary.engines
+24
+"""
+
+from __future__ import annotations
+
+import hashlib
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from casadi_debris.config import Problem
+from casadi_debris.errors import ProblemFileError
+from casadi_debris.records import Record
+from casadi_debris.store import (
+    MARKER_NAME,
+    RunFolder,
+    check_output_folder,
+    default_run_folder,
+    write_json_atomic,
+)
+from casadi_debris.workflows._controller import controller_for
+from casadi_debris.workflows._result import JobResult, ProblemLike, as_problem
+
+
+@dataclass(frozen=True)
+class ExportSummary(Record):
+    """What ``casadi-debris export --json`` prints (and ``summary.json`` holds).
+
+    Attributes
+    ----------
+    problem, problem_sha256 : str
+        The problem exported and the hash of its file.
+    controller_file, controller_sha256 : str
+        The controller file flown and the hash of its bytes.
+    period_s : float
+        Control period of the step [s].
+    engines, cubesats, stages, controller_states, reference_rows : int
+        Sizes of the export.
+    reference_end_s : float
+        Time of the reference table's last row [s] (held after it).
+    toolkit_version : str
+    out_dir : str
+        The folder written.
+    files : list of str
+        The files of the export.
+    """
+
+    problem: str
+    problem_sha256: str
+    controller_file: str
+    controller_sha256: str
+    period_s: float
+    engines: int
+    cubesats: int
+    stages: int
+    controller_states: int
+    reference_rows: int
+    reference_end_s: float
+    toolkit_version: str
+    out_dir: str
+    files: list[str]
+
+
+@dataclass(frozen=True)
+class ExportResult(JobResult):
+    """A problem's flight step, written as C.
+
+    Attributes
+    ----------
+    problem : Problem
+    folder : Path
+        The export folder (sources, Makefile, CMakeLists.txt, README.md, manifest.json).
+    manifest : dict
+        The content of ``manifest.json``.
+    summary : ExportSummary
+    """
+
+    problem: Problem
+    folder: Path
+    manifest: dict[str, Any]
+    summary: ExportSummary
+
+    command = "export"
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """The export's files (already written into :attr:`folder`), copied."""
+        shutil.copytree(
+            self.folder, staging, dirs_exist_ok=True, ignore=shutil.ignore_patterns(MARKER_NAME)
+        )
+
+
+def export(
+    problem: ProblemLike = None,
+    *,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    out: str | Path | None = None,
+    overwrite: bool = False,
+) -> ExportResult:
+    """Write the C99 flight step of a problem and a controller.
+
+    The step does, per control period, what the toolkit's closed loop does: the
+    reference at that instant, the attitude error of the measured quaternion, the
+    discrete reduced controller, the saturation scale and the least-fuel thrust of
+    every engine (failed CubeSats and stages as inputs). See the folder's README.md.
+
+    Parameters
+    ----------
+    problem : Problem, str or Path, optional
+        A problem, a problem file or a shipped name; default the paper.
+    controller : str or Path, optional
+        A controller file (``controller.json`` of ``design``); default the shipped paper
+        controller, for the paper's plant only.
+    allow_mismatch : bool
+        Export a controller designed for another plant anyway.
+    out : str or Path, optional
+        The folder; default ``runs/export-<problem>``.
+    overwrite : bool
+        Replace a folder this toolkit wrote.
+
+    Returns
+    -------
+    ExportResult
+
+    Raises
+    ------
+    ProblemFileError
+        The problem asks for realistic sensors, an estimator, a delay, engine effects or
+        a burn, which this export does not carry yet.
+    ControllerMismatchError
+        The controller was designed for another plant (and ``allow_mismatch`` is false).
+    """
+    from casadi_debris.dynamics import build_model
+    from casadi_debris.export import write_flight_code
+    from casadi_debris.guidance import burn_windows, scenario_reference
+    from casadi_debris.simulation import Realism, discretize_controller
+
+    problem = as_problem(problem)
+    folder = Path(out) if out is not None else default_run_folder("export", problem.name)
+    check_output_folder(folder, overwrite=overwrite)
+    record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
+    reference = scenario_reference(problem)
+    period = float(reference.time_s[1] - reference.time_s[0])
+    if Realism.of(problem, period) is not None:
+        raise ProblemFileError(
+            "sensors",
+            "the flight-code export carries the ideal loop only: realistic sensors, "
+            "[estimation], a [controller] delay or [actuators] effects are not exported yet",
+            problem.source,
+        )
+    if burn_windows(reference, period):
+        raise ProblemFileError(
+            "simulation.sequence", "a burn cannot be exported yet", problem.source
+        )
+    model = build_model(problem)
+    discrete = discretize_controller(record.reduced, period)
+    controller_sha256 = hashlib.sha256(resolved.read_bytes()).hexdigest()
+    identity = {"file": str(resolved), "sha256": controller_sha256}
+    with RunFolder.claim(folder, overwrite=overwrite, command="export") as staging:
+        code = write_flight_code(model, discrete, reference, staging, identity=identity)
+        summary = ExportSummary(
+            problem=problem.name,
+            problem_sha256=problem.sha256,
+            controller_file=str(resolved),
+            controller_sha256=controller_sha256,
+            period_s=period,
+            engines=code.manifest["sizes"]["engines"],
+            cubesats=code.manifest["sizes"]["cubesats"],
+            stages=code.manifest["sizes"]["stages"],
+            controller_states=code.manifest["sizes"]["controller_states"],
+            reference_rows=code.manifest["sizes"]["reference_rows"],
+            reference_end_s=code.manifest["reference_end_s"],
+            toolkit_version=code.manifest["toolkit_version"],
+            out_dir=str(folder),
+            files=sorted([*code.files, "summary.json"]),
+        )
+        write_json_atomic(staging / "summary.json", summary)
+    return ExportResult(problem=problem, folder=folder, manifest=code.manifest, summary=summary)
