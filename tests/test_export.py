@@ -18,7 +18,7 @@ from click.testing import CliRunner
 import casadi_debris as cd
 from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.cli import main
-from casadi_debris.export import FlightLibrary, compile_library
+from casadi_debris.codegen import FlightLibrary, compile_library
 from casadi_debris.workflows import controller_for
 
 GCC = shutil.which("gcc")

@@ -22,9 +22,7 @@ import numpy as np
 import pytest
 
 from casadi_debris import load_problem
-from casadi_debris.dynamics import Model, build_model
-from casadi_debris.errors import InputShapeError, OutputError
-from casadi_debris.export import (
+from casadi_debris.codegen import (
     FmuSettings,
     FmuSummary,
     engine_names,
@@ -33,6 +31,8 @@ from casadi_debris.export import (
     model_identifier,
     write_fmu,
 )
+from casadi_debris.dynamics import Model, build_model
+from casadi_debris.errors import InputShapeError, OutputError
 
 fmpy = pytest.importorskip("fmpy")
 from fmpy.validation import validate_fmu  # noqa: E402

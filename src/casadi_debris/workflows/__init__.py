@@ -67,6 +67,7 @@ if TYPE_CHECKING:
     from casadi_debris.workflows._export import (
         ExportResult,
         ExportSummary,
+        FmuExportResult,
         export,
     )
     from casadi_debris.workflows._failures import (
@@ -138,6 +139,7 @@ __all__ = [
     "ExportResult",
     "ExportSummary",
     "FailuresResult",
+    "FmuExportResult",
     "MarginsResult",
     "MissionResult",
     "ModelResult",
@@ -213,6 +215,7 @@ _LAZY = {
     "momentum_bound_s": "casadi_debris.workflows._detumble",
     "ExportResult": "casadi_debris.workflows._export",
     "ExportSummary": "casadi_debris.workflows._export",
+    "FmuExportResult": "casadi_debris.workflows._export",
     "export": "casadi_debris.workflows._export",
     "DEFAULT_CORNERS": "casadi_debris.workflows._failures",
     "FailuresResult": "casadi_debris.workflows._failures",

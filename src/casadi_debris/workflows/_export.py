@@ -1,6 +1,7 @@
-"""The flight step as C (``casadi-debris export``): the reference, attitude error,
-discrete reduced controller and least-fuel allocator of a problem and a controller,
-written as portable C99 with its build files, README and manifest.
+"""Code that leaves the toolkit (``casadi-debris export``): the flight step as C — the
+reference, attitude error, discrete reduced controller and least-fuel allocator of a
+problem and a controller, written as portable C99 with its build files, README and
+manifest — or, with ``fmu=``, the debris itself as an FMI 2.0 co-simulation unit.
 
 Example
 -------
@@ -8,6 +9,9 @@ Example
 >>> exported = cd.export("paper_slew", out="runs/export-paper_slew")  # doctest: +SKIP
 >>> exported.summary.engines
 24
+>>> plant = cd.export("paper", fmu="paper.fmu")  # doctest: +SKIP
+>>> plant.summary.fmi_version
+'2.0'
 """
 
 from __future__ import annotations
@@ -16,10 +20,11 @@ import hashlib
 import shutil
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, overload
 
+from casadi_debris.codegen import FmuSummary
 from casadi_debris.config import Problem
-from casadi_debris.errors import ProblemFileError
+from casadi_debris.errors import InputShapeError, ProblemFileError
 from casadi_debris.records import Record
 from casadi_debris.store import (
     MARKER_NAME,
@@ -99,20 +104,70 @@ class ExportResult(JobResult):
         )
 
 
+@dataclass(frozen=True)
+class FmuExportResult(JobResult):
+    """A problem's plant, written as an FMI 2.0 co-simulation unit.
+
+    Attributes
+    ----------
+    problem : Problem
+    path : Path
+        The ``.fmu`` file written.
+    summary : FmuSummary
+    """
+
+    problem: Problem
+    path: Path
+    summary: FmuSummary
+
+    command = "export"
+
+    def _write(self, staging: Path, out: Path, *, plots: bool) -> None:
+        """The unit (already written at :attr:`path`), copied."""
+        shutil.copy2(self.path, staging / self.path.name)
+
+
+@overload
 def export(
     problem: ProblemLike = None,
     *,
     controller: str | Path | None = None,
     allow_mismatch: bool = False,
+    fmu: None = None,
     out: str | Path | None = None,
     overwrite: bool = False,
-) -> ExportResult:
-    """Write the C99 flight step of a problem and a controller.
+) -> ExportResult: ...
+
+
+@overload
+def export(
+    problem: ProblemLike = None,
+    *,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    fmu: str | Path,
+    out: str | Path | None = None,
+    overwrite: bool = False,
+) -> FmuExportResult: ...
+
+
+def export(
+    problem: ProblemLike = None,
+    *,
+    controller: str | Path | None = None,
+    allow_mismatch: bool = False,
+    fmu: str | Path | None = None,
+    out: str | Path | None = None,
+    overwrite: bool = False,
+) -> ExportResult | FmuExportResult:
+    """Write the C99 flight step of a problem and a controller, or the plant as an FMU.
 
     The step does, per control period, what the toolkit's closed loop does: the
     reference at that instant, the attitude error of the measured quaternion, the
     discrete reduced controller, the saturation scale and the least-fuel thrust of
     every engine (failed CubeSats and stages as inputs). See the folder's README.md.
+    With ``fmu``, the nonlinear plant (hub, arrays, engines) is written instead, as
+    one FMI 2.0 co-simulation file (:func:`casadi_debris.codegen.write_fmu`).
 
     Parameters
     ----------
@@ -123,6 +178,9 @@ def export(
         controller, for the paper's plant only.
     allow_mismatch : bool
         Export a controller designed for another plant anyway.
+    fmu : str or Path, optional
+        Write the plant as this ``.fmu`` file instead of the flight step (no
+        controller is involved: ``controller`` and ``out`` must not be given).
     out : str or Path, optional
         The folder; default ``runs/export-<problem>``.
     overwrite : bool
@@ -130,22 +188,27 @@ def export(
 
     Returns
     -------
-    ExportResult
+    ExportResult or FmuExportResult
+        :class:`FmuExportResult` when ``fmu`` is given.
 
     Raises
     ------
+    InputShapeError
+        ``fmu`` given with ``controller`` or ``out``.
     ProblemFileError
         The problem asks for realistic sensors, an estimator, a delay, engine effects or
         a burn, which this export does not carry yet.
     ControllerMismatchError
         The controller was designed for another plant (and ``allow_mismatch`` is false).
     """
+    from casadi_debris.codegen import write_flight_code
     from casadi_debris.dynamics import build_model
-    from casadi_debris.export import write_flight_code
     from casadi_debris.guidance import burn_windows, scenario_reference
     from casadi_debris.simulation import Realism, discretize_controller
 
     problem = as_problem(problem)
+    if fmu is not None:
+        return _export_fmu(problem, Path(fmu), controller=controller, out=out, overwrite=overwrite)
     folder = Path(out) if out is not None else default_run_folder("export", problem.name)
     check_output_folder(folder, overwrite=overwrite)
     record, resolved = controller_for(problem, controller, allow_mismatch=allow_mismatch)
@@ -186,3 +249,27 @@ def export(
         )
         write_json_atomic(staging / "summary.json", summary)
     return ExportResult(problem=problem, folder=folder, manifest=code.manifest, summary=summary)
+
+
+def _export_fmu(
+    problem: Problem,
+    path: Path,
+    *,
+    controller: str | Path | None,
+    out: str | Path | None,
+    overwrite: bool,
+) -> FmuExportResult:
+    """The plant of ``problem`` as the FMU ``path``."""
+    from casadi_debris.codegen import write_fmu
+    from casadi_debris.dynamics import build_model
+
+    for name, value in (("controller", controller), ("out", out)):
+        if value is not None:
+            raise InputShapeError(
+                f"fmu: the FMU is the plant alone; {name} does not apply (give one of fmu "
+                "or the flight step's controller and out)"
+            )
+    if path.suffix != ".fmu":
+        raise InputShapeError(f"fmu: {path} must end in .fmu (an FMU is a zip file named so)")
+    summary = write_fmu(build_model(problem), path, overwrite=overwrite)
+    return FmuExportResult(problem=problem, path=path, summary=summary)

@@ -297,7 +297,7 @@ def write_flight_code(
     _law_sources(law, folder)
     (folder / "cdb_config.h").write_text(_config_header(sizes, period, law))
     (folder / "cdb_data.c").write_text(_data_source(allocator, state, table))
-    source = resources.files("casadi_debris.export") / "csrc"
+    source = resources.files("casadi_debris.codegen") / "csrc"
     for name in HAND_WRITTEN:
         with resources.as_file(source / name) as path:
             shutil.copyfile(path, folder / name)

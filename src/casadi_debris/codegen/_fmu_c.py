@@ -25,8 +25,8 @@ from string import Template
 import casadi as ca
 import numpy as np
 
+from casadi_debris.codegen._fmu_variables import FmuLayout
 from casadi_debris.dynamics import Model
-from casadi_debris.export._fmu_variables import FmuLayout
 
 PLANT_FILE = "plant.c"
 WRAPPER_FILE = "fmu.c"

@@ -32,7 +32,7 @@ def compile_library(
     Parameters
     ----------
     folder : Path
-        An export written by :func:`~casadi_debris.export.write_flight_code`.
+        An export written by :func:`~casadi_debris.codegen.write_flight_code`.
     compiler : str, optional
         C compiler (default ``cc``, then ``gcc``, then ``clang``).
     flags : sequence of str

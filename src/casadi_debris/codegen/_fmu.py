@@ -1,9 +1,9 @@
 """The debris as an FMU: an FMI 2.0 co-simulation unit of the nonlinear plant.
 
 The unit is built from the model's own ``dynamics`` Function through CasADi's C
-code generator (:mod:`casadi_debris.export._fmu_c`), wrapped in the FMI 2.0
+code generator (:mod:`casadi_debris.codegen._fmu_c`), wrapped in the FMI 2.0
 co-simulation interface, compiled by the system's C compiler and zipped with
-its sources and ``modelDescription.xml`` (:mod:`casadi_debris.export._fmu_variables`).
+its sources and ``modelDescription.xml`` (:mod:`casadi_debris.codegen._fmu_variables`).
 
 Why FMI 2.0 co-simulation and not CasADi's own ``DaeBuilder.export_fmu``: that
 writes FMI 3.0 *model exchange* only (the importer brings the solver), and the
@@ -18,7 +18,7 @@ Example
 -------
 >>> from casadi_debris import load_problem
 >>> from casadi_debris.dynamics import build_model
->>> from casadi_debris.export import write_fmu
+>>> from casadi_debris.codegen import write_fmu
 >>> summary = write_fmu(build_model(load_problem()), "paper.fmu")  # doctest: +SKIP
 >>> summary.inputs[:2]  # doctest: +SKIP
 ('thrust_cs01_e1_N', 'thrust_cs02_e1_N')
@@ -44,15 +44,15 @@ from pathlib import Path
 import casadi as ca
 
 from casadi_debris._version import __version__
-from casadi_debris.dynamics import Model
-from casadi_debris.errors import CompileError, InputShapeError, OutputError
-from casadi_debris.export._fmu_c import PLANT_FILE, WRAPPER_FILE, plant_source, wrapper_source
-from casadi_debris.export._fmu_variables import (
+from casadi_debris.codegen._fmu_c import PLANT_FILE, WRAPPER_FILE, plant_source, wrapper_source
+from casadi_debris.codegen._fmu_variables import (
     Description,
     FmuLayout,
     fmu_layout,
     model_description,
 )
+from casadi_debris.dynamics import Model
+from casadi_debris.errors import CompileError, InputShapeError, OutputError
 from casadi_debris.records import Record
 from casadi_debris.store import write_atomically
 
@@ -201,7 +201,7 @@ def write_fmu(
     if target.suffix != ".fmu":
         raise InputShapeError(f"path: an FMU file ends in .fmu, got {str(path)!r}")
     if target.exists() and not overwrite:
-        raise OutputError(f"{target} exists; pass overwrite=True to replace it")
+        raise OutputError(f"fmu: {target} exists; pass --overwrite (overwrite=True) to replace it")
     identifier = model_identifier(model.problem.name)
     layout = fmu_layout(model, settings.max_step_s)
     plant, sizes = plant_source(model)

@@ -9,17 +9,22 @@
   :class:`FmuSummary` what was written.
 """
 
-from casadi_debris.export._ctypes import FlightLibrary, StepOutputs, compile_library
-from casadi_debris.export._flight import FlightCode, control_law, reference_table, write_flight_code
-from casadi_debris.export._fmu import (
+from casadi_debris.codegen._ctypes import FlightLibrary, StepOutputs, compile_library
+from casadi_debris.codegen._flight import (
+    FlightCode,
+    control_law,
+    reference_table,
+    write_flight_code,
+)
+from casadi_debris.codegen._fmu import (
     FmuSettings,
     FmuSummary,
     fmi_platform,
     model_identifier,
     write_fmu,
 )
-from casadi_debris.export._fmu_c import plant_functions
-from casadi_debris.export._fmu_variables import FmuLayout, FmuVariable, engine_names, fmu_layout
+from casadi_debris.codegen._fmu_c import plant_functions
+from casadi_debris.codegen._fmu_variables import FmuLayout, FmuVariable, engine_names, fmu_layout
 
 __all__ = [
     "FlightCode",
