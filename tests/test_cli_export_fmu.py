@@ -82,3 +82,9 @@ def test_an_existing_unit_is_kept_without_overwrite(tmp_path: Path) -> None:
     )
     assert again.exit_code == 0, again.output
     assert zipfile.is_zipfile(target)
+
+
+def test_the_job_is_not_shadowed_by_its_package() -> None:
+    import casadi_debris.codegen  # noqa: F401  (a subpackage named export would rebind cd.export)
+
+    assert cd.export.__module__ == "casadi_debris.workflows._export"
