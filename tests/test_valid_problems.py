@@ -36,6 +36,9 @@ from __future__ import annotations
 import csv
 import json
 import math
+import os
+import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +47,7 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
+from hypothesis.errors import HypothesisException
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.cli import main
@@ -72,7 +76,8 @@ RTOL = 1e-9
 # Box and thrust limits: solvers stop within their own tolerances (IPOPT's constraint
 # violation 1e-8 relative to the scaled problem), not exactly on the bound.
 LIMIT_RTOL = 1e-6
-SLOW_EXAMPLES = 200
+# VALID_PROBLEMS_EXAMPLES shortens a slow campaign (a trial of the harness); 200 by default.
+SLOW_EXAMPLES = int(os.environ.get("VALID_PROBLEMS_EXAMPLES", "200"))
 
 
 def _campaign(examples: int) -> Any:
@@ -85,6 +90,60 @@ def _campaign(examples: int) -> Any:
         phases=(Phase.explicit, Phase.generate),
         suppress_health_check=list(HealthCheck),
     )
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def _many(name: str, check: Callable[..., None], *strategies: Any) -> None:
+    """A slow campaign: ``check`` on SLOW_EXAMPLES drawn problems, every one checked even
+    after a violation (a campaign counts them all); fails at the end with each violation.
+
+    With ``VALID_PROBLEMS_LOG`` set, one JSON line per problem checked is appended to
+    that file as it finishes (name, count, wall and CPU seconds, the outcome) and every
+    violation's drawn arguments are written beside it (``<log>.<name>.<count>.json``):
+    the reproducer is ``check_<name>(*arguments)``.
+    """
+    log = os.environ.get("VALID_PROBLEMS_LOG")
+    violations: list[str] = []
+    checked = 0
+
+    @given(st.tuples(*strategies))
+    @_campaign(SLOW_EXAMPLES)
+    def run(drawn: tuple[Any, ...]) -> None:
+        nonlocal checked
+        wall, cpu = time.perf_counter(), time.process_time()
+        try:
+            check(*drawn)
+            outcome = "ok"
+        except HypothesisException:
+            raise  # assume(): not a valid problem, not counted
+        except Exception as error:  # every violation is counted, then reported
+            outcome = f"VIOLATION {type(error).__name__}: {str(error)[:400]}"
+        checked += 1
+        if outcome != "ok":
+            violations.append(f"problem {checked}: {outcome}")
+        if log:
+            record = {
+                "campaign": name,
+                "problem": checked,
+                "wall_s": round(time.perf_counter() - wall, 2),
+                "cpu_s": round(time.process_time() - cpu, 2),
+                "outcome": outcome,
+            }
+            with open(log, "a") as handle:
+                handle.write(json.dumps(record) + "\n")
+            if outcome != "ok":
+                arguments = [_jsonable(a) for a in drawn]
+                Path(f"{log}.{name}.{checked}.json").write_text(json.dumps(arguments))
+
+    run()
+    assert not violations, f"{len(violations)} of {checked} problems:\n" + "\n".join(violations)
 
 
 def _valid(data: dict[str, Any]) -> tuple[Problem, Reference, dict[str, Any]]:
@@ -142,10 +201,8 @@ def test_model_and_authority_equal_hand_sums_and_lps(data: dict[str, Any]) -> No
 
 
 @pytest.mark.slow
-@given(problems())
-@_campaign(SLOW_EXAMPLES)
-def test_model_and_authority_many(data: dict[str, Any]) -> None:
-    check_model(data)
+def test_model_and_authority_many() -> None:
+    _many("model", check_model, problems())
 
 
 # ------------------------------------------------------------------ allocation
@@ -178,10 +235,8 @@ def test_allocation_meets_a_reachable_demand_exactly(data, unit, fraction) -> No
 
 
 @pytest.mark.slow
-@given(problems(), _axes(), st.floats(0.1, 0.95))
-@_campaign(SLOW_EXAMPLES)
-def test_allocation_many(data, unit, fraction) -> None:
-    check_allocation(data, unit, fraction)
+def test_allocation_many() -> None:
+    _many("allocation", check_allocation, problems(), _axes(), st.floats(0.1, 0.95))
 
 
 # ------------------------------------------------------------------ slew profiles
@@ -307,10 +362,8 @@ def test_bang_bang_profile_obeys_the_body_and_the_box(data, axis, angle_deg) -> 
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles)
-@_campaign(SLOW_EXAMPLES)
-def test_bang_bang_many(data, axis, angle_deg) -> None:
-    check_bang_bang(data, axis, angle_deg)
+def test_bang_bang_many() -> None:
+    _many("bang_bang", check_bang_bang, problems(), slew_axes, slew_angles)
 
 
 def _options(reference_s: float, **extra: Any) -> OptimalSlewSettings:
@@ -351,10 +404,8 @@ def test_time_optimal_profile_obeys_the_body_and_beats_the_bang_bang(data, axis,
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles)
-@_campaign(SLOW_EXAMPLES)
-def test_time_optimal_many(data, axis, angle_deg) -> None:
-    check_time_optimal(data, axis, angle_deg)
+def test_time_optimal_many() -> None:
+    _many("time_optimal", check_time_optimal, problems(), slew_axes, slew_angles)
 
 
 def check_fuel_optimal(
@@ -381,10 +432,10 @@ def test_fuel_optimal_profile_obeys_the_body_and_the_box(data, axis, angle_deg, 
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles, st.floats(1.2, 3.0))
-@_campaign(SLOW_EXAMPLES)
-def test_fuel_optimal_many(data, axis, angle_deg, stretch) -> None:
-    check_fuel_optimal(data, axis, angle_deg, stretch)
+def test_fuel_optimal_many() -> None:
+    _many(
+        "fuel_optimal", check_fuel_optimal, problems(), slew_axes, slew_angles, st.floats(1.2, 3.0)
+    )
 
 
 def check_thruster_level(data: dict[str, Any], axis: np.ndarray, angle_deg: float) -> None:
@@ -409,10 +460,8 @@ def test_thruster_level_profile_obeys_the_body_and_the_engines(data, axis, angle
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles)
-@_campaign(SLOW_EXAMPLES)
-def test_thruster_level_many(data, axis, angle_deg) -> None:
-    check_thruster_level(data, axis, angle_deg)
+def test_thruster_level_many() -> None:
+    _many("thruster_level", check_thruster_level, problems(), slew_axes, slew_angles)
 
 
 # ------------------------------------------------------------------ the command line
@@ -492,10 +541,11 @@ def test_commands_never_exit_3(data, axis, tmp_path_factory) -> None:
 
 
 @pytest.mark.slow
-@given(data=problems(), axis=slew_axes)
-@_campaign(SLOW_EXAMPLES)
-def test_commands_many(data, axis, tmp_path_factory) -> None:
-    check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
+def test_commands_many(tmp_path_factory) -> None:
+    def check(data: dict[str, Any], axis: np.ndarray) -> None:
+        check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
+
+    _many("commands", check, problems(), slew_axes)
 
 
 # ------------------------------------------------------------------ two problems by hand
