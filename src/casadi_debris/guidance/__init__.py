@@ -22,6 +22,7 @@ from casadi_debris.guidance._burn_plan import (
     burn_thrust_N,
     burn_windows,
     direction_inertial,
+    engine_limits_along,
     strongest_axis,
     torque_free_thrust_N,
 )
@@ -71,6 +72,7 @@ __all__ = [
     "continuous_sign",
     "control_instants",
     "direction_inertial",
+    "engine_limits_along",
     "frame_attitude",
     "generate_slew",
     "lvlh_matrices",
