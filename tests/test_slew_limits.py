@@ -20,9 +20,11 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.slews import (
+    OptimalSlewSettings,
     RigidBody,
     bang_bang_slew,
     eigenaxis_acceleration_limit,
+    fuel_optimal_slew,
     rigid_limit_duration,
     time_optimal_slew,
 )
@@ -403,3 +405,46 @@ def test_the_gauge_of_many_samples_is_each_samples_own(problem: Problem) -> None
     for k in range(0, len(torque), 9):
         alpha = largest_alpha(geometry, limits, torque[k], np.zeros(3), at_most=None)
         assert gauge[k] == pytest.approx(1.0 / alpha, rel=1e-6)
+
+
+class _AskedError(Exception):
+    """Raised by the spy in place of the first solve: what the slew asked for first."""
+
+
+def test_a_fuel_optimal_duration_below_the_flyable_bang_bang_is_checked_first(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The paper about (1, 1, 1): the J e-alone limit is 1274.0 s, the eigenaxis bang-bang
+    that fits the torque set 2039.2 s. Between the two no eigenaxis profile is flyable, so
+    a duration there is checked against the time-optimal slew first (the J e-alone rule
+    went straight to the fuel OCP); above the bang-bang one is, and nothing is checked."""
+    from casadi_debris.slews import _optimal
+
+    problem = load_problem()
+    axis = (1.0, 1.0, 1.0)
+    # The threshold is the bang-bang the command flies (sized on the torque set), found
+    # here by its own path.
+    solver = _optimal._solver(problem, axis, math.pi, None, OptimalSlewSettings())
+    flyable = bang_bang_slew(problem, axis, math.pi, check_vibration=False)
+    assert _optimal._flyable_eigenaxis_s(solver.ocp) == pytest.approx(flyable.duration_s, rel=1e-9)
+    assert solver.ocp.limit_duration_s < 1300.0 < flyable.duration_s
+
+    asked: list[bool] = []
+
+    def spy(self: Any, *, fuel: bool, duration_s: float | None, check_vibration: bool) -> Any:
+        asked.append(fuel)
+        raise _AskedError
+
+    monkeypatch.setattr(_optimal._SlewSolver, "solve", spy)
+    below, above = flyable.duration_s * (1 - 1e-6), flyable.duration_s * (1 + 1e-6)
+    for duration_s, time_optimal_first in [
+        (1270.0, True),
+        (1300.0, True),
+        (below, True),
+        (above, False),
+        (3000.0, False),
+    ]:
+        asked.clear()
+        with pytest.raises(_AskedError):
+            fuel_optimal_slew(problem, axis, math.pi, duration_s=duration_s)
+        assert asked == [not time_optimal_first], duration_s
