@@ -274,7 +274,7 @@ def check_inside_passes_outside_fails(
     its reach fails."""
     from casadi_debris.geometry import build_geometry
     from casadi_debris.slews import check_limits
-    from valid_problems import SIGNED_AXES, lp_authority, lp_reach
+    from valid_problems import SIGNED_AXES, lp_authority_Nm, lp_reach
 
     problem, ref = _random_problem(data)
     geometry = build_geometry(problem)
@@ -290,10 +290,9 @@ def check_inside_passes_outside_fails(
     assert check.worst_torque_set_ratio == pytest.approx(1.0, rel=1e-6)
     # The per-axis ratios are the extremes over the pure-axis authority (LPs here): at least
     # 1, often more, and information only.
-    # The pure-axis authority by LPs here, in mN (a pure torque of 1e-7 N m is below HiGHS'
-    # absolute tolerances in newtons).
-    pure_mNm = lp_authority(ref.torque_per_N, ref.direction, ref.max_thrust_N * 1e3, True)
-    pure = {name: value * 1e-3 for name, value in pure_mNm.items()}
+    # The pure-axis authority by LPs here (posed in mN: a pure torque of 1e-7 N m is below
+    # HiGHS' absolute tolerances in newtons).
+    pure = lp_authority_Nm(ref.torque_per_N, ref.direction, ref.max_thrust_N, True)
     for k, name in enumerate(SIGNED_AXES):
         reach = abs(float(extremes[k][k // 2]))
         assert reach >= pure[name] * (1 - 1e-6)

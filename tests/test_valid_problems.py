@@ -64,7 +64,7 @@ from casadi_debris.slews import (
 from valid_problems import (
     SIGNED_AXES,
     Reference,
-    lp_authority,
+    lp_authority_Nm,
     lp_gauge,
     lp_reach,
     problems,
@@ -188,7 +188,7 @@ def check_model(data: dict[str, Any]) -> None:
     ):
         ours = ref.authority_Nm(zero_net_force)
         # Over the engines `model` lists (positions and directions rounded to 1e-6 m).
-        from_list = lp_authority(listed_torque, listed_d.T, listed_f, zero_net_force)
+        from_list = lp_authority_Nm(listed_torque, listed_d.T, listed_f, zero_net_force)
         rounding = 2e-6 * float(np.sum(ref.max_thrust_N))
         for name in SIGNED_AXES:
             assert reported[name] * 1e-3 == pytest.approx(ours[name], rel=RTOL, abs=1e-12), name
