@@ -311,7 +311,7 @@ def engine_limits_along(
     while done < len(thrust):
         # Within each active stage's limit as the run flew it (round-off clipped).
         steps, _ = state.advance_series(
-            np.minimum(thrust[done:], limits[-1]), period_s, stop_on_limit_change=True
+            np.clip(thrust[done:], 0.0, limits[-1]), period_s, stop_on_limit_change=True
         )
         done += steps
         now = state.max_thrust_N()
