@@ -138,3 +138,93 @@ def test_a_burns_attitude_is_checked_within_what_the_engines_add_to_its_thrust(
     ours = _gauge(problem, torque, thrust * plan.body_axis)
     assert check.limits_ok and ours < 1.0
     assert check.worst_torque_set_ratio == pytest.approx(ours, rel=1e-3)
+
+
+# ------------------------------------------------------------------ what the engines have left
+
+
+def _one_stage(folder: Path) -> Problem:
+    """The paper's burn problem with one stage per engine: a stage running dry leaves that
+    engine spent (with three equal stages the next takes over at the same thrust)."""
+    base = default_problem_path().parent / "paper_burn.toml"
+    path = folder / "one_stage.toml"
+    path.write_text(f'extends = "{base}"\nname = "one_stage"\n\n[engine]\nstages = 1\n')
+    return load_problem(path)
+
+
+def test_engine_limits_along_a_run_drop_where_each_stage_runs_dry(tmp_path: Path) -> None:
+    """Three engines with 3 s of full thrust left, fired at 1, 1/2 and 1/4 of it: each is
+    spent at 3 f_max / f (3, 6 and 12 s), by our own sum of its impulse."""
+    from casadi_debris.allocation import PropulsionState
+    from casadi_debris.guidance import engine_limits_along
+    from casadi_debris.simulation.burn import first_stage_left
+
+    problem = _one_stage(tmp_path)
+    start = first_stage_left(PropulsionState.from_problem(problem), 3.0)
+    full = start.max_thrust_N()
+    period = 0.25
+    thrust = np.zeros((80, full.size))
+    fired = {0: 1.0, 5: 0.5, 9: 0.25}
+    for engine, share in fired.items():
+        thrust[:, engine] = share * full[engine]
+    times, limits = engine_limits_along(start, thrust, period)
+    dry = sorted(3.0 / share for share in fired.values())
+    assert times[0] == 0.0 and len(times) == 1 + len(dry)
+    np.testing.assert_allclose(times[1:], dry, atol=period)
+    np.testing.assert_array_equal(limits[0], full)
+    for row, (engine, _) in enumerate(sorted(fired.items(), key=lambda item: -item[1]), start=1):
+        assert limits[row][engine] == 0.0
+        assert np.count_nonzero(limits[row] == 0.0) == row  # spent engines stay spent
+    assert np.all(limits[-1][[i for i in range(full.size) if i not in fired]] == full[0])
+    # Not fired, nothing changes; the state given is not touched.
+    quiet, unchanged = engine_limits_along(start, np.zeros_like(thrust), period)
+    assert quiet.tolist() == [0.0] and np.array_equal(unchanged[0], full)
+    assert np.array_equal(start.max_thrust_N(), full)
+
+
+def test_a_burn_is_checked_against_the_engines_left_from_each_time_on() -> None:
+    """From 1000 s the engines give half their thrust: the gauge there is our own facets'
+    of the halved set; from 1000 s the engines that push along -y spent: cannot thrust."""
+    from casadi_debris.environment import CircularOrbit
+    from casadi_debris.guidance import burn_offset, frame_attitude
+
+    problem = load_problem("paper_burn")
+    plan = BurnPlan("retrograde", np.array([0.0, -1.0, 0.0]), 2000.0, 0.25)
+    thrust = burn_thrust_N(Allocator.from_problem(problem), plan)
+    geometry = build_geometry(problem)
+    full = max_thrust_N(geometry)
+    halved = burn_limits(
+        problem,
+        plan,
+        thrust,
+        10.0,
+        engine_limits=(np.array([0.0, 1000.0]), np.vstack([full, full / 2])),
+    )
+    times = np.linspace(0.0, 2000.0, 2001)
+    orbit = CircularOrbit.from_problem(problem)
+    offset = burn_offset(plan.body_axis, plan.direction_lvlh)
+    torque = _torque(problem, times, lambda t: frame_attitude(orbit, offset, t))
+    force = thrust * plan.body_axis
+    late = times >= 1000.0
+    half = authority_polytope(geometry.torque_map, geometry.force_map, full / 2, force_N=force)
+    ours = max(
+        _gauge(problem, torque[~late], force), float(np.max(torque_set_gauge(half, torque[late])))
+    )
+    assert halved.limits_ok and ours < 1.0
+    assert halved.worst_torque_set_ratio == pytest.approx(ours, rel=1e-3)
+    # Full limits throughout: the check without engine limits, figure for figure.
+    same = burn_limits(problem, plan, thrust, 10.0, engine_limits=(np.array([0.0]), full[None, :]))
+    assert same == burn_limits(problem, plan, thrust, 10.0)
+    # The engines pushing along -y spent from 1000 s: nothing else can give the thrust.
+    pushing = geometry.force_map[1] < -1e-9
+    spent = np.where(pushing, 0.0, full)
+    check = burn_limits(
+        problem,
+        plan,
+        thrust,
+        10.0,
+        engine_limits=(np.array([0.0, 1000.0]), np.vstack([full, spent])),
+    )
+    assert not check.limits_ok
+    assert check.worst_torque_set_ratio == np.inf and check.worst_ratio_time_s == 1000.0
+    assert "from t = 1000 s the engines left cannot give" in check.limits_note

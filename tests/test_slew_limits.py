@@ -20,9 +20,11 @@ from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.slews import (
+    OptimalSlewSettings,
     RigidBody,
     bang_bang_slew,
     eigenaxis_acceleration_limit,
+    fuel_optimal_slew,
     rigid_limit_duration,
     time_optimal_slew,
 )
@@ -272,7 +274,7 @@ def check_inside_passes_outside_fails(
     its reach fails."""
     from casadi_debris.geometry import build_geometry
     from casadi_debris.slews import check_limits
-    from valid_problems import SIGNED_AXES, lp_authority, lp_reach
+    from valid_problems import SIGNED_AXES, lp_authority_Nm, lp_reach
 
     problem, ref = _random_problem(data)
     geometry = build_geometry(problem)
@@ -288,10 +290,9 @@ def check_inside_passes_outside_fails(
     assert check.worst_torque_set_ratio == pytest.approx(1.0, rel=1e-6)
     # The per-axis ratios are the extremes over the pure-axis authority (LPs here): at least
     # 1, often more, and information only.
-    # The pure-axis authority by LPs here, in mN (a pure torque of 1e-7 N m is below HiGHS'
-    # absolute tolerances in newtons).
-    pure_mNm = lp_authority(ref.torque_per_N, ref.direction, ref.max_thrust_N * 1e3, True)
-    pure = {name: value * 1e-3 for name, value in pure_mNm.items()}
+    # The pure-axis authority by LPs here (posed in mN: a pure torque of 1e-7 N m is below
+    # HiGHS' absolute tolerances in newtons).
+    pure = lp_authority_Nm(ref.torque_per_N, ref.direction, ref.max_thrust_N, True)
     for k, name in enumerate(SIGNED_AXES):
         reach = abs(float(extremes[k][k // 2]))
         assert reach >= pure[name] * (1 - 1e-6)
@@ -403,3 +404,46 @@ def test_the_gauge_of_many_samples_is_each_samples_own(problem: Problem) -> None
     for k in range(0, len(torque), 9):
         alpha = largest_alpha(geometry, limits, torque[k], np.zeros(3), at_most=None)
         assert gauge[k] == pytest.approx(1.0 / alpha, rel=1e-6)
+
+
+class _AskedError(Exception):
+    """Raised by the spy in place of the first solve: what the slew asked for first."""
+
+
+def test_a_fuel_optimal_duration_below_the_flyable_bang_bang_is_checked_first(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """The paper about (1, 1, 1): the J e-alone limit is 1274.0 s, the eigenaxis bang-bang
+    that fits the torque set 2039.2 s. Between the two no eigenaxis profile is flyable, so
+    a duration there is checked against the time-optimal slew first (the J e-alone rule
+    went straight to the fuel OCP); above the bang-bang one is, and nothing is checked."""
+    from casadi_debris.slews import _optimal
+
+    problem = load_problem()
+    axis = (1.0, 1.0, 1.0)
+    # The threshold is the bang-bang the command flies (sized on the torque set), found
+    # here by its own path.
+    solver = _optimal._solver(problem, axis, math.pi, None, OptimalSlewSettings())
+    flyable = bang_bang_slew(problem, axis, math.pi, check_vibration=False)
+    assert _optimal._flyable_eigenaxis_s(solver.ocp) == pytest.approx(flyable.duration_s, rel=1e-9)
+    assert solver.ocp.limit_duration_s < 1300.0 < flyable.duration_s
+
+    asked: list[bool] = []
+
+    def spy(self: Any, *, fuel: bool, duration_s: float | None, check_vibration: bool) -> Any:
+        asked.append(fuel)
+        raise _AskedError
+
+    monkeypatch.setattr(_optimal._SlewSolver, "solve", spy)
+    below, above = flyable.duration_s * (1 - 1e-6), flyable.duration_s * (1 + 1e-6)
+    for duration_s, time_optimal_first in [
+        (1270.0, True),
+        (1300.0, True),
+        (below, True),
+        (above, False),
+        (3000.0, False),
+    ]:
+        asked.clear()
+        with pytest.raises(_AskedError):
+            fuel_optimal_slew(problem, axis, math.pi, duration_s=duration_s)
+        assert asked == [not time_optimal_first], duration_s

@@ -34,8 +34,12 @@ per property.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import math
+import os
+import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -44,6 +48,7 @@ import pytest
 from click.testing import CliRunner
 from hypothesis import HealthCheck, Phase, assume, given, settings
 from hypothesis import strategies as st
+from hypothesis.errors import HypothesisException
 
 from casadi_debris.allocation import Allocator
 from casadi_debris.cli import main
@@ -59,7 +64,7 @@ from casadi_debris.slews import (
 from valid_problems import (
     SIGNED_AXES,
     Reference,
-    lp_authority,
+    lp_authority_Nm,
     lp_gauge,
     lp_reach,
     problems,
@@ -72,7 +77,8 @@ RTOL = 1e-9
 # Box and thrust limits: solvers stop within their own tolerances (IPOPT's constraint
 # violation 1e-8 relative to the scaled problem), not exactly on the bound.
 LIMIT_RTOL = 1e-6
-SLOW_EXAMPLES = 200
+# VALID_PROBLEMS_EXAMPLES shortens a slow campaign (a trial of the harness); 200 by default.
+SLOW_EXAMPLES = int(os.environ.get("VALID_PROBLEMS_EXAMPLES", "200"))
 
 
 def _campaign(examples: int) -> Any:
@@ -85,6 +91,60 @@ def _campaign(examples: int) -> Any:
         phases=(Phase.explicit, Phase.generate),
         suppress_health_check=list(HealthCheck),
     )
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def _many(name: str, check: Callable[..., None], *strategies: Any) -> None:
+    """A slow campaign: ``check`` on SLOW_EXAMPLES drawn problems, every one checked even
+    after a violation (a campaign counts them all); fails at the end with each violation.
+
+    With ``VALID_PROBLEMS_LOG`` set, one JSON line per problem checked is appended to
+    that file as it finishes (name, count, wall and CPU seconds, the outcome) and every
+    violation's drawn arguments are written beside it (``<log>.<name>.<count>.json``):
+    the reproducer is ``check_<name>(*arguments)``.
+    """
+    log = os.environ.get("VALID_PROBLEMS_LOG")
+    violations: list[str] = []
+    checked = 0
+
+    @given(st.tuples(*strategies))
+    @_campaign(SLOW_EXAMPLES)
+    def run(drawn: tuple[Any, ...]) -> None:
+        nonlocal checked
+        wall, cpu = time.perf_counter(), time.process_time()
+        try:
+            check(*drawn)
+            outcome = "ok"
+        except HypothesisException:
+            raise  # assume(): not a valid problem, not counted
+        except Exception as error:  # every violation is counted, then reported
+            outcome = f"VIOLATION {type(error).__name__}: {str(error)[:400]}"
+        checked += 1
+        if outcome != "ok":
+            violations.append(f"problem {checked}: {outcome}")
+        if log:
+            record = {
+                "campaign": name,
+                "problem": checked,
+                "wall_s": round(time.perf_counter() - wall, 2),
+                "cpu_s": round(time.process_time() - cpu, 2),
+                "outcome": outcome,
+            }
+            with open(log, "a") as handle:
+                handle.write(json.dumps(record) + "\n")
+            if outcome != "ok":
+                arguments = [_jsonable(a) for a in drawn]
+                Path(f"{log}.{name}.{checked}.json").write_text(json.dumps(arguments))
+
+    run()
+    assert not violations, f"{len(violations)} of {checked} problems:\n" + "\n".join(violations)
 
 
 def _valid(data: dict[str, Any]) -> tuple[Problem, Reference, dict[str, Any]]:
@@ -128,7 +188,7 @@ def check_model(data: dict[str, Any]) -> None:
     ):
         ours = ref.authority_Nm(zero_net_force)
         # Over the engines `model` lists (positions and directions rounded to 1e-6 m).
-        from_list = lp_authority(listed_torque, listed_d.T, listed_f, zero_net_force)
+        from_list = lp_authority_Nm(listed_torque, listed_d.T, listed_f, zero_net_force)
         rounding = 2e-6 * float(np.sum(ref.max_thrust_N))
         for name in SIGNED_AXES:
             assert reported[name] * 1e-3 == pytest.approx(ours[name], rel=RTOL, abs=1e-12), name
@@ -142,10 +202,8 @@ def test_model_and_authority_equal_hand_sums_and_lps(data: dict[str, Any]) -> No
 
 
 @pytest.mark.slow
-@given(problems())
-@_campaign(SLOW_EXAMPLES)
-def test_model_and_authority_many(data: dict[str, Any]) -> None:
-    check_model(data)
+def test_model_and_authority_many() -> None:
+    _many("model", check_model, problems())
 
 
 # ------------------------------------------------------------------ allocation
@@ -178,10 +236,8 @@ def test_allocation_meets_a_reachable_demand_exactly(data, unit, fraction) -> No
 
 
 @pytest.mark.slow
-@given(problems(), _axes(), st.floats(0.1, 0.95))
-@_campaign(SLOW_EXAMPLES)
-def test_allocation_many(data, unit, fraction) -> None:
-    check_allocation(data, unit, fraction)
+def test_allocation_many() -> None:
+    _many("allocation", check_allocation, problems(), _axes(), st.floats(0.1, 0.95))
 
 
 # ------------------------------------------------------------------ slew profiles
@@ -210,13 +266,17 @@ def check_dynamics(profile: SlewProfile, ref: Reference) -> None:
     assert t[-1] == pytest.approx(profile.duration_s, rel=1e-6, abs=1e-6)
     J = ref.inertia_kgm2
     w_scale = max(float(np.abs(w).max()), 1e-12)
-    a_scale = max(float(np.abs(a).max()), 1e-12)
     tau_scale = max(float(np.abs(tau).max()), 1e-15)
+    integration = _integration_error(profile)
     # Rest to rest, on target: the rate left at the end drifts over one slew's duration
     # (peak rate x duration ~ 2 x angle) by under 1e-5 of the angle; the attitude error
     # at the end is under 1e-5 of the angle too (solvers stop at 1e-8 on scaled states).
+    # The samples of an OCP's profile are an integration of its held torque: the end rate
+    # carries that integration's error too (1e-10 rad/s, which a slow 9 deg slew's 1e-5 of
+    # its peak rate does not always cover).
     angle = profile.target.angle_rad
-    assert np.abs(w[0]).max() <= 1e-5 * w_scale and np.abs(w[-1]).max() <= 1e-5 * w_scale
+    assert np.abs(w[0]).max() <= 1e-5 * w_scale
+    assert np.abs(w[-1]).max() <= 1e-5 * w_scale + integration, (w[-1], w_scale, integration)
     np.testing.assert_allclose(q[0], profile.target.q_initial_BN, atol=1e-8)
     q_f = profile.target.q_final_BN
     conjugate = np.r_[q_f[0], -q_f[1:]][None, :]
@@ -226,6 +286,24 @@ def check_dynamics(profile: SlewProfile, ref: Reference) -> None:
     # The body's equation at every sample (the last is the rest after the end).
     residual = a @ J.T + np.cross(w, w @ J.T) - tau
     assert np.abs(residual[:-1]).max() <= 1e-6 * tau_scale, np.abs(residual).max() / tau_scale
+    check_integrals(profile, J)
+
+
+def _integration_error(profile: SlewProfile) -> float:
+    """The largest error of the profile's rates as its integration measured it (rad/s): an
+    OCP's profile integrates its held torque with CVODES, which bounds each step's local
+    error only; the profile records its difference from an integration a hundred times
+    tighter. 0 for a profile evaluated in closed form (the bang-bang)."""
+    return float(profile.settings.get("integration_rate_error_rad_s", 0.0))
+
+
+def check_integrals(profile: SlewProfile, J: np.ndarray) -> None:
+    """Rate the integral of acceleration, attitude the integral of rate (trapezoids with
+    their error bounds, plus the integration's own error)."""
+    t = profile.time_s
+    w, a, q = profile.rate_rad_s, profile.acceleration_rad_s2, profile.quaternion_BN
+    w_scale = max(float(np.abs(w).max()), 1e-12)
+    a_scale = max(float(np.abs(a).max()), 1e-12)
     # w(t_k+1) - w(t_k) = integral of alpha, by the trapezoid. With the torque piecewise
     # constant or smooth (one jump at most per step), alpha = J^-1 (tau - w x J w) is a
     # jump plus a drift whose rate is at most |J^-1| |d(w x J w)/dt| <= 2 cond(J) |w| |alpha|,
@@ -238,7 +316,11 @@ def check_dynamics(profile: SlewProfile, ref: Reference) -> None:
     # peak, so differences under 1e-12 of it are rounding (a step of a few ns at a switch
     # leaves nothing else); a body equation broken shows at 1e-6 and above.
     rounding = 1e-12 * (w_scale + float(np.max(dt)) * a_scale)
-    bound = dt * jump / 2 + 1.5 * dt**2 * drift + 1e-9 * dt * a_scale + rounding
+    # And the integration's error: each of the step's two rates is off by at most the
+    # error the profile measured, plus the tighter integration's own (its tolerances a
+    # hundred times smaller: 1 % of it). A step of 1e-7 s at a switch shows nothing else.
+    integration = 2.02 * _integration_error(profile)
+    bound = dt * jump / 2 + 1.5 * dt**2 * drift + 1e-9 * dt * a_scale + rounding + integration
     # The last step ends at rest: alpha's sample there is after the end, not before it.
     assert np.all(error[:-1] <= bound[:-1]), float(np.max(error[:-1] - bound[:-1]))
     # q' = q (x) (0, w) / 2: trapezoid again; with w continuous its error is O(dt^2 jump(alpha)).
@@ -307,10 +389,8 @@ def test_bang_bang_profile_obeys_the_body_and_the_box(data, axis, angle_deg) -> 
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles)
-@_campaign(SLOW_EXAMPLES)
-def test_bang_bang_many(data, axis, angle_deg) -> None:
-    check_bang_bang(data, axis, angle_deg)
+def test_bang_bang_many() -> None:
+    _many("bang_bang", check_bang_bang, problems(), slew_axes, slew_angles)
 
 
 def _options(reference_s: float, **extra: Any) -> OptimalSlewSettings:
@@ -324,7 +404,9 @@ def _options(reference_s: float, **extra: Any) -> OptimalSlewSettings:
     )
 
 
-def check_time_optimal(data: dict[str, Any], axis: np.ndarray, angle_deg: float) -> None:
+def check_time_optimal(
+    data: dict[str, Any], axis: np.ndarray, angle_deg: float
+) -> tuple[SlewProfile, Reference]:
     problem, ref, _ = _valid(data)
     angle = math.radians(angle_deg)
     bang_bang = _bang_bang(problem, axis, angle)
@@ -336,25 +418,27 @@ def check_time_optimal(data: dict[str, Any], axis: np.ndarray, angle_deg: float)
         profile.duration_s,
         bang_bang.duration_s,
     )
+    return profile, ref
 
 
-# Under -m slow until its trapezoid bound is right: on the first drawn problem (a 9 deg
-# slew) the rate's step over a sub-microsecond interval at a switch misses the bound by
-# 4e-12 to 1.5e-10 rad/s depending on the run, which is the solver's constraint tolerance
-# (absolute, not proportional to the step), not a broken body equation. The paper's
-# time-optimal slews are checked by default in tests/test_slew_global.py.
-@pytest.mark.slow
 @given(problems(), slew_axes, slew_angles)
 @_campaign(1)
 def test_time_optimal_profile_obeys_the_body_and_beats_the_bang_bang(data, axis, angle_deg) -> None:
-    check_time_optimal(data, axis, angle_deg)
+    profile, ref = check_time_optimal(data, axis, angle_deg)
+    # The bound counts the integration's error, and no more: dynamics wrong by 1 % fail.
+    assert 0.0 < _integration_error(profile) < 1e-6 * float(np.abs(profile.rate_rad_s).max())
+    wrong_torque = dataclasses.replace(profile, torque_Nm=1.01 * profile.torque_Nm)
+    with pytest.raises(AssertionError):
+        check_dynamics(wrong_torque, ref)
+    # Rates the integral of a 1 % larger acceleration: the trapezoid check alone sees it.
+    wrong_rate = dataclasses.replace(profile, rate_rad_s=1.01 * profile.rate_rad_s)
+    with pytest.raises(AssertionError):
+        check_integrals(wrong_rate, ref.inertia_kgm2)
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles)
-@_campaign(SLOW_EXAMPLES)
-def test_time_optimal_many(data, axis, angle_deg) -> None:
-    check_time_optimal(data, axis, angle_deg)
+def test_time_optimal_many() -> None:
+    _many("time_optimal", check_time_optimal, problems(), slew_axes, slew_angles)
 
 
 def check_fuel_optimal(
@@ -381,10 +465,10 @@ def test_fuel_optimal_profile_obeys_the_body_and_the_box(data, axis, angle_deg, 
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles, st.floats(1.2, 3.0))
-@_campaign(SLOW_EXAMPLES)
-def test_fuel_optimal_many(data, axis, angle_deg, stretch) -> None:
-    check_fuel_optimal(data, axis, angle_deg, stretch)
+def test_fuel_optimal_many() -> None:
+    _many(
+        "fuel_optimal", check_fuel_optimal, problems(), slew_axes, slew_angles, st.floats(1.2, 3.0)
+    )
 
 
 def check_thruster_level(data: dict[str, Any], axis: np.ndarray, angle_deg: float) -> None:
@@ -409,10 +493,8 @@ def test_thruster_level_profile_obeys_the_body_and_the_engines(data, axis, angle
 
 
 @pytest.mark.slow
-@given(problems(), slew_axes, slew_angles)
-@_campaign(SLOW_EXAMPLES)
-def test_thruster_level_many(data, axis, angle_deg) -> None:
-    check_thruster_level(data, axis, angle_deg)
+def test_thruster_level_many() -> None:
+    _many("thruster_level", check_thruster_level, problems(), slew_axes, slew_angles)
 
 
 # ------------------------------------------------------------------ the command line
@@ -492,10 +574,11 @@ def test_commands_never_exit_3(data, axis, tmp_path_factory) -> None:
 
 
 @pytest.mark.slow
-@given(data=problems(), axis=slew_axes)
-@_campaign(SLOW_EXAMPLES)
-def test_commands_many(data, axis, tmp_path_factory) -> None:
-    check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
+def test_commands_many(tmp_path_factory) -> None:
+    def check(data: dict[str, Any], axis: np.ndarray) -> None:
+        check_commands(data, axis, tmp_path_factory.mktemp("valid"), every_mode=True)
+
+    _many("commands", check, problems(), slew_axes)
 
 
 # ------------------------------------------------------------------ two problems by hand

@@ -204,7 +204,7 @@ class Reference:
     max_thrust_N: np.ndarray  # (n_engines,)
 
     def authority_Nm(self, zero_net_force: bool) -> dict[str, float]:
-        return lp_authority(self.torque_per_N, self.direction, self.max_thrust_N, zero_net_force)
+        return lp_authority_Nm(self.torque_per_N, self.direction, self.max_thrust_N, zero_net_force)
 
 
 def _array_frame(direction: np.ndarray, angle_rad: float) -> np.ndarray:
@@ -271,13 +271,14 @@ def reference(data: dict[str, Any]) -> Reference:
     )
 
 
-def lp_authority(
+def lp_authority_Nm(
     torque_per_N: np.ndarray, direction: np.ndarray, max_thrust_N: np.ndarray, zero_net_force: bool
 ) -> dict[str, float]:
     """Largest pure torque about each signed axis, by an LP per axis [N m].
 
     max s.t. torque along the axis, none about the others, (no net force),
-    0 <= f <= f_max.
+    0 <= f <= f_max. Posed in mN and mNm, as :func:`lp_reach` (HiGHS' tolerances are
+    absolute: a pure torque of 1e-7 N m is below them in newtons).
     """
     authority = {}
     for name in SIGNED_AXES:
@@ -290,11 +291,11 @@ def lp_authority(
             -sign * torque_per_N[axis],
             A_eq=equalities,
             b_eq=np.zeros(len(equalities)),
-            bounds=[(0.0, f) for f in max_thrust_N],
+            bounds=[(0.0, f * 1e3) for f in max_thrust_N],
             method="highs",
         )
         assert result.status == 0, result.message
-        authority[name] = max(0.0, -result.fun)
+        authority[name] = max(0.0, -result.fun) * 1e-3
     return authority
 
 

@@ -56,6 +56,9 @@ ACTIVE_TOLERANCE = 1e-11
 WINDOW_FIRST = 16
 WINDOW_MAX = 4096
 CACHE_SIZE = 32
+# Slope of a bound multiplier along the free direction of lambda below which it is
+# round-off (relative to the row's norm; slopes of a real dependence are of order one).
+FLAT_SLOPE = 1e-12
 
 LOWER, FREE, UPPER = 0, 1, 2
 
@@ -131,6 +134,12 @@ class PiecewiseAffineQp:
         if best is None or best[1] < -MULTIPLIER_TOLERANCE:
             return None
         multiplier = best[0]
+        # A multiplier so large that mu = c + slopes @ lambda cancels to round-off beyond
+        # the tolerance cannot tell a true bound multiplier from a wrong sign: a region
+        # checked with it could pass a non-optimal u (the QP's answer is unique, so that
+        # would be a wrong thrust). Such a point anchors no region.
+        if _cancellation(slopes, constants, multiplier) > MULTIPLIER_TOLERANCE:
+            return None
         gram_pinv = np.linalg.pinv(a_free @ a_free.T) if free.any() else np.zeros((n_rows, n_rows))
         gain = np.zeros((n_rows, len(u)))
         gain[:, free] = gram_pinv @ a_free  # rows: d u_F / d b = A_F^+ = A_F^T G^+ (transposed)
@@ -258,6 +267,15 @@ class PiecewiseAffineQp:
         return regions[hits[-1]], np.clip(u[hits[-1]], 0.0, self.upper)
 
 
+def _cancellation(slopes: np.ndarray, constants: np.ndarray, multiplier: np.ndarray) -> float:
+    """Round-off bound of the bound multipliers ``constants + slopes @ multiplier``: a few
+    units in the last place of the largest term summed."""
+    if not len(constants):
+        return 0.0
+    terms = np.abs(constants) + np.abs(slopes) @ np.abs(multiplier)
+    return float(8.0 * np.finfo(float).eps * terms.max())
+
+
 def _multiplier_lp(
     a_free: np.ndarray, rhs: np.ndarray, slopes: np.ndarray, constants: np.ndarray
 ) -> tuple[np.ndarray, float] | None:
@@ -302,6 +320,10 @@ def _one_free_direction(
     direction = left[:, rank]
     c = constants + slopes @ base
     d = slopes @ direction
+    # A line flat to round-off (the engine's column orthogonal to the free direction, as
+    # for a failed engine's partner) is flat: read as rising or falling, its 1e-17 slope
+    # sends t to 1e16 and every multiplier to round-off.
+    d[np.abs(d) <= FLAT_SLOPE * np.linalg.norm(slopes, axis=1)] = 0.0
     rising, falling = d > 0, d < 0
     candidates = [np.zeros(1)]
     if rising.any() and falling.any():
@@ -309,10 +331,14 @@ def _one_free_direction(
             d[rising][:, None] - d[falling][None, :]
         )
         candidates.append(cross.ravel())
-    elif rising.any():
-        candidates.append(np.array([np.max((1.0 - c[rising]) / d[rising])]))
-    elif falling.any():
-        candidates.append(np.array([np.min((1.0 - c[falling]) / d[falling])]))
+    else:
+        # Lines of one sign: the least rises (or falls) until the flat lines or the cap
+        # hold it; the nearest t that reaches that level keeps lambda as small as it can be.
+        level = min(1.0, float(np.min(c[d == 0.0], initial=1.0)))
+        if rising.any():
+            candidates.append(np.array([np.max((level - c[rising]) / d[rising], initial=0.0)]))
+        elif falling.any():
+            candidates.append(np.array([np.min((level - c[falling]) / d[falling], initial=0.0)]))
     t = np.concatenate(candidates)
     least = np.minimum(1.0, (c[None, :] + t[:, None] * d[None, :]).min(axis=1, initial=np.inf))
     best = int(np.argmax(least))

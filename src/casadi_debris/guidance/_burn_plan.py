@@ -8,6 +8,7 @@ retrograde -o1, normal -o2, anti-normal o2.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -16,19 +17,21 @@ import numpy as np
 from scipy.optimize import linprog
 from scipy.spatial.transform import Rotation
 
-from casadi_debris.allocation import Allocator
+from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import (
     BURN_DIRECTIONS,
+    SIGNED_AXES,
     BurnDirection,
     BurnRequest,
     Problem,
     axis_unit_vector,
 )
 from casadi_debris.environment import CircularOrbit
-from casadi_debris.errors import SimulationError
+from casadi_debris.errors import CasadiDebrisError, SimulationError
 from casadi_debris.guidance._targets import body_rates, frame_attitude, lvlh_matrices
 
 if TYPE_CHECKING:
+    from casadi_debris.geometry import Geometry
     from casadi_debris.guidance._reference import Reference
     from casadi_debris.slews import LimitCheck
 
@@ -257,13 +260,161 @@ def attitude_limits(
     return check_limits(model.geometry, time_s, torque, zero_net_force=True, force_N=force_N)
 
 
-def burn_limits(problem: Problem, plan: BurnPlan, thrust_N: float, sample_s: float) -> LimitCheck:
+def burn_limits(
+    problem: Problem,
+    plan: BurnPlan,
+    thrust_N: float,
+    sample_s: float,
+    *,
+    engine_limits: tuple[np.ndarray, np.ndarray] | None = None,
+) -> LimitCheck:
     """A burn's attitude (the LVLH track holding its axis along its direction, from its
     start on the frame) against the torques the engines add while they give its thrust
-    (:func:`attitude_limits`), over its firing, every ``sample_s`` seconds."""
+    (:func:`attitude_limits`), over its firing, every ``sample_s`` seconds.
+
+    Parameters
+    ----------
+    problem : Problem
+    plan : BurnPlan
+    thrust_N : float
+        The burn's thrust along its axis [N].
+    sample_s : float
+        Sampling step of the check [s].
+    engine_limits : (ndarray, ndarray), optional
+        ``(time_s, max_thrust_N)``, shapes (m,) and (m, n_engines): the thrust limit of
+        every engine from each time on (``time_s[0]`` = 0), what the engines have left
+        (a partly used first stage, stages spent during the burn;
+        :func:`engine_limits_along`). Default: every engine's full stage throughout.
+        Where the engines left cannot give the thrust at all, the check fails there
+        with a gauge of inf.
+    """
     steps = max(2, math.ceil(plan.duration_s / sample_s - 1e-9))
     times = np.linspace(0.0, plan.duration_s, steps + 1)
     offset = burn_offset(plan.body_axis, plan.direction_lvlh)
     attitude = frame_attitude(CircularOrbit.from_problem(problem), offset, times)
     force = np.tile(thrust_N * plan.body_axis, (len(times), 1))
-    return attitude_limits(problem, times, attitude, force)
+    if engine_limits is None:
+        return attitude_limits(problem, times, attitude, force)
+    from casadi_debris.dynamics import build_model
+    from casadi_debris.slews import check_limits
+
+    model = build_model(problem, modes=[])
+    inertia = np.array(model.rigid_inertia(model.nominal_parameters))
+    torque = attitude_torque_Nm(inertia, times, attitude)
+    limit_times, limits = (np.asarray(a, dtype=float) for a in engine_limits)
+    segment = np.searchsorted(limit_times, times, side="right") - 1
+    checks: list[tuple[float, LimitCheck]] = []
+    for index in np.unique(segment):
+        rows = segment == index
+        start = float(times[rows][0])
+        geometry = _with_limits(model.geometry, limits[index])
+        try:
+            check = check_limits(
+                geometry, times[rows], torque[rows], zero_net_force=True, force_N=force[rows]
+            )
+        except CasadiDebrisError:
+            # The LP is infeasible: the engines left cannot give the burn's force at all.
+            check = _cannot_thrust(geometry, start, thrust_N)
+        checks.append((start, check))
+    return _merged(checks)
+
+
+def engine_limits_along(
+    propulsion: PropulsionState, thrust_N: np.ndarray, period_s: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """The engines' thrust limits over a run: the state it started with, fired with the
+    run's own thrust, each engine's limit changing where a stage runs dry.
+
+    Parameters
+    ----------
+    propulsion : PropulsionState
+        The engines at the start (not changed: a copy is fired).
+    thrust_N : ndarray, shape (k, n_engines)
+        Thrust of every engine in each control period [N].
+    period_s : float
+        Control period [s].
+
+    Returns
+    -------
+    time_s : ndarray, shape (m,)
+        0 and each time a limit changed [s].
+    max_thrust_N : ndarray, shape (m, n_engines)
+        The limits from each of those times on [N].
+    """
+    state = propulsion.copy()
+    times, limits = [0.0], [state.max_thrust_N()]
+    thrust = np.asarray(thrust_N, dtype=float)
+    done = 0
+    while done < len(thrust):
+        # Within each active stage's limit as the run flew it (round-off clipped).
+        steps, _ = state.advance_series(
+            np.clip(thrust[done:], 0.0, limits[-1]), period_s, stop_on_limit_change=True
+        )
+        done += steps
+        now = state.max_thrust_N()
+        if not np.array_equal(now, limits[-1]):
+            times.append(done * period_s)
+            limits.append(now)
+        if steps == 0:
+            break
+    return np.array(times), np.array(limits)
+
+
+def _with_limits(geometry: Geometry, max_thrust_N: np.ndarray) -> Geometry:
+    """``geometry`` with each engine's thrust limit replaced [N]."""
+    engines = tuple(
+        dataclasses.replace(engine, max_thrust_N=float(limit))
+        for engine, limit in zip(geometry.engines, max_thrust_N, strict=True)
+    )
+    return dataclasses.replace(geometry, engines=engines)
+
+
+def _cannot_thrust(geometry: Geometry, start_s: float, thrust_N: float) -> LimitCheck:
+    """A failed check: from ``start_s`` the engines left cannot give ``thrust_N``."""
+    from casadi_debris.geometry import torque_authority
+    from casadi_debris.slews import LimitCheck
+
+    return LimitCheck(
+        limits_ok=False,
+        limits_zero_net_force=True,
+        limits_authority_Nm=dict(torque_authority(geometry, zero_net_force=True)),
+        worst_axis_ratio=dict.fromkeys(SIGNED_AXES, 0.0),
+        worst_torque_set_ratio=math.inf,
+        worst_ratio_time_s=start_s,
+        limits_note=(
+            f"from t = {start_s:.6g} s the engines left cannot give the burn's thrust "
+            f"({thrust_N * 1e3:.4g} mN)"
+        ),
+    )
+
+
+def _merged(checks: list[tuple[float, LimitCheck]]) -> LimitCheck:
+    """One check of a burn from those of its stretches of constant engine limits (each with
+    its start time): the worst gauge and when, the largest per-axis ratios, the least
+    authority, every note."""
+    from casadi_debris.slews import LimitCheck
+
+    if len(checks) == 1:
+        return checks[0][1]
+    worst = max(checks, key=lambda item: item[1].worst_torque_set_ratio)[1]
+    first = checks[0][1]
+    notes = [
+        (check.limits_note if start == 0.0 else f"from t = {start:.6g} s: {check.limits_note}")
+        for start, check in checks
+        if check.limits_note
+    ]
+    return LimitCheck(
+        limits_ok=all(check.limits_ok for _, check in checks),
+        limits_zero_net_force=True,
+        limits_authority_Nm={
+            axis: min(check.limits_authority_Nm[axis] for _, check in checks)
+            for axis in first.limits_authority_Nm
+        },
+        worst_axis_ratio={
+            axis: max(check.worst_axis_ratio[axis] for _, check in checks)
+            for axis in first.worst_axis_ratio
+        },
+        worst_torque_set_ratio=worst.worst_torque_set_ratio,
+        worst_ratio_time_s=worst.worst_ratio_time_s,
+        limits_note="; ".join(notes),
+    )

@@ -43,6 +43,10 @@ from casadi_debris.slews._propellant import fuel_weights, least_fuel_thrust, pro
 
 RESIDUAL_WINDOW_PERIODS = 10.0
 INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 200000}
+# A second integration at tolerances a hundred times tighter: its difference from the
+# first estimates the first's global error (CVODES bounds only each step's local error;
+# over a slew's hundreds of steps and its switches the rate errs by up to ~1e-10 rad/s).
+REFERENCE_INTEGRATOR_OPTIONS = {"abstol": 1e-14, "reltol": 1e-12, "max_num_steps": 400000}
 N_TORQUE = 3
 N_DISTURBANCE = 3
 N_FORCE = 3
@@ -233,11 +237,14 @@ def simulate_open_loop(
     time_s: np.ndarray,
     x0: np.ndarray | None = None,
     parameters: np.ndarray | None = None,
+    *,
+    options: dict[str, float] | None = None,
 ) -> np.ndarray:
     """Integrate ``model.dynamics(x, u(t), p)`` with CVODES; states at ``time_s``, shape (n, nx).
 
     ``time_s`` should hold the input's switching times, so that the integrator
-    restarts there instead of stepping across a jump.
+    restarts there instead of stepping across a jump. ``options``: CVODES' tolerances
+    (default ``INTEGRATOR_OPTIONS``).
     """
     p = model.nominal_parameters if parameters is None else parameters
     x = ca.SX.sym("x", model.layout.size)
@@ -245,7 +252,12 @@ def simulate_open_loop(
     ode = model.dynamics(x, input_function(t), p)
     grid = np.asarray(time_s, dtype=float)
     integrator = ca.integrator(
-        "slew_check", "cvodes", {"x": x, "t": t, "ode": ode}, grid[0], grid, INTEGRATOR_OPTIONS
+        "slew_check",
+        "cvodes",
+        {"x": x, "t": t, "ode": ode},
+        grid[0],
+        grid,
+        INTEGRATOR_OPTIONS if options is None else options,
     )
     start = model.initial_state() if x0 is None else x0
     return np.array(integrator(x0=start)["xf"]).T

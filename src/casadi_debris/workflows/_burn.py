@@ -24,7 +24,13 @@ from casadi_debris.allocation import Allocator, PropulsionState
 from casadi_debris.config import BurnDirection, BurnRequest, Problem
 from casadi_debris.dynamics import build_model
 from casadi_debris.errors import InputShapeError
-from casadi_debris.guidance import BurnPlan, burn_limits, burn_thrust_N, plan_burn
+from casadi_debris.guidance import (
+    BurnPlan,
+    burn_limits,
+    burn_thrust_N,
+    engine_limits_along,
+    plan_burn,
+)
 from casadi_debris.report import BurnSummary, burn_figures, write_burn
 from casadi_debris.simulation.burn import (
     BURN_PERIOD_S,
@@ -221,8 +227,15 @@ def _fly(problem: Problem, flight: _Flight, progress: Callable[[str], None] | No
     )
     allocator = Allocator.from_problem(problem)
     summary, series = burn_summary(problem, run, allocator)
+    # Checked against what the engines have left, not their full stages: the state the
+    # burn started with (a partly used first stage), fired with the run's own thrust, so
+    # an engine spent during the burn gives nothing from then on.
     check = burn_limits(
-        problem, plan, burn_thrust_N(allocator, plan, strict=False), flight.period_s
+        problem,
+        plan,
+        burn_thrust_N(Allocator.from_problem(problem, state=engines), plan, strict=False),
+        flight.period_s,
+        engine_limits=engine_limits_along(engines, run.result.thrust_N, flight.period_s),
     )
     if not check.limits_ok:
         LOGGER.warning(

@@ -268,11 +268,18 @@ class _AveragedProblem:
             for key, value in values.items()
         }
         self.max_angle = float(table.angles[-1])
+        # Every node of the table brakes (``_braking_angles``), but the cubic spline between
+        # nodes near the cut can come close to zero or cross it, and IPOPT's trial steps go
+        # there: dt/dx = -|H| / braking then overflows and the next RK stage turns inf - inf
+        # into NaN (CasADi's "NaN detected for output g" warnings). The braking is held to
+        # at most a thousandth of the least any node has, which the optimum never
+        # approaches (it would take a thousand times longer than at that node).
+        self.braking_cap = -1e-3 * float(np.min(-table.braking_Nm))
         self.step = self._step_function(x_end / n).expand()
 
     def _rates(self, x: ca.MX, state: ca.MX, angle: ca.MX) -> ca.MX:
         point = ca.vertcat(ca.fmin(ca.fmax(state[0], 0.0), 1.0), angle)
-        braking = self.maps["braking"](point)
+        braking = ca.fmin(self.maps["braking"](point), self.braking_cap)
         momentum = self.h0 * ca.exp(-x)
         unit_dx = -self.maps["drift"](point) / braking / self.span
         time_dx = -momentum / braking / self.unit_s
