@@ -32,16 +32,32 @@ terminal constraint is kept and the cost is T / (N period_s) plus the thrust ter
 Solvers
 -------
 ``solver="rti"`` (real-time iteration, Diehl et al. 2005): one SQP iteration per period
-(CasADi's ``sqpmethod`` with ``max_iter=1`` and no line search; the exact Hessian of the
-Lagrangian, regularised to be convex), warm-started by shifting the last solution and
-its multipliers one interval. The QP solver is ``qrqp`` by default: CasADi's own
-active-set solver, always built in, exact on the equality constraints (a direct sparse
-factorisation) and warm-startable; on the paper's rigid prediction it was the fastest of
-those measured (see ``docs/guide/mpc.md`` and ``benchmarks/nmpc.py``: osqp needs many
-iterations to reach the accuracy of the equality constraints, daqp and qpoases work on
-the dense QP, hpipm needs the OCP structure passed by hand). ``solver="full"``: IPOPT
-(default), fatrop (its stage structure detected from the ordering above) or sqpmethod,
-to convergence, for comparison.
+(CasADi's ``sqpmethod`` with ``max_iter=1`` and no line search), warm-started by
+shifting the last solution and its multipliers one interval. Its Hessian is the
+Gauss-Newton one of the least-squares cost plus a proximal term of 1e-6: positive
+semidefinite by construction. (The exact Hessian with CasADi's ``regularize``
+convexification shifted every eigenvalue by the stiff attitude terms and left the thrust
+step at about 1e-5 of the converged one; ``eigen-clip`` failed inside CasADi.)
+
+The QP solver is ``qpoases`` (sparse) by default, chosen by measurement on the paper's
+debris, rigid prediction, N = 10 and 20, 1 s period, closed loop of a 1 deg slew (the
+machine shared with other jobs, load 10-17 on 2 cores: figures several times a quiet
+machine's): qpoases about 70-140 ms per period and no failed period in 30; ``qrqp``
+(CasADi's own active-set solver) 10-60 ms on most periods but about 1.3 s on a third of
+them and, in 3 periods of 30, a plan outside its bounds (the zero-net-force equalities
+with the thrusts at their zero bounds are a degenerate vertex); dense ``qpoases`` and
+``daqp`` about 1 s; ``proxqp`` at its default accuracy left the bounds by more than
+1e-9; ``osqp`` through CasADi crashed the process (``malloc(): invalid size``); ``hpipm``
+needs stage-wise Hessian blocks, which the thrust-rate term (coupling f_k and f_k-1)
+breaks. ``fatrop`` is an interior-point method: a full solve, not an RTI. A plan that
+leaves its bounds by more than 1e-9 (scaled) is solved again from zero multipliers, then
+from a cold start; failing that, the previous plan, shifted, is applied and the step is
+marked unsuccessful.
+
+``solver="full"``: IPOPT (default; bounds not relaxed), fatrop (its stage structure
+detected from the ordering above) or sqpmethod, to convergence, for comparison
+(measured alike: IPOPT 0.4-0.6 s and 13-20 iterations per period at N = 20, fatrop
+0.7-0.9 s and 26-39 iterations).
 """
 
 from __future__ import annotations
@@ -386,7 +402,7 @@ class NmpcController:
         sqp = {
             **quiet,
             "qpsol": s.qp_solver,
-            "qpsol_options": _qp_options(s.qp_solver),
+            "qpsol_options": self._qp_options(),
             "print_header": False,
             "print_iteration": False,
             "print_status": False,
@@ -412,6 +428,23 @@ class NmpcController:
                 "bound_relax_factor": 0.0,
             },
         }
+
+    def _qp_options(self) -> dict[str, Any]:
+        """The QP solver's options; hpipm is told the stage structure."""
+        options = _qp_options(self.settings.qp_solver)
+        if self.settings.qp_solver == "hpipm":
+            n_steps = self.settings.horizon_steps
+            path = 3 if self.settings.zero_net_force else 0
+            terminal = 6 if self.settings.terminal == "constraint" else 0
+            options.update(
+                {
+                    "N": n_steps,
+                    "nx": [self.n_x] * (n_steps + 1),
+                    "nu": [self.engines.n_engines] * n_steps + [0],
+                    "ng": [path] * n_steps + [terminal],
+                }
+            )
+        return options
 
     # ------------------------------------------------------------------ use
 
@@ -753,5 +786,6 @@ def _qp_options(qp_solver: str) -> dict[str, Any]:
             "error_on_fail": False,
         }
     if qp_solver == "qpoases":
-        return {"printLevel": "none", "error_on_fail": False}
+        # The sparse (Schur-free) variant: the dense one costs about 1 s per period here.
+        return {"printLevel": "none", "sparse": True, "error_on_fail": False}
     return {"error_on_fail": False}

@@ -26,7 +26,7 @@ TERMINALS: tuple[str, ...] = ("cost", "constraint")
 OBJECTIVES: tuple[str, ...] = ("tracking", "time")
 DISTURBANCES: tuple[str, ...] = ("none", "model")
 # QP solvers of CasADi's ``conic`` that the real-time iteration can use, and the full solves.
-QP_SOLVERS: tuple[str, ...] = ("qrqp", "osqp", "daqp", "hpipm", "qpoases")
+QP_SOLVERS: tuple[str, ...] = ("qrqp", "osqp", "daqp", "hpipm", "qpoases", "proxqp")
 FULL_SOLVERS: tuple[str, ...] = ("ipopt", "fatrop", "sqpmethod")
 
 
@@ -95,7 +95,7 @@ class NmpcSettings:
     zero_net_force: bool = True
     objective: ObjectiveKind = "tracking"
     solver: SolverKind = "rti"
-    qp_solver: str = "qrqp"
+    qp_solver: str = "qpoases"
     full_solver: str = "ipopt"
     max_sqp_iterations: int = 100
     disturbance: DisturbanceKind = "none"
