@@ -22,7 +22,13 @@ from casadi_debris.controllers import (
     NmpcReference,
     NmpcSettings,
 )
-from casadi_debris.dynamics import Model, attitude_error, axis_angle_quaternion, build_model
+from casadi_debris.dynamics import (
+    Model,
+    assembled_modes,
+    attitude_error,
+    axis_angle_quaternion,
+    build_model,
+)
 from casadi_debris.errors import InputShapeError
 from casadi_debris.slews import RigidBody, time_optimal_slew
 
@@ -328,3 +334,49 @@ def test_closed_loop_small_slew_with_failed_engines() -> None:
     # Converging: from 0.3 deg to within the paper's 60 arcsec pointing requirement.
     assert errors[-1] < math.radians(60.0 / 3600.0)
     assert errors[-10:].max() < 0.05 * errors[0]
+
+
+def test_nothing_is_printed(rigid_model: Model, capfd: pytest.CaptureFixture[str]) -> None:
+    """qpOASES prints a licence banner from C when set up; the controller silences it."""
+    controller = NmpcController(rigid_model, NmpcSettings(horizon_steps=3))
+    controller.step(0.0, rigid_model.initial_state(), [1.0, 0.0, 0.0, 0.0])
+    out, err = capfd.readouterr()
+    assert out == ""
+    assert err == ""
+
+
+def test_flexible_prediction_follows_the_model_with_its_modes() -> None:
+    """The flexible prediction's first interval against CVODES on the model's Function,
+    from a state with the arrays deflected and the body turning."""
+    model = build_model(load_problem(), modes="first")
+    # A full solve: its plan meets the nonlinear gaps (one RTI step meets their
+    # linearisation only).
+    settings = NmpcSettings(horizon_steps=4, period_s=1.0, prediction="flexible", solver="full")
+    controller = NmpcController(model, settings)
+    assert controller.n_x == 10 + 2 * model.layout.n_eta
+    # Enough RK4 steps for the fastest mode of the assembly: h omega <= 0.5.
+    fastest = max(mode["omega_rad_s"] for mode in assembled_modes(model))
+    steps = controller.integrator_steps
+    assert steps == math.ceil(fastest * 1.0 / 0.5)
+    # RK4 on an oscillator: phase error (h omega)^5 / 120 per step, amplitude error
+    # (h omega)^6 / 144; their sum over the interval bounds the relative error.
+    h_omega = fastest / steps
+    tolerance = steps * (h_omega**5 / 120 + h_omega**6 / 144)
+    x0 = model.initial_state(rate_rad_s=[1e-4, -2e-4, 3e-4])
+    x0[model.layout.eta] = 1e-4
+    x0[model.layout.eta_dot] = -2e-4
+    step = controller.step(0.0, x0, axis_angle_quaternion([0.0, 0.0, 1.0], 0.01))
+    assert step.success
+    u = np.concatenate(
+        [
+            controller.engines.torque_map @ step.predicted_thrust_N[0],
+            np.zeros(3),
+            controller.engines.force_map @ step.predicted_thrust_N[0],
+        ]
+    )
+    x_cvodes = np.array(plant_step(model, 1.0)(x0=x0, p=u)["xf"]).ravel()
+    predicted = step.predicted_state[1]
+    layout = model.layout
+    for part in (layout.q, layout.omega, layout.eta, layout.eta_dot):
+        scale = np.abs(x_cvodes[part]).max()
+        np.testing.assert_allclose(predicted[part], x_cvodes[part], atol=tolerance * scale)

@@ -62,9 +62,15 @@ detected from the ordering above) or sqpmethod, to convergence, for comparison
 
 from __future__ import annotations
 
+import contextlib
+import ctypes
+import io
 import logging
 import math
+import os
+import sys
 import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -74,14 +80,16 @@ import numpy.typing as npt
 
 from casadi_debris.controllers._engines import NmpcEngines
 from casadi_debris.controllers._settings import NmpcSettings
-from casadi_debris.dynamics import Model, build_model
+from casadi_debris.dynamics import Model, assembled_modes, build_model
 from casadi_debris.errors import InputShapeError, ModelError
 
 LOGGER = logging.getLogger(__name__)
 
 # Largest h omega of one RK4 step for the fastest mode of the prediction model: well
-# inside RK4's stability limit (2.78) and accurate to about 1e-3 per step.
-RK4_STEP_OMEGA = 1.0
+# inside RK4's stability limit (2.78); the phase error of an oscillator is about
+# (h omega)^5 / 120 = 2.6e-4 per step (3e-3 over the 12 steps of a 1 s period at the
+# first bending mode), the amplitude error smaller.
+RK4_STEP_OMEGA = 0.5
 # Bounds of the scaled horizon T / (N period_s) of the minimum-time objective.
 TIME_SCALE_BOUNDS = (1e-3, 1e3)
 # Largest violation of a bound by a scaled decision variable that a solve may leave.
@@ -233,24 +241,13 @@ class NmpcController:
     def _integrator_steps(self) -> int:
         if self.settings.integrator_steps is not None:
             return self.settings.integrator_steps
-        problem = self.prediction_model.problem
-        frequencies = [
-            mode.omega_rad_s
-            for array_number, name in self.prediction_model.layout.mode_labels
-            for mode in problem.arrays[array_number - 1].modes
-            if mode.name == name
-        ]
-        if not frequencies:
+        if not self.prediction_model.layout.n_eta:
             return 1
-        # The first bending frequency may be scaled up by the parameters (+20 % corners).
-        fastest = max(frequencies) * max(1.0, self._bending_scale())
+        # The free-floating assembly's modes, not the cantilever ones: coupled to the
+        # hub they sit higher (the paper's 5.6 rad/s bending pair at 5.6 and 9.0 rad/s).
+        modes = assembled_modes(self.prediction_model, self.parameters)
+        fastest = max(mode["omega_rad_s"] for mode in modes)
         return max(1, math.ceil(self.settings.period_s * fastest / RK4_STEP_OMEGA))
-
-    def _bending_scale(self) -> float:
-        names = self.model.parameter_names
-        if "bending_frequency_scale" in names:
-            return float(self.parameters[names.index("bending_frequency_scale")])
-        return 1.0
 
     def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
         return self.engines.lower_N, self.engines.max_thrust_N
@@ -386,7 +383,10 @@ class NmpcController:
             # Every constraint is an equality (gaps, zero force, terminal): fatrop's stage
             # structure detection needs to be told.
             options["equality"] = [True] * self._n_g
-        self._solver = ca.nlpsol("nmpc", *self._solver_plugin(), nlp, options)
+        with _c_stdout_silenced():
+            # qpOASES prints its licence banner from C when it is set up, whatever its
+            # printLevel: nothing below the CLI prints.
+            self._solver = ca.nlpsol("nmpc", *self._solver_plugin(), nlp, options)
 
     def _solver_plugin(self) -> tuple[str]:
         s = self.settings
@@ -730,6 +730,35 @@ class NmpcController:
             "lam_x0": _shift(lam_x, stage, n_steps, self.n_x),
             "lam_g0": _shift(lam_g, g_stage, n_steps, self._n_g - n_steps * g_stage),
         }
+
+
+@contextlib.contextmanager
+def _c_stdout_silenced() -> Iterator[None]:
+    """Python's stdout and file descriptor 1 sent nowhere for the duration."""
+    sys.stdout.flush()
+    try:
+        saved = os.dup(1)
+    except OSError:  # no file descriptor 1 (an embedding host): nothing to silence
+        yield
+        return
+    try:
+        # CasADi sends its C++ output stream through Python's sys.stdout: both go.
+        with open(os.devnull, "w") as null, contextlib.redirect_stdout(io.StringIO()):
+            os.dup2(null.fileno(), 1)
+            yield
+            sys.stdout.flush()
+    finally:
+        # C's stdout is block-buffered when it is not a terminal: empty it into the
+        # null device before fd 1 is given back.
+        _flush_c_stdio()
+        os.dup2(saved, 1)
+        os.close(saved)
+
+
+def _flush_c_stdio() -> None:
+    """fflush(NULL) of the C library, where there is one to call."""
+    with contextlib.suppress(OSError, AttributeError):
+        ctypes.CDLL(None).fflush(None)
 
 
 def _gauss_newton(nlp: dict[str, ca.SX], residual: ca.SX) -> ca.Function:
