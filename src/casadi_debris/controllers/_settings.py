@@ -45,8 +45,8 @@ class NmpcSettings:
         bodies); ``"flexible"``: the model given, with the modes it keeps.
     integrator_steps : int or None
         RK4 steps per interval; ``None``: enough that every step is at most
-        ``0.5 / omega_max`` long for the fastest mode of the prediction model (1 for a
-        rigid one).
+        ``0.5 / omega_max`` long, omega_max the fastest mode of the free-floating
+        assembly the prediction model describes (1 step for a rigid one).
     attitude_weight, rate_weight : float
         Weight of |e / attitude_scale|^2 and |(omega - omega_ref) / rate_scale|^2 at
         each node (>= 0).
