@@ -62,15 +62,9 @@ detected from the ordering above) or sqpmethod, to convergence, for comparison
 
 from __future__ import annotations
 
-import contextlib
-import ctypes
-import io
 import logging
 import math
-import os
-import sys
 import time
-from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Any
 
@@ -80,6 +74,7 @@ import numpy.typing as npt
 
 from casadi_debris.controllers._engines import NmpcEngines
 from casadi_debris.controllers._settings import NmpcSettings
+from casadi_debris.controllers._solvers import c_stdout_silenced, gauss_newton, qp_options
 from casadi_debris.dynamics import Model, assembled_modes, build_model
 from casadi_debris.errors import InputShapeError, ModelError
 
@@ -94,8 +89,6 @@ RK4_STEP_OMEGA = 0.5
 TIME_SCALE_BOUNDS = (1e-3, 1e3)
 # Largest violation of a bound by a scaled decision variable that a solve may leave.
 BOUND_TOLERANCE = 1e-9
-# Weight of the proximal term added to the Gauss-Newton Hessian (scaled variables).
-PROXIMAL_WEIGHT = 1e-6
 
 
 @dataclass(frozen=True)
@@ -378,12 +371,12 @@ class NmpcController:
         self._n_g = nlp["g"].numel()
         options = self._solver_options()
         if options.get("qpsol") is not None:
-            options["hess_lag"] = _gauss_newton(nlp, residual)
+            options["hess_lag"] = gauss_newton(nlp, residual)
         if self.settings.solver == "full" and self.settings.full_solver == "fatrop":
             # Every constraint is an equality (gaps, zero force, terminal): fatrop's stage
             # structure detection needs to be told.
             options["equality"] = [True] * self._n_g
-        with _c_stdout_silenced():
+        with c_stdout_silenced():
             # qpOASES prints its licence banner from C when it is set up, whatever its
             # printLevel: nothing below the CLI prints.
             self._solver = ca.nlpsol("nmpc", *self._solver_plugin(), nlp, options)
@@ -431,7 +424,7 @@ class NmpcController:
 
     def _qp_options(self) -> dict[str, Any]:
         """The QP solver's options; hpipm is told the stage structure."""
-        options = _qp_options(self.settings.qp_solver)
+        options = qp_options(self.settings.qp_solver)
         if self.settings.qp_solver == "hpipm":
             n_steps = self.settings.horizon_steps
             path = 3 if self.settings.zero_net_force else 0
@@ -732,89 +725,9 @@ class NmpcController:
         }
 
 
-@contextlib.contextmanager
-def _c_stdout_silenced() -> Iterator[None]:
-    """Python's stdout and file descriptor 1 sent nowhere for the duration."""
-    sys.stdout.flush()
-    try:
-        saved = os.dup(1)
-    except OSError:  # no file descriptor 1 (an embedding host): nothing to silence
-        yield
-        return
-    try:
-        # CasADi sends its C++ output stream through Python's sys.stdout: both go.
-        with open(os.devnull, "w") as null, contextlib.redirect_stdout(io.StringIO()):
-            os.dup2(null.fileno(), 1)
-            yield
-            sys.stdout.flush()
-    finally:
-        # C's stdout is block-buffered when it is not a terminal: empty it into the
-        # null device before fd 1 is given back.
-        _flush_c_stdio()
-        os.dup2(saved, 1)
-        os.close(saved)
-
-
-def _flush_c_stdio() -> None:
-    """fflush(NULL) of the C library, where there is one to call."""
-    with contextlib.suppress(OSError, AttributeError):
-        ctypes.CDLL(None).fflush(None)
-
-
-def _gauss_newton(nlp: dict[str, ca.SX], residual: ca.SX) -> ca.Function:
-    """Hessian of the Lagrangian as the SQP iterations see it: 2 lam_f J_r^T J_r, the
-    Gauss-Newton approximation of the sum of squares (the dynamics' curvature left out),
-    positive semidefinite without any convexification (the classical real-time iteration)."""
-    w, p = nlp["x"], nlp["p"]
-    lam_f = ca.SX.sym("lam_f")
-    lam_g = ca.SX.sym("lam_g", nlp["g"].numel())
-    jacobian = ca.jacobian(residual, w)
-    # A small proximal term (Levenberg-Marquardt) makes every QP strictly convex: the
-    # translation states carry no cost, and qrqp stalled on the singular Hessian about
-    # once in 40 periods. It damps the step only; a converged point is unchanged.
-    proximal = PROXIMAL_WEIGHT * ca.DM.eye(w.numel())
-    hessian = 2.0 * lam_f * ca.mtimes(jacobian.T, jacobian) + proximal
-    return ca.Function(
-        "nlp_hess_l",
-        [w, p, lam_f, lam_g],
-        [hessian],
-        ["x", "p", "lam_f", "lam_g"],
-        ["hess_gamma_x_x"],
-    )
-
-
 def _shift(values: np.ndarray, block: int, n_blocks: int, tail: int) -> np.ndarray:
     """Blocks 1..n-1, then the last block again, then the tail (terminal part) as it was."""
     body = values[: block * n_blocks].reshape(n_blocks, block)
     shifted = np.vstack([body[1:], body[-1:]]).ravel() if n_blocks > 1 else body.ravel()
     end = values[block * n_blocks : block * n_blocks + tail]
     return np.concatenate([shifted, end])
-
-
-def _qp_options(qp_solver: str) -> dict[str, Any]:
-    """Quiet options of each QP solver, accurate enough for the equality constraints."""
-    if qp_solver == "qrqp":
-        # Bounds and equalities to 1e-12 of their scale (default 1e-8): the plan keeps
-        # a failed engine at zero and the net force at zero to round-off.
-        return {
-            "print_iter": False,
-            "print_header": False,
-            "error_on_fail": False,
-            "constr_viol_tol": 1e-10,
-            "dual_inf_tol": 1e-10,
-        }
-    if qp_solver == "osqp":
-        return {
-            "osqp": {
-                "verbose": False,
-                "eps_abs": 1e-9,
-                "eps_rel": 1e-9,
-                "max_iter": 20000,
-                "polish": True,
-            },
-            "error_on_fail": False,
-        }
-    if qp_solver == "qpoases":
-        # The sparse (Schur-free) variant: the dense one costs about 1 s per period here.
-        return {"printLevel": "none", "sparse": True, "error_on_fail": False}
-    return {"error_on_fail": False}
