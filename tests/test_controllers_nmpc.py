@@ -384,10 +384,10 @@ def test_flexible_prediction_follows_the_model_with_its_modes() -> None:
 
 @pytest.mark.slow
 def test_closed_loop_slew_with_a_failure_during_the_run() -> None:
-    """A 2 deg slew about z, predicted disturbance, CubeSat 5 lost at 40 s: its engine
+    """A 2 deg slew about z, predicted disturbance, CubeSat 5 lost at 80 s: its engine
     at zero from then on, every limit kept, the error back within 60 arcsec."""
     plant = build_model(load_problem())
-    settings = NmpcSettings(horizon_steps=20, period_s=1.0, disturbance="model")
+    settings = NmpcSettings(horizon_steps=10, period_s=2.0, disturbance="model")
     controller = NmpcController(plant, settings)
     period = settings.period_s
     integrate = plant_step(plant, period)
@@ -395,7 +395,7 @@ def test_closed_loop_slew_with_a_failure_during_the_run() -> None:
     engines = controller.engines
     x = plant.initial_state()
     before, after, errors = [], [], []
-    for k in range(240):
+    for k in range(150):
         if k == 40:
             limits = controller.engines.max_thrust_N.copy()
             limits[4] = 0.0
@@ -414,4 +414,4 @@ def test_closed_loop_slew_with_a_failure_during_the_run() -> None:
     check_engines(before, engines, [])
     check_engines(after, controller.engines, [4])
     assert all(step.success for step in before + after)
-    assert max(errors[-30:]) < math.radians(60.0 / 3600.0)
+    assert max(errors[-20:]) < math.radians(60.0 / 3600.0)
