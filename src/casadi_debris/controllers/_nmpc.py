@@ -39,24 +39,27 @@ semidefinite by construction. (The exact Hessian with CasADi's ``regularize``
 convexification shifted every eigenvalue by the stiff attitude terms and left the thrust
 step at about 1e-5 of the converged one; ``eigen-clip`` failed inside CasADi.)
 
-The QP solver is ``qpoases`` (sparse) by default, chosen by measurement on the paper's
-debris, rigid prediction, N = 10 and 20, 1 s period, closed loop of a 1 deg slew (the
-machine shared with other jobs, load 10-17 on 2 cores: figures several times a quiet
-machine's): qpoases about 70-140 ms per period and no failed period in 30; ``qrqp``
-(CasADi's own active-set solver) 10-60 ms on most periods but about 1.3 s on a third of
-them and, in 3 periods of 30, a plan outside its bounds (the zero-net-force equalities
-with the thrusts at their zero bounds are a degenerate vertex); dense ``qpoases`` and
-``daqp`` about 1 s; ``proxqp`` at its default accuracy left the bounds by more than
-1e-9; ``osqp`` through CasADi crashed the process (``malloc(): invalid size``); ``hpipm``
-needs stage-wise Hessian blocks, which the thrust-rate term (coupling f_k and f_k-1)
-breaks. ``fatrop`` is an interior-point method: a full solve, not an RTI. A plan that
-leaves its bounds by more than 1e-9 (scaled) is solved again from zero multipliers, then
-from a cold start; failing that, the previous plan, shifted, is applied and the step is
-marked unsuccessful.
+The QP solver is ``qpoases`` (sparse) by default, for reliability, measured on the
+paper's debris, rigid prediction, 1 s period, closed loop of a 1 deg slew, the machine
+shared with other jobs (load 10-15 on 2 cores: several times a quiet machine's times;
+``benchmarks/nmpc.py``, ``docs/benchmarks/nmpc.json``): no failed period in any run, but
+its time grows steeply with N (median 0.06 s at N = 10, 0.4-0.6 s at N = 20, 9 s at N =
+40; IPOPT's full solve is faster from N = 20 on). ``qrqp`` (CasADi's own active-set
+solver) is much faster on most periods (median 0.04 s at N = 20) but stalls on some (the
+zero-net-force equalities with the thrusts at their zero bounds are a degenerate
+vertex): about 1.3 s and a plan outside its bounds in 3 periods of 30 at N = 10 in one
+loop, none in 20 periods at N = 20 in another. Dense ``qpoases`` about 1 s; ``daqp``
+1-20 s and a plan outside the bounds in every period of 20 at N = 20; ``proxqp`` at its
+default accuracy left the bounds; ``osqp`` through CasADi crashed the process
+(``malloc(): invalid size``); ``hpipm`` needs stage-wise Hessian blocks, which the
+thrust-rate term (coupling f_k and f_k-1) breaks. The real-time target (median 20 ms at
+N = 20) needs a structure-exploiting QP. A plan that leaves its bounds by more than 1e-9
+(scaled) is solved again from zero multipliers, then from a cold start; failing that,
+the previous plan, shifted, is applied and the step is marked unsuccessful.
 
 ``solver="full"``: IPOPT (default; bounds not relaxed), fatrop (its stage structure
 detected from the ordering above) or sqpmethod, to convergence, for comparison
-(measured alike: IPOPT 0.4-0.6 s and 13-20 iterations per period at N = 20, fatrop
+(measured alike: IPOPT 0.2-0.4 s and 12-20 iterations per period at N = 20, fatrop
 0.7-0.9 s and 26-39 iterations).
 """
 
