@@ -33,8 +33,9 @@ class BurnSummary(Record):
     limits_ok : bool or None
         The burn's attitude (its LVLH track) needs a torque within what the engines add
         to its thrust, gyroscopic torque included
-        (:func:`~casadi_debris.guidance._burn_plan.burn_limits`; the engines at full
-        limits).
+        (:func:`~casadi_debris.guidance.burn_limits`), checked against what the engines
+        have left along the run: a partly used first stage at the start, and an engine
+        spent during the burn gives nothing from then on.
     limits_note : str or None
         What needs more than the engines give, with the figures ("" when within).
     worst_torque_set_ratio : float or None
