@@ -95,8 +95,11 @@ class Campaign:
 
 
 def _take_terminal() -> None:
-    """In the campaign's process: its terminal becomes the session's controlling terminal."""
+    """In the campaign's process: its terminal becomes the session's controlling terminal,
+    and a Ctrl-C typed there interrupts it, as a user's would, even when the tests were
+    started with SIGINT ignored (a disposition a new program inherits)."""
     fcntl.ioctl(0, termios.TIOCSCTTY, 0)
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
 
 
 @pytest.fixture()

@@ -18,6 +18,9 @@ from casadi_debris.errors import SlewNotConvergedError
 from casadi_debris.parallel import keep_ctrl_c
 from casadi_debris.slews import solve_with_ipopt
 
+# Each Ctrl-C of these tests raises KeyboardInterrupt however the run was started.
+pytestmark = pytest.mark.usefixtures("ctrl_c_raises")
+
 
 def _rosenbrock(interrupt_at: int | None) -> tuple[ca.Opti, ca.MX]:
     """A small NLP (least at 1, 1) whose iteration callback sends SIGINT to this process

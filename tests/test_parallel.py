@@ -28,6 +28,9 @@ from casadi_debris.parallel import (
     parallel_map,
 )
 
+# Each Ctrl-C of these tests raises KeyboardInterrupt however the run was started.
+pytestmark = pytest.mark.usefixtures("ctrl_c_raises")
+
 needs_proc = pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
 
 

@@ -19,6 +19,7 @@ from scipy.integrate import solve_ivp
 from casadi_debris.cli import main
 from casadi_debris.config import Problem
 from casadi_debris.slews import RigidBody, time_optimal_slew
+from shared_results import paper_z_time_optimal
 from slew_reference import every_profile_checked  # noqa: F401 (autouse)
 
 # Bilimoria & Wie, "Time-optimal three-axis reorientation of a rigid spacecraft",
@@ -170,11 +171,17 @@ def test_any_axis_and_uneven_bounds() -> None:
     assert rate < 1e-7
 
 
-def test_paper_z_slew_refines_the_collocation_optimum(problem: Problem) -> None:
+@pytest.fixture(scope="module")
+def paper_z_slew(problem: Problem) -> Any:
+    # time_optimal_slew(problem, "z", math.pi, check_vibration=False), solved once a session.
+    return paper_z_time_optimal(problem)
+
+
+def test_paper_z_slew_refines_the_collocation_optimum(paper_z_slew: Any) -> None:
     """The torque box's global search (the rigid body's, on the paper's box) refines its
     collocation optimum; the problem's slew then keeps to the engines' torque set, which
     the box's optimum leaves, and cannot be faster than the box's."""
-    slew = time_optimal_slew(problem, "z", math.pi, check_vibration=False)
+    slew = paper_z_slew
     settings = slew.settings
     assert settings["agreement_fraction"] >= 0.95
     assert settings["collocation_duration_s"] == pytest.approx(PAPER_Z_COLLOCATION_S, rel=1e-7)

@@ -26,6 +26,7 @@ from casadi_debris.slews import (
     rigid_limit_duration,
     time_optimal_slew,
 )
+from shared_results import paper_z_time_optimal
 from slew_reference import (  # noqa: F401 (every_profile_checked: autouse)
     _polytope,
     assert_checked,
@@ -118,11 +119,19 @@ def test_too_short_diagonal_slew_is_refused_with_its_minimum(problem: Problem) -
     assert "Traceback" not in result.output
 
 
-def test_torque_level_time_optimal_keeps_to_the_engines_torque_set(problem: Problem) -> None:
+@pytest.fixture(scope="module")
+def paper_z_slew(problem: Problem) -> Any:
+    # time_optimal_slew(problem, "z", math.pi, check_vibration=False), solved once a session.
+    return paper_z_time_optimal(problem)
+
+
+def test_torque_level_time_optimal_keeps_to_the_engines_torque_set(
+    problem: Problem, paper_z_slew: Any
+) -> None:
     """The per-axis box's corners need about 1.5 times the engines' torque set at zero net
     force (its time-optimal slew is 903.0 s): the torque-level time-optimal slew keeps to
     the set instead, as the independent check computes it, and is slower than the box's."""
-    slew = time_optimal_slew(problem, "z", math.pi, check_vibration=False, starts=1, workers=1)
+    slew = paper_z_slew
     figures = assert_checked(problem, slew)
     assert slew.limits.limits_ok and figures["gauge"] <= 1.0 + 1e-6
     assert slew.duration_s >= slew.settings["box_duration_s"]
