@@ -10,7 +10,6 @@ import signal
 import tempfile
 import tomllib
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -40,56 +39,6 @@ def pytest_configure(config: pytest.Config) -> None:
         shared = tempfile.mkdtemp(prefix="casadi_debris-test-shared-")
         os.environ[SHARED_FOLDER] = shared
         config.add_cleanup(lambda: shutil.rmtree(shared, ignore_errors=True))
-
-
-# The test files that take longest (CPU time of the default selection, longest first).
-# xdist hands each worker one file at a time in collection order (``--dist loadfile``,
-# ``--no-loadscope-reorder``): started first, they leave the short files to fill in at the
-# end, instead of a long file starting last and running alone while the other cores idle.
-# The other files follow in their own order. A stale list costs balance, never a test.
-LONGEST_FIRST = (
-    "test_cli_simulation.py",
-    "test_valid_problems.py",
-    "test_slew_flexible.py",
-    "test_reproduce.py",
-    "test_slew_limits.py",
-    "test_cli_slew.py",
-    "test_cli_matrix.py",
-    "test_bad_input_corpus.py",
-    "test_slew.py",
-    "test_types.py",
-    "test_cli_montecarlo.py",
-    "test_simulation_batched.py",
-    "test_cli_placement.py",
-    "test_workflows_montecarlo.py",
-    "test_slew_global.py",
-    "test_studies_placement.py",
-    "test_cli.py",
-    "test_workflows_slew.py",
-    "test_examples.py",
-    "test_workflows_transfer.py",
-    "test_studies_failures.py",
-    "test_workflows_synthesize.py",
-    "test_report_mission.py",
-    "test_simulation_sequence.py",
-    "test_simulation.py",
-    "test_robust_analysis.py",
-    "test_simulation_compiled.py",
-    "test_robust_design.py",
-    "test_workflows_campaign.py",
-    "test_guidance_limits.py",
-    "test_allocation_series.py",
-)
-
-
-def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """Under xdist, the files of :data:`LONGEST_FIRST` first (each file's tests stay
-    together and in their order); in one process (``-n 0``) the files' own order."""
-    if not hasattr(config, "workerinput"):
-        return
-    rank = {name: i for i, name in enumerate(LONGEST_FIRST)}
-    here = Path(__file__).parent
-    items.sort(key=lambda item: rank.get(item.path.relative_to(here).as_posix(), len(rank)))
 
 
 @pytest.fixture(autouse=True)
