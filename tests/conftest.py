@@ -6,6 +6,7 @@ import copy
 import logging
 import os
 import shutil
+import signal
 import tempfile
 import tomllib
 from collections.abc import Iterator
@@ -17,10 +18,12 @@ from casadi_debris import load_problem
 from casadi_debris.config import Problem, default_problem_path, problem_from_dict
 from casadi_debris.dynamics import Model, build_model
 from casadi_debris.geometry import Geometry, build_geometry
+from shared_results import FOLDER_VARIABLE as SHARED_FOLDER
 
 
 def pytest_configure(config: pytest.Config) -> None:
-    """Keep the tests' compiled control steps out of the user's cache folder.
+    """Keep the tests' compiled control steps (and shared results) out of the user's
+    cache folder.
 
     One folder per test session (workers and subprocesses inherit it through the
     environment), removed when the session ends; a test that sets
@@ -30,6 +33,12 @@ def pytest_configure(config: pytest.Config) -> None:
         folder = tempfile.mkdtemp(prefix="casadi_debris-test-jit-")
         os.environ["CASADI_DEBRIS_JIT_CACHE"] = folder
         config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
+    # The results several files share (tests/shared_results.py), likewise one folder
+    # per session, made before the workers start so that they all see it.
+    if SHARED_FOLDER not in os.environ:
+        shared = tempfile.mkdtemp(prefix="casadi_debris-test-shared-")
+        os.environ[SHARED_FOLDER] = shared
+        config.add_cleanup(lambda: shutil.rmtree(shared, ignore_errors=True))
 
 
 @pytest.fixture(autouse=True)
@@ -52,6 +61,19 @@ def _reset_toolkit_logger() -> None:
     logger = logging.getLogger("casadi_debris")
     logger.handlers[:] = [h for h in logger.handlers if h.get_name() != "casadi-debris-cli"]
     logger.propagate, logger.level = True, logging.NOTSET
+
+
+@pytest.fixture
+def ctrl_c_raises() -> Iterator[None]:
+    """A Ctrl-C (SIGINT) raises ``KeyboardInterrupt`` in the test, as on a terminal, even
+    when the test run was started with SIGINT ignored (a background job of a shell without
+    job control, ``nohup``): Python then installs no handler of its own, and a test of what
+    a Ctrl-C does would wait for what the Ctrl-C should have stopped."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @pytest.fixture(scope="session")

@@ -45,7 +45,7 @@ before and after) and no file present before the run changed, no process left
 behind, and the expectation above.
 
 :mod:`.values` is the other corpus, run in-process by
-``tests/test_config_corpus.py``: every value of the shipped problems replaced by
+``tests/config/test_corpus.py``: every value of the shipped problems replaced by
 each of a fixed list of bad values.
 
 Run the whole corpus and print the counts::

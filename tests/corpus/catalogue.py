@@ -29,7 +29,7 @@ SEED = 20250111
 FAST_FILES = 150
 # Picked but left to the whole corpus: a valid name runs simulate and margins to the end
 # (half a minute of the fast subset's CPU); the invalid names check the rule, and a valid
-# name on an extended problem runs by default in tests/test_cli_simulation.py.
+# name on an extended problem runs by default in tests/cli/test_simulation.py.
 SLOW_PICKS = frozenset({"name-valid"})
 
 

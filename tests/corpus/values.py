@@ -6,7 +6,7 @@ by the package's own merge), and from the paper with its CubeSats as a
 other 23 are alike): every value replaced by zero, negative, NaN, inf, 1e308,
 subnormal, huge integers, strings, booleans, wrong shapes and nestings; every
 key deleted; unknown keys; broken ``extends``. Run by
-``tests/test_config_corpus.py`` through ``model`` and ``budget`` in-process.
+``tests/config/test_corpus.py`` through ``model`` and ``budget`` in-process.
 Case ids: ``<problem>:<dotted path>=<index of the bad value>``, ``:deleted``,
 ``:unknown``, ``:short``, ``:long``, and ``extends=<i>``.
 """
