@@ -456,7 +456,7 @@ def check_fuel_optimal(
 
 
 # A fuel-optimal OCP on a random swarm takes about half a minute: under -m slow only (the
-# paper's fuel-optimal slews run by default in tests/test_slew.py).
+# paper's fuel-optimal slews run by default in tests/slews/test_profiles.py).
 @pytest.mark.slow
 @given(problems(), slew_axes, slew_angles, st.floats(1.2, 3.0))
 @_campaign(1)

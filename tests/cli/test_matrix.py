@@ -85,7 +85,7 @@ COMMANDS = (
         "export",
         keys=("problem", "engines", "period_s", "out_dir"),
         flies=True,
-        elsewhere="tests/test_export.py",
+        elsewhere="tests/codegen/test_flight.py",
     ),
     _command(
         "model",
