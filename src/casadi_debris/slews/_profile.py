@@ -42,11 +42,14 @@ from casadi_debris.slews._maneuver import SlewTarget, eigenaxis_duration_s
 from casadi_debris.slews._propellant import fuel_weights, least_fuel_thrust, propellant_kg
 
 RESIDUAL_WINDOW_PERIODS = 10.0
-INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 200000}
+# The step cap is per output interval and only a cap (it changes no result that stays
+# below it): 200,000 was too few for a random heavy debris's 28,000 s bang-bang slew
+# about an axis within round-off of x, whose check then ended in CVODES' "too much work".
+INTEGRATOR_OPTIONS = {"abstol": 1e-12, "reltol": 1e-10, "max_num_steps": 2_000_000}
 # A second integration at tolerances a hundred times tighter: its difference from the
 # first estimates the first's global error (CVODES bounds only each step's local error;
 # over a slew's hundreds of steps and its switches the rate errs by up to ~1e-10 rad/s).
-REFERENCE_INTEGRATOR_OPTIONS = {"abstol": 1e-14, "reltol": 1e-12, "max_num_steps": 400000}
+REFERENCE_INTEGRATOR_OPTIONS = {"abstol": 1e-14, "reltol": 1e-12, "max_num_steps": 4_000_000}
 N_TORQUE = 3
 N_DISTURBANCE = 3
 N_FORCE = 3
