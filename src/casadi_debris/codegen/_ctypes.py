@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from casadi_debris.errors import CompileError
+from casadi_debris.processes import c_compiler
 
 LIBRARY_FLAGS = ("-std=c99", "-O2", "-fPIC", "-shared")
 SOURCES = ("cdb_step.c", "cdb_alloc.c", "cdb_law.c", "cdb_data.c")
@@ -34,7 +35,7 @@ def compile_library(
     folder : Path
         An export written by :func:`~casadi_debris.codegen.write_flight_code`.
     compiler : str, optional
-        C compiler (default ``cc``, then ``gcc``, then ``clang``).
+        C compiler (default :func:`~casadi_debris.processes.c_compiler`: ``$CC``, gcc, cc, clang).
     flags : sequence of str
         Extra flags (warnings, sanitizers).
     name : str
@@ -45,9 +46,9 @@ def compile_library(
     CompileError
         No compiler, or it failed (its message is kept).
     """
-    chosen = compiler or next((c for c in ("cc", "gcc", "clang") if shutil.which(c)), None)
+    chosen = compiler or c_compiler()
     if chosen is None or shutil.which(chosen) is None:
-        raise CompileError("no C compiler found (cc, gcc or clang)")
+        raise CompileError("no C compiler found ($CC, gcc, cc or clang)")
     command = [chosen, *LIBRARY_FLAGS, *flags, "-o", name, *SOURCES, "-lm"]
     done = subprocess.run(command, cwd=folder, capture_output=True, text=True, check=False)
     if done.returncode != 0:

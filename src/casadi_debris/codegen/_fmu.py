@@ -29,7 +29,6 @@ from __future__ import annotations
 import hashlib
 import logging
 import math
-import os
 import re
 import shutil
 import struct
@@ -53,6 +52,7 @@ from casadi_debris.codegen._fmu_variables import (
 )
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import CompileError, InputShapeError, OutputError
+from casadi_debris.processes import c_compiler
 from casadi_debris.records import Record
 from casadi_debris.store import write_atomically
 
@@ -258,10 +258,9 @@ def _about(model: Model, settings: FmuSettings, identifier: str) -> Description:
 
 
 def _compiler(given: str | None) -> str:
-    for name in (given,) if given else (os.environ.get("CC"), "gcc", "cc", "clang"):
-        found = shutil.which(name) if name else None
-        if found:
-            return found
+    found = shutil.which(given) if given else c_compiler()
+    if found:
+        return found
     wanted = given or "$CC, gcc, cc or clang"
     raise CompileError(
         f"no C compiler ({wanted}) to build the FMU's binary; install one, or export "

@@ -16,13 +16,13 @@ Beside the loop, as subpackages: the detumble runs
 """
 
 from casadi_debris.errors import SimulationError
+from casadi_debris.processes import c_compiler
 from casadi_debris.simulation._batched import release_batched_loops
 from casadi_debris.simulation._closed_loop import (
     DiscreteController,
     StepInput,
     StepOutput,
     build_loop_step,
-    c_compiler,
     discretize_controller,
     release_compiled_steps,
 )

@@ -31,6 +31,7 @@ import numpy as np
 from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import CompileError
+from casadi_debris.processes import c_compiler
 from casadi_debris.simulation._closed_loop import (
     JIT_FLAGS,
     DiscreteController,
@@ -39,7 +40,6 @@ from casadi_debris.simulation._closed_loop import (
     StepOutput,
     _jit_key,
     _loop_step,
-    c_compiler,
 )
 from casadi_debris.simulation._jit_cache import compiled_library
 from casadi_debris.simulation._native import NativeFunction

@@ -36,7 +36,6 @@ from __future__ import annotations
 import gc
 import hashlib
 import logging
-import os
 import shutil
 import tempfile
 from dataclasses import dataclass
@@ -50,7 +49,7 @@ import numpy as np
 from casadi_debris.allocation import AuthorityPolytope
 from casadi_debris.dynamics import Model
 from casadi_debris.errors import CompileError, SimulationError
-from casadi_debris.processes import process_alive
+from casadi_debris.processes import c_compiler, process_alive
 from casadi_debris.simulation._disturbance import environment_function
 from casadi_debris.simulation._jit_cache import compiled_function
 from casadi_debris.simulation._realism import EngineBasis, Realism, realistic_law
@@ -421,14 +420,6 @@ def _realism_key(realism: Realism | None, basis: EngineBasis | None) -> str:
         for array in (basis.axis, basis.start_Nm, basis.length_Nm, basis.slope, basis.torque_map):
             digest.update(np.ascontiguousarray(array).tobytes())
     return "|" + digest.hexdigest()
-
-
-def c_compiler() -> str | None:
-    """Path of a C compiler for CasADi's JIT (``$CC``, gcc, cc or clang), or None."""
-    for name in (os.environ.get("CC"), "gcc", "cc", "clang"):
-        if name and shutil.which(name):
-            return shutil.which(name)
-    return None
 
 
 # Compiled steps of this process, by model, controller, authority and sampling.

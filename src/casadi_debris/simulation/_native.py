@@ -50,7 +50,7 @@ class NativeFunction:
     --------
     >>> import casadi as ca, numpy as np
     >>> from casadi_debris.simulation._jit_cache import compiled_library
-    >>> from casadi_debris.simulation._closed_loop import c_compiler
+    >>> from casadi_debris.processes import c_compiler
     >>> x = ca.SX.sym("x", 2, 3)
     >>> f = ca.Function("twice", [x], [2 * x])
     >>> native = NativeFunction(f, compiled_library(f, c_compiler()))  # doctest: +SKIP

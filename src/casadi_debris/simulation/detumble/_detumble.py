@@ -35,8 +35,9 @@ from casadi_debris.allocation import Allocator, AuthorityPolytope, PropulsionSta
 from casadi_debris.config import Problem
 from casadi_debris.errors import CompileError, SimulationError
 from casadi_debris.geometry import build_geometry
+from casadi_debris.processes import c_compiler
 from casadi_debris.records import Record
-from casadi_debris.simulation._closed_loop import c_compiler, saturation_scale
+from casadi_debris.simulation._closed_loop import saturation_scale
 from casadi_debris.simulation._jit_cache import compiled_function
 
 LOGGER = logging.getLogger(__name__)
